@@ -1,0 +1,331 @@
+//! The static target model (paper 2.1.1) and its features at nominal range (2.2).
+//!
+//! The model is a list of corner points and a list of line segments, each segment
+//! cross-referencing two corners (2.1.1). Corners are in metres from the target centre,
+//! x right and y up, as the target is seen from the chase camera at `nominal_range_m`.
+//! Every segment is horizontal or vertical (2.4: "a target was chosen that only contained
+//! vertical and horizontal lines"); each becomes one [`Feature`].
+
+use crate::camera::Camera;
+use thiserror::Error;
+
+/// How far (metres) two corner coordinates may differ and still count as equal when deciding
+/// whether a segment is horizontal or vertical. A tenth of a millimetre is far below what the
+/// camera resolves at any range, and well above float noise in hand-written files.
+pub const AXIS_TOLERANCE_M: f64 = 1e-4;
+
+/// A segment's orientation in the image (eq. 5 and 6).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Orientation {
+    /// A horizontal line `y = b_y` (eq. 5): its intercept is measured along the image y axis.
+    Horizontal,
+    /// A vertical line `x = b_x` (eq. 6): its intercept is measured along the image x axis.
+    Vertical,
+}
+
+impl Orientation {
+    /// A short lower-case name, for tables and logs.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Orientation::Horizontal => "horizontal",
+            Orientation::Vertical => "vertical",
+        }
+    }
+}
+
+/// The target model: corners and segments in metres, as read from a target file.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TargetModel {
+    name: String,
+    nominal_range_m: f64,
+    corners_m: Vec<[f64; 2]>,
+    segments: Vec<[usize; 2]>,
+    features: Vec<FeatureM>,
+}
+
+/// One segment of the model in metres, with its orientation resolved.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct FeatureM {
+    orientation: Orientation,
+    /// Offset of the line from the target centre across the line (metres; y up for
+    /// horizontal lines, x right for vertical lines).
+    offset_m: f64,
+    /// Extent along the line (metres, sorted).
+    extent_m: [f64; 2],
+}
+
+/// Why a target model was refused. Each names the segment (by index) it concerns.
+#[derive(Clone, Debug, Error, PartialEq)]
+pub enum TargetError {
+    /// `nominal_range_m` must be a positive, finite number of metres.
+    #[error("nominal_range_m must be positive and finite, got {0}")]
+    BadNominalRange(f64),
+    /// A corner coordinate is not finite.
+    #[error("corner {index} is not finite: [{x}, {y}]")]
+    NonFiniteCorner {
+        /// Corner index.
+        index: usize,
+        /// Its x.
+        x: f64,
+        /// Its y.
+        y: f64,
+    },
+    /// A segment refers to a corner that does not exist.
+    #[error("segment {segment} refers to corner {corner}, but there are only {corners} corners (indices 0..{corners})")]
+    IndexOutOfRange {
+        /// Segment index.
+        segment: usize,
+        /// The offending corner index.
+        corner: usize,
+        /// How many corners the model has.
+        corners: usize,
+    },
+    /// A segment joins a corner to itself.
+    #[error("segment {segment} joins corner {corner} to itself")]
+    Degenerate {
+        /// Segment index.
+        segment: usize,
+        /// The corner.
+        corner: usize,
+    },
+    /// A segment is neither horizontal nor vertical.
+    #[error("segment {segment} from corner {a} ({ax}, {ay}) to corner {b} ({bx}, {by}) is neither horizontal nor vertical")]
+    NotAxisAligned {
+        /// Segment index.
+        segment: usize,
+        /// First corner index.
+        a: usize,
+        /// Second corner index.
+        b: usize,
+        /// First corner x.
+        ax: f64,
+        /// First corner y.
+        ay: f64,
+        /// Second corner x.
+        bx: f64,
+        /// Second corner y.
+        by: f64,
+    },
+    /// Two segments join the same pair of corners.
+    #[error("segment {segment} duplicates segment {first} (corners {a} and {b})")]
+    Duplicate {
+        /// The later segment.
+        segment: usize,
+        /// The earlier one it repeats.
+        first: usize,
+        /// Corner a.
+        a: usize,
+        /// Corner b.
+        b: usize,
+    },
+    /// The model cannot determine (c_x, c_y, scale).
+    #[error("the model needs at least one horizontal and one vertical segment, and two parallel segments at distinct offsets so that scale can be measured (eq. 16 must have rank 3); it has {horizontal} horizontal and {vertical} vertical segments{detail}")]
+    Underdetermined {
+        /// Horizontal segment count.
+        horizontal: usize,
+        /// Vertical segment count.
+        vertical: usize,
+        /// Extra explanation.
+        detail: String,
+    },
+}
+
+impl TargetModel {
+    /// Builds and validates a model. `corners_m` are `[x, y]` in metres from the target
+    /// centre (x right, y up); `segments` are pairs of corner indices.
+    pub fn new(
+        name: impl Into<String>,
+        nominal_range_m: f64,
+        corners_m: Vec<[f64; 2]>,
+        segments: Vec<[usize; 2]>,
+    ) -> Result<Self, TargetError> {
+        if !(nominal_range_m.is_finite() && nominal_range_m > 0.0) {
+            return Err(TargetError::BadNominalRange(nominal_range_m));
+        }
+        for (index, &[x, y]) in corners_m.iter().enumerate() {
+            if !(x.is_finite() && y.is_finite()) {
+                return Err(TargetError::NonFiniteCorner { index, x, y });
+            }
+        }
+        let mut features = Vec::with_capacity(segments.len());
+        for (segment, &[a, b]) in segments.iter().enumerate() {
+            for corner in [a, b] {
+                if corner >= corners_m.len() {
+                    return Err(TargetError::IndexOutOfRange {
+                        segment,
+                        corner,
+                        corners: corners_m.len(),
+                    });
+                }
+            }
+            if a == b {
+                return Err(TargetError::Degenerate { segment, corner: a });
+            }
+            if let Some(first) = segments[..segment]
+                .iter()
+                .position(|&[c, d]| (c, d) == (a, b) || (c, d) == (b, a))
+            {
+                return Err(TargetError::Duplicate {
+                    segment,
+                    first,
+                    a,
+                    b,
+                });
+            }
+            let [ax, ay] = corners_m[a];
+            let [bx, by] = corners_m[b];
+            let feature = if (ay - by).abs() <= AXIS_TOLERANCE_M {
+                FeatureM {
+                    orientation: Orientation::Horizontal,
+                    offset_m: 0.5 * (ay + by),
+                    extent_m: [ax.min(bx), ax.max(bx)],
+                }
+            } else if (ax - bx).abs() <= AXIS_TOLERANCE_M {
+                FeatureM {
+                    orientation: Orientation::Vertical,
+                    offset_m: 0.5 * (ax + bx),
+                    extent_m: [ay.min(by), ay.max(by)],
+                }
+            } else {
+                return Err(TargetError::NotAxisAligned {
+                    segment,
+                    a,
+                    b,
+                    ax,
+                    ay,
+                    bx,
+                    by,
+                });
+            };
+            features.push(feature);
+        }
+        check_rank(&features)?;
+        Ok(TargetModel {
+            name: name.into(),
+            nominal_range_m,
+            corners_m,
+            segments,
+            features,
+        })
+    }
+
+    /// The model's name.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// Range (metres) at which the image scale is 1 (2.1.1).
+    pub fn nominal_range_m(&self) -> f64 {
+        self.nominal_range_m
+    }
+
+    /// Corner points, metres, x right and y up from the target centre.
+    pub fn corners_m(&self) -> &[[f64; 2]] {
+        &self.corners_m
+    }
+
+    /// Segments as corner-index pairs, in file order (feature j is segment j).
+    pub fn segments(&self) -> &[[usize; 2]] {
+        &self.segments
+    }
+
+    /// The physical size of the target (metres): width and height of the corners' bounding
+    /// box. Stage 8 (eq. 36) uses the width as `TargetSize`.
+    pub fn size_m(&self) -> [f64; 2] {
+        let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+        for &[x, y] in &self.corners_m {
+            x0 = x0.min(x);
+            x1 = x1.max(x);
+            y0 = y0.min(y);
+            y1 = y1.max(y);
+        }
+        [x1 - x0, y1 - y0]
+    }
+
+    /// Each segment's orientation, in segment order.
+    pub fn orientations(&self) -> impl Iterator<Item = Orientation> + '_ {
+        self.features.iter().map(|f| f.orientation)
+    }
+
+    /// The model's features in pixels at nominal range (scale 1) for a camera: each
+    /// feature's offset (u, v) from the object centre (2.1.1, 2.6) and its extent along the
+    /// line. Image y points down, so the model's y (up) changes sign.
+    pub fn features_px(&self, camera: &Camera) -> Vec<Feature> {
+        let [fx, fy] = camera.focal_px();
+        let kx = fx / self.nominal_range_m;
+        let ky = fy / self.nominal_range_m;
+        self.features
+            .iter()
+            .enumerate()
+            .map(|(segment, f)| match f.orientation {
+                Orientation::Horizontal => Feature {
+                    segment,
+                    orientation: Orientation::Horizontal,
+                    offset_px: -f.offset_m * ky,
+                    extent_px: [f.extent_m[0] * kx, f.extent_m[1] * kx],
+                },
+                Orientation::Vertical => Feature {
+                    segment,
+                    orientation: Orientation::Vertical,
+                    offset_px: f.offset_m * kx,
+                    extent_px: [-f.extent_m[1] * ky, -f.extent_m[0] * ky],
+                },
+            })
+            .collect()
+    }
+}
+
+/// One model feature in image pixels at nominal range (scale 1), relative to the object
+/// centre. Image x right, y down.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Feature {
+    /// The segment this feature is (its index in the model file).
+    pub segment: usize,
+    /// Horizontal (`y = b_y`, eq. 5) or vertical (`x = b_x`, eq. 6).
+    pub orientation: Orientation,
+    /// Offset of the line from the object centre across it: `v` for a horizontal line
+    /// (image y), `u` for a vertical line (image x), pixels at scale 1 (eq. 15, 35).
+    pub offset_px: f64,
+    /// Extent along the line, pixels at scale 1, sorted: x range for a horizontal line,
+    /// y range for a vertical one (the end points of eq. 8 and 10).
+    pub extent_px: [f64; 2],
+}
+
+impl Feature {
+    /// Length of the feature at scale 1, pixels.
+    pub fn length_px(&self) -> f64 {
+        self.extent_px[1] - self.extent_px[0]
+    }
+}
+
+/// Refuses a model whose features cannot determine (c_x, c_y, scale): the design matrix of
+/// eq. 16, with unit weights, must have rank 3.
+fn check_rank(features: &[FeatureM]) -> Result<(), TargetError> {
+    let count = |o| features.iter().filter(|f| f.orientation == o).count();
+    let horizontal = count(Orientation::Horizontal);
+    let vertical = count(Orientation::Vertical);
+    let distinct = |o| {
+        let mut offsets: Vec<f64> = features
+            .iter()
+            .filter(|f| f.orientation == o)
+            .map(|f| f.offset_m)
+            .collect();
+        offsets.sort_by(f64::total_cmp);
+        offsets.dedup_by(|a, b| (*a - *b).abs() <= AXIS_TOLERANCE_M);
+        offsets.len()
+    };
+    let spread = distinct(Orientation::Horizontal) >= 2 || distinct(Orientation::Vertical) >= 2;
+    if horizontal == 0 || vertical == 0 || !spread {
+        let detail = if horizontal > 0 && vertical > 0 {
+            ", but all parallel segments share one offset".to_string()
+        } else {
+            String::new()
+        };
+        return Err(TargetError::Underdetermined {
+            horizontal,
+            vertical,
+            detail,
+        });
+    }
+    Ok(())
+}
