@@ -70,7 +70,8 @@ impl Camera {
         target_size_image_px: f64,
         target_size_m: f64,
     ) -> [f64; 3] {
-        let z = target_size_m / (target_size_image_px * self.pixel_size_mm[0]) * self.focal_length_mm;
+        let z =
+            target_size_m / (target_size_image_px * self.pixel_size_mm[0]) * self.focal_length_mm;
         let x = (c_x - self.image_center_px[0]) * self.pixel_size_mm[0] * z / self.focal_length_mm;
         let y = (c_y - self.image_center_px[1]) * self.pixel_size_mm[1] * z / self.focal_length_mm;
         [x, y, z]

@@ -1,0 +1,182 @@
+//! The tracker's settings. The paper's own values are the defaults; where the paper gives
+//! none, the default and its reason are stated beside the field.
+
+use thiserror::Error;
+
+/// Every setting of the tracker. `TrackerConfig::default()` is the paper's tracker.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TrackerConfig {
+    /// Edge magnitude threshold, grey levels on 0–255 (2.3: "a threshold value of 8 in a grey
+    /// level range of 0 to 255 proved to be effective"). The magnitude is the Sobel gradient
+    /// normalised so that a step of h grey levels has magnitude h.
+    pub edge_threshold: f64,
+    /// δ of eq. 7, degrees: how far an edge's direction may be from horizontal or vertical
+    /// (section 3: "within a 15 degree threshold about either the horizontal and vertical").
+    pub delta_deg: f64,
+    /// ζ of 2.4, pixels: an edge point is associated with its nearest feature only if nearer
+    /// than this. Not given by the paper. Default 4 px: half the 8 px between the shipped
+    /// target's nearest parallel features at its 10 m nominal range, so that a point is never
+    /// taken by a feature when it lies nearer the middle of the gap than the feature itself,
+    /// and about three times the prediction error seen when tracking at 15 Hz.
+    pub zeta_px: f64,
+    /// A feature needs at least this fraction of its predicted length in associated points,
+    /// or its confidence is zero (2.5: 0.3).
+    pub min_support_fraction: f64,
+    /// σ² floor of eq. 14, pixels²: below it the confidence is capped at 1/√0.1.
+    pub sigma2_floor: f64,
+    /// λ of eq. 18, the motion model's forgetting factor (0 < λ ≤ 1). Not given by the paper.
+    /// Default 0.8: an effective memory of 1/(1 − λ) = 5 frames (a third of a second at
+    /// 15 Hz), enough to average the measurement noise of a three-coefficient model while
+    /// following a hard brake within a few frames. Section 4's trade-off: smaller λ follows
+    /// abrupt motion, larger λ is more robust to shadows and clutter.
+    pub lambda: f64,
+    /// The seven window-of-interest sizes of 2.3, as multiples of the target's extent at
+    /// scale 1. The smallest size not below the predicted scale is used. Not given by the
+    /// paper. Default: √2 steps from 0.5 to 4 (ranges from twice to an eighth of the nominal
+    /// range), so the window is never more than √2 times larger than it needs to be.
+    pub window_scales: [f64; 7],
+    /// Margin of the window beyond the target's extent, as a fraction of that extent, to
+    /// hold the target when the prediction is off. Default 0.25: the prediction is rarely off
+    /// by more than a quarter of the target's size between two frames 1/15 s apart.
+    pub window_margin: f64,
+    /// Camera frame rate, Hz: one motion-model cycle (t = 1) lasts 1/rate_hz seconds.
+    /// Default 15 Hz (the paper's update rate).
+    pub rate_hz: f64,
+    /// How long (seconds) the tracker coasts on its prediction without a usable measurement
+    /// before it reports `Lost`. Not given by the paper. Default 1 s (15 frames): at 35 km/h
+    /// the lead moves about 10 m in that time; a quadratic extrapolation over longer is a
+    /// guess, not a track.
+    pub lost_after_s: f64,
+    /// Floor on J_l (eq. 15) when computing the confidences of eq. 17, which divide by it.
+    /// With three features the fit is exact and J_l = 0. Not in the paper. Default 1: the
+    /// expected residual of one degree of freedom when each feature's error matches its
+    /// stated σ.
+    pub min_fit_residual: f64,
+    /// Improvement over the paper (off by default, so the default is the paper's tracker):
+    /// locate each edge point to a fraction of a pixel across the edge by fitting a parabola
+    /// to the gradient magnitude of the point and its two neighbours across the edge.
+    pub subpixel_edges: bool,
+}
+
+impl Default for TrackerConfig {
+    fn default() -> Self {
+        TrackerConfig {
+            edge_threshold: 8.0,
+            delta_deg: 15.0,
+            zeta_px: 4.0,
+            min_support_fraction: 0.3,
+            sigma2_floor: 0.1,
+            lambda: 0.8,
+            window_scales: [0.5, 0.71, 1.0, 1.41, 2.0, 2.83, 4.0],
+            window_margin: 0.25,
+            rate_hz: 15.0,
+            lost_after_s: 1.0,
+            min_fit_residual: 1.0,
+            subpixel_edges: false,
+        }
+    }
+}
+
+/// A setting out of its allowed range.
+#[derive(Clone, Debug, Error, PartialEq)]
+#[error("tracker setting `{field}` = {value}: {allowed}")]
+pub struct ConfigError {
+    /// The field's name.
+    pub field: &'static str,
+    /// The refused value.
+    pub value: String,
+    /// What is allowed.
+    pub allowed: &'static str,
+}
+
+impl TrackerConfig {
+    /// Checks every field's range.
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        fn check(
+            ok: bool,
+            field: &'static str,
+            value: f64,
+            allowed: &'static str,
+        ) -> Result<(), ConfigError> {
+            if ok {
+                Ok(())
+            } else {
+                Err(ConfigError {
+                    field,
+                    value: value.to_string(),
+                    allowed,
+                })
+            }
+        }
+        let c = self;
+        check(
+            c.edge_threshold.is_finite() && c.edge_threshold >= 0.0,
+            "edge_threshold",
+            c.edge_threshold,
+            "must be ≥ 0 grey levels",
+        )?;
+        check(
+            c.delta_deg > 0.0 && c.delta_deg < 45.0,
+            "delta_deg",
+            c.delta_deg,
+            "must be in (0, 45) degrees",
+        )?;
+        check(
+            c.zeta_px.is_finite() && c.zeta_px > 0.0,
+            "zeta_px",
+            c.zeta_px,
+            "must be > 0 pixels",
+        )?;
+        check(
+            (0.0..=2.0).contains(&c.min_support_fraction),
+            "min_support_fraction",
+            c.min_support_fraction,
+            "must be in [0, 2]",
+        )?;
+        check(
+            c.sigma2_floor.is_finite() && c.sigma2_floor > 0.0,
+            "sigma2_floor",
+            c.sigma2_floor,
+            "must be > 0 pixels²",
+        )?;
+        check(
+            c.lambda > 0.0 && c.lambda <= 1.0,
+            "lambda",
+            c.lambda,
+            "must be in (0, 1]",
+        )?;
+        for pair in c.window_scales.windows(2) {
+            check(
+                pair[0] > 0.0 && pair[1] > pair[0],
+                "window_scales",
+                pair[1],
+                "must be positive and increasing",
+            )?;
+        }
+        check(
+            c.window_margin.is_finite() && c.window_margin >= 0.0,
+            "window_margin",
+            c.window_margin,
+            "must be ≥ 0",
+        )?;
+        check(
+            c.rate_hz.is_finite() && c.rate_hz > 0.0,
+            "rate_hz",
+            c.rate_hz,
+            "must be > 0 Hz",
+        )?;
+        check(
+            c.lost_after_s.is_finite() && c.lost_after_s >= 0.0,
+            "lost_after_s",
+            c.lost_after_s,
+            "must be ≥ 0 seconds",
+        )?;
+        check(
+            c.min_fit_residual.is_finite() && c.min_fit_residual > 0.0,
+            "min_fit_residual",
+            c.min_fit_residual,
+            "must be > 0",
+        )?;
+        Ok(())
+    }
+}
