@@ -1,1 +1,105 @@
-fn main() {}
+//! One full tracker step (stages 1–8) on a 256×242 frame with the target at scale 1, the
+//! paper's configuration, and with sub-pixel edges; plus stage 1 alone.
+//! Run with `cargo bench -p tracker`.
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use std::hint::black_box;
+use tracker::edges::EdgeExtractor;
+use tracker::synth::{draw, Rect, SynthScene};
+use tracker::{Camera, Edges, GrayView, Location, TargetModel, Tracker, TrackerConfig, Window};
+
+fn nist_ten_segment() -> TargetModel {
+    TargetModel::new(
+        "nist-ten-segment",
+        10.0,
+        vec![
+            [-0.8, 0.5],
+            [0.8, 0.5],
+            [0.8, -0.5],
+            [-0.8, -0.5],
+            [-0.4, 0.25],
+            [0.4, 0.25],
+            [0.4, -0.25],
+            [-0.4, -0.25],
+            [0.0, 0.5],
+            [0.0, 0.25],
+            [0.0, -0.25],
+            [0.0, -0.5],
+        ],
+        vec![
+            [0, 1],
+            [1, 2],
+            [2, 3],
+            [3, 0],
+            [4, 5],
+            [5, 6],
+            [6, 7],
+            [7, 4],
+            [8, 9],
+            [10, 11],
+        ],
+    )
+    .unwrap()
+}
+
+fn bench(c: &mut Criterion) {
+    let model = nist_ten_segment();
+    let camera = Camera::default();
+    let at = Location::new(128.0, 112.0, 1.0);
+    // A noisy frame with a pole and a shadow, so association has clutter to reject.
+    let scene = SynthScene {
+        noise_sigma: 3.0,
+        distractors: vec![Rect {
+            bounds: [90.0, 0.0, 93.0, 242.0],
+            value: 60.0,
+        }],
+        shadows: vec![Rect {
+            bounds: [120.0, 0.0, 135.0, 242.0],
+            value: 0.6,
+        }],
+        ..SynthScene::default()
+    };
+    let px = draw(&model, &camera, at, &scene, 1);
+    let image = GrayView::new(256, 242, &px).unwrap();
+
+    for (name, subpixel_edges) in [
+        ("tracker_step_paper", false),
+        ("tracker_step_subpixel", true),
+    ] {
+        let config = TrackerConfig {
+            subpixel_edges,
+            ..TrackerConfig::default()
+        };
+        let mut tracker = Tracker::new(model.clone(), camera, config, at).unwrap();
+        let mut t = 0.0;
+        c.bench_function(name, |b| {
+            b.iter(|| {
+                // The same frame again and again: the target is still, so the tracker holds it.
+                t += 1.0 / 15.0;
+                black_box(tracker.step(black_box(image), t))
+            })
+        });
+    }
+
+    let mut tracker = Tracker::new(model.clone(), camera, TrackerConfig::default(), at).unwrap();
+    let window = tracker.step(image, 0.0).window;
+    let mut extractor = EdgeExtractor::default();
+    let mut edges = Edges::default();
+    let config = TrackerConfig::default();
+    c.bench_function("stage1_edges_window", |b| {
+        b.iter(|| extractor.extract(black_box(image), window, &config, &mut edges, None))
+    });
+    let full = Window {
+        x0: 1,
+        y0: 1,
+        x1: 255,
+        y1: 241,
+        size_index: 6,
+    };
+    c.bench_function("stage1_edges_full_frame", |b| {
+        b.iter(|| extractor.extract(black_box(image), full, &config, &mut edges, None))
+    });
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);

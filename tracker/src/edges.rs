@@ -134,8 +134,9 @@ impl EdgeExtractor {
 
         // Magnitude normalised so a step of h grey levels gives h (the raw 3×3 Sobel sums
         // weights 1 + 2 + 1 = 4 on each side).
-        let thr = 4.0 * config.edge_threshold as f32;
-        let thr2 = thr * thr;
+        let thr = 4.0 * config.edge_threshold;
+        // Squared magnitudes are whole numbers, so m² ≥ thr² exactly when m² ≥ ⌈thr²⌉.
+        let thr2 = (thr * thr).ceil() as i32;
         let tan_delta = (config.delta_deg.to_radians() as f32).tan();
         let mag = |i: isize| -> f32 {
             // Outside the computed region counts as no gradient.
@@ -151,14 +152,15 @@ impl EdgeExtractor {
             for x in window.x0..window.x1 {
                 let rx = x - ex0;
                 let i = ry * rw + rx;
-                let m2 = self.mag2[i] as f32;
-                if m2 == 0.0 {
+                let m2i = self.mag2[i];
+                let strong = m2i >= thr2;
+                if m2i == 0 || (!strong && diagnostics.is_none()) {
                     continue;
                 }
+                let m2 = m2i as f32;
                 let gx = self.gx[i] as f32;
                 let gy = self.gy[i] as f32;
                 let (ax, ay) = (gx.abs(), gy.abs());
-                let strong = m2 >= thr2;
                 // Eq. 7 on the gradient: the edge is within δ of horizontal when the gradient
                 // is within δ of vertical, i.e. |∇f_x| < tan δ · |∇f_y|.
                 let class = if ax < tan_delta * ay {
@@ -249,20 +251,23 @@ impl EdgeExtractor {
         let px = image.pixels();
         for ry in 0..rh {
             let y = y0 + ry;
-            let up = &px[(y - 1) * w..y * w];
-            let mid = &px[y * w..(y + 1) * w];
-            let down = &px[(y + 1) * w..(y + 2) * w];
-            let row = ry * rw;
-            for rx in 0..rw {
-                let x = x0 + rx;
-                let p = |r: &[u8], c: usize| i32::from(r[c]);
-                let gx = (p(up, x + 1) + 2 * p(mid, x + 1) + p(down, x + 1))
-                    - (p(up, x - 1) + 2 * p(mid, x - 1) + p(down, x - 1));
-                let gy = (p(down, x - 1) + 2 * p(down, x) + p(down, x + 1))
-                    - (p(up, x - 1) + 2 * p(up, x) + p(up, x + 1));
-                self.gx[row + rx] = gx as i16;
-                self.gy[row + rx] = gy as i16;
-                self.mag2[row + rx] = gx * gx + gy * gy;
+            // The three rows, cut to the columns x0 − 1 ..= x0 + rw, so each 3-wide window
+            // below is one output pixel's neighbourhood.
+            let cut = |row: usize| &px[row * w + x0 - 1..row * w + x0 + rw + 1];
+            let (up, mid, down) = (cut(y - 1), cut(y), cut(y + 1));
+            let out = ry * rw..(ry + 1) * rw;
+            let rows = up.windows(3).zip(mid.windows(3)).zip(down.windows(3));
+            let outs = self.gx[out.clone()]
+                .iter_mut()
+                .zip(&mut self.gy[out.clone()])
+                .zip(&mut self.mag2[out]);
+            for (((u, m), d), ((gx_out, gy_out), m2_out)) in rows.zip(outs) {
+                let p = |v: u8| i32::from(v);
+                let gx = (p(u[2]) + 2 * p(m[2]) + p(d[2])) - (p(u[0]) + 2 * p(m[0]) + p(d[0]));
+                let gy = (p(d[0]) + 2 * p(d[1]) + p(d[2])) - (p(u[0]) + 2 * p(u[1]) + p(u[2]));
+                *gx_out = gx as i16;
+                *gy_out = gy as i16;
+                *m2_out = gx * gx + gy * gy;
             }
         }
     }

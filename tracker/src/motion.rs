@@ -89,9 +89,9 @@ impl MotionModel {
             [self.u[2][0], self.u[2][1], self.u[2][2], self.z[2]],
         ];
         triangularize(&mut rows);
-        for i in 0..3 {
-            self.u[i] = [rows[i][0], rows[i][1], rows[i][2]];
-            self.z[i] = rows[i][3];
+        for ((u, z), row) in self.u.iter_mut().zip(&mut self.z).zip(&rows) {
+            *u = [row[0], row[1], row[2]];
+            *z = row[3];
         }
         self.informative = (self.informative + 1).min(3);
     }

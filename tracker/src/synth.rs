@@ -15,8 +15,11 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
 
-/// Margin of the light board beyond the corners' bounding box, metres.
-pub const BOARD_MARGIN_M: f64 = 0.1;
+/// Margin of the light board beyond the corners' bounding box, metres. The board's own
+/// border is a strong edge parallel to the outer segments; 0.25 m puts it 8 px beyond them at
+/// the nominal 10 m and 5.3 px at 15 m, outside the default ζ of 4 px, so it does not pull the
+/// outer features (and with them the scale) outwards.
+pub const BOARD_MARGIN_M: f64 = 0.25;
 /// Width of each painted segment, metres.
 pub const STRIPE_WIDTH_M: f64 = 0.06;
 /// How far each stripe runs past its segment's end points, metres.

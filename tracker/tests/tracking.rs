@@ -1,0 +1,272 @@
+//! The whole tracker (stages 1–8) on synthetic sequences drawn with `tracker::synth`: the
+//! target at a known, moving (c_x, c_y, scale), with sensor noise, distracting lines near
+//! features and a moving shadow band. It must hold clean sequences to sub-pixel error, stay
+//! on the target through clutter, and report `Lost` when the target leaves the image.
+//! Run with `cargo test -p tracker --test tracking --release`.
+
+use tracker::synth::{draw, wander, Rect, SynthScene};
+use tracker::{Camera, GrayView, Location, Status, TargetModel, Tracker, TrackerConfig};
+
+/// The shipped `scenarios/targets/nist-ten-segment.toml`, built in code (the tracker reads
+/// no files).
+fn nist_ten_segment() -> TargetModel {
+    TargetModel::new(
+        "nist-ten-segment",
+        10.0,
+        vec![
+            [-0.8, 0.5],
+            [0.8, 0.5],
+            [0.8, -0.5],
+            [-0.8, -0.5],
+            [-0.4, 0.25],
+            [0.4, 0.25],
+            [0.4, -0.25],
+            [-0.4, -0.25],
+            [0.0, 0.5],
+            [0.0, 0.25],
+            [0.0, -0.25],
+            [0.0, -0.5],
+        ],
+        vec![
+            [0, 1],
+            [1, 2],
+            [2, 3],
+            [3, 0],
+            [4, 5],
+            [5, 6],
+            [6, 7],
+            [7, 4],
+            [8, 9],
+            [10, 11],
+        ],
+    )
+    .unwrap()
+}
+
+struct Run {
+    errors_px: Vec<f64>,
+    scale_errors: Vec<f64>,
+    statuses: Vec<Status>,
+}
+
+fn run(
+    config: TrackerConfig,
+    truth: &[Location],
+    scene: impl Fn(usize, Location) -> SynthScene,
+    init: Location,
+) -> Run {
+    let model = nist_ten_segment();
+    let camera = Camera::default();
+    let mut tracker = Tracker::new(model.clone(), camera, config, init).unwrap();
+    let mut r = Run {
+        errors_px: vec![],
+        scale_errors: vec![],
+        statuses: vec![],
+    };
+    for (k, &at) in truth.iter().enumerate() {
+        let s = scene(k, at);
+        let px = draw(&model, &camera, at, &s, 1000 + k as u64);
+        let out = tracker.step(
+            GrayView::new(s.width, s.height, &px).unwrap(),
+            k as f64 / 15.0,
+        );
+        let e = out.estimate;
+        r.errors_px.push((e.c_x - at.c_x).hypot(e.c_y - at.c_y));
+        r.scale_errors.push((e.scale - at.scale).abs() / at.scale);
+        r.statuses.push(out.status);
+    }
+    r
+}
+
+fn max(v: &[f64]) -> f64 {
+    v.iter().cloned().fold(0.0, f64::max)
+}
+fn mean(v: &[f64]) -> f64 {
+    v.iter().sum::<f64>() / v.len() as f64
+}
+
+fn clean_sequence() -> Vec<Location> {
+    wander(Location::new(128.0, 110.0, 1.0), 90, 1.5, 0.01, 7)
+}
+
+#[test]
+fn clean_sequence_is_held_to_sub_pixel_error() {
+    for subpixel_edges in [false, true] {
+        let truth = clean_sequence();
+        let config = TrackerConfig {
+            subpixel_edges,
+            ..TrackerConfig::default()
+        };
+        let r = run(config, &truth, |_, _| SynthScene::default(), truth[0]);
+        assert!(
+            r.statuses.iter().all(|&s| s == Status::Tracking),
+            "sub-pixel {subpixel_edges}: {:?}",
+            r.statuses
+        );
+        assert!(
+            max(&r.errors_px) < 1.0,
+            "sub-pixel {subpixel_edges}: max error {:.3} px",
+            max(&r.errors_px)
+        );
+        assert!(
+            max(&r.scale_errors) < 0.03,
+            "sub-pixel {subpixel_edges}: max scale error {:.4}",
+            max(&r.scale_errors)
+        );
+        eprintln!(
+            "clean, subpixel_edges={subpixel_edges}: mean {:.3} px, max {:.3} px, max scale error {:.4}",
+            mean(&r.errors_px),
+            max(&r.errors_px),
+            max(&r.scale_errors)
+        );
+    }
+}
+
+#[test]
+fn an_offset_initial_placement_is_pulled_in() {
+    // The teleoperator places the model 2.5 px and 4 % off.
+    let truth = clean_sequence();
+    let init = Location::new(
+        truth[0].c_x + 2.0,
+        truth[0].c_y - 1.5,
+        truth[0].scale * 1.04,
+    );
+    let r = run(
+        TrackerConfig::default(),
+        &truth,
+        |_, _| SynthScene::default(),
+        init,
+    );
+    assert!(
+        max(&r.errors_px[5..]) < 1.0,
+        "max error after 5 frames {:.3}",
+        max(&r.errors_px[5..])
+    );
+}
+
+/// Clutter: noise, a telephone pole and a wire near and parallel to features, and a
+/// shadow band sweeping across the target.
+fn cluttered(k: usize, at: Location) -> SynthScene {
+    let half_w = 25.6 * at.scale;
+    let half_h = 16.0 * at.scale;
+    let sweep = at.c_x - 60.0 + 2.0 * k as f64 % 120.0;
+    SynthScene {
+        noise_sigma: 4.0,
+        distractors: vec![
+            // A pole 7 px outside the board's left edge, full height.
+            Rect {
+                bounds: [at.c_x - half_w - 12.0, 0.0, at.c_x - half_w - 9.0, 242.0],
+                value: 60.0,
+            },
+            // A wire 9 px above the board.
+            Rect {
+                bounds: [0.0, at.c_y - half_h - 13.0, 256.0, at.c_y - half_h - 12.0],
+                value: 70.0,
+            },
+        ],
+        shadows: vec![Rect {
+            bounds: [sweep, 0.0, sweep + 14.0, 242.0],
+            value: 0.55,
+        }],
+        ..SynthScene::default()
+    }
+}
+
+#[test]
+fn noise_distractors_and_a_moving_shadow_do_not_lose_the_target() {
+    let truth = clean_sequence();
+    let r = run(TrackerConfig::default(), &truth, cluttered, truth[0]);
+    let tracking = r
+        .statuses
+        .iter()
+        .filter(|&&s| s == Status::Tracking)
+        .count();
+    assert!(!r.statuses.contains(&Status::Lost));
+    assert!(
+        tracking as f64 >= 0.95 * truth.len() as f64,
+        "tracking in {tracking} of {} frames",
+        truth.len()
+    );
+    assert!(
+        max(&r.errors_px) < 2.0,
+        "max error {:.3} px",
+        max(&r.errors_px)
+    );
+    assert!(
+        mean(&r.errors_px) < 0.8,
+        "mean error {:.3} px",
+        mean(&r.errors_px)
+    );
+    eprintln!(
+        "cluttered: mean {:.3} px, max {:.3} px",
+        mean(&r.errors_px),
+        max(&r.errors_px)
+    );
+}
+
+#[test]
+fn a_target_that_leaves_the_image_is_reported_lost() {
+    // The target drives off to the right at 5 px per frame and does not come back.
+    let truth: Vec<Location> = (0..80)
+        .map(|k| Location::new(128.0 + 5.0 * k as f64, 110.0, 1.0))
+        .collect();
+    let r = run(
+        TrackerConfig::default(),
+        &truth,
+        |_, _| SynthScene::default(),
+        truth[0],
+    );
+    // Whenever it says it is tracking, it is on the target.
+    for (k, (&s, &e)) in r.statuses.iter().zip(&r.errors_px).enumerate() {
+        if s == Status::Tracking {
+            assert!(e < 2.0, "frame {k}: tracking but {e:.2} px off");
+        }
+    }
+    // The board's right edge (x = c_x + 28.8) leaves the 256-px frame from about frame 28
+    // and the whole target by frame 33; within the 1 s (15 frame) coasting limit after, it
+    // must say lost, and stay lost.
+    let first_lost = r
+        .statuses
+        .iter()
+        .position(|&s| s == Status::Lost)
+        .expect("never reported lost");
+    assert!(first_lost <= 33 + 15, "lost only at frame {first_lost}");
+    assert!(r.statuses[first_lost..].iter().all(|&s| s == Status::Lost));
+}
+
+#[test]
+fn the_same_frames_give_the_same_outputs() {
+    let model = nist_ten_segment();
+    let camera = Camera::default();
+    let truth = clean_sequence();
+    let outputs = || {
+        let mut t =
+            Tracker::new(model.clone(), camera, TrackerConfig::default(), truth[0]).unwrap();
+        truth
+            .iter()
+            .enumerate()
+            .map(|(k, &at)| {
+                let s = cluttered(k, at);
+                let px = draw(&model, &camera, at, &s, k as u64);
+                t.step(GrayView::new(256, 242, &px).unwrap(), k as f64 / 15.0)
+            })
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(outputs(), outputs());
+}
+
+#[test]
+fn stage8_gives_the_range_from_the_scale() {
+    // At scale 0.8 the target is at 10 / 0.8 = 12.5 m.
+    let truth = [Location::new(100.0, 120.0, 0.8); 5];
+    let model = nist_ten_segment();
+    let camera = Camera::default();
+    let mut t = Tracker::new(model.clone(), camera, TrackerConfig::default(), truth[0]).unwrap();
+    let px = draw(&model, &camera, truth[0], &SynthScene::default(), 0);
+    let out = t.step(GrayView::new(256, 242, &px).unwrap(), 0.0);
+    let [x, y, z] = out.position_3d;
+    assert!((z - 12.5).abs() < 0.2, "z = {z}");
+    // c_x = 100 is 27.5 px left of the centre 127.5: x = −27.5 × z / 320.
+    assert!((x + 27.5 * 12.5 / 320.0).abs() < 0.05, "x = {x}");
+    assert!((y + 0.5 * 12.5 / 320.0).abs() < 0.05, "y = {y}");
+}
