@@ -108,6 +108,18 @@ pub struct Renderer {
     depth_view: wgpu::TextureView,
     staging: wgpu::Buffer,
     padded_row: u32,
+    stats: DrawStats,
+}
+
+/// What the last frame drew: triangles in each pass after culling.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct DrawStats {
+    /// Triangles drawn from the camera.
+    pub main_triangles: u32,
+    /// Triangles drawn into the shadow map.
+    pub shadow_triangles: u32,
+    /// Draw calls in both passes.
+    pub draw_calls: u32,
 }
 
 impl Renderer {
@@ -440,12 +452,18 @@ impl Renderer {
             depth_view,
             staging,
             padded_row,
+            stats: DrawStats::default(),
         })
     }
 
     /// The adapter in use, e.g. `llvmpipe (LLVM 15.0.6, 256 bits) (Gl)`.
     pub fn adapter_name(&self) -> &str {
         &self.adapter_name
+    }
+
+    /// What the last frame drew.
+    pub fn stats(&self) -> DrawStats {
+        self.stats
     }
 
     /// The camera rig.
@@ -520,6 +538,13 @@ impl Renderer {
                 .filter(|(_, c, r, casts)| *casts && light.holds(*c, *r))
                 .map(|d| d.0.clone()),
         );
+
+        let triangles = |draws: &[Range<u32>]| draws.iter().map(|r| (r.end - r.start) / 3).sum();
+        self.stats = DrawStats {
+            main_triangles: triangles(&main_draws),
+            shadow_triangles: triangles(&shadow_draws),
+            draw_calls: (main_draws.len() + shadow_draws.len()) as u32,
+        };
 
         // Uniforms.
         let brightness = description.sensor.brightness();

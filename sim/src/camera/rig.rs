@@ -6,9 +6,10 @@ use nalgebra::{Isometry3, Matrix3, Matrix4, Point3, Rotation3, Translation3, Uni
 
 /// Near clipping plane, metres: closer than the hood's nearest point seen by the camera.
 pub const NEAR_M: f64 = 0.5;
-/// Far clipping plane, metres: the tracker cares about 5–30 m; beyond 400 m the scene's
-/// details are below a pixel.
-pub const FAR_M: f64 = 400.0;
+/// Far clipping plane, metres: the tracker cares about 5–30 m; a house at 250 m is a dozen
+/// pixels, and llvmpipe's cost grows with every triangle drawn (the ground beyond shows as
+/// sky a few pixels under the true horizon).
+pub const FAR_M: f64 = 250.0;
 
 /// Intrinsics, image size and mount.
 #[derive(Clone, Debug, PartialEq)]

@@ -63,9 +63,12 @@ const ROAD_RUNOUT_M: f64 = 250.0;
 const GROUND_MARGIN_M: f64 = 250.0;
 /// Ground grid cell, metres; each vertex gets its own grass albedo, so the shoulders are
 /// mottled at this scale.
-const GROUND_CELL_M: f64 = 12.5;
-/// Length of one road quad along the centreline, metres (a 60 m arc bends < 2° per quad).
+const GROUND_CELL_M: f64 = 25.0;
+/// Length of one road quad along an arc, metres (a 60 m arc bends < 2° per quad).
 const ROAD_STEP_M: f64 = 2.0;
+/// Length of one road quad along a straight, metres: long quads mean few triangles, and
+/// llvmpipe's cost is mostly per triangle at this image size.
+const STRAIGHT_STEP_M: f64 = 10.0;
 /// Width of the paved shoulder beyond each lane, metres.
 const SHOULDER_M: f64 = 0.5;
 /// Lane paint width, metres (US practice: 4–6 in).
@@ -250,45 +253,56 @@ impl Scene {
         const PAINT: f64 = 0.75;
         let mut s = -ROAD_RUNOUT_M;
         while s < length + ROAD_RUNOUT_M {
-            let s1 = s + ROAD_STEP_M;
-            let mid = road.world(s + 0.5 * ROAD_STEP_M, 0.0, 0.0);
-            let mesh = bins.at(mid[0], mid[2], false);
-            let strip = |mesh: &mut Mesh, l0: f64, l1: f64, y: f64, albedo: f64| {
-                mesh.polygon(
-                    &[
-                        road.world(s, l0, y),
-                        road.world(s1, l0, y),
-                        road.world(s1, l1, y),
-                        road.world(s, l1, y),
-                    ],
-                    albedo,
-                    ObjectSlot::WORLD,
-                );
+            let straight =
+                route.curvature_at(s) == 0.0 && route.curvature_at(s + STRAIGHT_STEP_M) == 0.0;
+            let s1 = s + if straight {
+                STRAIGHT_STEP_M
+            } else {
+                ROAD_STEP_M
             };
-            strip(mesh, -road_half, road_half, ROAD_Y_M, ASPHALT);
-            let crossing = route.near_intersection(s + 0.5 * ROAD_STEP_M, road_half + 1.0);
-            if !crossing {
-                for side in [-1.0, 1.0] {
-                    let l = side * (lane + 0.1);
-                    strip(
-                        mesh,
-                        l - 0.5 * PAINT_WIDTH_M,
-                        l + 0.5 * PAINT_WIDTH_M,
-                        MARK_Y_M,
-                        PAINT,
-                    );
-                }
-                if (s + 1000.0 * DASH_PERIOD_M).rem_euclid(DASH_PERIOD_M) < DASH_M {
-                    strip(
-                        mesh,
-                        -0.5 * PAINT_WIDTH_M,
-                        0.5 * PAINT_WIDTH_M,
-                        MARK_Y_M,
-                        PAINT,
-                    );
+            let mid = road.world(0.5 * (s + s1), 0.0, 0.0);
+            let mesh = bins.at(mid[0], mid[2], false);
+            strip(mesh, &road, s, s1, -road_half, road_half, ROAD_Y_M, ASPHALT);
+            for side in [-1.0, 1.0] {
+                let l = side * (lane + 0.1);
+                let mut a = s;
+                // Edge lines stop across intersections.
+                while a < s1 {
+                    let b = (a + ROAD_STEP_M).min(s1);
+                    if !route.near_intersection(0.5 * (a + b), road_half + 1.0) {
+                        strip(
+                            mesh,
+                            &road,
+                            a,
+                            b,
+                            l - 0.5 * PAINT_WIDTH_M,
+                            l + 0.5 * PAINT_WIDTH_M,
+                            MARK_Y_M,
+                            PAINT,
+                        );
+                    }
+                    a = b;
                 }
             }
             s = s1;
+        }
+        let mut s = -ROAD_RUNOUT_M;
+        while s < length + ROAD_RUNOUT_M {
+            if !route.near_intersection(s + 0.5 * DASH_M, road_half + 1.0) {
+                let mid = road.world(s + 0.5 * DASH_M, 0.0, 0.0);
+                let mesh = bins.at(mid[0], mid[2], false);
+                strip(
+                    mesh,
+                    &road,
+                    s,
+                    s + DASH_M,
+                    -0.5 * PAINT_WIDTH_M,
+                    0.5 * PAINT_WIDTH_M,
+                    MARK_Y_M,
+                    PAINT,
+                );
+            }
+            s += DASH_PERIOD_M;
         }
 
         // Crossing roads at intersections, at right angles to the route.
@@ -397,7 +411,7 @@ impl Scene {
             let trunk = rng.random_range(2.5..4.0);
             let mesh = bins.at(x, z, true);
             mesh.upright_box(x, z, 0.0, 0.15, 0.15, 0.0, trunk + 1.0, 0.22);
-            for _ in 0..rng.random_range(6..11) {
+            for _ in 0..rng.random_range(5..9) {
                 let c = [
                     x + rng.random_range(-1.6..1.6),
                     trunk + rng.random_range(1.0..3.2),
@@ -835,6 +849,30 @@ fn car(mesh: &mut Mesh, slot: u32, albedo: f64) {
             slot,
         );
     }
+}
+
+/// A strip of road-parallel surface from station `s0` to `s1`, lateral `l0` to `l1`.
+#[allow(clippy::too_many_arguments)]
+fn strip(
+    mesh: &mut Mesh,
+    road: &RoadFrame<'_>,
+    s0: f64,
+    s1: f64,
+    l0: f64,
+    l1: f64,
+    y: f64,
+    albedo: f64,
+) {
+    mesh.polygon(
+        &[
+            road.world(s0, l0, y),
+            road.world(s1, l0, y),
+            road.world(s1, l1, y),
+            road.world(s0, l1, y),
+        ],
+        albedo,
+        ObjectSlot::WORLD,
+    );
 }
 
 /// Axes of a ground-standing object with the given heading: forward, up, right.

@@ -231,6 +231,24 @@ impl Mesh {
         self.oriented_box(centre, [u, up, side], [0.5 * length, half, half], albedo, 0);
     }
 
+    /// Appends a vertical ribbon from `a` to `b`, `half` metres either side vertically: a
+    /// wire seen from the road, in two triangles.
+    pub fn ribbon(&mut self, a: P, b: P, half: f64, albedo: f64) {
+        let d = sub(b, a);
+        let normal = normalize(cross(d, [0.0, 1.0, 0.0]));
+        self.quad_with_normal(
+            [
+                [a[0], a[1] - half, a[2]],
+                [b[0], b[1] - half, b[2]],
+                [b[0], b[1] + half, b[2]],
+                [a[0], a[1] + half, a[2]],
+            ],
+            normal,
+            albedo,
+            0,
+        );
+    }
+
     /// Appends another mesh, re-basing its indices.
     pub fn append(&mut self, other: &Mesh) {
         let base = self.vertices.len() as u32;

@@ -142,6 +142,18 @@ impl Route {
         [x + lateral_m * heading.sin(), z + lateral_m * heading.cos()]
     }
 
+    /// Curvature (1/metres, positive turning left) at station `s_m`; 0 past the ends.
+    pub fn curvature_at(&self, s_m: f64) -> f64 {
+        if s_m < 0.0 || s_m > self.length_m {
+            return 0.0;
+        }
+        let index = self
+            .pieces
+            .partition_point(|p| p.start_m <= s_m)
+            .saturating_sub(1);
+        self.pieces.get(index).map_or(0.0, |p| p.curvature)
+    }
+
     /// Whether a curve point is within `margin_m` of an intersection's station.
     pub fn near_intersection(&self, s_m: f64, margin_m: f64) -> bool {
         self.spec
