@@ -13,7 +13,7 @@ fn render(c: &mut Criterion) {
     let backend = Backend::choose(None).expect("backend");
     let mut group = c.benchmark_group("render");
     group.throughput(Throughput::Elements(1));
-    for shadow_map_size in [1024] {
+    for shadow_map_size in [1024, 512] {
         let options = RenderOptions {
             backend,
             shadow_map_size,
