@@ -1,0 +1,45 @@
+//! What the renderer takes and gives per frame.
+
+use image::GrayImage;
+use nalgebra::Isometry3;
+
+/// The inputs of one frame: the clock and the two vehicles' poses (from physics).
+#[derive(Clone, Debug, PartialEq)]
+pub struct FrameInput {
+    /// Frame number; selects this frame's sensor noise, so frame k's noise does not depend
+    /// on which frames were rendered before.
+    pub frame_index: u64,
+    /// Simulation time, seconds (moves oncoming traffic).
+    pub time_s: f64,
+    /// The chase vehicle's pose: vehicle frame (x forward, y up, z right; origin on the
+    /// ground below its centre when level) in the world.
+    pub world_from_chase: Isometry3<f64>,
+    /// The lead vehicle's pose, same convention.
+    pub world_from_lead: Isometry3<f64>,
+}
+
+/// What the tracker is scored against. Image coordinates have their origin at the top-left
+/// corner and pixel centres at integer coordinates.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GroundTruth {
+    /// True image x of the target's centre, pixels.
+    pub c_x: f64,
+    /// True image y of the target's centre, pixels.
+    pub c_y: f64,
+    /// True scale: `nominal_range_m / z` (paper 2.1.1: 1 at nominal range).
+    pub scale: f64,
+    /// The target centre in the camera frame (x right, y down, z forward), metres.
+    pub target_cam_m: [f64; 3],
+    /// Whether every corner of the target projects inside the image (occlusion is not
+    /// considered).
+    pub in_view: bool,
+}
+
+/// One rendered frame.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Frame {
+    /// The 8-bit grey image, `width × height` of the rig.
+    pub image: GrayImage,
+    /// The target's true position.
+    pub truth: GroundTruth,
+}

@@ -1,0 +1,18 @@
+//! The chase vehicle's camera: a pinhole ([`tracker::Camera`] intrinsics, so the tracker's
+//! stage 8 and the renderer agree) on a mount that follows the chase chassis, rendered
+//! off-screen with wgpu into 256×242 8-bit grey frames with sun shadows and sensor noise.
+//!
+//! Image convention (shared with the tracker): origin at the top-left corner, **pixel
+//! centres at integer coordinates** (pixel (i, j) is centred at x = i, y = j).
+
+mod backend;
+mod frame;
+mod renderer;
+mod rig;
+mod sensor;
+
+pub use backend::{Backend, BackendError};
+pub use frame::{Frame, FrameInput, GroundTruth};
+pub use renderer::{DrawStats, RenderError, RenderOptions, Renderer};
+pub use rig::{CameraRig, FAR_M, NEAR_M};
+pub use sensor::apply_sensor;

@@ -1,0 +1,911 @@
+//! The off-screen renderer. [`Renderer::new`] uploads the scene's geometry once (it never
+//! changes); [`Renderer::render`] reads top to bottom like wgpu's `render_to_texture`
+//! example: poses and culling, the sun's frustum fitted to the camera's, uniforms, one
+//! command encoder with the shadow pass, the main pass and the copy to a staging buffer,
+//! one submission, map and read, then the sensor model and the ground truth.
+
+use super::backend::{Backend, BackendError};
+use super::frame::{Frame, FrameInput, GroundTruth};
+use super::rig::CameraRig;
+use super::sensor::apply_sensor;
+use crate::scene::{ObjectSlot, Scene, Vertex};
+use bytemuck::{Pod, Zeroable};
+use image::GrayImage;
+use nalgebra::{Isometry3, Matrix4, Point3, Vector3};
+use std::ops::Range;
+use thiserror::Error;
+
+/// Options that trade quality for speed; none changes the scene.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RenderOptions {
+    /// The wgpu backend (see [`Backend::choose`]).
+    pub backend: Backend,
+    /// Side of the square shadow map, texels. 1024 over the fitted ~60 m frustum gives
+    /// ~6 cm texels near the camera: a pole's shadow is several texels wide.
+    pub shadow_map_size: u32,
+    /// How far from the camera shadows are drawn, metres. The tracker works at 5–30 m;
+    /// beyond 60 m a shadow is a few pixels.
+    pub shadow_distance_m: f64,
+    /// Multisample anti-aliasing: 1 (off) or 4. A real CCD integrates over each pixel;
+    /// 4× gets closer to that at some cost in speed.
+    pub msaa_samples: u32,
+}
+
+impl Default for RenderOptions {
+    /// GL, a 1024² shadow map over 60 m, no MSAA.
+    fn default() -> Self {
+        RenderOptions {
+            backend: Backend::Gl,
+            shadow_map_size: 1024,
+            shadow_distance_m: 60.0,
+            msaa_samples: 1,
+        }
+    }
+}
+
+/// Why a frame could not be rendered.
+#[derive(Debug, Error)]
+pub enum RenderError {
+    /// The backend could not be opened.
+    #[error(transparent)]
+    Backend(#[from] BackendError),
+    /// The options are out of range.
+    #[error("render options: {0}")]
+    Options(String),
+    /// Reading the frame back failed.
+    #[error("reading the frame back from the {backend} device failed: {reason}")]
+    Readback {
+        /// The backend.
+        backend: Backend,
+        /// wgpu's message.
+        reason: String,
+    },
+}
+
+/// How far (metres) along the sun's direction casters may stand beyond the receivers the
+/// camera sees: taller than any building (20 m) at the lowest sensible sun (15°).
+const CASTER_REACH_M: f64 = 80.0;
+/// Height range of receivers, metres: nothing stands below the ground or above 25 m.
+const RECEIVER_TOP_M: f64 = 25.0;
+/// Shadow lookups start this many texels off the surface along its normal, which removes
+/// acne without detaching shadows from their casters.
+const NORMAL_OFFSET_TEXELS: f64 = 1.5;
+/// Depth format of both passes.
+const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+/// Colour format: 8-bit grey, what the frame grabber delivers.
+const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R8Unorm;
+
+/// The uniform block `Globals` of `scene.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct Globals {
+    view_proj: [[f32; 4]; 4],
+    light_view_proj: [[f32; 4]; 4],
+    sun: [f32; 4],
+    params: [f32; 4],
+}
+
+/// Renders frames of one scene from the chase camera.
+pub struct Renderer {
+    scene: Scene,
+    rig: CameraRig,
+    options: RenderOptions,
+    adapter_name: String,
+    device: wgpu::Device,
+    queue: wgpu::Queue,
+    shadow_pipeline: wgpu::RenderPipeline,
+    main_pipeline: wgpu::RenderPipeline,
+    globals_buffer: wgpu::Buffer,
+    objects_buffer: wgpu::Buffer,
+    frame_bind_group: wgpu::BindGroup,
+    shadow_bind_group: wgpu::BindGroup,
+    vertex_buffer: wgpu::Buffer,
+    index_buffer: wgpu::Buffer,
+    shadow_view: wgpu::TextureView,
+    color_texture: wgpu::Texture,
+    color_view: wgpu::TextureView,
+    msaa_view: Option<wgpu::TextureView>,
+    depth_view: wgpu::TextureView,
+    staging: wgpu::Buffer,
+    padded_row: u32,
+    stats: DrawStats,
+}
+
+/// What the last frame drew: triangles in each pass after culling.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct DrawStats {
+    /// Triangles drawn from the camera.
+    pub main_triangles: u32,
+    /// Triangles drawn into the shadow map.
+    pub shadow_triangles: u32,
+    /// Draw calls in both passes.
+    pub draw_calls: u32,
+}
+
+impl Renderer {
+    /// Opens the backend, compiles the pipelines and uploads the scene's geometry.
+    pub fn new(
+        scene: &Scene,
+        rig: CameraRig,
+        options: &RenderOptions,
+    ) -> Result<Renderer, RenderError> {
+        if ![1, 4].contains(&options.msaa_samples) {
+            return Err(RenderError::Options(format!(
+                "msaa_samples must be 1 or 4, got {}",
+                options.msaa_samples
+            )));
+        }
+        if !(64..=4096).contains(&options.shadow_map_size) {
+            return Err(RenderError::Options(format!(
+                "shadow_map_size must be 64..=4096, got {}",
+                options.shadow_map_size
+            )));
+        }
+        let backend = options.backend;
+
+        // Instance, adapter and device on exactly the chosen backend.
+        let mut instance_descriptor = wgpu::InstanceDescriptor::new_without_display_handle();
+        instance_descriptor.backends = backend.wgpu_backends();
+        instance_descriptor.flags = wgpu::InstanceFlags::from_build_config().with_env();
+        let instance = wgpu::Instance::new(instance_descriptor);
+        let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
+            power_preference: wgpu::PowerPreference::HighPerformance,
+            force_fallback_adapter: false,
+            compatible_surface: None,
+            apply_limit_buckets: false,
+        }))
+        .map_err(|_| BackendError::NoAdapter {
+            backend,
+            hint: backend.install_hint(),
+        })?;
+        let adapter_name = format!(
+            "{} ({:?})",
+            adapter.get_info().name,
+            adapter.get_info().backend
+        );
+        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+            label: Some("carfollow camera"),
+            required_features: wgpu::Features::empty(),
+            required_limits:
+                wgpu::Limits::downlevel_webgl2_defaults().using_resolution(adapter.limits()),
+            ..Default::default()
+        }))
+        .map_err(|e| BackendError::Device {
+            backend,
+            adapter: adapter_name.clone(),
+            reason: e.to_string(),
+        })?;
+
+        // Geometry: uploaded once, never changes (moving objects move by their transforms).
+        let mesh = scene.mesh();
+        let vertex_buffer = buffer_init(
+            &device,
+            &queue,
+            "vertices",
+            bytemuck::cast_slice(&mesh.vertices),
+            wgpu::BufferUsages::VERTEX,
+        );
+        let index_buffer = buffer_init(
+            &device,
+            &queue,
+            "indices",
+            bytemuck::cast_slice(&mesh.indices),
+            wgpu::BufferUsages::INDEX,
+        );
+
+        // Uniforms: the per-frame globals and the object transforms.
+        let globals_buffer = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("globals"),
+            size: std::mem::size_of::<Globals>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let objects_buffer = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("objects"),
+            size: 64 * u64::from(ObjectSlot::COUNT),
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+
+        // Textures: the shadow map, the grey target (and its multisampled twin), depth.
+        let size = |w, h| wgpu::Extent3d {
+            width: w,
+            height: h,
+            depth_or_array_layers: 1,
+        };
+        let texture = |label, extent, format, samples, usage| {
+            device.create_texture(&wgpu::TextureDescriptor {
+                label: Some(label),
+                size: extent,
+                mip_level_count: 1,
+                sample_count: samples,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage,
+                view_formats: &[],
+            })
+        };
+        let s = options.shadow_map_size;
+        let shadow_texture = texture(
+            "shadow map",
+            size(s, s),
+            DEPTH_FORMAT,
+            1,
+            wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+        );
+        let shadow_view = shadow_texture.create_view(&wgpu::TextureViewDescriptor::default());
+        let frame_size = size(rig.width, rig.height);
+        let color_texture = texture(
+            "frame",
+            frame_size,
+            COLOR_FORMAT,
+            1,
+            wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+        );
+        let color_view = color_texture.create_view(&wgpu::TextureViewDescriptor::default());
+        let samples = options.msaa_samples;
+        let msaa_view = (samples > 1).then(|| {
+            texture(
+                "frame msaa",
+                frame_size,
+                COLOR_FORMAT,
+                samples,
+                wgpu::TextureUsages::RENDER_ATTACHMENT,
+            )
+            .create_view(&wgpu::TextureViewDescriptor::default())
+        });
+        let depth_view = texture(
+            "depth",
+            frame_size,
+            DEPTH_FORMAT,
+            samples,
+            wgpu::TextureUsages::RENDER_ATTACHMENT,
+        )
+        .create_view(&wgpu::TextureViewDescriptor::default());
+
+        // Readback buffer: rows padded to wgpu's 256-byte copy alignment.
+        let padded_row = rig.width.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
+            * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+        let staging = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("staging"),
+            size: u64::from(padded_row) * u64::from(rig.height),
+            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+            mapped_at_creation: false,
+        });
+
+        // Bind groups: per-frame uniforms (both passes), the shadow map (main pass only).
+        let uniform_entry = |binding| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Uniform,
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        };
+        let frame_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("frame"),
+            entries: &[uniform_entry(0), uniform_entry(1)],
+        });
+        let shadow_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("shadow"),
+            entries: &[
+                wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Depth,
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 1,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
+                    count: None,
+                },
+            ],
+        });
+        let shadow_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("shadow"),
+            address_mode_u: wgpu::AddressMode::ClampToEdge,
+            address_mode_v: wgpu::AddressMode::ClampToEdge,
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            compare: Some(wgpu::CompareFunction::LessEqual),
+            ..Default::default()
+        });
+        let frame_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("frame"),
+            layout: &frame_layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: globals_buffer.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: objects_buffer.as_entire_binding(),
+                },
+            ],
+        });
+        let shadow_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("shadow"),
+            layout: &shadow_layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::TextureView(&shadow_view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: wgpu::BindingResource::Sampler(&shadow_sampler),
+                },
+            ],
+        });
+
+        // Pipelines: depth-only from the sun; shaded grey from the camera.
+        let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("scene.wgsl"),
+            source: wgpu::ShaderSource::Wgsl(include_str!("scene.wgsl").into()),
+        });
+        let vertex_layout = wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<Vertex>() as u64,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32, 3 => Uint32],
+        };
+        let shadow_pipeline_layout =
+            device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("shadow"),
+                bind_group_layouts: &[Some(&frame_layout)],
+                immediate_size: 0,
+            });
+        let main_pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("main"),
+            bind_group_layouts: &[Some(&frame_layout), Some(&shadow_layout)],
+            immediate_size: 0,
+        });
+        let shadow_pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("shadow"),
+            layout: Some(&shadow_pipeline_layout),
+            vertex: wgpu::VertexState {
+                module: &shader,
+                entry_point: Some("vs_shadow"),
+                compilation_options: Default::default(),
+                buffers: &[Some(vertex_layout.clone())],
+            },
+            primitive: wgpu::PrimitiveState::default(),
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: DEPTH_FORMAT,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::LessEqual),
+                stencil: wgpu::StencilState::default(),
+                // A little slope-scaled bias on top of the normal offset, for grazing light.
+                bias: wgpu::DepthBiasState {
+                    constant: 2,
+                    slope_scale: 1.5,
+                    clamp: 0.0,
+                },
+            }),
+            multisample: wgpu::MultisampleState::default(),
+            fragment: None,
+            multiview_mask: None,
+            cache: None,
+        });
+        let main_pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("main"),
+            layout: Some(&main_pipeline_layout),
+            vertex: wgpu::VertexState {
+                module: &shader,
+                entry_point: Some("vs_main"),
+                compilation_options: Default::default(),
+                buffers: &[Some(vertex_layout)],
+            },
+            primitive: wgpu::PrimitiveState::default(),
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: DEPTH_FORMAT,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Less),
+                stencil: wgpu::StencilState::default(),
+                bias: wgpu::DepthBiasState::default(),
+            }),
+            multisample: wgpu::MultisampleState {
+                count: samples,
+                ..Default::default()
+            },
+            fragment: Some(wgpu::FragmentState {
+                module: &shader,
+                entry_point: Some("fs_main"),
+                compilation_options: Default::default(),
+                targets: &[Some(wgpu::ColorTargetState {
+                    format: COLOR_FORMAT,
+                    blend: None,
+                    write_mask: wgpu::ColorWrites::ALL,
+                })],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+
+        Ok(Renderer {
+            scene: scene.clone(),
+            rig,
+            options: options.clone(),
+            adapter_name,
+            device,
+            queue,
+            shadow_pipeline,
+            main_pipeline,
+            globals_buffer,
+            objects_buffer,
+            frame_bind_group,
+            shadow_bind_group,
+            vertex_buffer,
+            index_buffer,
+            shadow_view,
+            color_texture,
+            color_view,
+            msaa_view,
+            depth_view,
+            staging,
+            padded_row,
+            stats: DrawStats::default(),
+        })
+    }
+
+    /// The adapter in use, e.g. `llvmpipe (LLVM 15.0.6, 256 bits) (Gl)`.
+    pub fn adapter_name(&self) -> &str {
+        &self.adapter_name
+    }
+
+    /// What the last frame drew.
+    pub fn stats(&self) -> DrawStats {
+        self.stats
+    }
+
+    /// The camera rig.
+    pub fn rig(&self) -> &CameraRig {
+        &self.rig
+    }
+
+    /// The scene.
+    pub fn scene(&self) -> &Scene {
+        &self.scene
+    }
+
+    /// Renders one frame and reads it back.
+    pub fn render(&mut self, input: &FrameInput) -> Result<Frame, RenderError> {
+        let rig = &self.rig;
+        let description = self.scene.description();
+
+        // Poses: the camera from the chase chassis; every moving object's transform.
+        let world_from_camera = rig.world_from_camera(&input.world_from_chase);
+        let camera_from_world = world_from_camera.inverse();
+        let view_proj = rig.clip_from_camera() * camera_from_world.to_homogeneous();
+        let mut world_from_object = [[[0f32; 4]; 4]; ObjectSlot::COUNT as usize];
+        world_from_object[ObjectSlot::WORLD as usize] = to_f32(&Matrix4::identity());
+        let mut moving: Vec<(Range<u32>, [f64; 3], f64, bool)> = Vec::new();
+        for object in self.scene.objects() {
+            // Off the route: the zero matrix collapses it to nothing.
+            if let Some(pose) = self.scene.world_from_object(
+                object,
+                &input.world_from_chase,
+                &input.world_from_lead,
+                input.time_s,
+            ) {
+                world_from_object[object.slot as usize] = to_f32(&pose.to_homogeneous());
+                let c = pose * Point3::from(object.centre);
+                moving.push((
+                    object.indices.clone(),
+                    [c.x, c.y, c.z],
+                    object.radius,
+                    object.casts_shadow,
+                ));
+            }
+        }
+
+        // Culling: static chunks and moving objects against the camera's frustum.
+        let frustum = Frustum::new(rig, &camera_from_world);
+        let statics = self
+            .scene
+            .chunks()
+            .iter()
+            .map(|c| (c.indices.clone(), c.centre, c.radius, c.casts_shadow));
+        let everything: Vec<_> = statics.chain(moving).collect();
+        let main_draws = merge(
+            everything
+                .iter()
+                .filter(|(_, c, r, _)| frustum.sees(*c, *r))
+                .map(|d| d.0.clone()),
+        );
+
+        // The sun's frustum, fitted to the part of the camera's frustum within the shadow
+        // distance; casters culled against it.
+        let sun = &description.sun;
+        let light = Light::fit(
+            rig,
+            &world_from_camera,
+            sun.direction(),
+            self.options.shadow_distance_m,
+            self.options.shadow_map_size,
+        );
+        let shadow_draws = merge(
+            everything
+                .iter()
+                .filter(|(_, c, r, casts)| *casts && light.holds(*c, *r))
+                .map(|d| d.0.clone()),
+        );
+
+        let triangles = |draws: &[Range<u32>]| draws.iter().map(|r| (r.end - r.start) / 3).sum();
+        self.stats = DrawStats {
+            main_triangles: triangles(&main_draws),
+            shadow_triangles: triangles(&shadow_draws),
+            draw_calls: (main_draws.len() + shadow_draws.len()) as u32,
+        };
+
+        // Uniforms.
+        let brightness = description.sensor.brightness();
+        let globals = Globals {
+            view_proj: to_f32(&view_proj),
+            light_view_proj: to_f32(&light.clip_from_world),
+            sun: [
+                sun.direction()[0] as f32,
+                sun.direction()[1] as f32,
+                sun.direction()[2] as f32,
+                sun.strength as f32,
+            ],
+            params: [
+                sun.ambient as f32,
+                brightness as f32,
+                (NORMAL_OFFSET_TEXELS * light.texel_m) as f32,
+                1.0 / self.options.shadow_map_size as f32,
+            ],
+        };
+        self.queue
+            .write_buffer(&self.globals_buffer, 0, bytemuck::bytes_of(&globals));
+        self.queue.write_buffer(
+            &self.objects_buffer,
+            0,
+            bytemuck::cast_slice(&world_from_object),
+        );
+
+        // One encoder: shadow pass, main pass, copy to the staging buffer.
+        let mut encoder = self
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("frame"),
+            });
+        {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("shadow"),
+                color_attachments: &[],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &self.shadow_view,
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(1.0),
+                        store: wgpu::StoreOp::Store,
+                    }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_pipeline(&self.shadow_pipeline);
+            pass.set_bind_group(0, &self.frame_bind_group, &[]);
+            pass.set_vertex_buffer(0, self.vertex_buffer.slice(..));
+            pass.set_index_buffer(self.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
+            for range in &shadow_draws {
+                pass.draw_indexed(range.clone(), 0, 0..1);
+            }
+        }
+        {
+            let sky = (sun.sky * brightness).clamp(0.0, 1.0);
+            let (view, resolve_target) = match &self.msaa_view {
+                Some(msaa) => (msaa, Some(&self.color_view)),
+                None => (&self.color_view, None),
+            };
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("main"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view,
+                    depth_slice: None,
+                    resolve_target,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color {
+                            r: sky,
+                            g: sky,
+                            b: sky,
+                            a: 1.0,
+                        }),
+                        store: wgpu::StoreOp::Store,
+                    },
+                })],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &self.depth_view,
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(1.0),
+                        store: wgpu::StoreOp::Discard,
+                    }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_pipeline(&self.main_pipeline);
+            pass.set_bind_group(0, &self.frame_bind_group, &[]);
+            pass.set_bind_group(1, &self.shadow_bind_group, &[]);
+            pass.set_vertex_buffer(0, self.vertex_buffer.slice(..));
+            pass.set_index_buffer(self.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
+            for range in &main_draws {
+                pass.draw_indexed(range.clone(), 0, 0..1);
+            }
+        }
+        encoder.copy_texture_to_buffer(
+            wgpu::TexelCopyTextureInfo {
+                texture: &self.color_texture,
+                mip_level: 0,
+                origin: wgpu::Origin3d::ZERO,
+                aspect: wgpu::TextureAspect::All,
+            },
+            wgpu::TexelCopyBufferInfo {
+                buffer: &self.staging,
+                layout: wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(self.padded_row),
+                    rows_per_image: Some(rig.height),
+                },
+            },
+            wgpu::Extent3d {
+                width: rig.width,
+                height: rig.height,
+                depth_or_array_layers: 1,
+            },
+        );
+        self.queue.submit([encoder.finish()]);
+
+        // Map and read, dropping the row padding.
+        let backend = self.options.backend;
+        let readback = |reason: String| RenderError::Readback { backend, reason };
+        let (sender, receiver) = std::sync::mpsc::channel();
+        self.staging
+            .map_async(wgpu::MapMode::Read, .., move |result| {
+                let _ = sender.send(result);
+            });
+        self.device
+            .poll(wgpu::PollType::Wait {
+                submission_index: None,
+                timeout: None,
+            })
+            .map_err(|e| readback(e.to_string()))?;
+        receiver
+            .recv()
+            .map_err(|e| readback(e.to_string()))?
+            .map_err(|e| readback(e.to_string()))?;
+        let mut pixels = Vec::with_capacity((rig.width * rig.height) as usize);
+        {
+            let data = self
+                .staging
+                .get_mapped_range(..)
+                .map_err(|e| readback(e.to_string()))?;
+            for row in data.chunks_exact(self.padded_row as usize) {
+                pixels.extend_from_slice(&row[..rig.width as usize]);
+            }
+        }
+        self.staging.unmap();
+        let mut image = GrayImage::from_raw(rig.width, rig.height, pixels)
+            .expect("buffer holds width × height bytes");
+
+        // The sensor: blur and noise, seeded per frame.
+        apply_sensor(
+            &mut image,
+            &description.sensor,
+            description.seed,
+            input.frame_index,
+        );
+
+        let truth = self.ground_truth(&input.world_from_chase, &input.world_from_lead);
+        Ok(Frame { image, truth })
+    }
+
+    /// The target's true position in the image and in the camera frame, for these poses.
+    pub fn ground_truth(
+        &self,
+        world_from_chase: &Isometry3<f64>,
+        world_from_lead: &Isometry3<f64>,
+    ) -> GroundTruth {
+        let rig = &self.rig;
+        let camera_from_target = rig.world_from_camera(world_from_chase).inverse()
+            * world_from_lead
+            * self.scene.lead_from_target();
+        let centre = camera_from_target * Point3::origin();
+        let target_cam_m = [centre.x, centre.y, centre.z];
+        let [c_x, c_y] = rig
+            .intrinsics
+            .project(target_cam_m)
+            .unwrap_or([f64::NAN, f64::NAN]);
+        let target = &self.scene.description().target;
+        let in_view = target.corners_m().iter().all(|&[x, y]| {
+            let p = camera_from_target * Point3::new(x, y, 0.0);
+            rig.intrinsics
+                .project([p.x, p.y, p.z])
+                .is_some_and(|[u, v]| {
+                    (-0.5..f64::from(rig.width) - 0.5).contains(&u)
+                        && (-0.5..f64::from(rig.height) - 0.5).contains(&v)
+                })
+        });
+        GroundTruth {
+            c_x,
+            c_y,
+            scale: target.nominal_range_m() / centre.z,
+            target_cam_m,
+            in_view,
+        }
+    }
+}
+
+/// Uploads `bytes` into a new buffer.
+fn buffer_init(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    label: &str,
+    bytes: &[u8],
+    usage: wgpu::BufferUsages,
+) -> wgpu::Buffer {
+    let buffer = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: (bytes.len() as u64)
+            .max(4)
+            .next_multiple_of(wgpu::COPY_BUFFER_ALIGNMENT),
+        usage: usage | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    queue.write_buffer(&buffer, 0, bytes);
+    buffer
+}
+
+/// Column-major f32 copy of a matrix, as WGSL's `mat4x4<f32>` expects.
+fn to_f32(m: &Matrix4<f64>) -> [[f32; 4]; 4] {
+    let mut out = [[0f32; 4]; 4];
+    for (c, column) in out.iter_mut().enumerate() {
+        for (r, value) in column.iter_mut().enumerate() {
+            *value = m[(r, c)] as f32;
+        }
+    }
+    out
+}
+
+/// Sorts index ranges and joins touching ones, so neighbouring chunks become one draw.
+fn merge(ranges: impl Iterator<Item = Range<u32>>) -> Vec<Range<u32>> {
+    let mut ranges: Vec<Range<u32>> = ranges.collect();
+    ranges.sort_by_key(|r| r.start);
+    let mut merged: Vec<Range<u32>> = Vec::with_capacity(ranges.len());
+    for range in ranges {
+        match merged.last_mut() {
+            Some(last) if last.end == range.start => last.end = range.end,
+            _ => merged.push(range),
+        }
+    }
+    merged
+}
+
+/// The camera's view frustum as planes through the optical centre plus near and far, in the
+/// camera frame.
+struct Frustum {
+    camera_from_world: Isometry3<f64>,
+    sides: [Vector3<f64>; 4],
+}
+
+impl Frustum {
+    fn new(rig: &CameraRig, camera_from_world: &Isometry3<f64>) -> Frustum {
+        let [fx, fy] = rig.intrinsics.focal_px();
+        let [cx, cy] = rig.intrinsics.image_center_px;
+        let left = (-0.5 - cx) / fx;
+        let right = (f64::from(rig.width) - 0.5 - cx) / fx;
+        let top = (-0.5 - cy) / fy;
+        let bottom = (f64::from(rig.height) - 0.5 - cy) / fy;
+        Frustum {
+            camera_from_world: *camera_from_world,
+            sides: [
+                Vector3::new(1.0, 0.0, -left).normalize(),
+                Vector3::new(-1.0, 0.0, right).normalize(),
+                Vector3::new(0.0, 1.0, -top).normalize(),
+                Vector3::new(0.0, -1.0, bottom).normalize(),
+            ],
+        }
+    }
+
+    fn sees(&self, centre: [f64; 3], radius: f64) -> bool {
+        let c = (self.camera_from_world * Point3::from(centre)).coords;
+        c.z > super::rig::NEAR_M - radius
+            && c.z < super::rig::FAR_M + radius
+            && self.sides.iter().all(|n| n.dot(&c) >= -radius)
+    }
+}
+
+/// The sun's orthographic frustum, fitted to the receivers the camera can see.
+struct Light {
+    /// World → the shadow map's clip space (x, y in −1..1, depth 0 nearest the sun).
+    clip_from_world: Matrix4<f64>,
+    /// The light frame's axes (rows: x, y, towards the sun) and fitted box.
+    axes: [Vector3<f64>; 3],
+    min: [f64; 3],
+    max: [f64; 3],
+    /// Size of one shadow texel on the ground, metres (the larger side).
+    texel_m: f64,
+}
+
+impl Light {
+    fn fit(
+        rig: &CameraRig,
+        world_from_camera: &Isometry3<f64>,
+        towards_sun: [f64; 3],
+        distance_m: f64,
+        size: u32,
+    ) -> Light {
+        let d = Vector3::from(towards_sun).normalize();
+        let hint = if d.y.abs() > 0.99 {
+            Vector3::x()
+        } else {
+            Vector3::y()
+        };
+        let x = hint.cross(&d).normalize();
+        let y = d.cross(&x);
+        let axes = [x, y, d];
+        // Corners of the camera's frustum from near to the shadow distance, clamped to the
+        // height band receivers live in, in light coordinates.
+        let [fx, fy] = rig.intrinsics.focal_px();
+        let [cx, cy] = rig.intrinsics.image_center_px;
+        let (mut min, mut max) = ([f64::MAX; 3], [f64::MIN; 3]);
+        for z in [super::rig::NEAR_M, distance_m] {
+            for (u, v) in [
+                (-0.5, -0.5),
+                (f64::from(rig.width) - 0.5, -0.5),
+                (-0.5, f64::from(rig.height) - 0.5),
+                (f64::from(rig.width) - 0.5, f64::from(rig.height) - 0.5),
+            ] {
+                let p_cam = Point3::new((u - cx) / fx * z, (v - cy) / fy * z, z);
+                let mut p = world_from_camera * p_cam;
+                p.y = p.y.clamp(0.0, RECEIVER_TOP_M);
+                for k in 0..3 {
+                    let value = axes[k].dot(&p.coords);
+                    min[k] = min[k].min(value);
+                    max[k] = max[k].max(value);
+                }
+            }
+        }
+        max[2] += CASTER_REACH_M;
+        let (sx, sy, depth) = (max[0] - min[0], max[1] - min[1], max[2] - min[2]);
+        let row = |axis: &Vector3<f64>, scale: f64, offset: f64| {
+            [axis.x * scale, axis.y * scale, axis.z * scale, offset]
+        };
+        let r0 = row(&x, 2.0 / sx, -2.0 * min[0] / sx - 1.0);
+        let r1 = row(&y, 2.0 / sy, -2.0 * min[1] / sy - 1.0);
+        let r2 = row(&d, -1.0 / depth, max[2] / depth);
+        let clip_from_world = Matrix4::new(
+            r0[0], r0[1], r0[2], r0[3], //
+            r1[0], r1[1], r1[2], r1[3], //
+            r2[0], r2[1], r2[2], r2[3], //
+            0.0, 0.0, 0.0, 1.0,
+        );
+        Light {
+            clip_from_world,
+            axes,
+            min,
+            max,
+            texel_m: sx.max(sy) / f64::from(size),
+        }
+    }
+
+    fn holds(&self, centre: [f64; 3], radius: f64) -> bool {
+        let c = Vector3::from(centre);
+        (0..3).all(|k| {
+            let v = self.axes[k].dot(&c);
+            v >= self.min[k] - radius && v <= self.max[k] + radius
+        })
+    }
+}

@@ -1,0 +1,992 @@
+//! Building the world's geometry from a [`SceneDescription`]: static geometry binned into
+//! ground-plane cells (so the renderer can cull what it cannot see), and the moving objects
+//! (chase hood, lead vehicle with its board, oncoming traffic) in their own frames.
+
+use super::description::{Placement, SceneDescription};
+use super::mesh::Mesh;
+use super::rng::stream;
+use super::route::Route;
+use nalgebra::{Isometry3, Matrix3, Point3, Rotation3, Translation3, UnitQuaternion, Vector3};
+use rand::Rng;
+use rand_chacha::ChaCha8Rng;
+use std::collections::BTreeMap;
+use std::ops::Range;
+use thiserror::Error;
+
+/// Why a scene could not be built.
+#[derive(Clone, Debug, Error, PartialEq)]
+pub enum SceneError {
+    /// A field of the description is out of range.
+    #[error("scene description: {field} {reason}")]
+    Invalid {
+        /// The field, as a dotted path.
+        field: String,
+        /// What is wrong with it.
+        reason: String,
+    },
+}
+
+/// Object slots: which transform places a vertex in the world. The renderer keeps one
+/// transform per slot.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ObjectSlot;
+
+impl ObjectSlot {
+    /// Static geometry, already in world coordinates.
+    pub const WORLD: u32 = 0;
+    /// The chase vehicle (its hood).
+    pub const CHASE: u32 = 1;
+    /// The lead vehicle and its board.
+    pub const LEAD: u32 = 2;
+    /// The first oncoming vehicle; the others follow.
+    pub const FIRST_ONCOMING: u32 = 3;
+    /// How many slots the renderer provides (its uniform array's length).
+    pub const COUNT: u32 = 16;
+}
+
+/// Side of the square ground cells static geometry is binned into, metres. 50 m keeps the
+/// number of draw calls small (about 30 cells are in view) while culling most of a
+/// kilometre-long route.
+pub const BIN_M: f64 = 50.0;
+
+/// Height of the road surface above the grass, metres; the crossing roads sit just below it
+/// and the paint and marks just above, so nothing fights for depth.
+const ROAD_Y_M: f64 = 0.02;
+/// Height of crossing roads, metres.
+const CROSS_ROAD_Y_M: f64 = 0.015;
+/// Height of lane paint, cracks, patches and pot holes, metres.
+const MARK_Y_M: f64 = 0.03;
+/// How far the road continues straight past either end of the route, metres, so the camera
+/// never sees the road end.
+const ROAD_RUNOUT_M: f64 = 250.0;
+/// Grass margin around the road's bounding box, metres: beyond the far plane's useful range.
+const GROUND_MARGIN_M: f64 = 250.0;
+/// Ground grid cell, metres; each vertex gets its own grass albedo, so the shoulders are
+/// mottled at this scale.
+const GROUND_CELL_M: f64 = 25.0;
+/// Length of one road quad along an arc, metres (a 60 m arc bends < 2° per quad).
+const ROAD_STEP_M: f64 = 2.0;
+/// Length of one road quad along a straight, metres: long quads mean few triangles, and
+/// llvmpipe's cost is mostly per triangle at this image size.
+const STRAIGHT_STEP_M: f64 = 10.0;
+/// Width of the paved shoulder beyond each lane, metres.
+const SHOULDER_M: f64 = 0.5;
+/// Lane paint width, metres (US practice: 4–6 in).
+const PAINT_WIDTH_M: f64 = 0.12;
+/// Centre-line dashes: dash and period, metres (US practice: 10 ft dash in a 40 ft cycle).
+const DASH_M: f64 = 3.0;
+/// Centre-line dash period, metres.
+const DASH_PERIOD_M: f64 = 12.0;
+/// Half length of a crossing road, metres.
+const CROSS_ROAD_HALF_M: f64 = 120.0;
+/// How far the board stands proud of the lead's back door, metres.
+const BOARD_STANDOFF_M: f64 = 0.01;
+/// How far the dark stripes stand proud of the light board, metres (depth-safe at 50 m).
+const STRIPE_STANDOFF_M: f64 = 0.003;
+/// Paint rule, shared with the tracker's synthetic images: light margin around the corners'
+/// bounding box, metres.
+pub const BOARD_MARGIN_M: f64 = 0.1;
+/// Paint rule: width of each dark segment stripe, metres.
+pub const STRIPE_WIDTH_M: f64 = 0.06;
+/// Paint rule: how far each stripe runs past its end points, metres.
+pub const STRIPE_OVERRUN_M: f64 = 0.03;
+/// Albedo of the board's light paint.
+pub const BOARD_ALBEDO: f64 = 0.85;
+/// Albedo of the board's dark stripes.
+pub const STRIPE_ALBEDO: f64 = 0.06;
+
+/// A piece of static geometry the renderer can cull: an index range and a bounding sphere
+/// (world frame).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Chunk {
+    /// Range into [`Scene::mesh`]'s indices.
+    pub indices: Range<u32>,
+    /// Bounding sphere centre, world metres.
+    pub centre: [f64; 3],
+    /// Bounding sphere radius, metres.
+    pub radius: f64,
+    /// Whether it is drawn into the shadow map (ground, road and paint are not: they only
+    /// receive shadows, and leaving them out halves the shadow pass's fill).
+    pub casts_shadow: bool,
+}
+
+/// What moves a dynamic object.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Motion {
+    /// Rigidly attached to the chase vehicle.
+    Chase,
+    /// Rigidly attached to the lead vehicle.
+    Lead,
+    /// Driving the opposite lane: station `start_m − speed_m_s · t`.
+    Oncoming {
+        /// Station at t = 0, metres.
+        start_m: f64,
+        /// Speed, m/s.
+        speed_m_s: f64,
+    },
+}
+
+/// A moving object: geometry in its own frame (x forward, y up, z right, origin on the
+/// ground), placed each frame by a transform.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DynamicObject {
+    /// Its slot (see [`ObjectSlot`]).
+    pub slot: u32,
+    /// Range into [`Scene::mesh`]'s indices.
+    pub indices: Range<u32>,
+    /// Bounding sphere centre, object frame.
+    pub centre: [f64; 3],
+    /// Bounding sphere radius, metres.
+    pub radius: f64,
+    /// Whether it is drawn into the shadow map.
+    pub casts_shadow: bool,
+    /// How it moves.
+    pub motion: Motion,
+}
+
+/// The built world: one mesh with static chunks and dynamic objects, plus the description.
+#[derive(Clone, Debug)]
+pub struct Scene {
+    description: SceneDescription,
+    route: Route,
+    mesh: Mesh,
+    chunks: Vec<Chunk>,
+    objects: Vec<DynamicObject>,
+}
+
+/// A point in the road's frame: station along the centreline and lateral offset (right).
+struct RoadFrame<'a> {
+    route: &'a Route,
+}
+
+impl RoadFrame<'_> {
+    fn world(&self, s: f64, lateral: f64, y: f64) -> [f64; 3] {
+        let [x, z] = self.route.point(s, lateral);
+        [x, y, z]
+    }
+}
+
+/// Static geometry binned by ground cell and by whether it casts shadows.
+#[derive(Default)]
+struct Bins {
+    bins: BTreeMap<(i64, i64, bool), Mesh>,
+}
+
+impl Bins {
+    fn at(&mut self, x: f64, z: f64, casts: bool) -> &mut Mesh {
+        let key = (
+            (x / BIN_M).floor() as i64,
+            (z / BIN_M).floor() as i64,
+            casts,
+        );
+        self.bins.entry(key).or_default()
+    }
+}
+
+impl Scene {
+    /// Builds the world. Deterministic: the same description gives the same mesh, vertex for
+    /// vertex.
+    pub fn build(description: SceneDescription) -> Result<Scene, SceneError> {
+        description.validate()?;
+        let route = Route::new(description.route.clone());
+        let mut bins = Bins::default();
+        let seed = description.seed;
+        let road = RoadFrame { route: &route };
+        let lane = description.route.lane_width_m;
+        let road_half = lane + SHOULDER_M;
+        let length = route.length_m();
+        let d = &description.densities;
+        let count = |per_km: f64, span_m: f64| (per_km * span_m / 1000.0).round() as usize;
+
+        // Ground: a mottled grass grid covering the road's bounding box.
+        let (mut min, mut max) = ([f64::MAX; 2], [f64::MIN; 2]);
+        let mut s = -ROAD_RUNOUT_M;
+        while s <= length + ROAD_RUNOUT_M {
+            let [x, z] = route.point(s, 0.0);
+            min = [min[0].min(x), min[1].min(z)];
+            max = [max[0].max(x), max[1].max(z)];
+            s += 10.0;
+        }
+        let origin = [min[0] - GROUND_MARGIN_M, min[1] - GROUND_MARGIN_M];
+        let cells = [
+            ((max[0] - min[0] + 2.0 * GROUND_MARGIN_M) / GROUND_CELL_M).ceil() as usize,
+            ((max[1] - min[1] + 2.0 * GROUND_MARGIN_M) / GROUND_CELL_M).ceil() as usize,
+        ];
+        let mut grass = stream(seed, "grass");
+        let albedo: Vec<f64> = (0..(cells[0] + 1) * (cells[1] + 1))
+            .map(|_| grass.random_range(0.17..0.30))
+            .collect();
+        for i in 0..cells[0] {
+            for j in 0..cells[1] {
+                let x0 = origin[0] + i as f64 * GROUND_CELL_M;
+                let z0 = origin[1] + j as f64 * GROUND_CELL_M;
+                let mesh = bins.at(x0 + 0.5 * GROUND_CELL_M, z0 + 0.5 * GROUND_CELL_M, false);
+                let a = |di: usize, dj: usize| albedo[(i + di) * (cells[1] + 1) + j + dj];
+                let corners = [
+                    ([x0, 0.0, z0], a(0, 0)),
+                    ([x0 + GROUND_CELL_M, 0.0, z0], a(1, 0)),
+                    ([x0 + GROUND_CELL_M, 0.0, z0 + GROUND_CELL_M], a(1, 1)),
+                    ([x0, 0.0, z0 + GROUND_CELL_M], a(0, 1)),
+                ];
+                let base = mesh.vertices.len() as u32;
+                for (p, al) in corners {
+                    mesh.vertices.push(super::Vertex {
+                        position: [p[0] as f32, 0.0, p[2] as f32],
+                        normal: [0.0, 1.0, 0.0],
+                        albedo: al as f32,
+                        object: ObjectSlot::WORLD,
+                    });
+                }
+                mesh.indices.extend_from_slice(&[
+                    base,
+                    base + 1,
+                    base + 2,
+                    base,
+                    base + 2,
+                    base + 3,
+                ]);
+            }
+        }
+
+        // Road strip, edge lines and the dashed centre line.
+        const ASPHALT: f64 = 0.30;
+        const PAINT: f64 = 0.75;
+        let mut s = -ROAD_RUNOUT_M;
+        while s < length + ROAD_RUNOUT_M {
+            let straight =
+                route.curvature_at(s) == 0.0 && route.curvature_at(s + STRAIGHT_STEP_M) == 0.0;
+            let s1 = s + if straight {
+                STRAIGHT_STEP_M
+            } else {
+                ROAD_STEP_M
+            };
+            let mid = road.world(0.5 * (s + s1), 0.0, 0.0);
+            let mesh = bins.at(mid[0], mid[2], false);
+            strip(mesh, &road, s, s1, -road_half, road_half, ROAD_Y_M, ASPHALT);
+            for side in [-1.0, 1.0] {
+                let l = side * (lane + 0.1);
+                let mut a = s;
+                // Edge lines stop across intersections.
+                while a < s1 {
+                    let b = (a + ROAD_STEP_M).min(s1);
+                    if !route.near_intersection(0.5 * (a + b), road_half + 1.0) {
+                        strip(
+                            mesh,
+                            &road,
+                            a,
+                            b,
+                            l - 0.5 * PAINT_WIDTH_M,
+                            l + 0.5 * PAINT_WIDTH_M,
+                            MARK_Y_M,
+                            PAINT,
+                        );
+                    }
+                    a = b;
+                }
+            }
+            s = s1;
+        }
+        let mut s = -ROAD_RUNOUT_M;
+        while s < length + ROAD_RUNOUT_M {
+            if !route.near_intersection(s + 0.5 * DASH_M, road_half + 1.0) {
+                let mid = road.world(s + 0.5 * DASH_M, 0.0, 0.0);
+                let mesh = bins.at(mid[0], mid[2], false);
+                strip(
+                    mesh,
+                    &road,
+                    s,
+                    s + DASH_M,
+                    -0.5 * PAINT_WIDTH_M,
+                    0.5 * PAINT_WIDTH_M,
+                    MARK_Y_M,
+                    PAINT,
+                );
+            }
+            s += DASH_PERIOD_M;
+        }
+
+        // Crossing roads at intersections, at right angles to the route.
+        for &c in &description.route.intersections_m {
+            let [x, z, heading] = route.at(c);
+            let along = [heading.sin(), heading.cos()]; // the route's right = the crossing's direction
+            let across = [heading.cos(), -heading.sin()];
+            let mut t = -CROSS_ROAD_HALF_M;
+            while t < CROSS_ROAD_HALF_M {
+                let t1 = t + 10.0;
+                let p = |t: f64, w: f64| {
+                    [
+                        x + t * along[0] + w * across[0],
+                        CROSS_ROAD_Y_M,
+                        z + t * along[1] + w * across[1],
+                    ]
+                };
+                let centre = p(t + 5.0, 0.0);
+                bins.at(centre[0], centre[2], false).polygon(
+                    &[
+                        p(t, -road_half),
+                        p(t1, -road_half),
+                        p(t1, road_half),
+                        p(t, road_half),
+                    ],
+                    ASPHALT * 0.95,
+                    ObjectSlot::WORLD,
+                );
+                t = t1;
+            }
+        }
+
+        // Cracks, patches and pot holes: dark marks on the road.
+        let mut marks = stream(seed, "road-marks");
+        let mut road_marks: Vec<([f64; 3], Mesh)> = Vec::new();
+        for _ in 0..count(d.cracks_per_km, length) {
+            let mut s = marks.random_range(0.0..length);
+            let mut l = marks.random_range(-lane..lane);
+            let transverse = marks.random_bool(0.4);
+            let mut mesh = Mesh::default();
+            for _ in 0..marks.random_range(3..7) {
+                let (ds, dl) = if transverse {
+                    (marks.random_range(-0.3..0.3), marks.random_range(0.3..0.8))
+                } else {
+                    (
+                        marks.random_range(0.4..1.0),
+                        marks.random_range(-0.25..0.25),
+                    )
+                };
+                let (s1, l1) = (s + ds, (l + dl).clamp(-road_half, road_half));
+                let w = 0.025;
+                mesh.polygon(
+                    &[
+                        road.world(s, l - w, MARK_Y_M),
+                        road.world(s1, l1 - w, MARK_Y_M),
+                        road.world(s1, l1 + w, MARK_Y_M),
+                        road.world(s, l + w, MARK_Y_M),
+                    ],
+                    0.10,
+                    ObjectSlot::WORLD,
+                );
+                (s, l) = (s1, l1);
+            }
+            road_marks.push((road.world(s, l, 0.0), mesh));
+        }
+        for _ in 0..count(d.patches_per_km, length) {
+            let s = marks.random_range(0.0..length);
+            let l = marks.random_range(-lane..lane);
+            let (hs, hl) = (marks.random_range(0.5..1.5), marks.random_range(0.4..1.0));
+            let albedo = if marks.random_bool(0.5) { 0.18 } else { 0.40 };
+            let mut mesh = Mesh::default();
+            mesh.polygon(
+                &[
+                    road.world(s - hs, l - hl, MARK_Y_M),
+                    road.world(s + hs, l - hl, MARK_Y_M),
+                    road.world(s + hs, l + hl, MARK_Y_M),
+                    road.world(s - hs, l + hl, MARK_Y_M),
+                ],
+                albedo,
+                ObjectSlot::WORLD,
+            );
+            road_marks.push((road.world(s, l, 0.0), mesh));
+        }
+        for _ in 0..count(d.potholes_per_km, length) {
+            let s = marks.random_range(0.0..length);
+            let l = marks.random_range(-lane..lane);
+            let r = marks.random_range(0.2..0.5);
+            let corners: Vec<[f64; 3]> = (0..8)
+                .map(|k| {
+                    let a = k as f64 * std::f64::consts::TAU / 8.0;
+                    let rr = r * marks.random_range(0.7..1.2);
+                    road.world(s + rr * a.cos(), l + rr * a.sin(), MARK_Y_M)
+                })
+                .collect();
+            let mut mesh = Mesh::default();
+            mesh.polygon(&corners, 0.06, ObjectSlot::WORLD);
+            road_marks.push((road.world(s, l, 0.0), mesh));
+        }
+        for (p, mesh) in &road_marks {
+            bins.at(p[0], p[2], false).append(mesh);
+        }
+
+        // Trees: trunk and a canopy of clumps with gaps between them, so their shadows dapple.
+        let mut trees = stream(seed, "trees");
+        let tree_at = |bins: &mut Bins, rng: &mut ChaCha8Rng, x: f64, z: f64| {
+            let trunk = rng.random_range(2.5..4.0);
+            let mesh = bins.at(x, z, true);
+            mesh.upright_box(x, z, 0.0, 0.15, 0.15, 0.0, trunk + 1.0, 0.22);
+            for _ in 0..rng.random_range(5..9) {
+                let c = [
+                    x + rng.random_range(-1.6..1.6),
+                    trunk + rng.random_range(1.0..3.2),
+                    z + rng.random_range(-1.6..1.6),
+                ];
+                let r = rng.random_range(0.7..1.6);
+                mesh.octahedron(
+                    c,
+                    [r, r * rng.random_range(0.7..1.1), r],
+                    rng.random_range(0.13..0.22),
+                );
+            }
+        };
+        for _ in 0..count(d.trees_per_km, length + 150.0) {
+            let s = trees.random_range(-50.0..length + 100.0);
+            let side = if trees.random_bool(0.5) { 1.0 } else { -1.0 };
+            let l = side * (road_half + trees.random_range(4.0..22.0));
+            if route.near_intersection(s, road_half + 6.0) {
+                continue;
+            }
+            let [x, z] = route.point(s, l);
+            tree_at(&mut bins, &mut trees, x, z);
+        }
+
+        // Telephone poles on the right, with a cross-arm and sagging wires between them.
+        let mut poles = stream(seed, "poles");
+        const POLE_TOP_M: f64 = 9.0;
+        const ARM_Y_M: f64 = 8.4;
+        if d.poles_per_km > 0.0 {
+            let spacing = 1000.0 / d.poles_per_km;
+            let mut s = poles.random_range(-50.0..-50.0 + spacing);
+            let mut previous: Option<[[f64; 3]; 2]> = None;
+            while s < length + 100.0 {
+                let here = s;
+                s += spacing * poles.random_range(0.85..1.15);
+                if route.near_intersection(here, road_half + 4.0) {
+                    continue;
+                }
+                let l = road_half + 2.0;
+                let heading = route.at(here)[2];
+                let [px, pz] = route.point(here, l);
+                let mesh = bins.at(px, pz, true);
+                mesh.upright_box(px, pz, heading, 0.13, 0.13, 0.0, POLE_TOP_M, 0.30);
+                let right = [heading.sin(), 0.0, heading.cos()];
+                let end = |k: f64| [px + k * right[0], ARM_Y_M, pz + k * right[2]];
+                mesh.beam(end(-1.0), end(1.0), 0.06, 0.28);
+                let ends = [end(-0.9), end(0.9)];
+                if let Some(prev) = previous {
+                    let wires = bins.at(px, pz, false);
+                    for k in 0..2 {
+                        let (a, b) = (prev[k], ends[k]);
+                        const SAG_M: f64 = 0.5;
+                        let point = |t: f64| {
+                            [
+                                a[0] + t * (b[0] - a[0]),
+                                a[1] + t * (b[1] - a[1]) - 4.0 * SAG_M * t * (1.0 - t),
+                                a[2] + t * (b[2] - a[2]),
+                            ]
+                        };
+                        for i in 0..4 {
+                            wires.beam(
+                                point(i as f64 / 4.0),
+                                point((i + 1) as f64 / 4.0),
+                                0.02,
+                                0.12,
+                            );
+                        }
+                    }
+                }
+                previous = Some(ends);
+            }
+        }
+
+        // Houses (gabled, windows on every wall) and taller buildings with a window grid.
+        let mut houses = stream(seed, "houses");
+        for _ in 0..count(d.houses_per_km, length + 150.0) {
+            let s = houses.random_range(-50.0..length + 100.0);
+            if route.near_intersection(s, road_half + 16.0) {
+                continue;
+            }
+            let side = if houses.random_bool(0.5) { 1.0 } else { -1.0 };
+            let half = [houses.random_range(4.0..6.5), houses.random_range(3.5..5.0)];
+            let l = side * (road_half + houses.random_range(10.0..22.0) + half[1]);
+            let walls = if houses.random_bool(0.3) { 5.8 } else { 3.0 };
+            let [x, z] = route.point(s, l);
+            let heading = route.at(s)[2] + houses.random_range(-0.1..0.1);
+            let mesh = bins.at(x, z, true);
+            let wall_albedo = houses.random_range(0.45..0.8);
+            house(
+                mesh,
+                [x, z],
+                heading,
+                half,
+                walls,
+                wall_albedo,
+                houses.random_range(0.12..0.3),
+            );
+        }
+        let mut buildings = stream(seed, "buildings");
+        for _ in 0..count(d.buildings_per_km, length + 150.0) {
+            let s = buildings.random_range(-50.0..length + 100.0);
+            if route.near_intersection(s, road_half + 20.0) {
+                continue;
+            }
+            let side = if buildings.random_bool(0.5) {
+                1.0
+            } else {
+                -1.0
+            };
+            let half = [
+                buildings.random_range(6.0..12.0),
+                buildings.random_range(5.0..9.0),
+            ];
+            let l = side * (road_half + buildings.random_range(12.0..30.0) + half[1]);
+            let height = buildings.random_range(8.0..20.0);
+            let [x, z] = route.point(s, l);
+            let heading = route.at(s)[2];
+            let mesh = bins.at(x, z, true);
+            building(
+                mesh,
+                [x, z],
+                heading,
+                half,
+                height,
+                buildings.random_range(0.35..0.7),
+            );
+        }
+
+        // Parked vehicles on the right shoulder.
+        let mut parked = stream(seed, "parked-vehicles");
+        for _ in 0..count(d.parked_vehicles_per_km, length) {
+            let s = parked.random_range(0.0..length);
+            if route.near_intersection(s, road_half + 8.0) {
+                continue;
+            }
+            let pose = route.pose_at(s, road_half + 1.3);
+            let mut car_mesh = Mesh::default();
+            car(
+                &mut car_mesh,
+                ObjectSlot::WORLD,
+                parked.random_range(0.1..0.8),
+            );
+            for v in &mut car_mesh.vertices {
+                let p = pose
+                    * Point3::new(
+                        f64::from(v.position[0]),
+                        f64::from(v.position[1]),
+                        f64::from(v.position[2]),
+                    );
+                let n = pose.rotation
+                    * Vector3::new(
+                        f64::from(v.normal[0]),
+                        f64::from(v.normal[1]),
+                        f64::from(v.normal[2]),
+                    );
+                v.position = [p.x as f32, p.y as f32, p.z as f32];
+                v.normal = [n.x as f32, n.y as f32, n.z as f32];
+            }
+            let t = pose.translation.vector;
+            bins.at(t.x, t.z, true).append(&car_mesh);
+        }
+
+        // Hand-placed clutter.
+        let mut placed = stream(seed, "placements");
+        for placement in &description.placements {
+            match *placement {
+                Placement::Pole { x_m, z_m } => {
+                    bins.at(x_m, z_m, true)
+                        .upright_box(x_m, z_m, 0.0, 0.13, 0.13, 0.0, POLE_TOP_M, 0.30);
+                }
+                Placement::Tree { x_m, z_m } => tree_at(&mut bins, &mut placed, x_m, z_m),
+            }
+        }
+
+        // Concatenate the bins into one mesh, recording each as a chunk.
+        let mut mesh = Mesh::default();
+        let mut chunks = Vec::new();
+        for ((_, _, casts), bin) in &bins.bins {
+            if bin.indices.is_empty() {
+                continue;
+            }
+            let (centre, radius) = bin.bounding_sphere();
+            let start = mesh.indices.len() as u32;
+            mesh.append(bin);
+            chunks.push(Chunk {
+                indices: start..mesh.indices.len() as u32,
+                centre,
+                radius,
+                casts_shadow: *casts,
+            });
+        }
+
+        // Dynamic objects: the chase hood, the lead with its board, oncoming traffic.
+        let mut objects = Vec::new();
+        let mut push_object = |mesh: &mut Mesh, part: Mesh, slot, casts, motion| {
+            let (centre, radius) = part.bounding_sphere();
+            let start = mesh.indices.len() as u32;
+            mesh.append(&part);
+            objects.push(DynamicObject {
+                slot,
+                indices: start..mesh.indices.len() as u32,
+                centre,
+                radius,
+                casts_shadow: casts,
+                motion,
+            });
+        };
+        let chase = &description.chase;
+        let mut hood = Mesh::default();
+        hood.aabb(
+            [
+                chase.hood_back_m,
+                chase.hood_height_m - 0.6,
+                -0.5 * chase.hood_width_m,
+            ],
+            [
+                chase.hood_front_m,
+                chase.hood_height_m,
+                0.5 * chase.hood_width_m,
+            ],
+            0.45,
+            ObjectSlot::CHASE,
+        );
+        push_object(&mut mesh, hood, ObjectSlot::CHASE, false, Motion::Chase);
+        let lead_mesh = lead_vehicle(&description);
+        push_object(&mut mesh, lead_mesh, ObjectSlot::LEAD, true, Motion::Lead);
+        let mut oncoming = stream(seed, "oncoming-vehicles");
+        let span = length + d.oncoming_speed_m_s * 60.0;
+        let n = count(d.oncoming_vehicles_per_km, span)
+            .min((ObjectSlot::COUNT - ObjectSlot::FIRST_ONCOMING) as usize);
+        for k in 0..n {
+            let slot = ObjectSlot::FIRST_ONCOMING + k as u32;
+            let mut part = Mesh::default();
+            car(&mut part, slot, oncoming.random_range(0.1..0.8));
+            let start_m = oncoming.random_range(0.0..span);
+            push_object(
+                &mut mesh,
+                part,
+                slot,
+                true,
+                Motion::Oncoming {
+                    start_m,
+                    speed_m_s: d.oncoming_speed_m_s,
+                },
+            );
+        }
+
+        Ok(Scene {
+            description,
+            route,
+            mesh,
+            chunks,
+            objects,
+        })
+    }
+
+    /// The description this scene was built from.
+    pub fn description(&self) -> &SceneDescription {
+        &self.description
+    }
+
+    /// The route.
+    pub fn route(&self) -> &Route {
+        &self.route
+    }
+
+    /// All geometry, static then dynamic.
+    pub fn mesh(&self) -> &Mesh {
+        &self.mesh
+    }
+
+    /// The static, cullable chunks.
+    pub fn chunks(&self) -> &[Chunk] {
+        &self.chunks
+    }
+
+    /// The moving objects.
+    pub fn objects(&self) -> &[DynamicObject] {
+        &self.objects
+    }
+
+    /// Where a dynamic object is at time `time_s`, given the two vehicles' poses. `None`
+    /// when it is off the route (an oncoming vehicle not yet or no longer on the road).
+    pub fn world_from_object(
+        &self,
+        object: &DynamicObject,
+        world_from_chase: &Isometry3<f64>,
+        world_from_lead: &Isometry3<f64>,
+        time_s: f64,
+    ) -> Option<Isometry3<f64>> {
+        match object.motion {
+            Motion::Chase => Some(*world_from_chase),
+            Motion::Lead => Some(*world_from_lead),
+            Motion::Oncoming { start_m, speed_m_s } => {
+                let s = start_m - speed_m_s * time_s;
+                if !(-ROAD_RUNOUT_M..self.route.length_m() + ROAD_RUNOUT_M).contains(&s) {
+                    return None;
+                }
+                let lane = self.description.route.lane_width_m;
+                let pose = self.route.pose_at(s, -0.5 * lane);
+                let turn =
+                    UnitQuaternion::from_axis_angle(&Vector3::y_axis(), std::f64::consts::PI);
+                Some(Isometry3::from_parts(
+                    pose.translation,
+                    pose.rotation * turn,
+                ))
+            }
+        }
+    }
+
+    /// The target's frame in the lead vehicle's frame: origin at the target model's centre,
+    /// x right and y up as the chase camera sees the board (the model's axes), z out of the
+    /// board towards the chase vehicle.
+    pub fn lead_from_target(&self) -> Isometry3<f64> {
+        lead_from_target(&self.description)
+    }
+}
+
+fn lead_from_target(description: &SceneDescription) -> Isometry3<f64> {
+    let lead = &description.lead;
+    // Columns: target x = lead +z (the chase's right), target y = lead +y, target z = lead −x.
+    let rotation = Rotation3::from_matrix_unchecked(Matrix3::new(
+        0.0, 0.0, -1.0, //
+        0.0, 1.0, 0.0, //
+        1.0, 0.0, 0.0,
+    ));
+    Isometry3::from_parts(
+        Translation3::new(
+            -0.5 * lead.length_m - BOARD_STANDOFF_M,
+            lead.board_centre_height_m,
+            0.0,
+        ),
+        UnitQuaternion::from_rotation_matrix(&rotation),
+    )
+}
+
+/// The lead vehicle (a box truck) with the target board on its back door, painted by the
+/// paint rule, in the lead's frame.
+fn lead_vehicle(description: &SceneDescription) -> Mesh {
+    let lead = &description.lead;
+    let slot = ObjectSlot::LEAD;
+    let (hl, hw) = (0.5 * lead.length_m, 0.5 * lead.width_m);
+    let mut mesh = Mesh::default();
+    mesh.aabb([-hl, 0.55, -hw], [hl, lead.height_m, hw], 0.55, slot);
+    mesh.aabb(
+        [hl, 0.55, -hw + 0.05],
+        [hl + 1.6, 2.1, hw - 0.05],
+        0.45,
+        slot,
+    );
+    for (x, z) in [
+        (-hl + 0.9, -hw + 0.3),
+        (-hl + 0.9, hw - 0.3),
+        (hl + 0.8, -hw + 0.3),
+        (hl + 0.8, hw - 0.3),
+    ] {
+        mesh.aabb(
+            [x - 0.45, 0.0, z - 0.2],
+            [x + 0.45, 0.9, z + 0.2],
+            0.05,
+            slot,
+        );
+    }
+    // The board, in the target frame, mapped into the lead frame.
+    let to_lead = lead_from_target(description);
+    let put = |x: f64, y: f64, z: f64| {
+        let p = to_lead * Point3::new(x, y, z);
+        [p.x, p.y, p.z]
+    };
+    let normal = [-1.0, 0.0, 0.0];
+    let target = &description.target;
+    let corners = target.corners_m();
+    let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+    for &[x, y] in corners {
+        x0 = x0.min(x);
+        x1 = x1.max(x);
+        y0 = y0.min(y);
+        y1 = y1.max(y);
+    }
+    let m = BOARD_MARGIN_M;
+    mesh.quad_with_normal(
+        [
+            put(x0 - m, y0 - m, 0.0),
+            put(x1 + m, y0 - m, 0.0),
+            put(x1 + m, y1 + m, 0.0),
+            put(x0 - m, y1 + m, 0.0),
+        ],
+        normal,
+        BOARD_ALBEDO,
+        slot,
+    );
+    let (w, o) = (0.5 * STRIPE_WIDTH_M, STRIPE_OVERRUN_M);
+    for &[a, b] in target.segments() {
+        let ([ax, ay], [bx, by]) = (corners[a], corners[b]);
+        let (sx0, sx1, sy0, sy1) = if (ay - by).abs() <= tracker::model::AXIS_TOLERANCE_M {
+            (
+                ax.min(bx) - o,
+                ax.max(bx) + o,
+                0.5 * (ay + by) - w,
+                0.5 * (ay + by) + w,
+            )
+        } else {
+            (
+                0.5 * (ax + bx) - w,
+                0.5 * (ax + bx) + w,
+                ay.min(by) - o,
+                ay.max(by) + o,
+            )
+        };
+        let z = STRIPE_STANDOFF_M;
+        mesh.quad_with_normal(
+            [
+                put(sx0, sy0, z),
+                put(sx1, sy0, z),
+                put(sx1, sy1, z),
+                put(sx0, sy1, z),
+            ],
+            normal,
+            STRIPE_ALBEDO,
+            slot,
+        );
+    }
+    mesh
+}
+
+/// A car in its own frame (x forward): body, a dark glass cabin, wheels.
+fn car(mesh: &mut Mesh, slot: u32, albedo: f64) {
+    mesh.aabb([-2.2, 0.3, -0.9], [2.2, 1.0, 0.9], albedo, slot);
+    mesh.aabb([-1.5, 1.0, -0.8], [0.8, 1.5, 0.8], 0.12, slot);
+    for (x, z) in [(-1.4, -0.9), (-1.4, 0.9), (1.4, -0.9), (1.4, 0.9)] {
+        mesh.aabb(
+            [x - 0.33, 0.0, z - 0.12],
+            [x + 0.33, 0.62, z + 0.12],
+            0.05,
+            slot,
+        );
+    }
+}
+
+/// A strip of road-parallel surface from station `s0` to `s1`, lateral `l0` to `l1`.
+#[allow(clippy::too_many_arguments)]
+fn strip(
+    mesh: &mut Mesh,
+    road: &RoadFrame<'_>,
+    s0: f64,
+    s1: f64,
+    l0: f64,
+    l1: f64,
+    y: f64,
+    albedo: f64,
+) {
+    mesh.polygon(
+        &[
+            road.world(s0, l0, y),
+            road.world(s1, l0, y),
+            road.world(s1, l1, y),
+            road.world(s0, l1, y),
+        ],
+        albedo,
+        ObjectSlot::WORLD,
+    );
+}
+
+/// Axes of a ground-standing object with the given heading: forward, up, right.
+fn axes(heading: f64) -> [[f64; 3]; 3] {
+    let (s, c) = heading.sin_cos();
+    [[c, 0.0, -s], [0.0, 1.0, 0.0], [s, 0.0, c]]
+}
+
+/// A gabled house: walls, roof, and windows on its long walls and a door.
+fn house(
+    mesh: &mut Mesh,
+    at: [f64; 2],
+    heading: f64,
+    half: [f64; 2],
+    walls: f64,
+    wall_albedo: f64,
+    roof_albedo: f64,
+) {
+    let [u, _, w] = axes(heading);
+    let p = |a: f64, y: f64, b: f64| [at[0] + a * u[0] + b * w[0], y, at[1] + a * u[2] + b * w[2]];
+    mesh.upright_box(
+        at[0],
+        at[1],
+        heading,
+        half[0],
+        half[1],
+        0.0,
+        walls,
+        wall_albedo,
+    );
+    let ridge = walls + 2.5;
+    for side in [-1.0, 1.0] {
+        mesh.polygon(
+            &[
+                p(-half[0] - 0.3, walls, side * (half[1] + 0.3)),
+                p(half[0] + 0.3, walls, side * (half[1] + 0.3)),
+                p(half[0] + 0.3, ridge, 0.0),
+                p(-half[0] - 0.3, ridge, 0.0),
+            ],
+            roof_albedo,
+            ObjectSlot::WORLD,
+        );
+        mesh.polygon(
+            &[
+                p(side * half[0], walls, -half[1]),
+                p(side * half[0], walls, half[1]),
+                p(side * half[0], ridge, 0.0),
+            ],
+            wall_albedo,
+            ObjectSlot::WORLD,
+        );
+    }
+    let floors = if walls > 4.0 { 2 } else { 1 };
+    let windows = ((2.0 * half[0]) / 3.0).floor() as usize;
+    for side in [-1.0, 1.0] {
+        let b = side * (half[1] + 0.03);
+        let normal = [side * w[0], 0.0, side * w[2]];
+        for floor in 0..floors {
+            let y0 = 1.0 + 2.8 * floor as f64;
+            for k in 0..windows {
+                let a = -half[0] + (k as f64 + 0.5) * 2.0 * half[0] / windows as f64;
+                mesh.quad_with_normal(
+                    [
+                        p(a - 0.5, y0, b),
+                        p(a + 0.5, y0, b),
+                        p(a + 0.5, y0 + 1.2, b),
+                        p(a - 0.5, y0 + 1.2, b),
+                    ],
+                    normal,
+                    0.08,
+                    ObjectSlot::WORLD,
+                );
+            }
+        }
+    }
+}
+
+/// A flat-roofed building with a grid of windows on all four walls.
+fn building(mesh: &mut Mesh, at: [f64; 2], heading: f64, half: [f64; 2], height: f64, albedo: f64) {
+    let [u, _, w] = axes(heading);
+    let p = |a: f64, y: f64, b: f64| [at[0] + a * u[0] + b * w[0], y, at[1] + a * u[2] + b * w[2]];
+    mesh.upright_box(at[0], at[1], heading, half[0], half[1], 0.0, height, albedo);
+    let floors = (height / 3.0).floor() as usize;
+    for (axis, extent, across) in [(0usize, half[0], half[1]), (1, half[1], half[0])] {
+        let columns = (2.0 * extent / 2.5).floor() as usize;
+        for side in [-1.0, 1.0] {
+            let off = side * (across + 0.03);
+            let normal = if axis == 0 {
+                [side * w[0], 0.0, side * w[2]]
+            } else {
+                [side * u[0], 0.0, side * u[2]]
+            };
+            for floor in 0..floors.saturating_sub(0) {
+                let y0 = 0.9 + 3.0 * floor as f64;
+                if y0 + 1.4 > height {
+                    break;
+                }
+                for k in 0..columns {
+                    let a = -extent + (k as f64 + 0.5) * 2.0 * extent / columns as f64;
+                    let q = |da: f64, y: f64| {
+                        if axis == 0 {
+                            p(a + da, y, off)
+                        } else {
+                            p(off, y, a + da)
+                        }
+                    };
+                    mesh.quad_with_normal(
+                        [q(-0.6, y0), q(0.6, y0), q(0.6, y0 + 1.4), q(-0.6, y0 + 1.4)],
+                        normal,
+                        0.08,
+                        ObjectSlot::WORLD,
+                    );
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,104 @@
+//! The built-in scene `carfollow render` uses until scenario files exist: a rural road with
+//! two bends and two intersections, the shipped ten-segment target, and both vehicles placed
+//! on the route at a fixed gap (physics will supply the poses later).
+
+use super::description::{
+    CameraMount, ChaseVehicle, Densities, LeadVehicle, SceneDescription, Sensor, Sun,
+};
+use super::route::{Route, RouteSegment, RouteSpec};
+use nalgebra::Isometry3;
+use tracker::TargetModel;
+
+/// Built-in scene: the chase vehicle's speed, m/s (about 40 km/h, a speed the paper drove).
+pub const BUILTIN_SPEED_M_S: f64 = 11.0;
+/// Built-in scene: distance from the camera to the board along the route, metres; the
+/// shipped target's nominal range, so the scale is about 1.
+pub const BUILTIN_GAP_M: f64 = 10.0;
+/// Built-in scene: where the chase vehicle starts, metres along the route.
+const BUILTIN_START_M: f64 = 20.0;
+
+/// The built-in scene with the given target and seed.
+pub fn builtin_description(target: TargetModel, seed: u64) -> SceneDescription {
+    SceneDescription {
+        seed,
+        route: RouteSpec {
+            segments: vec![
+                RouteSegment::Straight { length_m: 160.0 },
+                RouteSegment::Arc {
+                    radius_m: 150.0,
+                    angle_deg: 50.0,
+                },
+                RouteSegment::Straight { length_m: 180.0 },
+                RouteSegment::Arc {
+                    radius_m: 100.0,
+                    angle_deg: -60.0,
+                },
+                RouteSegment::Straight { length_m: 300.0 },
+            ],
+            intersections_m: vec![110.0, 480.0],
+            lane_width_m: 3.5,
+        },
+        densities: Densities::default(),
+        placements: Vec::new(),
+        sun: Sun::default(),
+        sensor: Sensor::default(),
+        target,
+        lead: LeadVehicle::default(),
+        chase: ChaseVehicle::default(),
+    }
+}
+
+/// `(world_from_chase, world_from_lead)` at time `time_s` in the built-in scene: both in the
+/// right lane, the chase at constant speed, the lead so that its board is
+/// [`BUILTIN_GAP_M`] ahead of the camera along the route.
+pub fn builtin_poses(
+    description: &SceneDescription,
+    route: &Route,
+    mount: &CameraMount,
+    time_s: f64,
+) -> (Isometry3<f64>, Isometry3<f64>) {
+    let lateral = 0.5 * description.route.lane_width_m;
+    let chase_s = BUILTIN_START_M + BUILTIN_SPEED_M_S * time_s;
+    let lead_s = chase_s + mount.forward_offset_m + BUILTIN_GAP_M + 0.5 * description.lead.length_m;
+    (
+        route.pose_at(chase_s, lateral),
+        route.pose_at(lead_s, lateral),
+    )
+}
+
+/// The shipped NIST ten-segment target (`scenarios/targets/nist-ten-segment.toml`): an
+/// outer rectangle 1.6 × 1.0 m, an inner one 0.8 × 0.5 m, and two vertical stubs at x = 0
+/// joining them; nominal range 10 m. Built in so the built-in scene needs no files.
+pub fn builtin_target() -> TargetModel {
+    TargetModel::new(
+        "nist-ten-segment",
+        10.0,
+        vec![
+            [-0.8, -0.5],
+            [0.8, -0.5],
+            [0.8, 0.5],
+            [-0.8, 0.5],
+            [-0.4, -0.25],
+            [0.4, -0.25],
+            [0.4, 0.25],
+            [-0.4, 0.25],
+            [0.0, 0.5],
+            [0.0, 0.25],
+            [0.0, -0.25],
+            [0.0, -0.5],
+        ],
+        vec![
+            [0, 1],
+            [1, 2],
+            [2, 3],
+            [3, 0],
+            [4, 5],
+            [5, 6],
+            [6, 7],
+            [7, 4],
+            [8, 9],
+            [10, 11],
+        ],
+    )
+    .expect("the built-in target is valid")
+}

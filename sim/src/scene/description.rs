@@ -1,0 +1,340 @@
+//! The scene description: everything the scenario code fills in, in SI units. Building a
+//! [`crate::scene::Scene`] from it is deterministic for a given `seed`.
+
+use super::route::{RouteSegment, RouteSpec};
+use super::SceneError;
+use tracker::TargetModel;
+
+/// How much clutter to place along the route, per kilometre of route (both sides together
+/// unless stated).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Densities {
+    /// Trees per km.
+    pub trees_per_km: f64,
+    /// Telephone poles per km (one side, the right, joined by wires).
+    pub poles_per_km: f64,
+    /// Houses per km (low, gabled, with windows).
+    pub houses_per_km: f64,
+    /// Buildings per km (tall boxes with a grid of windows).
+    pub buildings_per_km: f64,
+    /// Vehicles parked on the right shoulder, per km.
+    pub parked_vehicles_per_km: f64,
+    /// Oncoming vehicles in the opposite lane, per km (moving at `oncoming_speed_m_s`).
+    pub oncoming_vehicles_per_km: f64,
+    /// Speed of oncoming traffic, m/s.
+    pub oncoming_speed_m_s: f64,
+    /// Cracks per km of road.
+    pub cracks_per_km: f64,
+    /// Repair patches per km of road.
+    pub patches_per_km: f64,
+    /// Pot holes per km of road.
+    pub potholes_per_km: f64,
+}
+
+impl Default for Densities {
+    /// A rural road with the paper's clutter in moderate amounts (section 4 drove on such
+    /// roads): enough that several items are in view in most frames.
+    fn default() -> Self {
+        Densities {
+            trees_per_km: 60.0,
+            poles_per_km: 22.0,
+            houses_per_km: 8.0,
+            buildings_per_km: 3.0,
+            parked_vehicles_per_km: 6.0,
+            oncoming_vehicles_per_km: 6.0,
+            oncoming_speed_m_s: 12.0,
+            cracks_per_km: 60.0,
+            patches_per_km: 12.0,
+            potholes_per_km: 10.0,
+        }
+    }
+}
+
+/// A piece of clutter the scenario places by hand (world x, z on the ground), in addition to
+/// what the densities place. Tests use these to put a shadow exactly where they want it.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Placement {
+    /// A telephone pole (no wires) at world `(x_m, z_m)`.
+    Pole {
+        /// World x, metres.
+        x_m: f64,
+        /// World z, metres.
+        z_m: f64,
+    },
+    /// A tree at world `(x_m, z_m)`.
+    Tree {
+        /// World x, metres.
+        x_m: f64,
+        /// World z, metres.
+        z_m: f64,
+    },
+}
+
+/// The sun: a directional light, and the sky's ambient light.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Sun {
+    /// Azimuth, degrees, measured in the ground plane from world +x towards world +z.
+    /// The direction towards the sun is `(cos el · cos az, sin el, cos el · sin az)`.
+    pub azimuth_deg: f64,
+    /// Elevation above the horizon, degrees (0, 90].
+    pub elevation_deg: f64,
+    /// Irradiance of direct sunlight on a surface facing the sun, relative units (the
+    /// brightness of a white, sunlit, sun-facing surface at gain 1 and nominal exposure).
+    pub strength: f64,
+    /// Irradiance from the sky on any surface, same units: what shadows are left with.
+    pub ambient: f64,
+    /// Brightness of the sky itself, same units.
+    pub sky: f64,
+}
+
+impl Default for Sun {
+    /// Afternoon sun behind the chase vehicle and to its left at the route's start, so the
+    /// board is lit and shadows fall across the road; ambient a third of the sun, as on a
+    /// clear day.
+    fn default() -> Self {
+        Sun {
+            azimuth_deg: 150.0,
+            elevation_deg: 40.0,
+            strength: 0.75,
+            ambient: 0.25,
+            sky: 0.9,
+        }
+    }
+}
+
+/// The CCD sensor's response and noise (all applied per frame, seeded).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Sensor {
+    /// Electronic gain, a factor (1 = nominal).
+    pub gain: f64,
+    /// Exposure time, milliseconds; brightness scales with `exposure_ms / NOMINAL_EXPOSURE_MS`.
+    pub exposure_ms: f64,
+    /// Standard deviation of additive Gaussian noise, grey levels.
+    pub noise_sigma_grey: f64,
+    /// Optional optical blur: Gaussian standard deviation, pixels.
+    pub blur_sigma_px: Option<f64>,
+}
+
+impl Sensor {
+    /// Exposure (ms) at which brightness equals the light's relative irradiance times albedo.
+    pub const NOMINAL_EXPOSURE_MS: f64 = 4.0;
+
+    /// The combined brightness factor of gain and exposure.
+    pub fn brightness(&self) -> f64 {
+        self.gain * self.exposure_ms / Self::NOMINAL_EXPOSURE_MS
+    }
+}
+
+impl Default for Sensor {
+    /// Nominal gain and exposure; 2 grey levels of noise, about what a 1990s CCD with an
+    /// 8-bit frame grabber showed on a bright day; no blur.
+    fn default() -> Self {
+        Sensor {
+            gain: 1.0,
+            exposure_ms: Sensor::NOMINAL_EXPOSURE_MS,
+            noise_sigma_grey: 2.0,
+            blur_sigma_px: None,
+        }
+    }
+}
+
+/// The lead vehicle (a box truck) and where its target board hangs.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LeadVehicle {
+    /// Body length, width, height (metres).
+    pub length_m: f64,
+    /// Body width, metres.
+    pub width_m: f64,
+    /// Top of the body above the ground, metres.
+    pub height_m: f64,
+    /// Height of the target's centre above the ground, metres.
+    pub board_centre_height_m: f64,
+}
+
+impl Default for LeadVehicle {
+    /// A small box truck: 5 m long, 2.2 m wide, 2.7 m tall; the board's centre at 1.6 m so
+    /// the shipped 1.8 × 1.2 m board fits on the back door.
+    fn default() -> Self {
+        LeadVehicle {
+            length_m: 5.0,
+            width_m: 2.2,
+            height_m: 2.7,
+            board_centre_height_m: 1.6,
+        }
+    }
+}
+
+/// The chase vehicle as far as the camera sees it: its hood.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ChaseVehicle {
+    /// Where the hood's front edge is, metres forward of the vehicle origin.
+    pub hood_front_m: f64,
+    /// Where the hood's back edge (windscreen) is, metres forward of the vehicle origin.
+    pub hood_back_m: f64,
+    /// Height of the hood's top above the ground, metres.
+    pub hood_height_m: f64,
+    /// Width of the hood, metres.
+    pub hood_width_m: f64,
+}
+
+impl Default for ChaseVehicle {
+    /// A HMMWV-like hood: flat, 2 m wide, 1.5 m above the ground, ending 2.3 m ahead of the
+    /// vehicle origin; with the default mount it fills the bottom ~20 rows of the frame.
+    fn default() -> Self {
+        ChaseVehicle {
+            hood_front_m: 2.3,
+            hood_back_m: 0.3,
+            hood_height_m: 1.5,
+            hood_width_m: 2.0,
+        }
+    }
+}
+
+/// Where the camera sits on the chase vehicle (vehicle frame: x forward, y up, z right;
+/// origin on the ground below the vehicle's centre when level).
+#[derive(Clone, Debug, PartialEq)]
+pub struct CameraMount {
+    /// Height of the optical centre above the vehicle origin, metres.
+    pub height_m: f64,
+    /// Forward offset of the optical centre from the vehicle origin, metres.
+    pub forward_offset_m: f64,
+    /// Downward pitch of the optical axis, degrees (positive looks down).
+    pub pitch_deg: f64,
+}
+
+impl Default for CameraMount {
+    /// Above the cab of a HMMWV (paper section 3): 2.2 m up, 0.3 m ahead of the centre,
+    /// tilted 3° down so the road and the lead's back share the frame.
+    fn default() -> Self {
+        CameraMount {
+            height_m: 2.2,
+            forward_offset_m: 0.3,
+            pitch_deg: 3.0,
+        }
+    }
+}
+
+/// Everything needed to build the world. Filled by the scenario code.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneDescription {
+    /// The scenario seed; clutter and noise each use a named stream of it.
+    pub seed: u64,
+    /// The route.
+    pub route: RouteSpec,
+    /// Clutter densities.
+    pub densities: Densities,
+    /// Extra, hand-placed clutter.
+    pub placements: Vec<Placement>,
+    /// The light.
+    pub sun: Sun,
+    /// The sensor.
+    pub sensor: Sensor,
+    /// The target painted on the lead's back.
+    pub target: TargetModel,
+    /// The lead vehicle.
+    pub lead: LeadVehicle,
+    /// The chase vehicle's hood.
+    pub chase: ChaseVehicle,
+}
+
+impl SceneDescription {
+    /// Checks the numbers a scene cannot be built from; each error names the field.
+    pub fn validate(&self) -> Result<(), SceneError> {
+        let positive = |field: &str, value: f64| {
+            if value.is_finite() && value > 0.0 {
+                Ok(())
+            } else {
+                Err(SceneError::Invalid {
+                    field: field.to_string(),
+                    reason: format!("must be positive and finite, got {value}"),
+                })
+            }
+        };
+        let non_negative = |field: &str, value: f64| {
+            if value.is_finite() && value >= 0.0 {
+                Ok(())
+            } else {
+                Err(SceneError::Invalid {
+                    field: field.to_string(),
+                    reason: format!("must be zero or positive and finite, got {value}"),
+                })
+            }
+        };
+        if self.route.segments.is_empty() {
+            return Err(SceneError::Invalid {
+                field: "route.segments".into(),
+                reason: "the route needs at least one segment".into(),
+            });
+        }
+        for (i, segment) in self.route.segments.iter().enumerate() {
+            match *segment {
+                RouteSegment::Straight { length_m } => {
+                    positive(&format!("route.segments[{i}].length_m"), length_m)?
+                }
+                RouteSegment::Arc {
+                    radius_m,
+                    angle_deg,
+                } => {
+                    positive(&format!("route.segments[{i}].radius_m"), radius_m)?;
+                    positive(&format!("route.segments[{i}].|angle_deg|"), angle_deg.abs())?;
+                }
+            }
+        }
+        positive("route.lane_width_m", self.route.lane_width_m)?;
+        let d = &self.densities;
+        for (field, value) in [
+            ("densities.trees_per_km", d.trees_per_km),
+            ("densities.poles_per_km", d.poles_per_km),
+            ("densities.houses_per_km", d.houses_per_km),
+            ("densities.buildings_per_km", d.buildings_per_km),
+            ("densities.parked_vehicles_per_km", d.parked_vehicles_per_km),
+            (
+                "densities.oncoming_vehicles_per_km",
+                d.oncoming_vehicles_per_km,
+            ),
+            ("densities.oncoming_speed_m_s", d.oncoming_speed_m_s),
+            ("densities.cracks_per_km", d.cracks_per_km),
+            ("densities.patches_per_km", d.patches_per_km),
+            ("densities.potholes_per_km", d.potholes_per_km),
+            ("sun.strength", self.sun.strength),
+            ("sun.ambient", self.sun.ambient),
+            ("sun.sky", self.sun.sky),
+            ("sensor.noise_sigma_grey", self.sensor.noise_sigma_grey),
+        ] {
+            non_negative(field, value)?;
+        }
+        if !(self.sun.elevation_deg > 0.0 && self.sun.elevation_deg <= 90.0) {
+            return Err(SceneError::Invalid {
+                field: "sun.elevation_deg".into(),
+                reason: format!("must be in (0, 90], got {}", self.sun.elevation_deg),
+            });
+        }
+        positive("sun.azimuth_deg (finite)", self.sun.azimuth_deg.abs() + 1.0)?;
+        positive("sensor.gain", self.sensor.gain)?;
+        positive("sensor.exposure_ms", self.sensor.exposure_ms)?;
+        if let Some(sigma) = self.sensor.blur_sigma_px {
+            positive("sensor.blur_sigma_px", sigma)?;
+        }
+        positive("lead.length_m", self.lead.length_m)?;
+        positive("lead.width_m", self.lead.width_m)?;
+        positive("lead.height_m", self.lead.height_m)?;
+        positive(
+            "lead.board_centre_height_m",
+            self.lead.board_centre_height_m,
+        )?;
+        positive("chase.hood_width_m", self.chase.hood_width_m)?;
+        positive("chase.hood_height_m", self.chase.hood_height_m)?;
+        Ok(())
+    }
+}
+
+impl Sun {
+    /// Unit vector from the ground towards the sun, world frame.
+    pub fn direction(&self) -> [f64; 3] {
+        let (az, el) = (
+            self.azimuth_deg.to_radians(),
+            self.elevation_deg.to_radians(),
+        );
+        [el.cos() * az.cos(), el.sin(), el.cos() * az.sin()]
+    }
+}

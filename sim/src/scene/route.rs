@@ -1,0 +1,208 @@
+//! The route's centreline: straights and circular arcs laid end to end on the ground, with
+//! crossing roads at intersections.
+//!
+//! The route starts at the world origin heading along world +x. Heading ψ is the rotation
+//! about world +y (right-handed), so the direction of travel is `(cos ψ, 0, −sin ψ)` and a
+//! positive (left) turn increases ψ. "Right" of the direction of travel is `(sin ψ, 0, cos ψ)`,
+//! the vehicle frame's +z.
+
+use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
+
+/// One piece of the centreline.
+#[derive(Clone, Debug, PartialEq)]
+pub enum RouteSegment {
+    /// A straight of the given length (metres).
+    Straight {
+        /// Length, metres.
+        length_m: f64,
+    },
+    /// A circular arc: radius (metres) and turn angle (degrees, positive turns left).
+    Arc {
+        /// Radius of the centreline, metres.
+        radius_m: f64,
+        /// Turn angle, degrees; positive is a left turn.
+        angle_deg: f64,
+    },
+}
+
+/// What the scenario says about the route.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RouteSpec {
+    /// The centreline's pieces, in driving order.
+    pub segments: Vec<RouteSegment>,
+    /// Stations (metres along the centreline) where a road crosses at right angles.
+    pub intersections_m: Vec<f64>,
+    /// Width of one lane, metres; the road has two, one each way.
+    pub lane_width_m: f64,
+}
+
+/// One piece with its start state resolved.
+#[derive(Clone, Copy, Debug)]
+struct Piece {
+    start_m: f64,
+    length_m: f64,
+    x0: f64,
+    z0: f64,
+    heading0: f64,
+    curvature: f64,
+}
+
+/// The resolved centreline: position and heading at any station.
+#[derive(Clone, Debug)]
+pub struct Route {
+    spec: RouteSpec,
+    pieces: Vec<Piece>,
+    length_m: f64,
+}
+
+impl Route {
+    /// Lays the segments end to end from the origin. Lengths and radii must be positive
+    /// (checked by [`crate::scene::SceneDescription::validate`]).
+    pub fn new(spec: RouteSpec) -> Route {
+        let mut pieces = Vec::with_capacity(spec.segments.len());
+        let (mut s, mut x, mut z, mut heading) = (0.0, 0.0, 0.0, 0.0);
+        for segment in &spec.segments {
+            let (length_m, curvature) = match *segment {
+                RouteSegment::Straight { length_m } => (length_m, 0.0),
+                RouteSegment::Arc {
+                    radius_m,
+                    angle_deg,
+                } => (
+                    radius_m * angle_deg.to_radians().abs(),
+                    angle_deg.signum() / radius_m,
+                ),
+            };
+            let piece = Piece {
+                start_m: s,
+                length_m,
+                x0: x,
+                z0: z,
+                heading0: heading,
+                curvature,
+            };
+            [x, z, heading] = piece.at(length_m);
+            s += length_m;
+            pieces.push(piece);
+        }
+        Route {
+            spec,
+            pieces,
+            length_m: s,
+        }
+    }
+
+    /// The specification this route was built from.
+    pub fn spec(&self) -> &RouteSpec {
+        &self.spec
+    }
+
+    /// Total length of the centreline, metres.
+    pub fn length_m(&self) -> f64 {
+        self.length_m
+    }
+
+    /// `[x, z, heading]` of the centreline at station `s_m` (metres, clamped to the route;
+    /// past either end the route continues straight).
+    pub fn at(&self, s_m: f64) -> [f64; 3] {
+        let Some(first) = self.pieces.first() else {
+            return [s_m, 0.0, 0.0];
+        };
+        if s_m < 0.0 {
+            let [x, z, h] = first.at(0.0);
+            return [x + s_m * h.cos(), z - s_m * h.sin(), h];
+        }
+        let index = self
+            .pieces
+            .partition_point(|p| p.start_m <= s_m)
+            .saturating_sub(1);
+        let piece = &self.pieces[index];
+        let local = s_m - piece.start_m;
+        if local > piece.length_m {
+            let [x, z, h] = piece.at(piece.length_m);
+            let extra = local - piece.length_m;
+            return [x + extra * h.cos(), z - extra * h.sin(), h];
+        }
+        piece.at(local)
+    }
+
+    /// The ground pose (vehicle frame: x forward, y up, z right; origin on the ground) at
+    /// station `s_m`, offset `lateral_m` to the right of the centreline.
+    pub fn pose_at(&self, s_m: f64, lateral_m: f64) -> Isometry3<f64> {
+        let [x, z, heading] = self.at(s_m);
+        let right = [heading.sin(), heading.cos()];
+        Isometry3::from_parts(
+            Translation3::new(x + lateral_m * right[0], 0.0, z + lateral_m * right[1]),
+            UnitQuaternion::from_axis_angle(&Vector3::y_axis(), heading),
+        )
+    }
+
+    /// The point (world x, z) at station `s_m`, `lateral_m` to the right of the centreline.
+    pub fn point(&self, s_m: f64, lateral_m: f64) -> [f64; 2] {
+        let [x, z, heading] = self.at(s_m);
+        [x + lateral_m * heading.sin(), z + lateral_m * heading.cos()]
+    }
+
+    /// Curvature (1/metres, positive turning left) at station `s_m`; 0 past the ends.
+    pub fn curvature_at(&self, s_m: f64) -> f64 {
+        if s_m < 0.0 || s_m > self.length_m {
+            return 0.0;
+        }
+        let index = self
+            .pieces
+            .partition_point(|p| p.start_m <= s_m)
+            .saturating_sub(1);
+        self.pieces.get(index).map_or(0.0, |p| p.curvature)
+    }
+
+    /// Whether a curve point is within `margin_m` of an intersection's station.
+    pub fn near_intersection(&self, s_m: f64, margin_m: f64) -> bool {
+        self.spec
+            .intersections_m
+            .iter()
+            .any(|&c| (s_m - c).abs() < margin_m)
+    }
+}
+
+impl Piece {
+    /// `[x, z, heading]` at `local` metres into the piece (closed form for arcs).
+    fn at(&self, local: f64) -> [f64; 3] {
+        let h0 = self.heading0;
+        if self.curvature == 0.0 {
+            return [self.x0 + local * h0.cos(), self.z0 - local * h0.sin(), h0];
+        }
+        let k = self.curvature;
+        let h = h0 + k * local;
+        [
+            self.x0 + (h.sin() - h0.sin()) / k,
+            self.z0 + (h.cos() - h0.cos()) / k,
+            h,
+        ]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn quarter_circle_left_ends_where_geometry_says() {
+        let route = Route::new(RouteSpec {
+            segments: vec![RouteSegment::Arc {
+                radius_m: 10.0,
+                angle_deg: 90.0,
+            }],
+            intersections_m: vec![],
+            lane_width_m: 3.5,
+        });
+        // Heading +x, turning left (towards −z): a quarter circle ends at (10, −10) heading −z.
+        let [x, z, h] = route.at(route.length_m());
+        assert!(
+            (x - 10.0).abs() < 1e-9 && (z + 10.0).abs() < 1e-9,
+            "{x} {z}"
+        );
+        assert!((h - std::f64::consts::FRAC_PI_2).abs() < 1e-12);
+        // Right of travel is +z at the start.
+        let p = route.point(0.0, 2.0);
+        assert!((p[1] - 2.0).abs() < 1e-12);
+    }
+}

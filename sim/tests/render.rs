@@ -1,0 +1,360 @@
+//! The camera renderer's guarantees, on wgpu's GL backend over Mesa llvmpipe (no GPU or
+//! display needed; `WGPU_BACKEND=vulkan` runs them on lavapipe):
+//! - golden images: frames of the built-in scene match reference PNGs in `tests/golden/`
+//!   to ±2 grey levels, with at most 0.5 % of pixels beyond (a missing reference is
+//!   written fresh; a failure leaves `-actual.png` and `-difference.png` beside it);
+//! - the same seed gives bit-identical frames;
+//! - the renderer puts the target's stripes where the tracker's camera model projects
+//!   them, to within 0.5 px;
+//! - a pole's shadow on the target darkens it;
+//! - the target is found in the frame where the ground truth says.
+//!
+//! Run: `cargo test -p sim --release --test render`.
+
+use image::{GrayImage, Luma};
+use nalgebra::{Isometry3, Point3};
+use sim::camera::{Backend, CameraRig, Frame, FrameInput, RenderOptions, Renderer};
+use sim::scene::{
+    builtin_description, builtin_poses, builtin_target, Densities, Placement, RouteSegment, Scene,
+    SceneDescription, STRIPE_OVERRUN_M, STRIPE_WIDTH_M,
+};
+use std::path::PathBuf;
+
+fn options() -> RenderOptions {
+    RenderOptions {
+        backend: Backend::choose(None).expect("backend"),
+        ..RenderOptions::default()
+    }
+}
+
+fn renderer(description: SceneDescription, options: &RenderOptions) -> Renderer {
+    let scene = Scene::build(description).expect("scene");
+    Renderer::new(&scene, CameraRig::default(), options).unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn builtin_frame(renderer: &mut Renderer, time_s: f64) -> Frame {
+    let (world_from_chase, world_from_lead) = builtin_poses(
+        renderer.scene().description(),
+        renderer.scene().route(),
+        &renderer.rig().mount,
+        time_s,
+    );
+    renderer
+        .render(&FrameInput {
+            frame_index: (time_s * 15.0).round() as u64,
+            time_s,
+            world_from_chase,
+            world_from_lead,
+        })
+        .expect("frame")
+}
+
+/// A plain straight road with no clutter and no noise: only what a test puts there.
+fn bare(seed: u64) -> SceneDescription {
+    let mut d = builtin_description(builtin_target(), seed);
+    d.route.segments = vec![RouteSegment::Straight { length_m: 300.0 }];
+    d.route.intersections_m.clear();
+    d.densities = Densities {
+        trees_per_km: 0.0,
+        poles_per_km: 0.0,
+        houses_per_km: 0.0,
+        buildings_per_km: 0.0,
+        parked_vehicles_per_km: 0.0,
+        oncoming_vehicles_per_km: 0.0,
+        cracks_per_km: 0.0,
+        patches_per_km: 0.0,
+        potholes_per_km: 0.0,
+        ..Densities::default()
+    };
+    d.sensor.noise_sigma_grey = 0.0;
+    d
+}
+
+fn camera_from_target(
+    renderer: &Renderer,
+    chase: &Isometry3<f64>,
+    lead: &Isometry3<f64>,
+) -> Isometry3<f64> {
+    renderer.rig().world_from_camera(chase).inverse() * lead * renderer.scene().lead_from_target()
+}
+
+/// Projects a point of the target plane (metres, x right, y up; z out of the board) with the
+/// tracker's camera model.
+fn project(renderer: &Renderer, cam_from_target: &Isometry3<f64>, p: [f64; 3]) -> [f64; 2] {
+    let c = cam_from_target * Point3::new(p[0], p[1], p[2]);
+    renderer
+        .rig()
+        .intrinsics
+        .project([c.x, c.y, c.z])
+        .expect("in front")
+}
+
+fn golden(name: &str, image: &GrayImage) {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/golden");
+    let reference_path = dir.join(format!("{name}.png"));
+    let Ok(reference) = image::open(&reference_path) else {
+        image.save(&reference_path).expect("write reference");
+        eprintln!("wrote a fresh reference {}", reference_path.display());
+        return;
+    };
+    let reference = reference.to_luma8();
+    assert_eq!(
+        reference.dimensions(),
+        image.dimensions(),
+        "{name}: size differs"
+    );
+    let mut difference = GrayImage::new(image.width(), image.height());
+    let mut beyond = 0usize;
+    for (x, y, p) in image.enumerate_pixels() {
+        let d = (i32::from(p[0]) - i32::from(reference.get_pixel(x, y)[0])).unsigned_abs();
+        if d > 2 {
+            beyond += 1;
+        }
+        difference.put_pixel(x, y, Luma([(d * 8).min(255) as u8]));
+    }
+    let fraction = beyond as f64 / (image.width() * image.height()) as f64;
+    if fraction > 0.005 {
+        image.save(dir.join(format!("{name}-actual.png"))).unwrap();
+        difference
+            .save(dir.join(format!("{name}-difference.png")))
+            .unwrap();
+        panic!("{name}: {:.2} % of pixels differ by more than 2 grey levels (0.5 % allowed); see {name}-actual.png and {name}-difference.png", 100.0 * fraction);
+    }
+}
+
+#[test]
+fn golden_frames_of_the_builtin_scene() {
+    let mut renderer = renderer(builtin_description(builtin_target(), 1), &options());
+    for (name, t) in [
+        ("builtin-t00", 0.0),
+        ("builtin-t12", 12.0),
+        ("builtin-t30", 30.0),
+    ] {
+        golden(name, &builtin_frame(&mut renderer, t).image);
+    }
+}
+
+#[test]
+fn same_seed_gives_bit_identical_frames() {
+    let mut a = renderer(builtin_description(builtin_target(), 7), &options());
+    let mut b = renderer(builtin_description(builtin_target(), 7), &options());
+    let first = builtin_frame(&mut a, 5.0);
+    let _other = builtin_frame(&mut a, 9.0);
+    assert_eq!(
+        first,
+        builtin_frame(&mut a, 5.0),
+        "same renderer, same frame twice"
+    );
+    assert_eq!(first, builtin_frame(&mut b, 5.0), "a second renderer");
+    let mut c = renderer(builtin_description(builtin_target(), 8), &options());
+    assert_ne!(
+        first.image,
+        builtin_frame(&mut c, 5.0).image,
+        "another seed differs"
+    );
+}
+
+#[test]
+fn renderer_matrix_agrees_with_the_tracker_camera() {
+    let r = renderer(bare(1), &options());
+    let (chase, lead) = builtin_poses(
+        r.scene().description(),
+        r.scene().route(),
+        &r.rig().mount,
+        0.0,
+    );
+    let cam = camera_from_target(&r, &chase, &lead);
+    let world_from_target = lead * r.scene().lead_from_target();
+    for &[x, y] in r.scene().description().target.corners_m() {
+        let tracker = project(&r, &cam, [x, y, 0.0]);
+        let w = world_from_target * Point3::new(x, y, 0.0);
+        let renderer = r.rig().project_world(&chase, [w.x, w.y, w.z]).unwrap();
+        let error =
+            ((tracker[0] - renderer[0]).powi(2) + (tracker[1] - renderer[1]).powi(2)).sqrt();
+        assert!(
+            error < 1e-6,
+            "corner ({x}, {y}): tracker {tracker:?}, renderer matrix {renderer:?}"
+        );
+    }
+}
+
+/// Where the renderer actually puts each stripe, measured in the image: the dark-weighted
+/// centroid across the stripe, on a line through its middle, with 4× MSAA so edges carry
+/// sub-pixel information. Compared with the tracker's projection of the stripe's centre line.
+#[test]
+fn target_stripes_land_where_the_tracker_projects_them() {
+    let options = RenderOptions {
+        msaa_samples: 4,
+        ..options()
+    };
+    let mut description = bare(1);
+    description.sun.elevation_deg = 30.0;
+    let mut r = renderer(description, &options);
+    // Closer than nominal range so each stripe is ~3 px wide; a small roll so the test also
+    // covers the chassis attitude.
+    let (chase, lead) = builtin_poses(
+        r.scene().description(),
+        r.scene().route(),
+        &r.rig().mount,
+        1.0,
+    );
+    let lead = lead * Isometry3::translation(-4.0, 0.0, 0.0);
+    let roll = nalgebra::UnitQuaternion::from_axis_angle(&nalgebra::Vector3::x_axis(), 0.0);
+    let chase = chase * Isometry3::from_parts(nalgebra::Translation3::identity(), roll);
+    let frame = r
+        .render(&FrameInput {
+            frame_index: 0,
+            time_s: 1.0,
+            world_from_chase: chase,
+            world_from_lead: lead,
+        })
+        .unwrap();
+    let cam = camera_from_target(&r, &chase, &lead);
+    let target = r.scene().description().target.clone();
+    let corners = target.corners_m();
+    let image = &frame.image;
+    let mut worst: f64 = 0.0;
+    for &[a, b] in target.segments() {
+        let ([ax, ay], [bx, by]) = (corners[a], corners[b]);
+        let horizontal = (ay - by).abs() < 1e-9;
+        // 30 % along the segment: away from the junctions where another stripe meets it.
+        let mid = [ax + 0.3 * (bx - ax), ay + 0.3 * (by - ay), 0.003];
+        let [u, v] = project(&r, &cam, mid);
+        // Sample across the stripe (image y for horizontal stripes, x for vertical ones).
+        let (across, along) = if horizontal { (v, u) } else { (u, v) };
+        let line = along.round() as i64;
+        let pixel = |k: i64| -> f64 {
+            let (x, y) = if horizontal { (line, k) } else { (k, line) };
+            f64::from(image.get_pixel(x as u32, y as u32)[0])
+        };
+        let centre = across.round() as i64;
+        let window: Vec<i64> = (centre - 4..=centre + 4).collect();
+        let light = window.iter().map(|&k| pixel(k)).fold(0.0, f64::max);
+        let (mut sum, mut weight) = (0.0, 0.0);
+        for &k in &window {
+            let w = light - pixel(k);
+            sum += w * k as f64;
+            weight += w;
+        }
+        let measured = sum / weight;
+        let error = (measured - across).abs();
+        worst = worst.max(error);
+        assert!(error <= 0.5, "segment {a}-{b}: stripe centre measured at {measured:.2} px, tracker projects {across:.2} px");
+    }
+    eprintln!("worst stripe-centre disagreement: {worst:.3} px (stripes {STRIPE_WIDTH_M} m, overrun {STRIPE_OVERRUN_M} m)");
+}
+
+#[test]
+fn a_pole_shadow_darkens_the_target() {
+    // Sun behind the camera and to its right, 30° up; a pole placed on the ray from the
+    // board point (−0.4, 0.375) towards the sun, 3 m in front of the board.
+    let mut description = bare(1);
+    description.sun.azimuth_deg = 135.0;
+    description.sun.elevation_deg = 30.0;
+    let probe = |with_pole: bool| {
+        let mut d = description.clone();
+        let scene = Scene::build(d.clone()).unwrap();
+        let rig = CameraRig::default();
+        let (chase, lead) = builtin_poses(scene.description(), scene.route(), &rig.mount, 1.0);
+        let world_from_target = lead * scene.lead_from_target();
+        let shaded = world_from_target * Point3::new(-0.4, 0.375, 0.0);
+        let sun = d.sun.direction();
+        let t = 3.0 / -sun[0];
+        if with_pole {
+            d.placements.push(Placement::Pole {
+                x_m: shaded.x + t * sun[0],
+                z_m: shaded.z + t * sun[2],
+            });
+        }
+        let mut r = renderer(d, &options());
+        let frame = r
+            .render(&FrameInput {
+                frame_index: 0,
+                time_s: 1.0,
+                world_from_chase: chase,
+                world_from_lead: lead,
+            })
+            .unwrap();
+        let cam = camera_from_target(&r, &chase, &lead);
+        let value = |x: f64, y: f64| {
+            let [u, v] = project(&r, &cam, [x, y, 0.0]);
+            i32::from(frame.image.get_pixel(u.round() as u32, v.round() as u32)[0])
+        };
+        (value(-0.4, 0.375), value(0.4, 0.375))
+    };
+    let (shadowed, sunlit) = probe(true);
+    assert!(
+        shadowed + 20 < sunlit,
+        "pole shadow on the board: {shadowed} should be well below its sunlit neighbour {sunlit}"
+    );
+    let (left, right) = probe(false);
+    assert!(
+        (left - right).abs() <= 3,
+        "without the pole both points are sunlit alike: {left} vs {right}"
+    );
+}
+
+/// Finds the target by normalised cross-correlation of a template painted by the paint rule
+/// at the true scale, over the whole frame, and checks the best match is at the ground truth.
+#[test]
+fn target_is_found_where_the_ground_truth_says() {
+    let mut r = renderer(builtin_description(builtin_target(), 3), &options());
+    for t in [0.0, 20.0] {
+        let frame = builtin_frame(&mut r, t);
+        let truth = frame.truth;
+        assert!(truth.in_view, "t = {t}: target not in view: {truth:?}");
+        let target = r.scene().description().target.clone();
+        let px_per_m = r.rig().intrinsics.focal_px()[0] / truth.target_cam_m[2];
+        let corners = target.corners_m();
+        let half = [0.9 * px_per_m, 0.6 * px_per_m];
+        let mut template = Vec::new();
+        for dv in -(half[1] as i64)..=half[1] as i64 {
+            for du in -(half[0] as i64)..=half[0] as i64 {
+                let (x, y) = (du as f64 / px_per_m, -dv as f64 / px_per_m);
+                let dark = target.segments().iter().any(|&[a, b]| {
+                    let ([ax, ay], [bx, by]) = (corners[a], corners[b]);
+                    let (x0, x1, y0, y1) = (
+                        ax.min(bx) - 0.03,
+                        ax.max(bx) + 0.03,
+                        ay.min(by) - 0.03,
+                        ay.max(by) + 0.03,
+                    );
+                    (x0..=x1).contains(&x) && (y0..=y1).contains(&y)
+                });
+                template.push((du, dv, if dark { 0.0 } else { 1.0 }));
+            }
+        }
+        let tm = template.iter().map(|t| t.2).sum::<f64>() / template.len() as f64;
+        let (w, h) = (frame.image.width() as i64, frame.image.height() as i64);
+        let mut best = (f64::MIN, 0, 0);
+        for cy in half[1] as i64 + 1..h - half[1] as i64 - 1 {
+            for cx in half[0] as i64 + 1..w - half[0] as i64 - 1 {
+                let values: Vec<f64> = template
+                    .iter()
+                    .map(|&(du, dv, _)| {
+                        f64::from(frame.image.get_pixel((cx + du) as u32, (cy + dv) as u32)[0])
+                    })
+                    .collect();
+                let im = values.iter().sum::<f64>() / values.len() as f64;
+                let (mut num, mut ii, mut tt) = (0.0, 0.0, 0.0);
+                for (value, t) in values.iter().zip(&template) {
+                    num += (value - im) * (t.2 - tm);
+                    ii += (value - im).powi(2);
+                    tt += (t.2 - tm).powi(2);
+                }
+                let ncc = num / (ii * tt).sqrt().max(1e-9);
+                if ncc > best.0 {
+                    best = (ncc, cx, cy);
+                }
+            }
+        }
+        let (ncc, cx, cy) = best;
+        assert!(ncc > 0.5, "t = {t}: best match only {ncc:.2}");
+        assert!(
+            (cx as f64 - truth.c_x).abs() <= 1.0 && (cy as f64 - truth.c_y).abs() <= 1.0,
+            "t = {t}: found the target at ({cx}, {cy}) (ncc {ncc:.2}), ground truth says ({:.2}, {:.2})",
+            truth.c_x,
+            truth.c_y
+        );
+    }
+}
