@@ -1,0 +1,261 @@
+//! The gap keeper: a speed reference that holds a gap to the lead, with acceleration and jerk
+//! limits, and an emergency brake when comfort braking would not be enough.
+
+use crate::error::{check_range, VehicleError};
+use serde::{Deserialize, Serialize};
+
+/// How the wanted gap is chosen.
+#[derive(Copy, Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", tag = "policy", deny_unknown_fields)]
+pub enum GapPolicy {
+    /// The same gap at every speed.
+    ConstantDistance {
+        /// The wanted gap, m.
+        gap_m: f32,
+    },
+    /// A gap growing with speed: `standstill_gap_m + headway_s × speed`.
+    TimeHeadway {
+        /// Gap at standstill, m.
+        standstill_gap_m: f32,
+        /// Time headway, s.
+        headway_s: f32,
+    },
+}
+
+/// The gap keeper's tuning.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct GapKeeperConfig {
+    /// How the wanted gap is chosen (default: a constant 10 m, the middle of the band).
+    pub policy: GapPolicy,
+    /// The wanted gap is never below this, m (default 5 m).
+    pub min_gap_m: f32,
+    /// The wanted gap is never above this, m (default 15 m: beyond it the paper's tracker
+    /// sees the target too small).
+    pub max_gap_m: f32,
+    /// Speed asked per metre of gap error, 1/s (0.4 /s: a gap error closes in a few seconds,
+    /// well below the speed loop's bandwidth so the two loops do not fight).
+    pub gap_gain_per_s: f32,
+    /// Acceleration asked per m/s between wanted and reference speed, 1/s.
+    pub speed_gain_per_s: f32,
+    /// Largest acceleration, m/s² (1.5 m/s²: brisk for a 2.4 t vehicle).
+    pub max_accel_mps2: f32,
+    /// Largest deceleration in normal following, m/s² (3.5 m/s²: firm but not emergency).
+    pub max_decel_mps2: f32,
+    /// Largest rate of change of the acceleration, m/s³ (2.5 m/s³: comfortable).
+    pub max_jerk_mps3: f32,
+    /// The gap the emergency brake protects, m: below it, or when stopping before it needs
+    /// more than `max_decel_mps2`, the controller brakes fully (default 2.5 m).
+    pub stop_gap_m: f32,
+    /// Highest speed the chase vehicle is asked for, m/s (default 20 m/s = 72 km/h).
+    pub max_speed_mps: f32,
+}
+
+impl Default for GapKeeperConfig {
+    fn default() -> Self {
+        GapKeeperConfig {
+            policy: GapPolicy::ConstantDistance { gap_m: 10.0 },
+            min_gap_m: 5.0,
+            max_gap_m: 15.0,
+            gap_gain_per_s: 0.4,
+            speed_gain_per_s: 1.5,
+            max_accel_mps2: 1.5,
+            max_decel_mps2: 3.5,
+            max_jerk_mps3: 2.5,
+            stop_gap_m: 2.5,
+            max_speed_mps: 20.0,
+        }
+    }
+}
+
+impl GapKeeperConfig {
+    /// Checks the values.
+    pub fn validate(&self) -> Result<(), VehicleError> {
+        let f = f64::from;
+        check_range("min_gap_m", f(self.min_gap_m), 0.5, 100.0)?;
+        check_range("max_gap_m", f(self.max_gap_m), f(self.min_gap_m), 200.0)?;
+        check_range("stop_gap_m", f(self.stop_gap_m), 0.1, f(self.min_gap_m))?;
+        check_range("gap_gain_per_s", f(self.gap_gain_per_s), 0.01, 10.0)?;
+        check_range("speed_gain_per_s", f(self.speed_gain_per_s), 0.01, 20.0)?;
+        check_range("max_accel_mps2", f(self.max_accel_mps2), 0.05, 10.0)?;
+        check_range("max_decel_mps2", f(self.max_decel_mps2), 0.05, 10.0)?;
+        check_range("max_jerk_mps3", f(self.max_jerk_mps3), 0.05, 100.0)?;
+        check_range("max_speed_mps", f(self.max_speed_mps), 0.1, 60.0)?;
+        match self.policy {
+            GapPolicy::ConstantDistance { gap_m } => check_range("gap_m", f(gap_m), 0.5, 200.0),
+            GapPolicy::TimeHeadway {
+                standstill_gap_m,
+                headway_s,
+            } => {
+                check_range("standstill_gap_m", f(standstill_gap_m), 0.0, 200.0)?;
+                check_range("headway_s", f(headway_s), 0.0, 10.0)
+            }
+        }
+    }
+
+    /// The wanted gap at `speed_mps`, inside the band `[min_gap_m, max_gap_m]`.
+    pub fn desired_gap_m(&self, speed_mps: f32) -> f32 {
+        let raw = match self.policy {
+            GapPolicy::ConstantDistance { gap_m } => gap_m,
+            GapPolicy::TimeHeadway {
+                standstill_gap_m,
+                headway_s,
+            } => standstill_gap_m + headway_s * speed_mps.max(0.0),
+        };
+        raw.clamp(self.min_gap_m, self.max_gap_m)
+    }
+
+    /// Whether the gap `gap_m` closing at `-range_rate_mps` needs the emergency brake.
+    pub fn emergency_needed(&self, gap_m: f32, range_rate_mps: f32) -> bool {
+        if gap_m <= self.stop_gap_m {
+            return true;
+        }
+        let closing = -range_rate_mps;
+        closing > 0.0 && closing * closing / (2.0 * (gap_m - self.stop_gap_m)) > self.max_decel_mps2
+    }
+}
+
+/// The gap keeper's output for one step.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct SpeedCommand {
+    /// Speed reference, m/s.
+    pub speed_mps: f32,
+    /// Acceleration of the reference, m/s² (feedforward for the speed loop).
+    pub accel_mps2: f32,
+    /// Brake fully now.
+    pub emergency: bool,
+    /// The wanted gap, m.
+    pub desired_gap_m: f32,
+}
+
+/// The gap keeper's state: a jerk- and acceleration-limited speed reference.
+#[derive(Clone, Debug)]
+pub struct GapKeeper {
+    config: GapKeeperConfig,
+    speed_ref_mps: f32,
+    accel_mps2: f32,
+    emergency: bool,
+}
+
+/// How far the reference may run ahead of or behind the real speed, m/s (keeps the
+/// reference honest when the vehicle cannot follow it, e.g. on full throttle).
+const REFERENCE_LEASH_MPS: f32 = 1.5;
+
+impl GapKeeper {
+    /// A gap keeper starting at `speed_mps`.
+    pub fn new(config: GapKeeperConfig, speed_mps: f32) -> Result<GapKeeper, VehicleError> {
+        config.validate()?;
+        Ok(GapKeeper {
+            config,
+            speed_ref_mps: speed_mps.max(0.0),
+            accel_mps2: 0.0,
+            emergency: false,
+        })
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &GapKeeperConfig {
+        &self.config
+    }
+
+    /// Restarts the reference at `speed_mps` (after a loss or a manual phase).
+    pub fn reset(&mut self, speed_mps: f32) {
+        self.speed_ref_mps = speed_mps.max(0.0);
+        self.accel_mps2 = 0.0;
+        self.emergency = false;
+    }
+
+    /// One step of `dt_s`: the gap `gap_m` now, its rate `range_rate_mps`, own speed.
+    pub fn update(
+        &mut self,
+        gap_m: f32,
+        range_rate_mps: f32,
+        speed_mps: f32,
+        dt_s: f32,
+    ) -> SpeedCommand {
+        let c = &self.config;
+        let desired_gap_m = c.desired_gap_m(speed_mps);
+        let lead_speed = (speed_mps + range_rate_mps).max(0.0);
+
+        let emergency_now = c.emergency_needed(gap_m, range_rate_mps);
+        if emergency_now {
+            self.emergency = true;
+        } else if self.emergency && (range_rate_mps >= 0.0 || speed_mps < 0.1) {
+            // Out of danger: pick up again from the present speed.
+            self.emergency = false;
+            self.speed_ref_mps = speed_mps.max(0.0);
+            self.accel_mps2 = 0.0;
+        }
+        if self.emergency {
+            self.speed_ref_mps = speed_mps.min(lead_speed).max(0.0);
+            self.accel_mps2 = -c.max_decel_mps2;
+            return SpeedCommand {
+                speed_mps: 0.0,
+                accel_mps2: self.accel_mps2,
+                emergency: true,
+                desired_gap_m,
+            };
+        }
+
+        let wanted = (lead_speed + c.gap_gain_per_s * (gap_m - desired_gap_m))
+            .clamp(0.0, c.max_speed_mps);
+        let accel_target = (c.speed_gain_per_s * (wanted - self.speed_ref_mps))
+            .clamp(-c.max_decel_mps2, c.max_accel_mps2);
+        let max_step = c.max_jerk_mps3 * dt_s;
+        self.accel_mps2 += (accel_target - self.accel_mps2).clamp(-max_step, max_step);
+        self.speed_ref_mps += self.accel_mps2 * dt_s;
+        let low = (speed_mps - REFERENCE_LEASH_MPS).max(0.0);
+        let high = speed_mps.max(0.0) + REFERENCE_LEASH_MPS;
+        self.speed_ref_mps = self.speed_ref_mps.clamp(low, high);
+        if self.speed_ref_mps <= 0.0 {
+            self.accel_mps2 = self.accel_mps2.max(0.0);
+        }
+        SpeedCommand {
+            speed_mps: self.speed_ref_mps,
+            accel_mps2: self.accel_mps2,
+            emergency: false,
+            desired_gap_m,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn band_clamps_the_time_headway() {
+        let c = GapKeeperConfig {
+            policy: GapPolicy::TimeHeadway {
+                standstill_gap_m: 2.0,
+                headway_s: 1.0,
+            },
+            ..GapKeeperConfig::default()
+        };
+        assert_eq!(c.desired_gap_m(0.0), 5.0);
+        assert_eq!(c.desired_gap_m(8.0), 10.0);
+        assert_eq!(c.desired_gap_m(30.0), 15.0);
+    }
+
+    #[test]
+    fn jerk_limit_bounds_the_acceleration_change() {
+        let mut g = GapKeeper::new(GapKeeperConfig::default(), 10.0).unwrap();
+        let dt = 1.0 / 120.0;
+        let mut last = 0.0;
+        for _ in 0..240 {
+            let cmd = g.update(14.0, 0.0, 10.0, dt);
+            assert!((cmd.accel_mps2 - last).abs() <= 2.5 * dt + 1e-6);
+            assert!(cmd.accel_mps2 <= 1.5 + 1e-6);
+            last = cmd.accel_mps2;
+        }
+        assert!(last > 0.0);
+    }
+
+    #[test]
+    fn fast_closing_calls_the_emergency_brake() {
+        let c = GapKeeperConfig::default();
+        assert!(c.emergency_needed(6.0, -6.0));
+        assert!(!c.emergency_needed(10.0, -1.0));
+        assert!(c.emergency_needed(2.0, 0.0));
+    }
+}
