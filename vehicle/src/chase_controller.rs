@@ -66,9 +66,10 @@ pub struct ChaseControllerConfig {
     pub breadcrumb_spacing_m: f32,
     /// Most breadcrumbs kept (default 2,000: 500 m of path).
     pub max_breadcrumbs: usize,
-    /// Range filter gain on position (default 0.5).
+    /// Range filter gain on position (default 0.6).
     pub range_alpha: f32,
-    /// Range filter gain on rate (default 0.15).
+    /// Range filter gain on rate (default 0.35: the closing speed must show within a few
+    /// frames when the lead brakes hard).
     pub range_beta: f32,
 }
 
@@ -85,8 +86,8 @@ impl Default for ChaseControllerConfig {
             pose_history_ms: 2000.0,
             breadcrumb_spacing_m: 0.25,
             max_breadcrumbs: 2000,
-            range_alpha: 0.5,
-            range_beta: 0.15,
+            range_alpha: 0.6,
+            range_beta: 0.35,
         }
     }
 }

@@ -42,8 +42,16 @@ pub struct GapKeeperConfig {
     pub max_accel_mps2: f32,
     /// Largest deceleration in normal following, m/s² (3.5 m/s²: firm but not emergency).
     pub max_decel_mps2: f32,
-    /// Largest rate of change of the acceleration, m/s³ (2.5 m/s³: comfortable).
+    /// Largest rate of change of the acceleration, m/s³ (2.5 m/s³: comfortable). Applies
+    /// to speeding up and to easing off the brake.
     pub max_jerk_mps3: f32,
+    /// Largest rate at which braking may build up, m/s³ (12 m/s³: a driver moving to the
+    /// brake pedal; braking onset must not wait on comfort).
+    pub max_brake_jerk_mps3: f32,
+    /// Time the chase needs to turn a measurement into braking, s, counted in the emergency
+    /// test as distance already lost (default 0.3 s: half a frame, the brake lag and margin;
+    /// the measurement's own latency is already compensated).
+    pub reaction_time_s: f32,
     /// The gap the emergency brake protects, m: below it, or when stopping before it needs
     /// more than `max_decel_mps2`, the controller brakes fully (default 2.5 m).
     pub stop_gap_m: f32,
@@ -62,6 +70,8 @@ impl Default for GapKeeperConfig {
             max_accel_mps2: 1.5,
             max_decel_mps2: 3.5,
             max_jerk_mps3: 2.5,
+            max_brake_jerk_mps3: 12.0,
+            reaction_time_s: 0.3,
             stop_gap_m: 2.5,
             max_speed_mps: 20.0,
         }
@@ -80,6 +90,13 @@ impl GapKeeperConfig {
         check_range("max_accel_mps2", f(self.max_accel_mps2), 0.05, 10.0)?;
         check_range("max_decel_mps2", f(self.max_decel_mps2), 0.05, 10.0)?;
         check_range("max_jerk_mps3", f(self.max_jerk_mps3), 0.05, 100.0)?;
+        check_range(
+            "max_brake_jerk_mps3",
+            f(self.max_brake_jerk_mps3),
+            f(self.max_jerk_mps3),
+            1000.0,
+        )?;
+        check_range("reaction_time_s", f(self.reaction_time_s), 0.0, 5.0)?;
         check_range("max_speed_mps", f(self.max_speed_mps), 0.1, 60.0)?;
         match self.policy {
             GapPolicy::ConstantDistance { gap_m } => check_range("gap_m", f(gap_m), 0.5, 200.0),
@@ -111,7 +128,11 @@ impl GapKeeperConfig {
             return true;
         }
         let closing = -range_rate_mps;
-        closing > 0.0 && closing * closing / (2.0 * (gap_m - self.stop_gap_m)) > self.max_decel_mps2
+        if closing <= 0.0 {
+            return false;
+        }
+        let room = gap_m - self.stop_gap_m - closing * self.reaction_time_s;
+        room <= 0.0 || closing * closing / (2.0 * room) > self.max_decel_mps2
     }
 }
 
@@ -201,8 +222,14 @@ impl GapKeeper {
             .clamp(0.0, c.max_speed_mps);
         let accel_target = (c.speed_gain_per_s * (wanted - self.speed_ref_mps))
             .clamp(-c.max_decel_mps2, c.max_accel_mps2);
-        let max_step = c.max_jerk_mps3 * dt_s;
-        self.accel_mps2 += (accel_target - self.accel_mps2).clamp(-max_step, max_step);
+        // Braking may build up fast; everything else moves at the comfortable jerk.
+        let down = if accel_target < self.accel_mps2.min(0.0) {
+            c.max_brake_jerk_mps3
+        } else {
+            c.max_jerk_mps3
+        } * dt_s;
+        let up = c.max_jerk_mps3 * dt_s;
+        self.accel_mps2 += (accel_target - self.accel_mps2).clamp(-down, up);
         self.speed_ref_mps += self.accel_mps2 * dt_s;
         let low = (speed_mps - REFERENCE_LEASH_MPS).max(0.0);
         let high = speed_mps.max(0.0) + REFERENCE_LEASH_MPS;

@@ -37,6 +37,10 @@ pub struct LeadDriverConfig {
     pub weave_amplitude_m: f32,
     /// Weaving: distance along the route of one full weave, m.
     pub weave_wavelength_m: f32,
+    /// When the vehicle is this much faster than the profile asks, the driver stamps on the
+    /// brake (full brake) instead of easing off, m/s (default 2 m/s: a scripted drop in
+    /// speed is a hard stop, a gentle slope is not).
+    pub panic_brake_error_mps: f32,
     /// Speed-loop gains.
     pub speed_gains: SpeedGains,
 }
@@ -49,6 +53,7 @@ impl Default for LeadDriverConfig {
             comfort_decel_mps2: 2.0,
             weave_amplitude_m: 0.0,
             weave_wavelength_m: 40.0,
+            panic_brake_error_mps: 2.0,
             speed_gains: SpeedGains::default(),
         }
     }
@@ -64,6 +69,7 @@ pub struct LeadDriver {
     speed: SpeedController,
     progress_m: f32,
     speed_ref_mps: f32,
+    panic_braking: bool,
 }
 
 impl LeadDriver {
@@ -99,6 +105,12 @@ impl LeadDriver {
             1.0,
             1e4,
         )?;
+        check_range(
+            "panic_brake_error_mps",
+            f64::from(config.panic_brake_error_mps),
+            0.1,
+            100.0,
+        )?;
         Ok(LeadDriver {
             route,
             profile,
@@ -107,6 +119,7 @@ impl LeadDriver {
             wheelbase_m: params.wheelbase_m,
             progress_m: 0.0,
             speed_ref_mps: 0.0,
+            panic_braking: false,
         })
     }
 
@@ -192,7 +205,17 @@ impl LeadDriver {
             (profile_speed, profile_accel)
         };
         self.speed_ref_mps = speed_ref;
-        let pedals = self.speed.update(speed_ref, accel_ref, v, PHYSICS_DT_S);
+        let mut pedals = self.speed.update(speed_ref, accel_ref, v, PHYSICS_DT_S);
+        // A panic stop holds the pedal down until the speed is back under the profile.
+        if v - speed_ref > self.config.panic_brake_error_mps {
+            self.panic_braking = true;
+        } else if v <= speed_ref {
+            self.panic_braking = false;
+        }
+        if self.panic_braking {
+            pedals.throttle = 0.0;
+            pedals.brake = 1.0;
+        }
         Controls {
             steer_rad,
             throttle: pedals.throttle,
