@@ -54,7 +54,8 @@ impl BreadcrumbTrail {
     /// behind it so the path still starts behind the rear axle.
     pub fn eat_passed(&mut self, world_from_vehicle: &Pose) {
         while self.crumbs.len() > 2 {
-            let second = world_from_vehicle.inverse_transform_point(self.crumbs[1].position_world_m);
+            let second =
+                world_from_vehicle.inverse_transform_point(self.crumbs[1].position_world_m);
             if second.x < 0.0 {
                 self.crumbs.pop_front();
             } else {

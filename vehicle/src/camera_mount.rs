@@ -42,7 +42,12 @@ impl CameraMount {
         check_range("forward_m", f64::from(self.forward_m), -10.0, 10.0)?;
         check_range("height_m", f64::from(self.height_m), 0.1, 10.0)?;
         check_range("right_m", f64::from(self.right_m), -5.0, 5.0)?;
-        check_range("pitch_down_deg", f64::from(self.pitch_down_deg), -45.0, 45.0)
+        check_range(
+            "pitch_down_deg",
+            f64::from(self.pitch_down_deg),
+            -45.0,
+            45.0,
+        )
     }
 
     /// The camera frame in the vehicle frame.

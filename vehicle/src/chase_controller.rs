@@ -169,7 +169,12 @@ impl ChaseController {
     ) -> Result<ChaseController, VehicleError> {
         params.validate()?;
         config.camera_mount.validate()?;
-        check_range("estimate_timeout_ms", config.estimate_timeout_ms, 1.0, 60_000.0)?;
+        check_range(
+            "estimate_timeout_ms",
+            config.estimate_timeout_ms,
+            1.0,
+            60_000.0,
+        )?;
         check_range(
             "loss_decel_mps2",
             f64::from(config.loss_decel_mps2),
@@ -277,7 +282,8 @@ impl ChaseController {
                 .vehicle_from_camera
                 .transform_point(estimate.target_in_camera_m);
             let camera = self.vehicle_from_camera.translation;
-            let gap = ((in_vehicle.x - camera.x).powi(2) + (in_vehicle.z - camera.z).powi(2)).sqrt();
+            let gap =
+                ((in_vehicle.x - camera.x).powi(2) + (in_vehicle.z - camera.z).powi(2)).sqrt();
             self.range.update(estimate.capture_step.seconds(), gap);
             self.trail.drop_crumb(Breadcrumb {
                 capture_step: estimate.capture_step,
@@ -333,14 +339,17 @@ impl ChaseController {
         let path = self.trail.positions();
         let target = lookahead_point(&path, pose.translation, self.config.lookahead.distance_m(v));
         let curvature = target.map_or(0.0, |t| curvature_toward(&pose, t));
-        let steer_rad =
-            steer_for_curvature(curvature, self.wheelbase_m).clamp(-self.max_steer_rad, self.max_steer_rad);
+        let steer_rad = steer_for_curvature(curvature, self.wheelbase_m)
+            .clamp(-self.max_steer_rad, self.max_steer_rad);
 
         // Gap now: the latest range carried forward over its latency.
         let (gap_m, range_rate) = match self.range.state() {
             Some(s) => {
                 let age = (now.seconds() - s.time_s) as f32;
-                (Some(s.range_m + s.range_rate_mps * age), Some(s.range_rate_mps))
+                (
+                    Some(s.range_m + s.range_rate_mps * age),
+                    Some(s.range_rate_mps),
+                )
             }
             None => (None, None),
         };

@@ -14,7 +14,9 @@ pub const STEPS_PER_FRAME: u32 = PHYSICS_HZ / CAMERA_HZ;
 pub const PHYSICS_DT_S: f32 = 1.0 / PHYSICS_HZ as f32;
 
 /// A point on the simulation clock, counted in physics steps since the start.
-#[derive(Copy, Clone, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
+#[derive(
+    Copy, Clone, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize,
+)]
 pub struct Step(pub u64);
 
 impl Step {

@@ -218,8 +218,8 @@ impl GapKeeper {
             };
         }
 
-        let wanted = (lead_speed + c.gap_gain_per_s * (gap_m - desired_gap_m))
-            .clamp(0.0, c.max_speed_mps);
+        let wanted =
+            (lead_speed + c.gap_gain_per_s * (gap_m - desired_gap_m)).clamp(0.0, c.max_speed_mps);
         let accel_target = (c.speed_gain_per_s * (wanted - self.speed_ref_mps))
             .clamp(-c.max_decel_mps2, c.max_accel_mps2);
         // Braking may build up fast; everything else moves at the comfortable jerk.

@@ -176,17 +176,15 @@ impl LeadDriver {
     /// Commands for the lead at step `now` from its true state.
     pub fn update(&mut self, now: Step, state: &VehicleState) -> Controls {
         let pose = &state.world_from_vehicle;
-        let here = self.route.project_near(
-            pose.translation,
-            self.progress_m,
-            PROJECTION_WINDOW_M,
-        );
+        let here = self
+            .route
+            .project_near(pose.translation, self.progress_m, PROJECTION_WINDOW_M);
         self.progress_m = here.s_m.max(self.progress_m);
         let v = state.forward_speed_mps;
 
         let s_target = self.progress_m + self.config.lookahead.distance_m(v);
-        let target = self.route.point_at(s_target)
-            + self.route.left_at(s_target) * self.weave_m(s_target);
+        let target =
+            self.route.point_at(s_target) + self.route.left_at(s_target) * self.weave_m(s_target);
         let curvature = curvature_toward(pose, target);
         let steer_rad = steer_for_curvature(curvature, self.wheelbase_m);
 

@@ -61,7 +61,10 @@ mod tests {
     fn looks_up_by_step_and_forgets_old_steps() {
         let mut h = PoseHistory::new(3);
         for i in 0..5u64 {
-            h.push(Step(i), Pose::from_translation(Vector::new(i as f32, 0.0, 0.0)));
+            h.push(
+                Step(i),
+                Pose::from_translation(Vector::new(i as f32, 0.0, 0.0)),
+            );
         }
         assert!(h.world_from_vehicle_at(Step(1)).is_none());
         assert_eq!(h.world_from_vehicle_at(Step(3)).unwrap().translation.x, 3.0);

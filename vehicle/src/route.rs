@@ -195,7 +195,9 @@ impl RouteBuilder {
         // The centre lies to the left for a left turn.
         let left = heading_direction(h0 + sign * std::f32::consts::FRAC_PI_2);
         let centre = start + left * radius_m;
-        let n = ((radius_m * angle_rad.abs()) / ARC_SAMPLE_M).ceil().max(1.0) as usize;
+        let n = ((radius_m * angle_rad.abs()) / ARC_SAMPLE_M)
+            .ceil()
+            .max(1.0) as usize;
         for k in 1..=n {
             let h = h0 + angle_rad * k as f32 / n as f32;
             let radial = heading_direction(h - sign * std::f32::consts::FRAC_PI_2);

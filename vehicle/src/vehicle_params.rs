@@ -110,18 +110,19 @@ impl VehicleParams {
             // About 3.5 steering-wheel turns lock to lock in 2.5 s.
             steer_rate_radps: 0.35,
             steer_lag_s: 0.08,
-            // 0.35 g of traction at low speed.
-            max_drive_force_n: 8200.0,
-            // 112 kW engine, about 70 % reaches the wheels through the automatic gearbox.
-            max_drive_power_w: 78_000.0,
+            // 0.25 g at low speed: the M998 is no sprinter (0–48 km/h in about 9 s).
+            max_drive_force_n: 6000.0,
+            // 112 kW engine; about half reaches the wheels through the three-speed automatic
+            // and its torque converter in the gears used below 60 km/h.
+            max_drive_power_w: 55_000.0,
             throttle_rate_per_s: 2.0,
             throttle_lag_s: 0.25,
             // 0.8 g on dry road.
             max_brake_force_n: 18_800.0,
             brake_rate_per_s: 6.0,
             brake_lag_s: 0.06,
-            // Cd about 0.6 on 3.6 m² of frontal area.
-            drag_area_m2: 2.2,
+            // Cd about 0.7 on 3.9 m² of frontal area (a brick).
+            drag_area_m2: 2.7,
             rolling_resistance: 0.015,
             four_wheel_drive: true,
         }
@@ -180,7 +181,12 @@ impl VehicleParams {
         )?;
         check_range("wheel_radius_m", f(self.wheel_radius_m), 0.1, 1.5)?;
         check_range("suspension_rest_m", f(self.suspension_rest_m), 0.05, 1.5)?;
-        check_range("suspension_travel_m", f(self.suspension_travel_m), 0.01, 1.0)?;
+        check_range(
+            "suspension_travel_m",
+            f(self.suspension_travel_m),
+            0.01,
+            1.0,
+        )?;
         check_range("ride_frequency_hz", f(self.ride_frequency_hz), 0.3, 5.0)?;
         check_range("ride_damping_ratio", f(self.ride_damping_ratio), 0.0, 2.0)?;
         check_range("tyre_friction", f(self.tyre_friction), 0.05, 2.0)?;
@@ -189,7 +195,12 @@ impl VehicleParams {
         check_range("steer_lag_s", f(self.steer_lag_s), 0.0, 2.0)?;
         check_range("max_drive_force_n", f(self.max_drive_force_n), 1.0, 1e6)?;
         check_range("max_drive_power_w", f(self.max_drive_power_w), 1.0, 1e7)?;
-        check_range("throttle_rate_per_s", f(self.throttle_rate_per_s), 0.01, 100.0)?;
+        check_range(
+            "throttle_rate_per_s",
+            f(self.throttle_rate_per_s),
+            0.01,
+            100.0,
+        )?;
         check_range("throttle_lag_s", f(self.throttle_lag_s), 0.0, 5.0)?;
         check_range("max_brake_force_n", f(self.max_brake_force_n), 1.0, 1e6)?;
         check_range("brake_rate_per_s", f(self.brake_rate_per_s), 0.01, 100.0)?;

@@ -45,8 +45,11 @@ impl World {
         physics.integration_parameters.dt = PHYSICS_DT_S;
         let h = config.ground.half_extent_m;
         physics.insert_collider(
-            ColliderBuilder::cuboid(h, 0.5 * GROUND_SLAB_M, h)
-                .translation(Vector::new(0.0, -0.5 * GROUND_SLAB_M, 0.0)),
+            ColliderBuilder::cuboid(h, 0.5 * GROUND_SLAB_M, h).translation(Vector::new(
+                0.0,
+                -0.5 * GROUND_SLAB_M,
+                0.0,
+            )),
             None,
         );
         if let Some((heights, rows, cols, cell, half)) = ground.bump_grid() {

@@ -24,7 +24,11 @@ fn chase_stops_without_collision_when_the_lead_brakes_hard() {
         .world_from_vehicle
         .translation;
     let end = rig.samples.last().unwrap();
-    let stopping_distance = end.chase.world_from_vehicle.translation.distance(brake_start);
+    let stopping_distance = end
+        .chase
+        .world_from_vehicle
+        .translation
+        .distance(brake_start);
     let min_bumper_gap = rig
         .samples
         .iter()
@@ -42,7 +46,13 @@ fn chase_stops_without_collision_when_the_lead_brakes_hard() {
         rig.chase.events()
     );
     assert!(!touched, "the vehicles touched");
-    assert!(min_bumper_gap > 0.5, "bumpers came within {min_bumper_gap} m");
-    assert!(end.chase.forward_speed_mps.abs() < 0.1, "chase still moving");
+    assert!(
+        min_bumper_gap > 0.5,
+        "bumpers came within {min_bumper_gap} m"
+    );
+    assert!(
+        end.chase.forward_speed_mps.abs() < 0.1,
+        "chase still moving"
+    );
     assert!(end.lead.forward_speed_mps.abs() < 0.1, "lead still moving");
 }

@@ -44,8 +44,14 @@ fn kinematic_bicycle_converges_to_one_over_r() {
     }
     let centre = Vector::new(0.0, 0.0, -r);
     let radius_now = p.distance(centre);
-    println!("kinematic: curvature {curvature:.5} (1/R = {:.5}), radius {radius_now:.3}", 1.0 / r);
-    assert!((curvature - 1.0 / r).abs() < 0.01 / r, "curvature {curvature}");
+    println!(
+        "kinematic: curvature {curvature:.5} (1/R = {:.5}), radius {radius_now:.3}",
+        1.0 / r
+    );
+    assert!(
+        (curvature - 1.0 / r).abs() < 0.01 / r,
+        "curvature {curvature}"
+    );
     assert!((radius_now - r).abs() < 0.05, "radius {radius_now}");
 }
 
@@ -57,7 +63,11 @@ fn rapier_vehicle_under_pure_pursuit_converges_to_one_over_r() {
     let mut world = World::new(&WorldConfig::default()).unwrap();
     let speed = 6.0;
     let id = world
-        .add_vehicle(&params, Pose::from_translation(Vector::new(0.0, 0.0, 1.0)), speed)
+        .add_vehicle(
+            &params,
+            Pose::from_translation(Vector::new(0.0, 0.0, 1.0)),
+            speed,
+        )
         .unwrap();
     let mut driver = LeadDriver::new(
         route,

@@ -94,14 +94,14 @@ impl Rig {
         let lead_params = VehicleParams::pickup();
         let route = opts.route;
         let heading_at = |s: f32| direction_heading(route.tangent_at(s));
-        let pose_at = |s: f32| {
-            Pose::from_parts(
-                route.point_at(s),
-                Rotation::from_rotation_y(heading_at(s)),
-            )
-        };
+        let pose_at =
+            |s: f32| Pose::from_parts(route.point_at(s), Rotation::from_rotation_y(heading_at(s)));
         let lead_id = world
-            .add_vehicle(&lead_params, pose_at(opts.lead_start_m), opts.initial_speed_mps)
+            .add_vehicle(
+                &lead_params,
+                pose_at(opts.lead_start_m),
+                opts.initial_speed_mps,
+            )
             .unwrap();
         let mount = opts.chase_config.camera_mount;
         // Camera-to-target gap along a straight start: the target is on the lead's rear
@@ -112,8 +112,8 @@ impl Rig {
         let chase_id = world
             .add_vehicle(&chase_params, pose_at(chase_s), opts.initial_speed_mps)
             .unwrap();
-        let chase = ChaseController::new(opts.chase_config, &chase_params, opts.initial_speed_mps)
-            .unwrap();
+        let chase =
+            ChaseController::new(opts.chase_config, &chase_params, opts.initial_speed_mps).unwrap();
         let lead = LeadDriver::new(route, opts.profile, opts.lead_config, &lead_params).unwrap();
         Rig {
             world,
@@ -174,10 +174,13 @@ impl Rig {
         self.world.set_controls(self.lead_id, lead_controls);
 
         let target_world = lead.world_from_vehicle.transform_point(self.target_in_lead);
-        let target_in_chase = chase.world_from_vehicle.inverse_transform_point(target_world);
+        let target_in_chase = chase
+            .world_from_vehicle
+            .inverse_transform_point(target_world);
         let camera = self.vehicle_from_camera.translation;
-        let gap_m = ((target_in_chase.x - camera.x).powi(2) + (target_in_chase.z - camera.z).powi(2))
-            .sqrt();
+        let gap_m = ((target_in_chase.x - camera.x).powi(2)
+            + (target_in_chase.z - camera.z).powi(2))
+        .sqrt();
         let chase_params = self.world.vehicle(self.chase_id).params();
         let bumper_gap_m = target_in_chase.x - chase_params.front_bumper_x_m();
         self.samples.push(Sample {
