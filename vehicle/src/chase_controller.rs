@@ -436,3 +436,99 @@ impl ChaseController {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn level_mount() -> ChaseControllerConfig {
+        ChaseControllerConfig {
+            camera_mount: CameraMount {
+                pitch_down_deg: 0.0,
+                ..CameraMount::default()
+            },
+            ..ChaseControllerConfig::default()
+        }
+    }
+
+    /// The chase drives along +x at 12 m/s (0.1 m per step).
+    fn odometry(step: u64) -> Odometry {
+        Odometry {
+            step: Step(step),
+            world_from_chase: Pose::from_translation(Vector::new(step as f32 * 0.1, 0.0, 0.0)),
+            forward_speed_mps: 12.0,
+        }
+    }
+
+    #[test]
+    fn breadcrumbs_use_the_pose_at_capture_time() {
+        let params = VehicleParams::hmmwv_m998();
+        let mut c = ChaseController::new(level_mount(), &params, 12.0).unwrap();
+        for s in 0..=25 {
+            c.update(&odometry(s));
+        }
+        // Captured at step 10 (chase at x = 1.0), 10 m straight ahead of the camera and
+        // 1 m to its right; delivered at step 26.
+        c.receive(LeadEstimate {
+            capture_step: Step(10),
+            target_in_camera_m: Vector::new(1.0, 0.0, 10.0),
+            status: TrackStatus::Tracking,
+        });
+        c.update(&odometry(26));
+        let crumb = c.trail().newest().unwrap();
+        let want = Vector::new(1.0 + 2.2 + 10.0, 2.0, 1.0);
+        assert!(
+            (crumb.position_world_m - want).length() < 1e-4,
+            "crumb at {}, want {want}",
+            crumb.position_world_m
+        );
+        // The gap now is carried forward from capture time: 10 m measured, not yet a rate.
+        let gap = c.telemetry().gap_m.unwrap();
+        assert!((gap - (1.0f32 + 100.0).sqrt()).abs() < 1e-4, "gap {gap}");
+    }
+
+    #[test]
+    fn estimate_older_than_the_history_is_dropped_and_logged() {
+        let params = VehicleParams::hmmwv_m998();
+        let config = ChaseControllerConfig {
+            pose_history_ms: 100.0,
+            ..level_mount()
+        };
+        let mut c = ChaseController::new(config, &params, 12.0).unwrap();
+        for s in 0..=100 {
+            c.update(&odometry(s));
+        }
+        c.receive(LeadEstimate {
+            capture_step: Step(10),
+            target_in_camera_m: Vector::new(0.0, 0.0, 10.0),
+            status: TrackStatus::Tracking,
+        });
+        c.update(&odometry(101));
+        assert!(c.trail().is_empty());
+        assert!(matches!(
+            c.events().last().unwrap().kind,
+            ControllerEventKind::EstimateTooOld { .. }
+        ));
+    }
+
+    #[test]
+    fn manual_mode_replays_the_scripted_speed() {
+        let params = VehicleParams::hmmwv_m998();
+        let profile = SpeedProfile::new(ProfileBasis::Time, &[(0.0, 5.0), (10.0, 15.0)]).unwrap();
+        let config = ChaseControllerConfig {
+            speed_mode: SpeedMode::Manual { profile },
+            ..level_mount()
+        };
+        let mut c = ChaseController::new(config, &params, 5.0).unwrap();
+        for s in 0..=600u64 {
+            c.receive(LeadEstimate {
+                capture_step: Step(s),
+                target_in_camera_m: Vector::new(0.0, 0.0, 30.0),
+                status: TrackStatus::Tracking,
+            });
+            c.update(&odometry(s));
+        }
+        // 5 s into a 5 -> 15 m/s ramp over 10 s.
+        assert!((c.telemetry().speed_ref_mps - 10.0).abs() < 0.01);
+    }
+}
