@@ -12,7 +12,7 @@ use crate::clock::{ms_from_steps, steps_from_ms, Step, PHYSICS_DT_S};
 use crate::controller_event::{ControllerEvent, ControllerEventKind};
 use crate::controls::Controls;
 use crate::error::{check_range, VehicleError};
-use crate::gap_keeper::{GapKeeper, GapKeeperConfig};
+use crate::gap_keeper::{GapKeeper, GapKeeperConfig, Threat};
 use crate::lead_estimate::{LeadEstimate, TrackStatus};
 use crate::pose_history::PoseHistory;
 use crate::pure_pursuit::{curvature_toward, lookahead_point, steer_for_curvature, LookAhead};
@@ -66,11 +66,18 @@ pub struct ChaseControllerConfig {
     pub breadcrumb_spacing_m: f32,
     /// Most breadcrumbs kept (default 2,000: 500 m of path).
     pub max_breadcrumbs: usize,
-    /// Range filter gain on position (default 0.6).
+    /// Gap-keeping range filter gain on position (default 0.5).
     pub range_alpha: f32,
-    /// Range filter gain on rate (default 0.35: the closing speed must show within a few
-    /// frames when the lead brakes hard).
+    /// Gap-keeping range filter gain on rate (default 0.1: smooth, so a tracker's range
+    /// noise does not shake the speed).
     pub range_beta: f32,
+    /// Alarm range filter gain on position (default 0.6). This second filter only feeds
+    /// the emergency-brake test.
+    pub alarm_range_alpha: f32,
+    /// Alarm range filter gain on rate (default 0.35: the closing speed must show within a
+    /// few frames when the lead brakes hard; its noise is harmless there, since the test
+    /// needs several m/s of closing speed).
+    pub alarm_range_beta: f32,
 }
 
 impl Default for ChaseControllerConfig {
@@ -87,7 +94,9 @@ impl Default for ChaseControllerConfig {
             breadcrumb_spacing_m: 0.25,
             max_breadcrumbs: 2000,
             range_alpha: 0.6,
-            range_beta: 0.35,
+            range_beta: 0.15,
+            alarm_range_alpha: 0.6,
+            alarm_range_beta: 0.35,
         }
     }
 }
@@ -147,6 +156,7 @@ pub struct ChaseController {
     pending: Vec<LeadEstimate>,
     trail: BreadcrumbTrail,
     range: RangeFilter,
+    alarm_range: RangeFilter,
     gap_keeper: GapKeeper,
     speed: SpeedController,
     timeout_steps: u64,
@@ -190,6 +200,18 @@ impl ChaseController {
         )?;
         check_range("range_alpha", f64::from(config.range_alpha), 0.01, 1.0)?;
         check_range("range_beta", f64::from(config.range_beta), 0.0, 1.0)?;
+        check_range(
+            "alarm_range_alpha",
+            f64::from(config.alarm_range_alpha),
+            0.01,
+            1.0,
+        )?;
+        check_range(
+            "alarm_range_beta",
+            f64::from(config.alarm_range_beta),
+            0.0,
+            1.0,
+        )?;
         if let SpeedMode::Manual { profile } = &config.speed_mode {
             profile.validate()?;
         }
@@ -202,6 +224,7 @@ impl ChaseController {
             pending: Vec::new(),
             trail: BreadcrumbTrail::new(config.breadcrumb_spacing_m, config.max_breadcrumbs),
             range: RangeFilter::new(config.range_alpha, config.range_beta),
+            alarm_range: RangeFilter::new(config.alarm_range_alpha, config.alarm_range_beta),
             gap_keeper,
             speed: SpeedController::new(params, config.speed_gains),
             timeout_steps: steps_from_ms(config.estimate_timeout_ms),
@@ -285,6 +308,8 @@ impl ChaseController {
             let gap =
                 ((in_vehicle.x - camera.x).powi(2) + (in_vehicle.z - camera.z).powi(2)).sqrt();
             self.range.update(estimate.capture_step.seconds(), gap);
+            self.alarm_range
+                .update(estimate.capture_step.seconds(), gap);
             self.trail.drop_crumb(Breadcrumb {
                 capture_step: estimate.capture_step,
                 position_world_m: world_from_chase.transform_point(in_vehicle),
@@ -321,6 +346,7 @@ impl ChaseController {
                 self.mode = ChaseMode::Stopping;
                 self.stop_ref_mps = v.max(0.0);
                 self.range.reset();
+                self.alarm_range.reset();
             }
             ChaseMode::Stopping | ChaseMode::Stopped
                 if fresh && self.last_status == Some(TrackStatus::Tracking) =>
@@ -343,7 +369,7 @@ impl ChaseController {
             .clamp(-self.max_steer_rad, self.max_steer_rad);
 
         // Gap now: the latest range carried forward over its latency.
-        let (gap_m, range_rate) = match self.range.state() {
+        let carried = |s: Option<crate::range_filter::RangeState>| match s {
             Some(s) => {
                 let age = (now.seconds() - s.time_s) as f32;
                 (
@@ -353,6 +379,11 @@ impl ChaseController {
             }
             None => (None, None),
         };
+        let (gap_m, range_rate) = carried(self.range.state());
+        let threat = match carried(self.alarm_range.state()) {
+            (Some(gap), Some(rate)) => self.config.gap_keeper.threat(gap, rate, v),
+            _ => Threat::default(),
+        };
 
         // Speed.
         let was_emergency = self.telemetry.emergency;
@@ -361,7 +392,7 @@ impl ChaseController {
         let (speed_ref, accel_ref) = match self.mode {
             ChaseMode::Following => match (&self.config.speed_mode, gap_m, range_rate) {
                 (SpeedMode::GapKeeping, Some(gap), Some(rate)) => {
-                    let cmd = self.gap_keeper.update(gap, rate, v, dt);
+                    let cmd = self.gap_keeper.update(gap, rate, threat, v, dt);
                     emergency = cmd.emergency;
                     desired_gap_m = cmd.desired_gap_m;
                     (cmd.speed_mps, cmd.accel_mps2)
@@ -372,9 +403,7 @@ impl ChaseController {
                     (v.max(0.0), 0.0)
                 }
                 (SpeedMode::Manual { profile }, _, _) => {
-                    if let (Some(gap), Some(rate)) = (gap_m, range_rate) {
-                        emergency = self.config.gap_keeper.emergency_needed(gap, rate);
-                    }
+                    emergency = threat.emergency;
                     let (speed, slope) = match profile.basis {
                         ProfileBasis::Time => profile.sample(now.since(started) as f32 * dt),
                         ProfileBasis::Distance => profile.sample(self.odometer_m),

@@ -57,6 +57,16 @@ pub struct GapKeeperConfig {
     pub stop_gap_m: f32,
     /// Highest speed the chase vehicle is asked for, m/s (default 20 m/s = 72 km/h).
     pub max_speed_mps: f32,
+    /// When keeping the stop gap needs more than this deceleration, the reference brakes
+    /// at least that hard, m/s² (default 1.0 m/s²: above what tracker noise at 10 m asks
+    /// for, below any real closing).
+    pub collision_braking_mps2: f32,
+    /// The hardest braking assumed of the lead in the safe-gap test, m/s² (default
+    /// 8.5 m/s²: a light truck with ABS on dry asphalt).
+    pub assumed_lead_decel_mps2: f32,
+    /// The braking the chase can count on in an emergency, m/s² (default 7.0 m/s²: the
+    /// HMMWV's 0.8 g less a margin for the brake's build-up).
+    pub own_emergency_decel_mps2: f32,
 }
 
 impl Default for GapKeeperConfig {
@@ -74,6 +84,9 @@ impl Default for GapKeeperConfig {
             reaction_time_s: 0.3,
             stop_gap_m: 2.5,
             max_speed_mps: 20.0,
+            collision_braking_mps2: 1.0,
+            assumed_lead_decel_mps2: 8.5,
+            own_emergency_decel_mps2: 7.0,
         }
     }
 }
@@ -97,7 +110,25 @@ impl GapKeeperConfig {
             1000.0,
         )?;
         check_range("reaction_time_s", f(self.reaction_time_s), 0.0, 5.0)?;
+        check_range(
+            "assumed_lead_decel_mps2",
+            f(self.assumed_lead_decel_mps2),
+            0.5,
+            15.0,
+        )?;
+        check_range(
+            "own_emergency_decel_mps2",
+            f(self.own_emergency_decel_mps2),
+            0.5,
+            15.0,
+        )?;
         check_range("max_speed_mps", f(self.max_speed_mps), 0.1, 60.0)?;
+        check_range(
+            "collision_braking_mps2",
+            f(self.collision_braking_mps2),
+            0.0,
+            f(self.max_decel_mps2),
+        )?;
         match self.policy {
             GapPolicy::ConstantDistance { gap_m } => check_range("gap_m", f(gap_m), 0.5, 200.0),
             GapPolicy::TimeHeadway {
@@ -122,18 +153,63 @@ impl GapKeeperConfig {
         raw.clamp(self.min_gap_m, self.max_gap_m)
     }
 
-    /// Whether the gap `gap_m` closing at `-range_rate_mps` needs the emergency brake.
-    pub fn emergency_needed(&self, gap_m: f32, range_rate_mps: f32) -> bool {
+    /// The constant deceleration that would stop the gap `gap_m`, closing at
+    /// `-range_rate_mps`, from shrinking below `stop_gap_m` after the reaction time, m/s²
+    /// (0 when opening, infinite when there is no room left).
+    pub fn required_decel_mps2(&self, gap_m: f32, range_rate_mps: f32) -> f32 {
         if gap_m <= self.stop_gap_m {
-            return true;
+            return f32::INFINITY;
         }
         let closing = -range_rate_mps;
         if closing <= 0.0 {
-            return false;
+            return 0.0;
         }
         let room = gap_m - self.stop_gap_m - closing * self.reaction_time_s;
-        room <= 0.0 || closing * closing / (2.0 * room) > self.max_decel_mps2
+        if room <= 0.0 {
+            f32::INFINITY
+        } else {
+            closing * closing / (2.0 * room)
+        }
     }
+
+    /// The safe gap of Responsibility-Sensitive Safety (Shalev-Shwartz et al. 2017), m:
+    /// the chase at `speed_mps`, reacting after `reaction_time_s` and then braking at
+    /// `own_emergency_decel_mps2`, stops `stop_gap_m` behind a lead at `lead_speed_mps`
+    /// that brakes at `assumed_lead_decel_mps2` from now.
+    pub fn safe_gap_m(&self, speed_mps: f32, lead_speed_mps: f32) -> f32 {
+        let v = speed_mps.max(0.0);
+        let vl = lead_speed_mps.max(0.0);
+        let own = v * self.reaction_time_s + v * v / (2.0 * self.own_emergency_decel_mps2);
+        let lead = vl * vl / (2.0 * self.assumed_lead_decel_mps2);
+        (own - lead).max(0.0) + self.stop_gap_m
+    }
+
+    /// How threatening the gap `gap_m`, changing at `range_rate_mps`, is for the chase at
+    /// `speed_mps`.
+    pub fn threat(&self, gap_m: f32, range_rate_mps: f32, speed_mps: f32) -> Threat {
+        let required_decel_mps2 = self.required_decel_mps2(gap_m, range_rate_mps);
+        let unsafe_gap = gap_m < self.safe_gap_m(speed_mps, speed_mps + range_rate_mps);
+        Threat {
+            required_decel_mps2,
+            emergency: unsafe_gap || required_decel_mps2 > self.max_decel_mps2,
+        }
+    }
+
+    /// Whether the gap `gap_m` closing at `-range_rate_mps` needs the emergency brake for
+    /// the chase at `speed_mps` (see [`GapKeeperConfig::threat`]).
+    pub fn emergency_needed(&self, gap_m: f32, range_rate_mps: f32, speed_mps: f32) -> bool {
+        self.threat(gap_m, range_rate_mps, speed_mps).emergency
+    }
+}
+
+/// How close the lead is to being hit.
+#[derive(Copy, Clone, Debug, Default, PartialEq)]
+pub struct Threat {
+    /// Deceleration needed to keep the stop gap at the present closing speed, m/s².
+    pub required_decel_mps2: f32,
+    /// Whether to brake fully now: the gap is below the RSS safe gap, or keeping the stop
+    /// gap needs more than `max_decel_mps2`.
+    pub emergency: bool,
 }
 
 /// The gap keeper's output for one step.
@@ -157,6 +233,10 @@ pub struct GapKeeper {
     accel_mps2: f32,
     emergency: bool,
 }
+
+/// Collision braking brakes this much harder than the bare requirement, so the gap it
+/// keeps is not eaten by the brake's lag.
+const COLLISION_BRAKING_MARGIN: f32 = 1.3;
 
 /// How far the reference may run ahead of or behind the real speed, m/s (keeps the
 /// reference honest when the vehicle cannot follow it, e.g. on full throttle).
@@ -186,19 +266,27 @@ impl GapKeeper {
         self.emergency = false;
     }
 
-    /// One step of `dt_s`: the gap `gap_m` now, its rate `range_rate_mps`, own speed.
+    /// One step of `dt_s`: the gap `gap_m` now, its rate `range_rate_mps`, the `threat`
+    /// (see [`GapKeeperConfig::threat`]; the caller may compute it from a faster, noisier
+    /// range estimate), and own speed.
+    ///
+    /// On an emergency the brake goes on fully; when keeping the stop gap needs more than
+    /// `collision_braking_mps2` the reference brakes at least that hard (with margin),
+    /// whatever the gap policy says.
     pub fn update(
         &mut self,
         gap_m: f32,
         range_rate_mps: f32,
+        threat: Threat,
         speed_mps: f32,
         dt_s: f32,
     ) -> SpeedCommand {
         let c = &self.config;
         let desired_gap_m = c.desired_gap_m(speed_mps);
         let lead_speed = (speed_mps + range_rate_mps).max(0.0);
+        let required_decel_mps2 = threat.required_decel_mps2;
+        let emergency_now = threat.emergency;
 
-        let emergency_now = c.emergency_needed(gap_m, range_rate_mps);
         if emergency_now {
             self.emergency = true;
         } else if self.emergency && (range_rate_mps >= 0.0 || speed_mps < 0.1) {
@@ -220,10 +308,17 @@ impl GapKeeper {
 
         let wanted =
             (lead_speed + c.gap_gain_per_s * (gap_m - desired_gap_m)).clamp(0.0, c.max_speed_mps);
-        let accel_target = (c.speed_gain_per_s * (wanted - self.speed_ref_mps))
+        let mut accel_target = (c.speed_gain_per_s * (wanted - self.speed_ref_mps))
             .clamp(-c.max_decel_mps2, c.max_accel_mps2);
-        // Braking may build up fast; everything else moves at the comfortable jerk.
-        let down = if accel_target < self.accel_mps2.min(0.0) {
+        if required_decel_mps2 > c.collision_braking_mps2 {
+            accel_target = accel_target
+                .min(-(COLLISION_BRAKING_MARGIN * required_decel_mps2).min(c.max_decel_mps2));
+        }
+        // Firm braking may build up fast; everything else (including the small corrections
+        // that noise asks for, which must not be rectified into a slower average speed)
+        // moves at the comfortable jerk.
+        let firm = accel_target < -0.5 * c.max_decel_mps2;
+        let down = if firm && accel_target < self.accel_mps2.min(0.0) {
             c.max_brake_jerk_mps3
         } else {
             c.max_jerk_mps3
@@ -270,7 +365,7 @@ mod tests {
         let dt = 1.0 / 120.0;
         let mut last = 0.0;
         for _ in 0..240 {
-            let cmd = g.update(14.0, 0.0, 10.0, dt);
+            let cmd = g.update(14.0, 0.0, Threat::default(), 10.0, dt);
             assert!((cmd.accel_mps2 - last).abs() <= 2.5 * dt + 1e-6);
             assert!(cmd.accel_mps2 <= 1.5 + 1e-6);
             last = cmd.accel_mps2;
@@ -281,8 +376,12 @@ mod tests {
     #[test]
     fn fast_closing_calls_the_emergency_brake() {
         let c = GapKeeperConfig::default();
-        assert!(c.emergency_needed(6.0, -6.0));
-        assert!(!c.emergency_needed(10.0, -1.0));
-        assert!(c.emergency_needed(2.0, 0.0));
+        assert!(c.emergency_needed(6.0, -6.0, 10.0));
+        assert!(!c.emergency_needed(10.0, -1.0, 10.0));
+        assert!(c.emergency_needed(2.0, 0.0, 0.0));
+        // Steady following at the default gap and 10 m/s is safe; a lead already 4 m/s
+        // slower at that gap is not (it could stop before the chase reacts).
+        assert!(!c.emergency_needed(10.0, 0.0, 10.0));
+        assert!(c.emergency_needed(9.0, -4.0, 10.0));
     }
 }

@@ -88,7 +88,7 @@ pub use controller_event::{ControllerEvent, ControllerEventKind};
 pub use controls::Controls;
 pub use delay_line::{DelayLine, DelayLineConfig};
 pub use error::VehicleError;
-pub use gap_keeper::{GapKeeper, GapKeeperConfig, GapPolicy, SpeedCommand};
+pub use gap_keeper::{GapKeeper, GapKeeperConfig, GapPolicy, SpeedCommand, Threat};
 pub use ground::{BumpsConfig, Ground, GroundConfig};
 pub use lead_driver::{LeadDriver, LeadDriverConfig};
 pub use lead_estimate::{LeadEstimate, TrackStatus};

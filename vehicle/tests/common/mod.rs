@@ -4,7 +4,19 @@
 
 #![allow(dead_code)]
 
+use rand::Rng;
+use rand_chacha::ChaCha8Rng;
 use vehicle::*;
+
+/// Gaussian sensor noise on the stand-in tracker's output (camera frame).
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct SensorNoise {
+    /// Standard deviation across the image (camera x and y), m.
+    pub lateral_sigma_m: f32,
+    /// Standard deviation of the range as a fraction of it (the tracker's scale error).
+    pub range_sigma_fraction: f32,
+    pub seed: u64,
+}
 
 /// Height of the tracked target on the lead's back above the ground, m.
 pub const TARGET_HEIGHT_M: f32 = 1.2;
@@ -35,6 +47,7 @@ pub struct RigOptions {
     /// Initial speed of both vehicles, m/s.
     pub initial_speed_mps: f32,
     pub sensor: Sensor,
+    pub noise: Option<SensorNoise>,
 }
 
 impl RigOptions {
@@ -54,6 +67,7 @@ impl RigOptions {
             initial_gap_m: 10.0,
             initial_speed_mps: 10.0,
             sensor: Sensor::Perfect,
+            noise: None,
         }
     }
 }
@@ -84,7 +98,15 @@ pub struct Rig {
     pub vehicle_from_camera: Pose,
     pub target_in_lead: Vector,
     pub sensor: Sensor,
+    pub noise: Option<(SensorNoise, ChaCha8Rng)>,
     pub samples: Vec<Sample>,
+}
+
+/// One standard normal draw (Box–Muller).
+fn gaussian(rng: &mut ChaCha8Rng) -> f32 {
+    let u1: f32 = rng.random_range(f32::EPSILON..1.0);
+    let u2: f32 = rng.random();
+    (-2.0 * u1.ln()).sqrt() * (std::f32::consts::TAU * u2).cos()
 }
 
 impl Rig {
@@ -125,17 +147,26 @@ impl Rig {
             vehicle_from_camera: mount.vehicle_from_camera(),
             target_in_lead: Vector::new(lead_params.rear_bumper_x_m(), TARGET_HEIGHT_M, 0.0),
             sensor: opts.sensor,
+            noise: opts
+                .noise
+                .map(|n| (n, named_stream(n.seed, "sensor_noise"))),
             samples: Vec::new(),
         }
     }
 
     /// The perfect sensor's reading for the frame captured now.
-    fn sense(&self, now: Step) -> Option<LeadEstimate> {
+    fn sense(&mut self, now: Step) -> Option<LeadEstimate> {
         let chase = self.world.vehicle_state(self.chase_id);
         let lead = self.world.vehicle_state(self.lead_id);
         let world_from_camera = chase.world_from_vehicle * self.vehicle_from_camera;
         let target_world = lead.world_from_vehicle.transform_point(self.target_in_lead);
-        let target_in_camera_m = world_from_camera.inverse_transform_point(target_world);
+        let mut target_in_camera_m = world_from_camera.inverse_transform_point(target_world);
+        if let Some((noise, rng)) = &mut self.noise {
+            let scale = 1.0 + noise.range_sigma_fraction * gaussian(rng);
+            let dx = noise.lateral_sigma_m * gaussian(rng);
+            let dy = noise.lateral_sigma_m * gaussian(rng);
+            target_in_camera_m = target_in_camera_m * scale + Vector::new(dx, dy, 0.0);
+        }
         let t = now.seconds();
         let status = match self.sensor {
             Sensor::Perfect => TrackStatus::Tracking,
