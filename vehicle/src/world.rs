@@ -123,6 +123,17 @@ impl World {
         }
     }
 
+    /// Rapier's world, read-only (for scene queries and debug drawing; stepping and
+    /// changes go through [`World`] so the clock stays true).
+    pub fn physics(&self) -> &PhysicsWorld {
+        &self.physics
+    }
+
+    /// The ids of all vehicles, in the order they were added.
+    pub fn vehicle_ids(&self) -> impl Iterator<Item = VehicleId> {
+        (0..self.vehicles.len()).map(VehicleId)
+    }
+
     /// The ground.
     pub fn ground(&self) -> &Ground {
         &self.ground
