@@ -49,3 +49,36 @@ fn time_headway_gap_is_held_within_half_a_metre() {
     assert!((wanted - 10.2).abs() < 0.2, "wanted gap {wanted}");
     assert!(worst <= 0.5, "gap error {worst} m exceeds 0.5 m");
 }
+
+/// In `manual` mode the chase replays its scripted speed, whatever the gap, until the
+/// emergency brake has to step in; it never touches the lead.
+#[test]
+fn manual_mode_replays_the_script_under_the_emergency_guard() {
+    let mut opts = RigOptions::straight(900.0, SpeedProfile::constant(8.0));
+    opts.initial_speed_mps = 8.0;
+    opts.initial_gap_m = 14.0;
+    opts.chase_config.speed_mode = SpeedMode::Manual {
+        profile: SpeedProfile::new(ProfileBasis::Time, &[(0.0, 8.0), (2.0, 8.0), (4.0, 10.0)])
+            .unwrap(),
+    };
+    let mut rig = Rig::new(opts);
+    rig.run_for(20.0);
+    let at_3s = rig.samples_after(3.5).next().unwrap();
+    println!(
+        "manual: speed at 3.5 s {:.2} m/s (script 9.5), min bumper gap {:.2} m, events {:?}",
+        at_3s.chase.forward_speed_mps,
+        rig.samples
+            .iter()
+            .map(|s| s.bumper_gap_m)
+            .fold(f32::INFINITY, f32::min),
+        rig.chase.events()
+    );
+    assert!((at_3s.chase.forward_speed_mps - 9.5).abs() < 0.3);
+    assert!(rig
+        .chase
+        .events()
+        .iter()
+        .any(|e| matches!(e.kind, ControllerEventKind::EmergencyBrake { .. })));
+    assert!(!rig.samples.iter().any(|s| s.touching));
+    assert!(rig.samples.iter().all(|s| s.bumper_gap_m > 0.5));
+}
