@@ -1,0 +1,40 @@
+//! Events the chase controller reports: loss, stops, resumption, discarded estimates.
+
+use crate::clock::Step;
+use serde::{Deserialize, Serialize};
+
+/// What happened.
+#[derive(Copy, Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", tag = "kind")]
+pub enum ControllerEventKind {
+    /// The tracker reported the lead lost: braking to a stop.
+    TrackLost,
+    /// No estimate arrived for `silent_ms`: braking to a stop.
+    EstimateTimeout {
+        /// Time since the last estimate arrived, ms.
+        silent_ms: f64,
+    },
+    /// The gap closed faster than comfort braking can handle: full brake.
+    EmergencyBrake {
+        /// Measured gap when it started, m.
+        gap_m: f32,
+    },
+    /// The vehicle came to a stop after a loss.
+    Stopped,
+    /// Tracking came back: following again.
+    Resumed,
+    /// An estimate was discarded: its capture time is older than the pose history.
+    EstimateTooOld {
+        /// Its capture step.
+        capture_step: Step,
+    },
+}
+
+/// One event with its time.
+#[derive(Copy, Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ControllerEvent {
+    /// When it happened.
+    pub step: Step,
+    /// What happened.
+    pub kind: ControllerEventKind,
+}

@@ -1,0 +1,247 @@
+//! A route: the road centreline as a polyline on the ground, with arc length.
+//!
+//! Points are world-frame positions; only x and z are used (the route lies on the ground).
+//! Headings are yaw angles about the world's +y: heading ψ points along (cos ψ, 0, −sin ψ),
+//! so a positive turn is to the left.
+
+use crate::error::VehicleError;
+use rapier3d::math::Vector;
+
+/// Points closer than this are merged, m.
+const MIN_SPACING_M: f32 = 1e-3;
+/// Arcs are sampled at this spacing, m (the lead's pure pursuit interpolates between).
+const ARC_SAMPLE_M: f32 = 0.5;
+/// Half-window of arc length over which curvature is estimated, m.
+const CURVATURE_HALF_WINDOW_M: f32 = 1.5;
+
+/// The direction of heading `heading_rad` on the ground.
+pub fn heading_direction(heading_rad: f32) -> Vector {
+    Vector::new(heading_rad.cos(), 0.0, -heading_rad.sin())
+}
+
+/// The heading of a ground direction (y ignored).
+pub fn direction_heading(direction: Vector) -> f32 {
+    (-direction.z).atan2(direction.x)
+}
+
+/// A polyline on the ground with cumulative arc length.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Route {
+    points: Vec<Vector>,
+    arc_m: Vec<f32>,
+}
+
+/// Where a point projects onto a route.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct RouteProjection {
+    /// Arc length of the closest route point, m.
+    pub s_m: f32,
+    /// Signed lateral offset of the point from the route, m (positive to the left).
+    pub left_offset_m: f32,
+}
+
+impl Route {
+    /// A route through `points` (y is ignored and set to 0). Repeated points are merged.
+    pub fn new(points: Vec<Vector>) -> Result<Route, VehicleError> {
+        let mut kept: Vec<Vector> = Vec::with_capacity(points.len());
+        for p in points {
+            let p = Vector::new(p.x, 0.0, p.z);
+            if !p.is_finite() {
+                return Err(VehicleError::InvalidParameter {
+                    field: "route point",
+                    value: f64::NAN,
+                    reason: "not finite",
+                });
+            }
+            if kept.last().is_none_or(|q| q.distance(p) > MIN_SPACING_M) {
+                kept.push(p);
+            }
+        }
+        if kept.len() < 2 {
+            return Err(VehicleError::RouteTooShort { points: kept.len() });
+        }
+        let mut arc_m = Vec::with_capacity(kept.len());
+        let mut s = 0.0;
+        arc_m.push(0.0);
+        for w in kept.windows(2) {
+            s += w[0].distance(w[1]);
+            arc_m.push(s);
+        }
+        Ok(Route {
+            points: kept,
+            arc_m,
+        })
+    }
+
+    /// The route's points.
+    pub fn points(&self) -> &[Vector] {
+        &self.points
+    }
+
+    /// Total length, m.
+    pub fn length_m(&self) -> f32 {
+        *self.arc_m.last().expect("a route has at least two points")
+    }
+
+    fn segment_at(&self, s_m: f32) -> usize {
+        let i = self.arc_m.partition_point(|&a| a <= s_m);
+        i.clamp(1, self.points.len() - 1) - 1
+    }
+
+    /// The point at arc length `s_m`, extrapolated along the end segments beyond the ends.
+    pub fn point_at(&self, s_m: f32) -> Vector {
+        let i = self.segment_at(s_m);
+        let (a, b) = (self.points[i], self.points[i + 1]);
+        let len = self.arc_m[i + 1] - self.arc_m[i];
+        a + (b - a) * ((s_m - self.arc_m[i]) / len)
+    }
+
+    /// The unit tangent at arc length `s_m`.
+    pub fn tangent_at(&self, s_m: f32) -> Vector {
+        let i = self.segment_at(s_m);
+        (self.points[i + 1] - self.points[i]).normalize()
+    }
+
+    /// The unit normal to the left of the tangent at `s_m`.
+    pub fn left_at(&self, s_m: f32) -> Vector {
+        let t = self.tangent_at(s_m);
+        Vector::new(t.z, 0.0, -t.x)
+    }
+
+    /// Signed curvature at `s_m`, 1/m (positive turning left), from the heading change over
+    /// a few metres.
+    pub fn curvature_at(&self, s_m: f32) -> f32 {
+        let a = (s_m - CURVATURE_HALF_WINDOW_M).max(0.0);
+        let b = (s_m + CURVATURE_HALF_WINDOW_M).min(self.length_m());
+        if b - a < 1e-3 {
+            return 0.0;
+        }
+        let ha = direction_heading(self.tangent_at(a));
+        let hb = direction_heading(self.tangent_at(b));
+        let mut d = hb - ha;
+        while d > std::f32::consts::PI {
+            d -= std::f32::consts::TAU;
+        }
+        while d < -std::f32::consts::PI {
+            d += std::f32::consts::TAU;
+        }
+        d / (b - a)
+    }
+
+    /// Projects `p` onto the route, searching only arc lengths within `window_m` of
+    /// `s_hint_m` (so a route that doubles back is not confused with itself).
+    pub fn project_near(&self, p: Vector, s_hint_m: f32, window_m: f32) -> RouteProjection {
+        let p = Vector::new(p.x, 0.0, p.z);
+        let first = self.segment_at(s_hint_m - window_m);
+        let last = self.segment_at(s_hint_m + window_m);
+        let mut best = (f32::INFINITY, 0.0, 0.0);
+        for i in first..=last {
+            let (a, b) = (self.points[i], self.points[i + 1]);
+            let ab = b - a;
+            let len2 = ab.length_squared();
+            let t = ((p - a).dot(ab) / len2).clamp(0.0, 1.0);
+            let q = a + ab * t;
+            let d2 = p.distance_squared(q);
+            if d2 < best.0 {
+                let left = Vector::new(ab.z, 0.0, -ab.x).normalize();
+                let s = self.arc_m[i] + t * len2.sqrt();
+                best = (d2, s, (p - q).dot(left));
+            }
+        }
+        RouteProjection {
+            s_m: best.1,
+            left_offset_m: best.2,
+        }
+    }
+
+    /// Projects `p` onto the whole route.
+    pub fn project(&self, p: Vector) -> RouteProjection {
+        self.project_near(p, 0.0, self.length_m() + 1.0)
+    }
+}
+
+/// Builds a route from straights and circular arcs, turtle fashion.
+#[derive(Clone, Debug)]
+pub struct RouteBuilder {
+    points: Vec<Vector>,
+    heading_rad: f32,
+}
+
+impl RouteBuilder {
+    /// Starts at `start` (y ignored) heading `heading_rad`.
+    pub fn new(start: Vector, heading_rad: f32) -> RouteBuilder {
+        RouteBuilder {
+            points: vec![Vector::new(start.x, 0.0, start.z)],
+            heading_rad,
+        }
+    }
+
+    fn last(&self) -> Vector {
+        *self.points.last().expect("builder starts with a point")
+    }
+
+    /// Goes straight on for `length_m`.
+    pub fn straight(mut self, length_m: f32) -> RouteBuilder {
+        let p = self.last() + heading_direction(self.heading_rad) * length_m;
+        self.points.push(p);
+        self
+    }
+
+    /// Turns through `angle_rad` (positive left) on a circle of `radius_m`.
+    pub fn arc(mut self, radius_m: f32, angle_rad: f32) -> RouteBuilder {
+        let start = self.last();
+        let h0 = self.heading_rad;
+        let sign = angle_rad.signum();
+        // The centre lies to the left for a left turn.
+        let left = heading_direction(h0 + sign * std::f32::consts::FRAC_PI_2);
+        let centre = start + left * radius_m;
+        let n = ((radius_m * angle_rad.abs()) / ARC_SAMPLE_M)
+            .ceil()
+            .max(1.0) as usize;
+        for k in 1..=n {
+            let h = h0 + angle_rad * k as f32 / n as f32;
+            let radial = heading_direction(h - sign * std::f32::consts::FRAC_PI_2);
+            self.points.push(centre + radial * radius_m);
+        }
+        self.heading_rad = h0 + angle_rad;
+        self
+    }
+
+    /// The finished route.
+    pub fn build(self) -> Result<Route, VehicleError> {
+        Route::new(self.points)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn arc_has_the_right_length_and_curvature() {
+        let r = RouteBuilder::new(Vector::ZERO, 0.0)
+            .straight(10.0)
+            .arc(20.0, std::f32::consts::FRAC_PI_2)
+            .straight(10.0)
+            .build()
+            .unwrap();
+        let expected = 20.0 + 20.0 * std::f32::consts::FRAC_PI_2;
+        assert!((r.length_m() - expected).abs() < 0.05, "{}", r.length_m());
+        let k = r.curvature_at(10.0 + 15.0);
+        assert!((k - 0.05).abs() < 0.002, "{k}");
+        // A left turn from +x ends heading -z.
+        let end = r.tangent_at(r.length_m());
+        assert!((end - Vector::new(0.0, 0.0, -1.0)).length() < 1e-3);
+    }
+
+    #[test]
+    fn projection_gives_signed_offset() {
+        let r = RouteBuilder::new(Vector::ZERO, 0.0)
+            .straight(10.0)
+            .build()
+            .unwrap();
+        let p = r.project(Vector::new(4.0, 0.0, -1.0));
+        assert!((p.s_m - 4.0).abs() < 1e-5);
+        assert!((p.left_offset_m - 1.0).abs() < 1e-5);
+    }
+}
