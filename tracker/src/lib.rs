@@ -29,6 +29,7 @@ pub mod location;
 pub mod model;
 pub mod motion;
 pub mod object_location;
+pub mod paint;
 pub mod prediction;
 pub mod tracker;
 pub mod window;

@@ -1,29 +1,17 @@
 //! Synthetic frames of the target (feature `synth`): for tests, benchmarks and
 //! demonstrations, never for the tracker itself.
 //!
-//! Paint rule (shared with the renderer in `sim`): the board is a light rectangle, the
-//! corners' bounding box plus [`BOARD_MARGIN_M`]; every segment is a dark stripe
-//! [`STRIPE_WIDTH_M`] wide centred on the segment and extended [`STRIPE_EXTENSION_M`] past its
-//! end points. Pixels are area-sampled exactly (pixel (i, j) covers
+//! The target is painted by the rule of [`crate::paint`], shared with the renderer. Pixels are area-sampled exactly (pixel (i, j) covers
 //! [i − ½, i + ½] × [j − ½, j + ½]), so edges fall where the geometry says, to a fraction of a
 //! pixel.
 
 use crate::camera::Camera;
 use crate::location::Location;
 use crate::model::TargetModel;
+use crate::paint::{BOARD_MARGIN_M, STRIPE_EXTENSION_M, STRIPE_WIDTH_M};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
-
-/// Margin of the light board beyond the corners' bounding box, metres. The board's own
-/// border is a strong edge parallel to the outer segments; 0.25 m puts it 8 px beyond them at
-/// the nominal 10 m and 5.3 px at 15 m, outside the default ζ of 4 px, so it does not pull the
-/// outer features (and with them the scale) outwards.
-pub const BOARD_MARGIN_M: f64 = 0.25;
-/// Width of each painted segment, metres.
-pub const STRIPE_WIDTH_M: f64 = 0.06;
-/// How far each stripe runs past its segment's end points, metres.
-pub const STRIPE_EXTENSION_M: f64 = 0.03;
 
 /// An axis-aligned rectangle in image pixels, `[x0, y0, x1, y1]`, painted with a grey level
 /// (or, for shadows, a multiplier).

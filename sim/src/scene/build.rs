@@ -83,13 +83,8 @@ const CROSS_ROAD_HALF_M: f64 = 120.0;
 const BOARD_STANDOFF_M: f64 = 0.01;
 /// How far the dark stripes stand proud of the light board, metres (depth-safe at 50 m).
 const STRIPE_STANDOFF_M: f64 = 0.003;
-/// Paint rule, shared with the tracker's synthetic images: light margin around the corners'
-/// bounding box, metres.
-pub const BOARD_MARGIN_M: f64 = 0.1;
-/// Paint rule: width of each dark segment stripe, metres.
-pub const STRIPE_WIDTH_M: f64 = 0.06;
-/// Paint rule: how far each stripe runs past its end points, metres.
-pub const STRIPE_OVERRUN_M: f64 = 0.03;
+/// The paint rule, shared with the tracker's synthetic frames.
+pub use tracker::paint::{BOARD_MARGIN_M, STRIPE_EXTENSION_M as STRIPE_OVERRUN_M, STRIPE_WIDTH_M};
 /// Albedo of the board's light paint.
 pub const BOARD_ALBEDO: f64 = 0.85;
 /// Albedo of the board's dark stripes.

@@ -1,0 +1,89 @@
+//! Drawing the tracker's view over a camera frame: the window of interest, the predicted
+//! model, and each edge point coloured by its fate.
+
+use image::{GrayImage, Rgb, RgbImage};
+use tracker::{EdgeDiagnostic, EdgeFate, Orientation, TrackOutput};
+
+/// Window of interest: yellow.
+pub const WINDOW: Rgb<u8> = Rgb([255, 220, 0]);
+/// Predicted model features: green.
+pub const PREDICTED: Rgb<u8> = Rgb([0, 230, 0]);
+/// Edge points associated with a feature: red.
+pub const ASSOCIATED: Rgb<u8> = Rgb([255, 40, 40]);
+/// Classified edge points too far from every feature: blue.
+pub const TOO_FAR: Rgb<u8> = Rgb([60, 120, 255]);
+/// The measured object centre: magenta.
+pub const CENTRE: Rgb<u8> = Rgb([255, 0, 255]);
+
+/// The frame in colour with the tracker's overlay. Weak and wrongly oriented points are not
+/// drawn (there are many and they hide the image).
+pub fn draw(frame: &GrayImage, out: &TrackOutput, edges: &[EdgeDiagnostic]) -> RgbImage {
+    let mut img = RgbImage::from_fn(frame.width(), frame.height(), |x, y| {
+        let g = frame.get_pixel(x, y)[0];
+        Rgb([g, g, g])
+    });
+    let w = out.window;
+    if !w.is_empty() {
+        let (x0, y0, x1, y1) = (
+            w.x0 as f64,
+            w.y0 as f64,
+            (w.x1 - 1) as f64,
+            (w.y1 - 1) as f64,
+        );
+        for (a, b) in [
+            ((x0, y0), (x1, y0)),
+            ((x1, y0), (x1, y1)),
+            ((x1, y1), (x0, y1)),
+            ((x0, y1), (x0, y0)),
+        ] {
+            line(&mut img, a, b, WINDOW);
+        }
+    }
+    for f in &out.features {
+        let p = f.predicted;
+        let (a, b) = match p.orientation {
+            Orientation::Horizontal => ((p.extent[0], p.intercept), (p.extent[1], p.intercept)),
+            Orientation::Vertical => ((p.intercept, p.extent[0]), (p.intercept, p.extent[1])),
+        };
+        line(&mut img, a, b, PREDICTED);
+    }
+    for e in edges {
+        let colour = match e.fate {
+            EdgeFate::Associated(_) => ASSOCIATED,
+            EdgeFate::TooFar => TOO_FAR,
+            EdgeFate::Weak | EdgeFate::WrongOrientation => continue,
+        };
+        put(&mut img, e.x.round() as i64, e.y.round() as i64, colour);
+    }
+    if let Some(m) = out.measurement {
+        let (cx, cy) = (m.location.c_x, m.location.c_y);
+        line(&mut img, (cx - 3.0, cy), (cx + 3.0, cy), CENTRE);
+        line(&mut img, (cx, cy - 3.0), (cx, cy + 3.0), CENTRE);
+    }
+    img
+}
+
+fn put(img: &mut RgbImage, x: i64, y: i64, colour: Rgb<u8>) {
+    if x >= 0 && y >= 0 && (x as u32) < img.width() && (y as u32) < img.height() {
+        img.put_pixel(x as u32, y as u32, colour);
+    }
+}
+
+/// A one-pixel line between two points (pixel centres at integer coordinates), clipped to
+/// the image.
+pub fn line(img: &mut RgbImage, a: (f64, f64), b: (f64, f64), colour: Rgb<u8>) {
+    if !(a.0.is_finite() && a.1.is_finite() && b.0.is_finite() && b.1.is_finite()) {
+        return;
+    }
+    let steps = (b.0 - a.0)
+        .abs()
+        .max((b.1 - a.1).abs())
+        .ceil()
+        .clamp(1.0, 4096.0) as usize;
+    for k in 0..=steps {
+        let t = k as f64 / steps as f64;
+        let x = a.0 + t * (b.0 - a.0);
+        let y = a.1 + t * (b.1 - a.1);
+        put(img, x.round() as i64, y.round() as i64, colour);
+    }
+}

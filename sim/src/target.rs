@@ -1,0 +1,209 @@
+//! Target model files (`scenarios/targets/*.toml`): read, then validated into a
+//! [`tracker::TargetModel`].
+//!
+//! The format, which other tools read too:
+//! ```toml
+//! name = "nist-ten-segment"
+//! nominal_range_m = 10.0                        # range at which scale = 1
+//! corners_m = [[-0.8, 0.5], [0.8, 0.5], ...]    # x right, y up, metres from the target centre
+//! segments = [[0, 1], [1, 2], ...]              # corner-index pairs, each horizontal or vertical
+//! ```
+//! Errors name the file, the line and column, and the field or segment at fault.
+
+use serde::Deserialize;
+use std::path::{Path, PathBuf};
+use thiserror::Error;
+use toml::Spanned;
+use tracker::{TargetError, TargetModel};
+
+/// The file as written: parsed, not yet checked.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct TargetFile {
+    name: String,
+    nominal_range_m: Spanned<f64>,
+    corners_m: Vec<Spanned<[f64; 2]>>,
+    segments: Vec<Spanned<[usize; 2]>>,
+}
+
+/// A target file that could not be used.
+#[derive(Debug, Error)]
+pub enum TargetFileError {
+    /// The file could not be read.
+    #[error("{path}: cannot read target file: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// Not valid TOML, or not this format (unknown or missing field, wrong type).
+    #[error("{path}:{line}:{column}: {message}")]
+    Parse {
+        /// The file.
+        path: PathBuf,
+        /// 1-based line.
+        line: usize,
+        /// 1-based column.
+        column: usize,
+        /// The parser's message, naming the field.
+        message: String,
+    },
+    /// Well-formed, but not a usable model.
+    #[error("{path}:{line}:{column}: `{field}`: {source}")]
+    Invalid {
+        /// The file.
+        path: PathBuf,
+        /// 1-based line.
+        line: usize,
+        /// 1-based column.
+        column: usize,
+        /// The field at fault.
+        field: &'static str,
+        /// What is wrong.
+        source: TargetError,
+    },
+}
+
+/// 1-based (line, column) of a byte offset in `text`.
+pub fn line_column(text: &str, offset: usize) -> (usize, usize) {
+    let before = &text[..offset.min(text.len())];
+    let line = before.matches('\n').count() + 1;
+    let column = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
+    (line, column)
+}
+
+/// Reads and validates a target file.
+pub fn load(path: &Path) -> Result<TargetModel, TargetFileError> {
+    let text = std::fs::read_to_string(path).map_err(|source| TargetFileError::Io {
+        path: path.to_owned(),
+        source,
+    })?;
+    parse(&text, path)
+}
+
+/// Parses and validates the text of a target file; `path` is only used in errors.
+pub fn parse(text: &str, path: &Path) -> Result<TargetModel, TargetFileError> {
+    let raw: TargetFile = toml::from_str(text).map_err(|e| {
+        let (line, column) = line_column(text, e.span().map_or(0, |s| s.start));
+        TargetFileError::Parse {
+            path: path.to_owned(),
+            line,
+            column,
+            message: e.message().trim().to_string(),
+        }
+    })?;
+    let corners: Vec<[f64; 2]> = raw.corners_m.iter().map(|c| *c.get_ref()).collect();
+    let segments: Vec<[usize; 2]> = raw.segments.iter().map(|s| *s.get_ref()).collect();
+    TargetModel::new(raw.name, *raw.nominal_range_m.get_ref(), corners, segments).map_err(
+        |source| {
+            // Point at the item the error is about.
+            let (field, span) = match &source {
+                TargetError::BadNominalRange(_) => ("nominal_range_m", raw.nominal_range_m.span()),
+                TargetError::NonFiniteCorner { index, .. } => {
+                    ("corners_m", raw.corners_m[*index].span())
+                }
+                TargetError::IndexOutOfRange { segment, .. }
+                | TargetError::Degenerate { segment, .. }
+                | TargetError::NotAxisAligned { segment, .. }
+                | TargetError::Duplicate { segment, .. } => {
+                    ("segments", raw.segments[*segment].span())
+                }
+                TargetError::Underdetermined { .. } => {
+                    ("segments", raw.segments.first().map_or(0..0, |s| s.span()))
+                }
+            };
+            let (line, column) = line_column(text, span.start);
+            TargetFileError::Invalid {
+                path: path.to_owned(),
+                line,
+                column,
+                field,
+                source,
+            }
+        },
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const GOOD: &str = r#"name = "box"
+nominal_range_m = 10.0
+corners_m = [[-0.8, 0.5], [0.8, 0.5], [0.8, -0.5], [-0.8, -0.5]]
+segments = [
+    [0, 1],
+    [1, 2],
+    [2, 3],
+    [3, 0],
+]
+"#;
+
+    fn err(text: &str) -> String {
+        parse(text, Path::new("t.toml")).unwrap_err().to_string()
+    }
+
+    #[test]
+    fn a_good_file_loads() {
+        let m = parse(GOOD, Path::new("t.toml")).unwrap();
+        assert_eq!(m.name(), "box");
+        assert_eq!(m.segments().len(), 4);
+    }
+
+    #[test]
+    fn the_shipped_target_loads() {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../scenarios/targets/nist-ten-segment.toml");
+        let m = load(&path).unwrap();
+        assert_eq!(m.segments().len(), 10);
+        assert_eq!(m.size_m(), [1.6, 1.0]);
+    }
+
+    #[test]
+    fn a_diagonal_segment_is_named_with_its_line() {
+        let e = err(&GOOD.replace("[2, 3],", "[2, 0],"));
+        assert!(e.starts_with("t.toml:7:5: `segments`: segment 2"), "{e}");
+        assert!(e.contains("neither horizontal nor vertical"), "{e}");
+    }
+
+    #[test]
+    fn an_index_out_of_range_is_named() {
+        let e = err(&GOOD.replace("[3, 0],", "[3, 9],"));
+        assert!(
+            e.starts_with("t.toml:8:5: `segments`: segment 3 refers to corner 9"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn a_duplicate_segment_is_named() {
+        let e = err(&GOOD.replace("[3, 0],", "[3, 0],\n    [1, 0],"));
+        assert!(
+            e.contains("t.toml:9:5") && e.contains("segment 4 duplicates segment 0"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn an_underdetermined_model_is_refused() {
+        let e = err(&GOOD
+            .replace("    [1, 2],\n", "")
+            .replace("    [3, 0],\n", ""));
+        assert!(
+            e.contains("at least one horizontal and one vertical"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn unknown_and_mistyped_fields_are_refused_with_position() {
+        let e = err(&GOOD.replace("nominal_range_m", "nominal_rang_m"));
+        assert!(
+            e.starts_with("t.toml:2:1:") && e.contains("nominal_rang_m"),
+            "{e}"
+        );
+        let e = err(&GOOD.replace("10.0", "\"ten\""));
+        assert!(e.starts_with("t.toml:2:19:"), "{e}");
+    }
+}

@@ -1,0 +1,254 @@
+//! `carfollow track`: the tracker alone on a recorded image sequence.
+//!
+//! Frames are the PNG and PGM files of a folder, sorted by name, converted to grey. Each
+//! frame's result is written to the CSV as soon as it is known (and flushed), so a frame that
+//! fails mid-run loses none of the rows before it.
+
+use crate::overlay;
+use anyhow::{bail, Context};
+use image::GrayImage;
+use indicatif::{ProgressBar, ProgressStyle};
+use std::fs::File;
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+use tracker::{
+    Camera, GrayView, Location, Status, TargetModel, TrackOutput, Tracker, TrackerConfig,
+};
+
+/// Everything one run needs.
+#[derive(Clone, Debug)]
+pub struct TrackJob {
+    /// The folder of frames.
+    pub frames_dir: PathBuf,
+    /// The target model.
+    pub model: TargetModel,
+    /// Focal length in pixels.
+    pub focal_px: f64,
+    /// Pixel size on the sensor, millimetres (only the ratio to the focal length matters
+    /// for stage 8; it is kept so the camera is a real one).
+    pub pixel_size_mm: f64,
+    /// Image centre, pixels; `None` for the middle of the frame.
+    pub image_center_px: Option<[f64; 2]>,
+    /// The teleoperator's placement in the first frame.
+    pub init: Location,
+    /// Tracker settings.
+    pub config: TrackerConfig,
+    /// The CSV to write.
+    pub out_csv: PathBuf,
+    /// Where to write overlay PNGs, if anywhere.
+    pub overlay_dir: Option<PathBuf>,
+    /// Show a progress bar (on a terminal).
+    pub progress: bool,
+}
+
+/// What a run did.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct TrackSummary {
+    /// Frames processed.
+    pub frames: usize,
+    /// Frames in each status: tracking, coasting, lost.
+    pub tracking: usize,
+    /// Frames coasting.
+    pub coasting: usize,
+    /// Frames lost.
+    pub lost: usize,
+    /// Median wall time of one tracker step, microseconds.
+    pub median_step_us: f64,
+}
+
+/// The frame files of a folder: `.png` and `.pgm` (any case), sorted by file name.
+pub fn frame_files(dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
+    let entries = std::fs::read_dir(dir)
+        .with_context(|| format!("{}: cannot read the frames folder", dir.display()))?;
+    let mut files = Vec::new();
+    for entry in entries {
+        let path = entry
+            .with_context(|| format!("{}: cannot list the frames folder", dir.display()))?
+            .path();
+        let ext = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase);
+        if path.is_file() && matches!(ext.as_deref(), Some("png" | "pgm")) {
+            files.push(path);
+        }
+    }
+    files.sort_by(|a, b| a.file_name().cmp(&b.file_name()));
+    if files.is_empty() {
+        bail!("{}: no PNG or PGM frames in this folder", dir.display());
+    }
+    Ok(files)
+}
+
+/// Reads one frame as 8-bit grey (colour is converted by luminance).
+pub fn read_frame(path: &Path) -> anyhow::Result<GrayImage> {
+    let img =
+        image::open(path).with_context(|| format!("{}: cannot read frame", path.display()))?;
+    Ok(img.into_luma8())
+}
+
+/// The CSV header: frame, estimate and status first, then the rest.
+fn header(model: &TargetModel) -> String {
+    let mut h = String::from(
+        "frame,cx,cy,scale,status,t_s,measured,w_x,w_y,w_scale,fit_residual,features_used,\
+         pred_cx,pred_cy,pred_scale,next_cx,next_cy,next_scale,x_m,y_m,z_m,window_x0,window_y0,window_x1,window_y1,window_size",
+    );
+    for j in 0..model.segments().len() {
+        h.push_str(&format!(",f{j}_points,f{j}_confidence"));
+    }
+    h
+}
+
+fn row(out: &TrackOutput) -> String {
+    let e = out.estimate;
+    let (measured, w, residual, used) = match out.measurement {
+        Some(m) => (1, m.confidence, m.residual, m.features_used),
+        None => (0, [0.0; 3], f64::NAN, 0),
+    };
+    let [x, y, z] = out.position_3d;
+    let mut r = format!(
+        "{},{:.4},{:.4},{:.6},{},{:.6},{},{:.5},{:.5},{:.5},{:.5},{},{:.4},{:.4},{:.6},{:.4},{:.4},{:.6},{:.4},{:.4},{:.4},{},{},{},{},{}",
+        out.frame,
+        e.c_x,
+        e.c_y,
+        e.scale,
+        out.status.as_str(),
+        out.t_s,
+        measured,
+        w[0],
+        w[1],
+        w[2],
+        residual,
+        used,
+        out.predicted.c_x,
+        out.predicted.c_y,
+        out.predicted.scale,
+        out.next.c_x,
+        out.next.c_y,
+        out.next.scale,
+        x,
+        y,
+        z,
+        out.window.x0,
+        out.window.y0,
+        out.window.x1,
+        out.window.y1,
+        out.window.size_index,
+    );
+    for f in &out.features {
+        r.push_str(&format!(",{},{:.5}", f.points, f.confidence));
+    }
+    r
+}
+
+/// Runs the tracker over the folder, writing the CSV (and overlays) as it goes.
+pub fn run(job: &TrackJob) -> anyhow::Result<TrackSummary> {
+    let files = frame_files(&job.frames_dir)?;
+    let first = read_frame(&files[0])?;
+    let (width, height) = first.dimensions();
+    let camera = Camera {
+        focal_length_mm: job.focal_px * job.pixel_size_mm,
+        pixel_size_mm: [job.pixel_size_mm; 2],
+        image_center_px: job.image_center_px.unwrap_or([
+            (f64::from(width) - 1.0) / 2.0,
+            (f64::from(height) - 1.0) / 2.0,
+        ]),
+    };
+    let mut tracker = Tracker::new(job.model.clone(), camera, job.config.clone(), job.init)
+        .context("cannot start the tracker")?;
+    if let Some(dir) = &job.overlay_dir {
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("{}: cannot create the overlay folder", dir.display()))?;
+    }
+    let file = File::create(&job.out_csv)
+        .with_context(|| format!("{}: cannot create the CSV", job.out_csv.display()))?;
+    let mut csv = BufWriter::new(file);
+    let write_err =
+        |e| anyhow::Error::new(e).context(format!("{}: cannot write", job.out_csv.display()));
+    writeln!(csv, "{}", header(&job.model)).map_err(write_err)?;
+
+    let bar = if job.progress {
+        ProgressBar::new(files.len() as u64)
+    } else {
+        ProgressBar::hidden()
+    };
+    bar.set_style(
+        ProgressStyle::with_template(
+            "{elapsed_precise} [{bar:40}] {pos}/{len} frames {per_sec} {msg}",
+        )
+        .expect("valid template")
+        .progress_chars("=> "),
+    );
+    let mut summary = TrackSummary::default();
+    let mut step_us = Vec::with_capacity(files.len());
+    let mut next_image = Some(first);
+    for (k, path) in files.iter().enumerate() {
+        let image = match next_image.take() {
+            Some(img) => img,
+            None => read_frame(path)?,
+        };
+        if image.dimensions() != (width, height) {
+            bail!(
+                "{}: frame is {}×{}, but the first frame ({}) is {width}×{height}",
+                path.display(),
+                image.width(),
+                image.height(),
+                files[0].display()
+            );
+        }
+        let view = GrayView::new(width as usize, height as usize, image.as_raw())
+            .with_context(|| format!("{}: unusable frame", path.display()))?;
+        let t_s = k as f64 / job.config.rate_hz;
+        let started = Instant::now();
+        let (out, edges) = if job.overlay_dir.is_some() {
+            tracker.step_with_diagnostics(view, t_s)
+        } else {
+            (tracker.step(view, t_s), Vec::new())
+        };
+        step_us.push(started.elapsed().as_secs_f64() * 1e6);
+        writeln!(csv, "{}", row(&out)).map_err(write_err)?;
+        csv.flush().map_err(write_err)?;
+        if let Some(dir) = &job.overlay_dir {
+            let name = path
+                .file_stem()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_default();
+            let target = dir.join(format!("{name}.png"));
+            overlay::draw(&image, &out, &edges)
+                .save(&target)
+                .with_context(|| format!("{}: cannot write overlay", target.display()))?;
+        }
+        summary.frames += 1;
+        match out.status {
+            Status::Tracking => summary.tracking += 1,
+            Status::Coasting => summary.coasting += 1,
+            Status::Lost => summary.lost += 1,
+        }
+        bar.set_message(out.status.as_str());
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+    step_us.sort_by(f64::total_cmp);
+    summary.median_step_us = step_us[step_us.len() / 2];
+    Ok(summary)
+}
+
+/// Parses `CX,CY,SCALE`.
+pub fn parse_location(text: &str) -> anyhow::Result<Location> {
+    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+    let numbers: Option<Vec<f64>> = parts.iter().map(|p| p.parse::<f64>().ok()).collect();
+    match numbers.as_deref() {
+        Some(&[c_x, c_y, scale])
+            if [c_x, c_y, scale].iter().all(|v| v.is_finite()) && scale > 0.0 =>
+        {
+            Ok(Location::new(c_x, c_y, scale))
+        }
+        Some(&[_, _, scale]) if scale <= 0.0 => {
+            bail!("expected CX,CY,SCALE with SCALE > 0, got `{text}`")
+        }
+        _ => bail!(
+            "expected CX,CY,SCALE (three comma-separated numbers, pixels and scale), got `{text}`"
+        ),
+    }
+}

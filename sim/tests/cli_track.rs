@@ -1,0 +1,219 @@
+//! `carfollow track` and `carfollow synth` end to end through the real binary: a synthetic
+//! sequence written as PNG files is tracked to sub-pixel error, and bad input gets a one-line
+//! error naming the file and exit status 2, without losing rows already written.
+//! Run with `cargo test -p sim --test cli_track`.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn carfollow(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_carfollow"))
+        .args(args)
+        .current_dir(root())
+        .output()
+        .expect("run carfollow")
+}
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+const TARGET: &str = "scenarios/targets/nist-ten-segment.toml";
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn synth(dir: &Path, frames: usize, clutter: bool) {
+    let frames = frames.to_string();
+    let mut args = vec![
+        "synth",
+        dir.to_str().unwrap(),
+        "--target",
+        TARGET,
+        "--frames",
+        &frames,
+        "--seed",
+        "3",
+    ];
+    if clutter {
+        args.push("--clutter");
+    }
+    let o = carfollow(&args);
+    assert!(o.status.success(), "synth failed: {}", stderr(&o));
+}
+
+fn read_csv(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    let header = lines.next().unwrap().split(',').map(String::from).collect();
+    let rows = lines
+        .map(|l| l.split(',').map(String::from).collect())
+        .collect();
+    (header, rows)
+}
+
+#[test]
+fn tracks_a_synthetic_sequence_from_files_to_sub_pixel_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let frames = dir.path().join("frames");
+    synth(&frames, 40, true);
+    let csv = dir.path().join("track.csv");
+    let overlay = dir.path().join("overlay");
+    let o = carfollow(&[
+        "track",
+        frames.to_str().unwrap(),
+        "--target",
+        TARGET,
+        "--focal-px",
+        "320",
+        "--init",
+        "128,110,1.0",
+        "--out",
+        csv.to_str().unwrap(),
+        "--overlay",
+        overlay.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let (header, rows) = read_csv(&csv);
+    assert_eq!(&header[..5], ["frame", "cx", "cy", "scale", "status"]);
+    assert_eq!(rows.len(), 40);
+    let (_, truth) = read_csv(&frames.join("truth.csv"));
+    for (k, (r, t)) in rows.iter().zip(&truth).enumerate() {
+        assert_eq!(r[0], k.to_string());
+        assert_eq!(r[4], "tracking", "frame {k}");
+        let f = |s: &String| s.parse::<f64>().unwrap();
+        let err = (f(&r[1]) - f(&t[1])).hypot(f(&r[2]) - f(&t[2]));
+        assert!(err < 1.0, "frame {k}: {err:.3} px off");
+        assert!((f(&r[3]) / f(&t[3]) - 1.0).abs() < 0.03, "frame {k}: scale");
+    }
+    // One overlay per frame, in colour, with red associated points on it.
+    let first = image::open(overlay.join("frame_0000.png"))
+        .unwrap()
+        .into_rgb8();
+    assert_eq!(first.dimensions(), (256, 242));
+    assert!(first.pixels().filter(|p| p.0 == [255, 40, 40]).count() > 50);
+    assert_eq!(std::fs::read_dir(&overlay).unwrap().count(), 40);
+}
+
+#[test]
+fn colour_frames_are_converted_to_grey() {
+    let dir = tempfile::tempdir().unwrap();
+    let frames = dir.path().join("frames");
+    synth(&frames, 5, false);
+    for k in 0..5 {
+        let p = frames.join(format!("frame_{k:04}.png"));
+        let grey = image::open(&p).unwrap().into_luma8();
+        let rgb = image::RgbImage::from_fn(256, 242, |x, y| {
+            let g = grey.get_pixel(x, y)[0];
+            image::Rgb([g, g, g])
+        });
+        rgb.save(&p).unwrap();
+    }
+    let csv = dir.path().join("t.csv");
+    let o = carfollow(&[
+        "track",
+        frames.to_str().unwrap(),
+        "--target",
+        TARGET,
+        "--focal-px",
+        "320",
+        "--init",
+        "128,110,1",
+        "--out",
+        csv.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let (_, rows) = read_csv(&csv);
+    assert!(rows.iter().all(|r| r[4] == "tracking"));
+}
+
+fn expect_input_error(o: &Output, needle: &str) {
+    assert_eq!(o.status.code(), Some(2), "stderr: {}", stderr(o));
+    let e = stderr(o);
+    assert_eq!(e.trim_end().lines().count(), 1, "one line expected: {e}");
+    assert!(e.contains(needle), "`{needle}` not in: {e}");
+    assert!(!e.contains("panicked"), "{e}");
+}
+
+#[test]
+fn bad_input_is_one_line_naming_the_file_and_exit_2() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let empty = d.join("empty");
+    std::fs::create_dir(&empty).unwrap();
+    let csv = d.join("t.csv");
+    let base = |frames: &Path, target: &str, init: &str| {
+        carfollow(&[
+            "track",
+            frames.to_str().unwrap(),
+            "--target",
+            target,
+            "--focal-px",
+            "320",
+            "--init",
+            init,
+            "--out",
+            csv.to_str().unwrap(),
+            "--quiet",
+        ])
+    };
+    // An empty folder.
+    expect_input_error(&base(&empty, TARGET, "128,110,1"), "no PNG or PGM frames");
+    // A bad --init.
+    let frames = d.join("frames");
+    synth(&frames, 6, false);
+    expect_input_error(&base(&frames, TARGET, "128,110"), "--init");
+    expect_input_error(&base(&frames, TARGET, "128,110,-1"), "SCALE > 0");
+    // A bad target file: a diagonal segment, named with its line.
+    let bad = d.join("bad.toml");
+    let text = std::fs::read_to_string(root().join(TARGET))
+        .unwrap()
+        .replace("[8, 9], [10, 11]", "[8, 9], [0, 2]");
+    std::fs::write(&bad, text).unwrap();
+    let o = base(&frames, bad.to_str().unwrap(), "128,110,1");
+    expect_input_error(&o, "bad.toml:");
+    assert!(
+        stderr(&o).contains("segment 9") && stderr(&o).contains("neither horizontal nor vertical")
+    );
+    // A missing target file.
+    expect_input_error(&base(&frames, "nope.toml", "128,110,1"), "nope.toml");
+}
+
+#[test]
+fn a_bad_frame_mid_run_keeps_the_rows_before_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let frames = dir.path().join("frames");
+    synth(&frames, 8, false);
+    // Frame 5 is not an image; frame 6 would have another size.
+    std::fs::write(frames.join("frame_0005.png"), b"not a png").unwrap();
+    let csv = dir.path().join("t.csv");
+    let run = || {
+        carfollow(&[
+            "track",
+            frames.to_str().unwrap(),
+            "--target",
+            TARGET,
+            "--focal-px",
+            "320",
+            "--init",
+            "128,110,1",
+            "--out",
+            csv.to_str().unwrap(),
+            "--quiet",
+        ])
+    };
+    let o = run();
+    expect_input_error(&o, "frame_0005.png");
+    let (_, rows) = read_csv(&csv);
+    assert_eq!(rows.len(), 5, "frames 0-4 stay written");
+
+    image::GrayImage::new(100, 100)
+        .save(frames.join("frame_0005.png"))
+        .unwrap();
+    let o = run();
+    expect_input_error(&o, "frame_0005.png: frame is 100×100, but the first frame");
+    assert_eq!(read_csv(&csv).1.len(), 5);
+}
