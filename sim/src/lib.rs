@@ -6,3 +6,4 @@ pub mod overlay;
 pub mod scene;
 pub mod target;
 pub mod track;
+pub mod record;
