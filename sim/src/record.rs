@@ -105,6 +105,7 @@ pub struct FrameRecord {
 
 /// The pass/fail criteria of a scenario (`[expect]`). A criterion left out is not checked.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Expect {
     /// The following distance must stay within this band, metres `[min, max]`, except for
     /// at most `max_time_outside_gap_band_s`.
@@ -116,6 +117,7 @@ pub struct Expect {
     /// Largest lateral deviation from the lead's path, metres.
     pub max_lateral_deviation_m: Option<f64>,
     /// The vehicles must never touch.
+    #[serde(default)]
     pub no_collision: bool,
     /// The chase vehicle must drive at least this far, metres.
     pub min_distance_m: Option<f64>,

@@ -1,0 +1,443 @@
+//! The closed loop (DESIGN.md, "One camera frame"): every 1/15 s the camera renders a frame,
+//! the tracker processes it, its 3-D estimate enters the delay line, and the controllers
+//! drive both vehicles through eight 120 Hz physics steps.
+//!
+//! Data flows one way. The tracker sees only the image; the chase controller sees only the
+//! delayed estimates and its own odometry; only the recorder (the [`FrameRecord`] built here)
+//! sees the truth.
+
+use crate::camera::{Backend, CameraRig, FrameInput, RenderError, RenderOptions, Renderer};
+use crate::record::{FrameRecord, TrackerStatus};
+use crate::scenario::Scenario;
+use crate::scene::{self, ChaseVehicle, LeadVehicle, Scene, SceneDescription};
+use image::GrayImage;
+use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion};
+use thiserror::Error;
+use tracker::{EdgeDiagnostic, GrayView, Location, TrackOutput, Tracker};
+use vehicle::{
+    direction_heading, ChaseController, DelayLine, LeadDriver, LeadEstimate, Odometry, Pose,
+    Rotation, Route, Step, TrackStatus, Vector, VehicleId, VehicleParams, World, STEPS_PER_FRAME,
+};
+
+/// Spacing of the points that turn the route's lane centre into the drivers' polyline,
+/// metres: fine enough that a 35 m radius bend is within 4 mm of its arc.
+const ROUTE_SAMPLE_M: f64 = 1.0;
+/// Height of the lead's box body, metres (a small box truck: the board needs its back door).
+const LEAD_BODY_HEIGHT_M: f64 = 2.7;
+/// Height of the board's centre above the ground, metres.
+const BOARD_CENTRE_HEIGHT_M: f64 = 1.6;
+/// How much of the lead's driven path is searched for the chase's lateral deviation, frames
+/// (40 s at 15 Hz): far more than any gap divided by any speed studied.
+const PATH_SEARCH_FRAMES: usize = 600;
+
+/// A run that could not start or go on.
+#[derive(Debug, Error)]
+pub enum LoopError {
+    /// The scenario cannot be set up (vehicles, route, tracker).
+    #[error("scenario `{scenario}`: {message}")]
+    Setup {
+        /// Scenario name.
+        scenario: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// The renderer failed.
+    #[error(transparent)]
+    Render(#[from] RenderError),
+}
+
+/// Everything one frame of the loop produced.
+pub struct FrameOutput {
+    /// The recorder's row.
+    pub record: FrameRecord,
+    /// The camera frame.
+    pub image: GrayImage,
+    /// The tracker's output.
+    pub track: TrackOutput,
+    /// Edge fates, when diagnostics were asked for.
+    pub edges: Vec<EdgeDiagnostic>,
+}
+
+/// The running loop.
+pub struct ClosedLoop {
+    name: String,
+    frames: u64,
+    frame: u64,
+    world: World,
+    chase_id: VehicleId,
+    lead_id: VehicleId,
+    chase: ChaseController,
+    lead: LeadDriver,
+    delay: DelayLine<LeadEstimate>,
+    renderer: Renderer,
+    rig: CameraRig,
+    tracker: Tracker,
+    /// Scene origin (body centre) in the lead's vehicle frame (rear axle).
+    lead_from_scene: Isometry3<f64>,
+    target_width_px: f64,
+    lead_path: Vec<[f64; 2]>,
+    chase_distance_m: f64,
+    last_chase_xz: [f64; 2],
+    diagnostics: bool,
+}
+
+/// rapier's pose (f32, glam) as a nalgebra isometry (f64).
+fn iso(p: &Pose) -> Isometry3<f64> {
+    let t = p.translation;
+    let q = p.rotation;
+    Isometry3::from_parts(
+        Translation3::new(f64::from(t.x), f64::from(t.y), f64::from(t.z)),
+        UnitQuaternion::from_quaternion(Quaternion::new(
+            f64::from(q.w),
+            f64::from(q.x),
+            f64::from(q.y),
+            f64::from(q.z),
+        )),
+    )
+}
+
+fn xz(p: &Pose) -> [f64; 2] {
+    [f64::from(p.translation.x), f64::from(p.translation.z)]
+}
+
+/// Distance from `p` to a polyline on the ground.
+fn distance_to_path(path: &[[f64; 2]], p: [f64; 2]) -> f64 {
+    path.windows(2)
+        .map(|w| {
+            let (a, b) = (w[0], w[1]);
+            let ab = [b[0] - a[0], b[1] - a[1]];
+            let ap = [p[0] - a[0], p[1] - a[1]];
+            let len2 = ab[0] * ab[0] + ab[1] * ab[1];
+            let t = if len2 > 0.0 {
+                ((ap[0] * ab[0] + ap[1] * ab[1]) / len2).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            (ap[0] - t * ab[0]).hypot(ap[1] - t * ab[1])
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+impl ClosedLoop {
+    /// Sets up the world, vehicles, controllers, camera and tracker for a scenario.
+    pub fn new(s: &Scenario, backend: Backend, diagnostics: bool) -> Result<ClosedLoop, LoopError> {
+        let setup = |message: String| LoopError::Setup {
+            scenario: s.name.clone(),
+            message,
+        };
+        let chase_params = VehicleParams::hmmwv_m998();
+        let lead_params = VehicleParams::pickup();
+        let mount = s.chase.camera_mount;
+        if mount.right_m != 0.0 {
+            return Err(setup(
+                "camera.mount.right_m must be 0: the renderer mounts the camera on the centreline"
+                    .into(),
+            ));
+        }
+
+        // The lane centre of the right lane, as the drivers' polyline.
+        let scene_route = scene::Route::new(s.route.clone());
+        let lateral = 0.5 * s.route.lane_width_m;
+        let n = (scene_route.length_m() / ROUTE_SAMPLE_M).ceil() as usize;
+        let points: Vec<Vector> = (0..=n)
+            .map(|k| {
+                let [x, z] = scene_route.point(
+                    (k as f64 * ROUTE_SAMPLE_M).min(scene_route.length_m()),
+                    lateral,
+                );
+                Vector::new(x as f32, 0.0, z as f32)
+            })
+            .collect();
+        let route = Route::new(points).map_err(|e| setup(format!("route: {e}")))?;
+        let pose_at = |s_m: f64| {
+            let s = s_m as f32;
+            Pose::from_parts(
+                route.point_at(s),
+                Rotation::from_rotation_y(direction_heading(route.tangent_at(s))),
+            )
+        };
+        let chase_start_m = s.lead_start_m + f64::from(lead_params.rear_bumper_x_m())
+            - s.initial_gap_m
+            - f64::from(mount.forward_m);
+        if chase_start_m < 0.0 {
+            return Err(setup(format!(
+                "the chase vehicle would start {:.1} m before the route; raise lead.start_m to at least {:.1}",
+                -chase_start_m,
+                s.lead_start_m - chase_start_m
+            )));
+        }
+        let mut world = World::new(&s.world).map_err(|e| setup(format!("physics: {e}")))?;
+        let v0 = s.lead_initial_speed_mps as f32;
+        let lead_id = world
+            .add_vehicle(&lead_params, pose_at(s.lead_start_m), v0)
+            .map_err(|e| setup(format!("lead vehicle: {e}")))?;
+        let chase_id = world
+            .add_vehicle(&chase_params, pose_at(chase_start_m), v0)
+            .map_err(|e| setup(format!("chase vehicle: {e}")))?;
+        let chase = ChaseController::new(s.chase.clone(), &chase_params, v0)
+            .map_err(|e| setup(format!("chase controller: {e}")))?;
+        let lead = LeadDriver::new(
+            route.clone(),
+            s.lead_profile.clone(),
+            s.lead_driver.clone(),
+            &lead_params,
+        )
+        .map_err(|e| setup(format!("lead driver: {e}")))?;
+        let delay = DelayLine::new(&s.delay).map_err(|e| setup(format!("delay line: {e}")))?;
+
+        // The scene: its vehicle origins are the body centres; physics' are the rear axles.
+        let lead_body = LeadVehicle {
+            length_m: f64::from(lead_params.length_m),
+            width_m: f64::from(lead_params.width_m),
+            height_m: LEAD_BODY_HEIGHT_M,
+            board_centre_height_m: BOARD_CENTRE_HEIGHT_M,
+        };
+        let lead_from_scene = Isometry3::translation(
+            0.5 * f64::from(lead_params.length_m) - f64::from(lead_params.rear_overhang_m),
+            0.0,
+            0.0,
+        );
+        // The chase's scene origin is its rear axle, so the camera mount is the same number
+        // in both; the hood runs from the windscreen to the front bumper.
+        let front = f64::from(chase_params.front_bumper_x_m());
+        let hood = ChaseVehicle {
+            hood_front_m: front - 0.1,
+            hood_back_m: f64::from(mount.forward_m) - 0.2,
+            hood_height_m: 1.3,
+            hood_width_m: f64::from(chase_params.width_m) - 0.2,
+        };
+        let description = SceneDescription {
+            seed: s.seed,
+            route: s.route.clone(),
+            densities: s.densities.clone(),
+            placements: Vec::new(),
+            sun: s.sun.clone(),
+            sensor: s.sensor.clone(),
+            target: s.target.clone(),
+            lead: lead_body,
+            chase: hood,
+        };
+        let scene = Scene::build(description).map_err(|e| setup(format!("scene: {e}")))?;
+        let rig = CameraRig {
+            intrinsics: s.camera,
+            width: 256,
+            height: 242,
+            mount: scene::CameraMount {
+                height_m: f64::from(mount.height_m),
+                forward_offset_m: f64::from(mount.forward_m),
+                pitch_deg: f64::from(mount.pitch_down_deg),
+            },
+        };
+        let options = RenderOptions {
+            backend,
+            ..RenderOptions::default()
+        };
+        let mut renderer = Renderer::new(&scene, rig.clone(), &options)?;
+
+        // The teleoperator places the model on the first frame (2.2), with the scenario's
+        // placement error.
+        let world_from_chase = iso(&world.vehicle_state(chase_id).world_from_vehicle);
+        let world_from_lead =
+            iso(&world.vehicle_state(lead_id).world_from_vehicle) * lead_from_scene;
+        let first = renderer.render(&FrameInput {
+            frame_index: 0,
+            time_s: 0.0,
+            world_from_chase,
+            world_from_lead,
+        })?;
+        let t = first.truth;
+        if !t.in_view {
+            return Err(setup(
+                "the target is not in the camera's view at t = 0".into(),
+            ));
+        }
+        let [dx, dy, ds] = s.init_offset;
+        let init = Location::new(t.c_x + dx, t.c_y + dy, t.scale + ds);
+        let tracker = Tracker::new(s.target.clone(), s.camera, s.tracker.clone(), init)
+            .map_err(|e| setup(format!("tracker: {e}")))?;
+        let target_width_px = tracker.target_width_px();
+
+        // The lead's path so far: the lane behind its start, so the chase has a path from t = 0.
+        let lead_path: Vec<[f64; 2]> = (0..=((s.lead_start_m - chase_start_m + 10.0) as usize))
+            .map(|k| {
+                let st = (chase_start_m - 10.0 + k as f64).max(0.0);
+                scene_route.point(st, lateral)
+            })
+            .collect();
+        let last_chase_xz = xz(&world.vehicle_state(chase_id).world_from_vehicle);
+        Ok(ClosedLoop {
+            name: s.name.clone(),
+            frames: (s.duration_s * f64::from(vehicle::CAMERA_HZ)).round() as u64,
+            frame: 0,
+            world,
+            chase_id,
+            lead_id,
+            chase,
+            lead,
+            delay,
+            renderer,
+            rig,
+            tracker,
+            lead_from_scene,
+            target_width_px,
+            lead_path,
+            chase_distance_m: 0.0,
+            last_chase_xz,
+            diagnostics,
+        })
+    }
+
+    /// The scenario's name.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// How many frames the scenario lasts.
+    pub fn frames(&self) -> u64 {
+        self.frames
+    }
+
+    /// Frames run so far.
+    pub fn frame(&self) -> u64 {
+        self.frame
+    }
+
+    /// The chase controller (its events log says when and why it stopped).
+    pub fn chase(&self) -> &ChaseController {
+        &self.chase
+    }
+
+    /// The renderer's adapter, for reports.
+    pub fn adapter_name(&self) -> &str {
+        self.renderer.adapter_name()
+    }
+
+    /// Runs one camera frame and the physics up to the next one. `None` when the scenario's
+    /// duration is over.
+    pub fn step(&mut self) -> Result<Option<FrameOutput>, LoopError> {
+        if self.frame >= self.frames {
+            return Ok(None);
+        }
+        let now = self.world.now();
+        debug_assert!(now.is_frame_start());
+        let t_s = now.seconds();
+        let chase_state = self.world.vehicle_state(self.chase_id);
+        let lead_state = self.world.vehicle_state(self.lead_id);
+        let world_from_chase = iso(&chase_state.world_from_vehicle);
+        let world_from_lead = iso(&lead_state.world_from_vehicle) * self.lead_from_scene;
+
+        // 1. The camera.
+        let frame = self.renderer.render(&FrameInput {
+            frame_index: self.frame,
+            time_s: t_s,
+            world_from_chase,
+            world_from_lead,
+        })?;
+        // 2. The tracker: the image only.
+        let view = GrayView::new(
+            frame.image.width() as usize,
+            frame.image.height() as usize,
+            frame.image.as_raw(),
+        )
+        .expect("the renderer's frame matches its size");
+        let (track, edges) = if self.diagnostics {
+            self.tracker.step_with_diagnostics(view, t_s)
+        } else {
+            (self.tracker.step(view, t_s), Vec::new())
+        };
+        // 3. The delay line.
+        let [x, y, z] = track.position_3d;
+        let status = match track.status {
+            tracker::Status::Tracking => TrackStatus::Tracking,
+            tracker::Status::Coasting => TrackStatus::Coasting,
+            tracker::Status::Lost => TrackStatus::Lost,
+        };
+        self.delay.push(
+            now,
+            LeadEstimate {
+                capture_step: now,
+                target_in_camera_m: Vector::new(x as f32, y as f32, z as f32),
+                status,
+            },
+        );
+        // 4. The controllers and the physics, eight steps to the next frame.
+        let mut collision = false;
+        let mut controls = vehicle::Controls::default();
+        for _ in 0..STEPS_PER_FRAME {
+            let step_now: Step = self.world.now();
+            for estimate in self.delay.pop_due(step_now) {
+                self.chase.receive(estimate);
+            }
+            let chase = self.world.vehicle_state(self.chase_id);
+            let lead = self.world.vehicle_state(self.lead_id);
+            controls = self.chase.update(&Odometry {
+                step: step_now,
+                world_from_chase: chase.world_from_vehicle,
+                forward_speed_mps: chase.forward_speed_mps,
+            });
+            let lead_controls = self.lead.update(step_now, &lead);
+            self.world.set_controls(self.chase_id, controls);
+            self.world.set_controls(self.lead_id, lead_controls);
+            self.world.step();
+            collision |= self.world.vehicles_touch(self.chase_id, self.lead_id);
+        }
+
+        // The recorder: truth against estimate, at the frame's capture time.
+        let truth = frame.truth;
+        let est = track.estimate;
+        let width_px = truth.scale * self.target_width_px;
+        let lost_truth = !truth.in_view
+            || (est.c_x - truth.c_x).hypot(est.c_y - truth.c_y) > 0.25 * width_px
+            || (est.scale / truth.scale - 1.0).abs() > 0.25;
+        let world_from_camera = self.rig.world_from_camera(&world_from_chase);
+        let cam = world_from_camera.translation.vector;
+        let [tx, ty, tz] = truth.target_cam_m;
+        let target_world = world_from_camera * nalgebra::Point3::new(tx, ty, tz);
+        let gap_m = (target_world.x - cam.x).hypot(target_world.z - cam.z);
+        let chase_xz = xz(&chase_state.world_from_vehicle);
+        let lead_xz = xz(&lead_state.world_from_vehicle);
+        self.chase_distance_m +=
+            (chase_xz[0] - self.last_chase_xz[0]).hypot(chase_xz[1] - self.last_chase_xz[1]);
+        self.last_chase_xz = chase_xz;
+        self.lead_path.push(lead_xz);
+        let from = self.lead_path.len().saturating_sub(PATH_SEARCH_FRAMES);
+        let lateral_deviation_m = distance_to_path(&self.lead_path[from..], chase_xz);
+        let record = FrameRecord {
+            frame: self.frame,
+            t_s,
+            true_cx: truth.c_x,
+            true_cy: truth.c_y,
+            true_scale: truth.scale,
+            true_range_m: tz,
+            true_lateral_m: tx,
+            target_in_view: truth.in_view,
+            est_cx: est.c_x,
+            est_cy: est.c_y,
+            est_scale: est.scale,
+            est_range_m: z,
+            est_lateral_m: x,
+            confidence: track.measurement.map_or([0.0; 3], |m| m.confidence),
+            status: TrackerStatus::from(track.status),
+            lost_truth,
+            gap_m,
+            chase_speed_mps: f64::from(chase_state.forward_speed_mps),
+            lead_speed_mps: f64::from(lead_state.forward_speed_mps),
+            steering_rad: f64::from(controls.steer_rad),
+            throttle: f64::from(controls.throttle),
+            brake: f64::from(controls.brake),
+            lateral_deviation_m,
+            chase_distance_m: self.chase_distance_m,
+            chase_xz,
+            lead_xz,
+            collision,
+            chase_mode: format!("{:?}", self.chase.mode()).to_lowercase(),
+        };
+        self.frame += 1;
+        Ok(Some(FrameOutput {
+            record,
+            image: frame.image,
+            track,
+            edges,
+        }))
+    }
+}

@@ -1,0 +1,232 @@
+//! The scenario file as written: serde structs with `deny_unknown_fields`, every field
+//! optional where a default exists. [`super::Scenario::from_file`] validates it.
+
+use serde::{Deserialize, Serialize};
+use vehicle::{BumpsConfig, ChaseControllerConfig, LeadDriverConfig};
+
+use crate::record::Expect;
+
+/// The whole file.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ScenarioFile {
+    /// Short name: names the output folder.
+    pub name: String,
+    /// What the scenario is for.
+    #[serde(default)]
+    pub description: String,
+    /// Simulated time, seconds.
+    pub duration_s: f64,
+    /// The one seed; every random stream derives from it.
+    #[serde(default)]
+    pub seed: u64,
+    /// The road.
+    pub route: RouteFile,
+    /// The lead vehicle.
+    pub lead: LeadFile,
+    /// The chase vehicle.
+    #[serde(default)]
+    pub chase: ChaseFile,
+    /// The camera.
+    #[serde(default)]
+    pub camera: CameraFile,
+    /// The tracker.
+    pub tracker: TrackerFile,
+    /// The loop's timing.
+    #[serde(default, rename = "loop")]
+    pub loop_: LoopFile,
+    /// Light, clutter and sensor.
+    #[serde(default)]
+    pub environment: EnvironmentFile,
+    /// Pass/fail criteria.
+    #[serde(default)]
+    pub expect: Expect,
+}
+
+/// `[route]`.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RouteFile {
+    /// Width of one lane, metres (default 3.5).
+    #[serde(default = "default_lane_width")]
+    pub lane_width_m: f64,
+    /// Stations (metres along the centreline) where a road crosses.
+    #[serde(default)]
+    pub intersections_m: Vec<f64>,
+    /// The centreline, in driving order.
+    pub segments: Vec<SegmentFile>,
+}
+
+fn default_lane_width() -> f64 {
+    3.5
+}
+
+/// One piece of the route: `{ straight_m = L }` or `{ arc_radius_m = R, arc_angle_deg = A }`
+/// (A positive turns left).
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct SegmentFile {
+    /// Length of a straight, metres.
+    pub straight_m: Option<f64>,
+    /// Radius of an arc, metres.
+    pub arc_radius_m: Option<f64>,
+    /// Turn of an arc, degrees (positive left).
+    pub arc_angle_deg: Option<f64>,
+}
+
+/// `[lead]`.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct LeadFile {
+    /// Where the lead's rear axle starts, metres along the route (default 30).
+    #[serde(default = "default_lead_start")]
+    pub start_m: f64,
+    /// Speed at t = 0, m/s (default: the profile's first speed).
+    pub initial_speed_mps: Option<f64>,
+    /// What the profile's keys are: `"time"` (seconds) or `"distance"` (metres).
+    #[serde(default = "default_basis")]
+    pub speed_basis: String,
+    /// `[[key, speed_mps], ...]`, keys increasing; linear between, held beyond.
+    pub speed_profile: Vec<[f64; 2]>,
+    /// The driver's tuning (weaving, lateral acceleration in turns, ...).
+    #[serde(default)]
+    pub driver: LeadDriverConfig,
+}
+
+fn default_lead_start() -> f64 {
+    30.0
+}
+fn default_basis() -> String {
+    "time".into()
+}
+
+/// `[chase]`.
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ChaseFile {
+    /// Camera-to-target distance at t = 0, metres (default 10).
+    pub initial_gap_m: Option<f64>,
+    /// The controller (gap keeper or manual speed, look-ahead, loss handling). Its camera
+    /// mount comes from `[camera.mount]`.
+    #[serde(default)]
+    pub controller: ChaseControllerConfig,
+}
+
+/// `[camera]`.
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct CameraFile {
+    /// Focal length, millimetres (default 8).
+    pub focal_length_mm: Option<f64>,
+    /// Pixel size, millimetres `[w, h]` (default 0.025 × 0.025).
+    pub pixel_size_mm: Option<[f64; 2]>,
+    /// Principal point, pixels (default the frame's centre).
+    pub image_center_px: Option<[f64; 2]>,
+    /// Where the camera sits on the chase vehicle.
+    #[serde(default)]
+    pub mount: vehicle::CameraMount,
+}
+
+/// `[tracker]`.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct TrackerFile {
+    /// Target model file, relative to the scenario file.
+    pub target: String,
+    /// λ of eq. 18.
+    pub lambda: Option<f64>,
+    /// δ of eq. 7, degrees.
+    pub delta_deg: Option<f64>,
+    /// ζ of 2.4, pixels.
+    pub zeta_px: Option<f64>,
+    /// Edge threshold, grey levels.
+    pub edge_threshold: Option<f64>,
+    /// Coasting time before `lost`, seconds.
+    pub lost_after_s: Option<f64>,
+    /// Sub-pixel edges (an improvement over the paper).
+    pub subpixel_edges: Option<bool>,
+    /// The teleoperator's placement error at start: `[dx_px, dy_px, dscale]` added to the
+    /// true location (default none).
+    pub init_offset: Option<[f64; 3]>,
+}
+
+/// `[loop]`.
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct LoopFile {
+    /// Camera and tracker rate, Hz: 15, the paper's (the physics clock is built on it).
+    pub rate_hz: Option<f64>,
+    /// Tracker-to-controller latency, ms (default 128).
+    pub latency_ms: Option<f64>,
+    /// Latency jitter, ± ms (default 0).
+    pub jitter_ms: Option<f64>,
+    /// Probability that an estimate is dropped (default 0).
+    pub drop_probability: Option<f64>,
+}
+
+/// `[environment]`.
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct EnvironmentFile {
+    /// The sun.
+    #[serde(default)]
+    pub sun: SunFile,
+    /// Clutter along the route, per km.
+    #[serde(default)]
+    pub clutter: ClutterFile,
+    /// The camera's sensor.
+    #[serde(default)]
+    pub sensor: SensorFile,
+    /// Gentle bumps under the road, so the chassis pitches and rolls.
+    pub bumps: Option<BumpsConfig>,
+}
+
+/// `[environment.sun]`.
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct SunFile {
+    /// Compass direction the sunlight comes from, degrees.
+    pub azimuth_deg: Option<f64>,
+    /// Height above the horizon, degrees.
+    pub elevation_deg: Option<f64>,
+    /// Direct light, 0–1.
+    pub strength: Option<f64>,
+    /// Ambient light, 0–1.
+    pub ambient: Option<f64>,
+}
+
+/// `[environment.clutter]`.
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ClutterFile {
+    /// Trees per km.
+    pub trees_per_km: Option<f64>,
+    /// Telephone poles per km.
+    pub poles_per_km: Option<f64>,
+    /// Houses per km.
+    pub houses_per_km: Option<f64>,
+    /// Buildings per km.
+    pub buildings_per_km: Option<f64>,
+    /// Parked vehicles per km.
+    pub parked_vehicles_per_km: Option<f64>,
+    /// Oncoming vehicles per km.
+    pub oncoming_vehicles_per_km: Option<f64>,
+    /// Cracks per km.
+    pub cracks_per_km: Option<f64>,
+    /// Patches per km.
+    pub patches_per_km: Option<f64>,
+    /// Pot holes per km.
+    pub potholes_per_km: Option<f64>,
+}
+
+/// `[environment.sensor]`.
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct SensorFile {
+    /// Gain.
+    pub gain: Option<f64>,
+    /// Gaussian noise, grey levels.
+    pub noise_sigma_grey: Option<f64>,
+    /// Optional blur, pixels.
+    pub blur_sigma_px: Option<f64>,
+}

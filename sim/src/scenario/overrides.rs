@@ -1,0 +1,55 @@
+//! `--set key.path=value`: change any field of a scenario from the command line.
+
+use super::ScenarioError;
+
+/// Applies one `dotted.path=value` to a parsed scenario table. The value is read as TOML
+/// (`0.7`, `true`, `"text"`, `[5, 15]`); a bare word that is not TOML is taken as a string.
+/// Tables on the path are created as needed; the field's validity is checked later, when
+/// the scenario is validated.
+pub fn apply_override(root: &mut toml::Table, assignment: &str) -> Result<(), ScenarioError> {
+    let err = |message: String| ScenarioError::Override {
+        assignment: assignment.to_string(),
+        message,
+    };
+    let (path, value_text) = assignment
+        .split_once('=')
+        .ok_or_else(|| err("expected KEY.PATH=VALUE".into()))?;
+    let path = path.trim();
+    let keys: Vec<&str> = path.split('.').collect();
+    if keys
+        .iter()
+        .any(|k| k.is_empty() || !k.chars().all(|c| c.is_ascii_alphanumeric() || c == '_'))
+    {
+        return Err(err(format!(
+            "`{path}` is not a dotted field path like tracker.lambda"
+        )));
+    }
+    let value = parse_value(value_text.trim());
+    let (last, parents) = keys.split_last().expect("split gives at least one key");
+    let mut table = root;
+    for (depth, key) in parents.iter().enumerate() {
+        let entry = table
+            .entry(key.to_string())
+            .or_insert_with(|| toml::Value::Table(toml::Table::new()));
+        table = match entry {
+            toml::Value::Table(t) => t,
+            _ => {
+                return Err(err(format!(
+                    "`{}` is a value, not a table, so it has no field `{}`",
+                    keys[..=depth].join("."),
+                    keys[depth + 1]
+                )))
+            }
+        };
+    }
+    table.insert(last.to_string(), value);
+    Ok(())
+}
+
+fn parse_value(text: &str) -> toml::Value {
+    let wrapped = format!("v = {text}");
+    match toml::from_str::<toml::Table>(&wrapped) {
+        Ok(mut t) => t.remove("v").expect("key v"),
+        Err(_) => toml::Value::String(text.to_string()),
+    }
+}
