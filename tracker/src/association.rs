@@ -34,6 +34,20 @@ pub fn associate(
     out.clear();
     let zeta = zeta_px as f32;
     for class in [Orientation::Horizontal, Orientation::Vertical] {
+        // This class's features, with their numbers in the points' precision.
+        let features: Vec<(usize, f32, f32, f32)> = predicted
+            .iter()
+            .enumerate()
+            .filter(|(_, f)| f.orientation == class)
+            .map(|(j, f)| {
+                (
+                    j,
+                    f.extent[0] as f32,
+                    f.extent[1] as f32,
+                    f.intercept as f32,
+                )
+            })
+            .collect();
         for p in edges.of(class) {
             // (along, across) the line: a horizontal line y = b_y spans x (eq. 8, 9).
             let (along, across) = match class {
@@ -41,15 +55,11 @@ pub fn associate(
                 Orientation::Vertical => (p.y, p.x),
             };
             let mut best: Option<(usize, f32)> = None;
-            for (j, f) in predicted.iter().enumerate() {
-                if f.orientation != class {
-                    continue;
-                }
-                let (lo, hi) = (f.extent[0] as f32, f.extent[1] as f32);
+            for &(j, lo, hi, intercept) in &features {
                 if !(lo < along && along < hi) {
                     continue;
                 }
-                let d = (f.intercept as f32 - across).abs();
+                let d = (intercept - across).abs();
                 if best.is_none_or(|(_, bd)| d < bd) {
                     best = Some((j, d));
                 }

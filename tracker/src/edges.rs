@@ -100,6 +100,10 @@ pub struct EdgeExtractor {
     gx: Vec<i16>,
     gy: Vec<i16>,
     mag2: Vec<i32>,
+    /// One row of the vertical [1 2 1] smoothing (separable Sobel).
+    smooth: Vec<i16>,
+    /// One row of the vertical [−1 0 1] difference.
+    diff: Vec<i16>,
 }
 
 /// tan(22.5°): the border between the axis and diagonal bins of non-maximum suppression.
@@ -138,6 +142,17 @@ impl EdgeExtractor {
         // Squared magnitudes are whole numbers, so m² ≥ thr² exactly when m² ≥ ⌈thr²⌉.
         let thr2 = (thr * thr).ceil() as i32;
         let tan_delta = (config.delta_deg.to_radians() as f32).tan();
+        if diagnostics.is_none() && tan_delta <= TAN_22_5 {
+            self.extract_axis_aligned(
+                window,
+                (ex0, ey0, rw, rh),
+                thr2,
+                tan_delta,
+                config.subpixel_edges,
+                out,
+            );
+            return;
+        }
         let mag = |i: isize| -> f32 {
             // Outside the computed region counts as no gradient.
             if i < 0 || i as usize >= self.mag2.len() {
@@ -240,34 +255,119 @@ impl EdgeExtractor {
         }
     }
 
+    /// The hot path of [`EdgeExtractor::extract`], without diagnostics and for δ ≤ 22.5°:
+    /// then every classified point's gradient falls in an axis bin of the suppression, so a
+    /// horizontal edge compares with the pixels above and below, a vertical one with those
+    /// left and right. Gives exactly the points of the general path (a test checks).
+    fn extract_axis_aligned(
+        &self,
+        window: Window,
+        (ex0, ey0, rw, rh): (usize, usize, usize, usize),
+        thr2: i32,
+        tan_delta: f32,
+        subpixel: bool,
+        out: &mut Edges,
+    ) {
+        // A zero magnitude is never an edge point, whatever the threshold.
+        let thr2 = thr2.max(1);
+        let mag2 = &self.mag2[..rw * rh];
+        let (rx0, rx1) = (window.x0 - ex0, window.x1 - ex0);
+        for ry in window.y0 - ey0..window.y1 - ey0 {
+            let row = ry * rw;
+            let mut start = rx0;
+            while start < rx1 {
+                // Most of a window is below the threshold: skip a chunk of pixels when none
+                // of them passes (the maximum over a chunk vectorises).
+                let end = (start + 16).min(rx1);
+                let chunk = &mag2[row + start..row + end];
+                if chunk.iter().fold(0, |a, &m| a.max(m)) < thr2 {
+                    start = end;
+                    continue;
+                }
+                for rx in start..end {
+                    let i = row + rx;
+                    let m2 = mag2[i];
+                    if m2 < thr2 {
+                        continue;
+                    }
+                    let ax = f32::from(self.gx[i]).abs();
+                    let ay = f32::from(self.gy[i]).abs();
+                    let (class, before, after) = if ax < tan_delta * ay {
+                        let up = if ry > 0 { mag2[i - rw] } else { 0 };
+                        let down = if ry + 1 < rh { mag2[i + rw] } else { 0 };
+                        (Orientation::Horizontal, up, down)
+                    } else if ay < tan_delta * ax {
+                        let left = if rx > 0 { mag2[i - 1] } else { 0 };
+                        let right = if rx + 1 < rw { mag2[i + 1] } else { 0 };
+                        (Orientation::Vertical, left, right)
+                    } else {
+                        continue;
+                    };
+                    if !(m2 > before && m2 >= after) {
+                        continue;
+                    }
+                    let mut p = EdgePoint {
+                        x: (rx + ex0) as f32,
+                        y: (ry + ey0) as f32,
+                    };
+                    if subpixel {
+                        let side = |s: isize| if s < 0 { before as f32 } else { after as f32 };
+                        refine(&mut p, class, side, m2 as f32);
+                    }
+                    match class {
+                        Orientation::Horizontal => out.horizontal.push(p),
+                        Orientation::Vertical => out.vertical.push(p),
+                    }
+                }
+                start = end;
+            }
+        }
+    }
+
     /// The 3×3 Sobel gradient (eq. 3–4's ∇f) over `rw × rh` pixels from (x0, y0); every
     /// pixel there has all eight neighbours in the image.
+    ///
+    /// The operator is separable: per row, a vertical [1 2 1] smoothing and a vertical
+    /// [−1 0 1] difference over the columns x0 − 1 ..= x0 + rw, then the horizontal
+    /// difference of the first and the horizontal smoothing of the second. Each pass is a
+    /// plain loop over contiguous slices, which the compiler vectorises.
     fn sobel(&mut self, image: GrayView<'_>, x0: usize, y0: usize, rw: usize, rh: usize) {
         let n = rw * rh;
         self.gx.resize(n, 0);
         self.gy.resize(n, 0);
         self.mag2.resize(n, 0);
+        self.smooth.resize(rw + 2, 0);
+        self.diff.resize(rw + 2, 0);
         let w = image.width();
         let px = image.pixels();
         for ry in 0..rh {
             let y = y0 + ry;
-            // The three rows, cut to the columns x0 − 1 ..= x0 + rw, so each 3-wide window
-            // below is one output pixel's neighbourhood.
             let cut = |row: usize| &px[row * w + x0 - 1..row * w + x0 + rw + 1];
             let (up, mid, down) = (cut(y - 1), cut(y), cut(y + 1));
+            for (((s, d), (&u, &m)), &dn) in self
+                .smooth
+                .iter_mut()
+                .zip(self.diff.iter_mut())
+                .zip(up.iter().zip(mid))
+                .zip(down)
+            {
+                let (u, m, dn) = (i16::from(u), i16::from(m), i16::from(dn));
+                *s = u + 2 * m + dn;
+                *d = dn - u;
+            }
             let out = ry * rw..(ry + 1) * rw;
-            let rows = up.windows(3).zip(mid.windows(3)).zip(down.windows(3));
-            let outs = self.gx[out.clone()]
+            let (s, d) = (&self.smooth[..rw + 2], &self.diff[..rw + 2]);
+            for (k, ((gx, gy), m2)) in self.gx[out.clone()]
                 .iter_mut()
                 .zip(&mut self.gy[out.clone()])
-                .zip(&mut self.mag2[out]);
-            for (((u, m), d), ((gx_out, gy_out), m2_out)) in rows.zip(outs) {
-                let p = |v: u8| i32::from(v);
-                let gx = (p(u[2]) + 2 * p(m[2]) + p(d[2])) - (p(u[0]) + 2 * p(m[0]) + p(d[0]));
-                let gy = (p(d[0]) + 2 * p(d[1]) + p(d[2])) - (p(u[0]) + 2 * p(u[1]) + p(u[2]));
-                *gx_out = gx as i16;
-                *gy_out = gy as i16;
-                *m2_out = gx * gx + gy * gy;
+                .zip(&mut self.mag2[out])
+                .enumerate()
+            {
+                let x = s[k + 2] - s[k];
+                let yv = d[k] + 2 * d[k + 1] + d[k + 2];
+                *gx = x;
+                *gy = yv;
+                *m2 = i32::from(x) * i32::from(x) + i32::from(yv) * i32::from(yv);
             }
         }
     }

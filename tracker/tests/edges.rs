@@ -174,3 +174,76 @@ fn fast_classes_agree_with_eq3_and_eq7() {
     }
     assert!(checked > 600);
 }
+
+#[test]
+fn the_fast_path_gives_exactly_the_points_of_the_general_path() {
+    // A noisy cluttered frame of the target: stage 1 with and without diagnostics (the
+    // latter takes the axis-aligned fast path) must give identical point lists.
+    use tracker::synth::{draw, Rect, SynthScene};
+    use tracker::{Camera, Location, TargetModel};
+    let model = TargetModel::new(
+        "t",
+        10.0,
+        vec![
+            [-0.8, 0.5],
+            [0.8, 0.5],
+            [0.8, -0.5],
+            [-0.8, -0.5],
+            [-0.4, 0.25],
+            [0.4, 0.25],
+            [0.4, -0.25],
+            [-0.4, -0.25],
+        ],
+        vec![
+            [0, 1],
+            [1, 2],
+            [2, 3],
+            [3, 0],
+            [4, 5],
+            [5, 6],
+            [6, 7],
+            [7, 4],
+        ],
+    )
+    .unwrap();
+    let scene = SynthScene {
+        noise_sigma: 6.0,
+        distractors: vec![Rect {
+            bounds: [60.0, 0.0, 63.0, 242.0],
+            value: 50.0,
+        }],
+        shadows: vec![Rect {
+            bounds: [100.0, 30.0, 140.0, 200.0],
+            value: 0.5,
+        }],
+        ..SynthScene::default()
+    };
+    let px = draw(
+        &model,
+        &Camera::default(),
+        Location::new(120.0, 110.0, 1.3),
+        &scene,
+        9,
+    );
+    let image = GrayView::new(256, 242, &px).unwrap();
+    for subpixel_edges in [false, true] {
+        let config = TrackerConfig {
+            subpixel_edges,
+            ..TrackerConfig::default()
+        };
+        // The whole frame, including its border rows and columns.
+        let window = Window {
+            x0: 1,
+            y0: 1,
+            x1: 255,
+            y1: 241,
+            size_index: 6,
+        };
+        let (mut fast, mut general) = (Edges::default(), Edges::default());
+        let mut diag = Vec::new();
+        EdgeExtractor::default().extract(image, window, &config, &mut fast, None);
+        EdgeExtractor::default().extract(image, window, &config, &mut general, Some(&mut diag));
+        assert!(fast.horizontal.len() > 100 && fast.vertical.len() > 100);
+        assert_eq!(fast, general, "subpixel_edges = {subpixel_edges}");
+    }
+}

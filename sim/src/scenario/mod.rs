@@ -210,17 +210,29 @@ impl Scenario {
         let mut raw: ScenarioFile = toml::from_str(text).map_err(parse_err)?;
         if !overrides.is_empty() {
             let mut value: toml::Table = toml::from_str(text).map_err(parse_err)?;
+            // One at a time, so an error names the override that caused it.
             for assignment in overrides {
                 apply_override(&mut value, assignment)?;
+                raw = toml::Value::Table(value.clone()).try_into().map_err(
+                    |e: toml::de::Error| ScenarioError::Override {
+                        assignment: assignment.clone(),
+                        message: e.message().trim().to_string(),
+                    },
+                )?;
             }
-            raw = toml::Value::Table(value)
-                .try_into()
-                .map_err(|e: toml::de::Error| ScenarioError::Override {
-                    assignment: overrides.join(" "),
-                    message: e.message().trim().to_string(),
-                })?;
         }
         let invalid = |field: &str, message: String| {
+            // A value that came from `--set` is reported as such, not at the file's line.
+            if let Some(assignment) = overrides
+                .iter()
+                .rev()
+                .find(|a| a.split_once('=').is_some_and(|(k, _)| k.trim() == field))
+            {
+                return ScenarioError::Override {
+                    assignment: assignment.clone(),
+                    message: format!("`{field}` {message}"),
+                };
+            }
             let (line, column) = line_column(text, locate(text, field));
             ScenarioError::Invalid {
                 path: path.to_owned(),

@@ -1,0 +1,69 @@
+//! Runs the tracker on one synthetic frame many times, for profilers (callgrind, perf):
+//! `cargo build --release -p tracker --example profile_step`, then
+//! `valgrind --tool=callgrind target/release/examples/profile_step`.
+
+use tracker::synth::{draw, Rect, SynthScene};
+use tracker::{Camera, GrayView, Location, TargetModel, Tracker, TrackerConfig};
+
+fn main() {
+    let model = TargetModel::new(
+        "nist-ten-segment",
+        10.0,
+        vec![
+            [-0.8, 0.5],
+            [0.8, 0.5],
+            [0.8, -0.5],
+            [-0.8, -0.5],
+            [-0.4, 0.25],
+            [0.4, 0.25],
+            [0.4, -0.25],
+            [-0.4, -0.25],
+            [0.0, 0.5],
+            [0.0, 0.25],
+            [0.0, -0.25],
+            [0.0, -0.5],
+        ],
+        vec![
+            [0, 1],
+            [1, 2],
+            [2, 3],
+            [3, 0],
+            [4, 5],
+            [5, 6],
+            [6, 7],
+            [7, 4],
+            [8, 9],
+            [10, 11],
+        ],
+    )
+    .expect("valid model");
+    let camera = Camera::default();
+    let at = Location::new(128.0, 112.0, 1.0);
+    let scene = SynthScene {
+        noise_sigma: 3.0,
+        distractors: vec![Rect {
+            bounds: [90.0, 0.0, 93.0, 242.0],
+            value: 60.0,
+        }],
+        shadows: vec![Rect {
+            bounds: [120.0, 0.0, 135.0, 242.0],
+            value: 0.6,
+        }],
+        ..SynthScene::default()
+    };
+    let px = draw(&model, &camera, at, &scene, 1);
+    let image = GrayView::new(256, 242, &px).expect("frame");
+    let mut tracker = Tracker::new(model, camera, TrackerConfig::default(), at).expect("tracker");
+    let mut points = 0;
+    let started = std::time::Instant::now();
+    let n = 2000;
+    for k in 0..n {
+        let out = tracker.step(image, f64::from(k) / 15.0);
+        points += out.features.iter().map(|f| f.points).sum::<usize>();
+    }
+    let per = started.elapsed().as_secs_f64() / f64::from(n) * 1e6;
+    println!(
+        "{per:.1} µs per step; {} associated points per frame",
+        points / n as usize
+    );
+}
