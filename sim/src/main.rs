@@ -3,7 +3,9 @@ use clap::{Parser, Subcommand};
 use std::process::ExitCode;
 
 mod cli {
+    pub mod check;
     pub mod render;
+    pub mod run;
     pub mod synth;
     pub mod target;
     pub mod track;
@@ -22,6 +24,10 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Commands {
+    /// Run scenarios through the closed loop (default: the built-in nist-grounds).
+    Run(cli::run::RunArgs),
+    /// Validate scenario files without running them.
+    Check(cli::check::CheckArgs),
     /// Render one camera frame at time T (built-in scene until scenario files exist).
     Render(cli::render::RenderArgs),
     /// Run the tracker on a folder of recorded frames.
@@ -35,13 +41,15 @@ enum Commands {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Commands::Render(args) => cli::render::run(args),
-        Commands::Track(args) => cli::track::run_track(args),
-        Commands::Target(args) => cli::target::run_target(args),
-        Commands::Synth(args) => cli::synth::run_synth(args),
+        Commands::Run(args) => cli::run::run_run(args),
+        Commands::Check(args) => cli::check::run_check(args).map(|()| ExitCode::SUCCESS),
+        Commands::Render(args) => cli::render::run(args).map(|()| ExitCode::SUCCESS),
+        Commands::Track(args) => cli::track::run_track(args).map(|()| ExitCode::SUCCESS),
+        Commands::Target(args) => cli::target::run_target(args).map(|()| ExitCode::SUCCESS),
+        Commands::Synth(args) => cli::synth::run_synth(args).map(|()| ExitCode::SUCCESS),
     };
     match result {
-        Ok(()) => ExitCode::SUCCESS,
+        Ok(code) => code,
         Err(error) => {
             eprintln!("error: {error:#}");
             ExitCode::from(2)

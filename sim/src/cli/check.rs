@@ -36,7 +36,10 @@ pub fn run_check(args: CheckArgs) -> anyhow::Result<()> {
         }
     }
     if bad > 0 {
-        anyhow::bail!("{bad} of {} scenario files are invalid", args.scenarios.len());
+        anyhow::bail!(
+            "{bad} of {} scenario files are invalid",
+            args.scenarios.len()
+        );
     }
     Ok(())
 }
