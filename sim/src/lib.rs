@@ -7,3 +7,4 @@ pub mod scene;
 pub mod target;
 pub mod track;
 pub mod record;
+pub mod report;
