@@ -33,11 +33,7 @@ pub fn junit_xml(summaries: &[Summary]) -> String {
             s.wall_s.max(0.0)
         );
         x.push_str("      <properties>\n");
-        let _ = writeln!(
-            x,
-            "        <property name=\"seed\" value=\"{}\"/>",
-            s.seed
-        );
+        let _ = writeln!(x, "        <property name=\"seed\" value=\"{}\"/>", s.seed);
         for c in &s.criteria {
             let _ = writeln!(
                 x,
@@ -223,7 +219,9 @@ mod tests {
         assert_eq!(depth, 0);
         assert_eq!(testcases, ["nist-grounds", "a <b> & \"c\" 'd'\u{FFFD}"]);
         assert!(failure_text.starts_with("gap left the band [11, 15] m for 2.00 s"));
-        assert!(failure_text.contains("\nthe chase vehicle drove 9.7 m (required at least 1000.0 m)"));
+        assert!(
+            failure_text.contains("\nthe chase vehicle drove 9.7 m (required at least 1000.0 m)")
+        );
     }
 
     #[test]

@@ -71,7 +71,10 @@ struct Stills {
 
 impl RunOutputs {
     /// Creates `dir` (and its parents) and starts `frames.csv` in it.
-    pub fn create(dir: impl AsRef<Path>, options: OutputOptions) -> Result<RunOutputs, ReportError> {
+    pub fn create(
+        dir: impl AsRef<Path>,
+        options: OutputOptions,
+    ) -> Result<RunOutputs, ReportError> {
         let dir = dir.as_ref().to_path_buf();
         std::fs::create_dir_all(&dir).map_err(ReportError::io(&dir))?;
         let csv = FramesCsv::create(dir.join("frames.csv"))?;

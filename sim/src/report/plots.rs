@@ -39,8 +39,14 @@ const FONT_FAMILY: &str = "sans-serif";
 
 /// Size of the time-series plots, pixels.
 const WIDE: (u32, u32) = (1100, 500);
-/// Size of the trajectory plot, pixels.
-const SQUARE: (u32, u32) = (900, 900);
+/// Width of the trajectory plot, and the range of its height, pixels.
+const TOP_VIEW_WIDTH: u32 = 1100;
+const TOP_VIEW_HEIGHT: [u32; 2] = [450, 1100];
+/// Space around the trajectory plot's plotting area, pixels.
+const TOP_VIEW_MARGIN: u32 = 15;
+const TOP_VIEW_X_LABELS: u32 = 50;
+const TOP_VIEW_Y_LABELS: u32 = 70;
+const TOP_VIEW_TITLE: u32 = 50;
 /// Title and label sizes, pixels.
 const TITLE_PX: u32 = 24;
 const LABEL_PX: u32 = 16;
@@ -79,9 +85,15 @@ pub fn write_plots(
     };
     plot(PLOT_FILES[0], WIDE, &|a| gap(a, scenario, &series, expect))?;
     plot(PLOT_FILES[1], WIDE, &|a| range(a, scenario, &series))?;
-    plot(PLOT_FILES[2], (WIDE.0, 300), &|a| status(a, scenario, &series))?;
-    plot(PLOT_FILES[3], SQUARE, &|a| trajectories(a, scenario, records))?;
-    plot(PLOT_FILES[4], WIDE, &|a| lateral(a, scenario, &series, expect))?;
+    plot(PLOT_FILES[2], (WIDE.0, 300), &|a| {
+        status(a, scenario, &series)
+    })?;
+    plot(PLOT_FILES[3], trajectory_size(records), &|a| {
+        trajectories(a, scenario, records)
+    })?;
+    plot(PLOT_FILES[4], WIDE, &|a| {
+        lateral(a, scenario, &series, expect)
+    })?;
     Ok(written)
 }
 
@@ -101,7 +113,11 @@ fn register_font(dir: &Path) -> Result<(), ReportError> {
 }
 
 /// Draws on a white bitmap of `size` and saves it as PNG at `path`.
-fn render(path: &Path, size: (u32, u32), draw: &dyn Fn(&Area) -> DrawResult) -> Result<(), ReportError> {
+fn render(
+    path: &Path,
+    size: (u32, u32),
+    draw: &dyn Fn(&Area) -> DrawResult,
+) -> Result<(), ReportError> {
     let mut buf = vec![0u8; size.0 as usize * size.1 as usize * 3];
     {
         let area = BitMapBackend::with_buffer(&mut buf, size).into_drawing_area();
@@ -215,8 +231,25 @@ fn padded_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
     if !lo.is_finite() {
         return (0.0, 1.0);
     }
-    let pad = ((hi - lo) * 0.05).max(0.5);
-    (lo - pad, hi + pad)
+    let pad = if hi - lo > 1e-9 {
+        (hi - lo) * 0.05
+    } else {
+        0.5
+    };
+    // Quantities that never go negative (distances) keep zero as their floor.
+    let floor = if lo >= 0.0 { 0.0 } else { f64::NEG_INFINITY };
+    ((lo - pad).max(floor), hi + pad)
+}
+
+/// A tick label: at most three decimals, no trailing zeros, no "-0".
+fn tick(v: &f64) -> String {
+    let t = format!("{v:.3}");
+    let t = t.trim_end_matches('0').trim_end_matches('.');
+    if t == "-0" {
+        "0".into()
+    } else {
+        t.into()
+    }
 }
 
 fn font(px: u32) -> TextStyle<'static> {
@@ -234,8 +267,10 @@ fn time_chart<'a, 'b>(
     s: &Series,
     (y0, y1): (f64, f64),
     y_desc: &str,
-) -> Result<ChartContext<'a, BitMapBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>, Box<dyn Error>>
-{
+) -> Result<
+    ChartContext<'a, BitMapBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+    Box<dyn Error>,
+> {
     let mut chart = ChartBuilder::on(area)
         .caption(caption, font(TITLE_PX))
         .margin(15)
@@ -250,6 +285,8 @@ fn time_chart<'a, 'b>(
         .label_style(font(TICK_PX))
         .light_line_style(RGBColor(235, 235, 235))
         .bold_line_style(RGBColor(205, 205, 205))
+        .x_label_formatter(&tick)
+        .y_label_formatter(&tick)
         .draw()?;
     Ok(chart)
 }
@@ -266,7 +303,13 @@ fn gap(area: &Area, scenario: &str, s: &Series, expect: &Expect) -> DrawResult {
     let band = expect.gap_band_m;
     let extra: Vec<f64> = band.map(|b| b.to_vec()).unwrap_or_default();
     let yr = s.value_range(|r| r.gap_m, &extra);
-    let mut chart = time_chart(area, title(scenario, "following distance"), s, yr, "gap (m)")?;
+    let mut chart = time_chart(
+        area,
+        title(scenario, "following distance"),
+        s,
+        yr,
+        "gap (m)",
+    )?;
     if let Some([lo, hi]) = band {
         chart
             .draw_series(std::iter::once(Rectangle::new(
@@ -293,8 +336,18 @@ fn range(area: &Area, scenario: &str, s: &Series) -> DrawResult {
             .iter()
             .flat_map(|r| [r.true_range_m, r.est_range_m]),
     );
-    let mut chart = time_chart(area, title(scenario, "range, estimate against truth"), s, yr, "range (m)")?;
-    let lost: Vec<_> = s.runs(|r| r.lost_truth).into_iter().filter(|r| r.2).collect();
+    let mut chart = time_chart(
+        area,
+        title(scenario, "range, estimate against truth"),
+        s,
+        yr,
+        "range (m)",
+    )?;
+    let lost: Vec<_> = s
+        .runs(|r| r.lost_truth)
+        .into_iter()
+        .filter(|r| r.2)
+        .collect();
     if !lost.is_empty() {
         chart
             .draw_series(
@@ -325,12 +378,17 @@ fn range(area: &Area, scenario: &str, s: &Series) -> DrawResult {
 
 /// Lane 1 (top): the tracker's own status; lane 0 (bottom): the ground-truth judgement.
 fn status(area: &Area, scenario: &str, s: &Series) -> DrawResult {
-    let mut chart = ChartBuilder::on(area)
-        .caption(title(scenario, "tracker status and ground truth"), font(TITLE_PX))
+    let (area, legend) = area.split_vertically(area.dim_in_pixel().1 - 30);
+    status_legend(&legend)?;
+    let mut chart = ChartBuilder::on(&area)
+        .caption(
+            title(scenario, "tracker status and ground truth"),
+            font(TITLE_PX),
+        )
         .margin(15)
         .x_label_area_size(50)
         .y_label_area_size(120)
-        .build_cartesian_2d(s.t0..s.t1, (0u32..2u32).into_segmented())?;
+        .build_cartesian_2d(s.t0..s.t1, (0u32..1u32).into_segmented())?;
     chart
         .configure_mesh()
         .disable_y_mesh()
@@ -339,6 +397,7 @@ fn status(area: &Area, scenario: &str, s: &Series) -> DrawResult {
         .label_style(font(TICK_PX))
         .light_line_style(RGBColor(235, 235, 235))
         .bold_line_style(RGBColor(205, 205, 205))
+        .x_label_formatter(&tick)
         .y_label_formatter(&|v| match v {
             SegmentValue::CenterOf(0) => "ground truth".into(),
             SegmentValue::CenterOf(1) => "tracker".into(),
@@ -347,7 +406,10 @@ fn status(area: &Area, scenario: &str, s: &Series) -> DrawResult {
         .draw()?;
     let lane = |lane: u32, a: f64, b: f64, c: RGBColor| {
         Rectangle::new(
-            [(a, SegmentValue::Exact(lane)), (b, SegmentValue::Exact(lane + 1))],
+            [
+                (a, SegmentValue::Exact(lane)),
+                (b, SegmentValue::Exact(lane + 1)),
+            ],
             c.filled(),
         )
     };
@@ -381,44 +443,47 @@ fn status(area: &Area, scenario: &str, s: &Series) -> DrawResult {
     }))?;
     // A white rule between the lanes.
     chart.draw_series(std::iter::once(PathElement::new(
-        vec![(s.t0, SegmentValue::Exact(1)), (s.t1, SegmentValue::Exact(1))],
+        vec![
+            (s.t0, SegmentValue::Exact(1)),
+            (s.t1, SegmentValue::Exact(1)),
+        ],
         WHITE.stroke_width(3),
     )))?;
+    Ok(())
+}
+
+/// A row of coloured boxes with labels, left to right, for the status timeline.
+fn status_legend(area: &Area) -> DrawResult {
+    let mut x = 140;
     for (label, colour) in [
-        ("tracking / on target", TRACKING),
+        ("tracking (tracker) / on target (truth)", TRACKING),
         ("coasting", COASTING),
         ("lost", LOST),
-        ("out of view", OUT_OF_VIEW),
+        ("target out of view", OUT_OF_VIEW),
     ] {
-        chart
-            .draw_series(std::iter::empty::<Rectangle<(f64, SegmentValue<u32>)>>())?
-            .label(label)
-            .legend(legend_box(colour));
+        area.draw(&Rectangle::new([(x, 8), (x + 24, 22)], colour.filled()))?;
+        area.draw_text(label, &font(TICK_PX), (x + 32, 7))?;
+        let (w, _) = area.estimate_text_size(label, &font(TICK_PX))?;
+        x += 32 + w as i32 + 30;
     }
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperRight)
-        .background_style(WHITE.mix(0.9))
-        .border_style(BLACK)
-        .label_font(font(TICK_PX))
-        .draw()?;
     Ok(())
 }
 
 /// Top view: world x to the right, world z down the page (y up, towards the reader), with one
 /// metre the same number of pixels on both axes.
 fn trajectories(area: &Area, scenario: &str, records: &[FrameRecord]) -> DrawResult {
-    const MARGIN: u32 = 15;
-    const X_LABELS: u32 = 50;
-    const Y_LABELS: u32 = 70;
-    const TITLE_H: u32 = 50;
-    let (title_area, body) = area.split_vertically(TITLE_H);
-    title_area.titled(&title(scenario, "trajectories seen from above"), font(TITLE_PX))?;
+    const MARGIN: u32 = TOP_VIEW_MARGIN;
+    const X_LABELS: u32 = TOP_VIEW_X_LABELS;
+    const Y_LABELS: u32 = TOP_VIEW_Y_LABELS;
+    let (title_area, body) = area.split_vertically(TOP_VIEW_TITLE);
+    title_area.titled(
+        &title(scenario, "trajectories seen from above"),
+        font(TITLE_PX),
+    )?;
     let (w, h) = body.dim_in_pixel();
     let plot_w = f64::from(w - 2 * MARGIN - Y_LABELS);
     let plot_h = f64::from(h - 2 * MARGIN - X_LABELS);
-    let (x0, x1) = padded_range(records.iter().flat_map(|r| [r.chase_xz[0], r.lead_xz[0]]));
-    let (z0, z1) = padded_range(records.iter().flat_map(|r| [r.chase_xz[1], r.lead_xz[1]]));
+    let ((x0, x1), (z0, z1)) = ground_ranges(records);
     let metres_per_px = ((x1 - x0) / plot_w).max((z1 - z0) / plot_h);
     let (xc, zc) = ((x0 + x1) / 2.0, (z0 + z1) / 2.0);
     let (hx, hz) = (metres_per_px * plot_w / 2.0, metres_per_px * plot_h / 2.0);
@@ -436,10 +501,23 @@ fn trajectories(area: &Area, scenario: &str, records: &[FrameRecord]) -> DrawRes
         .label_style(font(TICK_PX))
         .light_line_style(RGBColor(235, 235, 235))
         .bold_line_style(RGBColor(205, 205, 205))
+        .x_label_formatter(&tick)
+        .y_label_formatter(&tick)
         .draw()?;
-    for (label, colour, xz) in [
-        ("lead", LEAD, records.iter().map(|r| r.lead_xz).collect::<Vec<_>>()),
-        ("chase", CHASE, records.iter().map(|r| r.chase_xz).collect::<Vec<_>>()),
+    // The lead is drawn wider, so that it shows on both sides of the chase on a shared path.
+    for (label, colour, width, xz) in [
+        (
+            "lead",
+            LEAD,
+            5,
+            records.iter().map(|r| r.lead_xz).collect::<Vec<_>>(),
+        ),
+        (
+            "chase",
+            CHASE,
+            2,
+            records.iter().map(|r| r.chase_xz).collect::<Vec<_>>(),
+        ),
     ] {
         let points: Vec<(f64, f64)> = xz
             .iter()
@@ -448,7 +526,10 @@ fn trajectories(area: &Area, scenario: &str, records: &[FrameRecord]) -> DrawRes
             .collect();
         let start = points.first().copied();
         chart
-            .draw_series(std::iter::once(PathElement::new(points, colour.stroke_width(2))))?
+            .draw_series(std::iter::once(PathElement::new(
+                points,
+                colour.stroke_width(width),
+            )))?
             .label(label)
             .legend(legend_line(colour));
         if let Some(p) = start {
@@ -460,6 +541,24 @@ fn trajectories(area: &Area, scenario: &str, records: &[FrameRecord]) -> DrawRes
         .label("start")
         .legend(|(x, y)| Circle::new((x + 12, y), 6, BLACK.filled()));
     draw_legend(&mut chart)
+}
+
+/// Padded ranges of world x and z over both vehicles, metres.
+fn ground_ranges(records: &[FrameRecord]) -> ((f64, f64), (f64, f64)) {
+    let x = padded_range(records.iter().flat_map(|r| [r.chase_xz[0], r.lead_xz[0]]));
+    let z = padded_range(records.iter().flat_map(|r| [r.chase_xz[1], r.lead_xz[1]]));
+    (x, z)
+}
+
+/// The trajectory figure's size: fixed width, the height that fits the ground's aspect (within
+/// [`TOP_VIEW_HEIGHT`]), so little of the figure is empty.
+fn trajectory_size(records: &[FrameRecord]) -> (u32, u32) {
+    let ((x0, x1), (z0, z1)) = ground_ranges(records);
+    let plot_w = TOP_VIEW_WIDTH - 2 * TOP_VIEW_MARGIN - TOP_VIEW_Y_LABELS;
+    let extra_h = TOP_VIEW_TITLE + 2 * TOP_VIEW_MARGIN + TOP_VIEW_X_LABELS;
+    let plot_h = (f64::from(plot_w) * (z1 - z0) / (x1 - x0)).round() as u32;
+    let h = (plot_h + extra_h).clamp(TOP_VIEW_HEIGHT[0], TOP_VIEW_HEIGHT[1]);
+    (TOP_VIEW_WIDTH, h)
 }
 
 fn lateral(area: &Area, scenario: &str, s: &Series, expect: &Expect) -> DrawResult {

@@ -372,7 +372,9 @@ fn check(s: &Summary, expect: &Expect) -> Vec<Criterion> {
             passed: d >= required,
             value: d,
             limit: required,
-            message: format!("the chase vehicle drove {d:.1} m (required at least {required:.1} m)"),
+            message: format!(
+                "the chase vehicle drove {d:.1} m (required at least {required:.1} m)"
+            ),
         });
     }
     out
@@ -481,7 +483,10 @@ mod tests {
             s.failures,
             vec!["tracking lost (ground truth) for 0.47 s in 4 event(s) (allowed 0.40 s)"]
         );
-        assert_eq!(count_events([false, true, true, false, true].into_iter()), 2);
+        assert_eq!(
+            count_events([false, true, true, false, true].into_iter()),
+            2
+        );
         assert_eq!(count_events([false, false].into_iter()), 0);
     }
 
@@ -534,7 +539,10 @@ mod tests {
         };
         let s = Summary::compute("x", 1, &rs, &expect, 0.5);
         assert_eq!(s.lateral_path_error_m.max_abs, 1.5);
-        assert!(close(s.lateral_path_error_m.mean_abs, (29.0 * 0.1 + 1.5) / 30.0));
+        assert!(close(
+            s.lateral_path_error_m.mean_abs,
+            (29.0 * 0.1 + 1.5) / 30.0
+        ));
         assert_eq!(s.collisions, 2);
         assert!(close(s.distance_m, 5.0 * 29.0 / 15.0));
         assert!(close(s.realtime_factor.unwrap(), 4.0));
@@ -547,8 +555,14 @@ mod tests {
             ]
         );
         let names: Vec<&str> = s.criteria.iter().map(|c| c.name.as_str()).collect();
-        assert_eq!(names, ["max_lateral_deviation", "no_collision", "min_distance"]);
-        assert_eq!(Summary::compute("x", 1, &rs, &expect, 0.0).realtime_factor, None);
+        assert_eq!(
+            names,
+            ["max_lateral_deviation", "no_collision", "min_distance"]
+        );
+        assert_eq!(
+            Summary::compute("x", 1, &rs, &expect, 0.0).realtime_factor,
+            None
+        );
     }
 
     #[test]
@@ -560,7 +574,10 @@ mod tests {
         assert!(!s.passed);
         assert_eq!(s.frames, 0);
         assert_eq!(s.duration_s, 0.0);
-        assert_eq!(s.failures, ["the run recorded no frames (at least 1 needed)"]);
+        assert_eq!(
+            s.failures,
+            ["the run recorded no frames (at least 1 needed)"]
+        );
     }
 
     #[test]
