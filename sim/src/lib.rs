@@ -1,10 +1,12 @@
-//! The car-following simulator: the scene, the wgpu camera, the tracker on recorded frames,
-//! and the `carfollow` command line.
+//! The car-following simulator: the scene and its wgpu camera, the closed loop over the
+//! `vehicle` physics and the `tracker`, scenario files, the record of a run and its reports,
+//! the tracker on recorded frames, and the `carfollow` command line.
 #![warn(missing_docs)]
 pub mod camera;
 pub mod closed_loop;
 pub mod overlay;
 pub mod record;
+pub mod report;
 pub mod scenario;
 pub mod scene;
 pub mod target;

@@ -1,0 +1,22 @@
+//! The outputs of a closed-loop run, written from its [`FrameRecord`](crate::record::FrameRecord)s:
+//! `frames.csv` (streamed), `summary.json`, PNG plots, an optional GIF video with PNG stills,
+//! and `junit.xml` for CI systems. [`RunOutputs`] is the one entry point the loop calls.
+//!
+//! Everything here only reads records and writes files: identical records give byte-identical
+//! files (the wall-clock time is an input, never read here).
+
+mod error;
+mod frames_csv;
+mod junit;
+mod outputs;
+mod plots;
+mod summary;
+mod video;
+
+pub use error::ReportError;
+pub use frames_csv::{FramesCsv, FRAMES_CSV_COLUMNS};
+pub use junit::{junit_xml, write_junit};
+pub use outputs::{OutputOptions, RunOutputs};
+pub use plots::{write_plots, PLOT_FILES};
+pub use summary::{Criterion, GapStats, LateralError, RangeError, Summary};
+pub use video::{VideoWriter, GIF_DELAYS_CS};

@@ -1,0 +1,217 @@
+//! [`RunOutputs`]: the one thing the closed loop talks to. It streams `frames.csv` and the
+//! video while the run goes, keeps the records (a few hundred bytes a frame: about 4 MB for
+//! the 17-minute tape), and at the end writes `summary.json` and the plots.
+//!
+//! Files in the output directory:
+//! - `frames.csv` (see [`FramesCsv`]), `summary.json` (see [`Summary`]), the plots of
+//!   [`PLOT_FILES`](super::PLOT_FILES);
+//! - with video on: `video.gif` (see [`VideoWriter`]) and PNG stills `still_first.png`,
+//!   `still_25pct.png`, `still_50pct.png`, `still_75pct.png` (these three when the expected
+//!   frame count is given), `still_first_lost.png` (the first frame judged lost by ground truth
+//!   that has an image, if any) and `still_last.png`.
+//!
+//! `junit.xml` covers all the scenarios of one invocation, so the caller writes it with
+//! [`write_junit`](super::write_junit) once every run has finished.
+
+use std::fs::File;
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+
+use image::RgbImage;
+
+use super::{write_plots, FramesCsv, ReportError, Summary, VideoWriter};
+use crate::record::{Expect, FrameRecord};
+
+/// What a run writes besides `frames.csv` and `summary.json`.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct OutputOptions {
+    /// Write `video.gif` and the stills from [`RunOutputs::frame_image`].
+    pub video: bool,
+    /// Put every `video_stride`-th frame into the GIF (1: all). Stills use every frame given.
+    pub video_stride: u32,
+    /// Frames the run is expected to record (duration × 15 Hz); with it, stills at 25, 50 and
+    /// 75 % are written.
+    pub expected_frames: Option<u64>,
+    /// Draw the PNG plots at the end.
+    pub plots: bool,
+}
+
+impl Default for OutputOptions {
+    fn default() -> Self {
+        OutputOptions {
+            video: false,
+            video_stride: 1,
+            expected_frames: None,
+            plots: true,
+        }
+    }
+}
+
+/// The outputs of one scenario's run, written into one directory.
+#[derive(Debug)]
+pub struct RunOutputs {
+    dir: PathBuf,
+    options: OutputOptions,
+    csv: FramesCsv,
+    records: Vec<FrameRecord>,
+    video: Option<VideoWriter>,
+    stills: Stills,
+}
+
+/// Which stills are still to be written.
+#[derive(Debug, Default)]
+struct Stills {
+    first_done: bool,
+    /// `(frame, file)` not yet reached, in order.
+    at_fraction: Vec<(u64, &'static str)>,
+    first_lost_done: bool,
+    /// The latest frame image, kept for `still_last.png` and a late loss judgement.
+    last: Option<(u64, RgbImage)>,
+}
+
+impl RunOutputs {
+    /// Creates `dir` (and its parents) and starts `frames.csv` in it.
+    pub fn create(
+        dir: impl AsRef<Path>,
+        options: OutputOptions,
+    ) -> Result<RunOutputs, ReportError> {
+        let dir = dir.as_ref().to_path_buf();
+        std::fs::create_dir_all(&dir).map_err(ReportError::io(&dir))?;
+        let csv = FramesCsv::create(dir.join("frames.csv"))?;
+        let at_fraction = match options.expected_frames {
+            Some(n) if options.video && n > 0 => vec![
+                (n / 4, "still_25pct.png"),
+                (n / 2, "still_50pct.png"),
+                (n * 3 / 4, "still_75pct.png"),
+            ],
+            _ => Vec::new(),
+        };
+        Ok(RunOutputs {
+            dir,
+            options,
+            csv,
+            records: Vec::new(),
+            video: None,
+            stills: Stills {
+                at_fraction,
+                ..Stills::default()
+            },
+        })
+    }
+
+    /// The output directory.
+    pub fn dir(&self) -> &Path {
+        &self.dir
+    }
+
+    /// The records so far.
+    pub fn records(&self) -> &[FrameRecord] {
+        &self.records
+    }
+
+    /// Records one frame: appends (and flushes) its `frames.csv` row.
+    pub fn record(&mut self, r: &FrameRecord) -> Result<(), ReportError> {
+        self.csv.write(r)?;
+        self.records.push(r.clone());
+        if r.lost_truth && !self.stills.first_lost_done {
+            if let Some((frame, img)) = &self.stills.last {
+                if *frame == r.frame {
+                    save_png(&self.dir.join("still_first_lost.png"), img)?;
+                    self.stills.first_lost_done = true;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The camera image with the tracker's overlay for `frame` (see
+    /// [`crate::overlay::draw`]). Ignored unless video is on. The frame's record may come
+    /// before or after its image.
+    pub fn frame_image(&mut self, frame: u64, img: &RgbImage) -> Result<(), ReportError> {
+        if !self.options.video {
+            return Ok(());
+        }
+        let stride = self.options.video_stride.max(1);
+        if frame % u64::from(stride) == 0 {
+            if self.video.is_none() {
+                self.video = Some(VideoWriter::create(
+                    self.dir.join("video.gif"),
+                    img.width(),
+                    img.height(),
+                    stride,
+                )?);
+            }
+            if let Some(v) = &mut self.video {
+                v.write(img)?;
+            }
+        }
+        if !self.stills.first_done {
+            save_png(&self.dir.join("still_first.png"), img)?;
+            self.stills.first_done = true;
+        }
+        while let Some(&(at, file)) = self.stills.at_fraction.first() {
+            if frame < at {
+                break;
+            }
+            save_png(&self.dir.join(file), img)?;
+            self.stills.at_fraction.remove(0);
+        }
+        let lost_now = self
+            .records
+            .last()
+            .is_some_and(|r| r.frame == frame && r.lost_truth);
+        if lost_now && !self.stills.first_lost_done {
+            save_png(&self.dir.join("still_first_lost.png"), img)?;
+            self.stills.first_lost_done = true;
+        }
+        self.stills.last = Some((frame, img.clone()));
+        Ok(())
+    }
+
+    /// Ends the run: computes the [`Summary`], writes `summary.json`, the plots, the end of
+    /// the video and its last still. `wall_s` is the run's wall-clock time, seconds.
+    pub fn finish(
+        self,
+        scenario: &str,
+        seed: u64,
+        expect: &Expect,
+        wall_s: f64,
+    ) -> Result<Summary, ReportError> {
+        let summary = Summary::compute(scenario, seed, &self.records, expect, wall_s);
+        summary.write_json(self.dir.join("summary.json"))?;
+        if self.options.plots {
+            write_plots(&self.dir, scenario, &self.records, expect)?;
+        }
+        if let Some(v) = self.video {
+            v.finish()?;
+        }
+        if let Some((_, img)) = &self.stills.last {
+            save_png(&self.dir.join("still_last.png"), img)?;
+        }
+        Ok(summary)
+    }
+}
+
+impl Summary {
+    /// Writes the summary as pretty-printed JSON with a final newline.
+    pub fn write_json(&self, path: impl AsRef<Path>) -> Result<(), ReportError> {
+        let path = path.as_ref();
+        let file = File::create(path).map_err(ReportError::io(path))?;
+        let mut out = BufWriter::new(file);
+        serde_json::to_writer_pretty(&mut out, self).map_err(|source| ReportError::Json {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        out.write_all(b"\n")
+            .and_then(|()| out.flush())
+            .map_err(ReportError::io(path))
+    }
+}
+
+fn save_png(path: &Path, img: &RgbImage) -> Result<(), ReportError> {
+    img.save_with_format(path, image::ImageFormat::Png)
+        .map_err(|source| ReportError::Image {
+            path: path.to_path_buf(),
+            source,
+        })
+}

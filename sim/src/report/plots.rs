@@ -1,0 +1,607 @@
+//! The run's PNG plots, drawn with plotters on an in-memory bitmap and saved with `image`:
+//!
+//! - `gap.png`: the following distance over time, with the `[expect]` band shaded;
+//! - `range.png`: the estimated range against the true range, lost frames shaded;
+//! - `status.png`: a timeline with two lanes, the tracker's own status and the ground-truth
+//!   judgement;
+//! - `trajectories.png`: top-down paths of both vehicles, one metre the same length on both axes;
+//! - `lateral_deviation.png`: the chase vehicle's distance from the lead's path, with its limit.
+//!
+//! Text uses DejaVu Sans, shipped in `sim/assets/` and compiled in: there is no system font
+//! lookup, so a fresh machine draws the same pixels.
+
+use std::error::Error;
+use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
+
+use plotters::coord::ranged1d::SegmentValue;
+use plotters::coord::types::RangedCoordf64;
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+use super::summary::frame_period;
+use super::ReportError;
+use crate::record::{Expect, FrameRecord, TrackerStatus};
+
+/// The plot files written by [`write_plots`], in order.
+pub const PLOT_FILES: [&str; 5] = [
+    "gap.png",
+    "range.png",
+    "status.png",
+    "trajectories.png",
+    "lateral_deviation.png",
+];
+
+/// DejaVu Sans (Bitstream Vera licence, `sim/assets/DejaVuSans-LICENSE.txt`).
+static FONT: &[u8] = include_bytes!("../../assets/DejaVuSans.ttf");
+/// The family name every text style here uses.
+const FONT_FAMILY: &str = "sans-serif";
+
+/// Size of the time-series plots, pixels.
+const WIDE: (u32, u32) = (1100, 500);
+/// Width of the trajectory plot, and the range of its height, pixels.
+const TOP_VIEW_WIDTH: u32 = 1100;
+const TOP_VIEW_HEIGHT: [u32; 2] = [450, 1100];
+/// Space around the trajectory plot's plotting area, pixels.
+const TOP_VIEW_MARGIN: u32 = 15;
+const TOP_VIEW_X_LABELS: u32 = 50;
+const TOP_VIEW_Y_LABELS: u32 = 70;
+const TOP_VIEW_TITLE: u32 = 50;
+/// Title and label sizes, pixels.
+const TITLE_PX: u32 = 24;
+const LABEL_PX: u32 = 16;
+const TICK_PX: u32 = 14;
+
+const BLUE_LINE: RGBColor = RGBColor(31, 100, 200);
+const TRUTH_LINE: RGBColor = RGBColor(20, 20, 20);
+const LIMIT_LINE: RGBColor = RGBColor(200, 30, 30);
+const BAND_FILL: RGBColor = RGBColor(200, 235, 200);
+const LOST_FILL: RGBColor = RGBColor(250, 215, 215);
+const TRACKING: RGBColor = RGBColor(40, 160, 60);
+const COASTING: RGBColor = RGBColor(245, 165, 0);
+const LOST: RGBColor = RGBColor(210, 30, 30);
+const OUT_OF_VIEW: RGBColor = RGBColor(150, 150, 150);
+const CHASE: RGBColor = RGBColor(31, 100, 200);
+const LEAD: RGBColor = RGBColor(210, 60, 30);
+
+type Area<'a> = DrawingArea<BitMapBackend<'a>, Shift>;
+type DrawResult = Result<(), Box<dyn Error>>;
+
+/// Draws every plot of [`PLOT_FILES`] into `dir`; returns the paths written.
+pub fn write_plots(
+    dir: &Path,
+    scenario: &str,
+    records: &[FrameRecord],
+    expect: &Expect,
+) -> Result<Vec<PathBuf>, ReportError> {
+    register_font(dir)?;
+    let series = Series::new(records);
+    let mut written = Vec::new();
+    let mut plot = |file: &str, size, draw: &dyn Fn(&Area) -> DrawResult| {
+        let path = dir.join(file);
+        render(&path, size, draw)?;
+        written.push(path);
+        Ok::<(), ReportError>(())
+    };
+    plot(PLOT_FILES[0], WIDE, &|a| gap(a, scenario, &series, expect))?;
+    plot(PLOT_FILES[1], WIDE, &|a| range(a, scenario, &series))?;
+    plot(PLOT_FILES[2], (WIDE.0, 300), &|a| {
+        status(a, scenario, &series)
+    })?;
+    plot(PLOT_FILES[3], trajectory_size(records), &|a| {
+        trajectories(a, scenario, records)
+    })?;
+    plot(PLOT_FILES[4], WIDE, &|a| {
+        lateral(a, scenario, &series, expect)
+    })?;
+    Ok(written)
+}
+
+fn register_font(dir: &Path) -> Result<(), ReportError> {
+    static REGISTERED: OnceLock<bool> = OnceLock::new();
+    let ok = *REGISTERED.get_or_init(|| {
+        plotters::style::register_font(FONT_FAMILY, FontStyle::Normal, FONT).is_ok()
+    });
+    if ok {
+        Ok(())
+    } else {
+        Err(ReportError::Plot {
+            path: dir.to_path_buf(),
+            message: "the shipped font DejaVuSans.ttf is not a valid font".into(),
+        })
+    }
+}
+
+/// Draws on a white bitmap of `size` and saves it as PNG at `path`.
+fn render(
+    path: &Path,
+    size: (u32, u32),
+    draw: &dyn Fn(&Area) -> DrawResult,
+) -> Result<(), ReportError> {
+    let mut buf = vec![0u8; size.0 as usize * size.1 as usize * 3];
+    {
+        let area = BitMapBackend::with_buffer(&mut buf, size).into_drawing_area();
+        let drawn = area
+            .fill(&WHITE)
+            .map_err(|e| e.into())
+            .and_then(|()| draw(&area))
+            .and_then(|()| area.present().map_err(|e| e.into()));
+        drawn.map_err(|e: Box<dyn Error>| ReportError::Plot {
+            path: path.to_path_buf(),
+            message: e.to_string(),
+        })?;
+    }
+    let img = image::RgbImage::from_raw(size.0, size.1, buf).expect("buffer of the plot's size");
+    img.save_with_format(path, image::ImageFormat::Png)
+        .map_err(|source| ReportError::Image {
+            path: path.to_path_buf(),
+            source,
+        })
+}
+
+/// Per-frame intervals and the time axis shared by the time-series plots.
+struct Series<'r> {
+    records: &'r [FrameRecord],
+    /// `[start, end)` of each frame's interval, seconds.
+    spans: Vec<(f64, f64)>,
+    t0: f64,
+    t1: f64,
+    period: f64,
+}
+
+impl<'r> Series<'r> {
+    fn new(records: &'r [FrameRecord]) -> Series<'r> {
+        let period = frame_period(records);
+        let spans: Vec<(f64, f64)> = records
+            .iter()
+            .enumerate()
+            .map(|(i, r)| {
+                let end = records
+                    .get(i + 1)
+                    .map(|n| n.t_s)
+                    .filter(|e| *e > r.t_s)
+                    .unwrap_or(r.t_s + period);
+                (r.t_s, end)
+            })
+            .collect();
+        let t0 = records.first().map_or(0.0, |r| r.t_s);
+        let t1 = spans.last().map_or(1.0, |s| s.1).max(t0 + period);
+        Series {
+            records,
+            spans,
+            t0,
+            t1,
+            period,
+        }
+    }
+
+    /// `(t, f(r))` as polylines, broken where the value is not finite or frames are missing.
+    fn lines(&self, f: impl Fn(&FrameRecord) -> f64) -> Vec<Vec<(f64, f64)>> {
+        let mut lines = Vec::new();
+        let mut current: Vec<(f64, f64)> = Vec::new();
+        let mut last_t = f64::NEG_INFINITY;
+        for r in self.records {
+            let v = f(r);
+            let broken = r.t_s - last_t > 1.5 * self.period;
+            if !v.is_finite() || broken {
+                if current.len() > 1 {
+                    lines.push(std::mem::take(&mut current));
+                }
+                current.clear();
+            }
+            if v.is_finite() {
+                current.push((r.t_s, v));
+            }
+            last_t = r.t_s;
+        }
+        if current.len() > 1 {
+            lines.push(current);
+        } else if let Some(&p) = current.first() {
+            lines.push(vec![p, (p.0 + self.period, p.1)]);
+        }
+        lines
+    }
+
+    /// Maximal runs of frames with the same class, as `(start, end, class)`.
+    fn runs<C: PartialEq + Copy>(&self, class: impl Fn(&FrameRecord) -> C) -> Vec<(f64, f64, C)> {
+        let mut runs: Vec<(f64, f64, C)> = Vec::new();
+        for (r, &(a, b)) in self.records.iter().zip(&self.spans) {
+            let c = class(r);
+            match runs.last_mut() {
+                Some(last) if last.2 == c && (a - last.1).abs() < 1e-9 => last.1 = b,
+                _ => runs.push((a, b, c)),
+            }
+        }
+        runs
+    }
+
+    /// A padded value range covering `f` over the records and `extra` values.
+    fn value_range(&self, f: impl Fn(&FrameRecord) -> f64, extra: &[f64]) -> (f64, f64) {
+        let values = self.records.iter().map(f).chain(extra.iter().copied());
+        padded_range(values)
+    }
+}
+
+fn padded_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for v in values.filter(|v| v.is_finite()) {
+        lo = lo.min(v);
+        hi = hi.max(v);
+    }
+    if !lo.is_finite() {
+        return (0.0, 1.0);
+    }
+    let pad = if hi - lo > 1e-9 {
+        (hi - lo) * 0.05
+    } else {
+        0.5
+    };
+    // Quantities that never go negative (distances) keep zero as their floor.
+    let floor = if lo >= 0.0 { 0.0 } else { f64::NEG_INFINITY };
+    ((lo - pad).max(floor), hi + pad)
+}
+
+/// A tick label: at most three decimals, no trailing zeros, no "-0".
+fn tick(v: &f64) -> String {
+    let t = format!("{v:.3}");
+    let t = t.trim_end_matches('0').trim_end_matches('.');
+    if t == "-0" {
+        "0".into()
+    } else {
+        t.into()
+    }
+}
+
+fn font(px: u32) -> TextStyle<'static> {
+    (FONT_FAMILY, px).into_font().into()
+}
+
+fn title(scenario: &str, what: &str) -> String {
+    format!("{scenario}: {what}")
+}
+
+/// A chart over time with the given y range and labels.
+fn time_chart<'a, 'b>(
+    area: &'a Area<'b>,
+    caption: String,
+    s: &Series,
+    (y0, y1): (f64, f64),
+    y_desc: &str,
+) -> Result<
+    ChartContext<'a, BitMapBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+    Box<dyn Error>,
+> {
+    let mut chart = ChartBuilder::on(area)
+        .caption(caption, font(TITLE_PX))
+        .margin(15)
+        .x_label_area_size(50)
+        .y_label_area_size(70)
+        .build_cartesian_2d(s.t0..s.t1, y0..y1)?;
+    chart
+        .configure_mesh()
+        .x_desc("time (s)")
+        .y_desc(y_desc)
+        .axis_desc_style(font(LABEL_PX))
+        .label_style(font(TICK_PX))
+        .light_line_style(RGBColor(235, 235, 235))
+        .bold_line_style(RGBColor(205, 205, 205))
+        .x_label_formatter(&tick)
+        .y_label_formatter(&tick)
+        .draw()?;
+    Ok(chart)
+}
+
+fn legend_line(colour: RGBColor) -> impl Fn((i32, i32)) -> PathElement<(i32, i32)> {
+    move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], colour.stroke_width(3))
+}
+
+fn legend_box(colour: RGBColor) -> impl Fn((i32, i32)) -> Rectangle<(i32, i32)> {
+    move |(x, y)| Rectangle::new([(x, y - 6), (x + 24, y + 6)], colour.filled())
+}
+
+fn gap(area: &Area, scenario: &str, s: &Series, expect: &Expect) -> DrawResult {
+    let band = expect.gap_band_m;
+    let extra: Vec<f64> = band.map(|b| b.to_vec()).unwrap_or_default();
+    let yr = s.value_range(|r| r.gap_m, &extra);
+    let mut chart = time_chart(
+        area,
+        title(scenario, "following distance"),
+        s,
+        yr,
+        "gap (m)",
+    )?;
+    if let Some([lo, hi]) = band {
+        chart
+            .draw_series(std::iter::once(Rectangle::new(
+                [(s.t0, lo), (s.t1, hi)],
+                BAND_FILL.filled(),
+            )))?
+            .label(format!("expected band [{lo}, {hi}] m"))
+            .legend(legend_box(BAND_FILL));
+    }
+    chart
+        .draw_series(
+            s.lines(|r| r.gap_m)
+                .into_iter()
+                .map(|l| PathElement::new(l, BLUE_LINE.stroke_width(2))),
+        )?
+        .label("gap (true)")
+        .legend(legend_line(BLUE_LINE));
+    draw_legend(&mut chart)
+}
+
+fn range(area: &Area, scenario: &str, s: &Series) -> DrawResult {
+    let yr = padded_range(
+        s.records
+            .iter()
+            .flat_map(|r| [r.true_range_m, r.est_range_m]),
+    );
+    let mut chart = time_chart(
+        area,
+        title(scenario, "range, estimate against truth"),
+        s,
+        yr,
+        "range (m)",
+    )?;
+    let lost: Vec<_> = s
+        .runs(|r| r.lost_truth)
+        .into_iter()
+        .filter(|r| r.2)
+        .collect();
+    if !lost.is_empty() {
+        chart
+            .draw_series(
+                lost.iter()
+                    .map(|&(a, b, _)| Rectangle::new([(a, yr.0), (b, yr.1)], LOST_FILL.filled())),
+            )?
+            .label("lost (ground truth)")
+            .legend(legend_box(LOST_FILL));
+    }
+    chart
+        .draw_series(
+            s.lines(|r| r.true_range_m)
+                .into_iter()
+                .map(|l| PathElement::new(l, TRUTH_LINE.stroke_width(2))),
+        )?
+        .label("true range")
+        .legend(legend_line(TRUTH_LINE));
+    chart
+        .draw_series(
+            s.lines(|r| r.est_range_m)
+                .into_iter()
+                .map(|l| PathElement::new(l, BLUE_LINE.stroke_width(2))),
+        )?
+        .label("estimated range (tracker)")
+        .legend(legend_line(BLUE_LINE));
+    draw_legend(&mut chart)
+}
+
+/// Lane 1 (top): the tracker's own status; lane 0 (bottom): the ground-truth judgement.
+fn status(area: &Area, scenario: &str, s: &Series) -> DrawResult {
+    let (area, legend) = area.split_vertically(area.dim_in_pixel().1 - 30);
+    status_legend(&legend)?;
+    let mut chart = ChartBuilder::on(&area)
+        .caption(
+            title(scenario, "tracker status and ground truth"),
+            font(TITLE_PX),
+        )
+        .margin(15)
+        .x_label_area_size(50)
+        .y_label_area_size(120)
+        .build_cartesian_2d(s.t0..s.t1, (0u32..1u32).into_segmented())?;
+    chart
+        .configure_mesh()
+        .disable_y_mesh()
+        .x_desc("time (s)")
+        .axis_desc_style(font(LABEL_PX))
+        .label_style(font(TICK_PX))
+        .light_line_style(RGBColor(235, 235, 235))
+        .bold_line_style(RGBColor(205, 205, 205))
+        .x_label_formatter(&tick)
+        .y_label_formatter(&|v| match v {
+            SegmentValue::CenterOf(0) => "ground truth".into(),
+            SegmentValue::CenterOf(1) => "tracker".into(),
+            _ => String::new(),
+        })
+        .draw()?;
+    let lane = |lane: u32, a: f64, b: f64, c: RGBColor| {
+        Rectangle::new(
+            [
+                (a, SegmentValue::Exact(lane)),
+                (b, SegmentValue::Exact(lane + 1)),
+            ],
+            c.filled(),
+        )
+    };
+    let tracker = s.runs(|r| r.status);
+    chart.draw_series(tracker.iter().map(|&(a, b, st)| {
+        let c = match st {
+            TrackerStatus::Tracking => TRACKING,
+            TrackerStatus::Coasting => COASTING,
+            TrackerStatus::Lost => LOST,
+        };
+        lane(1, a, b, c)
+    }))?;
+    #[derive(Clone, Copy, PartialEq)]
+    enum Truth {
+        Tracked,
+        Lost,
+        OutOfView,
+    }
+    let truth = s.runs(|r| match (r.target_in_view, r.lost_truth) {
+        (false, _) => Truth::OutOfView,
+        (true, true) => Truth::Lost,
+        (true, false) => Truth::Tracked,
+    });
+    chart.draw_series(truth.iter().map(|&(a, b, t)| {
+        let c = match t {
+            Truth::Tracked => TRACKING,
+            Truth::Lost => LOST,
+            Truth::OutOfView => OUT_OF_VIEW,
+        };
+        lane(0, a, b, c)
+    }))?;
+    // A white rule between the lanes.
+    chart.draw_series(std::iter::once(PathElement::new(
+        vec![
+            (s.t0, SegmentValue::Exact(1)),
+            (s.t1, SegmentValue::Exact(1)),
+        ],
+        WHITE.stroke_width(3),
+    )))?;
+    Ok(())
+}
+
+/// A row of coloured boxes with labels, left to right, for the status timeline.
+fn status_legend(area: &Area) -> DrawResult {
+    let mut x = 140;
+    for (label, colour) in [
+        ("tracking (tracker) / on target (truth)", TRACKING),
+        ("coasting", COASTING),
+        ("lost", LOST),
+        ("target out of view", OUT_OF_VIEW),
+    ] {
+        area.draw(&Rectangle::new([(x, 8), (x + 24, 22)], colour.filled()))?;
+        area.draw_text(label, &font(TICK_PX), (x + 32, 7))?;
+        let (w, _) = area.estimate_text_size(label, &font(TICK_PX))?;
+        x += 32 + w as i32 + 30;
+    }
+    Ok(())
+}
+
+/// Top view: world x to the right, world z down the page (y up, towards the reader), with one
+/// metre the same number of pixels on both axes.
+fn trajectories(area: &Area, scenario: &str, records: &[FrameRecord]) -> DrawResult {
+    const MARGIN: u32 = TOP_VIEW_MARGIN;
+    const X_LABELS: u32 = TOP_VIEW_X_LABELS;
+    const Y_LABELS: u32 = TOP_VIEW_Y_LABELS;
+    let (title_area, body) = area.split_vertically(TOP_VIEW_TITLE);
+    title_area.titled(
+        &title(scenario, "trajectories seen from above"),
+        font(TITLE_PX),
+    )?;
+    let (w, h) = body.dim_in_pixel();
+    let plot_w = f64::from(w - 2 * MARGIN - Y_LABELS);
+    let plot_h = f64::from(h - 2 * MARGIN - X_LABELS);
+    let ((x0, x1), (z0, z1)) = ground_ranges(records);
+    let metres_per_px = ((x1 - x0) / plot_w).max((z1 - z0) / plot_h);
+    let (xc, zc) = ((x0 + x1) / 2.0, (z0 + z1) / 2.0);
+    let (hx, hz) = (metres_per_px * plot_w / 2.0, metres_per_px * plot_h / 2.0);
+    let mut chart = ChartBuilder::on(&body)
+        .margin(MARGIN)
+        .x_label_area_size(X_LABELS)
+        .y_label_area_size(Y_LABELS)
+        // z grows down the page: the y range runs from the larger value to the smaller.
+        .build_cartesian_2d((xc - hx)..(xc + hx), (zc + hz)..(zc - hz))?;
+    chart
+        .configure_mesh()
+        .x_desc("world x (m)")
+        .y_desc("world z (m)")
+        .axis_desc_style(font(LABEL_PX))
+        .label_style(font(TICK_PX))
+        .light_line_style(RGBColor(235, 235, 235))
+        .bold_line_style(RGBColor(205, 205, 205))
+        .x_label_formatter(&tick)
+        .y_label_formatter(&tick)
+        .draw()?;
+    // The lead is drawn wider, so that it shows on both sides of the chase on a shared path.
+    for (label, colour, width, xz) in [
+        (
+            "lead",
+            LEAD,
+            5,
+            records.iter().map(|r| r.lead_xz).collect::<Vec<_>>(),
+        ),
+        (
+            "chase",
+            CHASE,
+            2,
+            records.iter().map(|r| r.chase_xz).collect::<Vec<_>>(),
+        ),
+    ] {
+        let points: Vec<(f64, f64)> = xz
+            .iter()
+            .map(|p| (p[0], p[1]))
+            .filter(|p| p.0.is_finite() && p.1.is_finite())
+            .collect();
+        let start = points.first().copied();
+        chart
+            .draw_series(std::iter::once(PathElement::new(
+                points,
+                colour.stroke_width(width),
+            )))?
+            .label(label)
+            .legend(legend_line(colour));
+        if let Some(p) = start {
+            chart.draw_series(std::iter::once(Circle::new(p, 6, colour.filled())))?;
+        }
+    }
+    chart
+        .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())?
+        .label("start")
+        .legend(|(x, y)| Circle::new((x + 12, y), 6, BLACK.filled()));
+    draw_legend(&mut chart)
+}
+
+/// Padded ranges of world x and z over both vehicles, metres.
+fn ground_ranges(records: &[FrameRecord]) -> ((f64, f64), (f64, f64)) {
+    let x = padded_range(records.iter().flat_map(|r| [r.chase_xz[0], r.lead_xz[0]]));
+    let z = padded_range(records.iter().flat_map(|r| [r.chase_xz[1], r.lead_xz[1]]));
+    (x, z)
+}
+
+/// The trajectory figure's size: fixed width, the height that fits the ground's aspect (within
+/// [`TOP_VIEW_HEIGHT`]), so little of the figure is empty.
+fn trajectory_size(records: &[FrameRecord]) -> (u32, u32) {
+    let ((x0, x1), (z0, z1)) = ground_ranges(records);
+    let plot_w = TOP_VIEW_WIDTH - 2 * TOP_VIEW_MARGIN - TOP_VIEW_Y_LABELS;
+    let extra_h = TOP_VIEW_TITLE + 2 * TOP_VIEW_MARGIN + TOP_VIEW_X_LABELS;
+    let plot_h = (f64::from(plot_w) * (z1 - z0) / (x1 - x0)).round() as u32;
+    let h = (plot_h + extra_h).clamp(TOP_VIEW_HEIGHT[0], TOP_VIEW_HEIGHT[1]);
+    (TOP_VIEW_WIDTH, h)
+}
+
+fn lateral(area: &Area, scenario: &str, s: &Series, expect: &Expect) -> DrawResult {
+    let limit = expect.max_lateral_deviation_m;
+    let mut extra = vec![0.0];
+    extra.extend(limit);
+    let yr = s.value_range(|r| r.lateral_deviation_m, &extra);
+    let mut chart = time_chart(
+        area,
+        title(scenario, "distance from the lead's path"),
+        s,
+        yr,
+        "lateral deviation (m)",
+    )?;
+    if let Some(l) = limit {
+        chart
+            .draw_series(std::iter::once(PathElement::new(
+                vec![(s.t0, l), (s.t1, l)],
+                LIMIT_LINE.stroke_width(2),
+            )))?
+            .label(format!("allowed ({l} m)"))
+            .legend(legend_line(LIMIT_LINE));
+    }
+    chart
+        .draw_series(
+            s.lines(|r| r.lateral_deviation_m)
+                .into_iter()
+                .map(|l| PathElement::new(l, BLUE_LINE.stroke_width(2))),
+        )?
+        .label("chase vehicle")
+        .legend(legend_line(BLUE_LINE));
+    draw_legend(&mut chart)
+}
+
+fn draw_legend<'a, 'b: 'a, X: Ranged, Y: Ranged>(
+    chart: &mut ChartContext<'a, BitMapBackend<'b>, Cartesian2d<X, Y>>,
+) -> DrawResult {
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperRight)
+        .background_style(WHITE.mix(0.9))
+        .border_style(BLACK)
+        .label_font(font(TICK_PX))
+        .draw()?;
+    Ok(())
+}

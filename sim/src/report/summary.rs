@@ -1,0 +1,613 @@
+//! `summary.json`: what a run came to, and whether it met its scenario's `[expect]`.
+//!
+//! Everything is a pure function of the records, so the same records give the same summary.
+//!
+//! **Time.** Each frame stands for the interval from its capture time to the next frame's
+//! (so a dropped frame lengthens its predecessor), and the last frame for one frame period.
+//! The frame period is the median step between consecutive `t_s`, or 1/15 s with fewer than
+//! two frames. `duration_s` is the sum of these intervals: `t_last − t_first + period`.
+//! Times spent in a state (outside the gap band, lost, coasting) add up the intervals of the
+//! frames in that state; `gap_m.mean` and `lateral_path_error_m.mean_abs` are time-weighted.
+//!
+//! **Tracking loss** is judged by ground truth (`lost_truth`), whatever the tracker says; an
+//! event is a maximal run of consecutive lost frames. The tracker's own `lost` and `coasting`
+//! times are reported beside it.
+//!
+//! **Range error** is `|est_range_m − true_range_m|` over the frames where the target is in view
+//! and not lost by the ground-truth judgement (and the estimate is finite): while the tracker is
+//! lost its range is not a measurement of anything, and that time is already counted in
+//! `tracking_lost_s`. `p95_abs` is the nearest-rank 95th percentile over those frames (the
+//! smallest error that at least 95 % of the frames do not exceed); both are `null` when no frame
+//! qualifies.
+
+use serde::Serialize;
+
+use crate::record::{Expect, FrameRecord, TrackerStatus};
+
+/// The frame period used when the records cannot tell it: the loop's 15 Hz.
+pub const DEFAULT_FRAME_PERIOD_S: f64 = 1.0 / 15.0;
+
+/// Slack when comparing accumulated times with a limit, seconds: sums of 1/15 s steps are not
+/// exact in binary.
+const TIME_TOLERANCE_S: f64 = 1e-9;
+
+/// The summary of one run, written as `summary.json`.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Summary {
+    /// Scenario name.
+    pub scenario: String,
+    /// The scenario's seed.
+    pub seed: u64,
+    /// Simulated time covered by the records, seconds.
+    pub duration_s: f64,
+    /// Number of frames recorded.
+    pub frames: u64,
+    /// Every checked criterion passed (and at least one frame was recorded).
+    pub passed: bool,
+    /// One sentence per failed criterion, with its value and its limit.
+    pub failures: Vec<String>,
+    /// Every criterion that `[expect]` asked for, passed or not, in a fixed order.
+    pub criteria: Vec<Criterion>,
+    /// Following distance over the run, metres.
+    pub gap_m: GapStats,
+    /// The band from `[expect]`, metres, if any.
+    pub gap_band_m: Option<[f64; 2]>,
+    /// Time with the gap outside the band, seconds (0 without a band).
+    pub time_outside_gap_band_s: f64,
+    /// Time lost by the ground-truth judgement, seconds.
+    pub tracking_lost_s: f64,
+    /// Number of ground-truth loss events (maximal runs of lost frames).
+    pub tracking_loss_events: u64,
+    /// Time the tracker itself said `lost`, seconds.
+    pub tracker_lost_s: f64,
+    /// Time the tracker itself said `coasting`, seconds.
+    pub tracker_coasting_s: f64,
+    /// Range estimate error while tracked, metres.
+    pub range_error_m: RangeError,
+    /// Chase vehicle's distance from the lead's path, metres.
+    pub lateral_path_error_m: LateralError,
+    /// Number of collision events (maximal runs of frames with contact).
+    pub collisions: u64,
+    /// Distance the chase vehicle drove, metres (the last record's `chase_distance_m`).
+    pub distance_m: f64,
+    /// Wall-clock time of the run, seconds (given by the caller).
+    pub wall_s: f64,
+    /// `duration_s / wall_s`; `null` when `wall_s` is not positive.
+    pub realtime_factor: Option<f64>,
+}
+
+/// Minimum, time-weighted mean and maximum of the gap, metres (zeros without frames).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct GapStats {
+    /// Smallest gap, metres.
+    pub min: f64,
+    /// Time-weighted mean gap, metres.
+    pub mean: f64,
+    /// Largest gap, metres.
+    pub max: f64,
+}
+
+/// Range estimate error over the tracked frames (see the module notes).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct RangeError {
+    /// Mean absolute error, metres.
+    pub mean_abs: Option<f64>,
+    /// Nearest-rank 95th percentile of the absolute error, metres.
+    pub p95_abs: Option<f64>,
+    /// Number of frames the error was taken over.
+    pub frames: u64,
+}
+
+/// Lateral deviation from the lead's path over all frames, metres.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct LateralError {
+    /// Time-weighted mean absolute deviation, metres.
+    pub mean_abs: f64,
+    /// Largest absolute deviation, metres.
+    pub max_abs: f64,
+}
+
+/// One `[expect]` criterion and how the run did against it.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Criterion {
+    /// Short stable name: `gap_band`, `max_lost`, `max_lateral_deviation`, `no_collision`,
+    /// `min_distance` (or `frames_recorded`).
+    pub name: String,
+    /// Whether it held.
+    pub passed: bool,
+    /// The measured value, in the criterion's unit.
+    pub value: f64,
+    /// The limit, in the same unit.
+    pub limit: f64,
+    /// One sentence with the value and the limit.
+    pub message: String,
+}
+
+impl Summary {
+    /// Computes the summary of a run from its records, its scenario's name, seed and
+    /// `[expect]`, and the wall-clock time it took.
+    pub fn compute(
+        scenario: &str,
+        seed: u64,
+        records: &[FrameRecord],
+        expect: &Expect,
+        wall_s: f64,
+    ) -> Summary {
+        let weights = frame_weights(records);
+        let duration_s: f64 = weights.iter().sum();
+        let time_where =
+            |f: &dyn Fn(&FrameRecord) -> bool| -> f64 { sum_where(records, &weights, f) };
+
+        let gap_m = gap_stats(records, &weights, duration_s);
+        let time_outside_gap_band_s = match expect.gap_band_m {
+            Some([lo, hi]) => time_where(&|r| !(lo..=hi).contains(&r.gap_m)),
+            None => 0.0,
+        };
+        let tracking_lost_s = time_where(&|r| r.lost_truth);
+        let tracking_loss_events = count_events(records.iter().map(|r| r.lost_truth));
+        let tracker_lost_s = time_where(&|r| r.status == TrackerStatus::Lost);
+        let tracker_coasting_s = time_where(&|r| r.status == TrackerStatus::Coasting);
+        let range_error_m = range_error(records);
+        let lateral_path_error_m = lateral_error(records, &weights, duration_s);
+        let collisions = count_events(records.iter().map(|r| r.collision));
+        let distance_m = records.last().map_or(0.0, |r| r.chase_distance_m);
+
+        let mut summary = Summary {
+            scenario: scenario.to_owned(),
+            seed,
+            duration_s,
+            frames: records.len() as u64,
+            passed: false,
+            failures: Vec::new(),
+            criteria: Vec::new(),
+            gap_m,
+            gap_band_m: expect.gap_band_m,
+            time_outside_gap_band_s,
+            tracking_lost_s,
+            tracking_loss_events,
+            tracker_lost_s,
+            tracker_coasting_s,
+            range_error_m,
+            lateral_path_error_m,
+            collisions,
+            distance_m,
+            wall_s,
+            realtime_factor: (wall_s > 0.0).then(|| duration_s / wall_s),
+        };
+        summary.criteria = check(&summary, expect);
+        summary.failures = summary
+            .criteria
+            .iter()
+            .filter(|c| !c.passed)
+            .map(|c| c.message.clone())
+            .collect();
+        summary.passed = summary.failures.is_empty();
+        summary
+    }
+}
+
+/// The time each frame stands for, seconds (see the module notes).
+fn frame_weights(records: &[FrameRecord]) -> Vec<f64> {
+    let period = frame_period(records);
+    let mut w: Vec<f64> = records
+        .windows(2)
+        .map(|p| {
+            let dt = p[1].t_s - p[0].t_s;
+            if dt.is_finite() && dt > 0.0 {
+                dt
+            } else {
+                period
+            }
+        })
+        .collect();
+    if !records.is_empty() {
+        w.push(period);
+    }
+    w
+}
+
+/// The median positive step between consecutive capture times, else 1/15 s.
+pub(crate) fn frame_period(records: &[FrameRecord]) -> f64 {
+    let mut steps: Vec<f64> = records
+        .windows(2)
+        .map(|p| p[1].t_s - p[0].t_s)
+        .filter(|dt| dt.is_finite() && *dt > 0.0)
+        .collect();
+    if steps.is_empty() {
+        return DEFAULT_FRAME_PERIOD_S;
+    }
+    steps.sort_by(f64::total_cmp);
+    steps[(steps.len() - 1) / 2]
+}
+
+fn sum_where(records: &[FrameRecord], weights: &[f64], f: &dyn Fn(&FrameRecord) -> bool) -> f64 {
+    records
+        .iter()
+        .zip(weights)
+        .filter(|(r, _)| f(r))
+        .map(|(_, w)| w)
+        .sum()
+}
+
+/// Number of maximal runs of `true`.
+fn count_events(flags: impl Iterator<Item = bool>) -> u64 {
+    let mut count = 0;
+    let mut previous = false;
+    for f in flags {
+        if f && !previous {
+            count += 1;
+        }
+        previous = f;
+    }
+    count
+}
+
+fn gap_stats(records: &[FrameRecord], weights: &[f64], duration_s: f64) -> GapStats {
+    if records.is_empty() {
+        return GapStats::default();
+    }
+    let mut s = GapStats {
+        min: f64::INFINITY,
+        mean: 0.0,
+        max: f64::NEG_INFINITY,
+    };
+    for (r, w) in records.iter().zip(weights) {
+        s.min = s.min.min(r.gap_m);
+        s.max = s.max.max(r.gap_m);
+        s.mean += r.gap_m * w;
+    }
+    s.mean /= duration_s;
+    s
+}
+
+fn range_error(records: &[FrameRecord]) -> RangeError {
+    let mut errors: Vec<f64> = records
+        .iter()
+        .filter(|r| r.target_in_view && !r.lost_truth)
+        .map(|r| (r.est_range_m - r.true_range_m).abs())
+        .filter(|e| e.is_finite())
+        .collect();
+    if errors.is_empty() {
+        return RangeError::default();
+    }
+    let n = errors.len();
+    let mean = errors.iter().sum::<f64>() / n as f64;
+    errors.sort_by(f64::total_cmp);
+    RangeError {
+        mean_abs: Some(mean),
+        p95_abs: Some(percentile_nearest_rank(&errors, 95.0)),
+        frames: n as u64,
+    }
+}
+
+/// The nearest-rank percentile of sorted, non-empty values: the value at rank ⌈p/100 · n⌉.
+fn percentile_nearest_rank(sorted: &[f64], p: f64) -> f64 {
+    let n = sorted.len();
+    let rank = ((p / 100.0) * n as f64).ceil() as usize;
+    sorted[rank.clamp(1, n) - 1]
+}
+
+fn lateral_error(records: &[FrameRecord], weights: &[f64], duration_s: f64) -> LateralError {
+    if records.is_empty() {
+        return LateralError::default();
+    }
+    let mut e = LateralError::default();
+    for (r, w) in records.iter().zip(weights) {
+        let d = r.lateral_deviation_m.abs();
+        e.max_abs = e.max_abs.max(d);
+        e.mean_abs += d * w;
+    }
+    e.mean_abs /= duration_s;
+    e
+}
+
+/// Each criterion `[expect]` asks for, in a fixed order.
+fn check(s: &Summary, expect: &Expect) -> Vec<Criterion> {
+    let mut out = Vec::new();
+    if s.frames == 0 {
+        out.push(Criterion {
+            name: "frames_recorded".into(),
+            passed: false,
+            value: 0.0,
+            limit: 1.0,
+            message: "the run recorded no frames (at least 1 needed)".into(),
+        });
+    }
+    if let Some([lo, hi]) = expect.gap_band_m {
+        let allowed = expect.max_time_outside_gap_band_s.unwrap_or(0.0);
+        let t = s.time_outside_gap_band_s;
+        let passed = t <= allowed + TIME_TOLERANCE_S;
+        let verb = if passed { "was outside" } else { "left" };
+        out.push(Criterion {
+            name: "gap_band".into(),
+            passed,
+            value: t,
+            limit: allowed,
+            message: format!(
+                "gap {verb} the band [{lo}, {hi}] m for {t:.2} s (allowed {allowed:.2} s; \
+                 gap ranged {:.2} to {:.2} m)",
+                s.gap_m.min, s.gap_m.max
+            ),
+        });
+    }
+    if let Some(allowed) = expect.max_lost_s {
+        let t = s.tracking_lost_s;
+        let passed = t <= allowed + TIME_TOLERANCE_S;
+        out.push(Criterion {
+            name: "max_lost".into(),
+            passed,
+            value: t,
+            limit: allowed,
+            message: format!(
+                "tracking lost (ground truth) for {t:.2} s in {} event(s) (allowed {allowed:.2} s)",
+                s.tracking_loss_events
+            ),
+        });
+    }
+    if let Some(allowed) = expect.max_lateral_deviation_m {
+        let d = s.lateral_path_error_m.max_abs;
+        out.push(Criterion {
+            name: "max_lateral_deviation".into(),
+            passed: d <= allowed,
+            value: d,
+            limit: allowed,
+            message: format!(
+                "lateral deviation from the lead's path reached {d:.2} m (allowed {allowed:.2} m)"
+            ),
+        });
+    }
+    if expect.no_collision {
+        out.push(Criterion {
+            name: "no_collision".into(),
+            passed: s.collisions == 0,
+            value: s.collisions as f64,
+            limit: 0.0,
+            message: format!("the vehicles collided {} time(s) (allowed 0)", s.collisions),
+        });
+    }
+    if let Some(required) = expect.min_distance_m {
+        let d = s.distance_m;
+        out.push(Criterion {
+            name: "min_distance".into(),
+            passed: d >= required,
+            value: d,
+            limit: required,
+            message: format!(
+                "the chase vehicle drove {d:.1} m (required at least {required:.1} m)"
+            ),
+        });
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::report::frames_csv::tests::record;
+
+    fn run(n: u64) -> Vec<FrameRecord> {
+        (0..n).map(record).collect()
+    }
+
+    fn close(a: f64, b: f64) -> bool {
+        (a - b).abs() < 1e-9
+    }
+
+    #[test]
+    fn duration_and_frame_period_from_capture_times() {
+        let rs = run(30);
+        let s = Summary::compute("x", 1, &rs, &Expect::default(), 1.0);
+        assert_eq!(s.frames, 30);
+        assert!(close(s.duration_s, 2.0), "{}", s.duration_s);
+        // 10 Hz records: the period comes from the records, not the 15 Hz default.
+        let mut rs = run(10);
+        for (i, r) in rs.iter_mut().enumerate() {
+            r.t_s = i as f64 * 0.1;
+        }
+        assert!(close(frame_period(&rs), 0.1));
+        let s = Summary::compute("x", 1, &rs, &Expect::default(), 1.0);
+        assert!(close(s.duration_s, 1.0), "{}", s.duration_s);
+        // One frame: the 15 Hz fallback.
+        assert!(close(frame_period(&rs[..1]), 1.0 / 15.0));
+    }
+
+    #[test]
+    fn a_dropped_frame_lengthens_its_predecessor() {
+        // Frames 0..15 with frame 7 missing: frame 6 stands for 2/15 s.
+        let mut rs = run(15);
+        rs.remove(7);
+        for r in rs.iter_mut().filter(|r| r.frame == 6) {
+            r.gap_m = 20.0;
+        }
+        let expect = Expect {
+            gap_band_m: Some([5.0, 15.0]),
+            ..Expect::default()
+        };
+        let s = Summary::compute("x", 1, &rs, &expect, 1.0);
+        assert!(close(s.duration_s, 1.0), "{}", s.duration_s);
+        assert!(close(s.time_outside_gap_band_s, 2.0 / 15.0));
+    }
+
+    #[test]
+    fn gap_band_time_and_stats() {
+        // 30 frames at 15 Hz; frames 10..16 (6 frames = 0.4 s) at 16 m, frame 20 at 4 m.
+        let mut rs = run(30);
+        for r in &mut rs[10..16] {
+            r.gap_m = 16.0;
+        }
+        rs[20].gap_m = 4.0;
+        let expect = Expect {
+            gap_band_m: Some([5.0, 15.0]),
+            max_time_outside_gap_band_s: Some(0.3),
+            ..Expect::default()
+        };
+        let s = Summary::compute("x", 1, &rs, &expect, 1.0);
+        assert!(close(s.time_outside_gap_band_s, 7.0 / 15.0));
+        assert_eq!(s.gap_m.min, 4.0);
+        assert_eq!(s.gap_m.max, 16.0);
+        assert!(close(s.gap_m.mean, (23.0 * 10.0 + 6.0 * 16.0 + 4.0) / 30.0));
+        assert!(!s.passed);
+        assert_eq!(
+            s.failures,
+            vec!["gap left the band [5, 15] m for 0.47 s (allowed 0.30 s; gap ranged 4.00 to 16.00 m)"]
+        );
+        // The band's edges are inside it; with enough allowance it passes.
+        let mut rs = run(30);
+        rs[3].gap_m = 5.0;
+        rs[4].gap_m = 15.0;
+        let s = Summary::compute("x", 1, &rs, &expect, 1.0);
+        assert_eq!(s.time_outside_gap_band_s, 0.0);
+        assert!(s.passed, "{:?}", s.failures);
+    }
+
+    #[test]
+    fn loss_events_are_maximal_runs_of_lost_frames() {
+        let mut rs = run(45);
+        for i in [0, 1, 2, 10, 20, 21, 44] {
+            rs[i].lost_truth = true;
+        }
+        // The tracker's own word is counted apart.
+        rs[5].status = TrackerStatus::Lost;
+        rs[6].status = TrackerStatus::Coasting;
+        rs[7].status = TrackerStatus::Coasting;
+        let expect = Expect {
+            max_lost_s: Some(0.4),
+            ..Expect::default()
+        };
+        let s = Summary::compute("x", 1, &rs, &expect, 1.0);
+        assert_eq!(s.tracking_loss_events, 4);
+        assert!(close(s.tracking_lost_s, 7.0 / 15.0));
+        assert!(close(s.tracker_lost_s, 1.0 / 15.0));
+        assert!(close(s.tracker_coasting_s, 2.0 / 15.0));
+        assert_eq!(
+            s.failures,
+            vec!["tracking lost (ground truth) for 0.47 s in 4 event(s) (allowed 0.40 s)"]
+        );
+        assert_eq!(
+            count_events([false, true, true, false, true].into_iter()),
+            2
+        );
+        assert_eq!(count_events([false, false].into_iter()), 0);
+    }
+
+    #[test]
+    fn range_error_skips_lost_and_out_of_view_frames() {
+        // Errors 1..=20 m on frames 0..20; frames 20..25 lost or out of view with huge errors.
+        let mut rs = run(25);
+        for (i, r) in rs.iter_mut().enumerate() {
+            r.est_range_m = r.true_range_m + (i as f64 + 1.0) * if i % 2 == 0 { 1.0 } else { -1.0 };
+        }
+        for r in &mut rs[20..23] {
+            r.lost_truth = true;
+            r.est_range_m = 1000.0;
+        }
+        for r in &mut rs[23..] {
+            r.target_in_view = false;
+            r.est_range_m = 1000.0;
+        }
+        rs[0].est_range_m = f64::NAN; // not counted either
+        let s = Summary::compute("x", 1, &rs, &Expect::default(), 1.0);
+        // Frames 1..20: errors 2..=20, 19 values; mean 11; rank ceil(0.95*19) = 19 -> 20.
+        assert_eq!(s.range_error_m.frames, 19);
+        assert!(close(s.range_error_m.mean_abs.unwrap(), 11.0));
+        assert_eq!(s.range_error_m.p95_abs, Some(20.0));
+        // Nearest rank on 1..=100: the 95th value; on 1..=20: the 19th.
+        let v: Vec<f64> = (1..=100).map(f64::from).collect();
+        assert_eq!(percentile_nearest_rank(&v, 95.0), 95.0);
+        assert_eq!(percentile_nearest_rank(&v[..20], 95.0), 19.0);
+        assert_eq!(percentile_nearest_rank(&v[..1], 95.0), 1.0);
+        // No tracked frame: null, not NaN.
+        for r in &mut rs {
+            r.lost_truth = true;
+        }
+        let s = Summary::compute("x", 1, &rs, &Expect::default(), 1.0);
+        assert_eq!(s.range_error_m, RangeError::default());
+    }
+
+    #[test]
+    fn lateral_collisions_distance_and_realtime_factor() {
+        let mut rs = run(30);
+        rs[4].lateral_deviation_m = -1.5;
+        for i in [8, 9, 10, 15] {
+            rs[i].collision = true;
+        }
+        let expect = Expect {
+            max_lateral_deviation_m: Some(1.0),
+            no_collision: true,
+            min_distance_m: Some(100.0),
+            ..Expect::default()
+        };
+        let s = Summary::compute("x", 1, &rs, &expect, 0.5);
+        assert_eq!(s.lateral_path_error_m.max_abs, 1.5);
+        assert!(close(
+            s.lateral_path_error_m.mean_abs,
+            (29.0 * 0.1 + 1.5) / 30.0
+        ));
+        assert_eq!(s.collisions, 2);
+        assert!(close(s.distance_m, 5.0 * 29.0 / 15.0));
+        assert!(close(s.realtime_factor.unwrap(), 4.0));
+        assert_eq!(
+            s.failures,
+            vec![
+                "lateral deviation from the lead's path reached 1.50 m (allowed 1.00 m)",
+                "the vehicles collided 2 time(s) (allowed 0)",
+                "the chase vehicle drove 9.7 m (required at least 100.0 m)",
+            ]
+        );
+        let names: Vec<&str> = s.criteria.iter().map(|c| c.name.as_str()).collect();
+        assert_eq!(
+            names,
+            ["max_lateral_deviation", "no_collision", "min_distance"]
+        );
+        assert_eq!(
+            Summary::compute("x", 1, &rs, &expect, 0.0).realtime_factor,
+            None
+        );
+    }
+
+    #[test]
+    fn no_criteria_passes_and_no_frames_fails() {
+        let s = Summary::compute("x", 1, &run(3), &Expect::default(), 1.0);
+        assert!(s.passed);
+        assert!(s.criteria.is_empty());
+        let s = Summary::compute("x", 1, &[], &Expect::default(), 1.0);
+        assert!(!s.passed);
+        assert_eq!(s.frames, 0);
+        assert_eq!(s.duration_s, 0.0);
+        assert_eq!(
+            s.failures,
+            ["the run recorded no frames (at least 1 needed)"]
+        );
+    }
+
+    #[test]
+    fn json_has_the_documented_keys() {
+        let s = Summary::compute("nist-grounds", 7, &run(15), &Expect::default(), 2.0);
+        let v = serde_json::to_value(&s).unwrap();
+        for key in [
+            "scenario",
+            "seed",
+            "duration_s",
+            "frames",
+            "passed",
+            "failures",
+            "gap_m",
+            "time_outside_gap_band_s",
+            "tracking_lost_s",
+            "tracking_loss_events",
+            "tracker_lost_s",
+            "tracker_coasting_s",
+            "range_error_m",
+            "lateral_path_error_m",
+            "collisions",
+            "distance_m",
+            "wall_s",
+            "realtime_factor",
+        ] {
+            assert!(v.get(key).is_some(), "missing {key}");
+        }
+        assert_eq!(v["gap_m"]["min"], 10.0);
+        assert_eq!(v["range_error_m"]["p95_abs"], 0.25);
+        assert_eq!(v["realtime_factor"], 0.5);
+    }
+}
