@@ -221,3 +221,43 @@ fn identical_records_give_byte_identical_outputs() {
         assert!(fa == fb, "{file} differs between two identical runs");
     }
 }
+
+#[test]
+fn empty_and_one_frame_runs_still_write_their_outputs() {
+    let tmp = tempfile::tempdir().unwrap();
+    // No frame at all: the summary fails with a reason, the plots are empty but drawn.
+    let dir = tmp.path().join("empty");
+    let out = RunOutputs::create(&dir, OutputOptions::default()).unwrap();
+    let s = out.finish("empty", 1, &expect(), 0.0).unwrap();
+    assert!(!s.passed);
+    assert_eq!(
+        s.failures[0],
+        "the run recorded no frames (at least 1 needed)"
+    );
+    assert_eq!(s.realtime_factor, None);
+    for file in PLOT_FILES {
+        image::open(dir.join(file)).unwrap_or_else(|e| panic!("{file}: {e}"));
+    }
+    let json = std::fs::read_to_string(dir.join("summary.json")).unwrap();
+    assert!(json.contains("\"mean_abs\": null"), "{json}");
+
+    // One frame, with video on: every still is that frame; no NaN anywhere.
+    let dir = tmp.path().join("one");
+    let options = OutputOptions {
+        video: true,
+        expected_frames: Some(1),
+        ..OutputOptions::default()
+    };
+    let mut out = RunOutputs::create(&dir, options).unwrap();
+    out.record(&record(0)).unwrap();
+    out.frame_image(0, &image(0)).unwrap();
+    let s = out.finish("one", 1, &Expect::default(), 0.1).unwrap();
+    assert!(s.passed, "{:?}", s.failures);
+    assert!((s.duration_s - 1.0 / 15.0).abs() < 1e-12);
+    for file in FILES.iter().filter(|f| **f != "still_first_lost.png") {
+        assert!(dir.join(file).is_file(), "{file}");
+    }
+    assert!(!std::fs::read_to_string(dir.join("summary.json"))
+        .unwrap()
+        .contains("NaN"));
+}
