@@ -87,7 +87,8 @@ fn verdict(s: &Summary, dir: &Path) -> String {
         s.realtime_factor.unwrap_or(0.0),
         s.gap_m.min,
         s.gap_m.max,
-        s.tracking_lost_s,
+        // Adding 0.0 turns a −0.0 into 0.0 for display.
+        s.tracking_lost_s + 0.0,
         dir.display()
     );
     if s.failures.is_empty() {

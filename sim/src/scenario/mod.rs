@@ -79,8 +79,8 @@ pub enum ScenarioError {
         line: usize,
         /// 1-based column.
         column: usize,
-        /// The target file's own error.
-        source: crate::target::TargetFileError,
+        /// The target file's own error (boxed: it is large and rare).
+        source: Box<crate::target::TargetFileError>,
     },
 }
 
@@ -249,7 +249,7 @@ impl Scenario {
                     path: path.to_owned(),
                     line,
                     column,
-                    source,
+                    source: Box::new(source),
                 }
             })
         })
