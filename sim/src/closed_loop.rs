@@ -22,6 +22,9 @@ use vehicle::{
 /// Spacing of the points that turn the route's lane centre into the drivers' polyline,
 /// metres: fine enough that a 35 m radius bend is within 4 mm of its arc.
 const ROUTE_SAMPLE_M: f64 = 1.0;
+/// How far the physics ground reaches beyond the route's farthest point, metres: room for
+/// a vehicle that overruns the route's end while braking.
+const GROUND_BEYOND_ROUTE_M: f32 = 200.0;
 /// Height of the lead's box body, metres (a small box truck: the board needs its back door).
 const LEAD_BODY_HEIGHT_M: f64 = 2.7;
 /// Height of the board's centre above the ground, metres.
@@ -148,6 +151,9 @@ impl ClosedLoop {
                 Vector::new(x as f32, 0.0, z as f32)
             })
             .collect();
+        let reach = points
+            .iter()
+            .fold(0.0f32, |m, p| m.max(p.x.abs()).max(p.z.abs()));
         let route = Route::new(points).map_err(|e| setup(format!("route: {e}")))?;
         let pose_at = |s_m: f64| {
             let s = s_m as f32;
@@ -166,7 +172,13 @@ impl ClosedLoop {
                 s.lead_start_m - chase_start_m
             )));
         }
-        let mut world = World::new(&s.world).map_err(|e| setup(format!("physics: {e}")))?;
+        // The ground must reach past every point of the route, or a vehicle drives off it.
+        let mut world_config = s.world.clone();
+        world_config.ground.half_extent_m = world_config
+            .ground
+            .half_extent_m
+            .max(reach + GROUND_BEYOND_ROUTE_M);
+        let mut world = World::new(&world_config).map_err(|e| setup(format!("physics: {e}")))?;
         let v0 = s.lead_initial_speed_mps as f32;
         let lead_id = world
             .add_vehicle(&lead_params, pose_at(s.lead_start_m), v0)
