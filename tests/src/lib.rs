@@ -1,1 +1,2 @@
-//! tests
+//! Workspace integration tests for carfollow. The tests live in `tests/tests/`; this library
+//! is empty.
