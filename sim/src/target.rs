@@ -158,6 +158,8 @@ segments = [
         let m = load(&path).unwrap();
         assert_eq!(m.segments().len(), 10);
         assert_eq!(m.size_m(), [1.6, 1.0]);
+        // The tracker's built-in copy for tests and benchmarks is the same model.
+        assert_eq!(m, tracker::synth::nist_ten_segment());
     }
 
     #[test]

@@ -5,42 +5,8 @@
 use criterion::{criterion_group, criterion_main, Criterion};
 use std::hint::black_box;
 use tracker::edges::EdgeExtractor;
-use tracker::synth::{draw, Rect, SynthScene};
-use tracker::{Camera, Edges, GrayView, Location, TargetModel, Tracker, TrackerConfig, Window};
-
-fn nist_ten_segment() -> TargetModel {
-    TargetModel::new(
-        "nist-ten-segment",
-        10.0,
-        vec![
-            [-0.8, 0.5],
-            [0.8, 0.5],
-            [0.8, -0.5],
-            [-0.8, -0.5],
-            [-0.4, 0.25],
-            [0.4, 0.25],
-            [0.4, -0.25],
-            [-0.4, -0.25],
-            [0.0, 0.5],
-            [0.0, 0.25],
-            [0.0, -0.25],
-            [0.0, -0.5],
-        ],
-        vec![
-            [0, 1],
-            [1, 2],
-            [2, 3],
-            [3, 0],
-            [4, 5],
-            [5, 6],
-            [6, 7],
-            [7, 4],
-            [8, 9],
-            [10, 11],
-        ],
-    )
-    .unwrap()
-}
+use tracker::synth::{draw, nist_ten_segment, Rect, SynthScene};
+use tracker::{Camera, Edges, GrayView, Location, Tracker, TrackerConfig, Window};
 
 fn bench(c: &mut Criterion) {
     let model = nist_ten_segment();

@@ -2,41 +2,11 @@
 //! `cargo build --release -p tracker --example profile_step`, then
 //! `valgrind --tool=callgrind target/release/examples/profile_step`.
 
-use tracker::synth::{draw, Rect, SynthScene};
-use tracker::{Camera, GrayView, Location, TargetModel, Tracker, TrackerConfig};
+use tracker::synth::{draw, nist_ten_segment, Rect, SynthScene};
+use tracker::{Camera, GrayView, Location, Tracker, TrackerConfig};
 
 fn main() {
-    let model = TargetModel::new(
-        "nist-ten-segment",
-        10.0,
-        vec![
-            [-0.8, 0.5],
-            [0.8, 0.5],
-            [0.8, -0.5],
-            [-0.8, -0.5],
-            [-0.4, 0.25],
-            [0.4, 0.25],
-            [0.4, -0.25],
-            [-0.4, -0.25],
-            [0.0, 0.5],
-            [0.0, 0.25],
-            [0.0, -0.25],
-            [0.0, -0.5],
-        ],
-        vec![
-            [0, 1],
-            [1, 2],
-            [2, 3],
-            [3, 0],
-            [4, 5],
-            [5, 6],
-            [6, 7],
-            [7, 4],
-            [8, 9],
-            [10, 11],
-        ],
-    )
-    .expect("valid model");
+    let model = nist_ten_segment();
     let camera = Camera::default();
     let at = Location::new(128.0, 112.0, 1.0);
     let scene = SynthScene {

@@ -4,44 +4,8 @@
 //! on the target through clutter, and report `Lost` when the target leaves the image.
 //! Run with `cargo test -p tracker --test tracking --release`.
 
-use tracker::synth::{draw, wander, Rect, SynthScene};
-use tracker::{Camera, GrayView, Location, Status, TargetModel, Tracker, TrackerConfig};
-
-/// The shipped `scenarios/targets/nist-ten-segment.toml`, built in code (the tracker reads
-/// no files).
-fn nist_ten_segment() -> TargetModel {
-    TargetModel::new(
-        "nist-ten-segment",
-        10.0,
-        vec![
-            [-0.8, 0.5],
-            [0.8, 0.5],
-            [0.8, -0.5],
-            [-0.8, -0.5],
-            [-0.4, 0.25],
-            [0.4, 0.25],
-            [0.4, -0.25],
-            [-0.4, -0.25],
-            [0.0, 0.5],
-            [0.0, 0.25],
-            [0.0, -0.25],
-            [0.0, -0.5],
-        ],
-        vec![
-            [0, 1],
-            [1, 2],
-            [2, 3],
-            [3, 0],
-            [4, 5],
-            [5, 6],
-            [6, 7],
-            [7, 4],
-            [8, 9],
-            [10, 11],
-        ],
-    )
-    .unwrap()
-}
+use tracker::synth::{draw, nist_ten_segment, wander, Rect, SynthScene};
+use tracker::{Camera, GrayView, Location, Status, Tracker, TrackerConfig};
 
 struct Run {
     errors_px: Vec<f64>,
