@@ -11,6 +11,48 @@ fn render(c: &mut Criterion) {
     let scene = Scene::build(builtin_description(builtin_target(), 1)).expect("built-in scene");
     let rig = CameraRig::default();
     let backend = Backend::choose(None).expect("backend");
+    if let Ok(n) = std::env::var("CF_QUICK") {
+        let n: u64 = n.parse().unwrap();
+        let size: u32 = std::env::var("CF_SIZE")
+            .map(|s| s.parse().unwrap())
+            .unwrap_or(1024);
+        let options = RenderOptions {
+            backend,
+            shadow_map_size: size,
+            ..RenderOptions::default()
+        };
+        let mut renderer = Renderer::new(&scene, rig.clone(), &options).expect("renderer");
+        let cpu = || {
+            let s = std::fs::read_to_string("/proc/self/stat").unwrap();
+            let f: Vec<&str> = s.rsplit(')').next().unwrap().split_whitespace().collect();
+            (f[11].parse::<f64>().unwrap() + f[12].parse::<f64>().unwrap()) * 10.0
+        };
+        let mut go = |count: u64| {
+            let (t0, c0) = (std::time::Instant::now(), cpu());
+            for frame_index in 0..count {
+                let time_s = (frame_index % 600) as f64 / 15.0;
+                let (world_from_chase, world_from_lead) =
+                    builtin_poses(scene.description(), scene.route(), &rig.mount, time_s);
+                renderer
+                    .render(&FrameInput {
+                        frame_index,
+                        time_s,
+                        world_from_chase,
+                        world_from_lead,
+                    })
+                    .unwrap();
+            }
+            (t0.elapsed().as_secs_f64(), cpu() - c0)
+        };
+        go(60);
+        let (wall, cpu_ms) = go(n);
+        eprintln!(
+            "QUICK {size}: {:.1} frames/s wall, {:.2} cpu-ms/frame",
+            n as f64 / wall,
+            cpu_ms / n as f64
+        );
+        return;
+    }
     let mut group = c.benchmark_group("render");
     group.throughput(Throughput::Elements(1));
     for shadow_map_size in [1024, 512] {

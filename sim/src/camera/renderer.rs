@@ -109,6 +109,10 @@ pub struct Renderer {
     staging: wgpu::Buffer,
     padded_row: u32,
     stats: DrawStats,
+    /// Per-frame scratch lists, kept to avoid allocating every frame.
+    items: Vec<DrawItem>,
+    main_draws: Vec<Range<u32>>,
+    shadow_draws: Vec<Range<u32>>,
 }
 
 /// What the last frame drew: triangles in each pass after culling.
@@ -377,7 +381,12 @@ impl Renderer {
                 compilation_options: Default::default(),
                 buffers: &[Some(vertex_layout.clone())],
             },
-            primitive: wgpu::PrimitiveState::default(),
+            // Every closed mesh is wound counter-clockwise seen from outside
+            // (`Mesh::orient_faces`), open ones are two-sided: back faces never show.
+            primitive: wgpu::PrimitiveState {
+                cull_mode: Some(wgpu::Face::Back),
+                ..Default::default()
+            },
             depth_stencil: Some(wgpu::DepthStencilState {
                 format: DEPTH_FORMAT,
                 depth_write_enabled: Some(true),
@@ -404,7 +413,12 @@ impl Renderer {
                 compilation_options: Default::default(),
                 buffers: &[Some(vertex_layout)],
             },
-            primitive: wgpu::PrimitiveState::default(),
+            // Every closed mesh is wound counter-clockwise seen from outside
+            // (`Mesh::orient_faces`), open ones are two-sided: back faces never show.
+            primitive: wgpu::PrimitiveState {
+                cull_mode: Some(wgpu::Face::Back),
+                ..Default::default()
+            },
             depth_stencil: Some(wgpu::DepthStencilState {
                 format: DEPTH_FORMAT,
                 depth_write_enabled: Some(true),
@@ -453,6 +467,9 @@ impl Renderer {
             staging,
             padded_row,
             stats: DrawStats::default(),
+            items: Vec::new(),
+            main_draws: Vec::new(),
+            shadow_draws: Vec::new(),
         })
     }
 
@@ -487,7 +504,9 @@ impl Renderer {
         let view_proj = rig.clip_from_camera() * camera_from_world.to_homogeneous();
         let mut world_from_object = [[[0f32; 4]; 4]; ObjectSlot::COUNT as usize];
         world_from_object[ObjectSlot::WORLD as usize] = to_f32(&Matrix4::identity());
-        let mut moving: Vec<(Range<u32>, [f64; 3], f64, bool)> = Vec::new();
+        let eye = world_from_camera.translation.vector;
+        let mut items = std::mem::take(&mut self.items);
+        items.clear();
         for object in self.scene.objects() {
             // Off the route: the zero matrix collapses it to nothing.
             if let Some(pose) = self.scene.world_from_object(
@@ -498,32 +517,55 @@ impl Renderer {
             ) {
                 world_from_object[object.slot as usize] = to_f32(&pose.to_homogeneous());
                 let c = pose * Point3::from(object.centre);
-                moving.push((
-                    object.indices.clone(),
-                    [c.x, c.y, c.z],
-                    object.radius,
-                    object.casts_shadow,
-                ));
+                // The hood hides the bottom of the frame and the lead the middle: drawn
+                // first, they let depth testing reject what lies behind them unshaded.
+                let class = match object.slot {
+                    ObjectSlot::CHASE => 0,
+                    ObjectSlot::LEAD => 1,
+                    _ => 2,
+                };
+                items.push(DrawItem {
+                    indices: object.indices.clone(),
+                    centre: [c.x, c.y, c.z],
+                    radius: object.radius,
+                    casts_shadow: object.casts_shadow,
+                    class,
+                    distance_m: (c.coords - eye).norm(),
+                });
             }
         }
+        for chunk in self.scene.chunks() {
+            items.push(DrawItem {
+                indices: chunk.indices.clone(),
+                centre: chunk.centre,
+                radius: chunk.radius,
+                casts_shadow: chunk.casts_shadow,
+                class: 3 + chunk.layer as u8,
+                distance_m: (Vector3::from(chunk.centre) - eye).norm(),
+            });
+        }
 
-        // Culling: static chunks and moving objects against the camera's frustum.
+        // Main pass: what the camera's frustum holds, front to back (by class, then by
+        // distance), so early depth testing rejects hidden fragments before shading them.
         let frustum = Frustum::new(rig, &camera_from_world);
-        let statics = self
-            .scene
-            .chunks()
+        let mut main_draws = std::mem::take(&mut self.main_draws);
+        main_draws.clear();
+        let mut visible: Vec<&DrawItem> = items
             .iter()
-            .map(|c| (c.indices.clone(), c.centre, c.radius, c.casts_shadow));
-        let everything: Vec<_> = statics.chain(moving).collect();
-        let main_draws = merge(
-            everything
-                .iter()
-                .filter(|(_, c, r, _)| frustum.sees(*c, *r))
-                .map(|d| d.0.clone()),
-        );
+            .filter(|d| frustum.sees(d.centre, d.radius))
+            .collect();
+        visible.sort_by(|a, b| {
+            (a.class, a.distance_m)
+                .partial_cmp(&(b.class, b.distance_m))
+                .expect("finite distances")
+        });
+        for item in visible {
+            push_merged(&mut main_draws, item.indices.clone());
+        }
 
         // The sun's frustum, fitted to the part of the camera's frustum within the shadow
-        // distance; casters culled against it.
+        // distance; casters culled against it. Order does not matter here (depth only), so
+        // ranges are sorted and joined into as few draws as possible.
         let sun = &description.sun;
         let light = Light::fit(
             rig,
@@ -532,12 +574,21 @@ impl Renderer {
             self.options.shadow_distance_m,
             self.options.shadow_map_size,
         );
-        let shadow_draws = merge(
-            everything
+        let mut shadow_draws = std::mem::take(&mut self.shadow_draws);
+        shadow_draws.clear();
+        shadow_draws.extend(
+            items
                 .iter()
-                .filter(|(_, c, r, casts)| *casts && light.holds(*c, *r))
-                .map(|d| d.0.clone()),
+                .filter(|d| d.casts_shadow && light.holds(d.centre, d.radius))
+                .map(|d| d.indices.clone()),
         );
+        shadow_draws.sort_by_key(|r| r.start);
+        let mut merged = Vec::with_capacity(shadow_draws.len());
+        for range in shadow_draws.drain(..) {
+            push_merged(&mut merged, range);
+        }
+        shadow_draws = merged;
+        self.items = items;
 
         let triangles = |draws: &[Range<u32>]| draws.iter().map(|r| (r.end - r.start) / 3).sum();
         self.stats = DrawStats {
@@ -561,7 +612,11 @@ impl Renderer {
                 sun.ambient as f32,
                 brightness as f32,
                 (NORMAL_OFFSET_TEXELS * light.texel_m) as f32,
-                1.0 / self.options.shadow_map_size as f32,
+                if std::env::var_os("CF_NOSAMPLE").is_some() {
+                    -1.0
+                } else {
+                    1.0 / self.options.shadow_map_size as f32
+                },
             ],
         };
         self.queue
@@ -598,7 +653,10 @@ impl Renderer {
             pass.set_bind_group(0, &self.frame_bind_group, &[]);
             pass.set_vertex_buffer(0, self.vertex_buffer.slice(..));
             pass.set_index_buffer(self.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
-            for range in &shadow_draws {
+            for range in shadow_draws
+                .iter()
+                .filter(|_| std::env::var_os("CF_NOSHADOW").is_none())
+            {
                 pass.draw_indexed(range.clone(), 0, 0..1);
             }
         }
@@ -641,10 +699,15 @@ impl Renderer {
             pass.set_bind_group(1, &self.shadow_bind_group, &[]);
             pass.set_vertex_buffer(0, self.vertex_buffer.slice(..));
             pass.set_index_buffer(self.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
-            for range in &main_draws {
+            for range in main_draws
+                .iter()
+                .filter(|_| std::env::var_os("CF_NOMAIN").is_none())
+            {
                 pass.draw_indexed(range.clone(), 0, 0..1);
             }
         }
+        self.main_draws = main_draws;
+        self.shadow_draws = shadow_draws;
         encoder.copy_texture_to_buffer(
             wgpu::TexelCopyTextureInfo {
                 texture: &self.color_texture,
@@ -779,18 +842,26 @@ fn to_f32(m: &Matrix4<f64>) -> [[f32; 4]; 4] {
     out
 }
 
-/// Sorts index ranges and joins touching ones, so neighbouring chunks become one draw.
-fn merge(ranges: impl Iterator<Item = Range<u32>>) -> Vec<Range<u32>> {
-    let mut ranges: Vec<Range<u32>> = ranges.collect();
-    ranges.sort_by_key(|r| r.start);
-    let mut merged: Vec<Range<u32>> = Vec::with_capacity(ranges.len());
-    for range in ranges {
-        match merged.last_mut() {
-            Some(last) if last.end == range.start => last.end = range.end,
-            _ => merged.push(range),
-        }
+/// Appends an index range to a draw list, joining it to the last one when they touch.
+fn push_merged(draws: &mut Vec<Range<u32>>, range: Range<u32>) {
+    match draws.last_mut() {
+        Some(last) if last.end == range.start => last.end = range.end,
+        _ => draws.push(range),
     }
-    merged
+}
+
+/// A piece of geometry the frame may draw: static chunk or placed moving object.
+#[derive(Clone, Debug)]
+struct DrawItem {
+    indices: Range<u32>,
+    /// Bounding sphere, world frame.
+    centre: [f64; 3],
+    radius: f64,
+    casts_shadow: bool,
+    /// Draw-order class: hood, lead, other vehicles, then the static layers.
+    class: u8,
+    /// From the camera to the bounding sphere's centre, metres.
+    distance_m: f64,
 }
 
 /// The camera's view frustum as planes through the optical centre plus near and far, in the

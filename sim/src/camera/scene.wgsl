@@ -35,6 +35,10 @@ struct VertexOut {
     @location(0) world: vec3<f32>,
     @location(1) normal: vec3<f32>,
     @location(2) albedo: f32,
+    // Where the (normal-offset) point falls in the shadow map: x, y in 0..1, depth.
+    // The sun's projection is orthographic, so this is affine in the world position and
+    // interpolating it across a triangle is exact.
+    @location(3) shadow: vec3<f32>,
 };
 
 @vertex
@@ -53,19 +57,19 @@ fn vs_main(v: VertexIn) -> VertexOut {
     // Transforms are rigid, so the normal turns with the upper 3×3.
     out.normal = (m * vec4<f32>(v.normal, 0.0)).xyz;
     out.albedo = v.albedo;
+    let p = globals.light_view_proj * vec4<f32>(out.world + out.normal * globals.params.z, 1.0);
+    out.shadow = vec3<f32>(p.x * 0.5 + 0.5, 0.5 - p.y * 0.5, p.z);
     return out;
 }
 
 // Fraction of sunlight reaching `world` (0 = full shadow): one bilinear comparison tap,
 // a 2×2-texel percentage-closer filter, so shadow edges ramp over about a texel (~6 cm).
 // More taps cost llvmpipe more than the whole rest of the frame.
-fn sunlight(world: vec3<f32>, normal: vec3<f32>) -> f32 {
-    let p = globals.light_view_proj * vec4<f32>(world + normal * globals.params.z, 1.0);
-    let uv = vec2<f32>(p.x * 0.5 + 0.5, 0.5 - p.y * 0.5);
-    if (uv.x < 0.0 || uv.x > 1.0 || uv.y < 0.0 || uv.y > 1.0 || p.z > 1.0) {
+fn sunlight(p: vec3<f32>) -> f32 {
+    if (p.x < 0.0 || p.x > 1.0 || p.y < 0.0 || p.y > 1.0 || p.z > 1.0) {
         return 1.0;
     }
-    return textureSampleCompareLevel(shadow_map, shadow_sampler, uv, p.z);
+    return textureSampleCompareLevel(shadow_map, shadow_sampler, p.xy, p.z);
 }
 
 @fragment
@@ -73,8 +77,10 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     let n = normalize(in.normal);
     let facing = dot(n, globals.sun.xyz);
     var direct = 0.0;
-    if (facing > 0.0) {
-        direct = globals.sun.w * facing * sunlight(in.world, n);
+    if (facing > 0.0 && globals.params.w < 0.0) {
+        direct = globals.sun.w * facing;
+    } else if (facing > 0.0) {
+        direct = globals.sun.w * facing * sunlight(in.shadow);
     }
     let grey = in.albedo * (globals.params.x + direct) * globals.params.y;
     return vec4<f32>(grey, grey, grey, 1.0);

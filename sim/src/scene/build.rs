@@ -103,6 +103,23 @@ pub struct Chunk {
     /// Whether it is drawn into the shadow map (ground, road and paint are not: they only
     /// receive shadows, and leaving them out halves the shadow pass's fill).
     pub casts_shadow: bool,
+    /// What kind of geometry it holds; the renderer draws layers front to back.
+    pub layer: Layer,
+}
+
+/// Kinds of static geometry, in the order the renderer draws them: what stands up first, the
+/// ground last, so that depth testing rejects hidden ground before it is shaded.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Layer {
+    /// Trees, poles, houses, buildings, parked vehicles: they cast shadows.
+    Clutter,
+    /// Telephone wires: thin, and too thin to cast a shadow worth a texel.
+    Wires,
+    /// The road, crossing roads, lane paint, cracks, patches and pot holes (just above the
+    /// grass, so they hide it).
+    Surface,
+    /// The grass.
+    Ground,
 }
 
 /// What moves a dynamic object.
@@ -161,18 +178,18 @@ impl RoadFrame<'_> {
     }
 }
 
-/// Static geometry binned by ground cell and by whether it casts shadows.
+/// Static geometry binned by ground cell and by layer.
 #[derive(Default)]
 struct Bins {
-    bins: BTreeMap<(i64, i64, bool), Mesh>,
+    bins: BTreeMap<(i64, i64, Layer), Mesh>,
 }
 
 impl Bins {
-    fn at(&mut self, x: f64, z: f64, casts: bool) -> &mut Mesh {
+    fn at(&mut self, x: f64, z: f64, layer: Layer) -> &mut Mesh {
         let key = (
             (x / BIN_M).floor() as i64,
             (z / BIN_M).floor() as i64,
-            casts,
+            layer,
         );
         self.bins.entry(key).or_default()
     }
@@ -215,7 +232,11 @@ impl Scene {
             for j in 0..cells[1] {
                 let x0 = origin[0] + i as f64 * GROUND_CELL_M;
                 let z0 = origin[1] + j as f64 * GROUND_CELL_M;
-                let mesh = bins.at(x0 + 0.5 * GROUND_CELL_M, z0 + 0.5 * GROUND_CELL_M, false);
+                let mesh = bins.at(
+                    x0 + 0.5 * GROUND_CELL_M,
+                    z0 + 0.5 * GROUND_CELL_M,
+                    Layer::Ground,
+                );
                 let a = |di: usize, dj: usize| albedo[(i + di) * (cells[1] + 1) + j + dj];
                 let corners = [
                     ([x0, 0.0, z0], a(0, 0)),
@@ -256,7 +277,7 @@ impl Scene {
                 ROAD_STEP_M
             };
             let mid = road.world(0.5 * (s + s1), 0.0, 0.0);
-            let mesh = bins.at(mid[0], mid[2], false);
+            let mesh = bins.at(mid[0], mid[2], Layer::Surface);
             strip(mesh, &road, s, s1, -road_half, road_half, ROAD_Y_M, ASPHALT);
             for side in [-1.0, 1.0] {
                 let l = side * (lane + 0.1);
@@ -285,7 +306,7 @@ impl Scene {
         while s < length + ROAD_RUNOUT_M {
             if !route.near_intersection(s + 0.5 * DASH_M, road_half + 1.0) {
                 let mid = road.world(s + 0.5 * DASH_M, 0.0, 0.0);
-                let mesh = bins.at(mid[0], mid[2], false);
+                let mesh = bins.at(mid[0], mid[2], Layer::Surface);
                 strip(
                     mesh,
                     &road,
@@ -316,7 +337,7 @@ impl Scene {
                     ]
                 };
                 let centre = p(t + 5.0, 0.0);
-                bins.at(centre[0], centre[2], false).polygon(
+                bins.at(centre[0], centre[2], Layer::Surface).polygon(
                     &[
                         p(t, -road_half),
                         p(t1, -road_half),
@@ -397,14 +418,14 @@ impl Scene {
             road_marks.push((road.world(s, l, 0.0), mesh));
         }
         for (p, mesh) in &road_marks {
-            bins.at(p[0], p[2], false).append(mesh);
+            bins.at(p[0], p[2], Layer::Surface).append(mesh);
         }
 
         // Trees: trunk and a canopy of clumps with gaps between them, so their shadows dapple.
         let mut trees = stream(seed, "trees");
         let tree_at = |bins: &mut Bins, rng: &mut ChaCha8Rng, x: f64, z: f64| {
             let trunk = rng.random_range(2.5..4.0);
-            let mesh = bins.at(x, z, true);
+            let mesh = bins.at(x, z, Layer::Clutter);
             mesh.upright_box(x, z, 0.0, 0.15, 0.15, 0.0, trunk + 1.0, 0.22);
             for _ in 0..rng.random_range(5..9) {
                 let c = [
@@ -448,14 +469,14 @@ impl Scene {
                 let l = road_half + 2.0;
                 let heading = route.at(here)[2];
                 let [px, pz] = route.point(here, l);
-                let mesh = bins.at(px, pz, true);
+                let mesh = bins.at(px, pz, Layer::Clutter);
                 mesh.upright_box(px, pz, heading, 0.13, 0.13, 0.0, POLE_TOP_M, 0.30);
                 let right = [heading.sin(), 0.0, heading.cos()];
                 let end = |k: f64| [px + k * right[0], ARM_Y_M, pz + k * right[2]];
                 mesh.beam(end(-1.0), end(1.0), 0.06, 0.28);
                 let ends = [end(-0.9), end(0.9)];
                 if let Some(prev) = previous {
-                    let wires = bins.at(px, pz, false);
+                    let wires = bins.at(px, pz, Layer::Wires);
                     for k in 0..2 {
                         let (a, b) = (prev[k], ends[k]);
                         const SAG_M: f64 = 0.5;
@@ -467,7 +488,7 @@ impl Scene {
                             ]
                         };
                         for i in 0..4 {
-                            wires.beam(
+                            wires.ribbon(
                                 point(i as f64 / 4.0),
                                 point((i + 1) as f64 / 4.0),
                                 0.02,
@@ -493,7 +514,7 @@ impl Scene {
             let walls = if houses.random_bool(0.3) { 5.8 } else { 3.0 };
             let [x, z] = route.point(s, l);
             let heading = route.at(s)[2] + houses.random_range(-0.1..0.1);
-            let mesh = bins.at(x, z, true);
+            let mesh = bins.at(x, z, Layer::Clutter);
             let wall_albedo = houses.random_range(0.45..0.8);
             house(
                 mesh,
@@ -524,7 +545,7 @@ impl Scene {
             let height = buildings.random_range(8.0..20.0);
             let [x, z] = route.point(s, l);
             let heading = route.at(s)[2];
-            let mesh = bins.at(x, z, true);
+            let mesh = bins.at(x, z, Layer::Clutter);
             building(
                 mesh,
                 [x, z],
@@ -566,7 +587,7 @@ impl Scene {
                 v.normal = [n.x as f32, n.y as f32, n.z as f32];
             }
             let t = pose.translation.vector;
-            bins.at(t.x, t.z, true).append(&car_mesh);
+            bins.at(t.x, t.z, Layer::Clutter).append(&car_mesh);
         }
 
         // Hand-placed clutter.
@@ -574,7 +595,7 @@ impl Scene {
         for placement in &description.placements {
             match *placement {
                 Placement::Pole { x_m, z_m } => {
-                    bins.at(x_m, z_m, true)
+                    bins.at(x_m, z_m, Layer::Clutter)
                         .upright_box(x_m, z_m, 0.0, 0.13, 0.13, 0.0, POLE_TOP_M, 0.30);
                 }
                 Placement::Tree { x_m, z_m } => tree_at(&mut bins, &mut placed, x_m, z_m),
@@ -584,7 +605,7 @@ impl Scene {
         // Concatenate the bins into one mesh, recording each as a chunk.
         let mut mesh = Mesh::default();
         let mut chunks = Vec::new();
-        for ((_, _, casts), bin) in &bins.bins {
+        for (&(_, _, layer), bin) in &bins.bins {
             if bin.indices.is_empty() {
                 continue;
             }
@@ -595,7 +616,8 @@ impl Scene {
                 indices: start..mesh.indices.len() as u32,
                 centre,
                 radius,
-                casts_shadow: *casts,
+                casts_shadow: layer == Layer::Clutter,
+                layer,
             });
         }
 
@@ -654,6 +676,7 @@ impl Scene {
             );
         }
 
+        mesh.orient_faces();
         Ok(Scene {
             description,
             route,
@@ -910,10 +933,12 @@ fn house(
             roof_albedo,
             ObjectSlot::WORLD,
         );
+        // The gable, wound so that its normal points out of the house.
+        let (b0, b1) = (side * half[1], -side * half[1]);
         mesh.polygon(
             &[
-                p(side * half[0], walls, -half[1]),
-                p(side * half[0], walls, half[1]),
+                p(side * half[0], walls, b0),
+                p(side * half[0], walls, b1),
                 p(side * half[0], ridge, 0.0),
             ],
             wall_albedo,

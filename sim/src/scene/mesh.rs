@@ -232,21 +232,36 @@ impl Mesh {
     }
 
     /// Appends a vertical ribbon from `a` to `b`, `half` metres either side vertically: a
-    /// wire seen from the road, in two triangles.
+    /// wire seen from the road, two-sided (four triangles, one face lit from each side), so
+    /// it survives back-face culling from wherever it is seen.
     pub fn ribbon(&mut self, a: P, b: P, half: f64, albedo: f64) {
         let d = sub(b, a);
         let normal = normalize(cross(d, [0.0, 1.0, 0.0]));
-        self.quad_with_normal(
-            [
-                [a[0], a[1] - half, a[2]],
-                [b[0], b[1] - half, b[2]],
-                [b[0], b[1] + half, b[2]],
-                [a[0], a[1] + half, a[2]],
-            ],
-            normal,
-            albedo,
-            0,
-        );
+        let corners = [
+            [a[0], a[1] - half, a[2]],
+            [b[0], b[1] - half, b[2]],
+            [b[0], b[1] + half, b[2]],
+            [a[0], a[1] + half, a[2]],
+        ];
+        self.quad_with_normal(corners, normal, albedo, 0);
+        let back = [-normal[0], -normal[1], -normal[2]];
+        self.quad_with_normal(corners, back, albedo, 0);
+    }
+
+    /// Winds every triangle counter-clockwise about its vertices' normal (right-handed, seen
+    /// from the side the normal points to), so the renderer can cull back faces. Every
+    /// primitive here is flat-shaded, so a triangle's first vertex normal is its face's.
+    pub fn orient_faces(&mut self) {
+        for triangle in self.indices.chunks_exact_mut(3) {
+            let [a, b, c] =
+                [triangle[0], triangle[1], triangle[2]].map(|i| self.vertices[i as usize]);
+            let p = |v: Vertex| v.position.map(f64::from);
+            let geometric = cross(sub(p(b), p(a)), sub(p(c), p(a)));
+            let n = a.normal.map(f64::from);
+            if geometric[0] * n[0] + geometric[1] * n[1] + geometric[2] * n[2] < 0.0 {
+                triangle.swap(1, 2);
+            }
+        }
     }
 
     /// Appends another mesh, re-basing its indices.
