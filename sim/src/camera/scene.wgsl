@@ -32,7 +32,6 @@ struct VertexIn {
 
 struct VertexOut {
     @builtin(position) clip: vec4<f32>,
-    @location(0) world: vec3<f32>,
     @location(1) normal: vec3<f32>,
     @location(2) albedo: f32,
     // Where the (normal-offset) point falls in the shadow map: x, y in 0..1, depth.
@@ -53,11 +52,10 @@ fn vs_main(v: VertexIn) -> VertexOut {
     let world = m * vec4<f32>(v.position, 1.0);
     var out: VertexOut;
     out.clip = globals.view_proj * world;
-    out.world = world.xyz;
     // Transforms are rigid, so the normal turns with the upper 3×3.
     out.normal = (m * vec4<f32>(v.normal, 0.0)).xyz;
     out.albedo = v.albedo;
-    let p = globals.light_view_proj * vec4<f32>(out.world + out.normal * globals.params.z, 1.0);
+    let p = globals.light_view_proj * vec4<f32>(world.xyz + out.normal * globals.params.z, 1.0);
     out.shadow = vec3<f32>(p.x * 0.5 + 0.5, 0.5 - p.y * 0.5, p.z);
     return out;
 }
@@ -74,6 +72,9 @@ fn sunlight(p: vec3<f32>) -> f32 {
 
 @fragment
 fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
+    if (globals.params.w < -1.5) {
+        return vec4<f32>(in.albedo, in.albedo, in.albedo, 1.0);
+    }
     let n = normalize(in.normal);
     let facing = dot(n, globals.sun.xyz);
     var direct = 0.0;

@@ -66,9 +66,14 @@ const GROUND_MARGIN_M: f64 = 250.0;
 const GROUND_CELL_M: f64 = 25.0;
 /// Length of one road quad along an arc, metres (a 60 m arc bends < 2° per quad).
 const ROAD_STEP_M: f64 = 2.0;
-/// Length of one road quad along a straight, metres: long quads mean few triangles, and
-/// llvmpipe's cost is mostly per triangle at this image size.
-const STRAIGHT_STEP_M: f64 = 10.0;
+/// Length of one road quad along a straight, metres: long quads mean few triangles (the
+/// road is flat, so length costs nothing in accuracy), and llvmpipe's cost grows with
+/// every triangle set up.
+const STRAIGHT_STEP_M: f64 = 20.0;
+/// Straight pieces per wire span: three chords follow a 0.5 m sag over a ~45 m span to
+/// within 6 cm (a pixel at 20 m), each an open beam of eight triangles (a flat ribbon
+/// would be cheaper but vanishes edge-on when the wire passes above the camera).
+const WIRE_PIECES: usize = 3;
 /// Width of the paved shoulder beyond each lane, metres.
 const SHOULDER_M: f64 = 0.5;
 /// Lane paint width, metres (US practice: 4–6 in).
@@ -282,9 +287,12 @@ impl Scene {
             for side in [-1.0, 1.0] {
                 let l = side * (lane + 0.1);
                 let mut a = s;
-                // Edge lines stop across intersections.
+                // Edge lines stop across intersections: in short pieces near one, else in
+                // one piece per road quad.
+                let clear = !route.near_intersection(0.5 * (s + s1), road_half + 1.0 + (s1 - s));
+                let piece = if clear { s1 - s } else { ROAD_STEP_M };
                 while a < s1 {
-                    let b = (a + ROAD_STEP_M).min(s1);
+                    let b = (a + piece).min(s1);
                     if !route.near_intersection(0.5 * (a + b), road_half + 1.0) {
                         strip(
                             mesh,
@@ -487,10 +495,10 @@ impl Scene {
                                 a[2] + t * (b[2] - a[2]),
                             ]
                         };
-                        for i in 0..4 {
-                            wires.ribbon(
-                                point(i as f64 / 4.0),
-                                point((i + 1) as f64 / 4.0),
+                        for i in 0..WIRE_PIECES {
+                            wires.beam(
+                                point(i as f64 / WIRE_PIECES as f64),
+                                point((i + 1) as f64 / WIRE_PIECES as f64),
                                 0.02,
                                 0.12,
                             );
