@@ -8,7 +8,7 @@ use super::backend::{Backend, BackendError};
 use super::frame::{Frame, FrameInput, GroundTruth};
 use super::rig::CameraRig;
 use super::sensor::apply_sensor;
-use crate::scene::{ObjectSlot, Scene, Vertex};
+use crate::scene::{ObjectSlot, Scene, Vertex, GRASS_ALBEDO_RANGE, GROUND_CELL_M};
 use bytemuck::{Pod, Zeroable};
 use image::GrayImage;
 use nalgebra::{Isometry3, Matrix4, Point3, Vector3};
@@ -85,6 +85,7 @@ struct Globals {
     light_view_proj: [[f32; 4]; 4],
     sun: [f32; 4],
     params: [f32; 4],
+    ground: [f32; 4],
 }
 
 /// Renders frames of one scene from the chase camera.
@@ -111,6 +112,8 @@ pub struct Renderer {
     staging: wgpu::Buffer,
     padded_row: u32,
     stats: DrawStats,
+    /// The scene's grass hash key (see [`Scene::grass_key`]).
+    grass_key: u32,
     /// Per-frame scratch lists, kept to avoid allocating every frame.
     items: Vec<DrawItem>,
     main_draws: Vec<Range<u32>>,
@@ -469,6 +472,7 @@ impl Renderer {
             staging,
             padded_row,
             stats: DrawStats::default(),
+            grass_key: scene.grass_key(),
             items: Vec::new(),
             main_draws: Vec::new(),
             shadow_draws: Vec::new(),
@@ -648,6 +652,12 @@ impl Renderer {
                 } else {
                     1.0 / self.options.shadow_map_size as f32
                 },
+            ],
+            ground: [
+                (1.0 / GROUND_CELL_M) as f32,
+                GRASS_ALBEDO_RANGE[0] as f32,
+                (GRASS_ALBEDO_RANGE[1] - GRASS_ALBEDO_RANGE[0]) as f32,
+                self.grass_key as f32,
             ],
         };
         self.queue

@@ -9,8 +9,11 @@ struct Globals {
     // xyz: unit vector towards the sun (world); w: sun strength.
     sun: vec4<f32>,
     // x: ambient; y: sensor brightness (gain × exposure); z: normal offset for shadow
-    // lookups (metres, ~1.5 shadow texels); w: unused.
+    // lookups (metres, ~1.5 shadow texels); w: 1 / shadow map size.
     params: vec4<f32>,
+    // Grass: x: 1 / lattice pitch (1/m); y: lowest albedo; z: albedo range; w: hash key
+    // (an integer below 2^23).
+    ground: vec4<f32>,
 };
 
 struct Objects {
@@ -38,6 +41,8 @@ struct VertexOut {
     // The sun's projection is orthographic, so this is affine in the world position and
     // interpolating it across a triangle is exact.
     @location(3) shadow: vec3<f32>,
+    // World x and z, for the grass's mottling.
+    @location(4) ground: vec2<f32>,
 };
 
 @vertex
@@ -57,6 +62,7 @@ fn vs_main(v: VertexIn) -> VertexOut {
     out.albedo = v.albedo;
     let p = globals.light_view_proj * vec4<f32>(world.xyz + out.normal * globals.params.z, 1.0);
     out.shadow = vec3<f32>(p.x * 0.5 + 0.5, 0.5 - p.y * 0.5, p.z);
+    out.ground = world.xz;
     return out;
 }
 
@@ -68,6 +74,28 @@ fn sunlight(p: vec3<f32>) -> f32 {
         return 1.0;
     }
     return textureSampleCompareLevel(shadow_map, shadow_sampler, p.xy, p.z);
+}
+
+// MurmurHash3's finaliser: a well-mixed 32-bit value for each grass lattice corner.
+fn hash(i: vec2<i32>) -> f32 {
+    var x = (bitcast<u32>(i.x) * 0x8da6b343u) ^ (bitcast<u32>(i.y) * 0xd8163841u) ^ u32(globals.ground.w);
+    x = x ^ (x >> 16u);
+    x = x * 0x85ebca6bu;
+    x = x ^ (x >> 13u);
+    x = x * 0xc2b2ae35u;
+    x = x ^ (x >> 16u);
+    return f32(x >> 8u) / 16777216.0;
+}
+
+// Grass albedo at world (x, z): a random albedo at each lattice corner, bilinearly
+// interpolated, so the shoulders are mottled at the lattice's pitch.
+fn grass(xz: vec2<f32>) -> f32 {
+    let cell = xz * globals.ground.x;
+    let i = vec2<i32>(floor(cell));
+    let f = cell - floor(cell);
+    let a = mix(hash(i), hash(i + vec2<i32>(1, 0)), f.x);
+    let b = mix(hash(i + vec2<i32>(0, 1)), hash(i + vec2<i32>(1, 1)), f.x);
+    return globals.ground.y + globals.ground.z * mix(a, b, f.y);
 }
 
 @fragment
@@ -83,6 +111,10 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     } else if (facing > 0.0) {
         direct = globals.sun.w * facing * sunlight(in.shadow);
     }
-    let grey = in.albedo * (globals.params.x + direct) * globals.params.y;
+    var albedo = in.albedo;
+    if (albedo < 0.0) {
+        albedo = grass(in.ground);
+    }
+    let grey = albedo * (globals.params.x + direct) * globals.params.y;
     return vec4<f32>(grey, grey, grey, 1.0);
 }

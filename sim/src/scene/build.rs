@@ -61,9 +61,14 @@ const MARK_Y_M: f64 = 0.03;
 const ROAD_RUNOUT_M: f64 = 250.0;
 /// Grass margin around the road's bounding box, metres: beyond the far plane's useful range.
 const GROUND_MARGIN_M: f64 = 250.0;
-/// Ground grid cell, metres; each vertex gets its own grass albedo, so the shoulders are
-/// mottled at this scale.
-const GROUND_CELL_M: f64 = 25.0;
+/// Grass mottling cell, metres: the renderer gives each corner of a square lattice of this
+/// pitch its own albedo, hashed from the scene's grass key, and interpolates between them.
+pub const GROUND_CELL_M: f64 = 25.0;
+/// The albedo that marks a vertex as grass: the renderer computes the real albedo per
+/// fragment from the world position (see [`GROUND_CELL_M`], [`GRASS_ALBEDO_RANGE`]).
+pub const GRASS_ALBEDO: f64 = -1.0;
+/// Range of grass albedo, from dry to lush patches.
+pub const GRASS_ALBEDO_RANGE: [f64; 2] = [0.17, 0.30];
 /// Length of one road quad along an arc, metres (a 60 m arc bends < 2° per quad).
 const ROAD_STEP_M: f64 = 2.0;
 /// Length of one road quad along a straight, metres: long quads mean few triangles (the
@@ -229,45 +234,27 @@ impl Scene {
             ((max[0] - min[0] + 2.0 * GROUND_MARGIN_M) / GROUND_CELL_M).ceil() as usize,
             ((max[1] - min[1] + 2.0 * GROUND_MARGIN_M) / GROUND_CELL_M).ceil() as usize,
         ];
-        let mut grass = stream(seed, "grass");
-        let albedo: Vec<f64> = (0..(cells[0] + 1) * (cells[1] + 1))
-            .map(|_| grass.random_range(0.17..0.30))
-            .collect();
-        for i in 0..cells[0] {
-            for j in 0..cells[1] {
-                let x0 = origin[0] + i as f64 * GROUND_CELL_M;
-                let z0 = origin[1] + j as f64 * GROUND_CELL_M;
-                let mesh = bins.at(
-                    x0 + 0.5 * GROUND_CELL_M,
-                    z0 + 0.5 * GROUND_CELL_M,
-                    Layer::Ground,
-                );
-                let a = |di: usize, dj: usize| albedo[(i + di) * (cells[1] + 1) + j + dj];
-                let corners = [
-                    ([x0, 0.0, z0], a(0, 0)),
-                    ([x0 + GROUND_CELL_M, 0.0, z0], a(1, 0)),
-                    ([x0 + GROUND_CELL_M, 0.0, z0 + GROUND_CELL_M], a(1, 1)),
-                    ([x0, 0.0, z0 + GROUND_CELL_M], a(0, 1)),
-                ];
-                let base = mesh.vertices.len() as u32;
-                for (p, al) in corners {
-                    mesh.vertices.push(super::Vertex {
-                        position: [p[0] as f32, 0.0, p[2] as f32],
-                        normal: [0.0, 1.0, 0.0],
-                        albedo: al as f32,
-                        object: ObjectSlot::WORLD,
-                    });
-                }
-                mesh.indices.extend_from_slice(&[
-                    base,
-                    base + 1,
-                    base + 2,
-                    base,
-                    base + 2,
-                    base + 3,
-                ]);
-            }
-        }
+        // One quad: the mottling is computed per fragment from the world position (see
+        // `GRASS_ALBEDO`), so the grass costs two triangles instead of a grid.
+        let size = [
+            cells[0] as f64 * GROUND_CELL_M,
+            cells[1] as f64 * GROUND_CELL_M,
+        ];
+        bins.at(
+            origin[0] + 0.5 * size[0],
+            origin[1] + 0.5 * size[1],
+            Layer::Ground,
+        )
+        .polygon(
+            &[
+                [origin[0], 0.0, origin[1]],
+                [origin[0] + size[0], 0.0, origin[1]],
+                [origin[0] + size[0], 0.0, origin[1] + size[1]],
+                [origin[0], 0.0, origin[1] + size[1]],
+            ],
+            GRASS_ALBEDO,
+            ObjectSlot::WORLD,
+        );
 
         // Road strip, edge lines and the dashed centre line.
         const ASPHALT: f64 = 0.30;
@@ -746,6 +733,12 @@ impl Scene {
                 ))
             }
         }
+    }
+
+    /// The key of the grass lattice's hash (below 2²³, so it travels exactly as an f32),
+    /// drawn from the scene's `"grass"` stream.
+    pub fn grass_key(&self) -> u32 {
+        stream(self.description.seed, "grass").random::<u32>() & 0x7f_ffff
     }
 
     /// The target's frame in the lead vehicle's frame: origin at the target model's centre,
