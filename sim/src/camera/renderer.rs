@@ -77,6 +77,9 @@ const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// Colour format: 8-bit grey, what the frame grabber delivers.
 const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R8Unorm;
 
+/// Draw-order class of the chase vehicle's hood: drawn first, unscissored.
+const HOOD_CLASS: u8 = 0;
+
 /// The uniform block `Globals` of `scene.wgsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
@@ -114,6 +117,9 @@ pub struct Renderer {
     stats: DrawStats,
     /// The scene's grass hash key (see [`Scene::grass_key`]).
     grass_key: u32,
+    /// The first image row from which the hood covers every pixel to the bottom (the hood
+    /// moves with the camera, so this never changes); later draws are scissored above it.
+    hood_row: u32,
     /// Per-frame scratch lists, kept to avoid allocating every frame.
     items: Vec<DrawItem>,
     main_draws: Vec<Range<u32>>,
@@ -449,6 +455,7 @@ impl Renderer {
             cache: None,
         });
 
+        let hood_row = hood_row(&rig, &scene.description().chase);
         Ok(Renderer {
             scene: scene.clone(),
             rig,
@@ -473,6 +480,7 @@ impl Renderer {
             padded_row,
             stats: DrawStats::default(),
             grass_key: scene.grass_key(),
+            hood_row,
             items: Vec::new(),
             main_draws: Vec::new(),
             shadow_draws: Vec::new(),
@@ -526,7 +534,7 @@ impl Renderer {
                 // The hood hides the bottom of the frame and the lead the middle: drawn
                 // first, they let depth testing reject what lies behind them unshaded.
                 let class = match object.slot {
-                    ObjectSlot::CHASE => 0,
+                    ObjectSlot::CHASE => HOOD_CLASS,
                     ObjectSlot::LEAD => 1,
                     _ => 2,
                 };
@@ -556,46 +564,22 @@ impl Renderer {
         let frustum = Frustum::new(rig, &camera_from_world);
         let mut main_draws = std::mem::take(&mut self.main_draws);
         main_draws.clear();
-        let mut visible: Vec<&DrawItem> = items
-            .iter()
-            .filter(|d| frustum.sees(d.centre, d.radius))
-            .filter(|d| {
-                std::env::var("CF_SKIP")
-                    .map(|m| m.parse::<u32>().unwrap() & (1 << d.class) == 0)
-                    .unwrap_or(true)
-            })
-            .collect();
-        visible.sort_by(|a, b| {
+        items.sort_by(|a, b| {
             (a.class, a.distance_m)
                 .partial_cmp(&(b.class, b.distance_m))
                 .expect("finite distances")
         });
-        if std::env::var_os("CF_DEBUG").is_some() {
-            let mut per = [0u32; 8];
-            for item in &visible {
-                per[item.class as usize] += (item.indices.end - item.indices.start) / 3;
-            }
-            eprintln!("per-class triangles {per:?} visible {}", visible.len());
-        }
-        let split: u32 = std::env::var("CF_SPLIT")
-            .map(|s| s.parse().unwrap())
-            .unwrap_or(1);
-        for item in visible {
-            if split > 1 {
-                let n = (item.indices.end - item.indices.start) / 3;
-                let per = n.div_ceil(split);
-                let mut a = item.indices.start;
-                while a < item.indices.end {
-                    let b = (a + per * 3).min(item.indices.end);
-                    main_draws.push(a..b);
-                    a = b;
-                }
+        let mut hood_draws = 0;
+        for item in items.iter().filter(|d| frustum.sees(d.centre, d.radius)) {
+            if item.class == HOOD_CLASS {
+                main_draws.push(item.indices.clone());
+                hood_draws = main_draws.len();
+            } else if main_draws.len() == hood_draws {
+                // Never joined to the hood's draw: what follows is scissored.
+                main_draws.push(item.indices.clone());
             } else {
                 push_merged(&mut main_draws, item.indices.clone());
             }
-        }
-        if std::env::var_os("CF_DEBUG").is_some() {
-            eprintln!("main draws {}", main_draws.len());
         }
 
         // The sun's frustum, fitted to the part of the camera's frustum within the shadow
@@ -647,11 +631,7 @@ impl Renderer {
                 sun.ambient as f32,
                 brightness as f32,
                 (NORMAL_OFFSET_TEXELS * light.texel_m) as f32,
-                if std::env::var_os("CF_NOSAMPLE").is_some() {
-                    -1.0
-                } else {
-                    1.0 / self.options.shadow_map_size as f32
-                },
+                1.0 / self.options.shadow_map_size as f32,
             ],
             ground: [
                 (1.0 / GROUND_CELL_M) as f32,
@@ -694,10 +674,7 @@ impl Renderer {
             pass.set_bind_group(0, &self.frame_bind_group, &[]);
             pass.set_vertex_buffer(0, self.vertex_buffer.slice(..));
             pass.set_index_buffer(self.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
-            for range in shadow_draws
-                .iter()
-                .filter(|_| std::env::var_os("CF_NOSHADOW").is_none())
-            {
+            for range in &shadow_draws {
                 pass.draw_indexed(range.clone(), 0, 0..1);
             }
         }
@@ -740,10 +717,11 @@ impl Renderer {
             pass.set_bind_group(1, &self.shadow_bind_group, &[]);
             pass.set_vertex_buffer(0, self.vertex_buffer.slice(..));
             pass.set_index_buffer(self.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
-            for range in main_draws
-                .iter()
-                .filter(|_| std::env::var_os("CF_NOMAIN").is_none())
-            {
+            for (k, range) in main_draws.iter().enumerate() {
+                if k == hood_draws && self.hood_row < rig.height {
+                    // The rows the hood covers from edge to edge hold nothing else.
+                    pass.set_scissor_rect(0, 0, rig.width, self.hood_row);
+                }
                 pass.draw_indexed(range.clone(), 0, 0..1);
             }
         }
@@ -850,6 +828,50 @@ impl Renderer {
             in_view,
         }
     }
+}
+
+/// The first row from which the ray through every pixel centre below hits the hood (one
+/// row of margin above that for rasterisation's edge rules); `rig.height` if there is none.
+fn hood_row(rig: &CameraRig, chase: &crate::scene::ChaseVehicle) -> u32 {
+    let chase_from_camera = rig.chase_from_camera();
+    let eye = chase_from_camera * Point3::origin();
+    let [fx, fy] = rig.intrinsics.focal_px();
+    let [cx, cy] = rig.intrinsics.image_center_px;
+    let min = [
+        chase.hood_back_m,
+        chase.hood_height_m - 0.6,
+        -0.5 * chase.hood_width_m,
+    ];
+    let max = [
+        chase.hood_front_m,
+        chase.hood_height_m,
+        0.5 * chase.hood_width_m,
+    ];
+    let hits = |u: f64, v: f64| {
+        let ray = Vector3::new((u - cx) / fx, (v - cy) / fy, 1.0);
+        let d = chase_from_camera.rotation * ray;
+        let (mut near, mut far) = (super::rig::NEAR_M, f64::MAX);
+        for k in 0..3 {
+            if d[k].abs() < 1e-12 {
+                if eye[k] < min[k] || eye[k] > max[k] {
+                    return false;
+                }
+                continue;
+            }
+            let (a, b) = ((min[k] - eye[k]) / d[k], (max[k] - eye[k]) / d[k]);
+            near = near.max(a.min(b));
+            far = far.min(a.max(b));
+        }
+        near <= far
+    };
+    let mut row = rig.height;
+    while row > 0 && (0..rig.width).all(|u| hits(f64::from(u), f64::from(row - 1))) {
+        row -= 1;
+    }
+    if row < rig.height {
+        row += 1;
+    }
+    row.min(rig.height)
 }
 
 /// Uploads `bytes` into a new buffer.

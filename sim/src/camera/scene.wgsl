@@ -35,14 +35,16 @@ struct VertexIn {
 
 struct VertexOut {
     @builtin(position) clip: vec4<f32>,
-    @location(1) normal: vec3<f32>,
-    @location(2) albedo: f32,
+    // Every face is flat-shaded, so what depends only on the face travels un-interpolated:
+    // x: albedo (negative: grass, computed per fragment); y: ambient light; z: direct
+    // sunlight before shadowing (both scaled by the sensor's brightness).
+    @location(0) @interpolate(flat) light: vec3<f32>,
     // Where the (normal-offset) point falls in the shadow map: x, y in 0..1, depth.
     // The sun's projection is orthographic, so this is affine in the world position and
     // interpolating it across a triangle is exact.
-    @location(3) shadow: vec3<f32>,
+    @location(1) shadow: vec3<f32>,
     // World x and z, for the grass's mottling.
-    @location(4) ground: vec2<f32>,
+    @location(2) ground: vec2<f32>,
 };
 
 @vertex
@@ -58,16 +60,19 @@ fn vs_main(v: VertexIn) -> VertexOut {
     var out: VertexOut;
     out.clip = globals.view_proj * world;
     // Transforms are rigid, so the normal turns with the upper 3×3.
-    out.normal = (m * vec4<f32>(v.normal, 0.0)).xyz;
-    out.albedo = v.albedo;
-    let p = globals.light_view_proj * vec4<f32>(world.xyz + out.normal * globals.params.z, 1.0);
+    let normal = (m * vec4<f32>(v.normal, 0.0)).xyz;
+    let facing = max(dot(normal, globals.sun.xyz), 0.0);
+    let brightness = globals.params.y;
+    out.light = vec3<f32>(v.albedo, globals.params.x * brightness, globals.sun.w * facing * brightness);
+    let p = globals.light_view_proj * vec4<f32>(world.xyz + normal * globals.params.z, 1.0);
     out.shadow = vec3<f32>(p.x * 0.5 + 0.5, 0.5 - p.y * 0.5, p.z);
     out.ground = world.xz;
     return out;
 }
 
-// Fraction of sunlight reaching `world` (0 = full shadow): one bilinear comparison tap,
-// a 2×2-texel percentage-closer filter, so shadow edges ramp over about a texel (~6 cm).
+// Fraction of sunlight reaching shadow-map point `p` (0 = full shadow): one bilinear
+// comparison tap, a 2×2-texel percentage-closer filter, so shadow edges ramp over about a
+// texel (~11 cm at 512²).
 // More taps cost llvmpipe more than the whole rest of the frame.
 fn sunlight(p: vec3<f32>) -> f32 {
     if (p.x < 0.0 || p.x > 1.0 || p.y < 0.0 || p.y > 1.0 || p.z > 1.0) {
@@ -100,21 +105,14 @@ fn grass(xz: vec2<f32>) -> f32 {
 
 @fragment
 fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
-    if (globals.params.w < -1.5) {
-        return vec4<f32>(in.albedo, in.albedo, in.albedo, 1.0);
-    }
-    let n = normalize(in.normal);
-    let facing = dot(n, globals.sun.xyz);
-    var direct = 0.0;
-    if (facing > 0.0 && globals.params.w < 0.0) {
-        direct = globals.sun.w * facing;
-    } else if (facing > 0.0) {
-        direct = globals.sun.w * facing * sunlight(in.shadow);
-    }
-    var albedo = in.albedo;
+    var albedo = in.light.x;
     if (albedo < 0.0) {
         albedo = grass(in.ground);
     }
-    let grey = albedo * (globals.params.x + direct) * globals.params.y;
+    var light = in.light.y;
+    if (in.light.z > 0.0) {
+        light += in.light.z * sunlight(in.shadow);
+    }
+    let grey = albedo * light;
     return vec4<f32>(grey, grey, grey, 1.0);
 }
