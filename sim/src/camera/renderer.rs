@@ -3,6 +3,12 @@
 //! example: poses and culling, the sun's frustum fitted to the camera's, uniforms, one
 //! command encoder with the shadow pass, the main pass and the copy to a staging buffer,
 //! one submission, map and read, then the sensor model and the ground truth.
+//!
+//! On llvmpipe the cost is mostly per rasterised 4×4 block, whether or not it survives the
+//! depth test, and hardly depends on the shader's arithmetic. So the main pass draws front
+//! to back (hood, lead, other vehicles, clutter, road, grass last) with back faces culled,
+//! scissors away the rows the hood covers, and passes face-constant lighting un-interpolated;
+//! the shadow map is 512² by default (1024² cost about 1 ms a frame on clearing alone).
 
 use super::backend::{Backend, BackendError};
 use super::frame::{Frame, FrameInput, GroundTruth};
