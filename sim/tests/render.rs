@@ -358,3 +358,34 @@ fn target_is_found_where_the_ground_truth_says() {
         );
     }
 }
+
+/// The sensor's noise has the configured standard deviation and no bias, and neighbouring
+/// pixels are uncorrelated (the per-pixel hash must not leave structure behind).
+#[test]
+fn sensor_noise_has_the_configured_sigma() {
+    let sensor = builtin_description(builtin_target(), 1).sensor;
+    let mut image = GrayImage::from_pixel(256, 242, Luma([128]));
+    sim::camera::apply_sensor(&mut image, &sensor, 1, 17);
+    let values: Vec<f64> = image.iter().map(|&p| f64::from(p) - 128.0).collect();
+    let n = values.len() as f64;
+    let mean = values.iter().sum::<f64>() / n;
+    let sigma = (values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / n).sqrt();
+    let lag1 = values
+        .windows(2)
+        .map(|w| (w[0] - mean) * (w[1] - mean))
+        .sum::<f64>()
+        / (n - 1.0)
+        / sigma.powi(2);
+    let want = sensor.noise_sigma_grey;
+    assert!(mean.abs() < 0.05, "noise mean {mean:.3}");
+    // Rounding to whole grey levels adds 1/12 to the variance.
+    let rounded = (want * want + 1.0 / 12.0).sqrt();
+    assert!(
+        (sigma - rounded).abs() < 0.05 * rounded,
+        "noise sigma {sigma:.3}, want {rounded:.3}"
+    );
+    assert!(
+        lag1.abs() < 0.02,
+        "neighbouring pixels correlate: {lag1:.3}"
+    );
+}

@@ -3,12 +3,18 @@
 //! example: poses and culling, the sun's frustum fitted to the camera's, uniforms, one
 //! command encoder with the shadow pass, the main pass and the copy to a staging buffer,
 //! one submission, map and read, then the sensor model and the ground truth.
+//!
+//! On llvmpipe the cost is mostly per rasterised 4×4 block, whether or not it survives the
+//! depth test, and hardly depends on the shader's arithmetic. So the main pass draws front
+//! to back (hood, lead, other vehicles, clutter, road, grass last) with back faces culled,
+//! scissors away the rows the hood covers, and passes face-constant lighting un-interpolated;
+//! the shadow map is 512² by default (1024² cost about 1 ms a frame on clearing alone).
 
 use super::backend::{Backend, BackendError};
 use super::frame::{Frame, FrameInput, GroundTruth};
 use super::rig::CameraRig;
 use super::sensor::apply_sensor;
-use crate::scene::{ObjectSlot, Scene, Vertex};
+use crate::scene::{ObjectSlot, Scene, Vertex, GRASS_ALBEDO_RANGE, GROUND_CELL_M};
 use bytemuck::{Pod, Zeroable};
 use image::GrayImage;
 use nalgebra::{Isometry3, Matrix4, Point3, Vector3};
@@ -20,8 +26,10 @@ use thiserror::Error;
 pub struct RenderOptions {
     /// The wgpu backend (see [`Backend::choose`]).
     pub backend: Backend,
-    /// Side of the square shadow map, texels. 1024 over the fitted ~60 m frustum gives
-    /// ~6 cm texels near the camera: a pole's shadow is several texels wide.
+    /// Side of the square shadow map, texels. 512 over the fitted ~60 m frustum gives
+    /// ~11 cm texels: a pole's 26 cm shadow is two to three texels wide, and the bilinear
+    /// comparison softens edges over about one texel (3–4 px at 10 m, a soft sun edge).
+    /// 1024 halves the texel but costs llvmpipe ~1 ms a frame in clearing and filling.
     pub shadow_map_size: u32,
     /// How far from the camera shadows are drawn, metres. The tracker works at 5–30 m;
     /// beyond 60 m a shadow is a few pixels.
@@ -32,11 +40,11 @@ pub struct RenderOptions {
 }
 
 impl Default for RenderOptions {
-    /// GL, a 1024² shadow map over 60 m, no MSAA.
+    /// GL, a 512² shadow map over 60 m, no MSAA.
     fn default() -> Self {
         RenderOptions {
             backend: Backend::Gl,
-            shadow_map_size: 1024,
+            shadow_map_size: 512,
             shadow_distance_m: 60.0,
             msaa_samples: 1,
         }
@@ -75,6 +83,9 @@ const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// Colour format: 8-bit grey, what the frame grabber delivers.
 const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R8Unorm;
 
+/// Draw-order class of the chase vehicle's hood: drawn first, unscissored.
+const HOOD_CLASS: u8 = 0;
+
 /// The uniform block `Globals` of `scene.wgsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
@@ -83,6 +94,7 @@ struct Globals {
     light_view_proj: [[f32; 4]; 4],
     sun: [f32; 4],
     params: [f32; 4],
+    ground: [f32; 4],
 }
 
 /// Renders frames of one scene from the chase camera.
@@ -109,6 +121,15 @@ pub struct Renderer {
     staging: wgpu::Buffer,
     padded_row: u32,
     stats: DrawStats,
+    /// The scene's grass hash key (see [`Scene::grass_key`]).
+    grass_key: u32,
+    /// The first image row from which the hood covers every pixel to the bottom (the hood
+    /// moves with the camera, so this never changes); later draws are scissored above it.
+    hood_row: u32,
+    /// Per-frame scratch lists, kept to avoid allocating every frame.
+    items: Vec<DrawItem>,
+    main_draws: Vec<Range<u32>>,
+    shadow_draws: Vec<Range<u32>>,
 }
 
 /// What the last frame drew: triangles in each pass after culling.
@@ -377,7 +398,12 @@ impl Renderer {
                 compilation_options: Default::default(),
                 buffers: &[Some(vertex_layout.clone())],
             },
-            primitive: wgpu::PrimitiveState::default(),
+            // Every closed mesh is wound counter-clockwise seen from outside
+            // (`Mesh::orient_faces`), open ones are two-sided: back faces never show.
+            primitive: wgpu::PrimitiveState {
+                cull_mode: Some(wgpu::Face::Back),
+                ..Default::default()
+            },
             depth_stencil: Some(wgpu::DepthStencilState {
                 format: DEPTH_FORMAT,
                 depth_write_enabled: Some(true),
@@ -404,7 +430,12 @@ impl Renderer {
                 compilation_options: Default::default(),
                 buffers: &[Some(vertex_layout)],
             },
-            primitive: wgpu::PrimitiveState::default(),
+            // Every closed mesh is wound counter-clockwise seen from outside
+            // (`Mesh::orient_faces`), open ones are two-sided: back faces never show.
+            primitive: wgpu::PrimitiveState {
+                cull_mode: Some(wgpu::Face::Back),
+                ..Default::default()
+            },
             depth_stencil: Some(wgpu::DepthStencilState {
                 format: DEPTH_FORMAT,
                 depth_write_enabled: Some(true),
@@ -430,6 +461,7 @@ impl Renderer {
             cache: None,
         });
 
+        let hood_row = hood_row(&rig, &scene.description().chase);
         Ok(Renderer {
             scene: scene.clone(),
             rig,
@@ -453,6 +485,11 @@ impl Renderer {
             staging,
             padded_row,
             stats: DrawStats::default(),
+            grass_key: scene.grass_key(),
+            hood_row,
+            items: Vec::new(),
+            main_draws: Vec::new(),
+            shadow_draws: Vec::new(),
         })
     }
 
@@ -487,7 +524,9 @@ impl Renderer {
         let view_proj = rig.clip_from_camera() * camera_from_world.to_homogeneous();
         let mut world_from_object = [[[0f32; 4]; 4]; ObjectSlot::COUNT as usize];
         world_from_object[ObjectSlot::WORLD as usize] = to_f32(&Matrix4::identity());
-        let mut moving: Vec<(Range<u32>, [f64; 3], f64, bool)> = Vec::new();
+        let eye = world_from_camera.translation.vector;
+        let mut items = std::mem::take(&mut self.items);
+        items.clear();
         for object in self.scene.objects() {
             // Off the route: the zero matrix collapses it to nothing.
             if let Some(pose) = self.scene.world_from_object(
@@ -498,32 +537,60 @@ impl Renderer {
             ) {
                 world_from_object[object.slot as usize] = to_f32(&pose.to_homogeneous());
                 let c = pose * Point3::from(object.centre);
-                moving.push((
-                    object.indices.clone(),
-                    [c.x, c.y, c.z],
-                    object.radius,
-                    object.casts_shadow,
-                ));
+                // The hood hides the bottom of the frame and the lead the middle: drawn
+                // first, they let depth testing reject what lies behind them unshaded.
+                let class = match object.slot {
+                    ObjectSlot::CHASE => HOOD_CLASS,
+                    ObjectSlot::LEAD => 1,
+                    _ => 2,
+                };
+                items.push(DrawItem {
+                    indices: object.indices.clone(),
+                    centre: [c.x, c.y, c.z],
+                    radius: object.radius,
+                    casts_shadow: object.casts_shadow,
+                    class,
+                    distance_m: (c.coords - eye).norm(),
+                });
+            }
+        }
+        for chunk in self.scene.chunks() {
+            items.push(DrawItem {
+                indices: chunk.indices.clone(),
+                centre: chunk.centre,
+                radius: chunk.radius,
+                casts_shadow: chunk.casts_shadow,
+                class: 3 + chunk.layer as u8,
+                distance_m: (Vector3::from(chunk.centre) - eye).norm(),
+            });
+        }
+
+        // Main pass: what the camera's frustum holds, front to back (by class, then by
+        // distance), so early depth testing rejects hidden fragments before shading them.
+        let frustum = Frustum::new(rig, &camera_from_world);
+        let mut main_draws = std::mem::take(&mut self.main_draws);
+        main_draws.clear();
+        items.sort_by(|a, b| {
+            (a.class, a.distance_m)
+                .partial_cmp(&(b.class, b.distance_m))
+                .expect("finite distances")
+        });
+        let mut hood_draws = 0;
+        for item in items.iter().filter(|d| frustum.sees(d.centre, d.radius)) {
+            if item.class == HOOD_CLASS {
+                main_draws.push(item.indices.clone());
+                hood_draws = main_draws.len();
+            } else if main_draws.len() == hood_draws {
+                // Never joined to the hood's draw: what follows is scissored.
+                main_draws.push(item.indices.clone());
+            } else {
+                push_merged(&mut main_draws, item.indices.clone());
             }
         }
 
-        // Culling: static chunks and moving objects against the camera's frustum.
-        let frustum = Frustum::new(rig, &camera_from_world);
-        let statics = self
-            .scene
-            .chunks()
-            .iter()
-            .map(|c| (c.indices.clone(), c.centre, c.radius, c.casts_shadow));
-        let everything: Vec<_> = statics.chain(moving).collect();
-        let main_draws = merge(
-            everything
-                .iter()
-                .filter(|(_, c, r, _)| frustum.sees(*c, *r))
-                .map(|d| d.0.clone()),
-        );
-
         // The sun's frustum, fitted to the part of the camera's frustum within the shadow
-        // distance; casters culled against it.
+        // distance; casters culled against it. Order does not matter here (depth only), so
+        // ranges are sorted and joined into as few draws as possible.
         let sun = &description.sun;
         let light = Light::fit(
             rig,
@@ -532,12 +599,21 @@ impl Renderer {
             self.options.shadow_distance_m,
             self.options.shadow_map_size,
         );
-        let shadow_draws = merge(
-            everything
+        let mut shadow_draws = std::mem::take(&mut self.shadow_draws);
+        shadow_draws.clear();
+        shadow_draws.extend(
+            items
                 .iter()
-                .filter(|(_, c, r, casts)| *casts && light.holds(*c, *r))
-                .map(|d| d.0.clone()),
+                .filter(|d| d.casts_shadow && light.holds(d.centre, d.radius))
+                .map(|d| d.indices.clone()),
         );
+        shadow_draws.sort_by_key(|r| r.start);
+        let mut merged = Vec::with_capacity(shadow_draws.len());
+        for range in shadow_draws.drain(..) {
+            push_merged(&mut merged, range);
+        }
+        shadow_draws = merged;
+        self.items = items;
 
         let triangles = |draws: &[Range<u32>]| draws.iter().map(|r| (r.end - r.start) / 3).sum();
         self.stats = DrawStats {
@@ -562,6 +638,12 @@ impl Renderer {
                 brightness as f32,
                 (NORMAL_OFFSET_TEXELS * light.texel_m) as f32,
                 1.0 / self.options.shadow_map_size as f32,
+            ],
+            ground: [
+                (1.0 / GROUND_CELL_M) as f32,
+                GRASS_ALBEDO_RANGE[0] as f32,
+                (GRASS_ALBEDO_RANGE[1] - GRASS_ALBEDO_RANGE[0]) as f32,
+                self.grass_key as f32,
             ],
         };
         self.queue
@@ -641,10 +723,16 @@ impl Renderer {
             pass.set_bind_group(1, &self.shadow_bind_group, &[]);
             pass.set_vertex_buffer(0, self.vertex_buffer.slice(..));
             pass.set_index_buffer(self.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
-            for range in &main_draws {
+            for (k, range) in main_draws.iter().enumerate() {
+                if k == hood_draws && self.hood_row < rig.height {
+                    // The rows the hood covers from edge to edge hold nothing else.
+                    pass.set_scissor_rect(0, 0, rig.width, self.hood_row);
+                }
                 pass.draw_indexed(range.clone(), 0, 0..1);
             }
         }
+        self.main_draws = main_draws;
+        self.shadow_draws = shadow_draws;
         encoder.copy_texture_to_buffer(
             wgpu::TexelCopyTextureInfo {
                 texture: &self.color_texture,
@@ -748,6 +836,50 @@ impl Renderer {
     }
 }
 
+/// The first row from which the ray through every pixel centre below hits the hood (one
+/// row of margin above that for rasterisation's edge rules); `rig.height` if there is none.
+fn hood_row(rig: &CameraRig, chase: &crate::scene::ChaseVehicle) -> u32 {
+    let chase_from_camera = rig.chase_from_camera();
+    let eye = chase_from_camera * Point3::origin();
+    let [fx, fy] = rig.intrinsics.focal_px();
+    let [cx, cy] = rig.intrinsics.image_center_px;
+    let min = [
+        chase.hood_back_m,
+        chase.hood_height_m - 0.6,
+        -0.5 * chase.hood_width_m,
+    ];
+    let max = [
+        chase.hood_front_m,
+        chase.hood_height_m,
+        0.5 * chase.hood_width_m,
+    ];
+    let hits = |u: f64, v: f64| {
+        let ray = Vector3::new((u - cx) / fx, (v - cy) / fy, 1.0);
+        let d = chase_from_camera.rotation * ray;
+        let (mut near, mut far) = (super::rig::NEAR_M, f64::MAX);
+        for k in 0..3 {
+            if d[k].abs() < 1e-12 {
+                if eye[k] < min[k] || eye[k] > max[k] {
+                    return false;
+                }
+                continue;
+            }
+            let (a, b) = ((min[k] - eye[k]) / d[k], (max[k] - eye[k]) / d[k]);
+            near = near.max(a.min(b));
+            far = far.min(a.max(b));
+        }
+        near <= far
+    };
+    let mut row = rig.height;
+    while row > 0 && (0..rig.width).all(|u| hits(f64::from(u), f64::from(row - 1))) {
+        row -= 1;
+    }
+    if row < rig.height {
+        row += 1;
+    }
+    row.min(rig.height)
+}
+
 /// Uploads `bytes` into a new buffer.
 fn buffer_init(
     device: &wgpu::Device,
@@ -779,18 +911,26 @@ fn to_f32(m: &Matrix4<f64>) -> [[f32; 4]; 4] {
     out
 }
 
-/// Sorts index ranges and joins touching ones, so neighbouring chunks become one draw.
-fn merge(ranges: impl Iterator<Item = Range<u32>>) -> Vec<Range<u32>> {
-    let mut ranges: Vec<Range<u32>> = ranges.collect();
-    ranges.sort_by_key(|r| r.start);
-    let mut merged: Vec<Range<u32>> = Vec::with_capacity(ranges.len());
-    for range in ranges {
-        match merged.last_mut() {
-            Some(last) if last.end == range.start => last.end = range.end,
-            _ => merged.push(range),
-        }
+/// Appends an index range to a draw list, joining it to the last one when they touch.
+fn push_merged(draws: &mut Vec<Range<u32>>, range: Range<u32>) {
+    match draws.last_mut() {
+        Some(last) if last.end == range.start => last.end = range.end,
+        _ => draws.push(range),
     }
-    merged
+}
+
+/// A piece of geometry the frame may draw: static chunk or placed moving object.
+#[derive(Clone, Debug)]
+struct DrawItem {
+    indices: Range<u32>,
+    /// Bounding sphere, world frame.
+    centre: [f64; 3],
+    radius: f64,
+    casts_shadow: bool,
+    /// Draw-order class: hood, lead, other vehicles, then the static layers.
+    class: u8,
+    /// From the camera to the bounding sphere's centre, metres.
+    distance_m: f64,
 }
 
 /// The camera's view frustum as planes through the optical centre plus near and far, in the

@@ -61,14 +61,24 @@ const MARK_Y_M: f64 = 0.03;
 const ROAD_RUNOUT_M: f64 = 250.0;
 /// Grass margin around the road's bounding box, metres: beyond the far plane's useful range.
 const GROUND_MARGIN_M: f64 = 250.0;
-/// Ground grid cell, metres; each vertex gets its own grass albedo, so the shoulders are
-/// mottled at this scale.
-const GROUND_CELL_M: f64 = 25.0;
+/// Grass mottling cell, metres: the renderer gives each corner of a square lattice of this
+/// pitch its own albedo, hashed from the scene's grass key, and interpolates between them.
+pub const GROUND_CELL_M: f64 = 25.0;
+/// The albedo that marks a vertex as grass: the renderer computes the real albedo per
+/// fragment from the world position (see [`GROUND_CELL_M`], [`GRASS_ALBEDO_RANGE`]).
+pub const GRASS_ALBEDO: f64 = -1.0;
+/// Range of grass albedo, from dry to lush patches.
+pub const GRASS_ALBEDO_RANGE: [f64; 2] = [0.17, 0.30];
 /// Length of one road quad along an arc, metres (a 60 m arc bends < 2° per quad).
 const ROAD_STEP_M: f64 = 2.0;
-/// Length of one road quad along a straight, metres: long quads mean few triangles, and
-/// llvmpipe's cost is mostly per triangle at this image size.
-const STRAIGHT_STEP_M: f64 = 10.0;
+/// Length of one road quad along a straight, metres: long quads mean few triangles (the
+/// road is flat, so length costs nothing in accuracy), and llvmpipe's cost grows with
+/// every triangle set up.
+const STRAIGHT_STEP_M: f64 = 20.0;
+/// Straight pieces per wire span: three chords follow a 0.5 m sag over a ~45 m span to
+/// within 6 cm (a pixel at 20 m), each an open beam of eight triangles (a flat ribbon
+/// would be cheaper but vanishes edge-on when the wire passes above the camera).
+const WIRE_PIECES: usize = 3;
 /// Width of the paved shoulder beyond each lane, metres.
 const SHOULDER_M: f64 = 0.5;
 /// Lane paint width, metres (US practice: 4–6 in).
@@ -103,6 +113,23 @@ pub struct Chunk {
     /// Whether it is drawn into the shadow map (ground, road and paint are not: they only
     /// receive shadows, and leaving them out halves the shadow pass's fill).
     pub casts_shadow: bool,
+    /// What kind of geometry it holds; the renderer draws layers front to back.
+    pub layer: Layer,
+}
+
+/// Kinds of static geometry, in the order the renderer draws them: what stands up first, the
+/// ground last, so that depth testing rejects hidden ground before it is shaded.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Layer {
+    /// Trees, poles, houses, buildings, parked vehicles: they cast shadows.
+    Clutter,
+    /// Telephone wires: thin, and too thin to cast a shadow worth a texel.
+    Wires,
+    /// The road, crossing roads, lane paint, cracks, patches and pot holes (just above the
+    /// grass, so they hide it).
+    Surface,
+    /// The grass.
+    Ground,
 }
 
 /// What moves a dynamic object.
@@ -161,18 +188,18 @@ impl RoadFrame<'_> {
     }
 }
 
-/// Static geometry binned by ground cell and by whether it casts shadows.
+/// Static geometry binned by ground cell and by layer.
 #[derive(Default)]
 struct Bins {
-    bins: BTreeMap<(i64, i64, bool), Mesh>,
+    bins: BTreeMap<(i64, i64, Layer), Mesh>,
 }
 
 impl Bins {
-    fn at(&mut self, x: f64, z: f64, casts: bool) -> &mut Mesh {
+    fn at(&mut self, x: f64, z: f64, layer: Layer) -> &mut Mesh {
         let key = (
             (x / BIN_M).floor() as i64,
             (z / BIN_M).floor() as i64,
-            casts,
+            layer,
         );
         self.bins.entry(key).or_default()
     }
@@ -207,41 +234,27 @@ impl Scene {
             ((max[0] - min[0] + 2.0 * GROUND_MARGIN_M) / GROUND_CELL_M).ceil() as usize,
             ((max[1] - min[1] + 2.0 * GROUND_MARGIN_M) / GROUND_CELL_M).ceil() as usize,
         ];
-        let mut grass = stream(seed, "grass");
-        let albedo: Vec<f64> = (0..(cells[0] + 1) * (cells[1] + 1))
-            .map(|_| grass.random_range(0.17..0.30))
-            .collect();
-        for i in 0..cells[0] {
-            for j in 0..cells[1] {
-                let x0 = origin[0] + i as f64 * GROUND_CELL_M;
-                let z0 = origin[1] + j as f64 * GROUND_CELL_M;
-                let mesh = bins.at(x0 + 0.5 * GROUND_CELL_M, z0 + 0.5 * GROUND_CELL_M, false);
-                let a = |di: usize, dj: usize| albedo[(i + di) * (cells[1] + 1) + j + dj];
-                let corners = [
-                    ([x0, 0.0, z0], a(0, 0)),
-                    ([x0 + GROUND_CELL_M, 0.0, z0], a(1, 0)),
-                    ([x0 + GROUND_CELL_M, 0.0, z0 + GROUND_CELL_M], a(1, 1)),
-                    ([x0, 0.0, z0 + GROUND_CELL_M], a(0, 1)),
-                ];
-                let base = mesh.vertices.len() as u32;
-                for (p, al) in corners {
-                    mesh.vertices.push(super::Vertex {
-                        position: [p[0] as f32, 0.0, p[2] as f32],
-                        normal: [0.0, 1.0, 0.0],
-                        albedo: al as f32,
-                        object: ObjectSlot::WORLD,
-                    });
-                }
-                mesh.indices.extend_from_slice(&[
-                    base,
-                    base + 1,
-                    base + 2,
-                    base,
-                    base + 2,
-                    base + 3,
-                ]);
-            }
-        }
+        // One quad: the mottling is computed per fragment from the world position (see
+        // `GRASS_ALBEDO`), so the grass costs two triangles instead of a grid.
+        let size = [
+            cells[0] as f64 * GROUND_CELL_M,
+            cells[1] as f64 * GROUND_CELL_M,
+        ];
+        bins.at(
+            origin[0] + 0.5 * size[0],
+            origin[1] + 0.5 * size[1],
+            Layer::Ground,
+        )
+        .polygon(
+            &[
+                [origin[0], 0.0, origin[1]],
+                [origin[0] + size[0], 0.0, origin[1]],
+                [origin[0] + size[0], 0.0, origin[1] + size[1]],
+                [origin[0], 0.0, origin[1] + size[1]],
+            ],
+            GRASS_ALBEDO,
+            ObjectSlot::WORLD,
+        );
 
         // Road strip, edge lines and the dashed centre line.
         const ASPHALT: f64 = 0.30;
@@ -256,14 +269,17 @@ impl Scene {
                 ROAD_STEP_M
             };
             let mid = road.world(0.5 * (s + s1), 0.0, 0.0);
-            let mesh = bins.at(mid[0], mid[2], false);
+            let mesh = bins.at(mid[0], mid[2], Layer::Surface);
             strip(mesh, &road, s, s1, -road_half, road_half, ROAD_Y_M, ASPHALT);
             for side in [-1.0, 1.0] {
                 let l = side * (lane + 0.1);
                 let mut a = s;
-                // Edge lines stop across intersections.
+                // Edge lines stop across intersections: in short pieces near one, else in
+                // one piece per road quad.
+                let clear = !route.near_intersection(0.5 * (s + s1), road_half + 1.0 + (s1 - s));
+                let piece = if clear { s1 - s } else { ROAD_STEP_M };
                 while a < s1 {
-                    let b = (a + ROAD_STEP_M).min(s1);
+                    let b = (a + piece).min(s1);
                     if !route.near_intersection(0.5 * (a + b), road_half + 1.0) {
                         strip(
                             mesh,
@@ -285,7 +301,7 @@ impl Scene {
         while s < length + ROAD_RUNOUT_M {
             if !route.near_intersection(s + 0.5 * DASH_M, road_half + 1.0) {
                 let mid = road.world(s + 0.5 * DASH_M, 0.0, 0.0);
-                let mesh = bins.at(mid[0], mid[2], false);
+                let mesh = bins.at(mid[0], mid[2], Layer::Surface);
                 strip(
                     mesh,
                     &road,
@@ -316,7 +332,7 @@ impl Scene {
                     ]
                 };
                 let centre = p(t + 5.0, 0.0);
-                bins.at(centre[0], centre[2], false).polygon(
+                bins.at(centre[0], centre[2], Layer::Surface).polygon(
                     &[
                         p(t, -road_half),
                         p(t1, -road_half),
@@ -397,14 +413,14 @@ impl Scene {
             road_marks.push((road.world(s, l, 0.0), mesh));
         }
         for (p, mesh) in &road_marks {
-            bins.at(p[0], p[2], false).append(mesh);
+            bins.at(p[0], p[2], Layer::Surface).append(mesh);
         }
 
         // Trees: trunk and a canopy of clumps with gaps between them, so their shadows dapple.
         let mut trees = stream(seed, "trees");
         let tree_at = |bins: &mut Bins, rng: &mut ChaCha8Rng, x: f64, z: f64| {
             let trunk = rng.random_range(2.5..4.0);
-            let mesh = bins.at(x, z, true);
+            let mesh = bins.at(x, z, Layer::Clutter);
             mesh.upright_box(x, z, 0.0, 0.15, 0.15, 0.0, trunk + 1.0, 0.22);
             for _ in 0..rng.random_range(5..9) {
                 let c = [
@@ -448,14 +464,14 @@ impl Scene {
                 let l = road_half + 2.0;
                 let heading = route.at(here)[2];
                 let [px, pz] = route.point(here, l);
-                let mesh = bins.at(px, pz, true);
+                let mesh = bins.at(px, pz, Layer::Clutter);
                 mesh.upright_box(px, pz, heading, 0.13, 0.13, 0.0, POLE_TOP_M, 0.30);
                 let right = [heading.sin(), 0.0, heading.cos()];
                 let end = |k: f64| [px + k * right[0], ARM_Y_M, pz + k * right[2]];
                 mesh.beam(end(-1.0), end(1.0), 0.06, 0.28);
                 let ends = [end(-0.9), end(0.9)];
                 if let Some(prev) = previous {
-                    let wires = bins.at(px, pz, false);
+                    let wires = bins.at(px, pz, Layer::Wires);
                     for k in 0..2 {
                         let (a, b) = (prev[k], ends[k]);
                         const SAG_M: f64 = 0.5;
@@ -466,10 +482,10 @@ impl Scene {
                                 a[2] + t * (b[2] - a[2]),
                             ]
                         };
-                        for i in 0..4 {
+                        for i in 0..WIRE_PIECES {
                             wires.beam(
-                                point(i as f64 / 4.0),
-                                point((i + 1) as f64 / 4.0),
+                                point(i as f64 / WIRE_PIECES as f64),
+                                point((i + 1) as f64 / WIRE_PIECES as f64),
                                 0.02,
                                 0.12,
                             );
@@ -493,7 +509,7 @@ impl Scene {
             let walls = if houses.random_bool(0.3) { 5.8 } else { 3.0 };
             let [x, z] = route.point(s, l);
             let heading = route.at(s)[2] + houses.random_range(-0.1..0.1);
-            let mesh = bins.at(x, z, true);
+            let mesh = bins.at(x, z, Layer::Clutter);
             let wall_albedo = houses.random_range(0.45..0.8);
             house(
                 mesh,
@@ -524,7 +540,7 @@ impl Scene {
             let height = buildings.random_range(8.0..20.0);
             let [x, z] = route.point(s, l);
             let heading = route.at(s)[2];
-            let mesh = bins.at(x, z, true);
+            let mesh = bins.at(x, z, Layer::Clutter);
             building(
                 mesh,
                 [x, z],
@@ -566,7 +582,7 @@ impl Scene {
                 v.normal = [n.x as f32, n.y as f32, n.z as f32];
             }
             let t = pose.translation.vector;
-            bins.at(t.x, t.z, true).append(&car_mesh);
+            bins.at(t.x, t.z, Layer::Clutter).append(&car_mesh);
         }
 
         // Hand-placed clutter.
@@ -574,7 +590,7 @@ impl Scene {
         for placement in &description.placements {
             match *placement {
                 Placement::Pole { x_m, z_m } => {
-                    bins.at(x_m, z_m, true)
+                    bins.at(x_m, z_m, Layer::Clutter)
                         .upright_box(x_m, z_m, 0.0, 0.13, 0.13, 0.0, POLE_TOP_M, 0.30);
                 }
                 Placement::Tree { x_m, z_m } => tree_at(&mut bins, &mut placed, x_m, z_m),
@@ -584,7 +600,7 @@ impl Scene {
         // Concatenate the bins into one mesh, recording each as a chunk.
         let mut mesh = Mesh::default();
         let mut chunks = Vec::new();
-        for ((_, _, casts), bin) in &bins.bins {
+        for (&(_, _, layer), bin) in &bins.bins {
             if bin.indices.is_empty() {
                 continue;
             }
@@ -595,7 +611,8 @@ impl Scene {
                 indices: start..mesh.indices.len() as u32,
                 centre,
                 radius,
-                casts_shadow: *casts,
+                casts_shadow: layer == Layer::Clutter,
+                layer,
             });
         }
 
@@ -654,6 +671,7 @@ impl Scene {
             );
         }
 
+        mesh.orient_faces();
         Ok(Scene {
             description,
             route,
@@ -715,6 +733,12 @@ impl Scene {
                 ))
             }
         }
+    }
+
+    /// The key of the grass lattice's hash (below 2²³, so it travels exactly as an f32),
+    /// drawn from the scene's `"grass"` stream.
+    pub fn grass_key(&self) -> u32 {
+        stream(self.description.seed, "grass").random::<u32>() & 0x7f_ffff
     }
 
     /// The target's frame in the lead vehicle's frame: origin at the target model's centre,
@@ -910,10 +934,12 @@ fn house(
             roof_albedo,
             ObjectSlot::WORLD,
         );
+        // The gable, wound so that its normal points out of the house.
+        let (b0, b1) = (side * half[1], -side * half[1]);
         mesh.polygon(
             &[
-                p(side * half[0], walls, -half[1]),
-                p(side * half[0], walls, half[1]),
+                p(side * half[0], walls, b0),
+                p(side * half[0], walls, b1),
                 p(side * half[0], ridge, 0.0),
             ],
             wall_albedo,

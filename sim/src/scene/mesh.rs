@@ -108,6 +108,20 @@ impl Mesh {
         albedo: f64,
         object: u32,
     ) {
+        self.box_faces(centre, axes, half, albedo, object, [false; 3]);
+    }
+
+    /// The faces of an oriented box, leaving out those `skip` names: `[ends, bottom, _]`
+    /// drops both ±`u` faces (a beam's ends) and the −`v` face (what stands on the ground).
+    fn box_faces(
+        &mut self,
+        centre: P,
+        axes: [P; 3],
+        half: [f64; 3],
+        albedo: f64,
+        object: u32,
+        skip: [bool; 3],
+    ) {
         let corner = |su: f64, sv: f64, sw: f64| -> P {
             let mut p = centre;
             for k in 0..3 {
@@ -119,6 +133,9 @@ impl Mesh {
         };
         for axis in 0..3 {
             for sign in [-1.0, 1.0] {
+                if (axis == 0 && skip[0]) || (axis == 1 && sign < 0.0 && skip[1]) {
+                    continue;
+                }
                 let n = [
                     sign * axes[axis][0],
                     sign * axes[axis][1],
@@ -162,7 +179,8 @@ impl Mesh {
         );
     }
 
-    /// Appends a box standing on the ground at `(x, z)`, rotated by `heading` about +y.
+    /// Appends a box standing on the ground at `(x, z)`, rotated by `heading` about +y (no
+    /// bottom face when `bottom` is at ground level).
     #[allow(clippy::too_many_arguments)]
     pub fn upright_box(
         &mut self,
@@ -176,12 +194,14 @@ impl Mesh {
         albedo: f64,
     ) {
         let (s, c) = heading.sin_cos();
-        self.oriented_box(
+        // Standing on the ground, its bottom face can never be seen nor cast a shadow.
+        self.box_faces(
             [x, 0.5 * (bottom + top), z],
             [[c, 0.0, -s], [0.0, 1.0, 0.0], [s, 0.0, c]],
             [half_length, 0.5 * (top - bottom), half_width],
             albedo,
             0,
+            [false, bottom <= 0.0, false],
         );
     }
 
@@ -212,7 +232,8 @@ impl Mesh {
         }
     }
 
-    /// Appends a thin square beam from `a` to `b` (wires, cross-arms), `half` metres thick.
+    /// Appends a thin square beam from `a` to `b` (wires, cross-arms), `half` metres thick,
+    /// without end faces (eight triangles).
     pub fn beam(&mut self, a: P, b: P, half: f64, albedo: f64) {
         let d = sub(b, a);
         let length = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
@@ -228,25 +249,48 @@ impl Mesh {
             0.5 * (a[1] + b[1]),
             0.5 * (a[2] + b[2]),
         ];
-        self.oriented_box(centre, [u, up, side], [0.5 * length, half, half], albedo, 0);
+        // Open-ended: a beam's ends are a few square centimetres nobody sees.
+        self.box_faces(
+            centre,
+            [u, up, side],
+            [0.5 * length, half, half],
+            albedo,
+            0,
+            [true, false, false],
+        );
     }
 
     /// Appends a vertical ribbon from `a` to `b`, `half` metres either side vertically: a
-    /// wire seen from the road, in two triangles.
+    /// wire seen from the road, two-sided (four triangles, one face lit from each side), so
+    /// it survives back-face culling from wherever it is seen.
     pub fn ribbon(&mut self, a: P, b: P, half: f64, albedo: f64) {
         let d = sub(b, a);
         let normal = normalize(cross(d, [0.0, 1.0, 0.0]));
-        self.quad_with_normal(
-            [
-                [a[0], a[1] - half, a[2]],
-                [b[0], b[1] - half, b[2]],
-                [b[0], b[1] + half, b[2]],
-                [a[0], a[1] + half, a[2]],
-            ],
-            normal,
-            albedo,
-            0,
-        );
+        let corners = [
+            [a[0], a[1] - half, a[2]],
+            [b[0], b[1] - half, b[2]],
+            [b[0], b[1] + half, b[2]],
+            [a[0], a[1] + half, a[2]],
+        ];
+        self.quad_with_normal(corners, normal, albedo, 0);
+        let back = [-normal[0], -normal[1], -normal[2]];
+        self.quad_with_normal(corners, back, albedo, 0);
+    }
+
+    /// Winds every triangle counter-clockwise about its vertices' normal (right-handed, seen
+    /// from the side the normal points to), so the renderer can cull back faces. Every
+    /// primitive here is flat-shaded, so a triangle's first vertex normal is its face's.
+    pub fn orient_faces(&mut self) {
+        for triangle in self.indices.chunks_exact_mut(3) {
+            let [a, b, c] =
+                [triangle[0], triangle[1], triangle[2]].map(|i| self.vertices[i as usize]);
+            let p = |v: Vertex| v.position.map(f64::from);
+            let geometric = cross(sub(p(b), p(a)), sub(p(c), p(a)));
+            let n = a.normal.map(f64::from);
+            if geometric[0] * n[0] + geometric[1] * n[1] + geometric[2] * n[2] < 0.0 {
+                triangle.swap(1, 2);
+            }
+        }
     }
 
     /// Appends another mesh, re-basing its indices.

@@ -12,8 +12,9 @@ mod rng;
 mod route;
 
 pub use build::{
-    Chunk, DynamicObject, Motion, ObjectSlot, Scene, SceneError, BOARD_ALBEDO, BOARD_MARGIN_M,
-    STRIPE_ALBEDO, STRIPE_OVERRUN_M, STRIPE_WIDTH_M,
+    Chunk, DynamicObject, Layer, Motion, ObjectSlot, Scene, SceneError, BOARD_ALBEDO,
+    BOARD_MARGIN_M, GRASS_ALBEDO, GRASS_ALBEDO_RANGE, GROUND_CELL_M, STRIPE_ALBEDO,
+    STRIPE_OVERRUN_M, STRIPE_WIDTH_M,
 };
 pub use builtin::{
     builtin_description, builtin_poses, builtin_target, BUILTIN_GAP_M, BUILTIN_SPEED_M_S,
