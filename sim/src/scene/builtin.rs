@@ -66,39 +66,8 @@ pub fn builtin_poses(
     )
 }
 
-/// The shipped NIST ten-segment target (`scenarios/targets/nist-ten-segment.toml`): an
-/// outer rectangle 1.6 × 1.0 m, an inner one 0.8 × 0.5 m, and two vertical stubs at x = 0
-/// joining them; nominal range 10 m. Built in so the built-in scene needs no files.
+/// The shipped NIST ten-segment target (`scenarios/targets/nist-ten-segment.toml`), built
+/// in so the built-in scene needs no files.
 pub fn builtin_target() -> TargetModel {
-    TargetModel::new(
-        "nist-ten-segment",
-        10.0,
-        vec![
-            [-0.8, -0.5],
-            [0.8, -0.5],
-            [0.8, 0.5],
-            [-0.8, 0.5],
-            [-0.4, -0.25],
-            [0.4, -0.25],
-            [0.4, 0.25],
-            [-0.4, 0.25],
-            [0.0, 0.5],
-            [0.0, 0.25],
-            [0.0, -0.25],
-            [0.0, -0.5],
-        ],
-        vec![
-            [0, 1],
-            [1, 2],
-            [2, 3],
-            [3, 0],
-            [4, 5],
-            [5, 6],
-            [6, 7],
-            [7, 4],
-            [8, 9],
-            [10, 11],
-        ],
-    )
-    .expect("the built-in target is valid")
+    tracker::synth::nist_ten_segment()
 }
