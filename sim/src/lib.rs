@@ -8,7 +8,7 @@ pub mod overlay;
 pub mod record;
 pub mod report;
 pub mod scenario;
-pub mod sweep;
 pub mod scene;
+pub mod sweep;
 pub mod target;
 pub mod track;

@@ -19,7 +19,11 @@ tracker.lambda = [0.6, 0.9]
 fn sweep_file(dir: &Path, text: &str) -> PathBuf {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenarios");
     let path = dir.join("sweep.toml");
-    std::fs::write(&path, text.replace("SCENARIOS", &root.display().to_string())).unwrap();
+    std::fs::write(
+        &path,
+        text.replace("SCENARIOS", &root.display().to_string()),
+    )
+    .unwrap();
     path
 }
 
@@ -62,7 +66,10 @@ fn rows(path: &Path) -> Vec<Value> {
 }
 
 fn ids(path: &Path) -> Vec<String> {
-    rows(path).iter().map(|r| r["id"].as_str().unwrap().to_string()).collect()
+    rows(path)
+        .iter()
+        .map(|r| r["id"].as_str().unwrap().to_string())
+        .collect()
 }
 
 #[test]
@@ -70,11 +77,27 @@ fn a_merge_of_shards_equals_an_unsharded_run() {
     let dir = tempfile::tempdir().unwrap();
     let sweep = sweep_file(dir.path(), TINY);
     let whole = dir.path().join("whole");
-    ok(carfollow(&["sweep", s(&sweep), "--out", s(&whole), "--jobs", "2"]));
+    ok(carfollow(&[
+        "sweep",
+        s(&sweep),
+        "--out",
+        s(&whole),
+        "--jobs",
+        "2",
+    ]));
     let mut shard_dirs = Vec::new();
     for i in 0..3 {
         let d = dir.path().join(format!("shard{i}"));
-        ok(carfollow(&["sweep", s(&sweep), "--out", s(&d), "--jobs", "1", "--shard", &format!("{i}/3")]));
+        ok(carfollow(&[
+            "sweep",
+            s(&sweep),
+            "--out",
+            s(&d),
+            "--jobs",
+            "1",
+            "--shard",
+            &format!("{i}/3"),
+        ]));
         assert!(d.join(format!("results-shard-{i}-of-3.jsonl")).exists());
         shard_dirs.push(d);
     }
@@ -82,7 +105,10 @@ fn a_merge_of_shards_equals_an_unsharded_run() {
     let mut args = vec!["sweep", "merge"];
     args.extend(shard_dirs.iter().map(|d| s(d)));
     args.extend(["--out", s(&merged)]);
-    ok(Command::new(env!("CARGO_BIN_EXE_carfollow")).args(&args).output().unwrap());
+    ok(Command::new(env!("CARGO_BIN_EXE_carfollow"))
+        .args(&args)
+        .output()
+        .unwrap());
 
     let a = rows(&whole.join("results.jsonl"));
     // The unsharded file is in finishing order; the merged one in grid order.
@@ -103,7 +129,14 @@ fn a_resume_after_a_kill_completes_without_redoing_points() {
     let sweep = sweep_file(dir.path(), TINY);
     let out = dir.path().join("out");
     // The "killed" run: only half the grid finished, and the last line was cut mid-write.
-    ok(carfollow(&["sweep", s(&sweep), "--out", s(&out), "--shard", "0/2"]));
+    ok(carfollow(&[
+        "sweep",
+        s(&sweep),
+        "--out",
+        s(&out),
+        "--shard",
+        "0/2",
+    ]));
     let shard_file = out.join("results-shard-0-of-2.jsonl");
     let done = std::fs::read_to_string(&shard_file).unwrap();
     let mut lines: Vec<&str> = done.lines().collect();
@@ -118,7 +151,13 @@ fn a_resume_after_a_kill_completes_without_redoing_points() {
     assert_eq!(refused.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&refused.stderr).contains("--resume"));
 
-    ok(carfollow(&["sweep", s(&sweep), "--out", s(&out), "--resume"]));
+    ok(carfollow(&[
+        "sweep",
+        s(&sweep),
+        "--out",
+        s(&out),
+        "--resume",
+    ]));
     let text = std::fs::read_to_string(&results).unwrap();
     // The finished point was not run again: its line is byte-identical (its wall time
     // would differ) and comes first.
@@ -130,7 +169,13 @@ fn a_resume_after_a_kill_completes_without_redoing_points() {
     assert_eq!(got.len(), 4, "a point ran twice: {text}");
 
     // A second resume has nothing left to do.
-    ok(carfollow(&["sweep", s(&sweep), "--out", s(&out), "--resume"]));
+    ok(carfollow(&[
+        "sweep",
+        s(&sweep),
+        "--out",
+        s(&out),
+        "--resume",
+    ]));
     assert_eq!(std::fs::read_to_string(&results).unwrap(), text);
 }
 

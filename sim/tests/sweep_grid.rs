@@ -44,7 +44,10 @@ fn shards_cover_every_point_exactly_once() {
             }
         }
         assert_eq!(seen.len(), sweep.points.len(), "N = {count}: points missed");
-        assert!(seen.values().all(|&n| n == 1), "N = {count}: a point ran twice");
+        assert!(
+            seen.values().all(|&n| n == 1),
+            "N = {count}: a point ran twice"
+        );
     }
 }
 
@@ -60,8 +63,14 @@ fn ids_are_unique_and_stable() {
     assert_eq!(ids.len(), a.points.len());
     // The grid order: scenario, then the axes (sorted by path, first outermost), seed last.
     let p = &a.points[1];
-    assert_eq!(p.describe(), "weave seed=2 environment.sun.strength=0.5 tracker.lambda=0.5");
-    assert_eq!(a.points.last().unwrap().describe(), "hard-braking seed=3 environment.sun.strength=1.0 tracker.lambda=0.98");
+    assert_eq!(
+        p.describe(),
+        "weave seed=2 environment.sun.strength=0.5 tracker.lambda=0.5"
+    );
+    assert_eq!(
+        a.points.last().unwrap().describe(),
+        "hard-braking seed=3 environment.sun.strength=1.0 tracker.lambda=0.98"
+    );
     // A different experiment (other common overrides) gets other ids.
     let c = Sweep::load(&path, &["duration_s=2.0".into()]).unwrap();
     assert_ne!(a.points[0].id, c.points[0].id);
@@ -98,13 +107,20 @@ fn a_bad_axis_value_is_refused_naming_it() {
 
 #[test]
 fn unknown_fields_and_bad_ranges_are_refused_with_position() {
-    let (_dir, path) = sweep_file("scenarios = [\"SCENARIOS/weave.toml\"]\nseeds = [1]\nseed = 3\n");
+    let (_dir, path) =
+        sweep_file("scenarios = [\"SCENARIOS/weave.toml\"]\nseeds = [1]\nseed = 3\n");
     let err = Sweep::load(&path, &[]).unwrap_err().to_string();
-    assert!(err.contains("sweep.toml:3:1") && err.contains("unknown field `seed`"), "{err}");
+    assert!(
+        err.contains("sweep.toml:3:1") && err.contains("unknown field `seed`"),
+        "{err}"
+    );
 
     let (_dir, path) = sweep_file(
         "scenarios = [\"SCENARIOS/weave.toml\"]\nseeds = [1]\n[axes]\ntracker.lambda = { from = 0.9, to = 0.5, step = 0.1 }\n",
     );
     let err = Sweep::load(&path, &[]).unwrap_err().to_string();
-    assert!(err.contains("sweep.toml:4:") && err.contains("`axes.tracker.lambda`"), "{err}");
+    assert!(
+        err.contains("sweep.toml:4:") && err.contains("`axes.tracker.lambda`"),
+        "{err}"
+    );
 }

@@ -84,11 +84,16 @@ pub fn run_sweep(args: SweepArgs) -> anyhow::Result<ExitCode> {
     let sweep = Sweep::load(&file, &args.set)?;
     let backend = Backend::choose(args.backend.as_deref())?;
     let out = args.out.clone().unwrap_or_else(|| {
-        let stem = file.file_stem().map_or("sweep".into(), |s| s.to_string_lossy());
+        let stem = file
+            .file_stem()
+            .map_or("sweep".into(), |s| s.to_string_lossy());
         Path::new("renders/sweeps").join(stem.as_ref())
     });
     std::fs::create_dir_all(&out).with_context(|| format!("{}: cannot create", out.display()))?;
-    let results = out.join(args.shard.map_or(RESULTS_FILE.to_string(), |s| s.file_name()));
+    let results = out.join(
+        args.shard
+            .map_or(RESULTS_FILE.to_string(), |s| s.file_name()),
+    );
 
     let (done_rows, complete) = read_rows(&results)?;
     let exists = std::fs::metadata(&results).is_ok_and(|m| m.len() > 0);
@@ -113,8 +118,10 @@ pub fn run_sweep(args: SweepArgs) -> anyhow::Result<ExitCode> {
             "{}: {} points{}, {} already done, {} to run on {} jobs; results in {}",
             file.display(),
             points.len(),
-            args.shard
-                .map_or(String::new(), |s| format!(" in shard {}/{}", s.index, s.count)),
+            args.shard.map_or(String::new(), |s| format!(
+                " in shard {}/{}",
+                s.index, s.count
+            )),
             points.len() - todo.len(),
             todo.len(),
             jobs,
@@ -128,9 +135,11 @@ pub fn run_sweep(args: SweepArgs) -> anyhow::Result<ExitCode> {
         ProgressBar::new(points.len() as u64)
     };
     bar.set_style(
-        ProgressStyle::with_template("sweep [{bar:30}] {pos}/{len} {msg} ({elapsed_precise}, eta {eta})")
-            .expect("valid template")
-            .progress_chars("=> "),
+        ProgressStyle::with_template(
+            "sweep [{bar:30}] {pos}/{len} {msg} ({elapsed_precise}, eta {eta})",
+        )
+        .expect("valid template")
+        .progress_chars("=> "),
     );
     bar.set_position((points.len() - todo.len()) as u64);
     let failed = AtomicUsize::new(0);

@@ -54,12 +54,13 @@ const MAX_AXIS_VALUES: usize = 10_000;
 /// `0.5 + 2·0.04` is written `0.58`, not `0.5800000000000001`.
 const RANGE_DECIMALS: i32 = 9;
 
+/// An axis as read: its dotted path and its values.
+pub(crate) type RawAxis = (String, Vec<toml::Value>);
+
 /// The axes of a raw `[axes]` table as `(dotted path, value list or range)`, in the table's
 /// (sorted) order. Nested tables are walked, so `tracker.lambda = [...]` (a dotted key) and
 /// `"tracker.lambda" = [...]` (a quoted key) are the same axis. `Err((path, message))`.
-pub(crate) fn flatten_axes(
-    table: &toml::Table,
-) -> Result<Vec<(String, Vec<toml::Value>)>, (String, String)> {
+pub(crate) fn flatten_axes(table: &toml::Table) -> Result<Vec<RawAxis>, (String, String)> {
     let mut out = Vec::new();
     walk(String::new(), table, &mut out)?;
     Ok(out)
@@ -68,7 +69,7 @@ pub(crate) fn flatten_axes(
 fn walk(
     prefix: String,
     table: &toml::Table,
-    out: &mut Vec<(String, Vec<toml::Value>)>,
+    out: &mut Vec<RawAxis>,
 ) -> Result<(), (String, String)> {
     for (key, value) in table {
         let path = if prefix.is_empty() {
@@ -83,9 +84,7 @@ fn walk(
                 }
                 out.push((path, values.clone()));
             }
-            toml::Value::Table(t)
-                if ["from", "to", "step"].iter().any(|k| t.contains_key(*k)) =>
-            {
+            toml::Value::Table(t) if ["from", "to", "step"].iter().any(|k| t.contains_key(*k)) => {
                 let spec: RangeSpec = value.clone().try_into().map_err(|e: toml::de::Error| {
                     (
                         path.clone(),
@@ -99,9 +98,7 @@ fn walk(
             other => {
                 return Err((
                     path,
-                    format!(
-                        "= {other}: an axis is a list of values or {{ from, to, step }}"
-                    ),
+                    format!("= {other}: an axis is a list of values or {{ from, to, step }}"),
                 ))
             }
         }
@@ -129,7 +126,9 @@ fn expand(spec: &RangeSpec) -> Result<Vec<toml::Value>, String> {
         ));
     }
     if to < from {
-        return Err(format!("= {{ from = {from}, to = {to} }}: needs from <= to"));
+        return Err(format!(
+            "= {{ from = {from}, to = {to} }}: needs from <= to"
+        ));
     }
     // The ε forgives a step that does not divide the span exactly in binary (0.48 / 0.04).
     let steps = ((to - from) / step + 1e-6).floor();
@@ -160,7 +159,7 @@ fn expand(spec: &RangeSpec) -> Result<Vec<toml::Value>, String> {
 mod tests {
     use super::*;
 
-    fn axes(text: &str) -> Vec<(String, Vec<toml::Value>)> {
+    fn axes(text: &str) -> Vec<RawAxis> {
         let t: toml::Table = toml::from_str(text).unwrap();
         flatten_axes(&t).unwrap()
     }

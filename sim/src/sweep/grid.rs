@@ -147,14 +147,20 @@ impl Sweep {
         })?;
 
         if raw.scenarios.is_empty() {
-            return Err(invalid("scenarios", "needs at least one scenario file".into()));
+            return Err(invalid(
+                "scenarios",
+                "needs at least one scenario file".into(),
+            ));
         }
         if raw.seeds.is_empty() {
             return Err(invalid("seeds", "needs at least one seed".into()));
         }
-        if let Some(s) = raw.seeds.iter().enumerate().find_map(|(i, s)| {
-            raw.seeds[..i].contains(s).then_some(s)
-        }) {
+        if let Some(s) = raw
+            .seeds
+            .iter()
+            .enumerate()
+            .find_map(|(i, s)| raw.seeds[..i].contains(s).then_some(s))
+        {
             return Err(invalid("seeds", format!("lists seed {s} twice")));
         }
         let axes: Vec<Axis> = flatten_axes(&raw.axes)

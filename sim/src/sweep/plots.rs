@@ -51,7 +51,12 @@ pub(crate) fn write_plots(dir: &Path, rows: &[ResultRow]) -> Result<Vec<PathBuf>
 }
 
 /// Mean, minimum and maximum of one figure per axis value, ascending, for one scenario.
-fn spread(rows: &[ResultRow], scenario: &str, axis: &str, pointer: &str) -> Vec<(f64, f64, f64, f64)> {
+fn spread(
+    rows: &[ResultRow],
+    scenario: &str,
+    axis: &str,
+    pointer: &str,
+) -> Vec<(f64, f64, f64, f64)> {
     let mut points: Vec<(f64, f64)> = rows
         .iter()
         .filter(|r| r.scenario == scenario)
@@ -111,7 +116,10 @@ fn draw_panel(
             .map(|p| (p.0, p.3))
             .chain(s.iter().rev().map(|p| (p.0, p.2)))
             .collect();
-        chart.draw_series(std::iter::once(Polygon::new(band, colour.mix(0.15).filled())))?;
+        chart.draw_series(std::iter::once(Polygon::new(
+            band,
+            colour.mix(0.15).filled(),
+        )))?;
         // The single runs.
         chart.draw_series(
             rows.iter()

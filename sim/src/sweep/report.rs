@@ -38,6 +38,9 @@ over the seeds (and over the other axes' values); ties (within 1 ms) are broken 
 mean range error, then the least mean time outside the gap band, then the earlier value. \
 Overall, each scenario's means count equally.";
 
+/// An axis value and the mean of each of [`FIGURES`] there.
+type ValueMeans = (serde_json::Value, [Option<f64>; 4]);
+
 /// Ties in tracking-loss time closer than this are ties, seconds.
 const TIE_S: f64 = 1e-3;
 
@@ -51,7 +54,7 @@ pub struct Best {
 }
 
 /// Mean of each figure per distinct axis value (in first-seen order) over `rows`.
-fn means_by_value(rows: &[&ResultRow], axis: &str) -> Vec<(serde_json::Value, [Option<f64>; 4])> {
+fn means_by_value(rows: &[&ResultRow], axis: &str) -> Vec<ValueMeans> {
     let mut values: Vec<serde_json::Value> = Vec::new();
     for r in rows {
         if let Some(v) = r.params.get(axis) {
@@ -63,7 +66,10 @@ fn means_by_value(rows: &[&ResultRow], axis: &str) -> Vec<(serde_json::Value, [O
     values
         .into_iter()
         .map(|v| {
-            let at: Vec<&&ResultRow> = rows.iter().filter(|r| r.params.get(axis) == Some(&v)).collect();
+            let at: Vec<&&ResultRow> = rows
+                .iter()
+                .filter(|r| r.params.get(axis) == Some(&v))
+                .collect();
             let means = std::array::from_fn(|i| {
                 let xs: Vec<f64> = at.iter().filter_map(|r| r.figure(FIGURES[i].1)).collect();
                 (!xs.is_empty()).then(|| xs.iter().sum::<f64>() / xs.len() as f64)
@@ -74,9 +80,9 @@ fn means_by_value(rows: &[&ResultRow], axis: &str) -> Vec<(serde_json::Value, [O
 }
 
 /// Picks by [`BEST_RULE`] among `(value, means)` in order.
-fn pick(candidates: Vec<(serde_json::Value, [Option<f64>; 4])>) -> Option<Best> {
+fn pick(candidates: Vec<ValueMeans>) -> Option<Best> {
     let key = |m: &[Option<f64>; 4], i: usize| m[i].unwrap_or(f64::INFINITY);
-    let mut best: Option<(serde_json::Value, [Option<f64>; 4])> = None;
+    let mut best: Option<ValueMeans> = None;
     for (v, m) in candidates {
         let better = match &best {
             None => true,
@@ -230,7 +236,14 @@ fn table_csv(rows: &[ResultRow]) -> String {
     }
     out.push('\n');
     for r in rows {
-        let _ = write!(out, "{},{},{},{}", r.index, r.id, csv_field(&r.scenario), r.seed);
+        let _ = write!(
+            out,
+            "{},{},{},{}",
+            r.index,
+            r.id,
+            csv_field(&r.scenario),
+            r.seed
+        );
         for a in &axes {
             out.push(',');
             out.push_str(&json_cell(r.params.get(a)));
@@ -266,7 +279,8 @@ fn summary_md(rows: &[ResultRow]) -> String {
             .join(", ")
     );
     let _ = writeln!(md, "**Rule.** The best value of an axis is {BEST_RULE}\n");
-    let header = "| | tracking lost (s) | range error (m) | outside gap band (s) | path deviation (m) |";
+    let header =
+        "| | tracking lost (s) | range error (m) | outside gap band (s) | path deviation (m) |";
     for axis in axis_paths(rows) {
         let (per, overall) = best_values(rows, &axis);
         let _ = writeln!(md, "## `{axis}`\n");
@@ -297,7 +311,7 @@ fn summary_md(rows: &[ResultRow]) -> String {
         );
         let _ = writeln!(md, "| `{axis}` | {} |", scenarios.join(" | "));
         let _ = writeln!(md, "|---|{}", "---|".repeat(scenarios.len()));
-        let tables: BTreeMap<&String, Vec<(serde_json::Value, [Option<f64>; 4])>> = scenarios
+        let tables: BTreeMap<&String, Vec<ValueMeans>> = scenarios
             .iter()
             .map(|s| {
                 let mine: Vec<&ResultRow> = rows.iter().filter(|r| &r.scenario == s).collect();

@@ -133,13 +133,11 @@ pub fn read_rows(path: &Path) -> Result<(Vec<ResultRow>, u64), SweepError> {
         if line.trim().is_empty() {
             continue;
         }
-        rows.push(
-            serde_json::from_str(line).map_err(|e| SweepError::Row {
-                path: path.to_owned(),
-                line: i + 1,
-                message: e.to_string(),
-            })?,
-        );
+        rows.push(serde_json::from_str(line).map_err(|e| SweepError::Row {
+            path: path.to_owned(),
+            line: i + 1,
+            message: e.to_string(),
+        })?);
     }
     Ok((rows, complete as u64))
 }
