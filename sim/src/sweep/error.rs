@@ -7,14 +7,14 @@ use thiserror::Error;
 #[derive(Debug, Error)]
 pub enum SweepError {
     /// Unreadable or unwritable file.
-    #[error("{}: {action}: {source}", path.display())]
+    #[error("{}: {action}: {error}", path.display())]
     Io {
         /// The file or folder.
         path: PathBuf,
         /// What was being done (`cannot read the sweep`, ...).
         action: &'static str,
-        /// Why.
-        source: std::io::Error,
+        /// Why (in the message, not the chain: one line per error).
+        error: std::io::Error,
     },
     /// Bad TOML, unknown field, wrong type.
     #[error("{}:{line}:{column}: {message}", path.display())]
@@ -43,7 +43,7 @@ pub enum SweepError {
         message: String,
     },
     /// A point whose scenario refuses its overrides (a bad axis path or value).
-    #[error("{}:{line}:{column}: `{field}`: point {point}: {source}", path.display())]
+    #[error("{}:{line}:{column}: `{field}`: point {point}: {error}", path.display())]
     Point {
         /// The sweep file.
         path: PathBuf,
@@ -55,8 +55,9 @@ pub enum SweepError {
         field: String,
         /// The point's canonical description.
         point: String,
-        /// The scenario's own error (boxed: it is large and rare).
-        source: Box<crate::scenario::ScenarioError>,
+        /// The scenario's own error (boxed: it is large and rare; in the message, not the
+        /// chain).
+        error: Box<crate::scenario::ScenarioError>,
     },
     /// A malformed line in a results file.
     #[error("{}:{line}: not a result row: {message}", path.display())]

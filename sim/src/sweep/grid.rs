@@ -120,10 +120,10 @@ impl Sweep {
     /// the file's `set`. Every point's scenario is loaded with its overrides, so nothing
     /// runs unless every point can.
     pub fn load(path: &Path, extra_set: &[String]) -> Result<Sweep, SweepError> {
-        let text = std::fs::read_to_string(path).map_err(|source| SweepError::Io {
+        let text = std::fs::read_to_string(path).map_err(|error| SweepError::Io {
             path: path.to_owned(),
             action: "cannot read the sweep",
-            source,
+            error,
         })?;
         let at = |field: &str| line_column(&text, locate(&text, field));
         let invalid = |field: &str, message: String| {
@@ -195,7 +195,7 @@ impl Sweep {
                     column,
                     field: field.into(),
                     point: file.clone(),
-                    source: Box::new(e),
+                    error: Box::new(e),
                 }
             })?;
             if scenarios.iter().any(|s| s.name == base.name) {
@@ -243,7 +243,7 @@ impl Sweep {
                     column,
                     field,
                     point: point.describe(),
-                    source: Box::new(e),
+                    error: Box::new(e),
                 });
             }
         }

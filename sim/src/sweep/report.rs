@@ -165,17 +165,17 @@ pub(crate) fn axis_paths(rows: &[ResultRow]) -> Vec<String> {
 pub fn write_report(dir: &Path, rows: &[ResultRow]) -> Result<Vec<PathBuf>, SweepError> {
     let write = |name: &str, text: String| -> Result<PathBuf, SweepError> {
         let path = dir.join(name);
-        std::fs::write(&path, text).map_err(|source| SweepError::Io {
+        std::fs::write(&path, text).map_err(|error| SweepError::Io {
             path: path.clone(),
             action: "cannot write the report",
-            source,
+            error,
         })?;
         Ok(path)
     };
-    std::fs::create_dir_all(dir).map_err(|source| SweepError::Io {
+    std::fs::create_dir_all(dir).map_err(|error| SweepError::Io {
         path: dir.to_owned(),
         action: "cannot create the report folder",
-        source,
+        error,
     })?;
     let mut written = vec![write("table.csv", table_csv(rows))?];
     written.extend(super::plots::write_plots(dir, rows)?);

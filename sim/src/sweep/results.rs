@@ -77,10 +77,10 @@ impl ResultsWriter {
     /// Opens `path` for appending. With `keep_bytes`, first cuts the file to that length
     /// (dropping a truncated last line left by a killed run); without, starts it empty.
     pub fn open(path: &Path, keep_bytes: Option<u64>) -> Result<ResultsWriter, SweepError> {
-        let io = |source| SweepError::Io {
+        let io = |error| SweepError::Io {
             path: path.to_owned(),
             action: "cannot write results",
-            source,
+            error,
         };
         let file = OpenOptions::new()
             .create(true)
@@ -104,10 +104,10 @@ impl ResultsWriter {
         let mut file = self.file.lock().unwrap_or_else(|e| e.into_inner());
         file.write_all(line.as_bytes())
             .and_then(|()| file.flush())
-            .map_err(|source| SweepError::Io {
+            .map_err(|error| SweepError::Io {
                 path: self.path.clone(),
                 action: "cannot write results",
-                source,
+                error,
             })
     }
 }
@@ -119,11 +119,11 @@ pub fn read_rows(path: &Path) -> Result<(Vec<ResultRow>, u64), SweepError> {
     let text = match std::fs::read_to_string(path) {
         Ok(t) => t,
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok((Vec::new(), 0)),
-        Err(source) => {
+        Err(error) => {
             return Err(SweepError::Io {
                 path: path.to_owned(),
                 action: "cannot read results",
-                source,
+                error,
             })
         }
     };
@@ -147,10 +147,10 @@ pub fn read_rows(path: &Path) -> Result<(Vec<ResultRow>, u64), SweepError> {
 pub fn merge_dirs(dirs: &[PathBuf]) -> Result<Vec<ResultRow>, SweepError> {
     let mut rows = Vec::new();
     for dir in dirs {
-        let entries = std::fs::read_dir(dir).map_err(|source| SweepError::Io {
+        let entries = std::fs::read_dir(dir).map_err(|error| SweepError::Io {
             path: dir.clone(),
             action: "cannot list results",
-            source,
+            error,
         })?;
         let mut files: Vec<PathBuf> = entries
             .filter_map(|e| e.ok().map(|e| e.path()))
