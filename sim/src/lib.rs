@@ -9,5 +9,6 @@ pub mod record;
 pub mod report;
 pub mod scenario;
 pub mod scene;
+pub mod sweep;
 pub mod target;
 pub mod track;

@@ -6,6 +6,7 @@ mod cli {
     pub mod check;
     pub mod render;
     pub mod run;
+    pub mod sweep;
     pub mod synth;
     pub mod target;
     pub mod track;
@@ -26,6 +27,8 @@ struct Cli {
 enum Commands {
     /// Run scenarios through the closed loop (default: the built-in nist-grounds).
     Run(cli::run::RunArgs),
+    /// Run a sweep (scenarios × seeds × parameter axes) on all cores, or merge shards.
+    Sweep(cli::sweep::SweepArgs),
     /// Validate scenario files without running them.
     Check(cli::check::CheckArgs),
     /// Render one camera frame at time T (built-in scene until scenario files exist).
@@ -42,6 +45,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Commands::Run(args) => cli::run::run_run(args),
+        Commands::Sweep(args) => cli::sweep::run_sweep(args),
         Commands::Check(args) => cli::check::run_check(args).map(|()| ExitCode::SUCCESS),
         Commands::Render(args) => cli::render::run(args).map(|()| ExitCode::SUCCESS),
         Commands::Track(args) => cli::track::run_track(args).map(|()| ExitCode::SUCCESS),

@@ -9,7 +9,7 @@ mod error;
 mod frames_csv;
 mod junit;
 mod outputs;
-mod plots;
+pub(crate) mod plots;
 mod summary;
 mod video;
 

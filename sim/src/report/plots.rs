@@ -64,8 +64,8 @@ const OUT_OF_VIEW: RGBColor = RGBColor(150, 150, 150);
 const CHASE: RGBColor = RGBColor(31, 100, 200);
 const LEAD: RGBColor = RGBColor(210, 60, 30);
 
-type Area<'a> = DrawingArea<BitMapBackend<'a>, Shift>;
-type DrawResult = Result<(), Box<dyn Error>>;
+pub(crate) type Area<'a> = DrawingArea<BitMapBackend<'a>, Shift>;
+pub(crate) type DrawResult = Result<(), Box<dyn Error>>;
 
 /// Draws every plot of [`PLOT_FILES`] into `dir`; returns the paths written.
 pub fn write_plots(
@@ -97,7 +97,7 @@ pub fn write_plots(
     Ok(written)
 }
 
-fn register_font(dir: &Path) -> Result<(), ReportError> {
+pub(crate) fn register_font(dir: &Path) -> Result<(), ReportError> {
     static REGISTERED: OnceLock<bool> = OnceLock::new();
     let ok = *REGISTERED.get_or_init(|| {
         plotters::style::register_font(FONT_FAMILY, FontStyle::Normal, FONT).is_ok()
@@ -113,7 +113,7 @@ fn register_font(dir: &Path) -> Result<(), ReportError> {
 }
 
 /// Draws on a white bitmap of `size` and saves it as PNG at `path`.
-fn render(
+pub(crate) fn render(
     path: &Path,
     size: (u32, u32),
     draw: &dyn Fn(&Area) -> DrawResult,
@@ -242,7 +242,7 @@ fn padded_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
 }
 
 /// A tick label: at most three decimals, no trailing zeros, no "-0".
-fn tick(v: &f64) -> String {
+pub(crate) fn tick(v: &f64) -> String {
     let t = format!("{v:.3}");
     let t = t.trim_end_matches('0').trim_end_matches('.');
     if t == "-0" {
@@ -252,7 +252,7 @@ fn tick(v: &f64) -> String {
     }
 }
 
-fn font(px: u32) -> TextStyle<'static> {
+pub(crate) fn font(px: u32) -> TextStyle<'static> {
     (FONT_FAMILY, px).into_font().into()
 }
 

@@ -140,7 +140,7 @@ fn line_column(text: &str, offset: usize) -> (usize, usize) {
 
 /// The byte offset of a dotted path in the TOML text: the key when present, else the
 /// nearest enclosing table that is, else the start.
-fn locate(text: &str, dotted: &str) -> usize {
+pub(crate) fn locate(text: &str, dotted: &str) -> usize {
     use toml::de::{DeTable, DeValue};
     let Ok(root) = DeTable::parse(text) else {
         return 0;

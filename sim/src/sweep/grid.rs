@@ -1,0 +1,342 @@
+//! The validated sweep: its grid of points, their stable ids, and shards of the grid.
+//!
+//! **Grid order.** Scenarios in the file's order; within a scenario, the axis product with the
+//! first axis (in sorted path order) outermost; the seed innermost, so a point's seeds are
+//! neighbours. The order is a pure function of the file.
+//!
+//! **Ids.** A point's id is the 64-bit FNV-1a hash, in hex, of its canonical description
+//! (`weave seed=1 tracker.lambda=0.5`) and the sweep's common overrides: it does not depend on
+//! the machine, the run, the shard or the Rust version, and it changes when the experiment does.
+
+use super::file::{flatten_axes, SweepFile, SweepScenario};
+use super::SweepError;
+use crate::scenario::{locate, Scenario};
+use crate::target::line_column;
+use std::path::{Path, PathBuf};
+
+/// The most points a sweep may have.
+const MAX_POINTS: usize = 1_000_000;
+
+/// One parameter axis: a dotted scenario path and its values, in order.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Axis {
+    /// Dotted path, as `--set` takes it (`tracker.lambda`).
+    pub path: String,
+    /// The values, in the file's order (a range ascending).
+    pub values: Vec<toml::Value>,
+}
+
+/// One point of the grid: a scenario, a seed and one value per axis.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Point {
+    /// Position in the grid order (0-based).
+    pub index: usize,
+    /// Stable id (16 hex digits).
+    pub id: String,
+    /// Index into [`Sweep::scenarios`].
+    pub scenario: usize,
+    /// The scenario's name.
+    pub scenario_name: String,
+    /// The seed.
+    pub seed: u64,
+    /// `(axis path, value)` for each axis, in axis order.
+    pub params: Vec<(String, toml::Value)>,
+}
+
+impl Point {
+    /// `weave seed=1 tracker.lambda=0.5`.
+    pub fn describe(&self) -> String {
+        let mut s = format!("{} seed={}", self.scenario_name, self.seed);
+        for (path, value) in &self.params {
+            s.push_str(&format!(" {path}={value}"));
+        }
+        s
+    }
+
+    /// Every override of this point, in the order applied: the common ones, the seed, then
+    /// the axis values.
+    pub fn overrides(&self, common: &[String]) -> Vec<String> {
+        let mut all = common.to_vec();
+        all.push(format!("seed={}", self.seed));
+        all.extend(self.params.iter().map(|(p, v)| format!("{p}={v}")));
+        all
+    }
+}
+
+/// A shard: the `index`-th (0-based) of `count` round-robin slices of the grid order.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Shard {
+    /// 0-based slice number, `< count`.
+    pub index: usize,
+    /// Number of slices, at least 1.
+    pub count: usize,
+}
+
+impl Shard {
+    /// Whether the point at grid position `index` is in this shard.
+    pub fn contains(&self, index: usize) -> bool {
+        index % self.count == self.index
+    }
+
+    /// `results-shard-I-of-N.jsonl`.
+    pub fn file_name(&self) -> String {
+        format!("results-shard-{}-of-{}.jsonl", self.index, self.count)
+    }
+}
+
+impl std::str::FromStr for Shard {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Shard, String> {
+        let bad = || format!("`{s}`: expected I/N with 0 <= I < N (I is 0-based)");
+        let (i, n) = s.split_once('/').ok_or_else(bad)?;
+        let index: usize = i.trim().parse().map_err(|_| bad())?;
+        let count: usize = n.trim().parse().map_err(|_| bad())?;
+        if count == 0 || index >= count {
+            return Err(bad());
+        }
+        Ok(Shard { index, count })
+    }
+}
+
+/// A validated sweep: its scenarios, seeds, common overrides, axes and the grid.
+#[derive(Clone, Debug)]
+pub struct Sweep {
+    /// The sweep file.
+    pub path: PathBuf,
+    /// The scenarios, in the file's order.
+    pub scenarios: Vec<SweepScenario>,
+    /// The seeds, in the file's order.
+    pub seeds: Vec<u64>,
+    /// Common overrides: the file's `set`, then the command line's.
+    pub set: Vec<String>,
+    /// The axes, in sorted path order.
+    pub axes: Vec<Axis>,
+    /// Every point, in grid order.
+    pub points: Vec<Point>,
+}
+
+impl Sweep {
+    /// Reads and validates a sweep file; `extra_set` are command-line overrides applied after
+    /// the file's `set`. Every point's scenario is loaded with its overrides, so nothing
+    /// runs unless every point can.
+    pub fn load(path: &Path, extra_set: &[String]) -> Result<Sweep, SweepError> {
+        let text = std::fs::read_to_string(path).map_err(|error| SweepError::Io {
+            path: path.to_owned(),
+            action: "cannot read the sweep",
+            error,
+        })?;
+        let at = |field: &str| line_column(&text, locate(&text, field));
+        let invalid = |field: &str, message: String| {
+            let (line, column) = at(field);
+            SweepError::Invalid {
+                path: path.to_owned(),
+                line,
+                column,
+                field: field.to_string(),
+                message,
+            }
+        };
+        let raw: SweepFile = toml::from_str(&text).map_err(|e| {
+            let (line, column) = line_column(&text, e.span().map_or(0, |s| s.start));
+            SweepError::Parse {
+                path: path.to_owned(),
+                line,
+                column,
+                message: e.message().trim().to_string(),
+            }
+        })?;
+
+        if raw.scenarios.is_empty() {
+            return Err(invalid(
+                "scenarios",
+                "needs at least one scenario file".into(),
+            ));
+        }
+        if raw.seeds.is_empty() {
+            return Err(invalid("seeds", "needs at least one seed".into()));
+        }
+        if let Some(s) = raw
+            .seeds
+            .iter()
+            .enumerate()
+            .find_map(|(i, s)| raw.seeds[..i].contains(s).then_some(s))
+        {
+            return Err(invalid("seeds", format!("lists seed {s} twice")));
+        }
+        let axes: Vec<Axis> = flatten_axes(&raw.axes)
+            .map_err(|(p, m)| invalid(&format!("axes.{p}"), m))?
+            .into_iter()
+            .map(|(path, values)| Axis { path, values })
+            .collect();
+        if let Some(a) = axes.iter().find(|a| a.path == "seed") {
+            return Err(invalid(
+                &format!("axes.{}", a.path),
+                "is not an axis: list the seeds in `seeds`".into(),
+            ));
+        }
+        let mut set = raw.set.clone();
+        set.extend_from_slice(extra_set);
+
+        // The scenarios, each with the common overrides.
+        let dir = path.parent().unwrap_or(Path::new("."));
+        let mut scenarios: Vec<SweepScenario> = Vec::new();
+        for file in &raw.scenarios {
+            let scenario_path = dir.join(file);
+            let base = Scenario::load(&scenario_path, &set).map_err(|e| {
+                let field = if matches!(e, crate::scenario::ScenarioError::Override { .. }) {
+                    "set"
+                } else {
+                    "scenarios"
+                };
+                let (line, column) = at(field);
+                SweepError::Point {
+                    path: path.to_owned(),
+                    line,
+                    column,
+                    field: field.into(),
+                    point: file.clone(),
+                    error: Box::new(e),
+                }
+            })?;
+            if scenarios.iter().any(|s| s.name == base.name) {
+                return Err(invalid(
+                    "scenarios",
+                    format!("names scenario `{}` twice", base.name),
+                ));
+            }
+            scenarios.push(SweepScenario {
+                path: scenario_path,
+                name: base.name,
+            });
+        }
+
+        let count = scenarios.len()
+            * raw.seeds.len()
+            * axes.iter().map(|a| a.values.len()).product::<usize>();
+        if count > MAX_POINTS {
+            return Err(invalid(
+                "axes",
+                format!("make {count} points; at most {MAX_POINTS} are allowed"),
+            ));
+        }
+        let points = grid(&scenarios, &raw.seeds, &axes, &set);
+
+        // Every point's overrides, before anything runs.
+        for point in &points {
+            let overrides = point.overrides(&set);
+            if let Err(e) = Scenario::load(&scenarios[point.scenario].path, &overrides) {
+                let field = match &e {
+                    crate::scenario::ScenarioError::Override { assignment, .. } => axes
+                        .iter()
+                        .find(|a| {
+                            assignment
+                                .split_once('=')
+                                .is_some_and(|(k, _)| k.trim() == a.path)
+                        })
+                        .map_or("seeds".to_string(), |a| format!("axes.{}", a.path)),
+                    _ => "axes".to_string(),
+                };
+                let (line, column) = at(&field);
+                return Err(SweepError::Point {
+                    path: path.to_owned(),
+                    line,
+                    column,
+                    field,
+                    point: point.describe(),
+                    error: Box::new(e),
+                });
+            }
+        }
+        Ok(Sweep {
+            path: path.to_owned(),
+            scenarios,
+            seeds: raw.seeds,
+            set,
+            axes,
+            points,
+        })
+    }
+
+    /// The scenario of a point, with all its overrides applied.
+    pub fn scenario(&self, point: &Point) -> Result<Scenario, SweepError> {
+        Scenario::load(
+            &self.scenarios[point.scenario].path,
+            &point.overrides(&self.set),
+        )
+        .map_err(|e| SweepError::Run {
+            point: point.describe(),
+            message: e.to_string(),
+        })
+    }
+
+    /// The points of a shard (all of them without one), in grid order.
+    pub fn shard(&self, shard: Option<Shard>) -> Vec<&Point> {
+        self.points
+            .iter()
+            .filter(|p| shard.is_none_or(|s| s.contains(p.index)))
+            .collect()
+    }
+}
+
+/// The grid in its fixed order (see the module notes).
+fn grid(scenarios: &[SweepScenario], seeds: &[u64], axes: &[Axis], set: &[String]) -> Vec<Point> {
+    let combos: usize = axes.iter().map(|a| a.values.len()).product();
+    let mut points = Vec::new();
+    for (si, scenario) in scenarios.iter().enumerate() {
+        for combo in 0..combos {
+            // Mixed-radix digits of `combo`, the last axis fastest.
+            let mut rest = combo;
+            let mut params = vec![(String::new(), toml::Value::Boolean(false)); axes.len()];
+            for (ai, axis) in axes.iter().enumerate().rev() {
+                let n = axis.values.len();
+                params[ai] = (axis.path.clone(), axis.values[rest % n].clone());
+                rest /= n;
+            }
+            for &seed in seeds {
+                let mut point = Point {
+                    index: points.len(),
+                    id: String::new(),
+                    scenario: si,
+                    scenario_name: scenario.name.clone(),
+                    seed,
+                    params: params.clone(),
+                };
+                let mut canonical = point.describe();
+                for s in set {
+                    canonical.push_str(&format!("\nset {s}"));
+                }
+                point.id = format!("{:016x}", fnv1a(canonical.as_bytes()));
+                points.push(point);
+            }
+        }
+    }
+    points
+}
+
+/// 64-bit FNV-1a: a hash fixed by its definition, so ids stay stable everywhere.
+fn fnv1a(bytes: &[u8]) -> u64 {
+    const OFFSET: u64 = 0xcbf2_9ce4_8422_2325;
+    const PRIME: u64 = 0x0000_0100_0000_01b3;
+    bytes
+        .iter()
+        .fold(OFFSET, |h, &b| (h ^ u64::from(b)).wrapping_mul(PRIME))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fnv1a_matches_its_reference_values() {
+        assert_eq!(fnv1a(b""), 0xcbf29ce484222325);
+        assert_eq!(fnv1a(b"a"), 0xaf63dc4c8601ec8c);
+    }
+
+    #[test]
+    fn shards_parse_0_based() {
+        assert_eq!("0/4".parse(), Ok(Shard { index: 0, count: 4 }));
+        assert!("4/4".parse::<Shard>().is_err());
+        assert!("1/0".parse::<Shard>().is_err());
+        assert!("x".parse::<Shard>().is_err());
+    }
+}

@@ -1,0 +1,22 @@
+//! Sweeps: one scenario setting varied over a grid of scenarios, seeds and parameter axes,
+//! run on all cores (or sharded on a batch scheduler), with one JSON line per finished point
+//! and a report (CSV table, PNG plots, Markdown summary) over the rows.
+//!
+//! A sweep file (`scenarios/sweeps/*.toml`) is parsed into a raw [`SweepFile`], then validated
+//! into a [`Sweep`]: every point's overrides are applied to its scenario before anything runs,
+//! so a bad axis path is refused up front, naming the path.
+
+mod error;
+mod file;
+mod grid;
+mod plots;
+mod report;
+mod results;
+mod run;
+
+pub use error::SweepError;
+pub use file::{SweepFile, SweepScenario};
+pub use grid::{Axis, Point, Shard, Sweep};
+pub use report::{best_values, write_report, Best, BEST_RULE, FIGURES};
+pub use results::{dedupe_sorted, merge_dirs, read_rows, ResultRow, ResultsWriter, RESULTS_FILE};
+pub use run::{run_point, run_points};

@@ -1,0 +1,180 @@
+//! `results.jsonl`: one JSON line per finished point, appended and flushed as it finishes,
+//! through one writer so lines never interleave. Reading tolerates a truncated last line (a
+//! run killed mid-write); merging dedupes by id and sorts by grid order.
+
+use super::SweepError;
+use crate::report::Summary;
+use serde::{Deserialize, Serialize};
+use std::fs::{File, OpenOptions};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+
+/// The results file of an unsharded sweep (a shard writes [`super::Shard::file_name`]).
+pub const RESULTS_FILE: &str = "results.jsonl";
+
+/// One finished point: its parameters and its run's `summary.json` figures.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ResultRow {
+    /// The point's stable id.
+    pub id: String,
+    /// Its position in the grid order.
+    pub index: usize,
+    /// Its canonical description (`weave seed=1 tracker.lambda=0.5`).
+    pub point: String,
+    /// Scenario name.
+    pub scenario: String,
+    /// Seed.
+    pub seed: u64,
+    /// Axis path → value.
+    pub params: serde_json::Map<String, serde_json::Value>,
+    /// The run's [`Summary`], as in `summary.json`.
+    pub summary: serde_json::Value,
+}
+
+impl ResultRow {
+    /// The row of a point and its summary.
+    pub fn new(point: &super::Point, summary: &Summary) -> ResultRow {
+        ResultRow {
+            id: point.id.clone(),
+            index: point.index,
+            point: point.describe(),
+            scenario: point.scenario_name.clone(),
+            seed: point.seed,
+            params: point
+                .params
+                .iter()
+                .map(|(p, v)| {
+                    (
+                        p.clone(),
+                        serde_json::to_value(v).expect("TOML values are JSON values"),
+                    )
+                })
+                .collect(),
+            summary: serde_json::to_value(summary).expect("a summary serialises"),
+        }
+    }
+
+    /// A number of the summary by JSON pointer (`/range_error_m/mean_abs`); `None` when
+    /// absent or `null`.
+    pub fn figure(&self, pointer: &str) -> Option<f64> {
+        self.summary.pointer(pointer).and_then(|v| v.as_f64())
+    }
+
+    /// An axis value as a number, if it is one.
+    pub fn param(&self, path: &str) -> Option<f64> {
+        self.params.get(path).and_then(|v| v.as_f64())
+    }
+}
+
+/// Appends rows to a results file, one whole line per write, flushed at once.
+pub struct ResultsWriter {
+    path: PathBuf,
+    file: Mutex<File>,
+}
+
+impl ResultsWriter {
+    /// Opens `path` for appending. With `keep_bytes`, first cuts the file to that length
+    /// (dropping a truncated last line left by a killed run); without, starts it empty.
+    pub fn open(path: &Path, keep_bytes: Option<u64>) -> Result<ResultsWriter, SweepError> {
+        let io = |error| SweepError::Io {
+            path: path.to_owned(),
+            action: "cannot write results",
+            error,
+        };
+        let file = OpenOptions::new()
+            .create(true)
+            .write(true)
+            .truncate(false)
+            .open(path)
+            .map_err(io)?;
+        file.set_len(keep_bytes.unwrap_or(0)).map_err(io)?;
+        drop(file);
+        let file = OpenOptions::new().append(true).open(path).map_err(io)?;
+        Ok(ResultsWriter {
+            path: path.to_owned(),
+            file: Mutex::new(file),
+        })
+    }
+
+    /// Writes one row as one line and flushes it.
+    pub fn append(&self, row: &ResultRow) -> Result<(), SweepError> {
+        let mut line = serde_json::to_string(row).expect("a row serialises");
+        line.push('\n');
+        let mut file = self.file.lock().unwrap_or_else(|e| e.into_inner());
+        file.write_all(line.as_bytes())
+            .and_then(|()| file.flush())
+            .map_err(|error| SweepError::Io {
+                path: self.path.clone(),
+                action: "cannot write results",
+                error,
+            })
+    }
+}
+
+/// The rows of a results file, and the length of its complete lines in bytes. A last line
+/// without its newline (a killed run) is ignored; a malformed complete line is an error. A
+/// missing file has no rows.
+pub fn read_rows(path: &Path) -> Result<(Vec<ResultRow>, u64), SweepError> {
+    let text = match std::fs::read_to_string(path) {
+        Ok(t) => t,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok((Vec::new(), 0)),
+        Err(error) => {
+            return Err(SweepError::Io {
+                path: path.to_owned(),
+                action: "cannot read results",
+                error,
+            })
+        }
+    };
+    let complete = text.rfind('\n').map_or(0, |i| i + 1);
+    let mut rows = Vec::new();
+    for (i, line) in text[..complete].lines().enumerate() {
+        if line.trim().is_empty() {
+            continue;
+        }
+        rows.push(serde_json::from_str(line).map_err(|e| SweepError::Row {
+            path: path.to_owned(),
+            line: i + 1,
+            message: e.to_string(),
+        })?);
+    }
+    Ok((rows, complete as u64))
+}
+
+/// Every row of the `results*.jsonl` files in `dirs`, deduplicated by id (the first seen
+/// wins) and sorted by grid order.
+pub fn merge_dirs(dirs: &[PathBuf]) -> Result<Vec<ResultRow>, SweepError> {
+    let mut rows = Vec::new();
+    for dir in dirs {
+        let entries = std::fs::read_dir(dir).map_err(|error| SweepError::Io {
+            path: dir.clone(),
+            action: "cannot list results",
+            error,
+        })?;
+        let mut files: Vec<PathBuf> = entries
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| {
+                p.file_name()
+                    .and_then(|n| n.to_str())
+                    .is_some_and(|n| n.starts_with("results") && n.ends_with(".jsonl"))
+            })
+            .collect();
+        files.sort();
+        for file in files {
+            rows.extend(read_rows(&file)?.0);
+        }
+    }
+    Ok(dedupe_sorted(rows))
+}
+
+/// Dedupes by id (first wins) and sorts by grid order, then id.
+pub fn dedupe_sorted(rows: Vec<ResultRow>) -> Vec<ResultRow> {
+    let mut seen = std::collections::BTreeSet::new();
+    let mut out: Vec<ResultRow> = rows
+        .into_iter()
+        .filter(|r| seen.insert(r.id.clone()))
+        .collect();
+    out.sort_by(|a, b| a.index.cmp(&b.index).then_with(|| a.id.cmp(&b.id)));
+    out
+}
