@@ -40,7 +40,8 @@ pub struct RunArgs {
     pub backend: Option<String>,
 }
 
-/// Runs the subcommand; `Ok(false)` when a scenario failed its expectations.
+/// Runs the subcommand: exit status 0 when every scenario passed its `[expect]`, 1 when one
+/// failed; bad input is an error (exit status 2).
 pub fn run_run(args: RunArgs) -> anyhow::Result<ExitCode> {
     // Every scenario is validated before any runs: bad input never wastes a long run.
     let scenarios: Vec<Scenario> = if args.scenarios.is_empty() {
