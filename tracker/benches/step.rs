@@ -5,27 +5,13 @@
 use criterion::{criterion_group, criterion_main, Criterion};
 use std::hint::black_box;
 use tracker::edges::EdgeExtractor;
-use tracker::synth::{draw, nist_ten_segment, Rect, SynthScene};
-use tracker::{Camera, Edges, GrayView, Location, Tracker, TrackerConfig, Window};
+use tracker::synth::{benchmark_frame, nist_ten_segment};
+use tracker::{Camera, Edges, GrayView, Tracker, TrackerConfig, Window};
 
 fn bench(c: &mut Criterion) {
     let model = nist_ten_segment();
     let camera = Camera::default();
-    let at = Location::new(128.0, 112.0, 1.0);
-    // A noisy frame with a pole and a shadow, so association has clutter to reject.
-    let scene = SynthScene {
-        noise_sigma: 3.0,
-        distractors: vec![Rect {
-            bounds: [90.0, 0.0, 93.0, 242.0],
-            value: 60.0,
-        }],
-        shadows: vec![Rect {
-            bounds: [120.0, 0.0, 135.0, 242.0],
-            value: 0.6,
-        }],
-        ..SynthScene::default()
-    };
-    let px = draw(&model, &camera, at, &scene, 1);
+    let (at, px) = benchmark_frame(&model, &camera);
     let image = GrayView::new(256, 242, &px).unwrap();
 
     for (name, subpixel_edges) in [

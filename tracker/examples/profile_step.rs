@@ -2,26 +2,13 @@
 //! `cargo build --release -p tracker --example profile_step`, then
 //! `valgrind --tool=callgrind target/release/examples/profile_step`.
 
-use tracker::synth::{draw, nist_ten_segment, Rect, SynthScene};
-use tracker::{Camera, GrayView, Location, Tracker, TrackerConfig};
+use tracker::synth::{benchmark_frame, nist_ten_segment};
+use tracker::{Camera, GrayView, Tracker, TrackerConfig};
 
 fn main() {
     let model = nist_ten_segment();
     let camera = Camera::default();
-    let at = Location::new(128.0, 112.0, 1.0);
-    let scene = SynthScene {
-        noise_sigma: 3.0,
-        distractors: vec![Rect {
-            bounds: [90.0, 0.0, 93.0, 242.0],
-            value: 60.0,
-        }],
-        shadows: vec![Rect {
-            bounds: [120.0, 0.0, 135.0, 242.0],
-            value: 0.6,
-        }],
-        ..SynthScene::default()
-    };
-    let px = draw(&model, &camera, at, &scene, 1);
+    let (at, px) = benchmark_frame(&model, &camera);
     let image = GrayView::new(256, 242, &px).expect("frame");
     let mut tracker = Tracker::new(model, camera, TrackerConfig::default(), at).expect("tracker");
     let mut points = 0;

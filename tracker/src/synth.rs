@@ -211,6 +211,26 @@ pub fn draw(
         .collect()
 }
 
+/// The frame the benchmark and the profiling example measure: the shipped target at scale 1
+/// near the image centre, with sensor noise (σ = 3), a pole and a shadow band, so that
+/// association has clutter to reject. Returns the location drawn and the pixels (256×242).
+pub fn benchmark_frame(model: &TargetModel, camera: &Camera) -> (Location, Vec<u8>) {
+    let at = Location::new(128.0, 112.0, 1.0);
+    let scene = SynthScene {
+        noise_sigma: 3.0,
+        distractors: vec![Rect {
+            bounds: [90.0, 0.0, 93.0, 242.0],
+            value: 60.0,
+        }],
+        shadows: vec![Rect {
+            bounds: [120.0, 0.0, 135.0, 242.0],
+            value: 0.6,
+        }],
+        ..SynthScene::default()
+    };
+    (at, draw(model, camera, at, &scene, 1))
+}
+
 /// A smooth pseudo-random walk of the target for test sequences: `frames` locations around
 /// `start`, moving by up to `px_per_frame` pixels and `scale_per_frame` per frame.
 pub fn wander(

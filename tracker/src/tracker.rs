@@ -88,6 +88,8 @@ pub struct Tracker {
     features: Vec<Feature>,
     half_extent_px: [f64; 2],
     target_width_px: f64,
+    /// TargetSize of eq. 36: the model's width, metres.
+    target_width_m: f64,
     motion: [MotionModel; 3],
     init: Location,
     frame: u64,
@@ -124,7 +126,8 @@ impl Tracker {
                 .max(f.extent_px[1].abs());
             half[across] = half[across].max(f.offset_px.abs());
         }
-        let target_width_px = model.size_m()[0] * camera.focal_px()[0] / model.nominal_range_m();
+        let target_width_m = model.size_m()[0];
+        let target_width_px = target_width_m * camera.focal_px()[0] / model.nominal_range_m();
         let lambda = config.lambda;
         let mut tracker = Tracker {
             config,
@@ -133,6 +136,7 @@ impl Tracker {
             features,
             half_extent_px: half,
             target_width_px,
+            target_width_m,
             motion: [MotionModel::new(lambda); 3],
             init,
             frame: 0,
@@ -203,7 +207,7 @@ impl Tracker {
             location.c_x,
             location.c_y,
             location.scale * self.target_width_px,
-            self.model.size_m()[0],
+            self.target_width_m,
         )
     }
 

@@ -260,6 +260,28 @@ fn title(scenario: &str, what: &str) -> String {
     format!("{scenario}: {what}")
 }
 
+/// The house style of a chart's axes (shared by the run and sweep reports): described axes,
+/// a light grid, and tick labels without a trailing `.0`; font sizes in pixels.
+pub(crate) fn draw_axes<'a, 'b>(
+    chart: &mut ChartContext<'a, BitMapBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+    x_desc: &str,
+    y_desc: &str,
+    (label_px, tick_px): (u32, u32),
+) -> DrawResult {
+    chart
+        .configure_mesh()
+        .x_desc(x_desc)
+        .y_desc(y_desc)
+        .axis_desc_style(font(label_px))
+        .label_style(font(tick_px))
+        .light_line_style(RGBColor(235, 235, 235))
+        .bold_line_style(RGBColor(205, 205, 205))
+        .x_label_formatter(&tick)
+        .y_label_formatter(&tick)
+        .draw()?;
+    Ok(())
+}
+
 /// A chart over time with the given y range and labels.
 fn time_chart<'a, 'b>(
     area: &'a Area<'b>,
@@ -277,17 +299,7 @@ fn time_chart<'a, 'b>(
         .x_label_area_size(50)
         .y_label_area_size(70)
         .build_cartesian_2d(s.t0..s.t1, y0..y1)?;
-    chart
-        .configure_mesh()
-        .x_desc("time (s)")
-        .y_desc(y_desc)
-        .axis_desc_style(font(LABEL_PX))
-        .label_style(font(TICK_PX))
-        .light_line_style(RGBColor(235, 235, 235))
-        .bold_line_style(RGBColor(205, 205, 205))
-        .x_label_formatter(&tick)
-        .y_label_formatter(&tick)
-        .draw()?;
+    draw_axes(&mut chart, "time (s)", y_desc, (LABEL_PX, TICK_PX))?;
     Ok(chart)
 }
 
@@ -493,17 +505,12 @@ fn trajectories(area: &Area, scenario: &str, records: &[FrameRecord]) -> DrawRes
         .y_label_area_size(Y_LABELS)
         // z grows down the page: the y range runs from the larger value to the smaller.
         .build_cartesian_2d((xc - hx)..(xc + hx), (zc + hz)..(zc - hz))?;
-    chart
-        .configure_mesh()
-        .x_desc("world x (m)")
-        .y_desc("world z (m)")
-        .axis_desc_style(font(LABEL_PX))
-        .label_style(font(TICK_PX))
-        .light_line_style(RGBColor(235, 235, 235))
-        .bold_line_style(RGBColor(205, 205, 205))
-        .x_label_formatter(&tick)
-        .y_label_formatter(&tick)
-        .draw()?;
+    draw_axes(
+        &mut chart,
+        "world x (m)",
+        "world z (m)",
+        (LABEL_PX, TICK_PX),
+    )?;
     // The lead is drawn wider, so that it shows on both sides of the chase on a shared path.
     for (label, colour, width, xz) in [
         (

@@ -7,7 +7,7 @@
 
 use super::report::{axis_paths, scenario_order, FIGURES};
 use super::{ResultRow, SweepError};
-use crate::report::plots::{font, register_font, render, tick, Area, DrawResult};
+use crate::report::plots::{draw_axes, font, register_font, render, Area, DrawResult};
 use plotters::prelude::*;
 use std::path::{Path, PathBuf};
 
@@ -93,17 +93,7 @@ fn draw_panel(
         .x_label_area_size(45)
         .y_label_area_size(60)
         .build_cartesian_2d((x0 - pad)..(x1 + pad), 0.0..y1)?;
-    chart
-        .configure_mesh()
-        .x_desc(axis)
-        .y_desc(label)
-        .axis_desc_style(font(LABEL_PX))
-        .label_style(font(TICK_PX))
-        .light_line_style(RGBColor(235, 235, 235))
-        .bold_line_style(RGBColor(205, 205, 205))
-        .x_label_formatter(&tick)
-        .y_label_formatter(&tick)
-        .draw()?;
+    draw_axes(&mut chart, axis, label, (LABEL_PX, TICK_PX))?;
     for (i, scenario) in scenarios.iter().enumerate() {
         let colour = PALETTE[i % PALETTE.len()];
         let s = spread(rows, scenario, axis, pointer);
