@@ -12,6 +12,8 @@ use crate::scenario::Scenario;
 use crate::scene::{self, ChaseVehicle, LeadVehicle, Scene, SceneDescription};
 use image::GrayImage;
 use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion};
+use serde::Serialize;
+use std::time::{Duration, Instant};
 use thiserror::Error;
 use tracker::{EdgeDiagnostic, GrayView, Location, TrackOutput, Tracker};
 use vehicle::{
@@ -61,18 +63,40 @@ pub struct FrameOutput {
     pub edges: Vec<EdgeDiagnostic>,
 }
 
+/// Where a run's wall-clock time went, seconds in all: for speed reports only, never part
+/// of the results (it differs from run to run).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct LoopTiming {
+    /// Building the world, the scene and the renderer, and the first frame.
+    pub setup_s: f64,
+    /// Frames stepped.
+    pub frames: u64,
+    /// The whole of every [`ClosedLoop::step`].
+    pub step_s: f64,
+    /// Rendering and reading back the frames (with the sensor model and ground truth).
+    pub render_s: f64,
+    /// The tracker.
+    pub track_s: f64,
+    /// The controllers and physics (on a second thread when pipelined, so the parts can add
+    /// up to more than `step_s`).
+    pub physics_s: f64,
+    /// The caller's own work per frame (records, CSV, video), when it measures it.
+    pub outputs_s: f64,
+    /// Whether physics overlapped rendering and tracking.
+    pub pipelined: bool,
+}
+
 /// The running loop.
 pub struct ClosedLoop {
     name: String,
     frames: u64,
     frame: u64,
-    world: World,
-    chase_id: VehicleId,
-    lead_id: VehicleId,
-    chase: ChaseController,
-    lead: LeadDriver,
-    delay: DelayLine<LeadEstimate>,
+    drive: Drive,
+    /// Whether the physics to the next frame runs on a second thread while this frame is
+    /// rendered and tracked (see [`ClosedLoop::set_pipelined`]).
+    pipelined: bool,
     renderer: Renderer,
+    timing: LoopTiming,
     rig: CameraRig,
     tracker: Tracker,
     /// Scene origin (body centre) in the lead's vehicle frame (rear axle).
@@ -82,6 +106,91 @@ pub struct ClosedLoop {
     chase_distance_m: f64,
     last_chase_xz: [f64; 2],
     diagnostics: bool,
+}
+
+/// The physics side of the loop: both vehicles, their drivers and the delay line between
+/// the tracker and the chase controller.
+struct Drive {
+    world: World,
+    chase_id: VehicleId,
+    lead_id: VehicleId,
+    chase: ChaseController,
+    lead: LeadDriver,
+    delay: DelayLine<LeadEstimate>,
+}
+
+impl Drive {
+    /// The controllers and the physics, eight steps to the next frame. Returns the chase's
+    /// last controls and whether the vehicles touched.
+    fn advance_frame(&mut self) -> (vehicle::Controls, bool) {
+        let mut collision = false;
+        let mut controls = vehicle::Controls::default();
+        for _ in 0..STEPS_PER_FRAME {
+            let step_now: Step = self.world.now();
+            for estimate in self.delay.pop_due(step_now) {
+                self.chase.receive(estimate);
+            }
+            let chase = self.world.vehicle_state(self.chase_id);
+            let lead = self.world.vehicle_state(self.lead_id);
+            controls = self.chase.update(&Odometry {
+                step: step_now,
+                world_from_chase: chase.world_from_vehicle,
+                forward_speed_mps: chase.forward_speed_mps,
+            });
+            let lead_controls = self.lead.update(step_now, &lead);
+            self.world.set_controls(self.chase_id, controls);
+            self.world.set_controls(self.lead_id, lead_controls);
+            self.world.step();
+            collision |= self.world.vehicles_touch(self.chase_id, self.lead_id);
+        }
+        (controls, collision)
+    }
+
+    /// Queues the tracker's output for a frame captured at `captured`.
+    fn push_estimate(&mut self, captured: Step, track: &TrackOutput) {
+        let [x, y, z] = track.position_3d;
+        let status = match track.status {
+            tracker::Status::Tracking => TrackStatus::Tracking,
+            tracker::Status::Coasting => TrackStatus::Coasting,
+            tracker::Status::Lost => TrackStatus::Lost,
+        };
+        self.delay.push(
+            captured,
+            LeadEstimate {
+                capture_step: captured,
+                target_in_camera_m: Vector::new(x as f32, y as f32, z as f32),
+                status,
+            },
+        );
+    }
+}
+
+/// Runs `f`, adding its wall-clock time to `spent`.
+fn timed<T>(spent: &mut Duration, f: impl FnOnce() -> T) -> T {
+    let started = Instant::now();
+    let out = f();
+    *spent += started.elapsed();
+    out
+}
+
+/// The tracker's step on one frame: the image only.
+fn track_frame(
+    tracker: &mut Tracker,
+    image: &GrayImage,
+    t_s: f64,
+    diagnostics: bool,
+) -> (TrackOutput, Vec<EdgeDiagnostic>) {
+    let view = GrayView::new(
+        image.width() as usize,
+        image.height() as usize,
+        image.as_raw(),
+    )
+    .expect("the renderer's frame matches its size");
+    if diagnostics {
+        tracker.step_with_diagnostics(view, t_s)
+    } else {
+        (tracker.step(view, t_s), Vec::new())
+    }
 }
 
 /// rapier's pose (f32, glam) as a nalgebra isometry (f64).
@@ -124,6 +233,7 @@ fn distance_to_path(path: &[[f64; 2]], p: [f64; 2]) -> f64 {
 impl ClosedLoop {
     /// Sets up the world, vehicles, controllers, camera and tracker for a scenario.
     pub fn new(s: &Scenario, backend: Backend, diagnostics: bool) -> Result<ClosedLoop, LoopError> {
+        let started = Instant::now();
         let setup = |message: String| LoopError::Setup {
             scenario: s.name.clone(),
             message,
@@ -281,13 +391,20 @@ impl ClosedLoop {
             name: s.name.clone(),
             frames: (s.duration_s * f64::from(vehicle::CAMERA_HZ)).round() as u64,
             frame: 0,
-            world,
-            chase_id,
-            lead_id,
-            chase,
-            lead,
-            delay,
+            pipelined: delay.min_latency_steps() >= u64::from(STEPS_PER_FRAME),
+            drive: Drive {
+                world,
+                chase_id,
+                lead_id,
+                chase,
+                lead,
+                delay,
+            },
             renderer,
+            timing: LoopTiming {
+                setup_s: started.elapsed().as_secs_f64(),
+                ..LoopTiming::default()
+            },
             rig,
             tracker,
             lead_from_scene,
@@ -316,7 +433,32 @@ impl ClosedLoop {
 
     /// The chase controller (its events log says when and why it stopped).
     pub fn chase(&self) -> &ChaseController {
-        &self.chase
+        &self.drive.chase
+    }
+
+    /// Where the wall-clock time went so far.
+    pub fn timing(&self) -> LoopTiming {
+        LoopTiming {
+            pipelined: self.pipelined,
+            ..self.timing
+        }
+    }
+
+    /// Whether each frame's rendering and tracking overlap the physics to the next frame.
+    pub fn pipelined(&self) -> bool {
+        self.pipelined
+    }
+
+    /// Asks for each frame's rendering and tracking to run on this thread while a second
+    /// thread runs the physics to the next frame (the default), or for the two to run one
+    /// after the other. The results are identical either way: the physics to the next frame
+    /// needs only estimates from earlier frames, because none arrives sooner than
+    /// `loop.latency_ms − loop.jitter_ms` after its capture. So overlap is possible only
+    /// when that is at least one frame; otherwise this keeps the loop sequential. Returns
+    /// whether the loop is now pipelined.
+    pub fn set_pipelined(&mut self, on: bool) -> bool {
+        self.pipelined = on && self.drive.delay.min_latency_steps() >= u64::from(STEPS_PER_FRAME);
+        self.pipelined
     }
 
     /// The renderer's adapter, for reports.
@@ -330,73 +472,63 @@ impl ClosedLoop {
         if self.frame >= self.frames {
             return Ok(None);
         }
-        let now = self.world.now();
+        let step_started = Instant::now();
+        let now = self.drive.world.now();
         debug_assert!(now.is_frame_start());
         let t_s = now.seconds();
-        let chase_state = self.world.vehicle_state(self.chase_id);
-        let lead_state = self.world.vehicle_state(self.lead_id);
+        let chase_state = self.drive.world.vehicle_state(self.drive.chase_id);
+        let lead_state = self.drive.world.vehicle_state(self.drive.lead_id);
         let world_from_chase = iso(&chase_state.world_from_vehicle);
         let world_from_lead = iso(&lead_state.world_from_vehicle) * self.lead_from_scene;
-
-        // 1. The camera.
-        let frame = self.renderer.render(&FrameInput {
+        let input = FrameInput {
             frame_index: self.frame,
             time_s: t_s,
             world_from_chase,
             world_from_lead,
-        })?;
-        // 2. The tracker: the image only.
-        let view = GrayView::new(
-            frame.image.width() as usize,
-            frame.image.height() as usize,
-            frame.image.as_raw(),
-        )
-        .expect("the renderer's frame matches its size");
-        let (track, edges) = if self.diagnostics {
-            self.tracker.step_with_diagnostics(view, t_s)
-        } else {
-            (self.tracker.step(view, t_s), Vec::new())
         };
-        // 3. The delay line.
-        let [x, y, z] = track.position_3d;
-        let status = match track.status {
-            tracker::Status::Tracking => TrackStatus::Tracking,
-            tracker::Status::Coasting => TrackStatus::Coasting,
-            tracker::Status::Lost => TrackStatus::Lost,
-        };
-        self.delay.push(
-            now,
-            LeadEstimate {
-                capture_step: now,
-                target_in_camera_m: Vector::new(x as f32, y as f32, z as f32),
-                status,
-            },
-        );
-        // 4. The controllers and the physics, eight steps to the next frame.
-        let mut collision = false;
-        let mut controls = vehicle::Controls::default();
-        for _ in 0..STEPS_PER_FRAME {
-            let step_now: Step = self.world.now();
-            for estimate in self.delay.pop_due(step_now) {
-                self.chase.receive(estimate);
-            }
-            let chase = self.world.vehicle_state(self.chase_id);
-            let lead = self.world.vehicle_state(self.lead_id);
-            controls = self.chase.update(&Odometry {
-                step: step_now,
-                world_from_chase: chase.world_from_vehicle,
-                forward_speed_mps: chase.forward_speed_mps,
+
+        // 1. The camera; 2. the tracker, on the image only; 3. the delay line; 4. the
+        // controllers and the physics to the next frame.
+        let mut spent = [Duration::ZERO; 3];
+        let (frame, track, edges, controls, collision) = if self.pipelined {
+            // 4 needs no estimate from this frame (see `set_pipelined`), so it runs on a
+            // second thread while this one renders and tracks; 3 waits for both.
+            let (renderer, tracker, drive) =
+                (&mut self.renderer, &mut self.tracker, &mut self.drive);
+            let diagnostics = self.diagnostics;
+            let [render_t, track_t, physics_t] = &mut spent;
+            let (seen, (controls, collision)) = std::thread::scope(|scope| {
+                let physics = scope.spawn(|| timed(physics_t, || drive.advance_frame()));
+                let seen = timed(render_t, || renderer.render(&input)).map(|frame| {
+                    let (track, edges) = timed(track_t, || {
+                        track_frame(tracker, &frame.image, t_s, diagnostics)
+                    });
+                    (frame, track, edges)
+                });
+                let driven = match physics.join() {
+                    Ok(driven) => driven,
+                    Err(panic) => std::panic::resume_unwind(panic),
+                };
+                (seen, driven)
             });
-            let lead_controls = self.lead.update(step_now, &lead);
-            self.world.set_controls(self.chase_id, controls);
-            self.world.set_controls(self.lead_id, lead_controls);
-            self.world.step();
-            collision |= self.world.vehicles_touch(self.chase_id, self.lead_id);
-        }
+            let (frame, track, edges) = seen?;
+            self.drive.push_estimate(now, &track);
+            (frame, track, edges, controls, collision)
+        } else {
+            let [render_t, track_t, physics_t] = &mut spent;
+            let frame = timed(render_t, || self.renderer.render(&input))?;
+            let (track, edges) = timed(track_t, || {
+                track_frame(&mut self.tracker, &frame.image, t_s, self.diagnostics)
+            });
+            self.drive.push_estimate(now, &track);
+            let (controls, collision) = timed(physics_t, || self.drive.advance_frame());
+            (frame, track, edges, controls, collision)
+        };
 
         // The recorder: truth against estimate, at the frame's capture time.
         let truth = frame.truth;
         let est = track.estimate;
+        let [x, _, z] = track.position_3d;
         let width_px = truth.scale * self.target_width_px;
         let lost_truth = !truth.in_view
             || (est.c_x - truth.c_x).hypot(est.c_y - truth.c_y) > 0.25 * width_px
@@ -442,9 +574,15 @@ impl ClosedLoop {
             chase_xz,
             lead_xz,
             collision,
-            chase_mode: format!("{:?}", self.chase.mode()).to_lowercase(),
+            chase_mode: format!("{:?}", self.drive.chase.mode()).to_lowercase(),
         };
         self.frame += 1;
+        let [render_t, track_t, physics_t] = spent;
+        self.timing.frames += 1;
+        self.timing.render_s += render_t.as_secs_f64();
+        self.timing.track_s += track_t.as_secs_f64();
+        self.timing.physics_s += physics_t.as_secs_f64();
+        self.timing.step_s += step_started.elapsed().as_secs_f64();
         Ok(Some(FrameOutput {
             record,
             image: frame.image,

@@ -9,9 +9,14 @@ use sim::record::FrameRecord;
 use sim::scenario::Scenario;
 
 fn run(overrides: &[&str]) -> Vec<FrameRecord> {
+    run_with(overrides, true)
+}
+
+fn run_with(overrides: &[&str], pipelined: bool) -> Vec<FrameRecord> {
     let overrides: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
     let scenario = Scenario::builtin(&overrides).unwrap();
     let mut l = ClosedLoop::new(&scenario, Backend::choose(None).unwrap(), false).unwrap();
+    assert_eq!(l.set_pipelined(pipelined), pipelined);
     let mut records = Vec::new();
     while let Some(out) = l.step().unwrap() {
         records.push(out.record);
@@ -67,4 +72,33 @@ fn the_same_scenario_and_seed_give_identical_records() {
         "seed=99",
     ]);
     assert_ne!(a, c);
+}
+
+#[test]
+fn overlapping_physics_with_rendering_changes_nothing() {
+    // Jitter and drops exercise the delay line's stream; 40 ms of jitter still leaves at
+    // least one frame of latency, so the loop can overlap.
+    let set = [
+        "duration_s=6",
+        "loop.jitter_ms=40",
+        "loop.drop_probability=0.1",
+    ];
+    let overlapped = run_with(&set, true);
+    let sequential = run_with(&set, false);
+    assert_eq!(overlapped.len(), 90);
+    assert_eq!(overlapped, sequential);
+}
+
+#[test]
+fn a_latency_under_one_frame_keeps_the_loop_sequential() {
+    let overrides = ["duration_s=1".to_string(), "loop.latency_ms=50".to_string()];
+    let scenario = Scenario::builtin(&overrides).unwrap();
+    let mut l = ClosedLoop::new(&scenario, Backend::choose(None).unwrap(), false).unwrap();
+    assert!(!l.pipelined());
+    assert!(!l.set_pipelined(true));
+    while l.step().unwrap().is_some() {}
+    let timing = l.timing();
+    assert_eq!(timing.frames, 15);
+    assert!(!timing.pipelined);
+    assert!(timing.render_s > 0.0 && timing.physics_s > 0.0 && timing.track_s > 0.0);
 }

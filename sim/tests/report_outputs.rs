@@ -125,7 +125,8 @@ fn run(dir: &Path) -> sim::report::Summary {
             out.frame_image(i, &image(i)).unwrap();
         }
     }
-    out.finish("synthetic-s-curve", 42, &expect(), 2.5).unwrap()
+    out.finish("synthetic-s-curve", 42, &expect(), 2.5, None)
+        .unwrap()
 }
 
 const FILES: [&str; 9] = [
@@ -228,7 +229,7 @@ fn empty_and_one_frame_runs_still_write_their_outputs() {
     // No frame at all: the summary fails with a reason, the plots are empty but drawn.
     let dir = tmp.path().join("empty");
     let out = RunOutputs::create(&dir, OutputOptions::default()).unwrap();
-    let s = out.finish("empty", 1, &expect(), 0.0).unwrap();
+    let s = out.finish("empty", 1, &expect(), 0.0, None).unwrap();
     assert!(!s.passed);
     assert_eq!(
         s.failures[0],
@@ -251,7 +252,7 @@ fn empty_and_one_frame_runs_still_write_their_outputs() {
     let mut out = RunOutputs::create(&dir, options).unwrap();
     out.record(&record(0)).unwrap();
     out.frame_image(0, &image(0)).unwrap();
-    let s = out.finish("one", 1, &Expect::default(), 0.1).unwrap();
+    let s = out.finish("one", 1, &Expect::default(), 0.1, None).unwrap();
     assert!(s.passed, "{:?}", s.failures);
     assert!((s.duration_s - 1.0 / 15.0).abs() < 1e-12);
     for file in FILES.iter().filter(|f| **f != "still_first_lost.png") {

@@ -72,6 +72,13 @@ impl<T> DelayLine<T> {
         self.latency_steps
     }
 
+    /// The shortest latency any item can have, physics steps: the nominal latency less the
+    /// jitter. An item pushed at step t never pops before t + this, so a caller may run that
+    /// many steps of physics while the item is still being computed.
+    pub fn min_latency_steps(&self) -> u64 {
+        self.latency_steps.saturating_sub(self.jitter_steps)
+    }
+
     /// The nominal latency as applied, ms (a whole number of steps).
     pub fn latency_ms(&self) -> f64 {
         ms_from_steps(self.latency_steps)

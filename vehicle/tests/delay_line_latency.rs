@@ -64,11 +64,17 @@ fn jitter_is_bounded_ordered_and_seeded() {
     let b = run(&config, 1000);
     assert_eq!(a, b, "same seed, same arrivals");
     let jitter_steps = steps_from_ms(40.0);
+    let min_latency = DelayLine::<u64>::new(&config).unwrap().min_latency_steps();
+    assert_eq!(min_latency, 15 - jitter_steps);
     let mut last = Step::ZERO;
     let mut distinct = std::collections::BTreeSet::new();
     for &(captured, arrived) in &a {
         let delay = arrived.since(captured);
         assert!(delay + jitter_steps >= 15, "too early: {delay}");
+        assert!(
+            delay >= min_latency,
+            "earlier than min_latency_steps: {delay}"
+        );
         // Order is kept, so an item may also wait for a later-drawn predecessor.
         assert!(delay <= 15 + jitter_steps, "too late: {delay}");
         assert!(arrived >= last);

@@ -4,7 +4,7 @@ use anyhow::Context;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use sim::camera::Backend;
-use sim::closed_loop::ClosedLoop;
+use sim::closed_loop::{ClosedLoop, LoopTiming};
 use sim::report::{write_junit, OutputOptions, RunOutputs, Summary};
 use sim::scenario::Scenario;
 use std::path::{Path, PathBuf};
@@ -128,7 +128,9 @@ fn run_one(
             .progress_chars("=> "),
     );
     bar.set_prefix(scenario.name.clone());
+    let mut outputs_s = 0.0;
     while let Some(out) = looped.step()? {
+        let written = Instant::now();
         outputs.record(&out.record)?;
         if args.video {
             let img = sim::overlay::draw(&out.image, &out.track, &out.edges);
@@ -148,10 +150,21 @@ fn run_one(
                 out.record.status.as_str()
             ));
         }
+        outputs_s += written.elapsed().as_secs_f64();
     }
     bar.finish_and_clear();
     let wall_s = started.elapsed().as_secs_f64();
-    let summary = outputs.finish(&scenario.name, scenario.seed, &scenario.expect, wall_s)?;
+    let timing = LoopTiming {
+        outputs_s,
+        ..looped.timing()
+    };
+    let summary = outputs.finish(
+        &scenario.name,
+        scenario.seed,
+        &scenario.expect,
+        wall_s,
+        Some(timing),
+    )?;
     write_junit(dir.join("junit.xml"), std::slice::from_ref(&summary))?;
     Ok(summary)
 }

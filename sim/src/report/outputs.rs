@@ -20,6 +20,7 @@ use std::path::{Path, PathBuf};
 use image::RgbImage;
 
 use super::{write_plots, FramesCsv, ReportError, Summary, VideoWriter};
+use crate::closed_loop::LoopTiming;
 use crate::record::{Expect, FrameRecord};
 
 /// What a run writes besides `frames.csv` and `summary.json`.
@@ -169,15 +170,18 @@ impl RunOutputs {
     }
 
     /// Ends the run: computes the [`Summary`], writes `summary.json`, the plots, the end of
-    /// the video and its last still. `wall_s` is the run's wall-clock time, seconds.
+    /// the video and its last still. `wall_s` is the run's wall-clock time, seconds, and `timing`
+    /// where it went, if measured.
     pub fn finish(
         self,
         scenario: &str,
         seed: u64,
         expect: &Expect,
         wall_s: f64,
+        timing: Option<LoopTiming>,
     ) -> Result<Summary, ReportError> {
-        let summary = Summary::compute(scenario, seed, &self.records, expect, wall_s);
+        let mut summary = Summary::compute(scenario, seed, &self.records, expect, wall_s);
+        summary.timing = timing;
         summary.write_json(self.dir.join("summary.json"))?;
         if self.options.plots {
             write_plots(&self.dir, scenario, &self.records, expect)?;

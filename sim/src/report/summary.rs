@@ -22,6 +22,7 @@
 
 use serde::Serialize;
 
+use crate::closed_loop::LoopTiming;
 use crate::record::{Expect, FrameRecord, TrackerStatus};
 
 /// The frame period used when the records cannot tell it: the loop's 15 Hz.
@@ -74,6 +75,8 @@ pub struct Summary {
     pub wall_s: f64,
     /// `duration_s / wall_s`; `null` when `wall_s` is not positive.
     pub realtime_factor: Option<f64>,
+    /// Where the wall-clock time went, when the caller measured it (`null` otherwise).
+    pub timing: Option<LoopTiming>,
 }
 
 /// Minimum, time-weighted mean and maximum of the gap, metres (zeros without frames).
@@ -173,6 +176,7 @@ impl Summary {
             distance_m,
             wall_s,
             realtime_factor: (wall_s > 0.0).then(|| duration_s / wall_s),
+            timing: None,
         };
         summary.criteria = check(&summary, expect);
         summary.failures = summary
@@ -603,6 +607,7 @@ mod tests {
             "distance_m",
             "wall_s",
             "realtime_factor",
+            "timing",
         ] {
             assert!(v.get(key).is_some(), "missing {key}");
         }

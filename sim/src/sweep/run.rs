@@ -22,13 +22,14 @@ pub fn run_point(sweep: &Sweep, point: &Point, backend: Backend) -> Result<Resul
         records.push(out.record);
     }
     let wall_s = started.elapsed().as_secs_f64();
-    let summary = Summary::compute(
+    let mut summary = Summary::compute(
         &scenario.name,
         scenario.seed,
         &records,
         &scenario.expect,
         wall_s,
     );
+    summary.timing = Some(looped.timing());
     Ok(ResultRow::new(point, &summary))
 }
 
