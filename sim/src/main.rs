@@ -39,6 +39,9 @@ enum Commands {
     Target(cli::target::TargetArgs),
     /// Write a synthetic frame sequence of a target, with its ground truth.
     Synth(cli::synth::SynthArgs),
+    /// A sweep's worker process (started by `carfollow sweep`).
+    #[command(hide = true)]
+    SweepWorker(cli::sweep::SweepWorkerArgs),
 }
 
 fn main() -> ExitCode {
@@ -51,6 +54,7 @@ fn main() -> ExitCode {
         Commands::Track(args) => cli::track::run_track(args).map(|()| ExitCode::SUCCESS),
         Commands::Target(args) => cli::target::run_target(args).map(|()| ExitCode::SUCCESS),
         Commands::Synth(args) => cli::synth::run_synth(args).map(|()| ExitCode::SUCCESS),
+        Commands::SweepWorker(args) => cli::sweep::run_sweep_worker(args),
     };
     match result {
         Ok(code) => code,

@@ -1,7 +1,9 @@
 //! `carfollow sweep` end to end on a tiny grid (runs of 1 s): a merge of shards equals an
 //! unsharded run (wall-time fields aside, the figures are deterministic); a resume after a
 //! killed run completes without redoing a point; bad input exits with status 2, naming the
-//! bad axis path. Run with `cargo test --release -p sim --test sweep_cli`.
+//! bad axis path; a worker process that dies costs only its point; Ctrl-C keeps every
+//! finished row and `--resume` finishes the rest. Run with
+//! `cargo test --release -p sim --test sweep_cli`.
 
 use serde_json::Value;
 use std::path::{Path, PathBuf};
@@ -50,7 +52,8 @@ fn s(p: &Path) -> &str {
     p.to_str().unwrap()
 }
 
-/// The rows of a results file, without the wall-clock fields that differ run to run.
+/// The rows of a results file, without the wall-clock fields that differ run to run
+/// (`wall_s`, `realtime_factor`, `timing`).
 fn rows(path: &Path) -> Vec<Value> {
     std::fs::read_to_string(path)
         .unwrap()
@@ -60,6 +63,7 @@ fn rows(path: &Path) -> Vec<Value> {
             let summary = v["summary"].as_object_mut().unwrap();
             summary.remove("wall_s");
             summary.remove("realtime_factor");
+            summary.remove("timing");
             v
         })
         .collect()
@@ -196,4 +200,124 @@ fn bad_input_exits_2_naming_the_axis_path() {
     }
     let out = carfollow(&["sweep", s(&dir.path().join("missing.toml"))]);
     assert_eq!(out.status.code(), Some(2));
+}
+
+/// A worker command that runs `script` in `sh` before (maybe) becoming a real worker.
+fn shell_worker(script: String) -> impl Fn() -> Command + Sync {
+    move || {
+        let mut c = Command::new("sh");
+        c.arg("-c").arg(&script);
+        c
+    }
+}
+
+#[test]
+fn a_worker_that_dies_costs_only_its_point() {
+    use sim::sweep::{read_rows, run_points, ResultsWriter, Sweep};
+    let dir = tempfile::tempdir().unwrap();
+    let file = sweep_file(dir.path(), TINY);
+    let sweep = Sweep::load(&file, &[]).unwrap();
+    let points = sweep.shard(None);
+    let results = dir.path().join("results.jsonl");
+
+    // Every worker dies on its first point: every point fails, nothing is written, and the
+    // errors name the points in grid order.
+    let writer = ResultsWriter::open(&results, None).unwrap();
+    let dying = shell_worker("read request; kill -9 $$".into());
+    let errors = run_points(&points, 2, &dying, &writer, |_| {}).unwrap();
+    assert_eq!(errors.len(), 4);
+    for (e, p) in errors.iter().zip(&points) {
+        let e = e.to_string();
+        assert!(e.contains(&p.describe()) && e.contains("died"), "{e}");
+    }
+    assert!(read_rows(&results).unwrap().0.is_empty());
+
+    // The first worker dies; the next one started is a real worker and runs the rest.
+    let marker = dir.path().join("died-once");
+    let writer = ResultsWriter::open(&results, None).unwrap();
+    let once = shell_worker(format!(
+        "if [ ! -e '{m}' ]; then touch '{m}'; read request; kill -9 $$; fi; exec '{exe}' sweep-worker '{f}'",
+        m = marker.display(),
+        exe = env!("CARGO_BIN_EXE_carfollow"),
+        f = file.display()
+    ));
+    let errors = run_points(&points, 1, &once, &writer, |_| {}).unwrap();
+    assert_eq!(errors.len(), 1, "{errors:?}");
+    assert!(errors[0].to_string().contains(&points[0].describe()));
+    let (rows, _) = read_rows(&results).unwrap();
+    let mut done: Vec<usize> = rows.iter().map(|r| r.index).collect();
+    done.sort();
+    assert_eq!(done, vec![1, 2, 3]);
+}
+
+#[cfg(unix)]
+#[test]
+fn ctrl_c_keeps_every_finished_row_and_resume_finishes_the_rest() {
+    use std::os::unix::process::CommandExt;
+    let dir = tempfile::tempdir().unwrap();
+    // Eight points of 2 s: long enough to interrupt midway.
+    let sweep = sweep_file(
+        dir.path(),
+        &TINY
+            .replace("[1, 2]", "[1, 2, 3, 4]")
+            .replace("duration_s=1.0", "duration_s=2.0"),
+    );
+    let out = dir.path().join("out");
+    let results = out.join("results.jsonl");
+    // Its own process group, as a shell gives a foreground job; Ctrl-C signals the group.
+    let mut child = Command::new(env!("CARGO_BIN_EXE_carfollow"))
+        .args([
+            "sweep",
+            s(&sweep),
+            "--out",
+            s(&out),
+            "--jobs",
+            "2",
+            "--quiet",
+        ])
+        .process_group(0)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(120);
+    while std::fs::read_to_string(&results).map_or(0, |t| t.lines().count()) < 2 {
+        assert!(std::time::Instant::now() < deadline, "no rows within 120 s");
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let group = format!("-{}", child.id());
+    assert!(Command::new("kill")
+        .args(["-INT", "--", &group])
+        .status()
+        .unwrap()
+        .success());
+    let status = child.wait().unwrap();
+    assert!(
+        !status.success(),
+        "interrupted, it should not report success"
+    );
+    let kept = std::fs::read_to_string(&results).unwrap();
+    let kept_rows = kept.lines().count();
+    assert!(
+        (2..8).contains(&kept_rows),
+        "interrupted midway, yet {kept_rows} rows"
+    );
+    for line in kept.lines() {
+        serde_json::from_str::<Value>(line).expect("every kept row is whole");
+    }
+
+    ok(carfollow(&[
+        "sweep",
+        s(&sweep),
+        "--out",
+        s(&out),
+        "--resume",
+    ]));
+    let text = std::fs::read_to_string(&results).unwrap();
+    assert!(text.starts_with(&kept), "finished rows were rewritten");
+    let mut got = ids(&results);
+    assert_eq!(got.len(), 8, "{text}");
+    got.sort();
+    got.dedup();
+    assert_eq!(got.len(), 8, "a point ran twice");
 }

@@ -6,11 +6,11 @@ use clap::{Args, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 use sim::camera::Backend;
 use sim::sweep::{
-    dedupe_sorted, merge_dirs, read_rows, run_points, write_report, ResultsWriter, Shard, Sweep,
-    RESULTS_FILE,
+    dedupe_sorted, merge_dirs, read_rows, run_points, serve_points, write_report, ResultsWriter,
+    Shard, Sweep, RESULTS_FILE,
 };
 use std::path::{Path, PathBuf};
-use std::process::ExitCode;
+use std::process::{Command, ExitCode};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// Arguments of `carfollow sweep`.
@@ -20,7 +20,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
     subcommand_negates_reqs = true,
     about = "Run a sweep: scenarios × seeds × parameter axes, on all cores or one shard",
     long_about = "Run every point of SWEEP.toml (scenarios × seeds × axes) headless, on --jobs \
-                  threads. Each finished point appends one JSON line to DIR/results.jsonl \
+                  worker processes. Each finished point appends one JSON line to DIR/results.jsonl \
                   (with --shard I/N, DIR/results-shard-I-of-N.jsonl) at once; --resume skips \
                   the points already there. At the end, writes table.csv, sweep-<axis>.png and \
                   summary.md to DIR. Exit status: 0 when every point ran (whatever its \
@@ -36,7 +36,7 @@ pub struct SweepArgs {
     /// Output folder (default renders/sweeps/<sweep file's stem>).
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Points run at once (default: the number of cores).
+    /// Points run at once, each in its own worker process (default: the number of cores).
     #[arg(long)]
     pub jobs: Option<usize>,
     /// Run only the I-th of N round-robin slices of the grid; I is 0-based (0 <= I < N).
@@ -54,6 +54,34 @@ pub struct SweepArgs {
     /// wgpu backend: gl (default; Mesa llvmpipe), vulkan or primary. Overrides WGPU_BACKEND.
     #[arg(long)]
     pub backend: Option<String>,
+}
+
+/// Arguments of `carfollow sweep-worker` (started by `carfollow sweep`, not by people).
+#[derive(Args, Debug)]
+pub struct SweepWorkerArgs {
+    /// The sweep file.
+    pub sweep: PathBuf,
+    /// Overrides, as given to `carfollow sweep`.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+    /// wgpu backend.
+    #[arg(long)]
+    pub backend: Option<String>,
+}
+
+/// Runs a sweep worker: point requests on stdin, one JSON answer per line on stdout (see
+/// `sim::sweep::serve_points`).
+pub fn run_sweep_worker(args: SweepWorkerArgs) -> anyhow::Result<ExitCode> {
+    let sweep = Sweep::load(&args.sweep, &args.set)?;
+    let backend = Backend::choose(args.backend.as_deref())?;
+    serve_points(
+        &sweep,
+        backend,
+        std::io::stdin().lock(),
+        std::io::stdout().lock(),
+    )
+    .context("cannot answer the sweep")?;
+    Ok(ExitCode::SUCCESS)
 }
 
 /// `carfollow sweep`'s subcommands.
@@ -143,7 +171,17 @@ pub fn run_sweep(args: SweepArgs) -> anyhow::Result<ExitCode> {
     );
     bar.set_position((points.len() - todo.len()) as u64);
     let failed = AtomicUsize::new(0);
-    let errors = run_points(&sweep, &todo, jobs, backend, &writer, |r| {
+    let exe = std::env::current_exe().context("cannot find this program to start workers")?;
+    let spawn_worker = || {
+        let mut command = Command::new(&exe);
+        command.arg("sweep-worker").arg(&file);
+        for set in &args.set {
+            command.arg("--set").arg(set);
+        }
+        command.arg("--backend").arg(backend.to_string());
+        command
+    };
+    let errors = run_points(&todo, jobs, &spawn_worker, &writer, |r| {
         match r {
             Ok(row) => bar.set_message(format!(
                 "{}: lost {:.1} s",

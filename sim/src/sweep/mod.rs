@@ -19,4 +19,4 @@ pub use file::{SweepFile, SweepScenario};
 pub use grid::{Axis, Point, Shard, Sweep};
 pub use report::{best_values, write_report, Best, BEST_RULE, FIGURES};
 pub use results::{dedupe_sorted, merge_dirs, read_rows, ResultRow, ResultsWriter, RESULTS_FILE};
-pub use run::{run_point, run_points};
+pub use run::{run_point, run_points, serve_points};

@@ -1,12 +1,34 @@
-//! Running points: one closed loop per point, on a pool of `jobs` worker threads, each
-//! point with its own renderer.
+//! Running points: one closed loop per point, each in a worker process with its own
+//! renderer, `jobs` workers at once.
+//!
+//! **Why processes, not threads.** Mesa's llvmpipe rasterises every GL context of a process
+//! on one rasteriser shared by the process, so renderers on threads of one process take
+//! turns: two of them render no faster than one. Renderers in separate processes run side
+//! by side. Each worker also rasterises on its own thread (llvmpipe's `LP_NUM_THREADS=0`,
+//! unless the environment already sets it): the sweep's parallelism is its points, one per
+//! core, and at 256×242 llvmpipe's own threads gain a single renderer little.
+//!
+//! **The protocol.** The parent starts each worker with the same sweep file and overrides
+//! (`carfollow sweep-worker`), then writes one line per point, `INDEX ID`, to its stdin; the
+//! worker answers each with one JSON line on its stdout: `{"Row": {...}}` or
+//! `{"Error": "..."}`. The id guards against a sweep file edited in between. A worker that
+//! dies costs only its current point, which is reported as an error; the next point starts
+//! a fresh worker. The parent alone writes the results file, one line per finished point as
+//! soon as it arrives, so an interrupted sweep keeps every finished point.
 
 use super::{Point, ResultRow, ResultsWriter, Sweep, SweepError};
 use crate::camera::Backend;
 use crate::closed_loop::ClosedLoop;
 use crate::report::Summary;
-use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+use std::collections::VecDeque;
+use std::io::{BufRead, BufReader, BufWriter, Write};
+use std::process::{Child, ChildStdin, ChildStdout, Command, Stdio};
+use std::sync::Mutex;
 use std::time::Instant;
+
+/// The environment variable that sets llvmpipe's rasteriser threads.
+const RASTER_THREADS_ENV: &str = "LP_NUM_THREADS";
 
 /// Runs one point through the closed loop and returns its row.
 pub fn run_point(sweep: &Sweep, point: &Point, backend: Backend) -> Result<ResultRow, SweepError> {
@@ -33,54 +55,192 @@ pub fn run_point(sweep: &Sweep, point: &Point, backend: Backend) -> Result<Resul
     Ok(ResultRow::new(point, &summary))
 }
 
-/// Runs `points` on `jobs` threads, appending each row to `writer` as soon as its point
-/// finishes and then calling `done` with it (or with the error). Returns the errors of the
-/// points that could not run; the others are all written.
-pub fn run_points(
+/// A worker's answer for one point.
+#[derive(Debug, Serialize, Deserialize)]
+enum Reply {
+    /// The point ran: its row.
+    Row(ResultRow),
+    /// It could not run: why.
+    Error(String),
+}
+
+/// The worker's side of the protocol (see the module notes): reads `INDEX ID` lines from
+/// `input` until it ends, runs each point and writes its reply line to `output`, flushed.
+/// Returns an error only when `input` or `output` fails.
+pub fn serve_points(
     sweep: &Sweep,
+    backend: Backend,
+    input: impl BufRead,
+    output: impl Write,
+) -> std::io::Result<()> {
+    let mut output = BufWriter::new(output);
+    for line in input.lines() {
+        let line = line?;
+        let mut words = line.split_whitespace();
+        let point = match (
+            words.next().and_then(|w| w.parse::<usize>().ok()),
+            words.next(),
+        ) {
+            (Some(index), Some(id)) => match sweep.points.get(index) {
+                Some(p) if p.id == id => Ok(p),
+                _ => Err(format!(
+                    "point {index} ({id}) is not in {}: was the sweep file edited?",
+                    sweep.path.display()
+                )),
+            },
+            _ => Err(format!("not a point request: {line:?}")),
+        };
+        let reply = match point.map(|p| run_point(sweep, p, backend)) {
+            Ok(Ok(row)) => Reply::Row(row),
+            Ok(Err(e)) => Reply::Error(e.to_string()),
+            Err(message) => Reply::Error(message),
+        };
+        serde_json::to_writer(&mut output, &reply)?;
+        output.write_all(b"\n")?;
+        output.flush()?;
+    }
+    Ok(())
+}
+
+/// A running worker process.
+struct Worker {
+    child: Child,
+    stdin: ChildStdin,
+    stdout: BufReader<ChildStdout>,
+}
+
+impl Worker {
+    fn start(command: &mut Command) -> std::io::Result<Worker> {
+        if std::env::var_os(RASTER_THREADS_ENV).is_none() {
+            command.env(RASTER_THREADS_ENV, "0");
+        }
+        let mut child = command
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::inherit())
+            .spawn()?;
+        let (Some(stdin), Some(stdout)) = (child.stdin.take(), child.stdout.take()) else {
+            let _ = child.kill();
+            return Err(std::io::Error::other("the worker has no stdin or stdout"));
+        };
+        Ok(Worker {
+            child,
+            stdin,
+            stdout: BufReader::new(stdout),
+        })
+    }
+
+    /// Sends a point and waits for its reply; `Err` when the worker is gone.
+    fn ask(&mut self, point: &Point) -> Result<Reply, String> {
+        writeln!(self.stdin, "{} {}", point.index, point.id)
+            .and_then(|()| self.stdin.flush())
+            .map_err(|e| e.to_string())?;
+        let mut line = String::new();
+        match self.stdout.read_line(&mut line) {
+            Ok(0) => Err("it exited without an answer".into()),
+            Ok(_) => serde_json::from_str(&line).map_err(|e| format!("unreadable answer: {e}")),
+            Err(e) => Err(e.to_string()),
+        }
+    }
+
+    /// Closes its input (it exits when its queue ends) and waits for it; returns how it
+    /// ended.
+    fn finish(self) -> String {
+        let Worker {
+            mut child, stdin, ..
+        } = self;
+        drop(stdin);
+        match child.wait() {
+            Ok(status) => status.to_string(),
+            Err(e) => e.to_string(),
+        }
+    }
+}
+
+/// Runs `points` on `jobs` worker processes, each started by `spawn_worker()` (a command
+/// that speaks the protocol of [`serve_points`] for this sweep). Appends each row to
+/// `writer` as soon as its point finishes and then calls `done` with it (or with the
+/// error). Returns the errors of the points that could not run, in grid order; the others
+/// are all written. A results file that cannot be written, or a worker that cannot be
+/// started, stops the sweep with that error.
+pub fn run_points(
     points: &[&Point],
     jobs: usize,
-    backend: Backend,
+    spawn_worker: &(dyn Fn() -> Command + Sync),
     writer: &ResultsWriter,
     done: impl Fn(Result<&ResultRow, &SweepError>) + Sync,
 ) -> Result<Vec<SweepError>, SweepError> {
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(jobs.max(1))
-        .thread_name(|i| format!("sweep-{i}"))
-        .build()
-        .map_err(|e| SweepError::Run {
-            point: "(pool)".into(),
-            message: e.to_string(),
-        })?;
-    let results: Vec<Result<(), SweepError>> = pool.install(|| {
-        points
-            .par_iter()
-            // One point per task: points take seconds, so balance beats batching.
-            .with_max_len(1)
-            .map(|point| {
-                let row = run_point(sweep, point, backend);
-                match row {
-                    Ok(row) => {
-                        writer.append(&row)?;
-                        done(Ok(&row));
-                        Ok(())
-                    }
-                    Err(e) => {
-                        done(Err(&e));
-                        Err(e)
+    let queue = Mutex::new(points.iter().copied().collect::<VecDeque<&Point>>());
+    let next = || queue.lock().expect("no panics hold the queue").pop_front();
+    let stop = || queue.lock().expect("no panics hold the queue").clear();
+    let errors = Mutex::new(Vec::new());
+    let fatal = Mutex::new(None);
+    let give_up = |e: SweepError| {
+        fatal.lock().expect("no panics hold it").get_or_insert(e);
+        stop();
+    };
+    std::thread::scope(|scope| {
+        for _ in 0..jobs.clamp(1, points.len().max(1)) {
+            scope.spawn(|| {
+                let mut current: Option<Worker> = None;
+                while let Some(point) = next() {
+                    let run_error = |message: String| SweepError::Run {
+                        point: point.describe(),
+                        message,
+                    };
+                    let mut worker = match current.take() {
+                        Some(w) => w,
+                        None => match Worker::start(&mut spawn_worker()) {
+                            Ok(w) => w,
+                            Err(e) => {
+                                give_up(run_error(format!("cannot start a worker process: {e}")));
+                                break;
+                            }
+                        },
+                    };
+                    let result = match worker.ask(point) {
+                        Ok(Reply::Row(row)) => {
+                            current = Some(worker);
+                            Ok(row)
+                        }
+                        Ok(Reply::Error(message)) => {
+                            current = Some(worker);
+                            Err(run_error(message))
+                        }
+                        Err(why) => {
+                            let status = worker.finish();
+                            Err(run_error(format!(
+                                "the worker process died ({status}): {why}"
+                            )))
+                        }
+                    };
+                    match result {
+                        Ok(row) => {
+                            if let Err(e) = writer.append(&row) {
+                                give_up(e);
+                                break;
+                            }
+                            done(Ok(&row));
+                        }
+                        Err(e) => {
+                            done(Err(&e));
+                            errors
+                                .lock()
+                                .expect("no panics hold it")
+                                .push((point.index, e));
+                        }
                     }
                 }
-            })
-            .collect()
-    });
-    let mut errors = Vec::new();
-    for r in results {
-        match r {
-            Ok(()) => {}
-            // A results file that cannot be written stops the sweep's verdict outright.
-            Err(e @ SweepError::Io { .. }) => return Err(e),
-            Err(e) => errors.push(e),
+                if let Some(w) = current {
+                    w.finish();
+                }
+            });
         }
+    });
+    if let Some(e) = fatal.into_inner().expect("no panics hold it") {
+        return Err(e);
     }
-    Ok(errors)
+    let mut errors = errors.into_inner().expect("no panics hold it");
+    errors.sort_by_key(|(index, _)| *index);
+    Ok(errors.into_iter().map(|(_, e)| e).collect())
 }
