@@ -6,8 +6,9 @@
 //! delayed estimates and its own odometry; only the recorder (the [`FrameRecord`] built here)
 //! sees the truth.
 
-use crate::camera::{Backend, CameraRig, FrameInput, RenderError, RenderOptions, Renderer};
+use crate::camera::{Backend, CameraRig, Frame, FrameInput, RenderError, RenderOptions, Renderer};
 use crate::record::{FrameRecord, TrackerStatus};
+use crate::render_worker::{fingerprint, RemoteRenderer};
 use crate::scenario::Scenario;
 use crate::scene::{self, ChaseVehicle, LeadVehicle, Scene, SceneDescription};
 use image::GrayImage;
@@ -18,7 +19,8 @@ use thiserror::Error;
 use tracker::{EdgeDiagnostic, GrayView, Location, TrackOutput, Tracker};
 use vehicle::{
     direction_heading, ChaseController, DelayLine, LeadDriver, LeadEstimate, Odometry, Pose,
-    Rotation, Route, Step, TrackStatus, Vector, VehicleId, VehicleParams, World, STEPS_PER_FRAME,
+    Rotation, Route, Step, TrackStatus, Vector, VehicleId, VehicleParams, VehicleState, World,
+    STEPS_PER_FRAME,
 };
 
 /// Spacing of the points that turn the route's lane centre into the drivers' polyline,
@@ -49,6 +51,9 @@ pub enum LoopError {
     /// The renderer failed.
     #[error(transparent)]
     Render(#[from] RenderError),
+    /// The render worker process failed.
+    #[error("the render worker process: {0}")]
+    Worker(String),
 }
 
 /// Everything one frame of the loop produced.
@@ -96,6 +101,12 @@ pub struct ClosedLoop {
     /// rendered and tracked (see [`ClosedLoop::set_pipelined`]).
     pipelined: bool,
     renderer: Renderer,
+    /// The second renderer, in a worker process, when two frames are in flight.
+    remote: Option<RemoteRenderer>,
+    /// The frame submitted by the last step and not yet tracked (two in flight).
+    in_flight: Option<InFlight>,
+    /// The scene's fingerprint, which a render worker must match.
+    fingerprint: u64,
     timing: LoopTiming,
     rig: CameraRig,
     tracker: Tracker,
@@ -163,6 +174,100 @@ impl Drive {
             },
         );
     }
+}
+
+/// What the camera needs from a scenario: the scene, the rig, and where the lead's scene
+/// origin lies in its physics frame. The closed loop and its render workers build it alike.
+pub struct CameraSetup {
+    /// The scene's geometry.
+    pub scene: Scene,
+    /// The camera rig.
+    pub rig: CameraRig,
+    /// Scene origin (body centre) in the lead's vehicle frame (rear axle).
+    pub lead_from_scene: Isometry3<f64>,
+}
+
+impl CameraSetup {
+    /// Builds the scene and rig of scenario `s`.
+    pub fn new(s: &Scenario) -> Result<CameraSetup, LoopError> {
+        let chase_params = VehicleParams::hmmwv_m998();
+        let lead_params = VehicleParams::pickup();
+        let mount = s.chase.camera_mount;
+        // The scene: its vehicle origins are the body centres; physics' are the rear axles.
+        let lead_body = LeadVehicle {
+            length_m: f64::from(lead_params.length_m),
+            width_m: f64::from(lead_params.width_m),
+            height_m: LEAD_BODY_HEIGHT_M,
+            board_centre_height_m: BOARD_CENTRE_HEIGHT_M,
+        };
+        let lead_from_scene = Isometry3::translation(
+            0.5 * f64::from(lead_params.length_m) - f64::from(lead_params.rear_overhang_m),
+            0.0,
+            0.0,
+        );
+        // The chase's scene origin is its rear axle, so the camera mount is the same number
+        // in both; the hood runs from the windscreen to the front bumper.
+        let front = f64::from(chase_params.front_bumper_x_m());
+        let hood = ChaseVehicle {
+            hood_front_m: front - 0.1,
+            hood_back_m: f64::from(mount.forward_m) - 0.2,
+            hood_height_m: 1.3,
+            hood_width_m: f64::from(chase_params.width_m) - 0.2,
+        };
+        let description = SceneDescription {
+            seed: s.seed,
+            route: s.route.clone(),
+            densities: s.densities.clone(),
+            placements: Vec::new(),
+            sun: s.sun.clone(),
+            sensor: s.sensor.clone(),
+            target: s.target.clone(),
+            lead: lead_body,
+            chase: hood,
+        };
+        let scene = Scene::build(description).map_err(|e| LoopError::Setup {
+            scenario: s.name.clone(),
+            message: format!("scene: {e}"),
+        })?;
+        let rig = CameraRig {
+            intrinsics: s.camera,
+            width: 256,
+            height: 242,
+            mount: scene::CameraMount {
+                height_m: f64::from(mount.height_m),
+                forward_offset_m: f64::from(mount.forward_m),
+                pitch_deg: f64::from(mount.pitch_down_deg),
+            },
+        };
+        Ok(CameraSetup {
+            scene,
+            rig,
+            lead_from_scene,
+        })
+    }
+}
+
+/// The render options the loop uses with `backend` (a render worker uses the same).
+pub fn render_options(backend: Backend) -> RenderOptions {
+    RenderOptions {
+        backend,
+        ..RenderOptions::default()
+    }
+}
+
+/// The world at the start of a frame, and the camera's input for it.
+struct Captured {
+    now: Step,
+    chase: VehicleState,
+    lead: VehicleState,
+    input: FrameInput,
+}
+
+/// A frame submitted but not yet tracked: rendered already (this process's renderer) or
+/// rendering in the worker.
+struct InFlight {
+    captured: Captured,
+    image: Option<Frame>,
 }
 
 /// Runs `f`, adding its wall-clock time to `spent`.
@@ -307,54 +412,14 @@ impl ClosedLoop {
         .map_err(|e| setup(format!("lead driver: {e}")))?;
         let delay = DelayLine::new(&s.delay).map_err(|e| setup(format!("delay line: {e}")))?;
 
-        // The scene: its vehicle origins are the body centres; physics' are the rear axles.
-        let lead_body = LeadVehicle {
-            length_m: f64::from(lead_params.length_m),
-            width_m: f64::from(lead_params.width_m),
-            height_m: LEAD_BODY_HEIGHT_M,
-            board_centre_height_m: BOARD_CENTRE_HEIGHT_M,
-        };
-        let lead_from_scene = Isometry3::translation(
-            0.5 * f64::from(lead_params.length_m) - f64::from(lead_params.rear_overhang_m),
-            0.0,
-            0.0,
-        );
-        // The chase's scene origin is its rear axle, so the camera mount is the same number
-        // in both; the hood runs from the windscreen to the front bumper.
-        let front = f64::from(chase_params.front_bumper_x_m());
-        let hood = ChaseVehicle {
-            hood_front_m: front - 0.1,
-            hood_back_m: f64::from(mount.forward_m) - 0.2,
-            hood_height_m: 1.3,
-            hood_width_m: f64::from(chase_params.width_m) - 0.2,
-        };
-        let description = SceneDescription {
-            seed: s.seed,
-            route: s.route.clone(),
-            densities: s.densities.clone(),
-            placements: Vec::new(),
-            sun: s.sun.clone(),
-            sensor: s.sensor.clone(),
-            target: s.target.clone(),
-            lead: lead_body,
-            chase: hood,
-        };
-        let scene = Scene::build(description).map_err(|e| setup(format!("scene: {e}")))?;
-        let rig = CameraRig {
-            intrinsics: s.camera,
-            width: 256,
-            height: 242,
-            mount: scene::CameraMount {
-                height_m: f64::from(mount.height_m),
-                forward_offset_m: f64::from(mount.forward_m),
-                pitch_deg: f64::from(mount.pitch_down_deg),
-            },
-        };
-        let options = RenderOptions {
-            backend,
-            ..RenderOptions::default()
-        };
+        let CameraSetup {
+            scene,
+            rig,
+            lead_from_scene,
+        } = CameraSetup::new(s)?;
+        let options = render_options(backend);
         let mut renderer = Renderer::new(&scene, rig.clone(), &options)?;
+        let fingerprint = fingerprint(scene.description(), &rig, &options);
 
         // The teleoperator places the model on the first frame (2.2), with the scenario's
         // placement error.
@@ -401,6 +466,9 @@ impl ClosedLoop {
                 delay,
             },
             renderer,
+            remote: None,
+            in_flight: None,
+            fingerprint,
             timing: LoopTiming {
                 setup_s: started.elapsed().as_secs_f64(),
                 ..LoopTiming::default()
@@ -436,6 +504,33 @@ impl ClosedLoop {
         &self.drive.chase
     }
 
+    /// Starts a second renderer in a worker process (`command`: `carfollow render-worker`
+    /// with this scenario's file and overrides), so that two camera frames render at once:
+    /// frame k + 1 in one renderer while frame k finishes in the other. Results are
+    /// identical to one renderer's (the worker checks it builds the same scene), so this
+    /// only changes the speed. Possible only when the loop can overlap at all (see
+    /// [`ClosedLoop::set_pipelined`]) and before the first step; returns whether two frames
+    /// are now in flight.
+    pub fn add_render_worker(&mut self, command: std::process::Command) -> Result<bool, LoopError> {
+        if !self.pipelined || self.frame > 0 {
+            return Ok(false);
+        }
+        let expected = self.fingerprint;
+        let remote =
+            RemoteRenderer::start(command, expected, &self.rig).map_err(LoopError::Worker)?;
+        self.remote = Some(remote);
+        Ok(true)
+    }
+
+    /// How many camera frames render at once: 2 with a render worker, else 1.
+    pub fn frames_in_flight(&self) -> usize {
+        if self.remote.is_some() {
+            2
+        } else {
+            1
+        }
+    }
+
     /// Where the wall-clock time went so far.
     pub fn timing(&self) -> LoopTiming {
         LoopTiming {
@@ -457,6 +552,14 @@ impl ClosedLoop {
     /// when that is at least one frame; otherwise this keeps the loop sequential. Returns
     /// whether the loop is now pipelined.
     pub fn set_pipelined(&mut self, on: bool) -> bool {
+        if !on && self.remote.is_some() {
+            if self.in_flight.is_some() {
+                // A frame is rendering in the worker: too late to change.
+                return self.pipelined;
+            }
+            // Two frames in flight overlap by nature.
+            self.remote = None;
+        }
         self.pipelined = on && self.drive.delay.min_latency_steps() >= u64::from(STEPS_PER_FRAME);
         self.pipelined
     }
@@ -466,6 +569,27 @@ impl ClosedLoop {
         self.renderer.adapter_name()
     }
 
+    /// The state of the world at the start of frame `frame_index` (now), and the camera's
+    /// input for it.
+    fn capture(&self) -> Captured {
+        let now = self.drive.world.now();
+        debug_assert!(now.is_frame_start());
+        let chase = self.drive.world.vehicle_state(self.drive.chase_id);
+        let lead = self.drive.world.vehicle_state(self.drive.lead_id);
+        let input = FrameInput {
+            frame_index: now.0 / u64::from(STEPS_PER_FRAME),
+            time_s: now.seconds(),
+            world_from_chase: iso(&chase.world_from_vehicle),
+            world_from_lead: iso(&lead.world_from_vehicle) * self.lead_from_scene,
+        };
+        Captured {
+            now,
+            chase,
+            lead,
+            input,
+        }
+    }
+
     /// Runs one camera frame and the physics up to the next one. `None` when the scenario's
     /// duration is over.
     pub fn step(&mut self) -> Result<Option<FrameOutput>, LoopError> {
@@ -473,33 +597,24 @@ impl ClosedLoop {
             return Ok(None);
         }
         let step_started = Instant::now();
-        let now = self.drive.world.now();
-        debug_assert!(now.is_frame_start());
-        let t_s = now.seconds();
-        let chase_state = self.drive.world.vehicle_state(self.drive.chase_id);
-        let lead_state = self.drive.world.vehicle_state(self.drive.lead_id);
-        let world_from_chase = iso(&chase_state.world_from_vehicle);
-        let world_from_lead = iso(&lead_state.world_from_vehicle) * self.lead_from_scene;
-        let input = FrameInput {
-            frame_index: self.frame,
-            time_s: t_s,
-            world_from_chase,
-            world_from_lead,
-        };
-
+        let mut spent = [Duration::ZERO; 3];
         // 1. The camera; 2. the tracker, on the image only; 3. the delay line; 4. the
         // controllers and the physics to the next frame.
-        let mut spent = [Duration::ZERO; 3];
-        let (frame, track, edges, controls, collision) = if self.pipelined {
+        let (captured, frame, track, edges, controls, collision) = if self.remote.is_some() {
+            self.step_two_in_flight(&mut spent)?
+        } else if self.pipelined {
             // 4 needs no estimate from this frame (see `set_pipelined`), so it runs on a
             // second thread while this one renders and tracks; 3 waits for both.
+            let captured = self.capture();
+            let t_s = captured.input.time_s;
             let (renderer, tracker, drive) =
                 (&mut self.renderer, &mut self.tracker, &mut self.drive);
             let diagnostics = self.diagnostics;
             let [render_t, track_t, physics_t] = &mut spent;
+            let input = &captured.input;
             let (seen, (controls, collision)) = std::thread::scope(|scope| {
                 let physics = scope.spawn(|| timed(physics_t, || drive.advance_frame()));
-                let seen = timed(render_t, || renderer.render(&input)).map(|frame| {
+                let seen = timed(render_t, || renderer.render(input)).map(|frame| {
                     let (track, edges) = timed(track_t, || {
                         track_frame(tracker, &frame.image, t_s, diagnostics)
                     });
@@ -512,20 +627,108 @@ impl ClosedLoop {
                 (seen, driven)
             });
             let (frame, track, edges) = seen?;
-            self.drive.push_estimate(now, &track);
-            (frame, track, edges, controls, collision)
+            self.drive.push_estimate(captured.now, &track);
+            (captured, frame, track, edges, controls, collision)
         } else {
+            let captured = self.capture();
             let [render_t, track_t, physics_t] = &mut spent;
-            let frame = timed(render_t, || self.renderer.render(&input))?;
+            let frame = timed(render_t, || self.renderer.render(&captured.input))?;
             let (track, edges) = timed(track_t, || {
-                track_frame(&mut self.tracker, &frame.image, t_s, self.diagnostics)
+                track_frame(
+                    &mut self.tracker,
+                    &frame.image,
+                    captured.input.time_s,
+                    self.diagnostics,
+                )
             });
-            self.drive.push_estimate(now, &track);
+            self.drive.push_estimate(captured.now, &track);
             let (controls, collision) = timed(physics_t, || self.drive.advance_frame());
-            (frame, track, edges, controls, collision)
+            (captured, frame, track, edges, controls, collision)
         };
+        debug_assert_eq!(captured.input.frame_index, self.frame);
+        let record = self.record(&captured, &frame, &track, controls, collision);
+        self.frame += 1;
+        let [render_t, track_t, physics_t] = spent;
+        self.timing.frames += 1;
+        self.timing.render_s += render_t.as_secs_f64();
+        self.timing.track_s += track_t.as_secs_f64();
+        self.timing.physics_s += physics_t.as_secs_f64();
+        self.timing.step_s += step_started.elapsed().as_secs_f64();
+        Ok(Some(FrameOutput {
+            record,
+            image: frame.image,
+            track,
+            edges,
+        }))
+    }
 
-        // The recorder: truth against estimate, at the frame's capture time.
+    /// Starts rendering the frame of the world as it is now: even frames on this process's
+    /// renderer (at once), odd ones on the render worker (in the background).
+    fn submit(&mut self, render_t: &mut Duration) -> Result<InFlight, LoopError> {
+        let captured = self.capture();
+        let image = if captured.input.frame_index % 2 == 0 {
+            Some(timed(render_t, || self.renderer.render(&captured.input))?)
+        } else {
+            let remote = self.remote.as_mut().expect("two frames in flight");
+            remote.submit(&captured.input).map_err(LoopError::Worker)?;
+            None
+        };
+        Ok(InFlight { captured, image })
+    }
+
+    /// One frame with two in flight (see [`ClosedLoop::add_render_worker`]): frame k was
+    /// submitted by the previous step; the physics to k + 1 runs while it renders; then
+    /// frame k + 1 is submitted on the other renderer, and frame k is tracked.
+    #[allow(clippy::type_complexity)]
+    fn step_two_in_flight(
+        &mut self,
+        spent: &mut [Duration; 3],
+    ) -> Result<
+        (
+            Captured,
+            Frame,
+            TrackOutput,
+            Vec<EdgeDiagnostic>,
+            vehicle::Controls,
+            bool,
+        ),
+        LoopError,
+    > {
+        let [render_t, track_t, physics_t] = spent;
+        let pending = match self.in_flight.take() {
+            Some(p) => p,
+            None => self.submit(render_t)?,
+        };
+        // 4 needs no estimate from frame k (see `set_pipelined`).
+        let (controls, collision) = timed(physics_t, || self.drive.advance_frame());
+        if self.frame + 1 < self.frames {
+            self.in_flight = Some(self.submit(render_t)?);
+        }
+        let frame = match pending.image {
+            Some(frame) => frame,
+            None => {
+                let remote = self.remote.as_mut().expect("two frames in flight");
+                timed(render_t, || remote.receive()).map_err(LoopError::Worker)?
+            }
+        };
+        let t_s = pending.captured.input.time_s;
+        let (track, edges) = timed(track_t, || {
+            track_frame(&mut self.tracker, &frame.image, t_s, self.diagnostics)
+        });
+        self.drive.push_estimate(pending.captured.now, &track);
+        Ok((pending.captured, frame, track, edges, controls, collision))
+    }
+
+    /// The recorder: truth against estimate, at the frame's capture time.
+    fn record(
+        &mut self,
+        captured: &Captured,
+        frame: &Frame,
+        track: &TrackOutput,
+        controls: vehicle::Controls,
+        collision: bool,
+    ) -> FrameRecord {
+        let (chase_state, lead_state) = (&captured.chase, &captured.lead);
         let truth = frame.truth;
         let est = track.estimate;
         let [x, _, z] = track.position_3d;
@@ -533,7 +736,7 @@ impl ClosedLoop {
         let lost_truth = !truth.in_view
             || (est.c_x - truth.c_x).hypot(est.c_y - truth.c_y) > 0.25 * width_px
             || (est.scale / truth.scale - 1.0).abs() > 0.25;
-        let world_from_camera = self.rig.world_from_camera(&world_from_chase);
+        let world_from_camera = self.rig.world_from_camera(&captured.input.world_from_chase);
         let cam = world_from_camera.translation.vector;
         let [tx, ty, tz] = truth.target_cam_m;
         let target_world = world_from_camera * nalgebra::Point3::new(tx, ty, tz);
@@ -546,9 +749,9 @@ impl ClosedLoop {
         self.lead_path.push(lead_xz);
         let from = self.lead_path.len().saturating_sub(PATH_SEARCH_FRAMES);
         let lateral_deviation_m = distance_to_path(&self.lead_path[from..], chase_xz);
-        let record = FrameRecord {
+        FrameRecord {
             frame: self.frame,
-            t_s,
+            t_s: captured.input.time_s,
             true_cx: truth.c_x,
             true_cy: truth.c_y,
             true_scale: truth.scale,
@@ -575,19 +778,6 @@ impl ClosedLoop {
             lead_xz,
             collision,
             chase_mode: format!("{:?}", self.drive.chase.mode()).to_lowercase(),
-        };
-        self.frame += 1;
-        let [render_t, track_t, physics_t] = spent;
-        self.timing.frames += 1;
-        self.timing.render_s += render_t.as_secs_f64();
-        self.timing.track_s += track_t.as_secs_f64();
-        self.timing.physics_s += physics_t.as_secs_f64();
-        self.timing.step_s += step_started.elapsed().as_secs_f64();
-        Ok(Some(FrameOutput {
-            record,
-            image: frame.image,
-            track,
-            edges,
-        }))
+        }
     }
 }

@@ -6,6 +6,7 @@ pub mod camera;
 pub mod closed_loop;
 pub mod overlay;
 pub mod record;
+pub mod render_worker;
 pub mod report;
 pub mod scenario;
 pub mod scene;

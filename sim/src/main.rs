@@ -5,6 +5,7 @@ use std::process::ExitCode;
 mod cli {
     pub mod check;
     pub mod render;
+    pub mod render_worker;
     pub mod run;
     pub mod sweep;
     pub mod synth;
@@ -42,6 +43,9 @@ enum Commands {
     /// A sweep's worker process (started by `carfollow sweep`).
     #[command(hide = true)]
     SweepWorker(cli::sweep::SweepWorkerArgs),
+    /// `run`'s second renderer (started by `carfollow run`).
+    #[command(hide = true)]
+    RenderWorker(cli::render_worker::RenderWorkerArgs),
 }
 
 fn main() -> ExitCode {
@@ -55,6 +59,7 @@ fn main() -> ExitCode {
         Commands::Target(args) => cli::target::run_target(args).map(|()| ExitCode::SUCCESS),
         Commands::Synth(args) => cli::synth::run_synth(args).map(|()| ExitCode::SUCCESS),
         Commands::SweepWorker(args) => cli::sweep::run_sweep_worker(args),
+        Commands::RenderWorker(args) => cli::render_worker::run_render_worker(args),
     };
     match result {
         Ok(code) => code,

@@ -1,6 +1,8 @@
 //! The closed loop end to end: a shortened `nist-grounds` runs with the real renderer,
 //! tracker, delay line, controllers and physics, and meets its following-distance and
-//! tracking criteria; the same seed gives identical records twice.
+//! tracking criteria; the same seed gives identical records twice; overlapping the physics
+//! with rendering, or rendering two frames at once (the second in a worker process), gives
+//! the same records as one thing at a time.
 //! Run with `cargo test -p sim --release --test closed_loop`.
 
 use sim::camera::Backend;
@@ -101,4 +103,50 @@ fn a_latency_under_one_frame_keeps_the_loop_sequential() {
     assert_eq!(timing.frames, 15);
     assert!(!timing.pipelined);
     assert!(timing.render_s > 0.0 && timing.physics_s > 0.0 && timing.track_s > 0.0);
+}
+
+fn builtin_loop(overrides: &[&str]) -> ClosedLoop {
+    let overrides: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
+    let scenario = Scenario::builtin(&overrides).unwrap();
+    ClosedLoop::new(&scenario, Backend::choose(None).unwrap(), false).unwrap()
+}
+
+/// `carfollow render-worker` for the built-in scenario with `overrides`.
+fn render_worker(overrides: &[&str]) -> std::process::Command {
+    let mut c = std::process::Command::new(env!("CARGO_BIN_EXE_carfollow"));
+    c.arg("render-worker");
+    for o in overrides {
+        c.arg("--set").arg(o);
+    }
+    c
+}
+
+#[test]
+fn two_frames_in_flight_change_nothing() {
+    let set = ["duration_s=5", "environment.sensor.noise_sigma_grey=4"];
+    let mut l = builtin_loop(&set);
+    assert!(l.add_render_worker(render_worker(&set)).unwrap());
+    assert_eq!(l.frames_in_flight(), 2);
+    let mut two = Vec::new();
+    while let Some(out) = l.step().unwrap() {
+        two.push(out.record);
+    }
+    assert_eq!(two.len(), 75);
+    assert_eq!(two, run_with(&set, false));
+}
+
+#[test]
+fn a_render_worker_with_another_scene_is_refused() {
+    let mut l = builtin_loop(&["duration_s=1"]);
+    let err = l
+        .add_render_worker(render_worker(&["duration_s=1", "seed=5"]))
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("another scene"), "{err}");
+    assert_eq!(l.frames_in_flight(), 1);
+    // A loop that cannot overlap does not start one.
+    let mut l = builtin_loop(&["duration_s=1", "loop.latency_ms=50"]);
+    assert!(!l
+        .add_render_worker(render_worker(&["duration_s=1"]))
+        .unwrap());
 }

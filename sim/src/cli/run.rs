@@ -8,8 +8,11 @@ use sim::closed_loop::{ClosedLoop, LoopTiming};
 use sim::report::{write_junit, OutputOptions, RunOutputs, Summary};
 use sim::scenario::Scenario;
 use std::path::{Path, PathBuf};
-use std::process::ExitCode;
+use std::process::{Command, ExitCode};
 use std::time::Instant;
+
+/// The environment variable that sets llvmpipe's rasteriser threads.
+const RASTER_THREADS_ENV: &str = "LP_NUM_THREADS";
 
 /// Arguments of `carfollow run`.
 #[derive(Args, Debug)]
@@ -38,6 +41,10 @@ pub struct RunArgs {
     /// wgpu backend: gl (default; Mesa llvmpipe), vulkan or primary. Overrides WGPU_BACKEND.
     #[arg(long)]
     pub backend: Option<String>,
+    /// Camera frames rendered at once: 1, or 2 (the second in a worker process; the
+    /// results are the same). Default: 2 on a machine with two cores or more.
+    #[arg(long, value_parser = clap::value_parser!(u8).range(1..=2))]
+    pub renderers: Option<u8>,
 }
 
 /// Runs the subcommand: exit status 0 when every scenario passed its `[expect]`, 1 when one
@@ -53,6 +60,12 @@ pub fn run_run(args: RunArgs) -> anyhow::Result<ExitCode> {
             .collect::<Result<_, _>>()?
     };
     let backend = Backend::choose(args.backend.as_deref())?;
+    if renderers(&args) == 2 && std::env::var_os(RASTER_THREADS_ENV).is_none() {
+        // With two renderers, one per core, llvmpipe's own rasteriser threads only get in
+        // each other's way: each renders on its own thread (the worker inherits this).
+        // Nothing has created a renderer or a thread yet.
+        std::env::set_var(RASTER_THREADS_ENV, "0");
+    }
     let root = args.out.clone().unwrap_or_else(|| PathBuf::from("renders"));
     let single_out = args.out.is_some() && scenarios.len() == 1;
     let mut summaries = Vec::new();
@@ -99,6 +112,18 @@ fn verdict(s: &Summary, dir: &Path) -> String {
     }
 }
 
+/// Camera frames rendered at once (`--renderers`, default 2 with two cores or more).
+fn renderers(args: &RunArgs) -> u8 {
+    args.renderers.unwrap_or_else(|| {
+        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+        if cores >= 2 {
+            2
+        } else {
+            1
+        }
+    })
+}
+
 fn run_one(
     scenario: &Scenario,
     backend: Backend,
@@ -107,6 +132,22 @@ fn run_one(
 ) -> anyhow::Result<Summary> {
     let started = Instant::now();
     let mut looped = ClosedLoop::new(scenario, backend, args.video)?;
+    if renderers(args) == 2 {
+        let mut command = Command::new(
+            std::env::current_exe().context("cannot find this program to start a renderer")?,
+        );
+        command.arg("render-worker");
+        if let Some(path) = &scenario.path {
+            command.arg(path);
+        }
+        for set in &args.set {
+            command.arg("--set").arg(set);
+        }
+        command.arg("--backend").arg(backend.to_string());
+        if let Err(e) = looped.add_render_worker(command) {
+            eprintln!("warning: {e}; rendering one frame at a time");
+        }
+    }
     let frames = looped.frames();
     let mut outputs = RunOutputs::create(
         dir,

@@ -1,0 +1,245 @@
+//! A second renderer in its own process, so that the closed loop renders two camera frames
+//! at once.
+//!
+//! **Why a process.** Mesa's llvmpipe rasterises every GL context of a process on one
+//! rasteriser shared by the process, so a second renderer on a thread would only take turns
+//! with the first. In its own process it renders alongside.
+//!
+//! **Why two frames can be in flight.** The physics from frame k to k + 1 needs only the
+//! estimates of frames up to k − 1 (none arrives sooner than one frame after its capture:
+//! see [`crate::closed_loop::ClosedLoop::set_pipelined`]), so frame k + 1's poses are known
+//! before frame k has been tracked, and both frames can be rendering at once. The worker
+//! builds the same scene from the same scenario with the same code and driver, so its frames
+//! are the frames the loop's own renderer would have made: the results do not change.
+//!
+//! **The protocol**, over the worker's stdin and stdout, all numbers little-endian:
+//! - the worker first writes its scene's fingerprint ([`fingerprint`]), a `u64`, which the
+//!   loop checks against its own;
+//! - each request is 16 `f64`-sized fields: the frame index (`u64`), the time, then each of
+//!   the chase's and the lead's poses as translation x, y, z and rotation quaternion i, j,
+//!   k, w (exact bits, so the worker renders exactly the loop's poses);
+//! - each answer is the image (width × height bytes, row by row), then the ground truth:
+//!   c_x, c_y, scale, the target centre in the camera frame x, y, z (`f64`), and in view
+//!   (one byte, 0 or 1).
+//!
+//! The worker exits when its input ends, so it never outlives the loop.
+
+use crate::camera::{CameraRig, Frame, FrameInput, GroundTruth, RenderOptions, Renderer};
+use crate::scene::SceneDescription;
+use image::GrayImage;
+use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion};
+use std::io::{BufReader, BufWriter, Read, Write};
+use std::process::{Child, ChildStdin, ChildStdout, Command, Stdio};
+
+/// Bytes of one request.
+const REQUEST_BYTES: usize = 16 * 8;
+/// Bytes of the ground truth after the image.
+const TRUTH_BYTES: usize = 6 * 8 + 1;
+
+/// A fingerprint of everything that decides a frame's pixels: the scene description, the
+/// rig and the render options (FNV-1a over their exact debug forms, which print every
+/// number's shortest round-trip digits).
+pub fn fingerprint(
+    description: &SceneDescription,
+    rig: &CameraRig,
+    options: &RenderOptions,
+) -> u64 {
+    let text = format!("{description:?}{rig:?}{options:?}");
+    text.bytes().fold(0xcbf2_9ce4_8422_2325, |h, b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
+    })
+}
+
+fn put_pose(out: &mut Vec<u8>, pose: &Isometry3<f64>) {
+    let t = pose.translation.vector;
+    let q = pose.rotation.quaternion().coords;
+    for v in [t.x, t.y, t.z, q.x, q.y, q.z, q.w] {
+        out.extend_from_slice(&v.to_le_bytes());
+    }
+}
+
+fn get_f64(bytes: &[u8], field: usize) -> f64 {
+    let mut b = [0u8; 8];
+    b.copy_from_slice(&bytes[field * 8..field * 8 + 8]);
+    f64::from_le_bytes(b)
+}
+
+fn get_pose(bytes: &[u8], first: usize) -> Isometry3<f64> {
+    let f = |i| get_f64(bytes, first + i);
+    Isometry3::from_parts(
+        Translation3::new(f(0), f(1), f(2)),
+        // The loop's own unit quaternion, bit for bit: no renormalisation.
+        UnitQuaternion::new_unchecked(Quaternion::new(f(6), f(3), f(4), f(5))),
+    )
+}
+
+fn encode_request(input: &FrameInput) -> Vec<u8> {
+    let mut out = Vec::with_capacity(REQUEST_BYTES);
+    out.extend_from_slice(&input.frame_index.to_le_bytes());
+    out.extend_from_slice(&input.time_s.to_le_bytes());
+    put_pose(&mut out, &input.world_from_chase);
+    put_pose(&mut out, &input.world_from_lead);
+    out
+}
+
+fn decode_request(bytes: &[u8; REQUEST_BYTES]) -> FrameInput {
+    let mut index = [0u8; 8];
+    index.copy_from_slice(&bytes[..8]);
+    FrameInput {
+        frame_index: u64::from_le_bytes(index),
+        time_s: get_f64(bytes, 1),
+        world_from_chase: get_pose(bytes, 2),
+        world_from_lead: get_pose(bytes, 9),
+    }
+}
+
+/// The worker's side: renders each request from `input` with `renderer` and writes the
+/// answer to `output`, until `input` ends.
+pub fn serve_frames(
+    renderer: &mut Renderer,
+    fingerprint: u64,
+    input: impl Read,
+    output: impl Write,
+) -> std::io::Result<()> {
+    let mut input = BufReader::new(input);
+    let mut output = BufWriter::new(output);
+    output.write_all(&fingerprint.to_le_bytes())?;
+    output.flush()?;
+    let mut request = [0u8; REQUEST_BYTES];
+    loop {
+        match input.read_exact(&mut request) {
+            Ok(()) => {}
+            Err(e) if e.kind() == std::io::ErrorKind::UnexpectedEof => return Ok(()),
+            Err(e) => return Err(e),
+        }
+        let frame = renderer
+            .render(&decode_request(&request))
+            .map_err(std::io::Error::other)?;
+        output.write_all(frame.image.as_raw())?;
+        let t = frame.truth;
+        let [x, y, z] = t.target_cam_m;
+        for v in [t.c_x, t.c_y, t.scale, x, y, z] {
+            output.write_all(&v.to_le_bytes())?;
+        }
+        output.write_all(&[u8::from(t.in_view)])?;
+        output.flush()?;
+    }
+}
+
+/// The loop's side: a render worker process.
+pub struct RemoteRenderer {
+    child: Child,
+    stdin: Option<ChildStdin>,
+    stdout: BufReader<ChildStdout>,
+    width: u32,
+    height: u32,
+}
+
+impl RemoteRenderer {
+    /// Starts `command` (a worker that serves this scene: `carfollow render-worker` with the
+    /// scenario's file and overrides) and checks that it renders the scene of `expected`
+    /// fingerprint at `rig`'s size.
+    pub fn start(
+        mut command: Command,
+        expected: u64,
+        rig: &CameraRig,
+    ) -> Result<RemoteRenderer, String> {
+        let mut child = command
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::inherit())
+            .spawn()
+            .map_err(|e| format!("cannot start it: {e}"))?;
+        let (Some(stdin), Some(stdout)) = (child.stdin.take(), child.stdout.take()) else {
+            let _ = child.kill();
+            return Err("it has no stdin or stdout".into());
+        };
+        let mut worker = RemoteRenderer {
+            child,
+            stdin: Some(stdin),
+            stdout: BufReader::new(stdout),
+            width: rig.width,
+            height: rig.height,
+        };
+        let mut hello = [0u8; 8];
+        worker
+            .stdout
+            .read_exact(&mut hello)
+            .map_err(|e| format!("it did not start: {e}"))?;
+        let got = u64::from_le_bytes(hello);
+        if got != expected {
+            return Err(format!(
+                "it built another scene (fingerprint {got:016x}, expected {expected:016x})"
+            ));
+        }
+        Ok(worker)
+    }
+
+    /// Sends a frame to render; its answer comes from [`RemoteRenderer::receive`].
+    pub fn submit(&mut self, input: &FrameInput) -> Result<(), String> {
+        let stdin = self.stdin.as_mut().ok_or("it has been closed")?;
+        stdin
+            .write_all(&encode_request(input))
+            .and_then(|()| stdin.flush())
+            .map_err(|e| format!("cannot send a frame: {e}"))
+    }
+
+    /// Waits for the frame submitted first and not yet received.
+    pub fn receive(&mut self) -> Result<Frame, String> {
+        let mut pixels = vec![0u8; (self.width * self.height) as usize];
+        let mut truth = [0u8; TRUTH_BYTES];
+        self.stdout
+            .read_exact(&mut pixels)
+            .and_then(|()| self.stdout.read_exact(&mut truth))
+            .map_err(|e| format!("no frame came back: {e}"))?;
+        let image = GrayImage::from_raw(self.width, self.height, pixels)
+            .expect("the buffer holds width × height bytes");
+        let f = |i| get_f64(&truth, i);
+        Ok(Frame {
+            image,
+            truth: GroundTruth {
+                c_x: f(0),
+                c_y: f(1),
+                scale: f(2),
+                target_cam_m: [f(3), f(4), f(5)],
+                in_view: truth[48] != 0,
+            },
+        })
+    }
+}
+
+impl Drop for RemoteRenderer {
+    fn drop(&mut self) {
+        // Its input ends, so it exits.
+        drop(self.stdin.take());
+        let _ = self.child.wait();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn requests_round_trip_bit_for_bit() {
+        let pose = |a: f64, t: [f64; 3]| {
+            Isometry3::from_parts(
+                Translation3::new(t[0], t[1], t[2]),
+                UnitQuaternion::from_euler_angles(0.01 * a, a, -0.3 * a),
+            )
+        };
+        let input = FrameInput {
+            frame_index: 123_456_789,
+            time_s: 8.2 + 1.0 / 3.0,
+            world_from_chase: pose(0.7, [1.0 / 3.0, 0.2, -1e5]),
+            world_from_lead: pose(-2.9, [std::f64::consts::PI, 1e-9, 7.0]),
+        };
+        let bytes: [u8; REQUEST_BYTES] = encode_request(&input).try_into().unwrap();
+        let back = decode_request(&bytes);
+        assert_eq!(back, input);
+        assert_eq!(
+            back.world_from_lead.rotation.quaternion().coords,
+            input.world_from_lead.rotation.quaternion().coords
+        );
+    }
+}
