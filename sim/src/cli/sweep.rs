@@ -67,6 +67,9 @@ pub struct SweepWorkerArgs {
     /// wgpu backend.
     #[arg(long)]
     pub backend: Option<String>,
+    /// Overlap each point's physics with its rendering (there is a spare core).
+    #[arg(long)]
+    pub overlap: bool,
 }
 
 /// Runs a sweep worker: point requests on stdin, one JSON answer per line on stdout (see
@@ -77,6 +80,7 @@ pub fn run_sweep_worker(args: SweepWorkerArgs) -> anyhow::Result<ExitCode> {
     serve_points(
         &sweep,
         backend,
+        args.overlap,
         std::io::stdin().lock(),
         std::io::stdout().lock(),
     )
@@ -138,9 +142,10 @@ pub fn run_sweep(args: SweepArgs) -> anyhow::Result<ExitCode> {
         .filter(|p| !done_rows.iter().any(|r| r.id == p.id))
         .collect();
     let writer = ResultsWriter::open(&results, args.resume.then_some(complete))?;
-    let jobs = args
-        .jobs
-        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    let jobs = args.jobs.unwrap_or_else(cores);
+    if jobs == 0 {
+        anyhow::bail!("--jobs must be at least 1");
+    }
     if !args.quiet {
         eprintln!(
             "{}: {} points{}, {} already done, {} to run on {} jobs; results in {}",
@@ -172,6 +177,8 @@ pub fn run_sweep(args: SweepArgs) -> anyhow::Result<ExitCode> {
     bar.set_position((points.len() - todo.len()) as u64);
     let failed = AtomicUsize::new(0);
     let exe = std::env::current_exe().context("cannot find this program to start workers")?;
+    // Overlapping a point's physics with its rendering pays only with a core to spare.
+    let overlap = jobs < cores();
     let spawn_worker = || {
         let mut command = Command::new(&exe);
         command.arg("sweep-worker").arg(&file);
@@ -179,6 +186,9 @@ pub fn run_sweep(args: SweepArgs) -> anyhow::Result<ExitCode> {
             command.arg("--set").arg(set);
         }
         command.arg("--backend").arg(backend.to_string());
+        if overlap {
+            command.arg("--overlap");
+        }
         command
     };
     let errors = run_points(&todo, jobs, &spawn_worker, &writer, |r| {
@@ -219,6 +229,11 @@ pub fn run_sweep(args: SweepArgs) -> anyhow::Result<ExitCode> {
     } else {
         ExitCode::from(1)
     })
+}
+
+/// The machine's cores (1 if it cannot tell).
+fn cores() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get())
 }
 
 fn run_merge(args: MergeArgs) -> anyhow::Result<ExitCode> {
