@@ -127,6 +127,24 @@ fn a_merge_of_shards_equals_an_unsharded_run() {
     }
 }
 
+/// Runs `--resume` on `out`, checks that the results still start with `kept` (finished rows
+/// are not rewritten) and now hold `points` distinct points; returns them.
+fn resume_completes(sweep: &Path, out: &Path, kept: &str, points: usize) -> String {
+    ok(carfollow(&["sweep", s(sweep), "--out", s(out), "--resume"]));
+    let results = out.join("results.jsonl");
+    let text = std::fs::read_to_string(&results).unwrap();
+    assert!(
+        text.starts_with(kept),
+        "finished rows were rewritten: {text}"
+    );
+    let mut got = ids(&results);
+    assert_eq!(got.len(), points, "{text}");
+    got.sort();
+    got.dedup();
+    assert_eq!(got.len(), points, "a point ran twice: {text}");
+    text
+}
+
 #[test]
 fn a_resume_after_a_kill_completes_without_redoing_points() {
     let dir = tempfile::tempdir().unwrap();
@@ -155,22 +173,9 @@ fn a_resume_after_a_kill_completes_without_redoing_points() {
     assert_eq!(refused.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&refused.stderr).contains("--resume"));
 
-    ok(carfollow(&[
-        "sweep",
-        s(&sweep),
-        "--out",
-        s(&out),
-        "--resume",
-    ]));
-    let text = std::fs::read_to_string(&results).unwrap();
     // The finished point was not run again: its line is byte-identical (its wall time
     // would differ) and comes first.
-    assert!(text.starts_with(&format!("{kept}\n")), "{text}");
-    let mut got = ids(&results);
-    assert_eq!(got.len(), 4, "{text}");
-    got.sort();
-    got.dedup();
-    assert_eq!(got.len(), 4, "a point ran twice: {text}");
+    let text = resume_completes(&sweep, &out, &format!("{kept}\n"), 4);
 
     // A second resume has nothing left to do.
     ok(carfollow(&[
@@ -306,18 +311,5 @@ fn ctrl_c_keeps_every_finished_row_and_resume_finishes_the_rest() {
         serde_json::from_str::<Value>(line).expect("every kept row is whole");
     }
 
-    ok(carfollow(&[
-        "sweep",
-        s(&sweep),
-        "--out",
-        s(&out),
-        "--resume",
-    ]));
-    let text = std::fs::read_to_string(&results).unwrap();
-    assert!(text.starts_with(&kept), "finished rows were rewritten");
-    let mut got = ids(&results);
-    assert_eq!(got.len(), 8, "{text}");
-    got.sort();
-    got.dedup();
-    assert_eq!(got.len(), 8, "a point ran twice");
+    resume_completes(&sweep, &out, &kept, 8);
 }
