@@ -89,6 +89,8 @@ pub struct LoopTiming {
     pub outputs_s: f64,
     /// Whether physics overlapped rendering and tracking.
     pub pipelined: bool,
+    /// Camera frames rendered at once: 2 with a render worker, else 1.
+    pub frames_in_flight: usize,
 }
 
 /// The running loop.
@@ -535,6 +537,7 @@ impl ClosedLoop {
     pub fn timing(&self) -> LoopTiming {
         LoopTiming {
             pipelined: self.pipelined,
+            frames_in_flight: self.frames_in_flight(),
             ..self.timing
         }
     }

@@ -61,6 +61,10 @@ fn two_renderers_give_the_outputs_of_one() {
     assert_eq!(summary["frames"], 60);
     assert_eq!(summary["timing"]["frames"], 60);
     assert_eq!(summary["timing"]["pipelined"], true);
+    assert_eq!(summary["timing"]["frames_in_flight"], 2);
+    let one: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(one.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(one["timing"]["frames_in_flight"], 1);
     assert!(summary["timing"]["render_s"].as_f64().unwrap() > 0.0);
 }
 
