@@ -3,6 +3,7 @@
 //! the tracker on recorded frames, and the `carfollow` command line.
 #![warn(missing_docs)]
 pub mod camera;
+pub mod child;
 pub mod closed_loop;
 pub mod overlay;
 pub mod record;

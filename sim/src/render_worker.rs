@@ -25,11 +25,12 @@
 //! The worker exits when its input ends, so it never outlives the loop.
 
 use crate::camera::{CameraRig, Frame, FrameInput, GroundTruth, RenderOptions, Renderer};
+use crate::child::Child;
 use crate::scene::SceneDescription;
 use image::GrayImage;
 use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion};
 use std::io::{BufReader, BufWriter, Read, Write};
-use std::process::{Child, ChildStdin, ChildStdout, Command, Stdio};
+use std::process::Command;
 
 /// Bytes of one request.
 const REQUEST_BYTES: usize = 16 * 8;
@@ -44,10 +45,7 @@ pub fn fingerprint(
     rig: &CameraRig,
     options: &RenderOptions,
 ) -> u64 {
-    let text = format!("{description:?}{rig:?}{options:?}");
-    text.bytes().fold(0xcbf2_9ce4_8422_2325, |h, b| {
-        (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
-    })
+    vehicle::fnv1a64(format!("{description:?}{rig:?}{options:?}").as_bytes())
 }
 
 fn put_pose(out: &mut Vec<u8>, pose: &Isometry3<f64>) {
@@ -126,11 +124,9 @@ pub fn serve_frames(
     }
 }
 
-/// The loop's side: a render worker process.
+/// The loop's side: a render worker process (dropping it ends the worker).
 pub struct RemoteRenderer {
     child: Child,
-    stdin: Option<ChildStdin>,
-    stdout: BufReader<ChildStdout>,
     width: u32,
     height: u32,
 }
@@ -144,26 +140,10 @@ impl RemoteRenderer {
         expected: u64,
         rig: &CameraRig,
     ) -> Result<RemoteRenderer, String> {
-        let mut child = command
-            .stdin(Stdio::piped())
-            .stdout(Stdio::piped())
-            .stderr(Stdio::inherit())
-            .spawn()
-            .map_err(|e| format!("cannot start it: {e}"))?;
-        let (Some(stdin), Some(stdout)) = (child.stdin.take(), child.stdout.take()) else {
-            let _ = child.kill();
-            return Err("it has no stdin or stdout".into());
-        };
-        let mut worker = RemoteRenderer {
-            child,
-            stdin: Some(stdin),
-            stdout: BufReader::new(stdout),
-            width: rig.width,
-            height: rig.height,
-        };
+        let mut child = Child::spawn(&mut command).map_err(|e| format!("cannot start it: {e}"))?;
         let mut hello = [0u8; 8];
-        worker
-            .stdout
+        child
+            .stdout()
             .read_exact(&mut hello)
             .map_err(|e| format!("it did not start: {e}"))?;
         let got = u64::from_le_bytes(hello);
@@ -172,15 +152,21 @@ impl RemoteRenderer {
                 "it built another scene (fingerprint {got:016x}, expected {expected:016x})"
             ));
         }
-        Ok(worker)
+        Ok(RemoteRenderer {
+            child,
+            width: rig.width,
+            height: rig.height,
+        })
     }
 
     /// Sends a frame to render; its answer comes from [`RemoteRenderer::receive`].
     pub fn submit(&mut self, input: &FrameInput) -> Result<(), String> {
-        let stdin = self.stdin.as_mut().ok_or("it has been closed")?;
-        stdin
-            .write_all(&encode_request(input))
-            .and_then(|()| stdin.flush())
+        self.child
+            .stdin()
+            .and_then(|stdin| {
+                stdin.write_all(&encode_request(input))?;
+                stdin.flush()
+            })
             .map_err(|e| format!("cannot send a frame: {e}"))
     }
 
@@ -188,9 +174,10 @@ impl RemoteRenderer {
     pub fn receive(&mut self) -> Result<Frame, String> {
         let mut pixels = vec![0u8; (self.width * self.height) as usize];
         let mut truth = [0u8; TRUTH_BYTES];
-        self.stdout
+        let stdout = self.child.stdout();
+        stdout
             .read_exact(&mut pixels)
-            .and_then(|()| self.stdout.read_exact(&mut truth))
+            .and_then(|()| stdout.read_exact(&mut truth))
             .map_err(|e| format!("no frame came back: {e}"))?;
         let image = GrayImage::from_raw(self.width, self.height, pixels)
             .expect("the buffer holds width × height bytes");
@@ -205,14 +192,6 @@ impl RemoteRenderer {
                 in_view: truth[48] != 0,
             },
         })
-    }
-}
-
-impl Drop for RemoteRenderer {
-    fn drop(&mut self) {
-        // Its input ends, so it exits.
-        drop(self.stdin.take());
-        let _ = self.child.wait();
     }
 }
 

@@ -98,7 +98,7 @@ pub use pure_pursuit::{
 };
 pub use range_filter::{RangeFilter, RangeState};
 pub use ray_cast_vehicle::{Vehicle, VehicleState};
-pub use rng_stream::named_stream;
+pub use rng_stream::{fnv1a64, named_stream};
 pub use route::{direction_heading, heading_direction, Route, RouteBuilder, RouteProjection};
 pub use speed_controller::{Pedals, SpeedController, SpeedGains};
 pub use speed_profile::{ProfileBasis, SpeedKnot, SpeedProfile};

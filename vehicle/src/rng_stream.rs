@@ -13,8 +13,9 @@ pub fn named_stream(seed: u64, name: &str) -> ChaCha8Rng {
     rng
 }
 
-/// 64-bit FNV-1a hash: small, stable across platforms and Rust versions.
-fn fnv1a64(bytes: &[u8]) -> u64 {
+/// 64-bit FNV-1a hash: small, stable across platforms and Rust versions (stream names,
+/// sweep point ids, scene fingerprints).
+pub fn fnv1a64(bytes: &[u8]) -> u64 {
     const OFFSET: u64 = 0xcbf2_9ce4_8422_2325;
     const PRIME: u64 = 0x0000_0100_0000_01b3;
     bytes
@@ -26,6 +27,12 @@ fn fnv1a64(bytes: &[u8]) -> u64 {
 mod tests {
     use super::*;
     use rand::Rng;
+
+    #[test]
+    fn fnv1a64_matches_its_reference_values() {
+        assert_eq!(fnv1a64(b""), 0xcbf29ce484222325);
+        assert_eq!(fnv1a64(b"a"), 0xaf63dc4c8601ec8c);
+    }
 
     #[test]
     fn streams_differ_by_name_and_repeat_by_seed() {

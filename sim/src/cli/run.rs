@@ -4,15 +4,13 @@ use anyhow::Context;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use sim::camera::Backend;
+use sim::child::RASTER_THREADS_ENV;
 use sim::closed_loop::{ClosedLoop, LoopTiming};
 use sim::report::{write_junit, OutputOptions, RunOutputs, Summary};
 use sim::scenario::Scenario;
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
 use std::time::Instant;
-
-/// The environment variable that sets llvmpipe's rasteriser threads.
-const RASTER_THREADS_ENV: &str = "LP_NUM_THREADS";
 
 /// Arguments of `carfollow run`.
 #[derive(Args, Debug)]

@@ -4,24 +4,12 @@
 //! ChaCha8 stream, selected by hashing the stream's name, so adding clutter of one kind never
 //! changes the placement of another kind or the sensor noise.
 
-use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-/// The random stream called `name` for the scenario seed `seed`.
+/// The random stream called `name` for the scenario seed `seed` (the same streams as the
+/// vehicle crate's, [`vehicle::named_stream`]).
 pub fn stream(seed: u64, name: &str) -> ChaCha8Rng {
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    rng.set_stream(fnv1a(name));
-    rng
-}
-
-/// FNV-1a, 64 bit: a fixed, platform-independent hash of the stream name.
-fn fnv1a(name: &str) -> u64 {
-    let mut hash: u64 = 0xcbf2_9ce4_8422_2325;
-    for byte in name.bytes() {
-        hash ^= u64::from(byte);
-        hash = hash.wrapping_mul(0x0000_0100_0000_01b3);
-    }
-    hash
+    vehicle::named_stream(seed, name)
 }
 
 #[cfg(test)]

@@ -305,7 +305,7 @@ fn grid(scenarios: &[SweepScenario], seeds: &[u64], axes: &[Axis], set: &[String
                 for s in set {
                     canonical.push_str(&format!("\nset {s}"));
                 }
-                point.id = format!("{:016x}", fnv1a(canonical.as_bytes()));
+                point.id = format!("{:016x}", vehicle::fnv1a64(canonical.as_bytes()));
                 points.push(point);
             }
         }
@@ -313,24 +313,9 @@ fn grid(scenarios: &[SweepScenario], seeds: &[u64], axes: &[Axis], set: &[String
     points
 }
 
-/// 64-bit FNV-1a: a hash fixed by its definition, so ids stay stable everywhere.
-fn fnv1a(bytes: &[u8]) -> u64 {
-    const OFFSET: u64 = 0xcbf2_9ce4_8422_2325;
-    const PRIME: u64 = 0x0000_0100_0000_01b3;
-    bytes
-        .iter()
-        .fold(OFFSET, |h, &b| (h ^ u64::from(b)).wrapping_mul(PRIME))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn fnv1a_matches_its_reference_values() {
-        assert_eq!(fnv1a(b""), 0xcbf29ce484222325);
-        assert_eq!(fnv1a(b"a"), 0xaf63dc4c8601ec8c);
-    }
 
     #[test]
     fn shards_parse_0_based() {

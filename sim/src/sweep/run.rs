@@ -20,17 +20,15 @@
 
 use super::{Point, ResultRow, ResultsWriter, Sweep, SweepError};
 use crate::camera::Backend;
+use crate::child::Child;
 use crate::closed_loop::ClosedLoop;
 use crate::report::Summary;
 use serde::{Deserialize, Serialize};
 use std::collections::VecDeque;
-use std::io::{BufRead, BufReader, BufWriter, Write};
-use std::process::{Child, ChildStdin, ChildStdout, Command, Stdio};
+use std::io::{BufRead, BufWriter, Write};
+use std::process::Command;
 use std::sync::Mutex;
 use std::time::Instant;
-
-/// The environment variable that sets llvmpipe's rasteriser threads.
-const RASTER_THREADS_ENV: &str = "LP_NUM_THREADS";
 
 /// Runs one point through the closed loop and returns its row. `overlap`: whether the
 /// loop overlaps each frame's physics with its rendering (see
@@ -115,56 +113,24 @@ pub fn serve_points(
 }
 
 /// A running worker process.
-struct Worker {
-    child: Child,
-    stdin: ChildStdin,
-    stdout: BufReader<ChildStdout>,
-}
+struct Worker(Child);
 
 impl Worker {
-    fn start(command: &mut Command) -> std::io::Result<Worker> {
-        if std::env::var_os(RASTER_THREADS_ENV).is_none() {
-            command.env(RASTER_THREADS_ENV, "0");
-        }
-        let mut child = command
-            .stdin(Stdio::piped())
-            .stdout(Stdio::piped())
-            .stderr(Stdio::inherit())
-            .spawn()?;
-        let (Some(stdin), Some(stdout)) = (child.stdin.take(), child.stdout.take()) else {
-            let _ = child.kill();
-            return Err(std::io::Error::other("the worker has no stdin or stdout"));
-        };
-        Ok(Worker {
-            child,
-            stdin,
-            stdout: BufReader::new(stdout),
-        })
-    }
-
     /// Sends a point and waits for its reply; `Err` when the worker is gone.
     fn ask(&mut self, point: &Point) -> Result<Reply, String> {
-        writeln!(self.stdin, "{} {}", point.index, point.id)
-            .and_then(|()| self.stdin.flush())
+        let child = &mut self.0;
+        child
+            .stdin()
+            .and_then(|stdin| {
+                writeln!(stdin, "{} {}", point.index, point.id)?;
+                stdin.flush()
+            })
             .map_err(|e| e.to_string())?;
         let mut line = String::new();
-        match self.stdout.read_line(&mut line) {
+        match child.stdout().read_line(&mut line) {
             Ok(0) => Err("it exited without an answer".into()),
             Ok(_) => serde_json::from_str(&line).map_err(|e| format!("unreadable answer: {e}")),
             Err(e) => Err(e.to_string()),
-        }
-    }
-
-    /// Closes its input (it exits when its queue ends) and waits for it; returns how it
-    /// ended.
-    fn finish(self) -> String {
-        let Worker {
-            mut child, stdin, ..
-        } = self;
-        drop(stdin);
-        match child.wait() {
-            Ok(status) => status.to_string(),
-            Err(e) => e.to_string(),
         }
     }
 }
@@ -202,8 +168,8 @@ pub fn run_points(
                     };
                     let mut worker = match current.take() {
                         Some(w) => w,
-                        None => match Worker::start(&mut spawn_worker()) {
-                            Ok(w) => w,
+                        None => match Child::spawn(&mut spawn_worker()) {
+                            Ok(child) => Worker(child),
                             Err(e) => {
                                 give_up(run_error(format!("cannot start a worker process: {e}")));
                                 break;
@@ -220,7 +186,7 @@ pub fn run_points(
                             Err(run_error(message))
                         }
                         Err(why) => {
-                            let status = worker.finish();
+                            let status = worker.0.finish();
                             Err(run_error(format!(
                                 "the worker process died ({status}): {why}"
                             )))
@@ -243,9 +209,8 @@ pub fn run_points(
                         }
                     }
                 }
-                if let Some(w) = current {
-                    w.finish();
-                }
+                // Dropping the worker closes its input and waits for it.
+                drop(current);
             });
         }
     });
