@@ -67,6 +67,10 @@ pub struct GapKeeperConfig {
     /// The braking the chase can count on in an emergency, m/s² (default 7.0 m/s²: the
     /// HMMWV's 0.8 g less a margin for the brake's build-up).
     pub own_emergency_decel_mps2: f32,
+    /// Below the RSS safe gap, a closing speed above this calls the emergency brake, m/s
+    /// (default 1.5 m/s: what the lead braking at 0.85 g from 35 km/h opens within 0.2 s;
+    /// 2.5 times the alarm filter's rate noise at 10 m).
+    pub emergency_closing_mps: f32,
 }
 
 impl Default for GapKeeperConfig {
@@ -87,6 +91,7 @@ impl Default for GapKeeperConfig {
             collision_braking_mps2: 1.0,
             assumed_lead_decel_mps2: 8.5,
             own_emergency_decel_mps2: 7.0,
+            emergency_closing_mps: 1.5,
         }
     }
 }
@@ -123,6 +128,12 @@ impl GapKeeperConfig {
             15.0,
         )?;
         check_range("max_speed_mps", f(self.max_speed_mps), 0.1, 60.0)?;
+        check_range(
+            "emergency_closing_mps",
+            f(self.emergency_closing_mps),
+            0.0,
+            100.0,
+        )?;
         check_range(
             "collision_braking_mps2",
             f(self.collision_braking_mps2),
@@ -185,13 +196,24 @@ impl GapKeeperConfig {
     }
 
     /// How threatening the gap `gap_m`, changing at `range_rate_mps`, is for the chase at
-    /// `speed_mps`.
+    /// `speed_mps`: an emergency when keeping the stop gap at the present closing speed
+    /// needs more than `max_decel_mps2` (or there is no room left), or when the gap is below
+    /// the RSS safe gap ([`GapKeeperConfig::safe_gap_m`]) *and* closing faster than
+    /// `emergency_closing_mps`: the lead is braking, and the test has to assume it brakes
+    /// hard, since the closing speed alone shows a hard stop too late.
+    ///
+    /// A gap below the safe gap that is not closing is no emergency: RSS's proper response
+    /// is to brake at a reasonable rate until the gap is safe again, which
+    /// [`GapKeeper::update`] does by never wanting less than the safe gap. (Slamming the
+    /// brakes there pitched the chassis 2°, and the camera with it, whenever the lead merely
+    /// slowed at a 5 m gap.)
     pub fn threat(&self, gap_m: f32, range_rate_mps: f32, speed_mps: f32) -> Threat {
         let required_decel_mps2 = self.required_decel_mps2(gap_m, range_rate_mps);
         let unsafe_gap = gap_m < self.safe_gap_m(speed_mps, speed_mps + range_rate_mps);
+        let closing = -range_rate_mps > self.emergency_closing_mps;
         Threat {
             required_decel_mps2,
-            emergency: unsafe_gap || required_decel_mps2 > self.max_decel_mps2,
+            emergency: required_decel_mps2 > self.max_decel_mps2 || (unsafe_gap && closing),
         }
     }
 
@@ -207,8 +229,8 @@ impl GapKeeperConfig {
 pub struct Threat {
     /// Deceleration needed to keep the stop gap at the present closing speed, m/s².
     pub required_decel_mps2: f32,
-    /// Whether to brake fully now: the gap is below the RSS safe gap, or keeping the stop
-    /// gap needs more than `max_decel_mps2`.
+    /// Whether to brake fully now: keeping the stop gap needs more than `max_decel_mps2`,
+    /// or the gap is below the RSS safe gap and closing fast.
     pub emergency: bool,
 }
 
@@ -221,7 +243,7 @@ pub struct SpeedCommand {
     pub accel_mps2: f32,
     /// Brake fully now.
     pub emergency: bool,
-    /// The wanted gap, m.
+    /// The wanted gap, m: the policy's, or the RSS safe gap when that is larger.
     pub desired_gap_m: f32,
 }
 
@@ -282,8 +304,11 @@ impl GapKeeper {
         dt_s: f32,
     ) -> SpeedCommand {
         let c = &self.config;
-        let desired_gap_m = c.desired_gap_m(speed_mps);
         let lead_speed = (speed_mps + range_rate_mps).max(0.0);
+        // Safety before the policy and its band: never aim closer than the RSS safe gap.
+        let desired_gap_m = c
+            .desired_gap_m(speed_mps)
+            .max(c.safe_gap_m(speed_mps, lead_speed));
         let required_decel_mps2 = threat.required_decel_mps2;
         let emergency_now = threat.emergency;
 
@@ -380,8 +405,37 @@ mod tests {
         assert!(!c.emergency_needed(10.0, -1.0, 10.0));
         assert!(c.emergency_needed(2.0, 0.0, 0.0));
         // Steady following at the default gap and 10 m/s is safe; a lead already 4 m/s
-        // slower at that gap is not (it could stop before the chase reacts).
+        // slower at 9 m may be stopping hard: inside the safe gap and closing.
         assert!(!c.emergency_needed(10.0, 0.0, 10.0));
         assert!(c.emergency_needed(9.0, -4.0, 10.0));
+        // Inside the safe gap but holding it: brake, no emergency.
+        assert!(c.safe_gap_m(7.0, 7.0) > 4.5);
+        assert!(!c.emergency_needed(4.5, 0.0, 7.0));
+        assert!(!c.emergency_needed(4.5, -1.0, 7.0));
+    }
+
+    #[test]
+    fn a_gap_below_the_safe_gap_is_opened_by_braking_not_slammed() {
+        let c = GapKeeperConfig {
+            policy: GapPolicy::ConstantDistance { gap_m: 4.5 },
+            min_gap_m: 4.0,
+            ..GapKeeperConfig::default()
+        };
+        // At 7 m/s behind a lead at 7 m/s the safe gap is above the policy's 4.5 m.
+        let safe = c.safe_gap_m(7.0, 7.0);
+        assert!(safe > 4.5, "safe gap {safe}");
+        let mut g = GapKeeper::new(c.clone(), 7.0).unwrap();
+        let dt = 1.0 / 120.0;
+        let mut cmd = g.update(4.5, 0.0, Threat::default(), 7.0, dt);
+        for _ in 0..120 {
+            cmd = g.update(4.5, 0.0, Threat::default(), 7.0, dt);
+            assert!(!cmd.emergency);
+        }
+        assert_eq!(cmd.desired_gap_m, safe);
+        assert!(cmd.accel_mps2 < -0.1, "not braking: {cmd:?}");
+        assert!(
+            cmd.accel_mps2 > -c.max_decel_mps2,
+            "braking too hard: {cmd:?}"
+        );
     }
 }

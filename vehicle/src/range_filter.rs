@@ -1,11 +1,45 @@
-//! An alpha–beta filter on the measured range to the lead: smooth range and range rate.
+//! An alpha–beta filter on the measured range to the lead: smooth range and range rate, with
+//! an innovation gate that keeps a single wild measurement out.
 
 /// Range and range rate from noisy, irregular range measurements.
 #[derive(Clone, Debug)]
 pub struct RangeFilter {
     alpha: f32,
     beta: f32,
+    gate: RangeGate,
     state: Option<RangeState>,
+    /// Measurements rejected in a row by the gate.
+    rejected_in_a_row: u32,
+}
+
+/// Which measurements the filter refuses: those further from its prediction than
+/// `max(min_m, fraction × predicted range)`, unless [`RangeGate::accept_after`] of them come
+/// in a row (then the range really has moved, and the filter follows).
+///
+/// The tracker's range comes from its scale (eq. 36), so one frame whose features were taken
+/// from background edges can move it by metres; closing on a braking lead moves it by
+/// centimetres a frame beyond the filter's prediction.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct RangeGate {
+    /// The gate as a fraction of the predicted range.
+    pub fraction: f32,
+    /// The smallest gate, m.
+    pub min_m: f32,
+    /// After this many rejections in a row the next measurement is taken whatever it says.
+    pub accept_after: u32,
+}
+
+impl RangeGate {
+    /// No gate: every measurement is taken.
+    pub const OPEN: RangeGate = RangeGate {
+        fraction: f32::INFINITY,
+        min_m: f32::INFINITY,
+        accept_after: 0,
+    };
+
+    fn width_m(&self, predicted_m: f32) -> f32 {
+        self.min_m.max(self.fraction * predicted_m.abs())
+    }
 }
 
 /// The filter's estimate at one capture time.
@@ -20,17 +54,25 @@ pub struct RangeState {
 }
 
 impl RangeFilter {
-    /// A filter with gains `alpha` (position) and `beta` (rate), both in (0, 1].
+    /// A filter with gains `alpha` (position) and `beta` (rate), both in (0, 1], that takes
+    /// every measurement.
     pub fn new(alpha: f32, beta: f32) -> RangeFilter {
+        RangeFilter::gated(alpha, beta, RangeGate::OPEN)
+    }
+
+    /// A filter with gains `alpha` and `beta` and the innovation gate `gate`.
+    pub fn gated(alpha: f32, beta: f32, gate: RangeGate) -> RangeFilter {
         RangeFilter {
             alpha,
             beta,
+            gate,
             state: None,
+            rejected_in_a_row: 0,
         }
     }
 
     /// Folds in the range `range_m` measured at `time_s`; returns the new estimate.
-    /// Measurements not later than the last are ignored.
+    /// Measurements not later than the last are ignored, and so are those the gate refuses.
     pub fn update(&mut self, time_s: f64, range_m: f32) -> RangeState {
         let next = match self.state {
             None => RangeState {
@@ -43,6 +85,13 @@ impl RangeFilter {
                 let dt = (time_s - s.time_s) as f32;
                 let predicted = s.range_m + s.range_rate_mps * dt;
                 let residual = range_m - predicted;
+                if residual.abs() > self.gate.width_m(predicted)
+                    && self.rejected_in_a_row < self.gate.accept_after
+                {
+                    self.rejected_in_a_row += 1;
+                    return s;
+                }
+                self.rejected_in_a_row = 0;
                 RangeState {
                     time_s,
                     range_m: predicted + self.alpha * residual,
@@ -62,12 +111,19 @@ impl RangeFilter {
     /// Forgets everything (after a loss).
     pub fn reset(&mut self) {
         self.state = None;
+        self.rejected_in_a_row = 0;
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    const GATE: RangeGate = RangeGate {
+        fraction: 0.12,
+        min_m: 0.75,
+        accept_after: 3,
+    };
 
     #[test]
     fn tracks_a_constant_closing_rate() {
@@ -78,5 +134,40 @@ mod tests {
             s = f.update(t, 20.0 - 2.0 * t as f32);
         }
         assert!((s.range_rate_mps + 2.0).abs() < 0.01, "{s:?}");
+    }
+
+    #[test]
+    fn the_gate_passes_a_lead_braking_at_0_85_g() {
+        // Both at 10 m/s, 12 m apart; the lead brakes at 8.34 m/s² from t = 1 s.
+        let (mut gated, mut open) = (
+            RangeFilter::gated(0.6, 0.35, GATE),
+            RangeFilter::new(0.6, 0.35),
+        );
+        for i in 0..45 {
+            let t = f64::from(i) / 15.0;
+            let braking = (t - 1.0).max(0.0) as f32;
+            let range = 12.0 - 0.5 * 8.34 * braking * braking;
+            assert_eq!(gated.update(t, range), open.update(t, range), "at {t} s");
+        }
+    }
+
+    #[test]
+    fn the_gate_drops_one_wild_measurement_and_follows_a_real_jump() {
+        let mut f = RangeFilter::gated(0.6, 0.35, GATE);
+        for i in 0..30 {
+            f.update(f64::from(i) / 15.0, 14.0);
+        }
+        // One frame says 11.5 m: refused, the estimate stays.
+        let s = f.update(2.0, 11.5);
+        assert_eq!((s.range_m, s.range_rate_mps), (14.0, 0.0));
+        let s = f.update(2.0 + 1.0 / 15.0, 14.0);
+        assert_eq!((s.range_m, s.range_rate_mps), (14.0, 0.0));
+        // Four frames in a row say 11.5 m: the fourth is taken.
+        for k in 2..5 {
+            let s = f.update(2.0 + f64::from(k) / 15.0, 11.5);
+            assert_eq!(s.range_m, 14.0, "frame {k}");
+        }
+        let s = f.update(2.0 + 5.0 / 15.0, 11.5);
+        assert!(s.range_m < 13.0, "{s:?}");
     }
 }
