@@ -229,8 +229,8 @@ fn sum_where(records: &[FrameRecord], weights: &[f64], f: &dyn Fn(&FrameRecord) 
         .iter()
         .zip(weights)
         .filter(|(r, _)| f(r))
-        .map(|(_, w)| w)
-        .sum()
+        // Folded from +0.0: `Sum` for floats starts at -0.0, which would print as "-0.0 s".
+        .fold(0.0, |total, (_, w)| total + w)
 }
 
 /// Number of maximal runs of `true`.
@@ -461,6 +461,9 @@ mod tests {
         rs[4].gap_m = 15.0;
         let s = Summary::compute("x", 1, &rs, &expect, 1.0);
         assert_eq!(s.time_outside_gap_band_s, 0.0);
+        // A positive zero: summary.json and the messages say "0.00 s", not "-0.00 s".
+        assert!(s.time_outside_gap_band_s.is_sign_positive());
+        assert!(s.tracking_lost_s.is_sign_positive());
         assert!(s.passed, "{:?}", s.failures);
     }
 
