@@ -16,7 +16,7 @@ use crate::gap_keeper::{GapKeeper, GapKeeperConfig, Threat};
 use crate::lead_estimate::{LeadEstimate, TrackStatus};
 use crate::pose_history::PoseHistory;
 use crate::pure_pursuit::{curvature_toward, lookahead_point, steer_for_curvature, LookAhead};
-use crate::range_filter::{RangeFilter, RangeGate};
+use crate::range_filter::{Gains, RangeFilter, RangeGate};
 use crate::speed_controller::{SpeedController, SpeedGains};
 use crate::speed_profile::{ProfileBasis, SpeedProfile};
 use crate::vehicle_params::VehicleParams;
@@ -73,14 +73,14 @@ pub struct ChaseControllerConfig {
     /// chatter, and every brake pitches the camera. At 0.15, the tracker's ±0.5 m of range
     /// noise at 15 m made the gap hunt between 15 and 24 m.)
     pub range_beta: f32,
-    /// Alarm range filter gain on position (default 0.6). This second filter only feeds
-    /// the emergency-brake test.
-    pub alarm_range_alpha: f32,
-    /// Alarm range filter gain on rate (default 0.2: the closing speed shows within a few
-    /// frames when the lead brakes hard. At 0.35 the tracker's range noise at 14 m gave
-    /// closing speeds of several m/s out of nothing, and full brakes that pitched the
-    /// target out of the tracker's window.)
-    pub alarm_range_beta: f32,
+    /// Tracking index of the alarm range filter at 10 m (default 0.6, gains α = 0.66 and
+    /// β = 0.35 there). This second filter only feeds the emergency-brake test, so it must
+    /// show a lead's hard braking within a few frames; its gains follow the tracker's range
+    /// noise, which grows as the square of the range ([`Gains::TrackingIndex`]): β is 0.85
+    /// at 5 m and 0.19 at 15 m. (Fixed at 10 m's gains, the noise at 14 m gave closing
+    /// speeds of several m/s out of nothing, and full brakes that pitched the target out of
+    /// the tracker's window.)
+    pub alarm_tracking_index: f32,
     /// Both range filters refuse a measurement further than this fraction of the predicted
     /// range from their prediction (default 0.08: some eight times the tracker's range
     /// noise. One frame of background edges taken for features can put the scale 16 % off;
@@ -90,6 +90,9 @@ pub struct ChaseControllerConfig {
     /// The smallest gate, m (default 0.5 m).
     pub range_gate_min_m: f32,
 }
+
+/// The range at which `alarm_tracking_index` holds, m: the middle of the paper's 5–15 m.
+const ALARM_REFERENCE_RANGE_M: f32 = 10.0;
 
 /// After this many gated measurements in a row the range filters take the next one: the
 /// range has really moved (three frames, 0.2 s).
@@ -110,8 +113,7 @@ impl Default for ChaseControllerConfig {
             max_breadcrumbs: 2000,
             range_alpha: 0.6,
             range_beta: 0.05,
-            alarm_range_alpha: 0.6,
-            alarm_range_beta: 0.2,
+            alarm_tracking_index: 0.6,
             range_gate_fraction: 0.08,
             range_gate_min_m: 0.5,
         }
@@ -218,16 +220,10 @@ impl ChaseController {
         check_range("range_alpha", f64::from(config.range_alpha), 0.01, 1.0)?;
         check_range("range_beta", f64::from(config.range_beta), 0.0, 1.0)?;
         check_range(
-            "alarm_range_alpha",
-            f64::from(config.alarm_range_alpha),
-            0.01,
-            1.0,
-        )?;
-        check_range(
-            "alarm_range_beta",
-            f64::from(config.alarm_range_beta),
-            0.0,
-            1.0,
+            "alarm_tracking_index",
+            f64::from(config.alarm_tracking_index),
+            0.001,
+            100.0,
         )?;
         check_range(
             "range_gate_fraction",
@@ -257,10 +253,18 @@ impl ChaseController {
             history: PoseHistory::new(steps_from_ms(config.pose_history_ms) as usize),
             pending: Vec::new(),
             trail: BreadcrumbTrail::new(config.breadcrumb_spacing_m, config.max_breadcrumbs),
-            range: RangeFilter::gated(config.range_alpha, config.range_beta, gate),
+            range: RangeFilter::gated(
+                Gains::Fixed {
+                    alpha: config.range_alpha,
+                    beta: config.range_beta,
+                },
+                gate,
+            ),
             alarm_range: RangeFilter::gated(
-                config.alarm_range_alpha,
-                config.alarm_range_beta,
+                Gains::TrackingIndex {
+                    index_at_reference: config.alarm_tracking_index,
+                    reference_m: ALARM_REFERENCE_RANGE_M,
+                },
                 gate,
             ),
             gap_keeper,

@@ -68,8 +68,9 @@ pub struct GapKeeperConfig {
     /// HMMWV's 0.8 g less a margin for the brake's build-up).
     pub own_emergency_decel_mps2: f32,
     /// Below the RSS safe gap, a closing speed above this calls the emergency brake, m/s
-    /// (default 1.5 m/s: what the lead braking at 0.85 g from 35 km/h opens within 0.2 s;
-    /// 2.5 times the alarm filter's rate noise at 10 m).
+    /// (default 2.5 m/s: what the lead braking at 0.85 g opens within 0.3 s; about four
+    /// times the alarm filter's rate noise at 10 m with 1 % range noise, which a lead merely
+    /// slowing for a bend reached at 1.5 m/s).
     pub emergency_closing_mps: f32,
 }
 
@@ -91,7 +92,7 @@ impl Default for GapKeeperConfig {
             collision_braking_mps2: 1.0,
             assumed_lead_decel_mps2: 8.5,
             own_emergency_decel_mps2: 7.0,
-            emergency_closing_mps: 1.5,
+            emergency_closing_mps: 2.5,
         }
     }
 }

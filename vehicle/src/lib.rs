@@ -96,7 +96,7 @@ pub use pose_history::PoseHistory;
 pub use pure_pursuit::{
     curvature_to, curvature_toward, lookahead_point, steer_for_curvature, LookAhead,
 };
-pub use range_filter::{RangeFilter, RangeGate, RangeState};
+pub use range_filter::{Gains, RangeFilter, RangeGate, RangeState};
 pub use ray_cast_vehicle::{Vehicle, VehicleState};
 pub use rng_stream::{fnv1a64, named_stream};
 pub use route::{direction_heading, heading_direction, Route, RouteBuilder, RouteProjection};

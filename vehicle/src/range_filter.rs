@@ -4,12 +4,54 @@
 /// Range and range rate from noisy, irregular range measurements.
 #[derive(Clone, Debug)]
 pub struct RangeFilter {
-    alpha: f32,
-    beta: f32,
+    gains: Gains,
     gate: RangeGate,
     state: Option<RangeState>,
     /// Measurements rejected in a row by the gate.
     rejected_in_a_row: u32,
+}
+
+/// How the filter weighs a new measurement.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub enum Gains {
+    /// The same gains at every range.
+    Fixed {
+        /// Gain on position, in (0, 1].
+        alpha: f32,
+        /// Gain on rate, in [0, 1].
+        beta: f32,
+    },
+    /// The steady-state Kalman gains (Kalata 1984) for the tracking index
+    /// `Λ = σ_accel T² / σ_range`, with the range noise growing as the square of the range:
+    /// `Λ(r) = index_at_reference × (reference_m / r)²`. The tracker measures range through
+    /// its scale (eq. 36), whose error in pixels hardly depends on the range, so the range's
+    /// error grows as its square: a filter quick at 5 m is twitchy at 15 m.
+    TrackingIndex {
+        /// Λ at `reference_m`.
+        index_at_reference: f32,
+        /// The range where Λ is `index_at_reference`, m.
+        reference_m: f32,
+    },
+}
+
+impl Gains {
+    /// `(alpha, beta)` for a measurement predicted at `range_m`.
+    pub fn at(&self, range_m: f32) -> (f32, f32) {
+        match *self {
+            Gains::Fixed { alpha, beta } => (alpha, beta),
+            Gains::TrackingIndex {
+                index_at_reference,
+                reference_m,
+            } => {
+                let ratio = reference_m / range_m.max(0.1 * reference_m);
+                let index = f64::from(index_at_reference * ratio * ratio);
+                let r = (4.0 + index - (8.0 * index + index * index).sqrt()) / 4.0;
+                let alpha = 1.0 - r * r;
+                let beta = 2.0 * (2.0 - alpha) - 4.0 * (1.0 - alpha).sqrt();
+                (alpha as f32, beta as f32)
+            }
+        }
+    }
 }
 
 /// Which measurements the filter refuses: those further from its prediction than
@@ -57,14 +99,13 @@ impl RangeFilter {
     /// A filter with gains `alpha` (position) and `beta` (rate), both in (0, 1], that takes
     /// every measurement.
     pub fn new(alpha: f32, beta: f32) -> RangeFilter {
-        RangeFilter::gated(alpha, beta, RangeGate::OPEN)
+        RangeFilter::gated(Gains::Fixed { alpha, beta }, RangeGate::OPEN)
     }
 
-    /// A filter with gains `alpha` and `beta` and the innovation gate `gate`.
-    pub fn gated(alpha: f32, beta: f32, gate: RangeGate) -> RangeFilter {
+    /// A filter with `gains` and the innovation gate `gate`.
+    pub fn gated(gains: Gains, gate: RangeGate) -> RangeFilter {
         RangeFilter {
-            alpha,
-            beta,
+            gains,
             gate,
             state: None,
             rejected_in_a_row: 0,
@@ -92,10 +133,11 @@ impl RangeFilter {
                     return s;
                 }
                 self.rejected_in_a_row = 0;
+                let (alpha, beta) = self.gains.at(predicted);
                 RangeState {
                     time_s,
-                    range_m: predicted + self.alpha * residual,
-                    range_rate_mps: s.range_rate_mps + self.beta * residual / dt,
+                    range_m: predicted + alpha * residual,
+                    range_rate_mps: s.range_rate_mps + beta * residual / dt,
                 }
             }
         };
@@ -139,10 +181,11 @@ mod tests {
     #[test]
     fn the_gate_passes_a_lead_braking_at_0_85_g() {
         // Both at 10 m/s, 12 m apart; the lead brakes at 8.34 m/s² from t = 1 s.
-        let (mut gated, mut open) = (
-            RangeFilter::gated(0.6, 0.35, GATE),
-            RangeFilter::new(0.6, 0.35),
-        );
+        let gains = Gains::Fixed {
+            alpha: 0.6,
+            beta: 0.35,
+        };
+        let (mut gated, mut open) = (RangeFilter::gated(gains, GATE), RangeFilter::new(0.6, 0.35));
         for i in 0..45 {
             let t = f64::from(i) / 15.0;
             let braking = (t - 1.0).max(0.0) as f32;
@@ -153,7 +196,13 @@ mod tests {
 
     #[test]
     fn the_gate_drops_one_wild_measurement_and_follows_a_real_jump() {
-        let mut f = RangeFilter::gated(0.6, 0.35, GATE);
+        let mut f = RangeFilter::gated(
+            Gains::Fixed {
+                alpha: 0.6,
+                beta: 0.35,
+            },
+            GATE,
+        );
         for i in 0..30 {
             f.update(f64::from(i) / 15.0, 14.0);
         }
@@ -169,5 +218,19 @@ mod tests {
         }
         let s = f.update(2.0 + 5.0 / 15.0, 11.5);
         assert!(s.range_m < 13.0, "{s:?}");
+    }
+
+    #[test]
+    fn tracking_index_gains_match_kalatas_table_and_soften_with_range() {
+        let gains = Gains::TrackingIndex {
+            index_at_reference: 1.0,
+            reference_m: 10.0,
+        };
+        // Kalata's closed form at Λ = 1: r = (5 - 3) / 4, α = 0.75, β = 0.5.
+        let (a, b) = gains.at(10.0);
+        assert!((a - 0.75).abs() < 1e-6 && (b - 0.5).abs() < 1e-6, "{a} {b}");
+        let (near, far) = (gains.at(5.0), gains.at(15.0));
+        assert!(near.0 > a && near.1 > b, "{near:?}");
+        assert!(far.0 < a && far.1 < b, "{far:?}");
     }
 }
