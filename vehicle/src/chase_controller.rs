@@ -14,7 +14,7 @@ use crate::controls::Controls;
 use crate::error::{check_range, VehicleError};
 use crate::gap_keeper::{GapKeeper, GapKeeperConfig, Threat};
 use crate::lead_estimate::{LeadEstimate, TrackStatus};
-use crate::pose_history::PoseHistory;
+use crate::pose_history::{OwnMotion, PoseHistory};
 use crate::pure_pursuit::{curvature_toward, lookahead_point, steer_for_curvature, LookAhead};
 use crate::range_filter::{Gains, RangeFilter, RangeGate};
 use crate::speed_controller::{SpeedController, SpeedGains};
@@ -66,13 +66,14 @@ pub struct ChaseControllerConfig {
     pub breadcrumb_spacing_m: f32,
     /// Most breadcrumbs kept (default 2,000: 500 m of path).
     pub max_breadcrumbs: usize,
-    /// Gap-keeping range filter gain on position (default 0.6).
-    pub range_alpha: f32,
-    /// Gap-keeping range filter gain on rate (default 0.05: smooth. The gap keeper takes
-    /// the lead's speed as its own plus this rate, so rate noise becomes throttle and brake
-    /// chatter, and every brake pitches the camera. At 0.15, the tracker's ±0.5 m of range
-    /// noise at 15 m made the gap hunt between 15 and 24 m.)
-    pub range_beta: f32,
+    /// Tracking index of the gap-keeping range filter at 10 m (default 0.21: gains α = 0.47
+    /// and β = 0.15 there, 0.35 and 0.075 at 15 m). The gap keeper takes the lead's speed as
+    /// its own plus this filter's rate, so rate noise becomes throttle and brake chatter, and
+    /// every brake pitches the camera; but a slow rate lags, and the gap oscillates. The
+    /// gains follow the tracker's range noise, which grows as the square of the range
+    /// ([`Gains::TrackingIndex`]). (With β = 0.15 at every range, the noise at 15 m made the
+    /// gap hunt between 15 and 24 m; with β = 0.05, it swung ±0.6 m every 4 s at 10 m.)
+    pub range_tracking_index: f32,
     /// Tracking index of the alarm range filter at 10 m (default 0.6, gains α = 0.66 and
     /// β = 0.35 there). This second filter only feeds the emergency-brake test, so it must
     /// show a lead's hard braking within a few frames; its gains follow the tracker's range
@@ -91,8 +92,9 @@ pub struct ChaseControllerConfig {
     pub range_gate_min_m: f32,
 }
 
-/// The range at which `alarm_tracking_index` holds, m: the middle of the paper's 5–15 m.
-const ALARM_REFERENCE_RANGE_M: f32 = 10.0;
+/// The range at which the range filters' tracking indices hold, m: the middle of the
+/// paper's 5–15 m.
+const REFERENCE_RANGE_M: f32 = 10.0;
 
 /// After this many gated measurements in a row the range filters take the next one: the
 /// range has really moved (three frames, 0.2 s).
@@ -111,8 +113,7 @@ impl Default for ChaseControllerConfig {
             pose_history_ms: 2000.0,
             breadcrumb_spacing_m: 0.25,
             max_breadcrumbs: 2000,
-            range_alpha: 0.6,
-            range_beta: 0.05,
+            range_tracking_index: 0.21,
             alarm_tracking_index: 0.6,
             range_gate_fraction: 0.08,
             range_gate_min_m: 0.5,
@@ -217,8 +218,12 @@ impl ChaseController {
             0.0,
             10.0,
         )?;
-        check_range("range_alpha", f64::from(config.range_alpha), 0.01, 1.0)?;
-        check_range("range_beta", f64::from(config.range_beta), 0.0, 1.0)?;
+        check_range(
+            "range_tracking_index",
+            f64::from(config.range_tracking_index),
+            0.001,
+            100.0,
+        )?;
         check_range(
             "alarm_tracking_index",
             f64::from(config.alarm_tracking_index),
@@ -254,16 +259,16 @@ impl ChaseController {
             pending: Vec::new(),
             trail: BreadcrumbTrail::new(config.breadcrumb_spacing_m, config.max_breadcrumbs),
             range: RangeFilter::gated(
-                Gains::Fixed {
-                    alpha: config.range_alpha,
-                    beta: config.range_beta,
+                Gains::TrackingIndex {
+                    index_at_reference: config.range_tracking_index,
+                    reference_m: REFERENCE_RANGE_M,
                 },
                 gate,
             ),
             alarm_range: RangeFilter::gated(
                 Gains::TrackingIndex {
                     index_at_reference: config.alarm_tracking_index,
-                    reference_m: ALARM_REFERENCE_RANGE_M,
+                    reference_m: REFERENCE_RANGE_M,
                 },
                 gate,
             ),
@@ -333,8 +338,7 @@ impl ChaseController {
             if estimate.status == TrackStatus::Lost {
                 continue;
             }
-            let Some(world_from_chase) = self.history.world_from_vehicle_at(estimate.capture_step)
-            else {
+            let Some((world_from_chase, own)) = self.history.at(estimate.capture_step) else {
                 self.log(
                     now,
                     ControllerEventKind::EstimateTooOld {
@@ -349,9 +353,9 @@ impl ChaseController {
             let camera = self.vehicle_from_camera.translation;
             let gap =
                 ((in_vehicle.x - camera.x).powi(2) + (in_vehicle.z - camera.z).powi(2)).sqrt();
-            self.range.update(estimate.capture_step.seconds(), gap);
-            self.alarm_range
-                .update(estimate.capture_step.seconds(), gap);
+            let captured_s = estimate.capture_step.seconds();
+            self.range.update(captured_s, gap, own);
+            self.alarm_range.update(captured_s, gap, own);
             self.trail.drop_crumb(Breadcrumb {
                 capture_step: estimate.capture_step,
                 position_world_m: world_from_chase.transform_point(in_vehicle),
@@ -368,7 +372,11 @@ impl ChaseController {
         let dt = PHYSICS_DT_S;
         let started = *self.started.get_or_insert(now);
         self.odometer_m += v.max(0.0) * dt;
-        self.history.push(now, odometry.world_from_chase);
+        let own = OwnMotion {
+            travel_m: self.odometer_m,
+            speed_mps: v,
+        };
+        self.history.push(now, odometry.world_from_chase, own);
         let fresh = self.absorb_pending(now);
 
         // Loss handling.
@@ -410,15 +418,13 @@ impl ChaseController {
         let steer_rad = steer_for_curvature(curvature, self.wheelbase_m)
             .clamp(-self.max_steer_rad, self.max_steer_rad);
 
-        // Gap now: the latest range carried forward over its latency.
+        // Gap now: the latest range carried forward over its latency, the lead at its
+        // estimated speed and the chase as its odometry says; the range rate now.
         let carried = |s: Option<crate::range_filter::RangeState>| match s {
-            Some(s) => {
-                let age = (now.seconds() - s.time_s) as f32;
-                (
-                    Some(s.range_m + s.range_rate_mps * age),
-                    Some(s.range_rate_mps),
-                )
-            }
+            Some(s) => (
+                Some(s.range_at(now.seconds(), own)),
+                Some(s.lead_speed_mps - v),
+            ),
             None => (None, None),
         };
         let (gap_m, range_rate) = carried(self.range.state());

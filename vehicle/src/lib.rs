@@ -92,7 +92,7 @@ pub use gap_keeper::{GapKeeper, GapKeeperConfig, GapPolicy, SpeedCommand, Threat
 pub use ground::{BumpsConfig, Ground, GroundConfig};
 pub use lead_driver::{LeadDriver, LeadDriverConfig};
 pub use lead_estimate::{LeadEstimate, TrackStatus};
-pub use pose_history::PoseHistory;
+pub use pose_history::{OwnMotion, PoseHistory};
 pub use pure_pursuit::{
     curvature_to, curvature_toward, lookahead_point, steer_for_curvature, LookAhead,
 };

@@ -1,7 +1,16 @@
-//! An alpha–beta filter on the measured range to the lead: smooth range and range rate, with
-//! an innovation gate that keeps a single wild measurement out.
+//! An alpha–beta filter on the lead's motion, from measured ranges and the chase vehicle's
+//! own odometry: smooth range and lead speed, with an innovation gate that keeps a single
+//! wild measurement out.
+//!
+//! It filters where the lead is along the way (own distance driven plus range), not the
+//! range itself. The range changes as fast as the chase vehicle's own speed does, which the
+//! controller sets and the odometry knows exactly; a filter on the range would lag behind
+//! the controller's own actions, and the gap keeper that uses it would oscillate. The lead's
+//! motion changes only as the lead drives.
 
-/// Range and range rate from noisy, irregular range measurements.
+use crate::pose_history::OwnMotion;
+
+/// Range and the lead's speed from noisy, irregular range measurements.
 #[derive(Clone, Debug)]
 pub struct RangeFilter {
     gains: Gains,
@@ -89,10 +98,26 @@ impl RangeGate {
 pub struct RangeState {
     /// Capture time of the last measurement, s.
     pub time_s: f64,
-    /// Range, m.
+    /// Range then, m.
     pub range_m: f32,
-    /// Range rate, m/s (negative when closing).
-    pub range_rate_mps: f32,
+    /// The lead's speed then, m/s.
+    pub lead_speed_mps: f32,
+    /// The chase vehicle's own motion then.
+    pub own: OwnMotion,
+}
+
+impl RangeState {
+    /// Range rate then, m/s (negative when closing).
+    pub fn range_rate_mps(&self) -> f32 {
+        self.lead_speed_mps - self.own.speed_mps
+    }
+
+    /// The range carried forward to a later moment, when the chase vehicle's motion is
+    /// `own_now` (the lead keeps its speed).
+    pub fn range_at(&self, time_s: f64, own_now: OwnMotion) -> f32 {
+        let age = (time_s - self.time_s) as f32;
+        self.range_m + self.lead_speed_mps * age - (own_now.travel_m - self.own.travel_m)
+    }
 }
 
 impl RangeFilter {
@@ -112,19 +137,22 @@ impl RangeFilter {
         }
     }
 
-    /// Folds in the range `range_m` measured at `time_s`; returns the new estimate.
-    /// Measurements not later than the last are ignored, and so are those the gate refuses.
-    pub fn update(&mut self, time_s: f64, range_m: f32) -> RangeState {
+    /// Folds in the range `range_m` measured at `time_s`, when the chase vehicle's own
+    /// motion was `own`; returns the new estimate. The first measurement takes the lead's
+    /// speed to be the chase vehicle's. Measurements not later than the last are ignored, and
+    /// so are those the gate refuses.
+    pub fn update(&mut self, time_s: f64, range_m: f32, own: OwnMotion) -> RangeState {
         let next = match self.state {
             None => RangeState {
                 time_s,
                 range_m,
-                range_rate_mps: 0.0,
+                lead_speed_mps: own.speed_mps,
+                own,
             },
             Some(s) if time_s <= s.time_s => s,
             Some(s) => {
                 let dt = (time_s - s.time_s) as f32;
-                let predicted = s.range_m + s.range_rate_mps * dt;
+                let predicted = s.range_at(time_s, own);
                 let residual = range_m - predicted;
                 if residual.abs() > self.gate.width_m(predicted)
                     && self.rejected_in_a_row < self.gate.accept_after
@@ -137,7 +165,8 @@ impl RangeFilter {
                 RangeState {
                     time_s,
                     range_m: predicted + alpha * residual,
-                    range_rate_mps: s.range_rate_mps + beta * residual / dt,
+                    lead_speed_mps: s.lead_speed_mps + beta * residual / dt,
+                    own,
                 }
             }
         };
@@ -167,15 +196,48 @@ mod tests {
         accept_after: 3,
     };
 
+    /// The chase standing still.
+    const STILL: OwnMotion = OwnMotion {
+        travel_m: 0.0,
+        speed_mps: 0.0,
+    };
+
+    /// The chase at `t` seconds into a 1.5 m/s² acceleration from 8 m/s.
+    fn accelerating(t: f64) -> OwnMotion {
+        let t = t as f32;
+        OwnMotion {
+            travel_m: 8.0 * t + 0.75 * t * t,
+            speed_mps: 8.0 + 1.5 * t,
+        }
+    }
+
     #[test]
     fn tracks_a_constant_closing_rate() {
         let mut f = RangeFilter::new(0.6, 0.3);
-        let mut s = f.update(0.0, 20.0);
+        let mut s = f.update(0.0, 20.0, STILL);
         for i in 1..60 {
             let t = f64::from(i) / 15.0;
-            s = f.update(t, 20.0 - 2.0 * t as f32);
+            s = f.update(t, 20.0 - 2.0 * t as f32, STILL);
         }
-        assert!((s.range_rate_mps + 2.0).abs() < 0.01, "{s:?}");
+        assert!((s.range_rate_mps() + 2.0).abs() < 0.01, "{s:?}");
+    }
+
+    #[test]
+    fn the_chase_vehicles_own_acceleration_does_not_lag() {
+        // The lead holds 8 m/s; the chase speeds up from 8 m/s at 1.5 m/s². A filter on the
+        // range itself would lag the closing rate by about a second at these gains.
+        let mut f = RangeFilter::new(0.3, 0.05);
+        let mut s = f.update(0.0, 12.0, accelerating(0.0));
+        for i in 1..30 {
+            let t = f64::from(i) / 15.0;
+            let own = accelerating(t);
+            s = f.update(t, 12.0 + 8.0 * t as f32 - own.travel_m, own);
+            assert!((s.lead_speed_mps - 8.0).abs() < 1e-3, "at {t} s: {s:?}");
+            assert!(
+                (s.range_rate_mps() + 1.5 * t as f32).abs() < 1e-3,
+                "at {t} s: {s:?}"
+            );
+        }
     }
 
     #[test]
@@ -186,11 +248,19 @@ mod tests {
             beta: 0.35,
         };
         let (mut gated, mut open) = (RangeFilter::gated(gains, GATE), RangeFilter::new(0.6, 0.35));
+        let own = |t: f64| OwnMotion {
+            travel_m: 10.0 * t as f32,
+            speed_mps: 10.0,
+        };
         for i in 0..45 {
             let t = f64::from(i) / 15.0;
             let braking = (t - 1.0).max(0.0) as f32;
             let range = 12.0 - 0.5 * 8.34 * braking * braking;
-            assert_eq!(gated.update(t, range), open.update(t, range), "at {t} s");
+            assert_eq!(
+                gated.update(t, range, own(t)),
+                open.update(t, range, own(t)),
+                "at {t} s"
+            );
         }
     }
 
@@ -204,19 +274,19 @@ mod tests {
             GATE,
         );
         for i in 0..30 {
-            f.update(f64::from(i) / 15.0, 14.0);
+            f.update(f64::from(i) / 15.0, 14.0, STILL);
         }
         // One frame says 11.5 m: refused, the estimate stays.
-        let s = f.update(2.0, 11.5);
-        assert_eq!((s.range_m, s.range_rate_mps), (14.0, 0.0));
-        let s = f.update(2.0 + 1.0 / 15.0, 14.0);
-        assert_eq!((s.range_m, s.range_rate_mps), (14.0, 0.0));
+        let s = f.update(2.0, 11.5, STILL);
+        assert_eq!((s.range_m, s.lead_speed_mps), (14.0, 0.0));
+        let s = f.update(2.0 + 1.0 / 15.0, 14.0, STILL);
+        assert_eq!((s.range_m, s.lead_speed_mps), (14.0, 0.0));
         // Four frames in a row say 11.5 m: the fourth is taken.
         for k in 2..5 {
-            let s = f.update(2.0 + f64::from(k) / 15.0, 11.5);
+            let s = f.update(2.0 + f64::from(k) / 15.0, 11.5, STILL);
             assert_eq!(s.range_m, 14.0, "frame {k}");
         }
-        let s = f.update(2.0 + 5.0 / 15.0, 11.5);
+        let s = f.update(2.0 + 5.0 / 15.0, 11.5, STILL);
         assert!(s.range_m < 13.0, "{s:?}");
     }
 
