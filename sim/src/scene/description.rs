@@ -152,12 +152,13 @@ pub struct LeadVehicle {
 }
 
 impl Default for LeadVehicle {
-    /// A small box truck: 5 m long, 2.2 m wide, 2.7 m tall; the board's centre at 1.6 m so
-    /// the shipped 1.8 × 1.2 m board fits on the back door.
+    /// A small box truck: 5 m long, 2.5 m wide, 2.7 m tall; the board's centre at 1.6 m so
+    /// the shipped target's 2.3 × 1.7 m board (its 1.6 × 1.0 m frame and the board's margin,
+    /// `tracker::paint::BOARD_MARGIN_M`) fits on the back door.
     fn default() -> Self {
         LeadVehicle {
             length_m: 5.0,
-            width_m: 2.2,
+            width_m: 2.5,
             height_m: 2.7,
             board_centre_height_m: 1.6,
         }
