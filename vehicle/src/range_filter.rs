@@ -227,11 +227,11 @@ mod tests {
         // The lead holds 8 m/s; the chase speeds up from 8 m/s at 1.5 m/s². A filter on the
         // range itself would lag the closing rate by about a second at these gains.
         let mut f = RangeFilter::new(0.3, 0.05);
-        let mut s = f.update(0.0, 12.0, accelerating(0.0));
+        f.update(0.0, 12.0, accelerating(0.0));
         for i in 1..30 {
             let t = f64::from(i) / 15.0;
             let own = accelerating(t);
-            s = f.update(t, 12.0 + 8.0 * t as f32 - own.travel_m, own);
+            let s = f.update(t, 12.0 + 8.0 * t as f32 - own.travel_m, own);
             assert!((s.lead_speed_mps - 8.0).abs() < 1e-3, "at {t} s: {s:?}");
             assert!(
                 (s.range_rate_mps() + 1.5 * t as f32).abs() < 1e-3,
