@@ -31,10 +31,18 @@ pub struct RenderArgs {
     /// primary. Overrides the WGPU_BACKEND environment variable.
     #[arg(long)]
     pub backend: Option<String>,
-    /// Scenario seed (clutter placement and sensor noise).
-    #[arg(long, default_value_t = 1)]
-    pub seed: u64,
+    /// Seed (clutter placement and sensor noise): the built-in scene's (default 1), or one
+    /// that replaces the scenario's, as `--set seed=N` would.
+    #[arg(long)]
+    pub seed: Option<u64>,
+    /// With SCENARIO: override a field by its dotted path, e.g. --set tracker.lambda=0.7
+    /// (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
 }
+
+/// The built-in scene's seed when `--seed` is not given.
+const BUILTIN_SEED: u64 = 1;
 
 /// Frame period used to turn `--time` into a frame index for the noise stream: the camera's
 /// 15 Hz (paper section 3).
@@ -51,8 +59,11 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
     if let Some(path) = &args.scenario {
         return render_scenario(path, &args);
     }
+    if let Some(set) = args.set.first() {
+        bail!("--set {set}: overrides need a SCENARIO file; the built-in scene takes only --seed");
+    }
     let backend = Backend::choose(args.backend.as_deref())?;
-    let description = builtin_description(builtin_target(), args.seed);
+    let description = builtin_description(builtin_target(), args.seed.unwrap_or(BUILTIN_SEED));
     let scene = Scene::build(description).context("building the built-in scene")?;
     let rig = CameraRig::default();
     let options = RenderOptions {
@@ -91,7 +102,11 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
 
 /// The frame at `args.time` of a scenario's closed-loop run.
 fn render_scenario(path: &std::path::Path, args: &RenderArgs) -> anyhow::Result<()> {
-    let scenario = sim::scenario::Scenario::load(path, &[])?;
+    let mut overrides = args.set.clone();
+    if let Some(seed) = args.seed {
+        overrides.push(format!("seed={seed}"));
+    }
+    let scenario = sim::scenario::Scenario::load(path, &overrides)?;
     if args.time > scenario.duration_s {
         bail!(
             "--time {} is past the end of `{}` ({} s)",
