@@ -71,8 +71,9 @@ pub struct ChaseControllerConfig {
     /// its own plus this filter's rate, so rate noise becomes throttle and brake chatter, and
     /// every brake pitches the camera; but a slow rate lags, and the gap oscillates. The
     /// gains follow the tracker's range noise, which grows as the square of the range
-    /// ([`Gains::TrackingIndex`]). (With β = 0.15 at every range, the noise at 15 m made the
-    /// gap hunt between 15 and 24 m; with β = 0.05, it swung ±0.6 m every 4 s at 10 m.)
+    /// ([`Gains::TrackingIndex`]). (A filter on the range itself, at one β for every range,
+    /// could not have both: at β = 0.15 the gap hunted between 15 and 24 m at 15 m, at
+    /// β = 0.05 it swung ±0.6 m every 4 s at 10 m.)
     pub range_tracking_index: f32,
     /// Tracking index of the alarm range filter at 10 m (default 0.6, gains α = 0.66 and
     /// β = 0.35 there). This second filter only feeds the emergency-brake test, so it must
@@ -83,9 +84,9 @@ pub struct ChaseControllerConfig {
     /// the tracker's window.)
     pub alarm_tracking_index: f32,
     /// Both range filters refuse a measurement further than this fraction of the predicted
-    /// range from their prediction (default 0.08: some eight times the tracker's range
-    /// noise. One frame of background edges taken for features can put the scale 16 % off;
-    /// a lead braking at 0.85 g moves the range a few centimetres a frame beyond the
+    /// range from their prediction (default 0.08: several times the tracker's range noise at
+    /// 15 m. One frame of background edges taken for features can put the scale 16 % off; a
+    /// lead braking at 0.85 g moves the range a few centimetres a frame beyond the
     /// prediction).
     pub range_gate_fraction: f32,
     /// The smallest gate, m (default 0.5 m).
