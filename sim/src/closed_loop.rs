@@ -16,11 +16,11 @@ use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion};
 use serde::Serialize;
 use std::time::{Duration, Instant};
 use thiserror::Error;
-use tracker::{EdgeDiagnostic, GrayView, Location, TrackOutput, Tracker};
+use tracker::{EdgeDiagnostic, EgoMotion, GrayView, Location, TrackOutput, Tracker, TrackerMode};
 use vehicle::{
-    direction_heading, ChaseController, DelayLine, LeadDriver, LeadEstimate, Odometry, Pose,
-    Rotation, Route, Step, TrackStatus, Vector, VehicleId, VehicleParams, VehicleState, World,
-    STEPS_PER_FRAME,
+    direction_heading, ChaseController, DelayLine, Gyro, GyroConfig, LeadDriver, LeadEstimate,
+    Odometry, Pose, Rotation, Route, Step, TrackStatus, Vector, VehicleId, VehicleParams,
+    VehicleState, World, STEPS_PER_FRAME,
 };
 
 /// Spacing of the points that turn the route's lane centre into the drivers' polyline,
@@ -119,6 +119,11 @@ pub struct ClosedLoop {
     chase_distance_m: f64,
     last_chase_xz: [f64; 2],
     diagnostics: bool,
+    /// The chase's rate gyro, read between tracked frames for robust mode's ego-motion
+    /// aided prediction (`None` in the paper's mode, which has no use for it).
+    gyro: Option<Gyro>,
+    /// The camera's orientation at the last tracked frame.
+    last_camera: Option<UnitQuaternion<f64>>,
 }
 
 /// The physics side of the loop: both vehicles, their drivers and the delay line between
@@ -280,11 +285,13 @@ fn timed<T>(spent: &mut Duration, f: impl FnOnce() -> T) -> T {
     out
 }
 
-/// The tracker's step on one frame: the image only.
+/// The tracker's step on one frame: the image only, and in robust mode the gyro's reading
+/// of the camera's rotation since the last frame.
 fn track_frame(
     tracker: &mut Tracker,
     image: &GrayImage,
     t_s: f64,
+    ego: Option<EgoMotion>,
     diagnostics: bool,
 ) -> (TrackOutput, Vec<EdgeDiagnostic>) {
     let view = GrayView::new(
@@ -293,10 +300,11 @@ fn track_frame(
         image.as_raw(),
     )
     .expect("the renderer's frame matches its size");
-    if diagnostics {
-        tracker.step_with_diagnostics(view, t_s)
-    } else {
-        (tracker.step(view, t_s), Vec::new())
+    match (ego, diagnostics) {
+        (Some(ego), true) => tracker.step_aided_with_diagnostics(view, t_s, ego),
+        (Some(ego), false) => (tracker.step_aided(view, t_s, ego), Vec::new()),
+        (None, true) => tracker.step_with_diagnostics(view, t_s),
+        (None, false) => (tracker.step(view, t_s), Vec::new()),
     }
 }
 
@@ -483,6 +491,9 @@ impl ClosedLoop {
             chase_distance_m: 0.0,
             last_chase_xz,
             diagnostics,
+            gyro: (s.tracker.mode == TrackerMode::Robust)
+                .then(|| Gyro::new(&GyroConfig::default(), s.seed)),
+            last_camera: None,
         })
     }
 
@@ -610,6 +621,7 @@ impl ClosedLoop {
             // second thread while this one renders and tracks; 3 waits for both.
             let captured = self.capture();
             let t_s = captured.input.time_s;
+            let ego = self.ego_motion(&captured);
             let (renderer, tracker, drive) =
                 (&mut self.renderer, &mut self.tracker, &mut self.drive);
             let diagnostics = self.diagnostics;
@@ -619,7 +631,7 @@ impl ClosedLoop {
                 let physics = scope.spawn(|| timed(physics_t, || drive.advance_frame()));
                 let seen = timed(render_t, || renderer.render(input)).map(|frame| {
                     let (track, edges) = timed(track_t, || {
-                        track_frame(tracker, &frame.image, t_s, diagnostics)
+                        track_frame(tracker, &frame.image, t_s, ego, diagnostics)
                     });
                     (frame, track, edges)
                 });
@@ -634,6 +646,7 @@ impl ClosedLoop {
             (captured, frame, track, edges, controls, collision)
         } else {
             let captured = self.capture();
+            let ego = self.ego_motion(&captured);
             let [render_t, track_t, physics_t] = &mut spent;
             let frame = timed(render_t, || self.renderer.render(&captured.input))?;
             let (track, edges) = timed(track_t, || {
@@ -641,6 +654,7 @@ impl ClosedLoop {
                     &mut self.tracker,
                     &frame.image,
                     captured.input.time_s,
+                    ego,
                     self.diagnostics,
                 )
             });
@@ -715,11 +729,35 @@ impl ClosedLoop {
             }
         };
         let t_s = pending.captured.input.time_s;
+        let ego = self.ego_motion(&pending.captured);
         let (track, edges) = timed(track_t, || {
-            track_frame(&mut self.tracker, &frame.image, t_s, self.diagnostics)
+            track_frame(&mut self.tracker, &frame.image, t_s, ego, self.diagnostics)
         });
         self.drive.push_estimate(pending.captured.now, &track);
         Ok((pending.captured, frame, track, edges, controls, collision))
+    }
+
+    /// The gyro's reading of the camera's rotation since the last tracked frame, for the
+    /// frame `captured` (robust mode only). Frames are tracked in order, so this is called
+    /// once per frame, in order.
+    fn ego_motion(&mut self, captured: &Captured) -> Option<EgoMotion> {
+        let gyro = self.gyro.as_mut()?;
+        let now = self
+            .rig
+            .world_from_camera(&captured.input.world_from_chase)
+            .rotation;
+        let previous = self.last_camera.replace(now)?;
+        // The rotation from the last camera orientation to this one, in the last camera's
+        // frame; the gyro is fixed to the chassis, and so is the camera, so its axes are
+        // the camera's up to a constant rotation.
+        let truth = (previous.inverse() * now).scaled_axis();
+        let measured = gyro.measure(
+            [truth.x, truth.y, truth.z],
+            1.0 / f64::from(vehicle::CAMERA_HZ),
+        );
+        Some(EgoMotion {
+            rotation_rad: measured,
+        })
     }
 
     /// The recorder: truth against estimate, at the frame's capture time.
@@ -781,6 +819,11 @@ impl ClosedLoop {
             lead_xz,
             collision,
             chase_mode: format!("{:?}", self.drive.chase.mode()).to_lowercase(),
+            coverage: track.coverage,
+            coverage_gain: track.coverage_gain,
+            tracker_event: track
+                .event
+                .map_or_else(String::new, |e| e.as_str().to_string()),
         }
     }
 }

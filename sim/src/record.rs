@@ -101,6 +101,15 @@ pub struct FrameRecord {
     pub collision: bool,
     /// The chase controller's mode ("following", "stopping", ...).
     pub chase_mode: String,
+    /// The share of the measured outline covered by edges, `[horizontal, vertical]`: the
+    /// tracker's own check of its measurement (0 without one).
+    pub coverage: [f64; 2],
+    /// How much more of the outline a move of a few pixels would cover: the tracker's check
+    /// that its fit sits on the target's edges.
+    pub coverage_gain: f64,
+    /// `acquired` or `reacquired` on a frame where robust mode found the target by search;
+    /// empty otherwise.
+    pub tracker_event: String,
 }
 
 /// The pass/fail criteria of a scenario (`[expect]`). A criterion left out is not checked.

@@ -30,8 +30,9 @@ pub struct TrackJob {
     pub pixel_size_mm: f64,
     /// Image centre, pixels; `None` for the middle of the frame.
     pub image_center_px: Option<[f64; 2]>,
-    /// The teleoperator's placement in the first frame.
-    pub init: Location,
+    /// The teleoperator's placement in the first frame; `None` lets robust mode search the
+    /// whole image for the target.
+    pub init: Option<Location>,
     /// Tracker settings.
     pub config: TrackerConfig,
     /// The CSV to write.
@@ -53,6 +54,8 @@ pub struct TrackSummary {
     pub coasting: usize,
     /// Frames lost.
     pub lost: usize,
+    /// Acquisitions and re-acquisitions by search (robust mode).
+    pub acquisitions: usize,
     /// Median wall time of one tracker step, microseconds.
     pub median_step_us: f64,
 }
@@ -92,7 +95,8 @@ pub fn read_frame(path: &Path) -> anyhow::Result<GrayImage> {
 fn header(model: &TargetModel) -> String {
     let mut h = String::from(
         "frame,cx,cy,scale,status,t_s,measured,w_x,w_y,w_scale,fit_residual,features_used,\
-         pred_cx,pred_cy,pred_scale,next_cx,next_cy,next_scale,x_m,y_m,z_m,window_x0,window_y0,window_x1,window_y1,window_size",
+         pred_cx,pred_cy,pred_scale,next_cx,next_cy,next_scale,x_m,y_m,z_m,window_x0,window_y0,window_x1,window_y1,window_size,\
+         coverage_h,coverage_v,edge_threshold,searched,event",
     );
     for j in 0..model.segments().len() {
         h.push_str(&format!(",f{j}_points,f{j}_confidence"));
@@ -108,7 +112,7 @@ fn row(out: &TrackOutput) -> String {
     };
     let [x, y, z] = out.position_3d;
     let mut r = format!(
-        "{},{:.4},{:.4},{:.6},{},{:.6},{},{:.5},{:.5},{:.5},{:.5},{},{:.4},{:.4},{:.6},{:.4},{:.4},{:.6},{:.4},{:.4},{:.4},{},{},{},{},{}",
+        "{},{:.4},{:.4},{:.6},{},{:.6},{},{:.5},{:.5},{:.5},{:.5},{},{:.4},{:.4},{:.6},{:.4},{:.4},{:.6},{:.4},{:.4},{:.4},{},{},{},{},{},{:.3},{:.3},{:.2},{},{}",
         out.frame,
         e.c_x,
         e.c_y,
@@ -135,6 +139,11 @@ fn row(out: &TrackOutput) -> String {
         out.window.x1,
         out.window.y1,
         out.window.size_index,
+        out.coverage[0],
+        out.coverage[1],
+        out.edge_threshold,
+        u8::from(out.searched),
+        out.event.map_or("", |e| e.as_str()),
     );
     for f in &out.features {
         r.push_str(&format!(",{},{:.5}", f.points, f.confidence));
@@ -155,8 +164,11 @@ pub fn run(job: &TrackJob) -> anyhow::Result<TrackSummary> {
             (f64::from(height) - 1.0) / 2.0,
         ]),
     };
-    let mut tracker = Tracker::new(job.model.clone(), camera, job.config.clone(), job.init)
-        .context("cannot start the tracker")?;
+    let mut tracker = match job.init {
+        Some(init) => Tracker::new(job.model.clone(), camera, job.config.clone(), init),
+        None => Tracker::new_searching(job.model.clone(), camera, job.config.clone()),
+    }
+    .context("cannot start the tracker")?;
     if let Some(dir) = &job.overlay_dir {
         std::fs::create_dir_all(dir)
             .with_context(|| format!("{}: cannot create the overlay folder", dir.display()))?;
@@ -225,6 +237,7 @@ pub fn run(job: &TrackJob) -> anyhow::Result<TrackSummary> {
             Status::Coasting => summary.coasting += 1,
             Status::Lost => summary.lost += 1,
         }
+        summary.acquisitions += usize::from(out.event.is_some());
         bar.set_message(out.status.as_str());
         bar.inc(1);
     }

@@ -69,6 +69,9 @@ fn record(i: u64) -> FrameRecord {
         lead_xz: path(lead_s),
         collision: false,
         chase_mode: "following".into(),
+        coverage: [0.95, 0.9],
+        coverage_gain: 0.0,
+        tracker_event: String::new(),
     }
 }
 

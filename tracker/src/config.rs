@@ -3,6 +3,39 @@
 
 use thiserror::Error;
 
+/// Which tracker runs: the paper's, or the robust mode that goes beyond it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum TrackerMode {
+    /// The paper's tracker, stages 1–8 as written (the default).
+    #[default]
+    Paper,
+    /// The paper's stages with the improvements of [`crate::robust`]: an edge threshold
+    /// that follows the image noise, M-estimation in stages 3 and 4, a second, faster
+    /// motion model chosen by its prediction error, innovation-gated forgetting, ego-motion
+    /// aided prediction, and a chamfer search that recovers the target (or finds it at the
+    /// start) when the measurement fails its own checks.
+    Robust,
+}
+
+impl TrackerMode {
+    /// Lower-case name, as written in scenario files and tables.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            TrackerMode::Paper => "paper",
+            TrackerMode::Robust => "robust",
+        }
+    }
+
+    /// Parses `paper` or `robust`.
+    pub fn parse(text: &str) -> Option<TrackerMode> {
+        match text {
+            "paper" => Some(TrackerMode::Paper),
+            "robust" => Some(TrackerMode::Robust),
+            _ => None,
+        }
+    }
+}
+
 /// Every setting of the tracker. `TrackerConfig::default()` is the paper's tracker.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TrackerConfig {
@@ -56,6 +89,8 @@ pub struct TrackerConfig {
     /// locate each edge point to a fraction of a pixel across the edge by fitting a parabola
     /// to the gradient magnitude of the point and its two neighbours across the edge.
     pub subpixel_edges: bool,
+    /// The paper's tracker or the robust mode (default: the paper's).
+    pub mode: TrackerMode,
 }
 
 impl Default for TrackerConfig {
@@ -73,6 +108,7 @@ impl Default for TrackerConfig {
             lost_after_s: 1.0,
             min_fit_residual: 1.0,
             subpixel_edges: false,
+            mode: TrackerMode::Paper,
         }
     }
 }

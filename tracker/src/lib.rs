@@ -31,11 +31,12 @@ pub mod motion;
 pub mod object_location;
 pub mod paint;
 pub mod prediction;
+pub mod robust;
 pub mod tracker;
 pub mod window;
 
 pub use camera::Camera;
-pub use config::{ConfigError, TrackerConfig};
+pub use config::{ConfigError, TrackerConfig, TrackerMode};
 pub use edges::{EdgeDiagnostic, EdgeFate, EdgePoint, Edges};
 pub use feature_location::FeatureLocation;
 pub use gray::{GrayView, ImageError};
@@ -44,7 +45,7 @@ pub use model::{Feature, Orientation, TargetError, TargetModel};
 pub use motion::MotionModel;
 pub use object_location::Measurement;
 pub use prediction::PredictedFeature;
-pub use tracker::{Status, TrackOutput, Tracker, TrackerError};
+pub use tracker::{EgoMotion, Status, TrackEvent, TrackOutput, Tracker, TrackerError};
 pub use window::Window;
 
 #[cfg(feature = "synth")]

@@ -96,6 +96,32 @@ impl MotionModel {
         self.informative = (self.informative + 1).min(3);
     }
 
+    /// Moves the parameter by a known amount `delta` at every time, past and future (robust
+    /// mode: the image shift the camera's own rotation causes). The coefficients become
+    /// (a0 + delta, a1, a2): since U x = z1, z1 gains `delta` times U's first column.
+    pub fn shift(&mut self, delta: f64) {
+        if !delta.is_finite() {
+            return;
+        }
+        for (z, row) in self.z.iter_mut().zip(&self.u) {
+            *z += row[0] * delta;
+        }
+    }
+
+    /// Scales the information by `factor` in (0, 1] (U and z1 by its square root), as if the
+    /// history were older than it is (robust mode, after a surprise).
+    pub fn forget(&mut self, factor: f64) {
+        let k = factor.clamp(0.0, 1.0).sqrt();
+        for row in &mut self.u {
+            for v in row {
+                *v *= k;
+            }
+        }
+        for z in &mut self.z {
+            *z *= k;
+        }
+    }
+
     /// One cycle of the filter: ages the old information by one cycle (V, √λ), then adds
     /// measurement `z` with weight `w` (eq. 18–32).
     pub fn update(&mut self, z: f64, w: f64) {

@@ -259,3 +259,248 @@ pub fn wander(
     }
     out
 }
+
+/// The kinds of synthetic sequence `carfollow synth` writes and the tests run, each a
+/// condition the paper's section 4 or a real road brings.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SequenceKind {
+    /// The smooth wander of [`wander`], on a plain background.
+    Plain,
+    /// The wander with noise, a pole and a wire near the target and a shadow band sweeping
+    /// across it.
+    Clutter,
+    /// Abrupt sideways swerves: 24 px in 4 frames, every 40 frames, alternating in
+    /// direction, on top of a gentle wander.
+    Swerve,
+    /// Camera shake on a rough road: ±5 px vertically at 2.3 Hz and ±2 px sideways at
+    /// 1.7 Hz (at 15 frames a second), on top of a gentle wander.
+    Shake,
+    /// A dim, noisy scene: 30 grey levels between board and stripes, noise σ = 7.
+    Dim,
+}
+
+impl SequenceKind {
+    /// Every kind, in order.
+    pub const ALL: [SequenceKind; 5] = [
+        SequenceKind::Plain,
+        SequenceKind::Clutter,
+        SequenceKind::Swerve,
+        SequenceKind::Shake,
+        SequenceKind::Dim,
+    ];
+
+    /// Lower-case name.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            SequenceKind::Plain => "plain",
+            SequenceKind::Clutter => "clutter",
+            SequenceKind::Swerve => "swerve",
+            SequenceKind::Shake => "shake",
+            SequenceKind::Dim => "dim",
+        }
+    }
+
+    /// Parses a name of [`SequenceKind::as_str`].
+    pub fn parse(text: &str) -> Option<SequenceKind> {
+        SequenceKind::ALL.into_iter().find(|k| k.as_str() == text)
+    }
+}
+
+/// A synthetic sequence: where the target is in each frame, and what else each frame shows.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Sequence {
+    /// The target's true location, frame by frame.
+    pub truth: Vec<Location>,
+    /// Each frame's scene.
+    pub scenes: Vec<SynthScene>,
+}
+
+/// A sequence of `kind`, `frames` long, from `start`, seeded. `half_extent_px` is half the
+/// target's size in pixels at scale 1 (for placing clutter beside it).
+pub fn sequence(
+    kind: SequenceKind,
+    start: Location,
+    frames: usize,
+    half_extent_px: [f64; 2],
+    seed: u64,
+) -> Sequence {
+    let gentle = |px: f64| wander(start, frames, px, 0.004, seed);
+    let truth: Vec<Location> = match kind {
+        SequenceKind::Plain | SequenceKind::Clutter | SequenceKind::Dim => {
+            wander(start, frames, 1.5, 0.01, seed)
+        }
+        SequenceKind::Swerve => gentle(0.5)
+            .into_iter()
+            .enumerate()
+            .map(|(k, mut at)| {
+                // Swerves start at frames 20, 60, 100, ...: right, back left, right, ...
+                let mut offset = 0.0;
+                let mut sign = 1.0;
+                let mut s = 20usize;
+                while s <= k {
+                    let progress = ((k - s) as f64 / 4.0).min(1.0);
+                    offset += sign * 24.0 * progress;
+                    sign = -sign;
+                    s += 40;
+                }
+                at.c_x += offset;
+                at
+            })
+            .collect(),
+        SequenceKind::Shake => gentle(0.5)
+            .into_iter()
+            .enumerate()
+            .map(|(k, mut at)| {
+                let t = k as f64 / 15.0;
+                at.c_y += 5.0 * (std::f64::consts::TAU * 2.3 * t).sin();
+                at.c_x += 2.0 * (std::f64::consts::TAU * 1.7 * t + 0.7).sin();
+                at
+            })
+            .collect(),
+    };
+    sequence_with_truth(kind, truth, half_extent_px)
+}
+
+/// The scenes of a sequence of `kind` for a given truth (see [`sequence`]).
+pub fn sequence_with_truth(
+    kind: SequenceKind,
+    truth: Vec<Location>,
+    half_extent_px: [f64; 2],
+) -> Sequence {
+    let scenes = truth
+        .iter()
+        .enumerate()
+        .map(|(k, at)| match kind {
+            SequenceKind::Clutter => {
+                let (hw, hh) = (half_extent_px[0] * at.scale, half_extent_px[1] * at.scale);
+                let sweep = at.c_x - 60.0 + (2.0 * k as f64) % 120.0;
+                SynthScene {
+                    noise_sigma: 4.0,
+                    distractors: vec![
+                        Rect {
+                            bounds: [at.c_x - hw - 12.0, 0.0, at.c_x - hw - 9.0, 242.0],
+                            value: 60.0,
+                        },
+                        Rect {
+                            bounds: [0.0, at.c_y - hh - 13.0, 256.0, at.c_y - hh - 12.0],
+                            value: 70.0,
+                        },
+                    ],
+                    shadows: vec![Rect {
+                        bounds: [sweep, 0.0, sweep + 14.0, 242.0],
+                        value: 0.55,
+                    }],
+                    ..SynthScene::default()
+                }
+            }
+            SequenceKind::Dim => SynthScene {
+                background: 55.0,
+                board: 80.0,
+                paint: 50.0,
+                noise_sigma: 7.0,
+                ..SynthScene::default()
+            },
+            SequenceKind::Swerve | SequenceKind::Shake => SynthScene {
+                noise_sigma: 2.0,
+                ..SynthScene::default()
+            },
+            SequenceKind::Plain => SynthScene::default(),
+        })
+        .collect();
+    Sequence { truth, scenes }
+}
+
+/// How a tracker did on a synthetic sequence, judged against its truth as the closed loop
+/// judges it: a frame is lost when the estimate is off by more than a quarter of the
+/// target's width, or its scale by more than 25 %.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SequenceScore {
+    /// Frames.
+    pub frames: usize,
+    /// Frames lost by the truth.
+    pub lost_truth: usize,
+    /// Frames lost by the truth while the tracker said `tracking`.
+    pub silent: usize,
+    /// The longest run of such frames at the start of a loss: how many frames after the
+    /// truth lost the target the tracker still said `tracking`.
+    pub longest_silence: usize,
+    /// Frames the tracker said `tracking`.
+    pub tracking: usize,
+    /// Mean centre error over the frames not lost by the truth, pixels.
+    pub mean_error_px: f64,
+    /// The first frame the tracker said `tracking` (0 when started on the target).
+    pub first_tracking: Option<usize>,
+    /// Frames on which a search ran.
+    pub searched: usize,
+}
+
+/// Runs `tracker` over `seq` (frame k at k / 15 s) and scores it.
+pub fn score_sequence(
+    tracker: &mut crate::Tracker,
+    model: &TargetModel,
+    camera: &Camera,
+    seq: &Sequence,
+    seed: u64,
+) -> SequenceScore {
+    let width_px = model.size_m()[0] * camera.focal_px()[0] / model.nominal_range_m();
+    let mut s = SequenceScore {
+        frames: seq.truth.len(),
+        ..SequenceScore::default()
+    };
+    let (mut err_sum, mut err_n) = (0.0, 0usize);
+    // Within a loss event: whether the tracker has said so yet, and how long it has not.
+    let (mut reported, mut run) = (false, 0usize);
+    for (k, (at, scene)) in seq.truth.iter().zip(&seq.scenes).enumerate() {
+        let px = draw(
+            model,
+            camera,
+            *at,
+            scene,
+            seed.wrapping_mul(1_000_003) + k as u64,
+        );
+        let view = crate::GrayView::new(scene.width, scene.height, &px).expect("sized frame");
+        let out = tracker.step(view, k as f64 / 15.0);
+        let e = out.estimate;
+        let err = (e.c_x - at.c_x).hypot(e.c_y - at.c_y);
+        let lost = err > 0.25 * width_px * at.scale || (e.scale / at.scale - 1.0).abs() > 0.25;
+        let tracking = out.status == crate::Status::Tracking;
+        if tracking {
+            s.tracking += 1;
+            s.first_tracking.get_or_insert(k);
+        }
+        s.searched += usize::from(out.searched);
+        if std::env::var_os("SYNTH_TRACE").is_some() {
+            eprintln!(
+                "{k:4} truth {:7.2} {:7.2} {:.3}  est {:7.2} {:7.2} {:.3}  pred {:7.2} {:7.2}  {:8} cov {:.2} {:.2} gain {:.2} thr {:.1}{}{}",
+                at.c_x, at.c_y, at.scale, e.c_x, e.c_y, e.scale, out.predicted.c_x,
+                out.predicted.c_y, out.status.as_str(), out.coverage[0], out.coverage[1], out.coverage_gain,
+                out.edge_threshold, if out.searched { " searched" } else { "" },
+                if lost { " LOST" } else { "" }
+            );
+        }
+        if lost {
+            s.lost_truth += 1;
+            if tracking {
+                s.silent += 1;
+            }
+            if !reported {
+                if tracking {
+                    run += 1;
+                    s.longest_silence = s.longest_silence.max(run);
+                } else {
+                    reported = true;
+                }
+            }
+        } else {
+            (reported, run) = (false, 0);
+            err_sum += err;
+            err_n += 1;
+        }
+    }
+    s.mean_error_px = if err_n > 0 {
+        err_sum / err_n as f64
+    } else {
+        f64::NAN
+    };
+    s
+}

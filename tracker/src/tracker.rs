@@ -1,8 +1,13 @@
 //! The tracker: the loop of paper Figure 1, stages 1–7 on each image, plus stage 8.
+//!
+//! Both modes check every measurement against the image ([`EdgeMaps::coverage`]): a
+//! measurement whose located outline is not covered by edges is not trusted, and the status
+//! leaves `tracking`, so a loss is never silent. The paper's mode otherwise runs the paper's
+//! stages as written; robust mode adds what [`crate::robust`] describes.
 
 use crate::association::{associate, Association};
 use crate::camera::Camera;
-use crate::config::{ConfigError, TrackerConfig};
+use crate::config::{ConfigError, TrackerConfig, TrackerMode};
 use crate::edges::{EdgeDiagnostic, EdgeExtractor, Edges};
 use crate::feature_location::{locate_features, FeatureLocation};
 use crate::gray::GrayView;
@@ -10,20 +15,28 @@ use crate::householder::Row;
 use crate::location::Location;
 use crate::model::{Feature, Orientation, TargetModel};
 use crate::motion::MotionModel;
-use crate::object_location::{locate_object, Measurement};
+use crate::object_location::{locate_object, locate_object_robust, Measurement};
 use crate::prediction::{predict_features, predict_location, PredictedFeature};
+use crate::robust::{
+    adaptive_threshold, alias_spacing, coverage_gain, ChamferSearch, EdgeMaps, NoiseEstimator,
+    ACQUIRE_EVERY_FRAMES, ACQUIRE_SCALES, CHAMFER_ACCEPT_PX, COVERAGE_TOLERANCE_PX, FAST_LAMBDA,
+    LOCAL_SEARCH_GROWTH_PX, LOCAL_SEARCH_PX, MAX_COVERAGE_GAIN, MAX_SCALE_STEP, MIN_COVERAGE,
+    MODEL_ERROR_DECAY, PEAK_PROBE_PX, REACQUIRE_MIN_COVERAGE, SEARCH_BELOW_COVERAGE, SEARCH_MARGIN,
+    SURPRISE_FORGETTING,
+};
 use crate::window::Window;
 use thiserror::Error;
 
-/// What the tracker says of its own state after a frame.
+/// What the tracker says of its own state after a frame. It judges from its own signals
+/// only (support, the fit, the coverage of the located outline by edges), never the truth.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Status {
-    /// This frame gave a usable stage-4 measurement.
+    /// This frame gave a measurement that passed its checks.
     Tracking,
-    /// No usable measurement this frame; the prediction carries on.
+    /// No trusted measurement this frame; the prediction carries on.
     Coasting,
-    /// No usable measurement for `lost_after_s` (or the prediction became meaningless): the
-    /// estimate is not to be trusted. Sticky until [`Tracker::reinitialize`].
+    /// No trusted measurement for `lost_after_s`: the estimate is not to be trusted. The
+    /// tracker keeps looking and says `tracking` again when a measurement passes its checks.
     Lost,
 }
 
@@ -36,6 +49,35 @@ impl Status {
             Status::Lost => "lost",
         }
     }
+}
+
+/// Something a frame did that a log should show.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum TrackEvent {
+    /// Robust mode found the target by searching the whole image, with no start given.
+    Acquired,
+    /// Robust mode found the target again by search after coasting or a loss.
+    Reacquired,
+}
+
+impl TrackEvent {
+    /// Lower-case name, as written in tables.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            TrackEvent::Acquired => "acquired",
+            TrackEvent::Reacquired => "reacquired",
+        }
+    }
+}
+
+/// The chase camera's own rotation between the previous frame and this one, from the
+/// vehicle's gyro (robust mode's ego-motion aided prediction). The paper's mode ignores it.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct EgoMotion {
+    /// Rotation vector (axis times angle, radians) that takes the previous frame's camera
+    /// orientation to this frame's, in the previous camera frame (x right, y down, z
+    /// forward): +y turns the camera right, +x tilts it up.
+    pub rotation_rad: [f64; 3],
 }
 
 /// Everything the tracker made of one frame.
@@ -64,6 +106,19 @@ pub struct TrackOutput {
     pub window: Window,
     /// Stages 3 and 7 for every feature, in the model's segment order.
     pub features: Vec<FeatureLocation>,
+    /// The share of the measured outline covered by edge points, `[horizontal, vertical]`
+    /// (0 without a measurement): the check that decides whether it is trusted.
+    pub coverage: [f64; 2],
+    /// How much more of the outline a move of a few pixels would cover (see
+    /// [`crate::robust::coverage_gain`]): above a small margin, the fit is not on the
+    /// target's edges.
+    pub coverage_gain: f64,
+    /// The edge threshold used, grey levels (the paper's 8, or robust mode's adaptive one).
+    pub edge_threshold: f64,
+    /// Whether a chamfer search ran this frame (robust mode).
+    pub searched: bool,
+    /// Acquisition or re-acquisition, when it happened this frame.
+    pub event: Option<TrackEvent>,
 }
 
 /// A tracker that cannot be built.
@@ -75,11 +130,42 @@ pub enum TrackerError {
     /// The initial location is not finite or has a non-positive scale.
     #[error("initial location ({}, {}, scale {}) is not valid: the position must be finite and the scale positive", .0.c_x, .0.c_y, .0.scale)]
     BadInit(Location),
+    /// Only robust mode can start without a location.
+    #[error("the paper's tracker starts from the teleoperator's placement (2.2): give an initial location, or use robust mode, which searches for the target")]
+    NeedsInit,
+}
+
+/// The motion models of robust mode: the paper's λ and a fast one, per parameter, with the
+/// running mean squared prediction error of each.
+#[derive(Clone, Copy, Debug)]
+struct Banks {
+    fast: [MotionModel; 3],
+    /// [parameter][slow, fast].
+    error: [[f64; 2]; 3],
+    /// The predictions of this frame, [parameter][slow, fast].
+    predicted: [[f64; 2]; 3],
+}
+
+/// `v` rotated by the rotation vector `r` (axis times angle, radians): Rodrigues' formula.
+fn rotate(v: [f64; 3], r: [f64; 3]) -> [f64; 3] {
+    let angle = (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]).sqrt();
+    if angle < 1e-15 {
+        return v;
+    }
+    let k = [r[0] / angle, r[1] / angle, r[2] / angle];
+    let (s, c) = angle.sin_cos();
+    let kxv = [
+        k[1] * v[2] - k[2] * v[1],
+        k[2] * v[0] - k[0] * v[2],
+        k[0] * v[1] - k[1] * v[0],
+    ];
+    let kdv = k[0] * v[0] + k[1] * v[1] + k[2] * v[2];
+    [0, 1, 2].map(|i| v[i] * c + kxv[i] * s + k[i] * kdv * (1.0 - c))
 }
 
 /// The paper's tracker: a target model, a camera, settings, and the state carried from
 /// frame to frame (the three motion models). Initialised with a location (c_x, c_y,
-/// scale), as the paper's teleoperator does (2.2).
+/// scale), as the paper's teleoperator does (2.2); robust mode can also find it itself.
 #[derive(Clone, Debug)]
 pub struct Tracker {
     config: TrackerConfig,
@@ -87,27 +173,120 @@ pub struct Tracker {
     camera: Camera,
     features: Vec<Feature>,
     half_extent_px: [f64; 2],
+    /// The smallest spacing of parallel features at scale 1, `[x, y]`, pixels.
+    alias_px: [f64; 2],
     target_width_px: f64,
     /// TargetSize of eq. 36: the model's width, metres.
     target_width_m: f64,
+    /// The paper's motion models (robust mode: the slow bank).
     motion: [MotionModel; 3],
+    /// Robust mode's fast bank and model choice.
+    banks: Banks,
     init: Location,
     frame: u64,
     last_t_s: Option<f64>,
     coast_cycles: u64,
+    /// The paper's mode: lost, and no longer measuring (sticky until re-initialised).
     lost: bool,
+    /// Robust mode: whether the tracker holds the target (else it searches).
+    locked: bool,
+    /// Robust mode: whether it has ever held it.
+    ever_locked: bool,
     last_estimate: Location,
+    /// The last location a trusted measurement gave.
+    last_trusted: Location,
+    /// Robust mode: the last location measured with a strong check, where a search after a
+    /// loss starts.
+    last_good: Location,
     // Scratch, kept between frames so that a step allocates little.
     extractor: EdgeExtractor,
     edges: Edges,
     predicted: Vec<PredictedFeature>,
     associations: Vec<Association>,
     rows: Vec<Row>,
+    maps: EdgeMaps,
+    check: Vec<PredictedFeature>,
+    check_edges: Edges,
+    moved: Vec<PredictedFeature>,
+    noise: NoiseEstimator,
+    search: ChamferSearch,
+    scratch: Vec<f64>,
+}
+
+/// What stages 1–4 made of one window.
+struct Measured {
+    window: Window,
+    measurement: Option<Measurement>,
+    located: Vec<FeatureLocation>,
+    coverage: [f64; 2],
+    gain: f64,
+    threshold: f64,
+}
+
+impl Measured {
+    /// Nothing measured, in `window`.
+    fn none(window: Window, threshold: f64) -> Measured {
+        Measured {
+            window,
+            measurement: None,
+            located: Vec::new(),
+            coverage: [0.0; 2],
+            gain: 0.0,
+            threshold,
+        }
+    }
+
+    /// The smaller of the two orientations' coverage (0 without a measurement).
+    fn coverage(&self) -> f64 {
+        if self.measurement.is_some() {
+            self.coverage[0].min(self.coverage[1])
+        } else {
+            0.0
+        }
+    }
+
+    /// The paper's mode's check: enough of the outline on edges, and on a peak of coverage.
+    fn trusted(&self) -> bool {
+        self.passes(MIN_COVERAGE, MAX_COVERAGE_GAIN)
+    }
+
+    fn passes(&self, min_coverage: f64, max_gain: f64) -> bool {
+        self.coverage() >= min_coverage && self.gain <= max_gain
+    }
 }
 
 impl Tracker {
     /// A tracker for `model` seen through `camera`, starting at `init`.
     pub fn new(
+        model: TargetModel,
+        camera: Camera,
+        config: TrackerConfig,
+        init: Location,
+    ) -> Result<Self, TrackerError> {
+        let mut tracker = Self::build(model, camera, config, init)?;
+        tracker.reinitialize(init)?;
+        Ok(tracker)
+    }
+
+    /// A robust-mode tracker with no start: its first frames search the whole image over
+    /// scale for the target. The paper's mode refuses ([`TrackerError::NeedsInit`]).
+    pub fn new_searching(
+        model: TargetModel,
+        camera: Camera,
+        config: TrackerConfig,
+    ) -> Result<Self, TrackerError> {
+        if config.mode != TrackerMode::Robust {
+            return Err(TrackerError::NeedsInit);
+        }
+        let somewhere = Location::new(0.0, 0.0, 1.0);
+        let mut tracker = Self::build(model, camera, config, somewhere)?;
+        tracker.reinitialize(somewhere)?;
+        tracker.locked = false;
+        tracker.ever_locked = false;
+        Ok(tracker)
+    }
+
+    fn build(
         model: TargetModel,
         camera: Camera,
         config: TrackerConfig,
@@ -129,29 +308,45 @@ impl Tracker {
         let target_width_m = model.size_m()[0];
         let target_width_px = target_width_m * camera.focal_px()[0] / model.nominal_range_m();
         let lambda = config.lambda;
-        let mut tracker = Tracker {
+        let alias_px = alias_spacing(&features);
+        Ok(Tracker {
             config,
             model,
             camera,
             features,
             half_extent_px: half,
+            alias_px,
             target_width_px,
             target_width_m,
             motion: [MotionModel::new(lambda); 3],
+            banks: Banks {
+                fast: [MotionModel::new(FAST_LAMBDA.min(lambda)); 3],
+                error: [[0.0; 2]; 3],
+                predicted: [[0.0; 2]; 3],
+            },
             init,
             frame: 0,
             last_t_s: None,
             coast_cycles: 0,
             lost: false,
+            locked: true,
+            ever_locked: true,
             last_estimate: init,
+            last_trusted: init,
+            last_good: init,
             extractor: EdgeExtractor::default(),
             edges: Edges::default(),
             predicted: Vec::new(),
             associations: Vec::new(),
             rows: Vec::new(),
-        };
-        tracker.reinitialize(init)?;
-        Ok(tracker)
+            maps: EdgeMaps::default(),
+            check: Vec::new(),
+            check_edges: Edges::default(),
+            moved: Vec::new(),
+            noise: NoiseEstimator::default(),
+            search: ChamferSearch::default(),
+            scratch: Vec::new(),
+        })
     }
 
     /// Starts again from `init`, with zero motion information (2.2: the target is taken
@@ -161,13 +356,25 @@ impl Tracker {
             return Err(TrackerError::BadInit(init));
         }
         self.init = init;
-        self.motion = [MotionModel::new(self.config.lambda); 3];
         self.frame = 0;
         self.last_t_s = None;
         self.coast_cycles = 0;
         self.lost = false;
+        self.locked = true;
+        self.ever_locked = true;
         self.last_estimate = init;
+        self.last_trusted = init;
+        self.last_good = init;
+        self.restart_motion(init);
         Ok(())
+    }
+
+    /// Zero motion information, the target taken to be still at `at` (2.2).
+    fn restart_motion(&mut self, at: Location) {
+        self.init = at;
+        self.motion = [MotionModel::new(self.config.lambda); 3];
+        self.banks.fast = [MotionModel::new(FAST_LAMBDA.min(self.config.lambda)); 3];
+        self.banks.error = [[0.0; 2]; 3];
     }
 
     /// The settings.
@@ -196,7 +403,7 @@ impl Tracker {
         self.target_width_px
     }
 
-    /// The three motion models, [c_x, c_y, scale].
+    /// The three motion models, [c_x, c_y, scale] (robust mode: the slow ones, at λ).
     pub fn motion_models(&self) -> &[MotionModel; 3] {
         &self.motion
     }
@@ -215,7 +422,13 @@ impl Tracker {
     /// order; the gap since the previous frame, in whole camera cycles (at least one), ages
     /// the motion models, so a dropped frame is allowed for.
     pub fn step(&mut self, image: GrayView<'_>, t_s: f64) -> TrackOutput {
-        self.run(image, t_s, None)
+        self.run(image, t_s, None, None)
+    }
+
+    /// As [`Tracker::step`], with the camera's own rotation since the previous frame (used
+    /// by robust mode to predict; ignored by the paper's).
+    pub fn step_aided(&mut self, image: GrayView<'_>, t_s: f64, ego: EgoMotion) -> TrackOutput {
+        self.run(image, t_s, Some(ego), None)
     }
 
     /// As [`Tracker::step`], and also returns every edge point in the window with its fate.
@@ -225,7 +438,20 @@ impl Tracker {
         t_s: f64,
     ) -> (TrackOutput, Vec<EdgeDiagnostic>) {
         let mut diagnostics = Vec::new();
-        let out = self.run(image, t_s, Some(&mut diagnostics));
+        let out = self.run(image, t_s, None, Some(&mut diagnostics));
+        (out, diagnostics)
+    }
+
+    /// As [`Tracker::step_aided`], and also returns every edge point in the window with its
+    /// fate.
+    pub fn step_aided_with_diagnostics(
+        &mut self,
+        image: GrayView<'_>,
+        t_s: f64,
+        ego: EgoMotion,
+    ) -> (TrackOutput, Vec<EdgeDiagnostic>) {
+        let mut diagnostics = Vec::new();
+        let out = self.run(image, t_s, Some(ego), Some(&mut diagnostics));
         (out, diagnostics)
     }
 
@@ -233,7 +459,8 @@ impl Tracker {
         &mut self,
         image: GrayView<'_>,
         t_s: f64,
-        mut diagnostics: Option<&mut Vec<EdgeDiagnostic>>,
+        ego: Option<EgoMotion>,
+        diagnostics: Option<&mut Vec<EdgeDiagnostic>>,
     ) -> TrackOutput {
         let cycles = match self.last_t_s {
             None => 0,
@@ -242,7 +469,118 @@ impl Tracker {
         self.last_t_s = Some(t_s);
         let frame = self.frame;
         self.frame += 1;
+        match self.config.mode {
+            TrackerMode::Paper => self.run_paper(image, t_s, frame, cycles, diagnostics),
+            TrackerMode::Robust => self.run_robust(image, t_s, frame, cycles, ego, diagnostics),
+        }
+    }
 
+    /// Stages 7 and 1–4 at `at`: the window, the edges, association, feature and object
+    /// location, and the coverage check of the result. `robust` selects robust mode's
+    /// adaptive threshold and M-estimators.
+    fn measure(
+        &mut self,
+        image: GrayView<'_>,
+        at: Location,
+        robust: bool,
+        diagnostics: Option<&mut Vec<EdgeDiagnostic>>,
+    ) -> Measured {
+        let window = Window::around(
+            at,
+            self.half_extent_px,
+            &self.config,
+            image.width(),
+            image.height(),
+        );
+        let mut config = self.config.clone();
+        if robust {
+            let sigma = self.noise.sigma(image, window);
+            config.edge_threshold = adaptive_threshold(self.config.edge_threshold, sigma);
+        }
+        let mut diagnostics = diagnostics;
+        if let Some(d) = diagnostics.as_deref_mut() {
+            d.clear();
+        }
+        // Stage 7 (for this image), then stages 1–4.
+        predict_features(&self.features, at, &mut self.predicted);
+        self.extractor.extract(
+            image,
+            window,
+            &config,
+            &mut self.edges,
+            diagnostics.as_deref_mut(),
+        );
+        associate(
+            &self.edges,
+            &self.predicted,
+            config.zeta_px,
+            &mut self.associations,
+            diagnostics,
+        );
+        let mut located = Vec::with_capacity(self.predicted.len());
+        locate_features(&self.predicted, &self.associations, &config, &mut located);
+        let measurement = if robust {
+            locate_object_robust(
+                &self.features,
+                &located,
+                &config,
+                &mut self.rows,
+                &mut self.scratch,
+            )
+        } else {
+            locate_object(&self.features, &located, &config, &mut self.rows)
+        };
+        // The check, in both modes: does the located outline lie on edges of its class?
+        let (coverage, gain) = match &measurement {
+            Some(m) => {
+                // The edges of the located outline and of every move the gain test makes:
+                // the window grown by the largest move.
+                let alias = self.alias_px.map(|a| a * m.location.scale);
+                let reach = [0, 1].map(|k| {
+                    let a = if alias[k].is_finite() { alias[k] } else { 0.0 };
+                    (a.max(PEAK_PROBE_PX) + COVERAGE_TOLERANCE_PX as f64 + 1.0).ceil() as usize
+                });
+                let (w, h) = (image.width(), image.height());
+                let grown = Window::around(m.location, self.half_extent_px, &self.config, w, h);
+                let grown = Window {
+                    x0: grown.x0.saturating_sub(reach[0]).max(1),
+                    y0: grown.y0.saturating_sub(reach[1]).max(1),
+                    x1: (grown.x1 + reach[0]).min(w.saturating_sub(1)),
+                    y1: (grown.y1 + reach[1]).min(h.saturating_sub(1)),
+                    size_index: grown.size_index,
+                };
+                self.extractor
+                    .extract(image, grown, &config, &mut self.check_edges, None);
+                self.maps.build(&self.check_edges, grown);
+                predict_features(&self.features, m.location, &mut self.check);
+                let gain = coverage_gain(&self.maps, &self.check, alias, &mut self.moved);
+                (self.maps.coverage(&self.check), gain)
+            }
+            None => ([0.0; 2], 0.0),
+        };
+        Measured {
+            window,
+            measurement,
+            located,
+            coverage,
+            gain,
+            threshold: config.edge_threshold,
+        }
+    }
+
+    /// The paper's loop. Its estimates are the paper's: every measurement updates the motion
+    /// models. The coverage check only decides the status: a measurement that fails it is
+    /// reported as `coasting`, so a loss is never silent. As before, coasting without any
+    /// measurement for `lost_after_s` is a sticky `lost`, after which it stops measuring
+    /// until [`Tracker::reinitialize`] (the paper's teleoperator).
+    fn run_paper(
+        &mut self,
+        image: GrayView<'_>,
+        t_s: f64,
+        frame: u64,
+        cycles: u32,
+        diagnostics: Option<&mut Vec<EdgeDiagnostic>>,
+    ) -> TrackOutput {
         // Stage 6 of the previous cycle: where the target should be in this image.
         let predicted = if self.motion[0].has_information() {
             predict_location(&self.motion, f64::from(cycles))
@@ -252,56 +590,25 @@ impl Tracker {
         for m in &mut self.motion {
             m.age(cycles);
         }
-
-        let mut window = Window::default();
-        let mut measurement = None;
-        self.predicted.clear();
-        self.associations.clear();
-        let mut located = Vec::new();
-        if !self.lost && predicted.is_valid() {
-            window = Window::around(
-                predicted,
-                self.half_extent_px,
-                &self.config,
-                image.width(),
-                image.height(),
-            );
-            // Stage 7 (for this image), then stages 1–4.
-            predict_features(&self.features, predicted, &mut self.predicted);
-            self.extractor.extract(
-                image,
-                window,
-                &self.config,
-                &mut self.edges,
-                diagnostics.as_deref_mut(),
-            );
-            associate(
-                &self.edges,
-                &self.predicted,
-                self.config.zeta_px,
-                &mut self.associations,
-                diagnostics,
-            );
-            locate_features(
-                &self.predicted,
-                &self.associations,
-                &self.config,
-                &mut located,
-            );
-            measurement = locate_object(&self.features, &located, &self.config, &mut self.rows);
+        let m = if !self.lost && predicted.is_valid() {
+            self.measure(image, predicted, false, diagnostics)
         } else {
             self.lost = true;
-        }
-
+            Measured::none(Window::default(), self.config.edge_threshold)
+        };
         // Stage 5: each parameter's model takes the measurement with its eq. 17 confidence.
-        let status = match (&measurement, self.lost) {
-            (Some(m), false) => {
-                let l = m.location.to_array();
-                for ((model, z), w) in self.motion.iter_mut().zip(l).zip(m.confidence) {
+        let status = match &m.measurement {
+            Some(meas) if !self.lost => {
+                let l = meas.location.to_array();
+                for ((model, z), w) in self.motion.iter_mut().zip(l).zip(meas.confidence) {
                     model.add(z, w);
                 }
                 self.coast_cycles = 0;
-                Status::Tracking
+                if m.trusted() {
+                    Status::Tracking
+                } else {
+                    Status::Coasting
+                }
             }
             _ => {
                 self.coast_cycles += u64::from(cycles.max(1));
@@ -314,18 +621,54 @@ impl Tracker {
                 }
             }
         };
-
         // Stage 6: the prediction for the next frame (eq. 34).
         let next = if self.motion[0].has_information() {
             predict_location(&self.motion, 1.0)
         } else {
             predicted
         };
-        let estimate = match &measurement {
-            Some(m) if status == Status::Tracking => m.location,
+        let estimate = match &m.measurement {
+            Some(meas) if status != Status::Lost => meas.location,
             _ if status == Status::Lost => self.last_estimate,
             _ => predicted,
         };
+        self.finish(
+            frame, t_s, status, predicted, estimate, next, m, false, None,
+        )
+    }
+
+    /// Tracking, coasting or lost, from whether this frame's measurement is trusted.
+    fn judge(&mut self, trusted: bool, cycles: u32) -> Status {
+        if trusted {
+            self.coast_cycles = 0;
+            Status::Tracking
+        } else {
+            self.coast_cycles += u64::from(cycles.max(1));
+            let coasted_s = self.coast_cycles as f64 / self.config.rate_hz;
+            if coasted_s + 1e-9 >= self.config.lost_after_s {
+                Status::Lost
+            } else {
+                Status::Coasting
+            }
+        }
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn finish(
+        &mut self,
+        frame: u64,
+        t_s: f64,
+        status: Status,
+        predicted: Location,
+        estimate: Location,
+        next: Location,
+        m: Measured,
+        searched: bool,
+        event: Option<TrackEvent>,
+    ) -> TrackOutput {
+        if status == Status::Tracking {
+            self.last_trusted = estimate;
+        }
         if status != Status::Lost {
             self.last_estimate = estimate;
         }
@@ -333,13 +676,330 @@ impl Tracker {
             frame,
             t_s,
             status,
-            measurement,
+            measurement: m.measurement,
             predicted,
             estimate,
             next,
             position_3d: self.position_3d(estimate),
-            window,
-            features: located,
+            window: m.window,
+            features: m.located,
+            coverage: m.coverage,
+            coverage_gain: m.gain,
+            edge_threshold: m.threshold,
+            searched,
+            event,
         }
+    }
+
+    /// Robust mode's prediction: both banks aged, the camera's rotation applied, and each
+    /// parameter from the bank whose recent prediction errors are smaller.
+    fn predict_robust(&mut self, cycles: u32, ego: Option<EgoMotion>) -> Location {
+        if !self.motion[0].has_information() {
+            return self.init;
+        }
+        for m in self.motion.iter_mut().chain(self.banks.fast.iter_mut()) {
+            m.age(cycles);
+        }
+        let mut p = [0.0; 3];
+        for (k, out) in p.iter_mut().enumerate() {
+            let slow = self.motion[k].predict(0.0);
+            let fast = self.banks.fast[k].predict(0.0);
+            self.banks.predicted[k] = [slow, fast];
+            let [e_slow, e_fast] = self.banks.error[k];
+            // Coasting, the slower model extrapolates more calmly.
+            *out = if e_fast < e_slow && self.coast_cycles == 0 {
+                fast
+            } else {
+                slow
+            };
+        }
+        let mut predicted = Location::new(p[0], p[1], p[2]);
+        if let Some(ego) = ego {
+            let [dx, dy] = self.ego_shift(predicted, ego);
+            for (k, d) in [(0, dx), (1, dy)] {
+                self.motion[k].shift(d);
+                self.banks.fast[k].shift(d);
+                for v in &mut self.banks.predicted[k] {
+                    *v += d;
+                }
+            }
+            predicted.c_x += dx;
+            predicted.c_y += dy;
+        }
+        predicted
+    }
+
+    /// The image shift of a point at `at` when the camera turns by `ego`: its ray in the
+    /// old camera frame, rotated into the new one (R⁻¹), projected again.
+    fn ego_shift(&self, at: Location, ego: EgoMotion) -> [f64; 2] {
+        let [fx, fy] = self.camera.focal_px();
+        let [cx, cy] = self.camera.image_center_px;
+        let ray = [(at.c_x - cx) / fx, (at.c_y - cy) / fy, 1.0];
+        let r = ego.rotation_rad;
+        if !r.iter().all(|v| v.is_finite()) {
+            return [0.0; 2];
+        }
+        // R⁻¹ is the rotation by −r (Rodrigues' formula).
+        let seen = rotate(ray, [-r[0], -r[1], -r[2]]);
+        if seen[2] <= 1e-6 {
+            return [0.0; 2];
+        }
+        [
+            cx + fx * seen[0] / seen[2] - at.c_x,
+            cy + fy * seen[1] / seen[2] - at.c_y,
+        ]
+    }
+
+    /// Adds a trusted measurement to both banks, after the surprise test, and updates the
+    /// running errors that choose between them.
+    fn learn(&mut self, meas: &Measurement, predicted: Location, fresh: bool, strong: bool) {
+        let z = meas.location.to_array();
+        if !fresh {
+            for k in 0..3 {
+                for (b, p) in self.banks.predicted[k].iter().enumerate() {
+                    let e = z[k] - p;
+                    let err = &mut self.banks.error[k][b];
+                    *err = MODEL_ERROR_DECAY * *err + (1.0 - MODEL_ERROR_DECAY) * e * e;
+                }
+            }
+            let jump = (meas.location.c_x - predicted.c_x)
+                .abs()
+                .max((meas.location.c_y - predicted.c_y).abs());
+            let zoom = (meas.location.scale / predicted.scale - 1.0).abs();
+            // Only a strong measurement may say the motion changed.
+            if strong && (jump > self.config.zeta_px || zoom > 0.1) {
+                for m in self.motion.iter_mut().chain(self.banks.fast.iter_mut()) {
+                    m.forget(SURPRISE_FORGETTING);
+                }
+            }
+        }
+        for (k, w) in meas.confidence.iter().enumerate() {
+            self.motion[k].add(z[k], *w);
+            self.banks.fast[k].add(z[k], *w);
+        }
+    }
+
+    /// The region a search covers: the whole image when `around` is `None`; otherwise
+    /// room for the target (its size at `around`'s scale, 25 % larger) with its centre up to
+    /// `reach_px` from `around`'s.
+    fn search_region(
+        &self,
+        around: Option<Location>,
+        reach_px: f64,
+        width: usize,
+        height: usize,
+    ) -> Window {
+        let whole = Window {
+            x0: 1,
+            y0: 1,
+            x1: width.saturating_sub(1),
+            y1: height.saturating_sub(1),
+            size_index: self.config.window_scales.len() - 1,
+        };
+        let Some(at) = around else { return whole };
+        let hw = self.half_extent_px[0] * at.scale * 1.25 + reach_px;
+        let hh = self.half_extent_px[1] * at.scale * 1.25 + reach_px;
+        let clip = |lo: f64, hi: f64, n: usize| {
+            let a = lo.floor().clamp(1.0, (n - 1) as f64) as usize;
+            let b = hi.ceil().clamp(1.0, (n - 1) as f64) as usize;
+            (a, b.max(a))
+        };
+        let (x0, x1) = clip(at.c_x - hw, at.c_x + hw, width);
+        let (y0, y1) = clip(at.c_y - hh, at.c_y + hh, height);
+        Window {
+            x0,
+            y0,
+            x1,
+            y1,
+            size_index: whole.size_index,
+        }
+    }
+
+    /// How far from the prediction a search looks, and a measurement may lie, pixels:
+    /// [`LOCAL_SEARCH_PX`], and [`LOCAL_SEARCH_GROWTH_PX`] more for every frame coasted.
+    fn reach_px(&self) -> f64 {
+        LOCAL_SEARCH_PX + LOCAL_SEARCH_GROWTH_PX * self.coast_cycles as f64
+    }
+
+    /// Searches `region` at scales `scales` and measures at the best fit; the measurement
+    /// when the fit and the measurement both pass their checks, the measurement's the
+    /// strong one (REACQUIRE_MIN_COVERAGE, on a peak of coverage).
+    fn search_and_measure(
+        &mut self,
+        image: GrayView<'_>,
+        region: Window,
+        scales: [f64; 2],
+        diagnostics: Option<&mut Vec<EdgeDiagnostic>>,
+    ) -> Option<Measured> {
+        let mut config = self.config.clone();
+        let sigma = self.noise.sigma(image, region);
+        config.edge_threshold = adaptive_threshold(self.config.edge_threshold, sigma);
+        let hit = self.search.search(
+            image,
+            region,
+            &self.features,
+            self.half_extent_px,
+            scales,
+            &config,
+        )?;
+        if hit.score > CHAMFER_ACCEPT_PX {
+            return None;
+        }
+        let m = self.measure(image, hit.location, true, diagnostics);
+        m.passes(REACQUIRE_MIN_COVERAGE, 0.0).then_some(m)
+    }
+
+    /// Robust mode's loop.
+    fn run_robust(
+        &mut self,
+        image: GrayView<'_>,
+        t_s: f64,
+        frame: u64,
+        cycles: u32,
+        ego: Option<EgoMotion>,
+        mut diagnostics: Option<&mut Vec<EdgeDiagnostic>>,
+    ) -> TrackOutput {
+        let (width, height) = (image.width(), image.height());
+        if !self.locked {
+            // Searching: around the last location for a short loss, else everywhere.
+            let lost_long = self.coast_cycles as f64 / self.config.rate_hz
+                >= 2.0 * self.config.lost_after_s.max(1.0 / self.config.rate_hz);
+            let (region, scales) = if self.ever_locked && !lost_long {
+                let s = self.last_good.scale;
+                (
+                    self.search_region(Some(self.last_good), self.reach_px(), width, height),
+                    [s / 1.3, s * 1.3],
+                )
+            } else {
+                (self.search_region(None, 0.0, width, height), ACQUIRE_SCALES)
+            };
+            // A whole-image search costs tens of milliseconds: after a long loss, one frame in
+            // ACQUIRE_EVERY_FRAMES.
+            let skip = self.ever_locked && lost_long && frame % ACQUIRE_EVERY_FRAMES != 0;
+            let found = if skip {
+                None
+            } else {
+                self.search_and_measure(image, region, scales, diagnostics.as_deref_mut())
+            };
+            if let Some(m) = found {
+                let meas = m.measurement.expect("a trusted measurement exists");
+                self.last_good = meas.location;
+                let event = if self.ever_locked {
+                    TrackEvent::Reacquired
+                } else {
+                    TrackEvent::Acquired
+                };
+                self.restart_motion(meas.location);
+                self.learn(&meas, meas.location, true, true);
+                self.locked = true;
+                self.ever_locked = true;
+                let status = self.judge(true, cycles);
+                let next = meas.location;
+                return self.finish(
+                    frame,
+                    t_s,
+                    status,
+                    meas.location,
+                    meas.location,
+                    next,
+                    m,
+                    true,
+                    Some(event),
+                );
+            }
+            let status = if self.ever_locked {
+                self.judge(false, cycles)
+            } else {
+                Status::Lost
+            };
+            let held = self.last_estimate;
+            let empty = Measured::none(region, self.config.edge_threshold);
+            return self.finish(frame, t_s, status, held, held, held, empty, !skip, None);
+        }
+
+        let predicted = self.predict_robust(cycles, ego);
+        let fresh = !self.motion[0].has_information();
+        let viewable = predicted.is_valid()
+            && !Window::around(predicted, self.half_extent_px, &self.config, width, height)
+                .is_empty();
+        if !viewable {
+            // The prediction left the image or stopped being a location: search from the
+            // last trusted location.
+            self.locked = false;
+            self.coast_cycles = self.coast_cycles.max(1);
+            return self.run_robust(image, t_s, frame, 0, None, diagnostics);
+        }
+        let mut m = self.measure(image, predicted, true, diagnostics.as_deref_mut());
+        let mut searched = false;
+        let mut event = None;
+        let reach = self.reach_px();
+        if m.coverage() < SEARCH_BELOW_COVERAGE || !m.trusted() {
+            // A failed or weak check: search near the prediction, and keep what the search
+            // finds if its outline is clearly better covered.
+            searched = true;
+            let region = self.search_region(Some(predicted), reach, width, height);
+            let s = predicted.scale;
+            let step = 1.0 + MAX_SCALE_STEP;
+            // Only a strong fit will do (REACQUIRE_MIN_COVERAGE, on a peak of coverage).
+            if let Some(found) =
+                self.search_and_measure(image, region, [s / step, s * step], diagnostics)
+            {
+                if found.coverage() > m.coverage() + SEARCH_MARGIN {
+                    if !m.trusted() && self.coast_cycles > 0 {
+                        event = Some(TrackEvent::Reacquired);
+                    }
+                    m = found;
+                }
+            }
+        }
+        // The innovation gate: a measurement beyond the search's reach, or whose scale moved
+        // by more than MAX_SCALE_STEP a frame, is not the target moving.
+        if let Some(meas) = &m.measurement {
+            let l = meas.location;
+            let frames = 1.0 + self.coast_cycles.min(1) as f64;
+            let jump = (l.c_x - predicted.c_x)
+                .abs()
+                .max((l.c_y - predicted.c_y).abs());
+            let zoom = (l.scale / predicted.scale).ln().abs();
+            if !fresh && (jump > reach || zoom > frames * (1.0 + MAX_SCALE_STEP).ln()) {
+                m.gain = f64::INFINITY;
+                event = None;
+            }
+        }
+        let trusted = m.trusted();
+        if trusted {
+            let meas = m.measurement.expect("a trusted measurement exists");
+            let strong = m.passes(REACQUIRE_MIN_COVERAGE, 0.0);
+            self.learn(&meas, predicted, fresh, strong);
+            if strong {
+                self.last_good = meas.location;
+            }
+        }
+        let status = self.judge(trusted, cycles);
+        if status == Status::Lost {
+            self.locked = false;
+        }
+        let next = if trusted {
+            let mut p = [0.0; 3];
+            for (k, out) in p.iter_mut().enumerate() {
+                let [e_slow, e_fast] = self.banks.error[k];
+                *out = if e_fast < e_slow {
+                    self.banks.fast[k].predict(1.0)
+                } else {
+                    self.motion[k].predict(1.0)
+                };
+            }
+            Location::new(p[0], p[1], p[2])
+        } else {
+            predicted
+        };
+        let estimate = match (&m.measurement, trusted) {
+            (Some(meas), true) => meas.location,
+            _ if status == Status::Lost => self.last_estimate,
+            _ => predicted,
+        };
+        self.finish(
+            frame, t_s, status, predicted, estimate, next, m, searched, event,
+        )
     }
 }

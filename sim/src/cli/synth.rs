@@ -5,7 +5,7 @@ use anyhow::Context;
 use clap::Args;
 use std::io::Write;
 use std::path::PathBuf;
-use tracker::synth::{draw, wander, Rect, SynthScene};
+use tracker::synth::{draw, sequence, sequence_with_truth, wander, SequenceKind};
 use tracker::{Camera, Location};
 
 /// Arguments of `carfollow synth`.
@@ -14,8 +14,10 @@ use tracker::{Camera, Location};
     about = "Write a synthetic 256×242 frame sequence of a target (PNG) and its truth.csv",
     long_about = "Draws the target, moving smoothly in position and scale, into OUT_DIR as \
                   frame_0000.png, frame_0001.png, ... with truth.csv (frame,cx,cy,scale). \
-                  With --clutter: sensor noise, a pole and a wire near the target, and a \
-                  shadow band sweeping across it. Seeded: the same seed gives the same frames."
+                  --kind clutter (or --clutter): sensor noise, a pole and a wire near the \
+                  target, and a shadow band sweeping across it; --kind swerve, shake or dim: \
+                  abrupt sideways swerves, a shaking camera, or a dim noisy scene. Seeded: the \
+                  same seed gives the same frames."
 )]
 pub struct SynthArgs {
     /// Folder to write into (created if missing).
@@ -32,9 +34,14 @@ pub struct SynthArgs {
     /// Largest motion per frame, pixels.
     #[arg(long, default_value_t = 1.5)]
     pub px_per_frame: f64,
-    /// Add noise, a pole, a wire and a moving shadow.
+    /// Add noise, a pole, a wire and a moving shadow (the same as --kind clutter).
     #[arg(long)]
     pub clutter: bool,
+    /// What the sequence shows: plain (a smooth wander), clutter, swerve (24 px sideways in 4
+    /// frames, every 40 frames), shake (±5 px at 2.3 Hz, a rough road) or dim (30 grey levels
+    /// of contrast, noise σ = 7).
+    #[arg(long, value_parser = ["plain", "clutter", "swerve", "shake", "dim"])]
+    pub kind: Option<String>,
     /// Seed for the motion and the noise.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
@@ -50,40 +57,38 @@ pub fn run_synth(args: SynthArgs) -> anyhow::Result<()> {
     std::fs::create_dir_all(&args.out_dir)
         .with_context(|| format!("{}: cannot create", args.out_dir.display()))?;
     let camera = Camera::default();
-    let truth = wander(start, args.frames, args.px_per_frame, 0.01, args.seed);
+    let kind = match (args.kind.as_deref(), args.clutter) {
+        (Some(k), _) => SequenceKind::parse(k).expect("clap allows only known kinds"),
+        (None, true) => SequenceKind::Clutter,
+        (None, false) => SequenceKind::Plain,
+    };
+    if args.clutter && kind != SequenceKind::Clutter {
+        anyhow::bail!(
+            "--clutter is --kind clutter; it cannot be combined with --kind {}",
+            kind.as_str()
+        );
+    }
+    let half = model
+        .size_m()
+        .map(|m| 0.5 * m * camera.focal_px()[0] / model.nominal_range_m());
+    let seq = match kind {
+        // The plain and cluttered wanders keep their --px-per-frame.
+        SequenceKind::Plain | SequenceKind::Clutter => {
+            let truth = wander(start, args.frames, args.px_per_frame, 0.01, args.seed);
+            sequence_with_truth(kind, truth, half)
+        }
+        _ => sequence(kind, start, args.frames, half, args.seed),
+    };
     let truth_path = args.out_dir.join("truth.csv");
     let mut csv = std::fs::File::create(&truth_path)
         .with_context(|| format!("{}: cannot create", truth_path.display()))?;
     writeln!(csv, "frame,cx,cy,scale")?;
-    let half = model
-        .size_m()
-        .map(|m| 0.5 * m * camera.focal_px()[0] / model.nominal_range_m());
-    for (k, at) in truth.iter().enumerate() {
-        let mut scene = SynthScene::default();
-        if args.clutter {
-            let (hw, hh) = (half[0] * at.scale, half[1] * at.scale);
-            let sweep = at.c_x - 60.0 + (2.0 * k as f64) % 120.0;
-            scene.noise_sigma = 4.0;
-            scene.distractors = vec![
-                Rect {
-                    bounds: [at.c_x - hw - 12.0, 0.0, at.c_x - hw - 9.0, 242.0],
-                    value: 60.0,
-                },
-                Rect {
-                    bounds: [0.0, at.c_y - hh - 13.0, 256.0, at.c_y - hh - 12.0],
-                    value: 70.0,
-                },
-            ];
-            scene.shadows = vec![Rect {
-                bounds: [sweep, 0.0, sweep + 14.0, 242.0],
-                value: 0.55,
-            }];
-        }
+    for (k, (at, scene)) in seq.truth.iter().zip(&seq.scenes).enumerate() {
         let pixels = draw(
             &model,
             &camera,
             *at,
-            &scene,
+            scene,
             args.seed.wrapping_mul(1_000_003) + k as u64,
         );
         let path = args.out_dir.join(format!("frame_{k:04}.png"));
@@ -94,9 +99,11 @@ pub fn run_synth(args: SynthArgs) -> anyhow::Result<()> {
         writeln!(csv, "{k},{:.4},{:.4},{:.6}", at.c_x, at.c_y, at.scale)?;
     }
     println!(
-        "{}: {} frames; track them with: carfollow track {} --target {} --focal-px {} --init {},{},{}",
+        "{}: {} {} frames; track them with: carfollow track {} --target {} --focal-px {} --init {},{},{} \
+         (or --mode robust, with or without --init)",
         args.out_dir.display(),
         args.frames,
+        kind.as_str(),
         args.out_dir.display(),
         args.target.display(),
         camera.focal_px()[0],

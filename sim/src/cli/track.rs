@@ -4,7 +4,7 @@ use anyhow::Context;
 use clap::Args;
 use sim::track::{parse_location, run, TrackJob};
 use std::path::PathBuf;
-use tracker::TrackerConfig;
+use tracker::{TrackerConfig, TrackerMode};
 
 /// Arguments of `carfollow track`.
 #[derive(Args, Debug)]
@@ -25,8 +25,12 @@ pub struct TrackArgs {
     #[arg(long)]
     pub focal_px: f64,
     /// The target's location in the first frame: CX,CY,SCALE (the teleoperator's placement).
+    /// Required by the paper's mode; robust mode without it searches the whole image.
     #[arg(long, allow_hyphen_values = true)]
-    pub init: String,
+    pub init: Option<String>,
+    /// Tracker mode: paper (the paper's tracker, the default) or robust.
+    #[arg(long, default_value = "paper", value_parser = ["paper", "robust"])]
+    pub mode: String,
     /// Forgetting factor λ of the motion model (0 < λ ≤ 1).
     #[arg(long)]
     pub lambda: Option<f64>,
@@ -58,7 +62,15 @@ pub struct TrackArgs {
 /// Runs the subcommand.
 pub fn run_track(args: TrackArgs) -> anyhow::Result<()> {
     let model = sim::target::load(&args.target)?;
-    let init = parse_location(&args.init).context("--init")?;
+    let mode = TrackerMode::parse(&args.mode).expect("clap allows only known modes");
+    let init = match &args.init {
+        Some(text) => Some(parse_location(text).context("--init")?),
+        None if mode == TrackerMode::Robust => None,
+        None => anyhow::bail!(
+            "--init CX,CY,SCALE is required in the paper's mode (the teleoperator's placement, \
+             paper 2.2); --mode robust can search for the target instead"
+        ),
+    };
     if !(args.focal_px.is_finite() && args.focal_px > 0.0) {
         anyhow::bail!(
             "--focal-px must be a positive number of pixels, got {}",
@@ -87,6 +99,7 @@ pub fn run_track(args: TrackArgs) -> anyhow::Result<()> {
     let mut config = TrackerConfig {
         rate_hz: args.rate_hz,
         subpixel_edges: args.subpixel_edges,
+        mode,
         ..TrackerConfig::default()
     };
     if let Some(lambda) = args.lambda {
@@ -107,12 +120,13 @@ pub fn run_track(args: TrackArgs) -> anyhow::Result<()> {
     };
     let s = run(&job)?;
     eprintln!(
-        "{}: {} frames: {} tracking, {} coasting, {} lost; median step {:.1} µs",
+        "{}: {} frames: {} tracking, {} coasting, {} lost, {} (re)acquired; median step {:.1} µs",
         args.out.display(),
         s.frames,
         s.tracking,
         s.coasting,
         s.lost,
+        s.acquisitions,
         s.median_step_us
     );
     Ok(())

@@ -16,7 +16,7 @@ use super::ReportError;
 use crate::record::FrameRecord;
 
 /// The columns of `frames.csv`, in order. The order is stable: new columns go at the end.
-pub const FRAMES_CSV_COLUMNS: [&str; 32] = [
+pub const FRAMES_CSV_COLUMNS: [&str; 36] = [
     "frame",
     "t_s",
     "true_range_m",
@@ -49,6 +49,10 @@ pub const FRAMES_CSV_COLUMNS: [&str; 32] = [
     "lead_z_m",
     "collision",
     "chase_mode",
+    "coverage_h",
+    "coverage_v",
+    "coverage_gain",
+    "tracker_event",
 ];
 
 /// A streaming writer of `frames.csv`.
@@ -146,6 +150,12 @@ fn format_row(r: &FrameRecord, mut s: String) -> String {
     flag(&mut s, r.collision);
     s.push(',');
     text(&mut s, &r.chase_mode);
+    for v in [r.coverage[0], r.coverage[1], r.coverage_gain] {
+        s.push(',');
+        num(&mut s, v);
+    }
+    s.push(',');
+    text(&mut s, &r.tracker_event);
     s
 }
 
@@ -252,6 +262,8 @@ pub(crate) mod tests {
         assert_eq!(row1[col("status")], "coasting");
         assert_eq!(row1[col("lost_truth")], "1");
         assert_eq!(row1[col("collision")], "1");
+        assert_eq!(row0[col("coverage_v")], "0.9");
+        assert_eq!(row0[col("tracker_event")], "");
     }
 
     #[test]
@@ -267,7 +279,7 @@ pub(crate) mod tests {
         assert!(!row.contains("-0"), "{row}");
         let numbers = &row[..row.rfind(",\"stop").unwrap()];
         assert!(!numbers.contains(['e', 'E']), "{row}");
-        assert!(row.ends_with(",\"stop, \"\"now\"\"\""), "{row}");
+        assert!(row.contains(",\"stop, \"\"now\"\"\","), "{row}");
     }
 
     #[test]

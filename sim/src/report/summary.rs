@@ -11,7 +11,9 @@
 //!
 //! **Tracking loss** is judged by ground truth (`lost_truth`), whatever the tracker says; an
 //! event is a maximal run of consecutive lost frames. The tracker's own `lost` and `coasting`
-//! times are reported beside it.
+//! times are reported beside it, and so is how long after each event's start the tracker
+//! first said it was not tracking (`loss_events`, `max_loss_report_delay_frames`), and how
+//! many lost frames it spent saying `tracking` (`silent_loss_frames`).
 //!
 //! **Range error** is `|est_range_m − true_range_m|` over the frames where the target is in view
 //! and not lost by the ground-truth judgement (and the estimate is finite): while the tracker is
@@ -63,6 +65,17 @@ pub struct Summary {
     pub tracker_lost_s: f64,
     /// Time the tracker itself said `coasting`, seconds.
     pub tracker_coasting_s: f64,
+    /// Frames lost by the ground-truth judgement while the tracker said `tracking`: silent
+    /// loss, the kind a car that steers by the tracker cannot see.
+    pub silent_loss_frames: u64,
+    /// Each ground-truth loss event, with how long the tracker took to say so.
+    pub loss_events: Vec<LossEvent>,
+    /// The longest delay from a ground-truth loss to the tracker's own report, frames
+    /// (`null` without loss events; an unreported event counts its whole length).
+    pub max_loss_report_delay_frames: Option<u64>,
+    /// Frames on which robust mode found the target again by search after coasting or a
+    /// loss (or first found it, with no start given), with their times.
+    pub reacquired: Vec<TrackerEventTime>,
     /// Range estimate error while tracked, metres.
     pub range_error_m: RangeError,
     /// Chase vehicle's distance from the lead's path, metres.
@@ -77,6 +90,60 @@ pub struct Summary {
     pub realtime_factor: Option<f64>,
     /// Where the wall-clock time went, when the caller measured it (`null` otherwise).
     pub timing: Option<LoopTiming>,
+}
+
+/// A ground-truth loss event (a maximal run of frames lost by the truth) and the tracker's
+/// own report of it.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct LossEvent {
+    /// First frame of the event.
+    pub start_frame: u64,
+    /// Its capture time, seconds.
+    pub start_t_s: f64,
+    /// Frames in the event.
+    pub frames: u64,
+    /// Frames from the event's start to the first in it where the tracker's status was not
+    /// `tracking` (0 when it already said so); `null` when it said `tracking` throughout.
+    pub report_delay_frames: Option<u64>,
+}
+
+/// A tracker event in the run.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct TrackerEventTime {
+    /// Frame.
+    pub frame: u64,
+    /// Capture time, seconds.
+    pub t_s: f64,
+    /// `acquired` or `reacquired`.
+    pub event: String,
+}
+
+/// The ground-truth loss events of a run, each with the tracker's report delay.
+pub fn loss_events(records: &[FrameRecord]) -> Vec<LossEvent> {
+    let mut events: Vec<LossEvent> = Vec::new();
+    let mut open: Option<LossEvent> = None;
+    for r in records {
+        match (&mut open, r.lost_truth) {
+            (None, true) => {
+                open = Some(LossEvent {
+                    start_frame: r.frame,
+                    start_t_s: r.t_s,
+                    frames: 1,
+                    report_delay_frames: (r.status != TrackerStatus::Tracking).then_some(0),
+                });
+            }
+            (Some(e), true) => {
+                if e.report_delay_frames.is_none() && r.status != TrackerStatus::Tracking {
+                    e.report_delay_frames = Some(e.frames);
+                }
+                e.frames += 1;
+            }
+            (Some(_), false) => events.extend(open.take()),
+            (None, false) => {}
+        }
+    }
+    events.extend(open);
+    events
 }
 
 /// Minimum, time-weighted mean and maximum of the gap, metres (zeros without frames).
@@ -148,6 +215,7 @@ impl Summary {
         };
         let tracking_lost_s = time_where(&|r| r.lost_truth);
         let tracking_loss_events = count_events(records.iter().map(|r| r.lost_truth));
+        let events = loss_events(records);
         let tracker_lost_s = time_where(&|r| r.status == TrackerStatus::Lost);
         let tracker_coasting_s = time_where(&|r| r.status == TrackerStatus::Coasting);
         let range_error_m = range_error(records);
@@ -170,6 +238,24 @@ impl Summary {
             tracking_loss_events,
             tracker_lost_s,
             tracker_coasting_s,
+            silent_loss_frames: records
+                .iter()
+                .filter(|r| r.lost_truth && r.status == TrackerStatus::Tracking)
+                .count() as u64,
+            max_loss_report_delay_frames: events
+                .iter()
+                .map(|e| e.report_delay_frames.unwrap_or(e.frames))
+                .max(),
+            loss_events: events,
+            reacquired: records
+                .iter()
+                .filter(|r| !r.tracker_event.is_empty())
+                .map(|r| TrackerEventTime {
+                    frame: r.frame,
+                    t_s: r.t_s,
+                    event: r.tracker_event.clone(),
+                })
+                .collect(),
             range_error_m,
             lateral_path_error_m,
             collisions,

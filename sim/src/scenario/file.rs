@@ -145,6 +145,8 @@ pub struct TrackerFile {
     pub lost_after_s: Option<f64>,
     /// Sub-pixel edges (an improvement over the paper).
     pub subpixel_edges: Option<bool>,
+    /// `"paper"` (the default) or `"robust"`, the mode that goes beyond the paper.
+    pub mode: Option<String>,
     /// The teleoperator's placement error at start: `[dx_px, dy_px, dscale]` added to the
     /// true location (default none).
     pub init_offset: Option<[f64; 3]>,

@@ -13,7 +13,7 @@ use crate::record::Expect;
 use crate::scene::{Densities, RouteSegment, RouteSpec, Sensor, Sun};
 use std::path::{Path, PathBuf};
 use thiserror::Error;
-use tracker::{Camera, TargetModel, TrackerConfig};
+use tracker::{Camera, TargetModel, TrackerConfig, TrackerMode};
 use vehicle::{
     ChaseControllerConfig, DelayLineConfig, LeadDriverConfig, ProfileBasis, SpeedProfile,
     WorldConfig,
@@ -489,6 +489,14 @@ fn validate(
     }
     if let Some(v) = t.subpixel_edges {
         tracker.subpixel_edges = v;
+    }
+    if let Some(v) = &t.mode {
+        tracker.mode = TrackerMode::parse(v).ok_or_else(|| {
+            invalid(
+                "tracker.mode",
+                format!("= {v:?}: must be \"paper\" or \"robust\""),
+            )
+        })?;
     }
     let rate_hz = raw.loop_.rate_hz.unwrap_or(15.0);
     at(
