@@ -337,6 +337,43 @@ fn distance_to_path(path: &[[f64; 2]], p: [f64; 2]) -> f64 {
         .fold(f64::INFINITY, f64::min)
 }
 
+/// The lane centre of the right lane as the drivers' polyline, one point every
+/// [`ROUTE_SAMPLE_M`], and how far it reaches from the origin along x or z, metres.
+/// Scenario validation and [`ClosedLoop::new`] both build it, so they agree.
+pub(crate) fn lane_polyline(route: &scene::Route, lateral_m: f64) -> (Vec<Vector>, f32) {
+    let n = (route.length_m() / ROUTE_SAMPLE_M).ceil() as usize;
+    let points: Vec<Vector> = (0..=n)
+        .map(|k| {
+            let [x, z] = route.point((k as f64 * ROUTE_SAMPLE_M).min(route.length_m()), lateral_m);
+            Vector::new(x as f32, 0.0, z as f32)
+        })
+        .collect();
+    let reach = points
+        .iter()
+        .fold(0.0f32, |m, p| m.max(p.x.abs()).max(p.z.abs()));
+    (points, reach)
+}
+
+/// Where the chase's rear axle starts, metres along the route: `initial_gap_m` from its
+/// camera to the lead's rear bumper, the lead's rear axle at `lead_start_m`.
+pub(crate) fn chase_start_m(lead_start_m: f64, initial_gap_m: f64, camera_forward_m: f32) -> f64 {
+    let lead_params = VehicleParams::pickup();
+    lead_start_m + f64::from(lead_params.rear_bumper_x_m())
+        - initial_gap_m
+        - f64::from(camera_forward_m)
+}
+
+/// The physics world of a scenario: its ground reaches [`GROUND_BEYOND_ROUTE_M`] past
+/// every point of the route (`reach_m`, from [`lane_polyline`]), or a vehicle drives off it.
+pub(crate) fn world_config(base: &vehicle::WorldConfig, reach_m: f32) -> vehicle::WorldConfig {
+    let mut world = base.clone();
+    world.ground.half_extent_m = world
+        .ground
+        .half_extent_m
+        .max(reach_m + GROUND_BEYOND_ROUTE_M);
+    world
+}
+
 impl ClosedLoop {
     /// Sets up the world, vehicles, controllers, camera and tracker for a scenario.
     pub fn new(s: &Scenario, backend: Backend, diagnostics: bool) -> Result<ClosedLoop, LoopError> {
@@ -347,30 +384,11 @@ impl ClosedLoop {
         };
         let chase_params = VehicleParams::hmmwv_m998();
         let lead_params = VehicleParams::pickup();
-        let mount = s.chase.camera_mount;
-        if mount.right_m != 0.0 {
-            return Err(setup(
-                "camera.mount.right_m must be 0: the renderer mounts the camera on the centreline"
-                    .into(),
-            ));
-        }
-
-        // The lane centre of the right lane, as the drivers' polyline.
+        // Validation ([`Scenario`]) made every check below already: these errors cannot
+        // happen for a validated scenario, and remain only as a guard.
         let scene_route = scene::Route::new(s.route.clone());
         let lateral = 0.5 * s.route.lane_width_m;
-        let n = (scene_route.length_m() / ROUTE_SAMPLE_M).ceil() as usize;
-        let points: Vec<Vector> = (0..=n)
-            .map(|k| {
-                let [x, z] = scene_route.point(
-                    (k as f64 * ROUTE_SAMPLE_M).min(scene_route.length_m()),
-                    lateral,
-                );
-                Vector::new(x as f32, 0.0, z as f32)
-            })
-            .collect();
-        let reach = points
-            .iter()
-            .fold(0.0f32, |m, p| m.max(p.x.abs()).max(p.z.abs()));
+        let (points, _) = lane_polyline(&scene_route, lateral);
         let route = Route::new(points).map_err(|e| setup(format!("route: {e}")))?;
         let pose_at = |s_m: f64| {
             let s = s_m as f32;
@@ -379,22 +397,8 @@ impl ClosedLoop {
                 Rotation::from_rotation_y(direction_heading(route.tangent_at(s))),
             )
         };
-        let chase_start_m = s.lead_start_m + f64::from(lead_params.rear_bumper_x_m())
-            - s.initial_gap_m
-            - f64::from(mount.forward_m);
-        if chase_start_m < 0.0 {
-            return Err(setup(format!(
-                "the chase vehicle would start {:.1} m before the route; raise lead.start_m to at least {:.1}",
-                -chase_start_m,
-                s.lead_start_m - chase_start_m
-            )));
-        }
-        // The ground must reach past every point of the route, or a vehicle drives off it.
-        let mut world_config = s.world.clone();
-        world_config.ground.half_extent_m = world_config
-            .ground
-            .half_extent_m
-            .max(reach + GROUND_BEYOND_ROUTE_M);
+        let chase_start_m = s.chase_start_m;
+        let world_config = s.world.clone();
         let mut world = World::new(&world_config).map_err(|e| setup(format!("physics: {e}")))?;
         let v0 = s.lead_initial_speed_mps as f32;
         let lead_id = world

@@ -87,6 +87,7 @@ pub struct LeadFile {
     #[serde(default = "default_basis")]
     pub speed_basis: String,
     /// `[[key, speed_mps], ...]`, keys increasing; linear between, held beyond.
+    #[serde(deserialize_with = "exact::rows")]
     pub speed_profile: Vec<[f64; 2]>,
     /// The driver's tuning (weaving, lateral acceleration in turns, ...).
     #[serde(default)]
@@ -119,8 +120,10 @@ pub struct CameraFile {
     /// Focal length, millimetres (default 8).
     pub focal_length_mm: Option<f64>,
     /// Pixel size, millimetres `[w, h]` (default 0.025 × 0.025).
+    #[serde(default, deserialize_with = "exact::optional")]
     pub pixel_size_mm: Option<[f64; 2]>,
     /// Principal point, pixels (default the frame's centre).
+    #[serde(default, deserialize_with = "exact::optional")]
     pub image_center_px: Option<[f64; 2]>,
     /// Where the camera sits on the chase vehicle.
     #[serde(default)]
@@ -147,6 +150,7 @@ pub struct TrackerFile {
     pub subpixel_edges: Option<bool>,
     /// The teleoperator's placement error at start: `[dx_px, dy_px, dscale]` added to the
     /// true location (default none).
+    #[serde(default, deserialize_with = "exact::optional")]
     pub init_offset: Option<[f64; 3]>,
 }
 
@@ -229,4 +233,36 @@ pub struct SensorFile {
     pub noise_sigma_grey: Option<f64>,
     /// Optional blur, pixels.
     pub blur_sigma_px: Option<f64>,
+}
+
+/// Fixed-length arrays of numbers read strictly: the toml parser lets `[f64; 2]` take the
+/// first two of four numbers from a file (and refuses the same array in a `--set`), so
+/// these read a list and insist on its length, with the list's position in the error.
+pub(crate) mod exact {
+    use serde::de::{Deserializer, Error};
+    use serde::Deserialize;
+
+    fn sized<E: Error, const N: usize>(v: Vec<f64>) -> Result<[f64; N], E> {
+        let len = v.len();
+        <[f64; N]>::try_from(v).map_err(|_| {
+            E::invalid_length(len, &format!("an array of exactly {N} numbers").as_str())
+        })
+    }
+
+    /// `Option<[f64; N]>`: absent, or exactly `N` numbers (use with `#[serde(default)]`).
+    pub fn optional<'de, D: Deserializer<'de>, const N: usize>(
+        d: D,
+    ) -> Result<Option<[f64; N]>, D::Error> {
+        Option::<Vec<f64>>::deserialize(d)?.map(sized).transpose()
+    }
+
+    /// `Vec<[f64; N]>`: rows of exactly `N` numbers each.
+    pub fn rows<'de, D: Deserializer<'de>, const N: usize>(
+        d: D,
+    ) -> Result<Vec<[f64; N]>, D::Error> {
+        Vec::<Vec<f64>>::deserialize(d)?
+            .into_iter()
+            .map(sized)
+            .collect()
+    }
 }

@@ -6,6 +6,7 @@
 mod file;
 mod overrides;
 
+pub(crate) use file::exact;
 pub use file::*;
 pub use overrides::apply_override;
 
@@ -24,6 +25,23 @@ use vehicle::{
 pub const BUILTIN_NAME: &str = "nist-grounds";
 const BUILTIN_TEXT: &str = include_str!("../../../scenarios/nist-grounds.toml");
 const BUILTIN_TARGET_TEXT: &str = include_str!("../../../scenarios/targets/nist-ten-segment.toml");
+
+/// Longest route, metres: 50 km, twice the longest shipped drive; it keeps the physics
+/// ground (which reaches 200 m past the route) inside its 100 km limit and the drivers'
+/// 1 m polyline to 50,000 points.
+pub const MAX_ROUTE_M: f64 = 50_000.0;
+/// Largest arc radius, metres: 10 km, already indistinguishable from a straight over the
+/// camera's range.
+pub const MAX_ARC_RADIUS_M: f64 = 10_000.0;
+/// Smallest arc radius, metres: the vehicles' turning circles.
+pub const MIN_ARC_RADIUS_M: f64 = 8.0;
+/// Largest Gaussian blur of the sensor, pixels: beyond 10 px a 256-pixel frame holds no
+/// edge at all.
+pub const MAX_BLUR_SIGMA_PX: f64 = 10.0;
+/// Focal length bounds, millimetres: fish-eye to long telephoto.
+pub const FOCAL_LENGTH_MM: [f64; 2] = [1.0, 200.0];
+/// Largest teleoperator placement error, pixels: half the frame.
+pub const MAX_INIT_OFFSET_PX: f64 = 128.0;
 
 /// A scenario file that cannot be used.
 #[derive(Debug, Error)]
@@ -131,6 +149,14 @@ pub struct Scenario {
     pub sensor: Sensor,
     /// Pass/fail criteria.
     pub expect: Expect,
+    /// Chase: where its rear axle starts, metres along the route (from `lead_start_m`,
+    /// `initial_gap_m` and the camera mount; at least 0).
+    pub chase_start_m: f64,
+    /// The scenario as resolved: the file with the `--set` overrides applied and every
+    /// default filled in (written to `summary.json`).
+    pub resolved: ScenarioFile,
+    /// The `--set` overrides applied, in order.
+    pub overrides: Vec<String>,
 }
 
 /// 1-based (line, column) of a byte offset.
@@ -208,6 +234,17 @@ impl Scenario {
         };
         // The file alone first, so its own mistakes are reported at their line.
         let mut raw: ScenarioFile = toml::from_str(text).map_err(parse_err)?;
+        // The file alone again, as the overrides below will read it: whatever that refuses
+        // is the file's fault, not an override's.
+        let table: toml::Table = toml::from_str(text).map_err(parse_err)?;
+        if let Err(e) = toml::Value::Table(table).try_into::<ScenarioFile>() {
+            return Err(ScenarioError::Parse {
+                path: path.to_owned(),
+                line: 1,
+                column: 1,
+                message: e.message().trim().to_string(),
+            });
+        }
         if !overrides.is_empty() {
             let mut value: toml::Table = toml::from_str(text).map_err(parse_err)?;
             // One at a time, so an error names the override that caused it.
@@ -223,11 +260,7 @@ impl Scenario {
         }
         let invalid = |field: &str, message: String| {
             // A value that came from `--set` is reported as such, not at the file's line.
-            if let Some(assignment) = overrides
-                .iter()
-                .rev()
-                .find(|a| a.split_once('=').is_some_and(|(k, _)| k.trim() == field))
-            {
+            if let Some(assignment) = overrides.iter().rev().find(|a| override_names(a, field)) {
                 return ScenarioError::Override {
                     assignment: assignment.clone(),
                     message: format!("`{field}` {message}"),
@@ -242,7 +275,7 @@ impl Scenario {
                 message,
             }
         };
-        validate(raw, invalid, |target| {
+        validate(raw, overrides, invalid, |target| {
             load_target(target).map_err(|source| {
                 let (line, column) = line_column(text, locate(text, "tracker.target"));
                 ScenarioError::Target {
@@ -256,17 +289,55 @@ impl Scenario {
     }
 }
 
+/// A vehicle crate's error as the dotted field it is about (under `prefix`) and what to
+/// say of it.
+fn vehicle_error(prefix: &str, e: &vehicle::VehicleError) -> (String, String) {
+    match e {
+        vehicle::VehicleError::InvalidParameter { field, value, .. } => (
+            format!("{prefix}.{field}"),
+            format!(
+                "= {}: out of its allowed range, or not finite",
+                short(value.to_string())
+            ),
+        ),
+        other => (prefix.to_string(), format!(": {other}")),
+    }
+}
+
+/// Whether the override `assignment` (`key=value`) set `field` or a table holding it, or
+/// a field inside it.
+fn override_names(assignment: &str, field: &str) -> bool {
+    assignment.split_once('=').is_some_and(|(k, _)| {
+        let k = k.trim();
+        k == field
+            || field
+                .strip_prefix(k)
+                .is_some_and(|rest| rest.starts_with('.'))
+            || k.strip_prefix(field)
+                .is_some_and(|rest| rest.starts_with('.'))
+    })
+}
+
+/// A number as written for people: `1e300`, not three hundred digits.
+fn short(text: String) -> String {
+    match text.parse::<f64>() {
+        Ok(v) if text.len() > 12 => format!("{v:e}"),
+        _ => text,
+    }
+}
+
 /// Range check helper: `Err(message)` saying what is allowed.
 fn check(ok: bool, allowed: &str, value: impl std::fmt::Display) -> Result<(), String> {
     if ok {
         Ok(())
     } else {
-        Err(format!("= {value}: {allowed}"))
+        Err(format!("= {}: {allowed}", short(value.to_string())))
     }
 }
 
 fn validate(
     raw: ScenarioFile,
+    overrides: &[String],
     invalid: impl Fn(&str, String) -> ScenarioError,
     load_target: impl Fn(&str) -> Result<TargetModel, ScenarioError>,
 ) -> Result<Scenario, ScenarioError> {
@@ -316,15 +387,25 @@ fn validate(
                 at(
                     field,
                     check(
-                        finite_pos(length_m),
-                        &format!("segment {i}: straight_m must be > 0"),
+                        finite_pos(length_m) && length_m <= MAX_ROUTE_M,
+                        &format!("segment {i}: straight_m must be > 0 and at most {MAX_ROUTE_M} m"),
                         length_m,
                     ),
                 )?;
                 RouteSegment::Straight { length_m }
             }
             (None, Some(radius_m), Some(angle_deg)) => {
-                at(field, check(radius_m.is_finite() && radius_m >= 8.0, &format!("segment {i}: arc_radius_m must be at least 8 m (the vehicles' turning circles)"), radius_m))?;
+                at(
+                    field,
+                    check(
+                        (MIN_ARC_RADIUS_M..=MAX_ARC_RADIUS_M).contains(&radius_m),
+                        &format!(
+                            "segment {i}: arc_radius_m must be {MIN_ARC_RADIUS_M}–{MAX_ARC_RADIUS_M} m \
+                             (at least the vehicles' turning circles)"
+                        ),
+                        radius_m,
+                    ),
+                )?;
                 at(
                     field,
                     check(
@@ -360,6 +441,14 @@ fn validate(
             } => radius_m * angle_deg.abs().to_radians(),
         })
         .sum();
+    at(
+        "route.segments",
+        check(
+            length <= MAX_ROUTE_M,
+            &format!("the route must be at most {MAX_ROUTE_M} m long"),
+            format!("{length:.0} m in all"),
+        ),
+    )?;
     for &x in &route.intersections_m {
         at(
             "route.intersections_m",
@@ -436,10 +525,18 @@ fn validate(
             "is set by `[camera.mount]`; remove it here".into(),
         ));
     }
-    raw.camera
-        .mount
-        .validate()
-        .map_err(|e| invalid("camera.mount", format!(": {e}")))?;
+    at(
+        "camera.mount.right_m",
+        check(
+            raw.camera.mount.right_m == 0.0,
+            "must be 0: the renderer mounts the camera on the centreline",
+            raw.camera.mount.right_m,
+        ),
+    )?;
+    raw.camera.mount.validate().map_err(|e| {
+        let (field, message) = vehicle_error("camera.mount", &e);
+        invalid(&field, message)
+    })?;
     let mut chase = raw.chase.controller.clone();
     chase.camera_mount = raw.camera.mount;
     let c = &raw.camera;
@@ -452,9 +549,18 @@ fn validate(
     at(
         "camera.focal_length_mm",
         check(
-            finite_pos(camera.focal_length_mm),
-            "must be > 0 mm",
+            (FOCAL_LENGTH_MM[0]..=FOCAL_LENGTH_MM[1]).contains(&camera.focal_length_mm),
+            &format!("must be {}–{} mm", FOCAL_LENGTH_MM[0], FOCAL_LENGTH_MM[1]),
             camera.focal_length_mm,
+        ),
+    )?;
+    at(
+        "camera.image_center_px",
+        check(
+            (0.0..=255.0).contains(&camera.image_center_px[0])
+                && (0.0..=241.0).contains(&camera.image_center_px[1]),
+            "must lie in the 256 × 242 frame: [0–255, 0–241] px",
+            format!("{:?}", camera.image_center_px),
         ),
     )?;
     at(
@@ -510,8 +616,15 @@ fn validate(
     at(
         "tracker.init_offset",
         check(
-            init_offset.iter().all(|v| v.is_finite()) && init_offset[2] > -0.5,
-            "is [dx_px, dy_px, dscale], finite, dscale > -0.5",
+            init_offset[..2]
+                .iter()
+                .all(|v| (-MAX_INIT_OFFSET_PX..=MAX_INIT_OFFSET_PX).contains(v))
+                && init_offset[2] > -0.5
+                && init_offset[2] <= 1.0,
+            &format!(
+                "is [dx_px, dy_px, dscale] with |dx|, |dy| at most {MAX_INIT_OFFSET_PX} px \
+                 and dscale in (-0.5, 1]"
+            ),
             format!("{init_offset:?}"),
         ),
     )?;
@@ -567,6 +680,14 @@ fn validate(
     if let Some(v) = e.sun.ambient {
         sun.ambient = v;
     }
+    at(
+        "environment.sun.azimuth_deg",
+        check(
+            (-360.0..=360.0).contains(&sun.azimuth_deg),
+            "must be -360–360 degrees",
+            sun.azimuth_deg,
+        ),
+    )?;
     at(
         "environment.sun.elevation_deg",
         check(
@@ -668,8 +789,16 @@ fn validate(
             sensor.noise_sigma_grey,
         ),
     )?;
-    let mut world = WorldConfig::default();
-    world.ground.bumps = e.bumps.clone();
+    if let Some(sigma) = sensor.blur_sigma_px {
+        at(
+            "environment.sensor.blur_sigma_px",
+            check(
+                (0.0..=MAX_BLUR_SIGMA_PX).contains(&sigma),
+                &format!("must be 0–{MAX_BLUR_SIGMA_PX} px"),
+                sigma,
+            ),
+        )?;
+    }
 
     // Expectations.
     let x = &raw.expect;
@@ -691,13 +820,78 @@ fn validate(
         ("expect.max_lost_s", x.max_lost_s),
         ("expect.max_lateral_deviation_m", x.max_lateral_deviation_m),
         ("expect.min_distance_m", x.min_distance_m),
+        ("expect.max_range_error_p95_m", x.max_range_error_p95_m),
     ] {
         if let Some(v) = v {
             at(field, check(v.is_finite() && v >= 0.0, "must be ≥ 0", v))?;
         }
     }
 
+    // What the closed loop builds from all this, built here so that `check`, a sweep's
+    // pre-flight and `run` refuse the same scenarios, and `ClosedLoop::new` refuses none.
+    let scene_route = crate::scene::Route::new(route.clone());
+    let (points, reach_m) =
+        crate::closed_loop::lane_polyline(&scene_route, 0.5 * route.lane_width_m);
+    let drivers_route =
+        vehicle::Route::new(points).map_err(|e| invalid("route.segments", format!(": {e}")))?;
+    let chase_start_m =
+        crate::closed_loop::chase_start_m(l.start_m, initial_gap_m, chase.camera_mount.forward_m);
+    if chase_start_m < 0.0 {
+        // Three fields decide it; blame an override among them if there is one.
+        let field = ["chase.initial_gap_m", "camera.mount.forward_m"]
+            .into_iter()
+            .find(|f| overrides.iter().any(|a| override_names(a, f)))
+            .unwrap_or("lead.start_m");
+        return Err(invalid(
+            field,
+            format!(
+                "puts the chase vehicle {:.1} m before the route's start; raise lead.start_m to \
+                 at least {:.1}",
+                -chase_start_m,
+                l.start_m - chase_start_m
+            ),
+        ));
+    }
+    let mut base = WorldConfig::default();
+    base.ground.bumps = e.bumps.clone();
+    let world = crate::closed_loop::world_config(&base, reach_m);
+    vehicle::Ground::new(&world.ground).map_err(|e| match e {
+        vehicle::VehicleError::InvalidParameter { field, .. } if field.starts_with("bumps.") => {
+            let (field, message) = vehicle_error("environment", &e);
+            invalid(&field, message)
+        }
+        other => invalid("route.segments", format!(": the physics ground: {other}")),
+    })?;
+    let v0 = lead_initial_speed_mps as f32;
+    chase.gap_keeper.validate().map_err(|e| {
+        let (field, message) = vehicle_error("chase.controller.gap_keeper", &e);
+        invalid(&field, message)
+    })?;
+    vehicle::ChaseController::new(chase.clone(), &vehicle::VehicleParams::hmmwv_m998(), v0)
+        .map_err(|e| {
+            let (field, message) = vehicle_error("chase.controller", &e);
+            invalid(&field, message)
+        })?;
+    vehicle::LeadDriver::new(
+        drivers_route,
+        lead_profile.clone(),
+        l.driver.clone(),
+        &vehicle::VehicleParams::pickup(),
+    )
+    .map_err(|e| {
+        let (field, message) = vehicle_error("lead.driver", &e);
+        invalid(&field, message)
+    })?;
+    vehicle::DelayLine::<()>::new(&delay).map_err(|e| {
+        let (field, message) = vehicle_error("loop", &e);
+        invalid(&field, message)
+    })?;
+
+    let resolved = raw.clone();
     Ok(Scenario {
+        chase_start_m,
+        resolved,
+        overrides: overrides.to_vec(),
         name: raw.name,
         description: raw.description,
         path: None,
