@@ -14,10 +14,11 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
 use std::time::{Duration, Instant};
 
-/// How often a run writes a progress line to stderr when stderr is not a terminal (a CI or
-/// Slurm log), where the progress bar stays hidden: often enough to show it is alive, rarely
-/// enough that a 17-minute scenario (about 15 s of wall-clock time) logs a line or two.
-const PROGRESS_EVERY: Duration = Duration::from_secs(5);
+/// The default `--progress-every`, seconds: how often a run writes a progress line to
+/// stderr when stderr is not a terminal (a CI or Slurm log, where the progress bar stays
+/// hidden). Often enough to show it is alive; a 17-minute scenario (about 15 s of
+/// wall-clock time) logs two or three lines.
+const PROGRESS_EVERY_S: f64 = 5.0;
 
 /// The default `--video-stride`: every third frame, 5 frames a second of simulated time,
 /// still smooth at the vehicles' speeds and a third of the GIF (a 17-minute run: 5,100
@@ -27,6 +28,7 @@ const DEFAULT_VIDEO_STRIDE: u32 = 3;
 /// Arguments of `carfollow run`.
 #[derive(Args, Debug)]
 #[command(
+    after_help = super::exit::HELP,
     about = "Run scenarios through the closed loop (camera, tracker, delay line, controllers, physics)",
     long_about = "Run each SCENARIO.toml (with none, the built-in nist-grounds) headless and \
                   write frames.csv, summary.json, plots and junit.xml to renders/<scenario>/ \
@@ -53,6 +55,11 @@ pub struct RunArgs {
     #[arg(long, value_name = "N", default_value_t = DEFAULT_VIDEO_STRIDE,
           value_parser = clap::value_parser!(u32).range(1..=150))]
     pub video_stride: u32,
+    /// Off a terminal (CI, Slurm), write a progress line to stderr every SECONDS of
+    /// wall-clock time (0: every frame).
+    #[arg(long, value_name = "SECONDS", default_value_t = PROGRESS_EVERY_S,
+          value_parser = progress_seconds)]
+    pub progress_every: f64,
     /// No progress bar, and no progress lines off a terminal.
     #[arg(long)]
     pub quiet: bool,
@@ -130,6 +137,16 @@ pub fn run_run(args: RunArgs) -> anyhow::Result<ExitCode> {
         exit::FAILED
     };
     Ok(ExitCode::from(code))
+}
+
+/// `--progress-every`: finite seconds, 0 to a day.
+fn progress_seconds(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(v) if (0.0..=86_400.0).contains(&v) => Ok(v),
+        _ => Err(format!(
+            "{text:?} is not a number of seconds from 0 to 86400"
+        )),
+    }
 }
 
 /// A scenario's entry in `junit.xml`.
@@ -226,7 +243,8 @@ fn run_one(
     );
     // Off a terminal (CI, Slurm) the bar hides itself: a line every few seconds instead.
     let log_progress = !args.quiet && !std::io::stderr().is_terminal();
-    let mut next_log = Instant::now() + PROGRESS_EVERY;
+    let every = Duration::from_secs_f64(args.progress_every);
+    let mut next_log = Instant::now() + every;
     let bar = if args.quiet {
         ProgressBar::hidden()
     } else {
@@ -250,7 +268,7 @@ fn run_one(
         }
         bar.inc(1);
         if log_progress && written >= next_log {
-            next_log = written + PROGRESS_EVERY;
+            next_log = written + every;
             eprintln!(
                 "{}: t {:.1}/{:.0} s ({:.0} %), {:.1}× real time, gap {:.2} m, {}",
                 scenario.name,

@@ -16,6 +16,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 /// Arguments of `carfollow sweep`.
 #[derive(Args, Debug)]
 #[command(
+    after_help = super::exit::HELP,
     args_conflicts_with_subcommands = true,
     subcommand_negates_reqs = true,
     about = "Run a sweep: scenarios × seeds × parameter axes, on all cores or one shard",
