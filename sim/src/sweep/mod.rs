@@ -9,6 +9,7 @@
 mod error;
 mod file;
 mod grid;
+mod manifest;
 mod plots;
 mod report;
 mod results;
@@ -17,6 +18,9 @@ mod run;
 pub use error::SweepError;
 pub use file::{SweepFile, SweepScenario};
 pub use grid::{Axis, Point, Shard, Sweep};
+pub use manifest::{
+    read_failed, write_failed, FailedPoint, Manifest, ManifestPoint, MANIFEST_FILE,
+};
 pub use report::{best_values, write_report, Best, BEST_RULE, FIGURES};
 pub use results::{dedupe_sorted, merge_dirs, read_rows, ResultRow, ResultsWriter, RESULTS_FILE};
 pub use run::{run_point, run_points, serve_points};

@@ -102,6 +102,8 @@ pub fn serve_points(
         };
         let reply = match point.map(|p| run_point(sweep, p, backend, overlap)) {
             Ok(Ok(row)) => Reply::Row(row),
+            // The parent names the point; the reply says only what went wrong.
+            Ok(Err(SweepError::Run { message, .. })) => Reply::Error(message),
             Ok(Err(e)) => Reply::Error(e.to_string()),
             Err(message) => Reply::Error(message),
         };
