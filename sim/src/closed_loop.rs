@@ -189,61 +189,128 @@ pub struct CameraSetup {
     pub lead_from_scene: Isometry3<f64>,
 }
 
+/// The lead's body as the scene draws it, and where its scene origin (the body's centre)
+/// lies in its physics frame (the rear axle).
+fn lead_body() -> (LeadVehicle, Isometry3<f64>) {
+    let lead_params = VehicleParams::pickup();
+    let body = LeadVehicle {
+        length_m: f64::from(lead_params.length_m),
+        width_m: f64::from(lead_params.width_m),
+        height_m: LEAD_BODY_HEIGHT_M,
+        board_centre_height_m: BOARD_CENTRE_HEIGHT_M,
+    };
+    let lead_from_scene = Isometry3::translation(
+        0.5 * f64::from(lead_params.length_m) - f64::from(lead_params.rear_overhang_m),
+        0.0,
+        0.0,
+    );
+    (body, lead_from_scene)
+}
+
+/// The camera rig of a scenario: its intrinsics on its mount, 256 × 242 pixels.
+fn camera_rig(s: &Scenario) -> CameraRig {
+    let mount = s.chase.camera_mount;
+    CameraRig {
+        intrinsics: s.camera,
+        width: 256,
+        height: 242,
+        mount: scene::CameraMount {
+            height_m: f64::from(mount.height_m),
+            forward_offset_m: f64::from(mount.forward_m),
+            pitch_deg: f64::from(mount.pitch_down_deg),
+        },
+    }
+}
+
+/// The scene description of a scenario.
+fn scene_description(s: &Scenario) -> SceneDescription {
+    let chase_params = VehicleParams::hmmwv_m998();
+    let mount = s.chase.camera_mount;
+    // The scene: its vehicle origins are the body centres; physics' are the rear axles.
+    let (lead_body, _) = lead_body();
+    // The chase's scene origin is its rear axle, so the camera mount is the same number
+    // in both; the hood runs from the windscreen to the front bumper.
+    let front = f64::from(chase_params.front_bumper_x_m());
+    let hood = ChaseVehicle {
+        hood_front_m: front - 0.1,
+        hood_back_m: f64::from(mount.forward_m) - 0.2,
+        hood_height_m: 1.3,
+        hood_width_m: f64::from(chase_params.width_m) - 0.2,
+    };
+    SceneDescription {
+        seed: s.seed,
+        route: s.route.clone(),
+        densities: s.densities.clone(),
+        placements: Vec::new(),
+        sun: s.sun.clone(),
+        sensor: s.sensor.clone(),
+        target: s.target.clone(),
+        lead: lead_body,
+        chase: hood,
+    }
+}
+
+/// Where a vehicle starts: `s_m` along the drivers' route, facing along it, lifted onto
+/// the ground (as [`World::add_vehicle`] places it).
+fn start_pose(route: &Route, ground: &vehicle::Ground, s_m: f64) -> Pose {
+    let s = s_m as f32;
+    let mut pose = Pose::from_parts(
+        route.point_at(s),
+        Rotation::from_rotation_y(direction_heading(route.tangent_at(s))),
+    );
+    let t = pose.translation;
+    pose.translation.y = ground.height_m(t.x, t.z);
+    pose
+}
+
+/// The checks `ClosedLoop::new` makes of a validated scenario's scene and first view,
+/// made without a renderer, for scenario validation: the scene description is valid, and
+/// the whole target is in the camera's view at t = 0 (the renderer's ground truth, for the
+/// poses the vehicles start at). `Err` names the field to blame and says what is wrong.
+pub(crate) fn check_start(
+    s: &Scenario,
+    route: &Route,
+    ground: &vehicle::Ground,
+) -> Result<(), (&'static str, String)> {
+    scene_description(s)
+        .validate()
+        .map_err(|e| ("environment", format!(": {e}")))?;
+    let (body, lead_from_scene) = lead_body();
+    let world_from_chase = iso(&start_pose(route, ground, s.chase_start_m));
+    let world_from_lead = iso(&start_pose(route, ground, s.lead_start_m)) * lead_from_scene;
+    let truth = crate::camera::ground_truth_of(
+        &camera_rig(s),
+        &scene::lead_from_target_of(&body),
+        &s.target,
+        &world_from_chase,
+        &world_from_lead,
+    );
+    if truth.in_view {
+        Ok(())
+    } else {
+        Err((
+            "camera.mount",
+            format!(
+                "puts the target out of the camera's view at t = 0 (its centre at ({:.0}, {:.0}) \
+                 px of 256 × 242, range {:.1} m): check the mount's pitch and height, the focal \
+                 length, chase.initial_gap_m and the route at the start",
+                truth.c_x, truth.c_y, truth.target_cam_m[2]
+            ),
+        ))
+    }
+}
+
 impl CameraSetup {
     /// Builds the scene and rig of scenario `s`.
     pub fn new(s: &Scenario) -> Result<CameraSetup, LoopError> {
-        let chase_params = VehicleParams::hmmwv_m998();
-        let lead_params = VehicleParams::pickup();
-        let mount = s.chase.camera_mount;
-        // The scene: its vehicle origins are the body centres; physics' are the rear axles.
-        let lead_body = LeadVehicle {
-            length_m: f64::from(lead_params.length_m),
-            width_m: f64::from(lead_params.width_m),
-            height_m: LEAD_BODY_HEIGHT_M,
-            board_centre_height_m: BOARD_CENTRE_HEIGHT_M,
-        };
-        let lead_from_scene = Isometry3::translation(
-            0.5 * f64::from(lead_params.length_m) - f64::from(lead_params.rear_overhang_m),
-            0.0,
-            0.0,
-        );
-        // The chase's scene origin is its rear axle, so the camera mount is the same number
-        // in both; the hood runs from the windscreen to the front bumper.
-        let front = f64::from(chase_params.front_bumper_x_m());
-        let hood = ChaseVehicle {
-            hood_front_m: front - 0.1,
-            hood_back_m: f64::from(mount.forward_m) - 0.2,
-            hood_height_m: 1.3,
-            hood_width_m: f64::from(chase_params.width_m) - 0.2,
-        };
-        let description = SceneDescription {
-            seed: s.seed,
-            route: s.route.clone(),
-            densities: s.densities.clone(),
-            placements: Vec::new(),
-            sun: s.sun.clone(),
-            sensor: s.sensor.clone(),
-            target: s.target.clone(),
-            lead: lead_body,
-            chase: hood,
-        };
-        let scene = Scene::build(description).map_err(|e| LoopError::Setup {
+        let (_, lead_from_scene) = lead_body();
+        let scene = Scene::build(scene_description(s)).map_err(|e| LoopError::Setup {
             scenario: s.name.clone(),
             message: format!("scene: {e}"),
         })?;
-        let rig = CameraRig {
-            intrinsics: s.camera,
-            width: 256,
-            height: 242,
-            mount: scene::CameraMount {
-                height_m: f64::from(mount.height_m),
-                forward_offset_m: f64::from(mount.forward_m),
-                pitch_deg: f64::from(mount.pitch_down_deg),
-            },
-        };
         Ok(CameraSetup {
             scene,
-            rig,
+            rig: camera_rig(s),
             lead_from_scene,
         })
     }

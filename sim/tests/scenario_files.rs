@@ -193,6 +193,14 @@ fn what_the_loop_would_refuse_is_refused_by_validation() {
             "`camera.focal_length_mm` = 1e300: must be 1–200 mm",
         ),
         ("tracker.init_offset=[1e300, 0, 0]", "`tracker.init_offset`"),
+        (
+            "camera.mount.pitch_down_deg=30",
+            "puts the target out of the camera's view at t = 0",
+        ),
+        (
+            "camera.focal_length_mm=50",
+            "`camera.focal_length_mm` puts the target out of the camera's view at t = 0",
+        ),
         ("environment.sun.azimuth_deg=nan", "`environment.sun.azimuth_deg` = NaN"),
     ] {
         let e = load(&text(), &[set]).unwrap_err();

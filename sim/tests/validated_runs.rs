@@ -1,9 +1,8 @@
 //! Property: a scenario that validates is one the closed loop accepts and runs. Random
 //! overrides (some inside their bounds, some beyond) go onto the shipped scenarios; each
 //! that validates must build a `ClosedLoop` and run one simulated second without a panic
-//! or an error. The one set-up check validation cannot make is whether the target is in
-//! the camera's view at t = 0, which needs the renderer's first frame; that refusal is the
-//! only one allowed.
+//! or an error: `ClosedLoop::new` refuses nothing that validation passed (the target in
+//! view at t = 0 included, which validation checks with the renderer's ground truth).
 //!
 //! Few cases (each sets up a renderer): `VALIDATED_CASES` in CI, more with
 //! `CARFOLLOW_VALIDATED_CASES=200 cargo test --release -p sim --test validated_runs`.
@@ -11,7 +10,7 @@
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
 use sim::camera::Backend;
-use sim::closed_loop::{ClosedLoop, LoopError};
+use sim::closed_loop::ClosedLoop;
 use sim::scenario::Scenario;
 use std::path::{Path, PathBuf};
 
@@ -85,11 +84,6 @@ fn every_validated_scenario_runs_one_second() {
             };
             let mut looped = match ClosedLoop::new(&scenario, backend, false) {
                 Ok(l) => l,
-                Err(LoopError::Setup { message, .. })
-                    if message.contains("not in the camera's view at t = 0") =>
-                {
-                    return Ok(())
-                }
                 Err(e) => {
                     return Err(TestCaseError::fail(format!(
                         "{}: {overrides:?} validated, but the loop refused it: {e}",

@@ -873,7 +873,7 @@ fn validate(
             invalid(&field, message)
         })?;
     vehicle::LeadDriver::new(
-        drivers_route,
+        drivers_route.clone(),
         lead_profile.clone(),
         l.driver.clone(),
         &vehicle::VehicleParams::pickup(),
@@ -888,7 +888,9 @@ fn validate(
     })?;
 
     let resolved = raw.clone();
-    Ok(Scenario {
+    let ground = vehicle::Ground::new(&world.ground)
+        .map_err(|e| invalid("route.segments", format!(": the physics ground: {e}")))?;
+    let scenario = Scenario {
         chase_start_m,
         resolved,
         overrides: overrides.to_vec(),
@@ -914,5 +916,26 @@ fn validate(
         densities,
         sensor,
         expect: raw.expect,
-    })
+    };
+    // The last of the loop's set-up checks: the scene, and the target in view at t = 0.
+    crate::closed_loop::check_start(&scenario, &drivers_route, &ground).map_err(
+        |(field, message)| {
+            // What decides the first view; blame an override among them if there is one.
+            let field = [
+                "camera.mount",
+                "camera.focal_length_mm",
+                "camera.pixel_size_mm",
+                "camera.image_center_px",
+                "chase.initial_gap_m",
+                "lead.start_m",
+                "route.segments",
+                "environment",
+            ]
+            .into_iter()
+            .find(|f| overrides.iter().any(|a| override_names(a, f)))
+            .unwrap_or(field);
+            invalid(field, message)
+        },
+    )?;
+    Ok(scenario)
 }
