@@ -1,6 +1,7 @@
-//! Fuzzing of scenario and target files: mutated copies of every shipped scenario and of the
-//! shipped target, and random `--set` overrides, go through parsing and validation, which
-//! must answer with a value or an error and never panic. Each error is one line.
+//! Fuzzing of scenario and target files: mutated copies of every shipped scenario (as
+//! written, and as resolved with every default written out) and of the shipped target, and
+//! random `--set` overrides, go through parsing and validation, which must answer with a
+//! value or an error and never panic. Each error is one line.
 //!
 //! A proptest harness rather than cargo-fuzz, so that it runs on stable Rust in the normal
 //! test suite: a bounded run (`FUZZ_CASES`, a few seconds) in CI; more with
@@ -34,10 +35,17 @@ fn shipped() -> Vec<String> {
         .collect();
     paths.sort();
     assert!(paths.len() >= 8, "{paths:?}");
-    paths
+    let mut texts: Vec<String> = paths
         .iter()
         .map(|p| std::fs::read_to_string(p).unwrap())
-        .collect()
+        .collect();
+    // And each as resolved, every default written out, so that every field gets mutated
+    // (the controllers' look-ahead, gains and the like are absent from the files).
+    for p in &paths {
+        let resolved = Scenario::load(p, &[]).unwrap().resolved;
+        texts.push(toml::to_string(&resolved).unwrap());
+    }
+    texts
 }
 
 fn target_text() -> String {

@@ -248,3 +248,32 @@ fn the_resolved_scenario_holds_the_overrides() {
     assert_eq!(json["tracker"]["lambda"], 0.7);
     assert_eq!(json["route"]["lane_width_m"], 3.5);
 }
+
+/// The controllers' look-ahead and speed gains are bounded too (a look-ahead whose
+/// minimum exceeds its maximum used to panic when the run started).
+#[test]
+fn look_ahead_and_gains_are_bounded() {
+    let e = load(
+        &text(),
+        &["chase.controller.lookahead={ base_m = 3, gain_s = 0.5, min_m = 40, max_m = 1 }"],
+    )
+    .unwrap_err();
+    assert!(
+        e.contains("`chase.controller.lookahead.max_m` = 1: must be from min_m to 200 m"),
+        "{e}"
+    );
+    let e = load(
+        &text(),
+        &["lead.driver.speed_gains={ kp_per_s = nan, ki_per_s2 = 1, integral_limit_mps2 = 1 }"],
+    )
+    .unwrap_err();
+    assert!(
+        e.contains("`lead.driver.speed_gains.kp_per_s` = NaN"),
+        "{e}"
+    );
+    let e = load(&text(), &["chase.controller.max_breadcrumbs=0"]).unwrap_err();
+    assert!(
+        e.contains("`chase.controller.max_breadcrumbs` = 0: must be 2–1000000"),
+        "{e}"
+    );
+}

@@ -49,6 +49,26 @@ fn an_override() -> impl Strategy<Value = String> {
         f("environment.clutter.trees_per_km", 0.0, 1200.0),
         f("lead.driver.weave_amplitude_m", -1.0, 6.0),
         f("chase.controller.gap_keeper.min_gap_m", 0.0, 20.0),
+        (
+            prop::sample::select(vec!["chase.controller", "lead.driver"]),
+            -1.0..60.0f64,
+            -1.0..12.0f64,
+            0.0..120.0f64,
+            0.0..220.0f64
+        )
+            .prop_map(|(who, base, gain, min, max)| format!(
+                "{who}.lookahead={{ base_m = {base}, gain_s = {gain}, min_m = {min}, max_m = {max} }}"
+            )),
+        (
+            prop::sample::select(vec!["chase.controller", "lead.driver"]),
+            -1.0..120.0f64,
+            -1.0..120.0f64,
+            -1.0..60.0f64
+        )
+            .prop_map(|(who, kp, ki, limit)| format!(
+                "{who}.speed_gains={{ kp_per_s = {kp}, ki_per_s2 = {ki}, integral_limit_mps2 = {limit} }}"
+            )),
+        (0usize..3_000_000).prop_map(|n| format!("chase.controller.max_breadcrumbs={n}")),
         (8.0..12_000.0f64, -400.0..400.0f64).prop_map(|(r, a)| format!(
             "route.segments=[{{ straight_m = 60 }}, {{ arc_radius_m = {r}, arc_angle_deg = {a} }}]"
         )),

@@ -259,6 +259,11 @@ impl Scenario {
             }
         }
         let invalid = |field: &str, message: String| {
+            // `field` then the message: "`x` = 3: ..." or, for a nested error, "`x` is refused: ...".
+            let message = match message.strip_prefix(": ") {
+                Some(rest) => format!("is refused: {rest}"),
+                None => message,
+            };
             // A value that came from `--set` is reported as such, not at the file's line.
             if let Some(assignment) = overrides.iter().rev().find(|a| override_names(a, field)) {
                 return ScenarioError::Override {
@@ -287,6 +292,57 @@ impl Scenario {
             })
         })
     }
+}
+
+/// Most breadcrumbs the chase controller may keep: 1,000,000 (250 km of path at the
+/// default spacing).
+pub const MAX_BREADCRUMBS: usize = 1_000_000;
+
+/// Pure-pursuit look-ahead bounds: each distance finite, `base_m` 0–50 m, `gain_s` 0–10 s,
+/// `min_m` 0.5–100 m and `max_m` from `min_m` to 200 m (the vehicle code clamps between
+/// them, which needs `min_m <= max_m`). `Err` names the field.
+fn check_lookahead(la: &vehicle::LookAhead) -> Result<(), (&'static str, String)> {
+    let (base, gain, min, max) = (
+        f64::from(la.base_m),
+        f64::from(la.gain_s),
+        f64::from(la.min_m),
+        f64::from(la.max_m),
+    );
+    for (field, v, lo, hi, unit) in [
+        ("base_m", base, 0.0, 50.0, "m"),
+        ("gain_s", gain, 0.0, 10.0, "s"),
+        ("min_m", min, 0.5, 100.0, "m"),
+    ] {
+        check(
+            (lo..=hi).contains(&v),
+            &format!("must be {lo}–{hi} {unit}"),
+            v,
+        )
+        .map_err(|m| (field, m))?;
+    }
+    check(
+        (min..=200.0).contains(&max),
+        "must be from min_m to 200 m",
+        max,
+    )
+    .map_err(|m| ("max_m", m))
+}
+
+/// Speed-loop gain bounds: finite, `kp_per_s` and `ki_per_s2` 0–100, `integral_limit_mps2`
+/// 0–50 m/s². `Err` names the field.
+fn check_speed_gains(g: &vehicle::SpeedGains) -> Result<(), (&'static str, String)> {
+    for (field, v, hi) in [
+        ("kp_per_s", f64::from(g.kp_per_s), 100.0),
+        ("ki_per_s2", f64::from(g.ki_per_s2), 100.0),
+        (
+            "integral_limit_mps2",
+            f64::from(g.integral_limit_mps2),
+            50.0,
+        ),
+    ] {
+        check((0.0..=hi).contains(&v), &format!("must be 0–{hi}"), v).map_err(|m| (field, m))?;
+    }
+    Ok(())
 }
 
 /// A vehicle crate's error as the dotted field it is about (under `prefix`) and what to
@@ -489,9 +545,10 @@ fn validate(
         at(
             "lead.speed_profile",
             check(
-                k.is_finite() && v.is_finite() && *v >= 0.0 && *v <= 40.0,
-                "knots are [key, speed_mps] with speed 0–40 m/s",
-                format!("[{k}, {v}]"),
+                k.abs() <= 1e7 && (0.0..=40.0).contains(v),
+                "knots are [key, speed_mps] with the key within ±1e7 (s or m) and speed \
+                 0–40 m/s",
+                format!("[{}, {}]", short(k.to_string()), short(v.to_string())),
             ),
         )?;
     }
@@ -808,7 +865,7 @@ fn validate(
             check(
                 lo.is_finite() && hi.is_finite() && 0.0 <= lo && lo < hi,
                 "must be [min, max] metres with 0 ≤ min < max",
-                format!("[{lo}, {hi}]"),
+                format!("[{}, {}]", short(lo.to_string()), short(hi.to_string())),
             ),
         )?;
     }
@@ -863,6 +920,24 @@ fn validate(
         other => invalid("route.segments", format!(": the physics ground: {other}")),
     })?;
     let v0 = lead_initial_speed_mps as f32;
+    for (prefix, lookahead, gains) in [
+        ("chase.controller", &chase.lookahead, &chase.speed_gains),
+        ("lead.driver", &l.driver.lookahead, &l.driver.speed_gains),
+    ] {
+        check_lookahead(lookahead)
+            .map_err(|(field, message)| invalid(&format!("{prefix}.lookahead.{field}"), message))?;
+        check_speed_gains(gains).map_err(|(field, message)| {
+            invalid(&format!("{prefix}.speed_gains.{field}"), message)
+        })?;
+    }
+    at(
+        "chase.controller.max_breadcrumbs",
+        check(
+            (2..=MAX_BREADCRUMBS).contains(&chase.max_breadcrumbs),
+            &format!("must be 2–{MAX_BREADCRUMBS}"),
+            chase.max_breadcrumbs,
+        ),
+    )?;
     chase.gap_keeper.validate().map_err(|e| {
         let (field, message) = vehicle_error("chase.controller.gap_keeper", &e);
         invalid(&field, message)
