@@ -296,3 +296,24 @@ fn help_documents_exit_statuses() {
         );
     }
 }
+
+/// An output that cannot be written is a run that could not complete: exit status 3.
+#[test]
+fn an_unwritable_output_exits_3() {
+    let dir = tempfile::tempdir().unwrap();
+    let blocker = dir.path().join("file");
+    std::fs::write(&blocker, "").unwrap();
+    let png = blocker.join("target.png");
+    let out = carfollow(&[
+        "target",
+        &scenario("targets/nist-ten-segment.toml"),
+        "--out",
+        png.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(3));
+    // A single run whose output folder is a file.
+    let out = run(&blocker, &["--renderers", "1"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(3), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+}
