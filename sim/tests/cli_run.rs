@@ -317,3 +317,32 @@ fn an_unwritable_output_exits_3() {
     assert_eq!(out.status.code(), Some(3), "{err}");
     assert_eq!(err.lines().count(), 1, "{err}");
 }
+
+/// `--video-stride N` puts every N-th frame into video.gif.
+#[test]
+fn video_stride_thins_the_gif() {
+    let dir = tempfile::tempdir().unwrap();
+    for (stride, frames) in [("5", 3), ("1", 15)] {
+        let out_dir = dir.path().join(stride);
+        let out = run(
+            &out_dir,
+            &[
+                "--renderers",
+                "1",
+                "--set",
+                "duration_s=1",
+                "--video",
+                "--video-stride",
+                stride,
+            ],
+        );
+        assert!(matches!(out.status.code(), Some(0 | 1)), "{out:?}");
+        let gif = std::fs::File::open(out_dir.join("video.gif")).unwrap();
+        let mut decoder = gif::DecodeOptions::new().read_info(gif).unwrap();
+        let mut n = 0;
+        while decoder.read_next_frame().unwrap().is_some() {
+            n += 1;
+        }
+        assert_eq!(n, frames, "--video-stride {stride}");
+    }
+}

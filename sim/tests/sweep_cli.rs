@@ -435,3 +435,23 @@ fn resume_refuses_a_changed_sweep_or_overrides() {
     // Nothing was run into the folder.
     assert!(!out.join("results.jsonl").exists());
 }
+
+/// Off a terminal, without --quiet, a sweep writes progress lines to stderr.
+#[test]
+fn progress_lines_off_a_terminal() {
+    let dir = tempfile::tempdir().unwrap();
+    let sweep = sweep_file(dir.path(), TINY);
+    let o = Command::new(env!("CARGO_BIN_EXE_carfollow"))
+        .args(["sweep", s(&sweep), "--out", s(&dir.path().join("out"))])
+        .args(["--progress-every", "0"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    for n in 1..=4 {
+        assert!(
+            err.contains(&format!("sweep: {n}/4 points done, 0 could not run")),
+            "{err}"
+        );
+    }
+}

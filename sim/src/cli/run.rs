@@ -140,7 +140,7 @@ pub fn run_run(args: RunArgs) -> anyhow::Result<ExitCode> {
 }
 
 /// `--progress-every`: finite seconds, 0 to a day.
-fn progress_seconds(text: &str) -> Result<f64, String> {
+pub(crate) fn progress_seconds(text: &str) -> Result<f64, String> {
     match text.parse::<f64>() {
         Ok(v) if (0.0..=86_400.0).contains(&v) => Ok(v),
         _ => Err(format!(

@@ -19,8 +19,9 @@ use std::time::{Duration, Instant};
 
 use super::exit::{self, incomplete};
 
-/// How often a sweep writes a progress line to stderr off a terminal (CI, Slurm logs).
-const PROGRESS_EVERY: Duration = Duration::from_secs(10);
+/// The default `--progress-every`, seconds: how often a sweep writes a progress line to
+/// stderr off a terminal (CI, Slurm logs), where the bar stays hidden.
+const PROGRESS_EVERY_S: f64 = 10.0;
 
 /// The file listing the missing points after a merge.
 const MISSING_FILE: &str = "missing.txt";
@@ -64,9 +65,14 @@ pub struct SweepArgs {
     /// Override a field of every point, after the sweep file's `set` (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
-    /// No progress bar.
+    /// No progress bar, and no progress lines off a terminal.
     #[arg(long)]
     pub quiet: bool,
+    /// Off a terminal (CI, Slurm), write a progress line to stderr at most every SECONDS
+    /// of wall-clock time, when a point finishes (0: at every point).
+    #[arg(long, value_name = "SECONDS", default_value_t = PROGRESS_EVERY_S,
+          value_parser = super::run::progress_seconds)]
+    pub progress_every: f64,
     /// wgpu backend: gl (default; Mesa llvmpipe), vulkan or primary. Overrides WGPU_BACKEND.
     #[arg(long)]
     pub backend: Option<String>,
@@ -221,7 +227,8 @@ pub fn run_sweep(args: SweepArgs) -> anyhow::Result<ExitCode> {
     let failed = AtomicUsize::new(0);
     let finished = AtomicUsize::new(points.len() - todo.len());
     let log_progress = !args.quiet && !std::io::stderr().is_terminal();
-    let next_log = Mutex::new(Instant::now() + PROGRESS_EVERY);
+    let every = Duration::from_secs_f64(args.progress_every);
+    let next_log = Mutex::new(Instant::now() + every);
     let exe = std::env::current_exe().context("cannot find this program to start workers")?;
     // Overlapping a point's physics with its rendering pays only with a core to spare.
     let overlap = jobs < cores();
@@ -259,7 +266,7 @@ pub fn run_sweep(args: SweepArgs) -> anyhow::Result<ExitCode> {
         if log_progress {
             let mut next = next_log.lock().unwrap_or_else(|e| e.into_inner());
             if Instant::now() >= *next {
-                *next = Instant::now() + PROGRESS_EVERY;
+                *next = Instant::now() + every;
                 eprintln!(
                     "sweep: {n}/{} points done, {} could not run",
                     points.len(),
