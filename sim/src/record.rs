@@ -104,6 +104,7 @@ pub struct FrameRecord {
 }
 
 /// The pass/fail criteria of a scenario (`[expect]`). A criterion left out is not checked.
+/// Every limit must be finite and at least 0; a gap band's minimum below its maximum.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Expect {
