@@ -207,6 +207,23 @@ fn bad_input_exits_2_naming_the_axis_path() {
     }
     let out = carfollow(&["sweep", s(&dir.path().join("missing.toml"))]);
     assert_eq!(out.status.code(), Some(2));
+
+    // The pre-flight is the scenario's own validation: what the closed loop would refuse
+    // at its start is refused before any point runs, naming the override.
+    let sweep = sweep_file(
+        dir.path(),
+        &TINY.replace("set = [", "set = [\"lead.start_m=0\", "),
+    );
+    let out_dir = dir.path().join("preflight");
+    let out = carfollow(&["sweep", s(&sweep), "--out", s(&out_dir)]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("--set lead.start_m=0: `lead.start_m` puts the chase vehicle"),
+        "{err}"
+    );
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(!out_dir.exists());
 }
 
 /// A worker command that runs `script` in `sh` before (maybe) becoming a real worker.
