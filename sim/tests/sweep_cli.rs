@@ -451,6 +451,52 @@ fn resume_refuses_a_changed_sweep_or_overrides() {
     assert_eq!(changed.status.code(), Some(2));
     // Nothing was run into the folder.
     assert!(!out.join("results.jsonl").exists());
+
+    // The rows carry the hash too: without sweep.json, a resume of the changed sweep and a
+    // merge with another sweep's rows are still refused.
+    let shard = out.join("results-shard-0-of-2.jsonl");
+    let row: Value = serde_json::from_str(
+        std::fs::read_to_string(&shard)
+            .unwrap()
+            .lines()
+            .next()
+            .unwrap(),
+    )
+    .unwrap();
+    assert_eq!(row["sweep_hash"].as_str().unwrap().len(), 16, "{row}");
+    std::fs::remove_file(out.join("sweep.json")).unwrap();
+    let changed = carfollow(&[
+        "sweep",
+        s(&sweep),
+        "--out",
+        s(&out),
+        "--resume",
+        "--shard",
+        "0/2",
+    ]);
+    assert_eq!(changed.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&changed.stderr);
+    assert!(err.contains("its rows are of another sweep"), "{err}");
+    let other = dir.path().join("other");
+    ok(carfollow(&[
+        "sweep",
+        s(&sweep),
+        "--out",
+        s(&other),
+        "--shard",
+        "1/2",
+    ]));
+    let o = carfollow(&[
+        "sweep",
+        "merge",
+        s(&out),
+        s(&other),
+        "--out",
+        s(&dir.path().join("m")),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("results of different sweeps"), "{err}");
 }
 
 /// Off a terminal, without --quiet, a sweep writes progress lines to stderr.

@@ -168,6 +168,18 @@ pub fn run_sweep(args: SweepArgs) -> anyhow::Result<ExitCode> {
         );
     }
     // The folder's results must be of this sweep: the same file and overrides.
+    if let Some(row) = done_rows
+        .iter()
+        .find(|r| !r.sweep_hash.is_empty() && r.sweep_hash != sweep.hash)
+    {
+        anyhow::bail!(
+            "{}: its rows are of another sweep (hash {}; now {}): the sweep file or the \
+             overrides changed since; use another --out, or remove the results",
+            results.display(),
+            row.sweep_hash,
+            sweep.hash
+        );
+    }
     match Manifest::read(&out)? {
         Some(m) if m.hash != sweep.hash => anyhow::bail!(
             "{}: the results in {} are of another sweep (hash {}; now {}): the sweep file or \
@@ -351,9 +363,18 @@ fn run_merge(args: MergeArgs) -> anyhow::Result<ExitCode> {
             "{dirs}: no sweep results to merge (no results*.jsonl rows, no {MANIFEST_FILE})"
         );
     }
-    if manifests.windows(2).any(|w| w[0].hash != w[1].hash) {
+    let mut hashes: Vec<&str> = rows
+        .iter()
+        .map(|r| r.sweep_hash.as_str())
+        .chain(manifests.iter().map(|m| m.hash.as_str()))
+        .filter(|h| !h.is_empty())
+        .collect();
+    hashes.sort_unstable();
+    hashes.dedup();
+    if hashes.len() > 1 {
         anyhow::bail!(
-            "{dirs}: the folders hold results of different sweeps ({MANIFEST_FILE} differ)"
+            "{dirs}: the folders hold results of different sweeps (hashes {})",
+            hashes.join(", ")
         );
     }
     let out = args.out.unwrap_or_else(|| args.dirs[0].clone());

@@ -61,7 +61,7 @@ pub fn run_point(
         wall_s,
     );
     summary.timing = Some(looped.timing());
-    Ok(ResultRow::new(point, &summary))
+    Ok(ResultRow::new(point, &summary, &sweep.hash))
 }
 
 /// A worker's answer for one point.
