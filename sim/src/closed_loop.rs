@@ -194,61 +194,128 @@ pub struct CameraSetup {
     pub lead_from_scene: Isometry3<f64>,
 }
 
+/// The lead's body as the scene draws it, and where its scene origin (the body's centre)
+/// lies in its physics frame (the rear axle).
+fn lead_body() -> (LeadVehicle, Isometry3<f64>) {
+    let lead_params = VehicleParams::pickup();
+    let body = LeadVehicle {
+        length_m: f64::from(lead_params.length_m),
+        width_m: f64::from(lead_params.width_m),
+        height_m: LEAD_BODY_HEIGHT_M,
+        board_centre_height_m: BOARD_CENTRE_HEIGHT_M,
+    };
+    let lead_from_scene = Isometry3::translation(
+        0.5 * f64::from(lead_params.length_m) - f64::from(lead_params.rear_overhang_m),
+        0.0,
+        0.0,
+    );
+    (body, lead_from_scene)
+}
+
+/// The camera rig of a scenario: its intrinsics on its mount, 256 × 242 pixels.
+fn camera_rig(s: &Scenario) -> CameraRig {
+    let mount = s.chase.camera_mount;
+    CameraRig {
+        intrinsics: s.camera,
+        width: 256,
+        height: 242,
+        mount: scene::CameraMount {
+            height_m: f64::from(mount.height_m),
+            forward_offset_m: f64::from(mount.forward_m),
+            pitch_deg: f64::from(mount.pitch_down_deg),
+        },
+    }
+}
+
+/// The scene description of a scenario.
+fn scene_description(s: &Scenario) -> SceneDescription {
+    let chase_params = VehicleParams::hmmwv_m998();
+    let mount = s.chase.camera_mount;
+    // The scene: its vehicle origins are the body centres; physics' are the rear axles.
+    let (lead_body, _) = lead_body();
+    // The chase's scene origin is its rear axle, so the camera mount is the same number
+    // in both; the hood runs from the windscreen to the front bumper.
+    let front = f64::from(chase_params.front_bumper_x_m());
+    let hood = ChaseVehicle {
+        hood_front_m: front - 0.1,
+        hood_back_m: f64::from(mount.forward_m) - 0.2,
+        hood_height_m: 1.3,
+        hood_width_m: f64::from(chase_params.width_m) - 0.2,
+    };
+    SceneDescription {
+        seed: s.seed,
+        route: s.route.clone(),
+        densities: s.densities.clone(),
+        placements: Vec::new(),
+        sun: s.sun.clone(),
+        sensor: s.sensor.clone(),
+        target: s.target.clone(),
+        lead: lead_body,
+        chase: hood,
+    }
+}
+
+/// Where a vehicle starts: `s_m` along the drivers' route, facing along it, lifted onto
+/// the ground (as [`World::add_vehicle`] places it).
+fn start_pose(route: &Route, ground: &vehicle::Ground, s_m: f64) -> Pose {
+    let s = s_m as f32;
+    let mut pose = Pose::from_parts(
+        route.point_at(s),
+        Rotation::from_rotation_y(direction_heading(route.tangent_at(s))),
+    );
+    let t = pose.translation;
+    pose.translation.y = ground.height_m(t.x, t.z);
+    pose
+}
+
+/// The checks `ClosedLoop::new` makes of a validated scenario's scene and first view,
+/// made without a renderer, for scenario validation: the scene description is valid, and
+/// the whole target is in the camera's view at t = 0 (the renderer's ground truth, for the
+/// poses the vehicles start at). `Err` names the field to blame and says what is wrong.
+pub(crate) fn check_start(
+    s: &Scenario,
+    route: &Route,
+    ground: &vehicle::Ground,
+) -> Result<(), (&'static str, String)> {
+    scene_description(s)
+        .validate()
+        .map_err(|e| ("environment", format!(": {e}")))?;
+    let (body, lead_from_scene) = lead_body();
+    let world_from_chase = iso(&start_pose(route, ground, s.chase_start_m));
+    let world_from_lead = iso(&start_pose(route, ground, s.lead_start_m)) * lead_from_scene;
+    let truth = crate::camera::ground_truth_of(
+        &camera_rig(s),
+        &scene::lead_from_target_of(&body),
+        &s.target,
+        &world_from_chase,
+        &world_from_lead,
+    );
+    if truth.in_view {
+        Ok(())
+    } else {
+        Err((
+            "camera.mount",
+            format!(
+                "puts the target out of the camera's view at t = 0 (its centre at ({:.0}, {:.0}) \
+                 px of 256 × 242, range {:.1} m): check the mount's pitch and height, the focal \
+                 length, chase.initial_gap_m and the route at the start",
+                truth.c_x, truth.c_y, truth.target_cam_m[2]
+            ),
+        ))
+    }
+}
+
 impl CameraSetup {
     /// Builds the scene and rig of scenario `s`.
     pub fn new(s: &Scenario) -> Result<CameraSetup, LoopError> {
-        let chase_params = VehicleParams::hmmwv_m998();
-        let lead_params = VehicleParams::pickup();
-        let mount = s.chase.camera_mount;
-        // The scene: its vehicle origins are the body centres; physics' are the rear axles.
-        let lead_body = LeadVehicle {
-            length_m: f64::from(lead_params.length_m),
-            width_m: f64::from(lead_params.width_m),
-            height_m: LEAD_BODY_HEIGHT_M,
-            board_centre_height_m: BOARD_CENTRE_HEIGHT_M,
-        };
-        let lead_from_scene = Isometry3::translation(
-            0.5 * f64::from(lead_params.length_m) - f64::from(lead_params.rear_overhang_m),
-            0.0,
-            0.0,
-        );
-        // The chase's scene origin is its rear axle, so the camera mount is the same number
-        // in both; the hood runs from the windscreen to the front bumper.
-        let front = f64::from(chase_params.front_bumper_x_m());
-        let hood = ChaseVehicle {
-            hood_front_m: front - 0.1,
-            hood_back_m: f64::from(mount.forward_m) - 0.2,
-            hood_height_m: 1.3,
-            hood_width_m: f64::from(chase_params.width_m) - 0.2,
-        };
-        let description = SceneDescription {
-            seed: s.seed,
-            route: s.route.clone(),
-            densities: s.densities.clone(),
-            placements: Vec::new(),
-            sun: s.sun.clone(),
-            sensor: s.sensor.clone(),
-            target: s.target.clone(),
-            lead: lead_body,
-            chase: hood,
-        };
-        let scene = Scene::build(description).map_err(|e| LoopError::Setup {
+        let (_, lead_from_scene) = lead_body();
+        let scene = Scene::build(scene_description(s)).map_err(|e| LoopError::Setup {
             scenario: s.name.clone(),
             message: format!("scene: {e}"),
         })?;
-        let rig = CameraRig {
-            intrinsics: s.camera,
-            width: 256,
-            height: 242,
-            mount: scene::CameraMount {
-                height_m: f64::from(mount.height_m),
-                forward_offset_m: f64::from(mount.forward_m),
-                pitch_deg: f64::from(mount.pitch_down_deg),
-            },
-        };
         Ok(CameraSetup {
             scene,
-            rig,
+            rig: camera_rig(s),
             lead_from_scene,
         })
     }
@@ -345,6 +412,43 @@ fn distance_to_path(path: &[[f64; 2]], p: [f64; 2]) -> f64 {
         .fold(f64::INFINITY, f64::min)
 }
 
+/// The lane centre of the right lane as the drivers' polyline, one point every
+/// [`ROUTE_SAMPLE_M`], and how far it reaches from the origin along x or z, metres.
+/// Scenario validation and [`ClosedLoop::new`] both build it, so they agree.
+pub(crate) fn lane_polyline(route: &scene::Route, lateral_m: f64) -> (Vec<Vector>, f32) {
+    let n = (route.length_m() / ROUTE_SAMPLE_M).ceil() as usize;
+    let points: Vec<Vector> = (0..=n)
+        .map(|k| {
+            let [x, z] = route.point((k as f64 * ROUTE_SAMPLE_M).min(route.length_m()), lateral_m);
+            Vector::new(x as f32, 0.0, z as f32)
+        })
+        .collect();
+    let reach = points
+        .iter()
+        .fold(0.0f32, |m, p| m.max(p.x.abs()).max(p.z.abs()));
+    (points, reach)
+}
+
+/// Where the chase's rear axle starts, metres along the route: `initial_gap_m` from its
+/// camera to the lead's rear bumper, the lead's rear axle at `lead_start_m`.
+pub(crate) fn chase_start_m(lead_start_m: f64, initial_gap_m: f64, camera_forward_m: f32) -> f64 {
+    let lead_params = VehicleParams::pickup();
+    lead_start_m + f64::from(lead_params.rear_bumper_x_m())
+        - initial_gap_m
+        - f64::from(camera_forward_m)
+}
+
+/// The physics world of a scenario: its ground reaches [`GROUND_BEYOND_ROUTE_M`] past
+/// every point of the route (`reach_m`, from [`lane_polyline`]), or a vehicle drives off it.
+pub(crate) fn world_config(base: &vehicle::WorldConfig, reach_m: f32) -> vehicle::WorldConfig {
+    let mut world = base.clone();
+    world.ground.half_extent_m = world
+        .ground
+        .half_extent_m
+        .max(reach_m + GROUND_BEYOND_ROUTE_M);
+    world
+}
+
 impl ClosedLoop {
     /// Sets up the world, vehicles, controllers, camera and tracker for a scenario.
     pub fn new(s: &Scenario, backend: Backend, diagnostics: bool) -> Result<ClosedLoop, LoopError> {
@@ -355,30 +459,11 @@ impl ClosedLoop {
         };
         let chase_params = VehicleParams::hmmwv_m998();
         let lead_params = VehicleParams::pickup();
-        let mount = s.chase.camera_mount;
-        if mount.right_m != 0.0 {
-            return Err(setup(
-                "camera.mount.right_m must be 0: the renderer mounts the camera on the centreline"
-                    .into(),
-            ));
-        }
-
-        // The lane centre of the right lane, as the drivers' polyline.
+        // Validation ([`Scenario`]) made every check below already: these errors cannot
+        // happen for a validated scenario, and remain only as a guard.
         let scene_route = scene::Route::new(s.route.clone());
         let lateral = 0.5 * s.route.lane_width_m;
-        let n = (scene_route.length_m() / ROUTE_SAMPLE_M).ceil() as usize;
-        let points: Vec<Vector> = (0..=n)
-            .map(|k| {
-                let [x, z] = scene_route.point(
-                    (k as f64 * ROUTE_SAMPLE_M).min(scene_route.length_m()),
-                    lateral,
-                );
-                Vector::new(x as f32, 0.0, z as f32)
-            })
-            .collect();
-        let reach = points
-            .iter()
-            .fold(0.0f32, |m, p| m.max(p.x.abs()).max(p.z.abs()));
+        let (points, _) = lane_polyline(&scene_route, lateral);
         let route = Route::new(points).map_err(|e| setup(format!("route: {e}")))?;
         let pose_at = |s_m: f64| {
             let s = s_m as f32;
@@ -387,22 +472,8 @@ impl ClosedLoop {
                 Rotation::from_rotation_y(direction_heading(route.tangent_at(s))),
             )
         };
-        let chase_start_m = s.lead_start_m + f64::from(lead_params.rear_bumper_x_m())
-            - s.initial_gap_m
-            - f64::from(mount.forward_m);
-        if chase_start_m < 0.0 {
-            return Err(setup(format!(
-                "the chase vehicle would start {:.1} m before the route; raise lead.start_m to at least {:.1}",
-                -chase_start_m,
-                s.lead_start_m - chase_start_m
-            )));
-        }
-        // The ground must reach past every point of the route, or a vehicle drives off it.
-        let mut world_config = s.world.clone();
-        world_config.ground.half_extent_m = world_config
-            .ground
-            .half_extent_m
-            .max(reach + GROUND_BEYOND_ROUTE_M);
+        let chase_start_m = s.chase_start_m;
+        let world_config = s.world.clone();
         let mut world = World::new(&world_config).map_err(|e| setup(format!("physics: {e}")))?;
         let v0 = s.lead_initial_speed_mps as f32;
         let lead_id = world

@@ -4,6 +4,7 @@ use std::process::ExitCode;
 
 mod cli {
     pub mod check;
+    pub mod exit;
     pub mod render;
     pub mod render_worker;
     pub mod run;
@@ -17,7 +18,8 @@ mod cli {
 #[command(
     name = "carfollow",
     version,
-    about = "Closed-loop car-following simulator"
+    about = "Closed-loop car-following simulator",
+    after_help = cli::exit::HELP
 )]
 struct Cli {
     #[command(subcommand)]
@@ -64,8 +66,8 @@ fn main() -> ExitCode {
     match result {
         Ok(code) => code,
         Err(error) => {
-            eprintln!("error: {error:#}");
-            ExitCode::from(2)
+            eprintln!("error: {}", cli::exit::one_line(&error));
+            cli::exit::code_of(&error)
         }
     }
 }

@@ -26,6 +26,13 @@ struct TargetFile {
     segments: Vec<Spanned<[usize; 2]>>,
 }
 
+/// Largest corner coordinate, metres from the target's centre: a board of up to 10 m × 10 m,
+/// several times any vehicle's back (and far from the overflow of drawing it).
+pub const MAX_CORNER_M: f64 = 5.0;
+/// Nominal range bounds, metres: the range at which the model has scale 1, between the
+/// closest and farthest following distances studied, with a margin.
+pub const NOMINAL_RANGE_M: [f64; 2] = [1.0, 200.0];
+
 /// A target file that could not be used.
 #[derive(Debug, Error)]
 pub enum TargetFileError {
@@ -47,6 +54,20 @@ pub enum TargetFileError {
         /// 1-based column.
         column: usize,
         /// The parser's message, naming the field.
+        message: String,
+    },
+    /// A number outside its physical bounds.
+    #[error("{path}:{line}:{column}: `{field}` {message}")]
+    OutOfBounds {
+        /// The file.
+        path: PathBuf,
+        /// 1-based line.
+        line: usize,
+        /// 1-based column.
+        column: usize,
+        /// The field at fault.
+        field: &'static str,
+        /// The value and what is allowed.
         message: String,
     },
     /// Well-formed, but not a usable model.
@@ -93,6 +114,40 @@ pub fn parse(text: &str, path: &Path) -> Result<TargetModel, TargetFileError> {
             message: e.message().trim().to_string(),
         }
     })?;
+    let out_of_bounds = |field: &'static str, span: std::ops::Range<usize>, message: String| {
+        let (line, column) = line_column(text, span.start);
+        TargetFileError::OutOfBounds {
+            path: path.to_owned(),
+            line,
+            column,
+            field,
+            message,
+        }
+    };
+    let range = *raw.nominal_range_m.get_ref();
+    if !(NOMINAL_RANGE_M[0]..=NOMINAL_RANGE_M[1]).contains(&range) {
+        return Err(out_of_bounds(
+            "nominal_range_m",
+            raw.nominal_range_m.span(),
+            format!(
+                "= {range:?}: must be {}–{} m",
+                NOMINAL_RANGE_M[0], NOMINAL_RANGE_M[1]
+            ),
+        ));
+    }
+    for (index, c) in raw.corners_m.iter().enumerate() {
+        let [x, y] = *c.get_ref();
+        if !(x.abs() <= MAX_CORNER_M && y.abs() <= MAX_CORNER_M) {
+            return Err(out_of_bounds(
+                "corners_m",
+                c.span(),
+                format!(
+                    "corner {index} = [{x:?}, {y:?}]: each coordinate must be within \
+                     ±{MAX_CORNER_M} m of the target's centre"
+                ),
+            ));
+        }
+    }
     let corners: Vec<[f64; 2]> = raw.corners_m.iter().map(|c| *c.get_ref()).collect();
     let segments: Vec<[usize; 2]> = raw.segments.iter().map(|s| *s.get_ref()).collect();
     TargetModel::new(raw.name, *raw.nominal_range_m.get_ref(), corners, segments).map_err(
@@ -194,6 +249,20 @@ segments = [
             .replace("    [3, 0],\n", ""));
         assert!(
             e.contains("at least one horizontal and one vertical"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn corners_and_range_out_of_bounds_are_named() {
+        let e = err(&GOOD.replace("[-0.8, 0.5], [0.8, 0.5]", "[-1e308, 0.5], [0.8, 0.5]"));
+        assert!(
+            e.starts_with("t.toml:3:14: `corners_m` corner 0 = [-1e308, 0.5]"),
+            "{e}"
+        );
+        let e = err(&GOOD.replace("10.0", "1e300"));
+        assert!(
+            e.starts_with("t.toml:2:19: `nominal_range_m` = 1e300"),
             "{e}"
         );
     }

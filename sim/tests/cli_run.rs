@@ -82,3 +82,267 @@ fn bad_arguments_exit_2_with_one_line() {
         assert!(err.contains(needle), "{extra:?}: {err}");
     }
 }
+
+fn scenario(name: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../scenarios")
+        .join(name)
+        .display()
+        .to_string()
+}
+
+/// Checks `xml` against the common JUnit schema in `tests/data/junit.xsd` with xmllint
+/// (`.ci/install` installs it); a machine without it fails here rather than skip.
+fn assert_valid_junit(xml: &Path) {
+    let xsd = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/junit.xsd");
+    let out = Command::new("xmllint")
+        .arg("--noout")
+        .arg("--schema")
+        .arg(&xsd)
+        .arg(xml)
+        .output()
+        .expect("xmllint (libxml2-utils) is needed: run `bash .ci/install`");
+    assert!(
+        out.status.success(),
+        "{} does not validate against the JUnit schema:\n{}",
+        xml.display(),
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+#[test]
+fn the_schema_check_can_fail() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("bad.xml");
+    std::fs::write(
+        &bad,
+        "<testsuites><testsuite name=\"x\" tests=\"1\" failures=\"0\" errors=\"0\" time=\"1\">\
+         <testcase name=\"c\" classname=\"k\" time=\"0\"/></testsuite></testsuites>",
+    )
+    .unwrap();
+    // No timestamp: refused.
+    let r = std::panic::catch_unwind(|| assert_valid_junit(&bad));
+    assert!(r.is_err());
+}
+
+/// Several scenarios: a failing criterion does not stop the next scenario, nor does a
+/// scenario that cannot complete (its output folder is a file); one combined junit.xml
+/// holds them all, valid against the JUnit schema; the exit status is 3, then 1.
+#[test]
+fn a_multi_scenario_run_goes_on_and_writes_one_junit() {
+    let dir = tempfile::tempdir().unwrap();
+    let root = dir.path();
+    let (weave, close) = (scenario("weave.toml"), scenario("close-range.toml"));
+    let root_s = root.to_str().unwrap().to_string();
+    let args: Vec<String> = [
+        "run",
+        "--quiet",
+        "--renderers",
+        "1",
+        "--set",
+        "duration_s=1",
+        "--set",
+        "expect.min_distance_m=100000",
+        "--out",
+        &root_s,
+        &weave,
+        &close,
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let out = carfollow(&args);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        stdout.contains("weave: FAIL") && stdout.contains("close-range: FAIL"),
+        "{stdout}"
+    );
+    let junit = root.join("junit.xml");
+    assert_valid_junit(&junit);
+    assert_valid_junit(&root.join("weave/junit.xml"));
+    let xml = std::fs::read_to_string(&junit).unwrap();
+    assert_eq!(xml.matches("<testsuite ").count(), 2, "{xml}");
+    assert!(xml.contains("name=\"min_distance\""), "{xml}");
+    assert!(
+        xml.contains("<failure type=\"expect\" message=\"measured "),
+        "{xml}"
+    );
+    assert!(xml.contains(", limit 100000.000\">"), "{xml}");
+
+    // The first scenario cannot write its outputs: it is an <error>, the second still runs.
+    std::fs::remove_dir_all(root.join("weave")).unwrap();
+    std::fs::write(root.join("weave"), "in the way").unwrap();
+    let out = carfollow(&args);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(3), "{err}");
+    assert_eq!(
+        err.matches("error: weave: could not complete").count(),
+        1,
+        "{err}"
+    );
+    assert!(String::from_utf8_lossy(&out.stdout).contains("close-range: FAIL"));
+    assert_valid_junit(&junit);
+    let xml = std::fs::read_to_string(&junit).unwrap();
+    assert!(xml.contains("<error type=\"incomplete\""), "{xml}");
+    assert!(xml.contains("errors=\"1\""), "{xml}");
+}
+
+/// summary.json says what ran: versions, the overrides and the resolved scenario.
+#[test]
+fn summary_json_records_versions_overrides_and_the_resolved_scenario() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = run(
+        dir.path(),
+        &["--renderers", "1", "--set", "tracker.lambda=0.7"],
+    );
+    assert!(matches!(out.status.code(), Some(0 | 1)), "{out:?}");
+    let s: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.path().join("summary.json")).unwrap()).unwrap();
+    assert_eq!(s["schema_version"], 2);
+    assert_eq!(s["carfollow_version"], env!("CARGO_PKG_VERSION"));
+    assert_eq!(
+        s["overrides"],
+        serde_json::json!(["duration_s=4", "tracker.lambda=0.7"])
+    );
+    assert_eq!(s["resolved_scenario"]["tracker"]["lambda"], 0.7);
+    assert_eq!(s["resolved_scenario"]["duration_s"], 4.0);
+    assert_eq!(s["resolved_scenario"]["name"], "nist-grounds");
+    if let Some(commit) = s.get("git_commit") {
+        assert_eq!(commit.as_str().unwrap().len(), 40, "{commit}");
+    }
+}
+
+/// Off a terminal, progress goes to stderr as lines (the bar would stay hidden).
+#[test]
+fn progress_lines_off_a_terminal() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = carfollow(&[
+        "run",
+        "--renderers",
+        "1",
+        "--set",
+        "duration_s=1",
+        "--progress-every",
+        "0",
+        "--out",
+        dir.path().to_str().unwrap(),
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(matches!(out.status.code(), Some(0 | 1)), "{err}");
+    let lines = err
+        .lines()
+        .filter(|l| l.starts_with("nist-grounds: t "))
+        .count();
+    assert!(lines >= 10, "{err}");
+    assert!(err.contains("× real time, gap "), "{err}");
+}
+
+/// An error is said once: the OS error of a missing file, a target file's error.
+#[test]
+fn errors_are_said_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = carfollow(&["run", "--quiet", "no-such-scenario.toml"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert_eq!(err.matches("os error 2").count(), 1, "{err}");
+
+    // A scenario whose target file has a corner 1e308 m out.
+    let targets = dir.path().join("targets");
+    std::fs::create_dir(&targets).unwrap();
+    let target = std::fs::read_to_string(scenario("targets/nist-ten-segment.toml")).unwrap();
+    std::fs::write(
+        targets.join("nist-ten-segment.toml"),
+        target.replacen("[-0.8, 0.5]", "[-1e308, 0.5]", 1),
+    )
+    .unwrap();
+    let file = dir.path().join("s.toml");
+    std::fs::copy(scenario("weave.toml"), &file).unwrap();
+    for args in [
+        vec!["run", "--quiet", file.to_str().unwrap()],
+        vec!["check", file.to_str().unwrap()],
+    ] {
+        let out = carfollow(&args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert_eq!(
+            err.matches("corner 0 = [-1e308, 0.5]").count(),
+            1,
+            "{args:?}: {err}"
+        );
+    }
+    let out = carfollow(&[
+        "target",
+        targets.join("nist-ten-segment.toml").to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(err.lines().count(), 1, "{err}");
+}
+
+/// `--help` documents the exit statuses.
+#[test]
+fn help_documents_exit_statuses() {
+    for args in [&["--help"][..], &["run", "--help"][..]] {
+        let out = carfollow(args);
+        let text = String::from_utf8_lossy(&out.stdout).replace('\n', " ");
+        let text = text.split_whitespace().collect::<Vec<_>>().join(" ");
+        assert!(
+            text.contains("3 when a run could not complete"),
+            "{args:?}: {text}"
+        );
+    }
+}
+
+/// An output that cannot be written is a run that could not complete: exit status 3.
+#[test]
+fn an_unwritable_output_exits_3() {
+    let dir = tempfile::tempdir().unwrap();
+    let blocker = dir.path().join("file");
+    std::fs::write(&blocker, "").unwrap();
+    let png = blocker.join("target.png");
+    let out = carfollow(&[
+        "target",
+        &scenario("targets/nist-ten-segment.toml"),
+        "--out",
+        png.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(3));
+    // A single run whose output folder is a file.
+    let out = run(&blocker, &["--renderers", "1"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(3), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+}
+
+/// `--video-stride N` puts every N-th frame into video.gif.
+#[test]
+fn video_stride_thins_the_gif() {
+    let dir = tempfile::tempdir().unwrap();
+    for (stride, frames) in [("5", 3), ("1", 15)] {
+        let out_dir = dir.path().join(stride);
+        let out = run(
+            &out_dir,
+            &[
+                "--renderers",
+                "1",
+                "--set",
+                "duration_s=1",
+                "--video",
+                "--video-stride",
+                stride,
+            ],
+        );
+        assert!(matches!(out.status.code(), Some(0 | 1)), "{out:?}");
+        let gif = std::fs::File::open(out_dir.join("video.gif")).unwrap();
+        let mut decoder = gif::DecodeOptions::new().read_info(gif).unwrap();
+        let mut n = 0;
+        while decoder.read_next_frame().unwrap().is_some() {
+            n += 1;
+        }
+        assert_eq!(n, frames, "--video-stride {stride}");
+    }
+}

@@ -217,3 +217,64 @@ fn a_bad_frame_mid_run_keeps_the_rows_before_it() {
     expect_input_error(&o, "frame_0005.png: frame is 100×100, but the first frame");
     assert_eq!(read_csv(&csv).1.len(), 5);
 }
+
+#[test]
+fn robust_mode_finds_a_swerving_target_without_a_start_and_the_paper_mode_needs_one() {
+    let dir = tempfile::tempdir().unwrap();
+    let frames = dir.path().join("swerve");
+    let o = carfollow(&[
+        "synth",
+        frames.to_str().unwrap(),
+        "--target",
+        TARGET,
+        "--frames",
+        "70",
+        "--kind",
+        "swerve",
+        "--seed",
+        "2",
+    ]);
+    assert!(o.status.success(), "synth failed: {}", stderr(&o));
+    let (_, truth) = read_csv(&frames.join("truth.csv"));
+
+    // Robust mode, no --init: it finds the target in the first frame and holds the swerves.
+    let csv = dir.path().join("robust.csv");
+    let o = carfollow(&[
+        "track",
+        frames.to_str().unwrap(),
+        "--target",
+        TARGET,
+        "--focal-px",
+        "320",
+        "--mode",
+        "robust",
+        "--out",
+        csv.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert!(o.status.success(), "track failed: {}", stderr(&o));
+    let (header, rows) = read_csv(&csv);
+    let col = |name: &str| header.iter().position(|c| c == name).unwrap();
+    assert_eq!(rows.len(), 70);
+    assert_eq!(rows[0][col("event")], "acquired");
+    for (row, t) in rows.iter().zip(&truth) {
+        let err = (row[col("cx")].parse::<f64>().unwrap() - t[1].parse::<f64>().unwrap()).abs();
+        assert!(err < 2.0, "frame {}: {err:.2} px off", row[0]);
+        assert_eq!(row[col("status")], "tracking", "frame {}", row[0]);
+    }
+
+    // The paper's mode refuses to start without the teleoperator's placement (exit 2).
+    let o = carfollow(&[
+        "track",
+        frames.to_str().unwrap(),
+        "--target",
+        TARGET,
+        "--focal-px",
+        "320",
+        "--out",
+        dir.path().join("paper.csv").to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("--init"), "{}", stderr(&o));
+    assert_eq!(stderr(&o).trim().lines().count(), 1, "{}", stderr(&o));
+}

@@ -179,3 +179,37 @@ fn the_kubernetes_indexed_job_runs_every_shard_and_merges() {
     assert!(status.success(), "merge: {args:?}");
     check_merged(&volume.join("lambda"));
 }
+
+/// A last array task whose own sweep fails (exit status 3: a point could not run) still
+/// queues the merge, and fails with that status itself.
+#[test]
+fn a_failing_last_slurm_task_still_queues_the_merge() {
+    let dir = tempfile::tempdir().unwrap();
+    let sweep = tiny_sweep(dir.path());
+    let out = dir.path().join("out");
+    let log = dir.path().join("sbatch.log");
+    let sbatch = format!("#!/bin/sh\necho \"$@\" >> '{}'\n", log.display());
+    // carfollow, standing in: runs the real sweep, then reports a point that could not run.
+    let failing = format!(
+        "#!/bin/sh\n'{}' \"$@\"\nexit 3\n",
+        env!("CARGO_BIN_EXE_carfollow")
+    );
+    let bin = bin_dir(dir.path(), &[("sbatch", &sbatch), ("failing", &failing)]);
+    let status = Command::new("bash")
+        .arg(repo().join("examples/slurm/sweep.sbatch"))
+        .current_dir(repo())
+        .env("PATH", path_with(&bin))
+        .env("SWEEP", &sweep)
+        .env("N", "1")
+        .env("OUT", &out)
+        .env("CARFOLLOW", bin.join("failing"))
+        .env("SLURM_ARRAY_TASK_ID", "0")
+        .env("SLURM_ARRAY_JOB_ID", "4243")
+        .env("SLURM_CPUS_PER_TASK", "1")
+        .status()
+        .unwrap();
+    assert_eq!(status.code(), Some(3));
+    let queued = std::fs::read_to_string(&log).unwrap();
+    assert_eq!(queued.lines().count(), 1, "one merge job: {queued}");
+    assert!(queued.contains("--dependency=afterany:4243"), "{queued}");
+}

@@ -10,7 +10,7 @@ use std::path::Path;
 
 use image::{GenericImageView, Rgb, RgbImage};
 use sim::record::{Expect, FrameRecord, TrackerStatus};
-use sim::report::{write_junit, OutputOptions, RunOutputs, PLOT_FILES};
+use sim::report::{write_junit, JunitScenario, OutputOptions, RunOutputs, PLOT_FILES};
 
 const FRAMES: u64 = 900;
 
@@ -107,6 +107,8 @@ fn expect() -> Expect {
         max_lateral_deviation_m: Some(1.5),
         no_collision: true,
         min_distance_m: Some(400.0),
+        max_range_error_p95_m: None,
+        max_loss_events: None,
     }
 }
 
@@ -207,10 +209,17 @@ fn a_run_writes_every_output_and_they_decode() {
     let (n, d) = frames[0].delay().numer_denom_ms();
     assert_eq!(n / d, 200, "stride 3 at 15 fps: 20 cs a frame");
 
-    let junit = write_junit(&dir, std::slice::from_ref(&s)).unwrap();
+    let junit = write_junit(&dir, &[JunitScenario::Ran(&s)]).unwrap();
     let xml = std::fs::read_to_string(junit).unwrap();
-    assert!(xml.contains("name=\"synthetic-s-curve\""));
-    assert!(xml.contains("<failure type=\"expect\" message=\"2 of 5 criteria failed\">"));
+    assert!(xml.contains("<testsuite name=\"synthetic-s-curve\""));
+    // One testcase per criterion and one for the run, two of them failed.
+    assert_eq!(xml.matches("<testcase ").count(), 6, "{xml}");
+    assert_eq!(
+        xml.matches("<failure type=\"expect\" message=\"measured ")
+            .count(),
+        2,
+        "{xml}"
+    );
 }
 
 #[test]

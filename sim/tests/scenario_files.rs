@@ -150,3 +150,130 @@ fn a_bad_set_path_is_refused_and_named() {
     let e = load(&text(), &["novalue"]).unwrap_err();
     assert!(e.contains("expected KEY.PATH=VALUE"), "{e}");
 }
+
+/// What the closed loop used to refuse only when it started (so `check` and a sweep's
+/// pre-flight passed it) is refused by validation, naming the field or the override.
+#[test]
+fn what_the_loop_would_refuse_is_refused_by_validation() {
+    for (set, needle) in [
+        (
+            "lead.start_m=0",
+            "--set lead.start_m=0: `lead.start_m` puts the chase vehicle 13.4 m before the route's start",
+        ),
+        (
+            "chase.controller.gap_keeper.min_gap_m=0",
+            "--set chase.controller.gap_keeper.min_gap_m=0: `chase.controller.gap_keeper.min_gap_m` = 0:",
+        ),
+        (
+            "lead.driver.weave_amplitude_m=-inf",
+            "`lead.driver.weave_amplitude_m` = -inf:",
+        ),
+        (
+            "camera.mount.pitch_down_deg=60",
+            "--set camera.mount.pitch_down_deg=60: `camera.mount.pitch_down_deg` = 60:",
+        ),
+        (
+            "camera.mount.right_m=0.5",
+            "`camera.mount.right_m` = 0.5: must be 0",
+        ),
+        (
+            "route.segments=[{straight_m = 40000}, {straight_m = 40000}]",
+            "`route.segments` = 80000 m in all: the route must be at most 50000 m long",
+        ),
+        (
+            "route.segments=[{arc_radius_m = 1e308, arc_angle_deg = 30}]",
+            "`route.segments` = 1e308: segment 0: arc_radius_m must be 8–10000 m",
+        ),
+        (
+            "environment.sensor.blur_sigma_px=1e300",
+            "`environment.sensor.blur_sigma_px` = 1e300: must be 0–10 px",
+        ),
+        (
+            "camera.focal_length_mm=1e300",
+            "`camera.focal_length_mm` = 1e300: must be 1–200 mm",
+        ),
+        ("tracker.init_offset=[1e300, 0, 0]", "`tracker.init_offset`"),
+        (
+            "camera.mount.pitch_down_deg=30",
+            "puts the target out of the camera's view at t = 0",
+        ),
+        (
+            "camera.focal_length_mm=50",
+            "`camera.focal_length_mm` puts the target out of the camera's view at t = 0",
+        ),
+        ("environment.sun.azimuth_deg=nan", "`environment.sun.azimuth_deg` = NaN"),
+    ] {
+        let e = load(&text(), &[set]).unwrap_err();
+        assert!(e.contains(needle), "{set}: {e}");
+        assert!(e.starts_with(&format!("--set {set}: ")), "{set}: {e}");
+    }
+    // The same in the file is blamed on its line.
+    let t = text().replace("start_m = 30.0", "start_m = 0.0");
+    assert_ne!(t, text());
+    let e = load(&t, &[]).unwrap_err();
+    let line = line_of(&t, "start_m = 0.0");
+    assert!(e.starts_with(&format!("/bad.toml:{line}:")), "{e}");
+    assert!(e.contains("`lead.start_m` puts the chase vehicle"), "{e}");
+}
+
+/// An array with too many numbers is the file's fault at its line, whether or not an
+/// unrelated override is given.
+#[test]
+fn a_long_array_in_the_file_is_blamed_on_the_file_not_an_override() {
+    let t = text().replace(
+        "pixel_size_mm = [0.025, 0.025]",
+        "pixel_size_mm = [0.025, 0.025, 0.1, 0.1]",
+    );
+    assert_ne!(t, text());
+    let line = line_of(&t, "pixel_size_mm");
+    for overrides in [&[][..], &["duration_s=2"][..]] {
+        let e = load(&t, overrides).unwrap_err();
+        assert!(
+            e.starts_with(&format!(
+                "/bad.toml:{line}:17: invalid length 4, expected an array of exactly 2 numbers"
+            )),
+            "{overrides:?}: {e}"
+        );
+    }
+}
+
+/// `summary.json` gets the scenario as resolved: the overrides applied, defaults filled in.
+#[test]
+fn the_resolved_scenario_holds_the_overrides() {
+    let s = load(&text(), &["tracker.lambda=0.7", "duration_s=3"]).unwrap();
+    assert_eq!(s.overrides, ["tracker.lambda=0.7", "duration_s=3"]);
+    assert_eq!(s.resolved.tracker.lambda, Some(0.7));
+    assert_eq!(s.resolved.duration_s, 3.0);
+    let json = serde_json::to_value(&s.resolved).unwrap();
+    assert_eq!(json["tracker"]["lambda"], 0.7);
+    assert_eq!(json["route"]["lane_width_m"], 3.5);
+}
+
+/// The controllers' look-ahead and speed gains are bounded too (a look-ahead whose
+/// minimum exceeds its maximum used to panic when the run started).
+#[test]
+fn look_ahead_and_gains_are_bounded() {
+    let e = load(
+        &text(),
+        &["chase.controller.lookahead={ base_m = 3, gain_s = 0.5, min_m = 40, max_m = 1 }"],
+    )
+    .unwrap_err();
+    assert!(
+        e.contains("`chase.controller.lookahead.max_m` = 1: must be from min_m to 200 m"),
+        "{e}"
+    );
+    let e = load(
+        &text(),
+        &["lead.driver.speed_gains={ kp_per_s = nan, ki_per_s2 = 1, integral_limit_mps2 = 1 }"],
+    )
+    .unwrap_err();
+    assert!(
+        e.contains("`lead.driver.speed_gains.kp_per_s` = NaN"),
+        "{e}"
+    );
+    let e = load(&text(), &["chase.controller.max_breadcrumbs=0"]).unwrap_err();
+    assert!(
+        e.contains("`chase.controller.max_breadcrumbs` = 0: must be 2–1000000"),
+        "{e}"
+    );
+}

@@ -2,7 +2,9 @@
 //! unsharded run (wall-time fields aside, the figures are deterministic); a resume after a
 //! killed run completes without redoing a point; bad input exits with status 2, naming the
 //! bad axis path; a worker process that dies costs only its point; Ctrl-C keeps every
-//! finished row and `--resume` finishes the rest. Run with
+//! finished row and `--resume` finishes the rest; `--jobs 0` and a merge of an empty folder
+//! are refused; a merge lists the grid's missing points and exits 3; `--resume` refuses
+//! results of a changed sweep file or other overrides. Run with
 //! `cargo test --release -p sim --test sweep_cli`.
 
 use serde_json::Value;
@@ -205,6 +207,23 @@ fn bad_input_exits_2_naming_the_axis_path() {
     }
     let out = carfollow(&["sweep", s(&dir.path().join("missing.toml"))]);
     assert_eq!(out.status.code(), Some(2));
+
+    // The pre-flight is the scenario's own validation: what the closed loop would refuse
+    // at its start is refused before any point runs, naming the override.
+    let sweep = sweep_file(
+        dir.path(),
+        &TINY.replace("set = [", "set = [\"lead.start_m=0\", "),
+    );
+    let out_dir = dir.path().join("preflight");
+    let out = carfollow(&["sweep", s(&sweep), "--out", s(&out_dir)]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("--set lead.start_m=0: `lead.start_m` puts the chase vehicle"),
+        "{err}"
+    );
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(!out_dir.exists());
 }
 
 /// A worker command that runs `script` in `sh` before (maybe) becoming a real worker.
@@ -234,6 +253,8 @@ fn a_worker_that_dies_costs_only_its_point() {
     for (e, p) in errors.iter().zip(&points) {
         let e = e.to_string();
         assert!(e.contains(&p.describe()) && e.contains("died"), "{e}");
+        // The point is named once.
+        assert_eq!(e.matches(&p.describe()).count(), 1, "{e}");
     }
     assert!(read_rows(&results).unwrap().0.is_empty());
 
@@ -312,4 +333,188 @@ fn ctrl_c_keeps_every_finished_row_and_resume_finishes_the_rest() {
     }
 
     resume_completes(&sweep, &out, &kept, 8);
+}
+
+/// `--jobs 0` is refused before any file is written; a merge of a folder without results
+/// is an error.
+#[test]
+fn jobs_0_and_an_empty_merge_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let sweep = sweep_file(dir.path(), TINY);
+    let out = dir.path().join("out");
+    let o = carfollow(&["sweep", s(&sweep), "--out", s(&out), "--jobs", "0"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--jobs must be at least 1"));
+    assert!(!out.exists(), "a file was written");
+
+    let empty = dir.path().join("empty");
+    std::fs::create_dir(&empty).unwrap();
+    let o = carfollow(&["sweep", "merge", s(&empty)]);
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("no sweep results to merge"), "{err}");
+    assert!(!empty.join("results.jsonl").exists());
+}
+
+/// The merge knows the grid (from `sweep.json`): with one shard of two, it lists the
+/// other shard's points as missing, says why when a run said so, and exits 3.
+#[test]
+fn a_merge_of_an_incomplete_sweep_lists_what_is_missing() {
+    let dir = tempfile::tempdir().unwrap();
+    let sweep = sweep_file(dir.path(), TINY);
+    let out = dir.path().join("out");
+    ok(carfollow(&[
+        "sweep",
+        s(&sweep),
+        "--out",
+        s(&out),
+        "--shard",
+        "0/2",
+    ]));
+    let manifest: Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("sweep.json")).unwrap()).unwrap();
+    let grid = manifest["points"].as_array().unwrap();
+    assert_eq!(grid.len(), 4);
+    // Shard 1's first point failed when it ran, as its failed file says.
+    let first_of_shard_1 = &grid[1];
+    std::fs::write(
+        out.join("failed-shard-1-of-2.txt"),
+        format!(
+            "1\t{}\t{}\tthe renderer failed\n",
+            first_of_shard_1["id"].as_str().unwrap(),
+            first_of_shard_1["point"].as_str().unwrap()
+        ),
+    )
+    .unwrap();
+    let o = carfollow(&["sweep", "merge", s(&out)]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(3), "{err}");
+    assert!(
+        err.contains("2 of 4 points missing (1 failed, 1 not run)"),
+        "{err}"
+    );
+    let missing = std::fs::read_to_string(out.join("missing.txt")).unwrap();
+    let lines: Vec<&str> = missing.lines().collect();
+    assert_eq!(lines.len(), 2, "{missing}");
+    assert!(lines[0].starts_with("1\t") && lines[0].ends_with("\tfailed: the renderer failed"));
+    assert!(lines[1].starts_with("3\t") && lines[1].ends_with("\tnot run"));
+
+    // The other shard completes it: the merge is whole, exits 0 and leaves no missing.txt.
+    ok(carfollow(&[
+        "sweep",
+        s(&sweep),
+        "--out",
+        s(&out),
+        "--shard",
+        "1/2",
+    ]));
+    assert!(!out.join("failed-shard-1-of-2.txt").exists());
+    ok(carfollow(&["sweep", "merge", s(&out)]));
+    assert!(!out.join("missing.txt").exists());
+    assert_eq!(ids(&out.join("results.jsonl")).len(), 4);
+}
+
+/// `--resume` refuses results of a changed sweep file or other overrides.
+#[test]
+fn resume_refuses_a_changed_sweep_or_overrides() {
+    let dir = tempfile::tempdir().unwrap();
+    let sweep = sweep_file(dir.path(), TINY);
+    let out = dir.path().join("out");
+    ok(carfollow(&[
+        "sweep",
+        s(&sweep),
+        "--out",
+        s(&out),
+        "--shard",
+        "0/2",
+    ]));
+    let changed = carfollow(&[
+        "sweep",
+        s(&sweep),
+        "--out",
+        s(&out),
+        "--resume",
+        "--set",
+        "environment.sun.strength=0.5",
+    ]);
+    assert_eq!(changed.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&changed.stderr);
+    assert!(err.contains("are of another sweep"), "{err}");
+    std::fs::write(
+        &sweep,
+        std::fs::read_to_string(&sweep)
+            .unwrap()
+            .replace("[1, 2]", "[1, 3]"),
+    )
+    .unwrap();
+    let changed = carfollow(&["sweep", s(&sweep), "--out", s(&out), "--resume"]);
+    assert_eq!(changed.status.code(), Some(2));
+    // Nothing was run into the folder.
+    assert!(!out.join("results.jsonl").exists());
+
+    // The rows carry the hash too: without sweep.json, a resume of the changed sweep and a
+    // merge with another sweep's rows are still refused.
+    let shard = out.join("results-shard-0-of-2.jsonl");
+    let row: Value = serde_json::from_str(
+        std::fs::read_to_string(&shard)
+            .unwrap()
+            .lines()
+            .next()
+            .unwrap(),
+    )
+    .unwrap();
+    assert_eq!(row["sweep_hash"].as_str().unwrap().len(), 16, "{row}");
+    std::fs::remove_file(out.join("sweep.json")).unwrap();
+    let changed = carfollow(&[
+        "sweep",
+        s(&sweep),
+        "--out",
+        s(&out),
+        "--resume",
+        "--shard",
+        "0/2",
+    ]);
+    assert_eq!(changed.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&changed.stderr);
+    assert!(err.contains("its rows are of another sweep"), "{err}");
+    let other = dir.path().join("other");
+    ok(carfollow(&[
+        "sweep",
+        s(&sweep),
+        "--out",
+        s(&other),
+        "--shard",
+        "1/2",
+    ]));
+    let o = carfollow(&[
+        "sweep",
+        "merge",
+        s(&out),
+        s(&other),
+        "--out",
+        s(&dir.path().join("m")),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("results of different sweeps"), "{err}");
+}
+
+/// Off a terminal, without --quiet, a sweep writes progress lines to stderr.
+#[test]
+fn progress_lines_off_a_terminal() {
+    let dir = tempfile::tempdir().unwrap();
+    let sweep = sweep_file(dir.path(), TINY);
+    let o = Command::new(env!("CARGO_BIN_EXE_carfollow"))
+        .args(["sweep", s(&sweep), "--out", s(&dir.path().join("out"))])
+        .args(["--progress-every", "0"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    for n in 1..=4 {
+        assert!(
+            err.contains(&format!("sweep: {n}/4 points done, 0 could not run")),
+            "{err}"
+        );
+    }
 }

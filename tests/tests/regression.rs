@@ -4,7 +4,9 @@
 //! CI runs every scenario shortened to its first [`SHORT_S`] seconds (the distance criterion
 //! scaled to match), except the 17-minute tape, which always runs whole: holding the target
 //! for all of it is the paper's headline result. The full-length suite runs with
-//! `CARFOLLOW_FULL=1 cargo test --release -p carfollow-tests --test regression`.
+//! `CARFOLLOW_FULL=1 cargo test --release -p carfollow-tests --test regression`. Every
+//! scenario also runs in robust mode (`tracker.mode = "robust"`), which must pass the same
+//! `[expect]`, and every run checks that no loss went unreported for more than 15 frames.
 
 use sim::camera::Backend;
 use sim::closed_loop::ClosedLoop;
@@ -28,9 +30,14 @@ fn full() -> bool {
 /// Runs a scenario (shortened unless `whole` or the full suite was asked for) and returns
 /// its summary.
 fn run(name: &str, whole: bool) -> Summary {
+    run_with(name, whole, &[])
+}
+
+/// As [`run`], with more overrides (`tracker.mode=robust`, say).
+fn run_with(name: &str, whole: bool, extra: &[&str]) -> Summary {
     let path = scenario_path(name);
     let full_length = Scenario::load(&path, &[]).unwrap_or_else(|e| panic!("{e}"));
-    let mut overrides = Vec::new();
+    let mut overrides: Vec<String> = extra.iter().map(|s| s.to_string()).collect();
     if !whole && !full() && full_length.duration_s > SHORT_S {
         overrides.push(format!("duration_s={SHORT_S}"));
         if let Some(d) = full_length.expect.min_distance_m {
@@ -41,7 +48,20 @@ fn run(name: &str, whole: bool) -> Summary {
         }
     }
     let scenario = Scenario::load(&path, &overrides).unwrap_or_else(|e| panic!("{e}"));
-    let mut looped = ClosedLoop::new(&scenario, Backend::choose(None).unwrap(), false).unwrap();
+    let summary = run_scenario(&scenario);
+    // In every mode and scenario, a loss is never silent for long: the tracker's own status
+    // leaves `tracking` within 15 frames of the truth's loss.
+    if let Some(delay) = summary.max_loss_report_delay_frames {
+        assert!(
+            delay <= 15,
+            "{name} {extra:?}: the tracker said `tracking` for {delay} frames after a loss"
+        );
+    }
+    summary
+}
+
+fn run_scenario(scenario: &Scenario) -> Summary {
+    let mut looped = ClosedLoop::new(scenario, Backend::choose(None).unwrap(), false).unwrap();
     let mut records = Vec::new();
     while let Some(out) = looped.step().unwrap() {
         records.push(out.record);
@@ -87,4 +107,54 @@ fn tape_17min() {
         "tape-17min failed its [expect]:\n  {}",
         s.failures.join("\n  ")
     );
+}
+
+scenario_test!(gravel_road, "gravel-road");
+scenario_test!(swerves, "swerves");
+
+macro_rules! robust_test {
+    ($test:ident, $name:literal, $whole:literal) => {
+        /// The scenario in robust mode (`tracker.mode = "robust"`), at its own λ: robust
+        /// mode must pass every `[expect]` of the library.
+        #[test]
+        fn $test() {
+            let s = run_with($name, $whole, &["tracker.mode=robust"]);
+            assert!(
+                s.passed,
+                "{} failed its [expect] in robust mode:\n  {}",
+                $name,
+                s.failures.join("\n  ")
+            );
+        }
+    };
+}
+
+robust_test!(robust_nist_grounds, "nist-grounds", false);
+robust_test!(robust_weave, "weave", false);
+// Whole: both of its emergency stops (from 20.1 s) are what robust mode must hold.
+robust_test!(robust_hard_braking, "hard-braking", true);
+robust_test!(robust_long_range, "long-range", false);
+robust_test!(robust_close_range, "close-range", false);
+robust_test!(robust_strong_shadows, "strong-shadows", false);
+robust_test!(robust_poles_and_buildings, "poles-and-buildings", false);
+robust_test!(robust_tape_17min, "tape-17min", true);
+
+/// The paper's mode loses the gravel road and the swerves (the scenarios robust mode was
+/// added for), and says so: `run_with` checks that every loss was reported within 15
+/// frames.
+#[test]
+fn the_paper_mode_loses_the_gravel_road_and_the_swerves_and_says_so() {
+    for name in ["gravel-road", "swerves"] {
+        let s = run_with(name, false, &["tracker.mode=paper"]);
+        assert!(
+            s.tracking_lost_s > 5.0,
+            "{name}: the paper's mode lost only {:.2} s",
+            s.tracking_lost_s
+        );
+        assert!(
+            s.silent_loss_frames <= 15,
+            "{name}: {} silent frames",
+            s.silent_loss_frames
+        );
+    }
 }

@@ -1,12 +1,13 @@
 //! One full tracker step (stages 1–8) on a 256×242 frame with the target at scale 1, the
-//! paper's configuration, and with sub-pixel edges; plus stage 1 alone.
+//! paper's configuration, with sub-pixel edges, and in robust mode; robust mode's recovery
+//! frames (a search near the prediction, a whole-image acquisition); plus stage 1 alone.
 //! Run with `cargo bench -p tracker`.
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use std::hint::black_box;
 use tracker::edges::EdgeExtractor;
 use tracker::synth::{benchmark_frame, nist_ten_segment};
-use tracker::{Camera, Edges, GrayView, Tracker, TrackerConfig, Window};
+use tracker::{Camera, Edges, GrayView, Location, Tracker, TrackerConfig, TrackerMode, Window};
 
 fn bench(c: &mut Criterion) {
     let model = nist_ten_segment();
@@ -14,12 +15,14 @@ fn bench(c: &mut Criterion) {
     let (at, px) = benchmark_frame(&model, &camera);
     let image = GrayView::new(256, 242, &px).unwrap();
 
-    for (name, subpixel_edges) in [
-        ("tracker_step_paper", false),
-        ("tracker_step_subpixel", true),
+    for (name, subpixel_edges, mode) in [
+        ("tracker_step_paper", false, TrackerMode::Paper),
+        ("tracker_step_subpixel", true, TrackerMode::Paper),
+        ("tracker_step_robust", false, TrackerMode::Robust),
     ] {
         let config = TrackerConfig {
             subpixel_edges,
+            mode,
             ..TrackerConfig::default()
         };
         let mut tracker = Tracker::new(model.clone(), camera, config, at).unwrap();
@@ -32,6 +35,33 @@ fn bench(c: &mut Criterion) {
             })
         });
     }
+
+    // Robust mode's recovery frames, measured apart: each iteration starts a tracker 10 px
+    // off the target, so its measurement fails its check and it searches near its
+    // prediction; and a tracker with no start, which searches the whole image over scale.
+    let robust = TrackerConfig {
+        mode: TrackerMode::Robust,
+        ..TrackerConfig::default()
+    };
+    let off = Location::new(at.c_x + 10.0, at.c_y + 6.0, at.scale);
+    let fresh = Tracker::new(model.clone(), camera, robust.clone(), off).unwrap();
+    assert!(fresh.clone().step(image, 0.0).searched);
+    c.bench_function("tracker_recovery_search_robust", |b| {
+        b.iter_batched(
+            || fresh.clone(),
+            |mut t| black_box(t.step(black_box(image), 0.0)),
+            criterion::BatchSize::SmallInput,
+        )
+    });
+    let searching = Tracker::new_searching(model.clone(), camera, robust).unwrap();
+    assert!(searching.clone().step(image, 0.0).event.is_some());
+    c.bench_function("tracker_acquire_whole_image_robust", |b| {
+        b.iter_batched(
+            || searching.clone(),
+            |mut t| black_box(t.step(black_box(image), 0.0)),
+            criterion::BatchSize::SmallInput,
+        )
+    });
 
     let mut tracker = Tracker::new(model.clone(), camera, TrackerConfig::default(), at).unwrap();
     let window = tracker.step(image, 0.0).window;

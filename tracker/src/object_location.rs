@@ -14,7 +14,6 @@ use crate::feature_location::FeatureLocation;
 use crate::householder::{back_substitute, residual, triangularize, Row};
 use crate::location::Location;
 use crate::model::{Feature, Orientation};
-use crate::robust::{tukey_weight, MIN_FIT_SCALE_PX, TUKEY_C};
 
 /// The stage-4 measurement of the object's location, with its confidences.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -90,61 +89,4 @@ pub fn locate_object(
         residual: j_l,
         features_used,
     })
-}
-
-/// Robust stage 4 (robust mode): eq. 15–17 re-weighted by Tukey's biweight of each
-/// feature's residual from the fit, three passes (iteratively re-weighted least squares, as
-/// ViSP's `vpMbEdgeTracker` weights its moving edges). The residual scale is 1.4826 × the
-/// median absolute residual, floored at [`MIN_FIT_SCALE_PX`]; a feature beyond
-/// [`TUKEY_C`] scales (a shadow edge taken for it, say) drops out of the fit. The
-/// confidences of eq. 17 are those of the last pass.
-pub fn locate_object_robust(
-    model: &[Feature],
-    located: &[FeatureLocation],
-    config: &TrackerConfig,
-    rows: &mut Vec<Row>,
-    scratch: &mut Vec<f64>,
-) -> Option<Measurement> {
-    let mut weighted: Vec<FeatureLocation> = located.to_vec();
-    let mut fit = locate_object(model, &weighted, config, rows)?;
-    for _ in 0..3 {
-        let residual = |f: &Feature, l: &FeatureLocation, at: Location| -> Option<f64> {
-            let b = l.intercept?;
-            Some(match f.orientation {
-                Orientation::Vertical => at.c_x + at.scale * f.offset_px - b,
-                Orientation::Horizontal => at.c_y + at.scale * f.offset_px - b,
-            })
-        };
-        scratch.clear();
-        scratch.extend(
-            model
-                .iter()
-                .zip(located)
-                .filter(|(_, l)| l.confidence > 0.0)
-                .filter_map(|(f, l)| residual(f, l, fit.location))
-                .map(f64::abs),
-        );
-        if scratch.is_empty() {
-            break;
-        }
-        scratch.sort_by(f64::total_cmp);
-        let mid = scratch.len() / 2;
-        let med = if scratch.len() % 2 == 1 {
-            scratch[mid]
-        } else {
-            0.5 * (scratch[mid - 1] + scratch[mid])
-        };
-        let c = TUKEY_C * (1.4826 * med).max(MIN_FIT_SCALE_PX);
-        for ((f, l), w) in model.iter().zip(located).zip(weighted.iter_mut()) {
-            w.confidence = match residual(f, l, fit.location) {
-                Some(r) => l.confidence * tukey_weight(r, c).sqrt(),
-                None => l.confidence,
-            };
-        }
-        match locate_object(model, &weighted, config, rows) {
-            Some(next) => fit = next,
-            None => break,
-        }
-    }
-    Some(fit)
 }

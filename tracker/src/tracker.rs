@@ -15,7 +15,7 @@ use crate::householder::Row;
 use crate::location::Location;
 use crate::model::{Feature, Orientation, TargetModel};
 use crate::motion::MotionModel;
-use crate::object_location::{locate_object, locate_object_robust, Measurement};
+use crate::object_location::{locate_object, Measurement};
 use crate::prediction::{predict_features, predict_location, PredictedFeature};
 use crate::robust::{
     adaptive_threshold, alias_spacing, coverage_gain, ChamferSearch, EdgeMaps, NoiseEstimator,
@@ -210,7 +210,6 @@ pub struct Tracker {
     moved: Vec<PredictedFeature>,
     noise: NoiseEstimator,
     search: ChamferSearch,
-    scratch: Vec<f64>,
 }
 
 /// What stages 1–4 made of one window.
@@ -345,7 +344,6 @@ impl Tracker {
             moved: Vec::new(),
             noise: NoiseEstimator::default(),
             search: ChamferSearch::default(),
-            scratch: Vec::new(),
         })
     }
 
@@ -519,17 +517,7 @@ impl Tracker {
         );
         let mut located = Vec::with_capacity(self.predicted.len());
         locate_features(&self.predicted, &self.associations, &config, &mut located);
-        let measurement = if robust {
-            locate_object_robust(
-                &self.features,
-                &located,
-                &config,
-                &mut self.rows,
-                &mut self.scratch,
-            )
-        } else {
-            locate_object(&self.features, &located, &config, &mut self.rows)
-        };
+        let measurement = locate_object(&self.features, &located, &config, &mut self.rows);
         // The check, in both modes: does the located outline lie on edges of its class?
         let (coverage, gain) = match &measurement {
             Some(m) => {

@@ -13,6 +13,6 @@ mod sensor;
 
 pub use backend::{Backend, BackendError};
 pub use frame::{Frame, FrameInput, GroundTruth};
-pub use renderer::{DrawStats, RenderError, RenderOptions, Renderer};
+pub use renderer::{ground_truth_of, DrawStats, RenderError, RenderOptions, Renderer};
 pub use rig::{CameraRig, FAR_M, NEAR_M};
 pub use sensor::apply_sensor;

@@ -806,33 +806,50 @@ impl Renderer {
         world_from_chase: &Isometry3<f64>,
         world_from_lead: &Isometry3<f64>,
     ) -> GroundTruth {
-        let rig = &self.rig;
-        let camera_from_target = rig.world_from_camera(world_from_chase).inverse()
-            * world_from_lead
-            * self.scene.lead_from_target();
-        let centre = camera_from_target * Point3::origin();
-        let target_cam_m = [centre.x, centre.y, centre.z];
-        let [c_x, c_y] = rig
-            .intrinsics
-            .project(target_cam_m)
-            .unwrap_or([f64::NAN, f64::NAN]);
-        let target = &self.scene.description().target;
-        let in_view = target.corners_m().iter().all(|&[x, y]| {
-            let p = camera_from_target * Point3::new(x, y, 0.0);
-            rig.intrinsics
-                .project([p.x, p.y, p.z])
-                .is_some_and(|[u, v]| {
-                    (-0.5..f64::from(rig.width) - 0.5).contains(&u)
-                        && (-0.5..f64::from(rig.height) - 0.5).contains(&v)
-                })
-        });
-        GroundTruth {
-            c_x,
-            c_y,
-            scale: target.nominal_range_m() / centre.z,
-            target_cam_m,
-            in_view,
-        }
+        ground_truth_of(
+            &self.rig,
+            &self.scene.lead_from_target(),
+            &self.scene.description().target,
+            world_from_chase,
+            world_from_lead,
+        )
+    }
+}
+
+/// The target's true position in the image and in the camera frame, for a rig, where the
+/// target sits on the lead (`lead_from_target`, in the lead's scene frame), and the poses.
+/// The renderer's ground truth, and scenario validation's check that the target starts in
+/// view.
+pub fn ground_truth_of(
+    rig: &CameraRig,
+    lead_from_target: &Isometry3<f64>,
+    target: &tracker::TargetModel,
+    world_from_chase: &Isometry3<f64>,
+    world_from_lead: &Isometry3<f64>,
+) -> GroundTruth {
+    let camera_from_target =
+        rig.world_from_camera(world_from_chase).inverse() * world_from_lead * lead_from_target;
+    let centre = camera_from_target * Point3::origin();
+    let target_cam_m = [centre.x, centre.y, centre.z];
+    let [c_x, c_y] = rig
+        .intrinsics
+        .project(target_cam_m)
+        .unwrap_or([f64::NAN, f64::NAN]);
+    let in_view = target.corners_m().iter().all(|&[x, y]| {
+        let p = camera_from_target * Point3::new(x, y, 0.0);
+        rig.intrinsics
+            .project([p.x, p.y, p.z])
+            .is_some_and(|[u, v]| {
+                (-0.5..f64::from(rig.width) - 0.5).contains(&u)
+                    && (-0.5..f64::from(rig.height) - 0.5).contains(&v)
+            })
+    });
+    GroundTruth {
+        c_x,
+        c_y,
+        scale: target.nominal_range_m() / centre.z,
+        target_cam_m,
+        in_view,
     }
 }
 

@@ -6,7 +6,7 @@ use std::path::PathBuf;
 
 /// Arguments of `carfollow check`.
 #[derive(Args, Debug)]
-#[command(about = "Validate scenario files (and their target files) without running them")]
+#[command(after_help = super::exit::HELP, about = "Validate scenario files (and their target files) without running them")]
 pub struct CheckArgs {
     /// Scenario files.
     #[arg(required = true)]

@@ -1,5 +1,6 @@
 //! `carfollow render`: one camera frame, of a scenario's closed-loop run or of the built-in scene, to a PNG.
 
+use super::exit::incomplete;
 use anyhow::{bail, Context};
 use clap::Args;
 use sim::camera::{Backend, CameraRig, FrameInput, RenderOptions, Renderer};
@@ -70,19 +71,22 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
         backend,
         ..RenderOptions::default()
     };
-    let mut renderer = Renderer::new(&scene, rig.clone(), &options)?;
+    let mut renderer = Renderer::new(&scene, rig.clone(), &options).map_err(incomplete)?;
     let (world_from_chase, world_from_lead) =
         builtin_poses(scene.description(), scene.route(), &rig.mount, args.time);
-    let frame = renderer.render(&FrameInput {
-        frame_index: (args.time * FRAME_RATE_HZ).round() as u64,
-        time_s: args.time,
-        world_from_chase,
-        world_from_lead,
-    })?;
+    let frame = renderer
+        .render(&FrameInput {
+            frame_index: (args.time * FRAME_RATE_HZ).round() as u64,
+            time_s: args.time,
+            world_from_chase,
+            world_from_lead,
+        })
+        .map_err(incomplete)?;
     frame
         .image
         .save(&args.out)
-        .with_context(|| format!("writing {}", args.out.display()))?;
+        .with_context(|| format!("writing {}", args.out.display()))
+        .map_err(incomplete)?;
     let t = frame.truth;
     println!(
         "{}: t = {:.3} s on {}; target c = ({:.2}, {:.2}) px, scale {:.4}, camera-frame position ({:.3}, {:.3}, {:.3}) m{}",
@@ -116,10 +120,11 @@ fn render_scenario(path: &std::path::Path, args: &RenderArgs) -> anyhow::Result<
         );
     }
     let backend = Backend::choose(args.backend.as_deref())?;
-    let mut looped = sim::closed_loop::ClosedLoop::new(&scenario, backend, false)?;
+    let mut looped =
+        sim::closed_loop::ClosedLoop::new(&scenario, backend, false).map_err(incomplete)?;
     let wanted = (args.time * FRAME_RATE_HZ).round() as u64;
     loop {
-        let out = looped.step()?.with_context(|| {
+        let out = looped.step().map_err(incomplete)?.with_context(|| {
             format!(
                 "the run of `{}` ended before {} s",
                 scenario.name, args.time
@@ -128,7 +133,8 @@ fn render_scenario(path: &std::path::Path, args: &RenderArgs) -> anyhow::Result<
         if out.record.frame == wanted {
             out.image
                 .save(&args.out)
-                .with_context(|| format!("writing {}", args.out.display()))?;
+                .with_context(|| format!("writing {}", args.out.display()))
+                .map_err(incomplete)?;
             let r = out.record;
             println!(
                 "{}: `{}` at t = {:.3} s; target c = ({:.2}, {:.2}) px, scale {:.4}, range {:.2} m; tracker: {}",

@@ -1,25 +1,42 @@
 //! `carfollow run`: scenarios through the closed loop, with their outputs and verdicts.
 
+use super::exit::{self, incomplete, one_line};
 use anyhow::Context;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use sim::camera::Backend;
 use sim::child::RASTER_THREADS_ENV;
 use sim::closed_loop::{ClosedLoop, LoopTiming};
-use sim::report::{write_junit, OutputOptions, RunOutputs, Summary};
+use sim::report::{write_junit, JunitScenario, OutputOptions, RunOutputs, Summary};
 use sim::scenario::Scenario;
+use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
-use std::time::Instant;
+use std::time::{Duration, Instant};
+
+/// The default `--progress-every`, seconds: how often a run writes a progress line to
+/// stderr when stderr is not a terminal (a CI or Slurm log, where the progress bar stays
+/// hidden). Often enough to show it is alive; a 17-minute scenario (about 15 s of
+/// wall-clock time) logs two or three lines.
+const PROGRESS_EVERY_S: f64 = 5.0;
+
+/// The default `--video-stride`: every third frame, 5 frames a second of simulated time,
+/// still smooth at the vehicles' speeds and a third of the GIF (a 17-minute run: 5,100
+/// frames rather than 15,300).
+const DEFAULT_VIDEO_STRIDE: u32 = 3;
 
 /// Arguments of `carfollow run`.
 #[derive(Args, Debug)]
 #[command(
+    after_help = super::exit::HELP,
     about = "Run scenarios through the closed loop (camera, tracker, delay line, controllers, physics)",
     long_about = "Run each SCENARIO.toml (with none, the built-in nist-grounds) headless and \
                   write frames.csv, summary.json, plots and junit.xml to renders/<scenario>/ \
-                  (or to --out). Exit status: 0 when every scenario passed its [expect], 1 when \
-                  one failed, 2 on bad input."
+                  (or to --out). Every scenario is validated before any runs; a scenario that \
+                  fails or cannot complete does not stop the others, and with several scenarios \
+                  DIR/junit.xml holds them all. Exit status: 0 when everything ran and passed, 1 \
+                  when a run completed but a criterion failed, 2 on bad input (found before \
+                  anything runs), 3 when a run could not complete (renderer, worker, I/O)."
 )]
 pub struct RunArgs {
     /// Scenario files; none runs the built-in nist-grounds.
@@ -33,7 +50,17 @@ pub struct RunArgs {
     /// Also write the camera view with the tracker's overlay (video.gif) and PNG stills.
     #[arg(long)]
     pub video: bool,
-    /// No progress bar.
+    /// With --video, put every N-th camera frame into video.gif (1: all 15 a second; the
+    /// GIF still plays in real time).
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_VIDEO_STRIDE,
+          value_parser = clap::value_parser!(u32).range(1..=150))]
+    pub video_stride: u32,
+    /// Off a terminal (CI, Slurm), write a progress line to stderr every SECONDS of
+    /// wall-clock time (0: every frame).
+    #[arg(long, value_name = "SECONDS", default_value_t = PROGRESS_EVERY_S,
+          value_parser = progress_seconds)]
+    pub progress_every: f64,
+    /// No progress bar, and no progress lines off a terminal.
     #[arg(long)]
     pub quiet: bool,
     /// wgpu backend: gl (default; Mesa llvmpipe), vulkan or primary. Overrides WGPU_BACKEND.
@@ -46,7 +73,8 @@ pub struct RunArgs {
 }
 
 /// Runs the subcommand: exit status 0 when every scenario passed its `[expect]`, 1 when one
-/// failed; bad input is an error (exit status 2).
+/// failed, 3 when one could not complete; bad input is an error (exit status 2) before
+/// anything runs.
 pub fn run_run(args: RunArgs) -> anyhow::Result<ExitCode> {
     // Every scenario is validated before any runs: bad input never wastes a long run.
     let scenarios: Vec<Scenario> = if args.scenarios.is_empty() {
@@ -66,27 +94,76 @@ pub fn run_run(args: RunArgs) -> anyhow::Result<ExitCode> {
     }
     let root = args.out.clone().unwrap_or_else(|| PathBuf::from("renders"));
     let single_out = args.out.is_some() && scenarios.len() == 1;
-    let mut summaries = Vec::new();
+    // Each scenario's outcome: its summary, or why it could not complete.
+    let mut outcomes: Vec<(&Scenario, f64, Result<Summary, String>)> = Vec::new();
     for scenario in &scenarios {
         let dir = if single_out {
             root.clone()
         } else {
             root.join(&scenario.name)
         };
-        let summary = run_one(scenario, backend, &dir, &args)?;
-        println!("{}", verdict(&summary, &dir));
-        summaries.push(summary);
+        let started = Instant::now();
+        let outcome = run_one(scenario, backend, &dir, &args).map_err(|e| one_line(&e));
+        let wall_s = started.elapsed().as_secs_f64();
+        match &outcome {
+            Ok(summary) => println!("{}", verdict(summary, &dir)),
+            Err(e) => eprintln!("error: {}: could not complete: {e}", scenario.name),
+        }
+        // The scenario's own junit.xml, whatever happened.
+        let entry = junit_entry(scenario, wall_s, &outcome);
+        if std::fs::create_dir_all(&dir).is_ok() {
+            if let Err(e) = write_junit(dir.join("junit.xml"), &[entry]) {
+                eprintln!("error: {e}");
+            }
+        }
+        outcomes.push((scenario, wall_s, outcome));
     }
     if scenarios.len() > 1 {
-        let path = write_junit(root.join("junit.xml"), &summaries)?;
-        println!("{}: {} scenarios", path.display(), summaries.len());
+        let entries: Vec<JunitScenario> = outcomes
+            .iter()
+            .map(|(s, wall_s, o)| junit_entry(s, *wall_s, o))
+            .collect();
+        let path = write_junit(root.join("junit.xml"), &entries).map_err(incomplete)?;
+        println!("{}: {} scenarios", path.display(), entries.len());
     }
-    let passed = summaries.iter().all(|s| s.passed);
-    Ok(if passed {
-        ExitCode::SUCCESS
+    let code = if outcomes.iter().any(|(_, _, o)| o.is_err()) {
+        exit::INCOMPLETE
+    } else if outcomes
+        .iter()
+        .all(|(_, _, o)| o.as_ref().is_ok_and(|s| s.passed))
+    {
+        exit::PASS
     } else {
-        ExitCode::from(1)
-    })
+        exit::FAILED
+    };
+    Ok(ExitCode::from(code))
+}
+
+/// `--progress-every`: finite seconds, 0 to a day.
+pub(crate) fn progress_seconds(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(v) if (0.0..=86_400.0).contains(&v) => Ok(v),
+        _ => Err(format!(
+            "{text:?} is not a number of seconds from 0 to 86400"
+        )),
+    }
+}
+
+/// A scenario's entry in `junit.xml`.
+fn junit_entry<'a>(
+    scenario: &'a Scenario,
+    wall_s: f64,
+    outcome: &'a Result<Summary, String>,
+) -> JunitScenario<'a> {
+    match outcome {
+        Ok(summary) => JunitScenario::Ran(summary),
+        Err(error) => JunitScenario::Incomplete {
+            scenario: &scenario.name,
+            seed: scenario.seed,
+            wall_s,
+            error,
+        },
+    }
 }
 
 /// One line: the scenario, PASS or FAIL with its failures, and where the outputs are.
@@ -129,10 +206,13 @@ fn run_one(
     args: &RunArgs,
 ) -> anyhow::Result<Summary> {
     let started = Instant::now();
-    let mut looped = ClosedLoop::new(scenario, backend, args.video)?;
+    // The scenario is validated: from here on, whatever stops the run is not bad input.
+    let mut looped = ClosedLoop::new(scenario, backend, args.video).map_err(incomplete)?;
     if renderers(args) == 2 {
         let mut command = Command::new(
-            std::env::current_exe().context("cannot find this program to start a renderer")?,
+            std::env::current_exe()
+                .context("cannot find this program to start a renderer")
+                .map_err(incomplete)?,
         );
         command.arg("render-worker");
         if let Some(path) = &scenario.path {
@@ -151,11 +231,20 @@ fn run_one(
         dir,
         OutputOptions {
             video: args.video,
+            video_stride: args.video_stride,
             expected_frames: Some(frames),
             ..OutputOptions::default()
         },
     )
-    .with_context(|| format!("{}: cannot write outputs", dir.display()))?;
+    .map_err(incomplete)?;
+    outputs.set_provenance(
+        serde_json::to_value(&scenario.resolved).map_err(incomplete)?,
+        scenario.overrides.clone(),
+    );
+    // Off a terminal (CI, Slurm) the bar hides itself: a line every few seconds instead.
+    let log_progress = !args.quiet && !std::io::stderr().is_terminal();
+    let every = Duration::from_secs_f64(args.progress_every);
+    let mut next_log = Instant::now() + every;
     let bar = if args.quiet {
         ProgressBar::hidden()
     } else {
@@ -168,14 +257,29 @@ fn run_one(
     );
     bar.set_prefix(scenario.name.clone());
     let mut outputs_s = 0.0;
-    while let Some(out) = looped.step()? {
+    while let Some(out) = looped.step().map_err(incomplete)? {
         let written = Instant::now();
-        outputs.record(&out.record)?;
+        outputs.record(&out.record).map_err(incomplete)?;
         if args.video {
             let img = sim::overlay::draw(&out.image, &out.track, &out.edges);
-            outputs.frame_image(out.record.frame, &img)?;
+            outputs
+                .frame_image(out.record.frame, &img)
+                .map_err(incomplete)?;
         }
         bar.inc(1);
+        if log_progress && written >= next_log {
+            next_log = written + every;
+            eprintln!(
+                "{}: t {:.1}/{:.0} s ({:.0} %), {:.1}× real time, gap {:.2} m, {}",
+                scenario.name,
+                out.record.t_s,
+                scenario.duration_s,
+                100.0 * (out.record.frame + 1) as f64 / frames.max(1) as f64,
+                out.record.t_s / started.elapsed().as_secs_f64().max(1e-9),
+                out.record.gap_m,
+                out.record.status.as_str()
+            );
+        }
         if out.record.frame % 15 == 0 {
             let wall = started.elapsed().as_secs_f64();
             let fps = (out.record.frame + 1) as f64 / wall.max(1e-9);
@@ -197,13 +301,14 @@ fn run_one(
         outputs_s,
         ..looped.timing()
     };
-    let summary = outputs.finish(
-        &scenario.name,
-        scenario.seed,
-        &scenario.expect,
-        wall_s,
-        Some(timing),
-    )?;
-    write_junit(dir.join("junit.xml"), std::slice::from_ref(&summary))?;
+    let summary = outputs
+        .finish(
+            &scenario.name,
+            scenario.seed,
+            &scenario.expect,
+            wall_s,
+            Some(timing),
+        )
+        .map_err(incomplete)?;
     Ok(summary)
 }

@@ -6,25 +6,42 @@ use clap::{Args, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 use sim::camera::Backend;
 use sim::sweep::{
-    dedupe_sorted, merge_dirs, read_rows, run_points, serve_points, write_report, ResultsWriter,
-    Shard, Sweep, RESULTS_FILE,
+    dedupe_sorted, merge_dirs, read_failed, read_rows, run_points, serve_points, write_failed,
+    write_report, FailedPoint, Manifest, ResultsWriter, Shard, Sweep, SweepError, MANIFEST_FILE,
+    RESULTS_FILE,
 };
+use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
 use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Mutex;
+use std::time::{Duration, Instant};
+
+use super::exit::{self, incomplete};
+
+/// The default `--progress-every`, seconds: how often a sweep writes a progress line to
+/// stderr off a terminal (CI, Slurm logs), where the bar stays hidden.
+const PROGRESS_EVERY_S: f64 = 10.0;
+
+/// The file listing the missing points after a merge.
+const MISSING_FILE: &str = "missing.txt";
 
 /// Arguments of `carfollow sweep`.
 #[derive(Args, Debug)]
 #[command(
+    after_help = super::exit::HELP,
     args_conflicts_with_subcommands = true,
     subcommand_negates_reqs = true,
     about = "Run a sweep: scenarios × seeds × parameter axes, on all cores or one shard",
     long_about = "Run every point of SWEEP.toml (scenarios × seeds × axes) headless, on --jobs \
                   worker processes. Each finished point appends one JSON line to DIR/results.jsonl \
-                  (with --shard I/N, DIR/results-shard-I-of-N.jsonl) at once; --resume skips \
-                  the points already there. At the end, writes table.csv, sweep-<axis>.png and \
-                  summary.md to DIR. Exit status: 0 when every point ran (whatever its \
-                  [expect] verdict), 1 when a point could not run, 2 on bad input."
+                  (with --shard I/N, DIR/results-shard-I-of-N.jsonl) at once, and DIR/sweep.json \
+                  names the sweep and its grid; --resume skips the points already there, and \
+                  refuses results of another sweep file or other overrides. Points that could \
+                  not run are listed in DIR/failed.txt (failed-shard-I-of-N.txt). At the end, \
+                  writes table.csv, sweep-<axis>.png and summary.md to DIR. Exit status: 0 \
+                  when every point ran (whatever its [expect] verdict), 2 on bad input, 3 when \
+                  a point could not run."
 )]
 pub struct SweepArgs {
     /// `merge`: join shards' results.
@@ -48,9 +65,14 @@ pub struct SweepArgs {
     /// Override a field of every point, after the sweep file's `set` (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
-    /// No progress bar.
+    /// No progress bar, and no progress lines off a terminal.
     #[arg(long)]
     pub quiet: bool,
+    /// Off a terminal (CI, Slurm), write a progress line to stderr at most every SECONDS
+    /// of wall-clock time, when a point finishes (0: at every point).
+    #[arg(long, value_name = "SECONDS", default_value_t = PROGRESS_EVERY_S,
+          value_parser = super::run::progress_seconds)]
+    pub progress_every: f64,
     /// wgpu backend: gl (default; Mesa llvmpipe), vulkan or primary. Overrides WGPU_BACKEND.
     #[arg(long)]
     pub backend: Option<String>,
@@ -92,7 +114,8 @@ pub fn run_sweep_worker(args: SweepWorkerArgs) -> anyhow::Result<ExitCode> {
 #[derive(Subcommand, Debug)]
 pub enum SweepAction {
     /// Join the results of shards (or of interrupted runs): dedupe by point id, sort by grid
-    /// order, and write results.jsonl and the report.
+    /// order, and write results.jsonl and the report; list the grid's missing points in
+    /// missing.txt (exit status 3 when there are any).
     Merge(MergeArgs),
 }
 
@@ -105,12 +128,19 @@ pub struct MergeArgs {
     /// Output folder (default: the first DIR).
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Accepted for symmetry with `sweep`: merge draws no progress bar anyway.
+    #[arg(long)]
+    pub quiet: bool,
 }
 
 /// Runs the subcommand.
 pub fn run_sweep(args: SweepArgs) -> anyhow::Result<ExitCode> {
     if let Some(SweepAction::Merge(m)) = args.action {
         return run_merge(m);
+    }
+    // Before anything is read or written.
+    if args.jobs == Some(0) {
+        anyhow::bail!("--jobs must be at least 1");
     }
     let file = args.sweep.clone().expect("clap requires the sweep file");
     let sweep = Sweep::load(&file, &args.set)?;
@@ -121,11 +151,13 @@ pub fn run_sweep(args: SweepArgs) -> anyhow::Result<ExitCode> {
             .map_or("sweep".into(), |s| s.to_string_lossy());
         Path::new("renders/sweeps").join(stem.as_ref())
     });
-    std::fs::create_dir_all(&out).with_context(|| format!("{}: cannot create", out.display()))?;
     let results = out.join(
         args.shard
             .map_or(RESULTS_FILE.to_string(), |s| s.file_name()),
     );
+    let failed_file = out.join(args.shard.map_or("failed.txt".to_string(), |s| {
+        format!("failed-shard-{}-of-{}.txt", s.index, s.count)
+    }));
 
     let (done_rows, complete) = read_rows(&results)?;
     let exists = std::fs::metadata(&results).is_ok_and(|m| m.len() > 0);
@@ -135,6 +167,38 @@ pub fn run_sweep(args: SweepArgs) -> anyhow::Result<ExitCode> {
             results.display()
         );
     }
+    // The folder's results must be of this sweep: the same file and overrides.
+    if let Some(row) = done_rows
+        .iter()
+        .find(|r| !r.sweep_hash.is_empty() && r.sweep_hash != sweep.hash)
+    {
+        anyhow::bail!(
+            "{}: its rows are of another sweep (hash {}; now {}): the sweep file or the \
+             overrides changed since; use another --out, or remove the results",
+            results.display(),
+            row.sweep_hash,
+            sweep.hash
+        );
+    }
+    match Manifest::read(&out)? {
+        Some(m) if m.hash != sweep.hash => anyhow::bail!(
+            "{}: the results in {} are of another sweep (hash {}; now {}): the sweep file or \
+             the overrides changed since; use another --out, or remove the folder",
+            file.display(),
+            out.display(),
+            m.hash,
+            sweep.hash
+        ),
+        None if exists => anyhow::bail!(
+            "{}: cannot tell which sweep these results are of ({} is missing); use another \
+             --out, or remove the results",
+            results.display(),
+            MANIFEST_FILE
+        ),
+        _ => {}
+    }
+    std::fs::create_dir_all(&out).with_context(|| format!("{}: cannot create", out.display()))?;
+    Manifest::of(&sweep, &args.set).write(&out)?;
     let points = sweep.shard(args.shard);
     let todo: Vec<_> = points
         .iter()
@@ -143,9 +207,6 @@ pub fn run_sweep(args: SweepArgs) -> anyhow::Result<ExitCode> {
         .collect();
     let writer = ResultsWriter::open(&results, args.resume.then_some(complete))?;
     let jobs = args.jobs.unwrap_or_else(cores);
-    if jobs == 0 {
-        anyhow::bail!("--jobs must be at least 1");
-    }
     if !args.quiet {
         eprintln!(
             "{}: {} points{}, {} already done, {} to run on {} jobs; results in {}",
@@ -176,6 +237,10 @@ pub fn run_sweep(args: SweepArgs) -> anyhow::Result<ExitCode> {
     );
     bar.set_position((points.len() - todo.len()) as u64);
     let failed = AtomicUsize::new(0);
+    let finished = AtomicUsize::new(points.len() - todo.len());
+    let log_progress = !args.quiet && !std::io::stderr().is_terminal();
+    let every = Duration::from_secs_f64(args.progress_every);
+    let next_log = Mutex::new(Instant::now() + every);
     let exe = std::env::current_exe().context("cannot find this program to start workers")?;
     // Overlapping a point's physics with its rendering pays only with a core to spare.
     let overlap = jobs < cores();
@@ -200,35 +265,78 @@ pub fn run_sweep(args: SweepArgs) -> anyhow::Result<ExitCode> {
             )),
             Err(e) => {
                 failed.fetch_add(1, Ordering::Relaxed);
-                bar.println(format!("error: {e}"));
+                // Said once: on the bar's terminal, or straight to stderr without one.
+                if bar.is_hidden() {
+                    eprintln!("error: {e}");
+                } else {
+                    bar.println(format!("error: {e}"));
+                }
             }
         }
         bar.inc(1);
-    })?;
+        let n = finished.fetch_add(1, Ordering::Relaxed) + 1;
+        if log_progress {
+            let mut next = next_log.lock().unwrap_or_else(|e| e.into_inner());
+            if Instant::now() >= *next {
+                *next = Instant::now() + every;
+                eprintln!(
+                    "sweep: {n}/{} points done, {} could not run",
+                    points.len(),
+                    failed.load(Ordering::Relaxed)
+                );
+            }
+        }
+    })
+    .map_err(incomplete)?;
     bar.finish_and_clear();
+
+    let failed_points: Vec<FailedPoint> = errors
+        .iter()
+        .map(|e| {
+            let (point, error) = match e {
+                SweepError::Run { point, message } => (point.clone(), message.clone()),
+                other => (String::new(), other.to_string()),
+            };
+            let p = todo.iter().find(|p| p.describe() == point);
+            FailedPoint {
+                index: p.map_or(usize::MAX, |p| p.index),
+                id: p.map_or(String::new(), |p| p.id.clone()),
+                point,
+                error,
+            }
+        })
+        .collect();
+    write_failed(&failed_file, &failed_points).map_err(incomplete)?;
 
     let (rows, _) = read_rows(&results)?;
     let rows = dedupe_sorted(rows);
-    let written = write_report(&out, &rows)?;
-    println!(
-        "{}: {} of {} points done; report: {}",
-        results.display(),
-        rows.len(),
-        points.len(),
-        written
-            .iter()
-            .map(|p| p.display().to_string())
-            .collect::<Vec<_>>()
-            .join(", ")
-    );
-    for e in &errors {
-        eprintln!("error: {e}");
-    }
-    Ok(if errors.is_empty() {
-        ExitCode::SUCCESS
+    if rows.is_empty() {
+        println!("{}: no point finished; no report", results.display());
     } else {
-        ExitCode::from(1)
-    })
+        let written = write_report(&out, &rows).map_err(incomplete)?;
+        println!(
+            "{}: {} of {} points done; report: {}",
+            results.display(),
+            rows.len(),
+            points.len(),
+            written
+                .iter()
+                .map(|p| p.display().to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    }
+    if errors.is_empty() {
+        Ok(ExitCode::SUCCESS)
+    } else {
+        eprintln!(
+            "error: {} of {} points could not run; listed in {}",
+            errors.len(),
+            points.len(),
+            failed_file.display()
+        );
+        Ok(ExitCode::from(exit::INCOMPLETE))
+    }
 }
 
 /// The machine's cores (1 if it cannot tell).
@@ -238,6 +346,37 @@ fn cores() -> usize {
 
 fn run_merge(args: MergeArgs) -> anyhow::Result<ExitCode> {
     let rows = merge_dirs(&args.dirs)?;
+    let mut manifests = Vec::new();
+    for dir in &args.dirs {
+        if let Some(m) = Manifest::read(dir)? {
+            manifests.push(m);
+        }
+    }
+    let dirs = args
+        .dirs
+        .iter()
+        .map(|d| d.display().to_string())
+        .collect::<Vec<_>>()
+        .join(", ");
+    if rows.is_empty() && manifests.is_empty() {
+        anyhow::bail!(
+            "{dirs}: no sweep results to merge (no results*.jsonl rows, no {MANIFEST_FILE})"
+        );
+    }
+    let mut hashes: Vec<&str> = rows
+        .iter()
+        .map(|r| r.sweep_hash.as_str())
+        .chain(manifests.iter().map(|m| m.hash.as_str()))
+        .filter(|h| !h.is_empty())
+        .collect();
+    hashes.sort_unstable();
+    hashes.dedup();
+    if hashes.len() > 1 {
+        anyhow::bail!(
+            "{dirs}: the folders hold results of different sweeps (hashes {})",
+            hashes.join(", ")
+        );
+    }
     let out = args.out.unwrap_or_else(|| args.dirs[0].clone());
     std::fs::create_dir_all(&out).with_context(|| format!("{}: cannot create", out.display()))?;
     let results = out.join(RESULTS_FILE);
@@ -245,17 +384,71 @@ fn run_merge(args: MergeArgs) -> anyhow::Result<ExitCode> {
     for row in &rows {
         writer.append(row)?;
     }
-    let written = write_report(&out, &rows)?;
-    println!(
-        "{}: {} points merged from {} folders; report: {}",
-        results.display(),
-        rows.len(),
-        args.dirs.len(),
-        written
+    let report = if rows.is_empty() {
+        "none (no point finished)".to_string()
+    } else {
+        write_report(&out, &rows)?
             .iter()
             .map(|p| p.display().to_string())
             .collect::<Vec<_>>()
             .join(", ")
+    };
+    let Some(manifest) = manifests.first() else {
+        println!(
+            "{}: {} points merged from {} folders; report: {report}",
+            results.display(),
+            rows.len(),
+            args.dirs.len(),
+        );
+        eprintln!("warning: no {MANIFEST_FILE} in {dirs}: the grid is unknown, so missing points cannot be listed");
+        return Ok(ExitCode::SUCCESS);
+    };
+    manifest.write(&out)?;
+    // The grid's points that no folder has a row of, with why when a run said so.
+    let mut failed = Vec::new();
+    for dir in &args.dirs {
+        failed.extend(read_failed(dir)?);
+    }
+    let missing: Vec<FailedPoint> = manifest
+        .points
+        .iter()
+        .filter(|p| !rows.iter().any(|r| r.id == p.id))
+        .map(|p| FailedPoint {
+            index: p.index,
+            id: p.id.clone(),
+            point: p.point.clone(),
+            error: failed
+                .iter()
+                .find(|f| f.id == p.id)
+                .map_or("not run".into(), |f| format!("failed: {}", f.error)),
+        })
+        .collect();
+    let missing_file = out.join(MISSING_FILE);
+    write_failed(&missing_file, &missing)?;
+    println!(
+        "{}: {} of {} points merged from {} folders; report: {report}",
+        results.display(),
+        rows.len(),
+        manifest.points.len(),
+        args.dirs.len(),
     );
-    Ok(ExitCode::SUCCESS)
+    if missing.is_empty() {
+        return Ok(ExitCode::SUCCESS);
+    }
+    let n_failed = missing
+        .iter()
+        .filter(|m| m.error.starts_with("failed"))
+        .count();
+    let shown: Vec<String> = missing.iter().take(5).map(|m| m.point.clone()).collect();
+    eprintln!(
+        "error: the sweep is incomplete: {} of {} points missing ({} failed, {} not run): {}{}; all listed in {}",
+        missing.len(),
+        manifest.points.len(),
+        n_failed,
+        missing.len() - n_failed,
+        shown.join(", "),
+        if missing.len() > shown.len() { ", ..." } else { "" },
+        missing_file.display()
+    );
+    Ok(ExitCode::from(exit::INCOMPLETE))
 }

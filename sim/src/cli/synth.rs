@@ -1,6 +1,7 @@
 //! `carfollow synth`: a synthetic frame sequence of a target, with its ground truth, for
 //! trying `carfollow track` without a recording.
 
+use super::exit::incomplete;
 use anyhow::Context;
 use clap::Args;
 use std::io::Write;
@@ -55,7 +56,8 @@ pub fn run_synth(args: SynthArgs) -> anyhow::Result<()> {
         anyhow::bail!("--frames must be between 1 and 100000, got {}", args.frames);
     }
     std::fs::create_dir_all(&args.out_dir)
-        .with_context(|| format!("{}: cannot create", args.out_dir.display()))?;
+        .with_context(|| format!("{}: cannot create", args.out_dir.display()))
+        .map_err(incomplete)?;
     let camera = Camera::default();
     let kind = match (args.kind.as_deref(), args.clutter) {
         (Some(k), _) => SequenceKind::parse(k).expect("clap allows only known kinds"),
@@ -81,7 +83,8 @@ pub fn run_synth(args: SynthArgs) -> anyhow::Result<()> {
     };
     let truth_path = args.out_dir.join("truth.csv");
     let mut csv = std::fs::File::create(&truth_path)
-        .with_context(|| format!("{}: cannot create", truth_path.display()))?;
+        .with_context(|| format!("{}: cannot create", truth_path.display()))
+        .map_err(incomplete)?;
     writeln!(csv, "frame,cx,cy,scale")?;
     for (k, (at, scene)) in seq.truth.iter().zip(&seq.scenes).enumerate() {
         let pixels = draw(
@@ -95,7 +98,8 @@ pub fn run_synth(args: SynthArgs) -> anyhow::Result<()> {
         image::GrayImage::from_raw(256, 242, pixels)
             .expect("buffer matches its size")
             .save(&path)
-            .with_context(|| format!("{}: cannot write", path.display()))?;
+            .with_context(|| format!("{}: cannot write", path.display()))
+            .map_err(incomplete)?;
         writeln!(csv, "{k},{:.4},{:.4},{:.6}", at.c_x, at.c_y, at.scale)?;
     }
     println!(

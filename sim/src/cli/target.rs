@@ -1,5 +1,6 @@
 //! `carfollow target`: check a target file, list its features, and draw it.
 
+use super::exit::incomplete;
 use anyhow::Context;
 use clap::Args;
 use std::path::PathBuf;
@@ -76,7 +77,8 @@ pub fn run_target(args: TargetArgs) -> anyhow::Result<()> {
         image::GrayImage::from_raw(width as u32, height as u32, pixels)
             .expect("buffer matches its size")
             .save(out)
-            .with_context(|| format!("{}: cannot write", out.display()))?;
+            .with_context(|| format!("{}: cannot write", out.display()))
+            .map_err(incomplete)?;
         println!("drew {}", out.display());
     }
     Ok(())

@@ -218,6 +218,9 @@ pub(crate) mod tests {
             lead_xz: [5.0 * t + 10.0, 0.0],
             collision: false,
             chase_mode: "following".into(),
+            coverage: [0.95, 0.9],
+            coverage_gain: 0.25,
+            tracker_event: String::new(),
         }
     }
 

@@ -15,8 +15,8 @@ mod video;
 
 pub use error::ReportError;
 pub use frames_csv::{FramesCsv, FRAMES_CSV_COLUMNS};
-pub use junit::{junit_xml, write_junit};
+pub use junit::{iso8601_utc, junit_xml, write_junit, JunitScenario};
 pub use outputs::{OutputOptions, RunOutputs};
 pub use plots::{write_plots, PLOT_FILES};
-pub use summary::{Criterion, GapStats, LateralError, RangeError, Summary};
+pub use summary::{Criterion, GapStats, LateralError, RangeError, Summary, SCHEMA_VERSION};
 pub use video::{VideoWriter, GIF_DELAYS_CS};

@@ -57,6 +57,8 @@ pub struct RunOutputs {
     records: Vec<FrameRecord>,
     video: Option<VideoWriter>,
     stills: Stills,
+    /// The resolved scenario and the overrides, for `summary.json`.
+    provenance: Option<(serde_json::Value, Vec<String>)>,
 }
 
 /// Which stills are still to be written.
@@ -97,7 +99,14 @@ impl RunOutputs {
                 at_fraction,
                 ..Stills::default()
             },
+            provenance: None,
         })
+    }
+
+    /// Records what was run, for `summary.json`: the scenario as resolved (the file with its
+    /// overrides applied and defaults filled in) and the `--set` overrides, in order.
+    pub fn set_provenance(&mut self, resolved: serde_json::Value, overrides: Vec<String>) {
+        self.provenance = Some((resolved, overrides));
     }
 
     /// The output directory.
@@ -182,6 +191,10 @@ impl RunOutputs {
     ) -> Result<Summary, ReportError> {
         let mut summary = Summary::compute(scenario, seed, &self.records, expect, wall_s);
         summary.timing = timing;
+        if let Some((resolved, overrides)) = &self.provenance {
+            summary.resolved_scenario = Some(resolved.clone());
+            summary.overrides = overrides.clone();
+        }
         summary.write_json(self.dir.join("summary.json"))?;
         if self.options.plots {
             write_plots(&self.dir, scenario, &self.records, expect)?;

@@ -37,6 +37,15 @@ const TIME_TOLERANCE_S: f64 = 1e-9;
 /// The summary of one run, written as `summary.json`.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Summary {
+    /// The layout of this file: [`SCHEMA_VERSION`], raised when a field changes meaning or
+    /// goes away.
+    pub schema_version: u32,
+    /// The carfollow version that wrote it (`CARGO_PKG_VERSION`).
+    pub carfollow_version: String,
+    /// The git commit the program was built from, when the build could tell (left out
+    /// otherwise).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub git_commit: Option<String>,
     /// Scenario name.
     pub scenario: String,
     /// The scenario's seed.
@@ -90,6 +99,12 @@ pub struct Summary {
     pub realtime_factor: Option<f64>,
     /// Where the wall-clock time went, when the caller measured it (`null` otherwise).
     pub timing: Option<LoopTiming>,
+    /// The `--set` overrides applied to the scenario file, in order.
+    pub overrides: Vec<String>,
+    /// The scenario as run: the file with the overrides applied and every default filled
+    /// in (left out when the caller did not give it).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub resolved_scenario: Option<serde_json::Value>,
 }
 
 /// A ground-truth loss event (a maximal run of frames lost by the truth) and the tracker's
@@ -146,6 +161,10 @@ pub fn loss_events(records: &[FrameRecord]) -> Vec<LossEvent> {
     events
 }
 
+/// `summary.json`'s `schema_version`. 2: `schema_version`, `carfollow_version`,
+/// `git_commit`, `overrides` and `resolved_scenario` added.
+pub const SCHEMA_VERSION: u32 = 2;
+
 /// Minimum, time-weighted mean and maximum of the gap, metres (zeros without frames).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
 pub struct GapStats {
@@ -181,7 +200,7 @@ pub struct LateralError {
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Criterion {
     /// Short stable name: `gap_band`, `max_lost`, `max_lateral_deviation`, `no_collision`,
-    /// `min_distance` (or `frames_recorded`).
+    /// `min_distance`, `max_range_error_p95`, `max_loss_events` (or `frames_recorded`).
     pub name: String,
     /// Whether it held.
     pub passed: bool,
@@ -224,6 +243,11 @@ impl Summary {
         let distance_m = records.last().map_or(0.0, |r| r.chase_distance_m);
 
         let mut summary = Summary {
+            schema_version: SCHEMA_VERSION,
+            carfollow_version: env!("CARGO_PKG_VERSION").to_owned(),
+            git_commit: option_env!("CARFOLLOW_GIT_COMMIT").map(str::to_owned),
+            overrides: Vec::new(),
+            resolved_scenario: None,
             scenario: scenario.to_owned(),
             seed,
             duration_s,
@@ -467,6 +491,37 @@ fn check(s: &Summary, expect: &Expect) -> Vec<Criterion> {
             ),
         });
     }
+    if let Some(allowed) = expect.max_range_error_p95_m {
+        // No tracked frame at all has no error to bound: the criterion fails (the loss
+        // criteria say why).
+        let (passed, value, said) = match s.range_error_m.p95_abs {
+            Some(e) => (e <= allowed, e, format!("{e:.3} m")),
+            None => (
+                false,
+                f64::INFINITY,
+                "not measured (no tracked frame)".into(),
+            ),
+        };
+        out.push(Criterion {
+            name: "max_range_error_p95".into(),
+            passed,
+            value,
+            limit: allowed,
+            message: format!(
+                "the range error's 95th percentile was {said} (allowed {allowed:.3} m)"
+            ),
+        });
+    }
+    if let Some(allowed) = expect.max_loss_events {
+        let n = s.tracking_loss_events;
+        out.push(Criterion {
+            name: "max_loss_events".into(),
+            passed: n <= allowed,
+            value: n as f64,
+            limit: allowed as f64,
+            message: format!("the target was lost {n} time(s) (allowed {allowed})"),
+        });
+    }
     out
 }
 
@@ -674,6 +729,46 @@ mod tests {
     }
 
     #[test]
+    fn range_error_p95_and_loss_event_criteria() {
+        let mut rs = run(45);
+        for i in [0, 10, 20, 21] {
+            rs[i].lost_truth = true;
+        }
+        let expect = Expect {
+            max_range_error_p95_m: Some(0.2),
+            max_loss_events: Some(2),
+            ..Expect::default()
+        };
+        let s = Summary::compute("x", 1, &rs, &expect, 1.0);
+        assert_eq!(s.tracking_loss_events, 3);
+        let p95 = s.range_error_m.p95_abs.unwrap();
+        let names: Vec<_> = s.criteria.iter().map(|c| c.name.as_str()).collect();
+        assert_eq!(names, ["max_range_error_p95", "max_loss_events"]);
+        let (r, l) = (&s.criteria[0], &s.criteria[1]);
+        assert_eq!((r.passed, r.value, r.limit), (p95 <= 0.2, p95, 0.2));
+        assert_eq!((l.passed, l.value, l.limit), (false, 3.0, 2.0));
+        assert_eq!(l.message, "the target was lost 3 time(s) (allowed 2)");
+        // Loose enough limits pass.
+        let expect = Expect {
+            max_range_error_p95_m: Some(p95),
+            max_loss_events: Some(3),
+            ..Expect::default()
+        };
+        assert!(Summary::compute("x", 1, &rs, &expect, 1.0).passed);
+        // No tracked frame: the range criterion cannot pass.
+        for r in &mut rs {
+            r.lost_truth = true;
+        }
+        let expect = Expect {
+            max_range_error_p95_m: Some(10.0),
+            ..Expect::default()
+        };
+        let s = Summary::compute("x", 1, &rs, &expect, 1.0);
+        assert!(!s.passed);
+        assert!(s.failures[0].contains("not measured"), "{:?}", s.failures);
+    }
+
+    #[test]
     fn json_has_the_documented_keys() {
         let s = Summary::compute("nist-grounds", 7, &run(15), &Expect::default(), 2.0);
         let v = serde_json::to_value(&s).unwrap();
@@ -697,9 +792,20 @@ mod tests {
             "wall_s",
             "realtime_factor",
             "timing",
+            "schema_version",
+            "carfollow_version",
+            "overrides",
         ] {
             assert!(v.get(key).is_some(), "missing {key}");
         }
+        assert_eq!(v["schema_version"], SCHEMA_VERSION);
+        assert_eq!(v["carfollow_version"], env!("CARGO_PKG_VERSION"));
+        // The commit is there exactly when the build knew it.
+        assert_eq!(
+            v.get("git_commit").and_then(|c| c.as_str()),
+            option_env!("CARFOLLOW_GIT_COMMIT")
+        );
+        assert!(v.get("resolved_scenario").is_none());
         assert_eq!(v["gap_m"]["min"], 10.0);
         assert_eq!(v["range_error_m"]["p95_abs"], 0.25);
         assert_eq!(v["realtime_factor"], 0.5);

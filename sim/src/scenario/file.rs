@@ -1,5 +1,9 @@
 //! The scenario file as written: serde structs with `deny_unknown_fields`, every field
-//! optional where a default exists. [`super::Scenario::from_file`] validates it.
+//! optional where a default exists. [`super::Scenario::load`] validates it. Each field's doc
+//! gives its unit and its allowed range (every number must also be finite); validation
+//! refuses anything outside, naming the field. The vehicle crate's configurations
+//! (`chase.controller`, `lead.driver`, `environment.bumps`) carry their own ranges, checked
+//! by their constructors during validation.
 
 use serde::{Deserialize, Serialize};
 use vehicle::{BumpsConfig, ChaseControllerConfig, LeadDriverConfig};
@@ -15,7 +19,7 @@ pub struct ScenarioFile {
     /// What the scenario is for.
     #[serde(default)]
     pub description: String,
-    /// Simulated time, seconds.
+    /// Simulated time, seconds: (0, 86400].
     pub duration_s: f64,
     /// The one seed; every random stream derives from it.
     #[serde(default)]
@@ -47,13 +51,14 @@ pub struct ScenarioFile {
 #[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct RouteFile {
-    /// Width of one lane, metres (default 3.5).
+    /// Width of one lane, metres (default 3.5): 2–6.
     #[serde(default = "default_lane_width")]
     pub lane_width_m: f64,
-    /// Stations (metres along the centreline) where a road crosses.
+    /// Stations (metres along the centreline) where a road crosses: on the route.
     #[serde(default)]
     pub intersections_m: Vec<f64>,
-    /// The centreline, in driving order.
+    /// The centreline, in driving order: at least one segment, at most
+    /// [`super::MAX_ROUTE_M`] in all.
     pub segments: Vec<SegmentFile>,
 }
 
@@ -66,11 +71,11 @@ fn default_lane_width() -> f64 {
 #[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct SegmentFile {
-    /// Length of a straight, metres.
+    /// Length of a straight, metres: (0, [`super::MAX_ROUTE_M`]].
     pub straight_m: Option<f64>,
-    /// Radius of an arc, metres.
+    /// Radius of an arc, metres: [`super::MIN_ARC_RADIUS_M`]–[`super::MAX_ARC_RADIUS_M`].
     pub arc_radius_m: Option<f64>,
-    /// Turn of an arc, degrees (positive left).
+    /// Turn of an arc, degrees (positive left): non-zero, at most 360 either way.
     pub arc_angle_deg: Option<f64>,
 }
 
@@ -78,15 +83,19 @@ pub struct SegmentFile {
 #[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct LeadFile {
-    /// Where the lead's rear axle starts, metres along the route (default 30).
+    /// Where the lead's rear axle starts, metres along the route (default 30): on the
+    /// route, and far enough along that the chase vehicle, `initial_gap_m` behind, starts
+    /// on it too.
     #[serde(default = "default_lead_start")]
     pub start_m: f64,
-    /// Speed at t = 0, m/s (default: the profile's first speed).
+    /// Speed at t = 0, m/s (default: the profile's first speed): 0–40.
     pub initial_speed_mps: Option<f64>,
     /// What the profile's keys are: `"time"` (seconds) or `"distance"` (metres).
     #[serde(default = "default_basis")]
     pub speed_basis: String,
-    /// `[[key, speed_mps], ...]`, keys increasing; linear between, held beyond.
+    /// `[[key, speed_mps], ...]`, keys increasing; linear between, held beyond. Keys within
+    /// ±1e7 (s or m), speeds 0–40 m/s.
+    #[serde(deserialize_with = "exact::rows")]
     pub speed_profile: Vec<[f64; 2]>,
     /// The driver's tuning (weaving, lateral acceleration in turns, ...).
     #[serde(default)]
@@ -104,7 +113,8 @@ fn default_basis() -> String {
 #[derive(Clone, Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct ChaseFile {
-    /// Camera-to-target distance at t = 0, metres (default 10).
+    /// Camera-to-target distance at t = 0, metres (default 10): 3–60, with the target in
+    /// the camera's view.
     pub initial_gap_m: Option<f64>,
     /// The controller (gap keeper or manual speed, look-ahead, loss handling). Its camera
     /// mount comes from `[camera.mount]`.
@@ -116,13 +126,16 @@ pub struct ChaseFile {
 #[derive(Clone, Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct CameraFile {
-    /// Focal length, millimetres (default 8).
+    /// Focal length, millimetres (default 8): [`super::FOCAL_LENGTH_MM`].
     pub focal_length_mm: Option<f64>,
-    /// Pixel size, millimetres `[w, h]` (default 0.025 × 0.025).
+    /// Pixel size, millimetres `[w, h]` (default 0.025 × 0.025): each in (0, 1).
+    #[serde(default, deserialize_with = "exact::optional")]
     pub pixel_size_mm: Option<[f64; 2]>,
-    /// Principal point, pixels (default the frame's centre).
+    /// Principal point, pixels (default the frame's centre): in the 256 × 242 frame.
+    #[serde(default, deserialize_with = "exact::optional")]
     pub image_center_px: Option<[f64; 2]>,
-    /// Where the camera sits on the chase vehicle.
+    /// Where the camera sits on the chase vehicle (`right_m` must be 0: the renderer
+    /// mounts it on the centreline).
     #[serde(default)]
     pub mount: vehicle::CameraMount,
 }
@@ -131,9 +144,11 @@ pub struct CameraFile {
 #[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct TrackerFile {
-    /// Target model file, relative to the scenario file.
+    /// Target model file, relative to the scenario file (see [`crate::target`] for its
+    /// bounds).
     pub target: String,
-    /// λ of eq. 18.
+    /// λ of eq. 18. This and the tracker settings below are checked by
+    /// `tracker::TrackerConfig::validate`, which states their ranges (λ in (0, 1]).
     pub lambda: Option<f64>,
     /// δ of eq. 7, degrees.
     pub delta_deg: Option<f64>,
@@ -148,7 +163,9 @@ pub struct TrackerFile {
     /// `"paper"` (the default) or `"robust"`, the mode that goes beyond the paper.
     pub mode: Option<String>,
     /// The teleoperator's placement error at start: `[dx_px, dy_px, dscale]` added to the
-    /// true location (default none).
+    /// true location (default none): |dx|, |dy| at most [`super::MAX_INIT_OFFSET_PX`],
+    /// dscale in (-0.5, 1].
+    #[serde(default, deserialize_with = "exact::optional")]
     pub init_offset: Option<[f64; 3]>,
 }
 
@@ -156,13 +173,13 @@ pub struct TrackerFile {
 #[derive(Clone, Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct LoopFile {
-    /// Camera and tracker rate, Hz: 15, the paper's (the physics clock is built on it).
+    /// Camera and tracker rate, Hz: 15 only, the paper's (the physics clock is built on it).
     pub rate_hz: Option<f64>,
-    /// Tracker-to-controller latency, ms (default 128).
+    /// Tracker-to-controller latency, ms (default 128): 0–2000.
     pub latency_ms: Option<f64>,
-    /// Latency jitter, ± ms (default 0).
+    /// Latency jitter, ± ms (default 0): 0 to `latency_ms`.
     pub jitter_ms: Option<f64>,
-    /// Probability that an estimate is dropped (default 0).
+    /// Probability that an estimate is dropped (default 0): [0, 1).
     pub drop_probability: Option<f64>,
 }
 
@@ -187,17 +204,17 @@ pub struct EnvironmentFile {
 #[derive(Clone, Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct SunFile {
-    /// Compass direction the sunlight comes from, degrees.
+    /// Compass direction the sunlight comes from, degrees: -360–360.
     pub azimuth_deg: Option<f64>,
-    /// Height above the horizon, degrees.
+    /// Height above the horizon, degrees: (0, 90].
     pub elevation_deg: Option<f64>,
-    /// Direct light, 0–1.
+    /// Direct light, 0–2 (1 is full sun).
     pub strength: Option<f64>,
-    /// Ambient light, 0–1.
+    /// Ambient light, 0–2.
     pub ambient: Option<f64>,
 }
 
-/// `[environment.clutter]`.
+/// `[environment.clutter]`: every density 0–1000 per km.
 #[derive(Clone, Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct ClutterFile {
@@ -225,10 +242,42 @@ pub struct ClutterFile {
 #[derive(Clone, Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct SensorFile {
-    /// Gain.
+    /// Gain: 0.05–20.
     pub gain: Option<f64>,
-    /// Gaussian noise, grey levels.
+    /// Gaussian noise, grey levels: 0–64.
     pub noise_sigma_grey: Option<f64>,
-    /// Optional blur, pixels.
+    /// Optional Gaussian blur, pixels: 0–[`super::MAX_BLUR_SIGMA_PX`].
     pub blur_sigma_px: Option<f64>,
+}
+
+/// Fixed-length arrays of numbers read strictly: the toml parser lets `[f64; 2]` take the
+/// first two of four numbers from a file (and refuses the same array in a `--set`), so
+/// these read a list and insist on its length, with the list's position in the error.
+pub(crate) mod exact {
+    use serde::de::{Deserializer, Error};
+    use serde::Deserialize;
+
+    fn sized<E: Error, const N: usize>(v: Vec<f64>) -> Result<[f64; N], E> {
+        let len = v.len();
+        <[f64; N]>::try_from(v).map_err(|_| {
+            E::invalid_length(len, &format!("an array of exactly {N} numbers").as_str())
+        })
+    }
+
+    /// `Option<[f64; N]>`: absent, or exactly `N` numbers (use with `#[serde(default)]`).
+    pub fn optional<'de, D: Deserializer<'de>, const N: usize>(
+        d: D,
+    ) -> Result<Option<[f64; N]>, D::Error> {
+        Option::<Vec<f64>>::deserialize(d)?.map(sized).transpose()
+    }
+
+    /// `Vec<[f64; N]>`: rows of exactly `N` numbers each.
+    pub fn rows<'de, D: Deserializer<'de>, const N: usize>(
+        d: D,
+    ) -> Result<Vec<[f64; N]>, D::Error> {
+        Vec::<Vec<f64>>::deserialize(d)?
+            .into_iter()
+            .map(sized)
+            .collect()
+    }
 }

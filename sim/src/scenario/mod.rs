@@ -5,18 +5,24 @@
 
 mod file;
 mod overrides;
+mod validate;
 
+pub(crate) use file::exact;
 pub use file::*;
 pub use overrides::apply_override;
+pub use validate::{
+    FOCAL_LENGTH_MM, MAX_ARC_RADIUS_M, MAX_BLUR_SIGMA_PX, MAX_BREADCRUMBS, MAX_INIT_OFFSET_PX,
+    MAX_ROUTE_M, MIN_ARC_RADIUS_M,
+};
 
 use crate::record::Expect;
-use crate::scene::{Densities, RouteSegment, RouteSpec, Sensor, Sun};
+use crate::scene::{Densities, RouteSpec, Sensor, Sun};
 use std::path::{Path, PathBuf};
 use thiserror::Error;
-use tracker::{Camera, TargetModel, TrackerConfig, TrackerMode};
+use tracker::{Camera, TargetModel, TrackerConfig};
+use validate::{override_names, validate};
 use vehicle::{
-    ChaseControllerConfig, DelayLineConfig, LeadDriverConfig, ProfileBasis, SpeedProfile,
-    WorldConfig,
+    ChaseControllerConfig, DelayLineConfig, LeadDriverConfig, SpeedProfile, WorldConfig,
 };
 
 /// The built-in default scenario, `nist-grounds`, compiled in so `carfollow run` works from
@@ -131,6 +137,14 @@ pub struct Scenario {
     pub sensor: Sensor,
     /// Pass/fail criteria.
     pub expect: Expect,
+    /// Chase: where its rear axle starts, metres along the route (from `lead_start_m`,
+    /// `initial_gap_m` and the camera mount; at least 0).
+    pub chase_start_m: f64,
+    /// The scenario as resolved: the file with the `--set` overrides applied and every
+    /// default filled in (written to `summary.json`).
+    pub resolved: ScenarioFile,
+    /// The `--set` overrides applied, in order.
+    pub overrides: Vec<String>,
 }
 
 /// 1-based (line, column) of a byte offset.
@@ -208,6 +222,17 @@ impl Scenario {
         };
         // The file alone first, so its own mistakes are reported at their line.
         let mut raw: ScenarioFile = toml::from_str(text).map_err(parse_err)?;
+        // The file alone again, as the overrides below will read it: whatever that refuses
+        // is the file's fault, not an override's.
+        let table: toml::Table = toml::from_str(text).map_err(parse_err)?;
+        if let Err(e) = toml::Value::Table(table).try_into::<ScenarioFile>() {
+            return Err(ScenarioError::Parse {
+                path: path.to_owned(),
+                line: 1,
+                column: 1,
+                message: e.message().trim().to_string(),
+            });
+        }
         if !overrides.is_empty() {
             let mut value: toml::Table = toml::from_str(text).map_err(parse_err)?;
             // One at a time, so an error names the override that caused it.
@@ -222,12 +247,13 @@ impl Scenario {
             }
         }
         let invalid = |field: &str, message: String| {
+            // `field` then the message: "`x` = 3: ..." or, for a nested error, "`x` is refused: ...".
+            let message = match message.strip_prefix(": ") {
+                Some(rest) => format!("is refused: {rest}"),
+                None => message,
+            };
             // A value that came from `--set` is reported as such, not at the file's line.
-            if let Some(assignment) = overrides
-                .iter()
-                .rev()
-                .find(|a| a.split_once('=').is_some_and(|(k, _)| k.trim() == field))
-            {
+            if let Some(assignment) = overrides.iter().rev().find(|a| override_names(a, field)) {
                 return ScenarioError::Override {
                     assignment: assignment.clone(),
                     message: format!("`{field}` {message}"),
@@ -242,7 +268,7 @@ impl Scenario {
                 message,
             }
         };
-        validate(raw, invalid, |target| {
+        validate(raw, overrides, invalid, |target| {
             load_target(target).map_err(|source| {
                 let (line, column) = line_column(text, locate(text, "tracker.target"));
                 ScenarioError::Target {
@@ -254,479 +280,4 @@ impl Scenario {
             })
         })
     }
-}
-
-/// Range check helper: `Err(message)` saying what is allowed.
-fn check(ok: bool, allowed: &str, value: impl std::fmt::Display) -> Result<(), String> {
-    if ok {
-        Ok(())
-    } else {
-        Err(format!("= {value}: {allowed}"))
-    }
-}
-
-fn validate(
-    raw: ScenarioFile,
-    invalid: impl Fn(&str, String) -> ScenarioError,
-    load_target: impl Fn(&str) -> Result<TargetModel, ScenarioError>,
-) -> Result<Scenario, ScenarioError> {
-    let at = |field: &str, r: Result<(), String>| r.map_err(|m| invalid(field, m));
-    let finite_pos = |v: f64| v.is_finite() && v > 0.0;
-
-    at(
-        "name",
-        check(
-            !raw.name.trim().is_empty()
-                && raw
-                    .name
-                    .chars()
-                    .all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_'),
-            "must be non-empty, letters, digits, '-' or '_' (it names the output folder)",
-            format!("{:?}", raw.name),
-        ),
-    )?;
-    at(
-        "duration_s",
-        check(
-            finite_pos(raw.duration_s) && raw.duration_s <= 86_400.0,
-            "must be > 0 and at most 86400 seconds",
-            raw.duration_s,
-        ),
-    )?;
-
-    // Route.
-    let r = &raw.route;
-    at(
-        "route.lane_width_m",
-        check(
-            r.lane_width_m.is_finite() && (2.0..=6.0).contains(&r.lane_width_m),
-            "must be 2–6 metres",
-            r.lane_width_m,
-        ),
-    )?;
-    at(
-        "route.segments",
-        check(!r.segments.is_empty(), "needs at least one segment", "[]"),
-    )?;
-    let mut segments = Vec::new();
-    for (i, s) in r.segments.iter().enumerate() {
-        let field = "route.segments";
-        let seg = match (s.straight_m, s.arc_radius_m, s.arc_angle_deg) {
-            (Some(length_m), None, None) => {
-                at(
-                    field,
-                    check(
-                        finite_pos(length_m),
-                        &format!("segment {i}: straight_m must be > 0"),
-                        length_m,
-                    ),
-                )?;
-                RouteSegment::Straight { length_m }
-            }
-            (None, Some(radius_m), Some(angle_deg)) => {
-                at(field, check(radius_m.is_finite() && radius_m >= 8.0, &format!("segment {i}: arc_radius_m must be at least 8 m (the vehicles' turning circles)"), radius_m))?;
-                at(
-                    field,
-                    check(
-                        angle_deg.is_finite() && angle_deg != 0.0 && angle_deg.abs() <= 360.0,
-                        &format!("segment {i}: arc_angle_deg must be non-zero, at most 360"),
-                        angle_deg,
-                    ),
-                )?;
-                RouteSegment::Arc {
-                    radius_m,
-                    angle_deg,
-                }
-            }
-            _ => {
-                return Err(invalid(field, format!("segment {i}: give either `straight_m`, or both `arc_radius_m` and `arc_angle_deg`")));
-            }
-        };
-        segments.push(seg);
-    }
-    let route = RouteSpec {
-        segments,
-        intersections_m: r.intersections_m.clone(),
-        lane_width_m: r.lane_width_m,
-    };
-    let length: f64 = route
-        .segments
-        .iter()
-        .map(|s| match s {
-            RouteSegment::Straight { length_m } => *length_m,
-            RouteSegment::Arc {
-                radius_m,
-                angle_deg,
-            } => radius_m * angle_deg.abs().to_radians(),
-        })
-        .sum();
-    for &x in &route.intersections_m {
-        at(
-            "route.intersections_m",
-            check(
-                x.is_finite() && x >= 0.0 && x <= length,
-                &format!("stations must lie on the route, 0–{length:.0} m"),
-                x,
-            ),
-        )?;
-    }
-
-    // Lead.
-    let l = &raw.lead;
-    at(
-        "lead.start_m",
-        check(
-            l.start_m.is_finite() && l.start_m >= 0.0 && l.start_m < length,
-            &format!("must lie on the route, 0–{length:.0} m"),
-            l.start_m,
-        ),
-    )?;
-    let basis = match l.speed_basis.as_str() {
-        "time" => ProfileBasis::Time,
-        "distance" => ProfileBasis::Distance,
-        other => {
-            return Err(invalid(
-                "lead.speed_basis",
-                format!("= {other:?}: must be \"time\" or \"distance\""),
-            ))
-        }
-    };
-    let knots: Vec<(f32, f32)> = l
-        .speed_profile
-        .iter()
-        .map(|[k, v]| (*k as f32, *v as f32))
-        .collect();
-    for [k, v] in &l.speed_profile {
-        at(
-            "lead.speed_profile",
-            check(
-                k.is_finite() && v.is_finite() && *v >= 0.0 && *v <= 40.0,
-                "knots are [key, speed_mps] with speed 0–40 m/s",
-                format!("[{k}, {v}]"),
-            ),
-        )?;
-    }
-    let lead_profile = SpeedProfile::new(basis, &knots)
-        .map_err(|e| invalid("lead.speed_profile", format!(": {e}")))?;
-    let lead_initial_speed_mps = l
-        .initial_speed_mps
-        .unwrap_or_else(|| l.speed_profile.first().map_or(0.0, |k| k[1]));
-    at(
-        "lead.initial_speed_mps",
-        check(
-            lead_initial_speed_mps.is_finite() && (0.0..=40.0).contains(&lead_initial_speed_mps),
-            "must be 0–40 m/s",
-            lead_initial_speed_mps,
-        ),
-    )?;
-
-    // Chase and camera.
-    let initial_gap_m = raw.chase.initial_gap_m.unwrap_or(10.0);
-    at(
-        "chase.initial_gap_m",
-        check(
-            initial_gap_m.is_finite() && (3.0..=60.0).contains(&initial_gap_m),
-            "must be 3–60 metres",
-            initial_gap_m,
-        ),
-    )?;
-    if raw.chase.controller.camera_mount != vehicle::CameraMount::default() {
-        return Err(invalid(
-            "chase.controller.camera_mount",
-            "is set by `[camera.mount]`; remove it here".into(),
-        ));
-    }
-    raw.camera
-        .mount
-        .validate()
-        .map_err(|e| invalid("camera.mount", format!(": {e}")))?;
-    let mut chase = raw.chase.controller.clone();
-    chase.camera_mount = raw.camera.mount;
-    let c = &raw.camera;
-    let defaults = Camera::default();
-    let camera = Camera {
-        focal_length_mm: c.focal_length_mm.unwrap_or(defaults.focal_length_mm),
-        pixel_size_mm: c.pixel_size_mm.unwrap_or(defaults.pixel_size_mm),
-        image_center_px: c.image_center_px.unwrap_or(defaults.image_center_px),
-    };
-    at(
-        "camera.focal_length_mm",
-        check(
-            finite_pos(camera.focal_length_mm),
-            "must be > 0 mm",
-            camera.focal_length_mm,
-        ),
-    )?;
-    at(
-        "camera.pixel_size_mm",
-        check(
-            camera
-                .pixel_size_mm
-                .iter()
-                .all(|&p| finite_pos(p) && p < 1.0),
-            "must be two sizes in (0, 1) mm",
-            format!("{:?}", camera.pixel_size_mm),
-        ),
-    )?;
-
-    // Tracker.
-    let t = &raw.tracker;
-    let mut tracker = TrackerConfig::default();
-    if let Some(v) = t.lambda {
-        tracker.lambda = v;
-    }
-    if let Some(v) = t.delta_deg {
-        tracker.delta_deg = v;
-    }
-    if let Some(v) = t.zeta_px {
-        tracker.zeta_px = v;
-    }
-    if let Some(v) = t.edge_threshold {
-        tracker.edge_threshold = v;
-    }
-    if let Some(v) = t.lost_after_s {
-        tracker.lost_after_s = v;
-    }
-    if let Some(v) = t.subpixel_edges {
-        tracker.subpixel_edges = v;
-    }
-    if let Some(v) = &t.mode {
-        tracker.mode = TrackerMode::parse(v).ok_or_else(|| {
-            invalid(
-                "tracker.mode",
-                format!("= {v:?}: must be \"paper\" or \"robust\""),
-            )
-        })?;
-    }
-    let rate_hz = raw.loop_.rate_hz.unwrap_or(15.0);
-    at(
-        "loop.rate_hz",
-        check(
-            rate_hz == f64::from(vehicle::CAMERA_HZ),
-            "must be 15: the camera rate the physics clock is built on (8 steps of 1/120 s)",
-            rate_hz,
-        ),
-    )?;
-    tracker.rate_hz = rate_hz;
-    tracker.validate().map_err(|e| {
-        invalid(
-            &format!("tracker.{}", e.field),
-            format!("= {}: {}", e.value, e.allowed),
-        )
-    })?;
-    let init_offset = t.init_offset.unwrap_or([0.0; 3]);
-    at(
-        "tracker.init_offset",
-        check(
-            init_offset.iter().all(|v| v.is_finite()) && init_offset[2] > -0.5,
-            "is [dx_px, dy_px, dscale], finite, dscale > -0.5",
-            format!("{init_offset:?}"),
-        ),
-    )?;
-    let target = load_target(&t.target)?;
-
-    // Loop.
-    let lp = &raw.loop_;
-    let delay = DelayLineConfig {
-        latency_ms: lp.latency_ms.unwrap_or(128.0),
-        jitter_ms: lp.jitter_ms.unwrap_or(0.0),
-        drop_probability: lp.drop_probability.unwrap_or(0.0),
-        seed: raw.seed,
-    };
-    at(
-        "loop.latency_ms",
-        check(
-            delay.latency_ms.is_finite() && (0.0..=2000.0).contains(&delay.latency_ms),
-            "must be 0–2000 ms",
-            delay.latency_ms,
-        ),
-    )?;
-    at(
-        "loop.jitter_ms",
-        check(
-            delay.jitter_ms.is_finite()
-                && delay.jitter_ms >= 0.0
-                && delay.jitter_ms <= delay.latency_ms,
-            "must be ≥ 0 and at most latency_ms",
-            delay.jitter_ms,
-        ),
-    )?;
-    at(
-        "loop.drop_probability",
-        check(
-            (0.0..1.0).contains(&delay.drop_probability),
-            "must be in [0, 1)",
-            delay.drop_probability,
-        ),
-    )?;
-
-    // Environment.
-    let e = &raw.environment;
-    let mut sun = Sun::default();
-    if let Some(v) = e.sun.azimuth_deg {
-        sun.azimuth_deg = v;
-    }
-    if let Some(v) = e.sun.elevation_deg {
-        sun.elevation_deg = v;
-    }
-    if let Some(v) = e.sun.strength {
-        sun.strength = v;
-    }
-    if let Some(v) = e.sun.ambient {
-        sun.ambient = v;
-    }
-    at(
-        "environment.sun.elevation_deg",
-        check(
-            sun.elevation_deg > 0.0 && sun.elevation_deg <= 90.0,
-            "must be in (0, 90] degrees",
-            sun.elevation_deg,
-        ),
-    )?;
-    at(
-        "environment.sun.strength",
-        check(
-            (0.0..=2.0).contains(&sun.strength),
-            "must be 0–2",
-            sun.strength,
-        ),
-    )?;
-    at(
-        "environment.sun.ambient",
-        check(
-            (0.0..=2.0).contains(&sun.ambient),
-            "must be 0–2",
-            sun.ambient,
-        ),
-    )?;
-    let mut densities = Densities::default();
-    let cl = &e.clutter;
-    for (field, src, dst) in [
-        ("trees_per_km", cl.trees_per_km, &mut densities.trees_per_km),
-        ("poles_per_km", cl.poles_per_km, &mut densities.poles_per_km),
-        (
-            "houses_per_km",
-            cl.houses_per_km,
-            &mut densities.houses_per_km,
-        ),
-        (
-            "buildings_per_km",
-            cl.buildings_per_km,
-            &mut densities.buildings_per_km,
-        ),
-        (
-            "parked_vehicles_per_km",
-            cl.parked_vehicles_per_km,
-            &mut densities.parked_vehicles_per_km,
-        ),
-        (
-            "oncoming_vehicles_per_km",
-            cl.oncoming_vehicles_per_km,
-            &mut densities.oncoming_vehicles_per_km,
-        ),
-        (
-            "cracks_per_km",
-            cl.cracks_per_km,
-            &mut densities.cracks_per_km,
-        ),
-        (
-            "patches_per_km",
-            cl.patches_per_km,
-            &mut densities.patches_per_km,
-        ),
-        (
-            "potholes_per_km",
-            cl.potholes_per_km,
-            &mut densities.potholes_per_km,
-        ),
-    ] {
-        if let Some(v) = src {
-            at(
-                &format!("environment.clutter.{field}"),
-                check(
-                    v.is_finite() && (0.0..=1000.0).contains(&v),
-                    "must be 0–1000 per km",
-                    v,
-                ),
-            )?;
-            *dst = v;
-        }
-    }
-    let mut sensor = Sensor::default();
-    if let Some(v) = e.sensor.gain {
-        sensor.gain = v;
-    }
-    if let Some(v) = e.sensor.noise_sigma_grey {
-        sensor.noise_sigma_grey = v;
-    }
-    sensor.blur_sigma_px = e.sensor.blur_sigma_px;
-    at(
-        "environment.sensor.gain",
-        check(
-            sensor.gain.is_finite() && (0.05..=20.0).contains(&sensor.gain),
-            "must be 0.05–20",
-            sensor.gain,
-        ),
-    )?;
-    at(
-        "environment.sensor.noise_sigma_grey",
-        check(
-            sensor.noise_sigma_grey.is_finite() && (0.0..=64.0).contains(&sensor.noise_sigma_grey),
-            "must be 0–64 grey levels",
-            sensor.noise_sigma_grey,
-        ),
-    )?;
-    let mut world = WorldConfig::default();
-    world.ground.bumps = e.bumps.clone();
-
-    // Expectations.
-    let x = &raw.expect;
-    if let Some([lo, hi]) = x.gap_band_m {
-        at(
-            "expect.gap_band_m",
-            check(
-                lo.is_finite() && hi.is_finite() && 0.0 <= lo && lo < hi,
-                "must be [min, max] metres with 0 ≤ min < max",
-                format!("[{lo}, {hi}]"),
-            ),
-        )?;
-    }
-    for (field, v) in [
-        (
-            "expect.max_time_outside_gap_band_s",
-            x.max_time_outside_gap_band_s,
-        ),
-        ("expect.max_lost_s", x.max_lost_s),
-        ("expect.max_lateral_deviation_m", x.max_lateral_deviation_m),
-        ("expect.min_distance_m", x.min_distance_m),
-    ] {
-        if let Some(v) = v {
-            at(field, check(v.is_finite() && v >= 0.0, "must be ≥ 0", v))?;
-        }
-    }
-
-    Ok(Scenario {
-        name: raw.name,
-        description: raw.description,
-        path: None,
-        duration_s: raw.duration_s,
-        seed: raw.seed,
-        route,
-        lead_start_m: l.start_m,
-        lead_initial_speed_mps,
-        lead_profile,
-        lead_driver: l.driver.clone(),
-        initial_gap_m,
-        chase,
-        camera,
-        tracker,
-        target,
-        init_offset,
-        delay,
-        world,
-        sun,
-        densities,
-        sensor,
-        expect: raw.expect,
-    })
 }

@@ -750,7 +750,12 @@ impl Scene {
 }
 
 fn lead_from_target(description: &SceneDescription) -> Isometry3<f64> {
-    let lead = &description.lead;
+    lead_from_target_of(&description.lead)
+}
+
+/// The target board's frame in the lead's scene frame (body centre), for a lead body: on its
+/// back door, facing backwards.
+pub fn lead_from_target_of(lead: &super::LeadVehicle) -> Isometry3<f64> {
     // Columns: target x = lead +z (the chase's right), target y = lead +y, target z = lead −x.
     let rotation = Rotation3::from_matrix_unchecked(Matrix3::new(
         0.0, 0.0, -1.0, //

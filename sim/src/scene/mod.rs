@@ -12,8 +12,8 @@ mod rng;
 mod route;
 
 pub use build::{
-    Chunk, DynamicObject, Layer, Motion, ObjectSlot, Scene, SceneError, BOARD_ALBEDO,
-    BOARD_MARGIN_M, GRASS_ALBEDO, GRASS_ALBEDO_RANGE, GROUND_CELL_M, STRIPE_ALBEDO,
+    lead_from_target_of, Chunk, DynamicObject, Layer, Motion, ObjectSlot, Scene, SceneError,
+    BOARD_ALBEDO, BOARD_MARGIN_M, GRASS_ALBEDO, GRASS_ALBEDO_RANGE, GROUND_CELL_M, STRIPE_ALBEDO,
     STRIPE_OVERRUN_M, STRIPE_WIDTH_M,
 };
 pub use builtin::{

@@ -113,6 +113,10 @@ pub struct Sweep {
     pub axes: Vec<Axis>,
     /// Every point, in grid order.
     pub points: Vec<Point>,
+    /// What the results are results of: the 64-bit FNV-1a hash, in hex, of the sweep file's
+    /// text and the command line's overrides. `--resume` refuses a folder whose results
+    /// have another.
+    pub hash: String,
 }
 
 impl Sweep {
@@ -247,7 +251,12 @@ impl Sweep {
                 });
             }
         }
+        let mut hashed = text.clone();
+        for s in extra_set {
+            hashed.push_str(&format!("\n--set {s}"));
+        }
         Ok(Sweep {
+            hash: format!("{:016x}", vehicle::fnv1a64(hashed.as_bytes())),
             path: path.to_owned(),
             scenarios,
             seeds: raw.seeds,

@@ -30,12 +30,18 @@ pub struct ResultRow {
     pub params: serde_json::Map<String, serde_json::Value>,
     /// The run's [`Summary`], as in `summary.json`.
     pub summary: serde_json::Value,
+    /// The sweep's [`super::Sweep::hash`] (its file and the command line's overrides), so
+    /// that `--resume` and `merge` can tell rows of another sweep. Empty in rows written
+    /// before it was recorded.
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub sweep_hash: String,
 }
 
 impl ResultRow {
-    /// The row of a point and its summary.
-    pub fn new(point: &super::Point, summary: &Summary) -> ResultRow {
+    /// The row of a point of the sweep with hash `sweep_hash`, and its summary.
+    pub fn new(point: &super::Point, summary: &Summary, sweep_hash: &str) -> ResultRow {
         ResultRow {
+            sweep_hash: sweep_hash.to_owned(),
             id: point.id.clone(),
             index: point.index,
             point: point.describe(),

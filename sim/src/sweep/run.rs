@@ -61,7 +61,7 @@ pub fn run_point(
         wall_s,
     );
     summary.timing = Some(looped.timing());
-    Ok(ResultRow::new(point, &summary))
+    Ok(ResultRow::new(point, &summary, &sweep.hash))
 }
 
 /// A worker's answer for one point.
@@ -102,6 +102,8 @@ pub fn serve_points(
         };
         let reply = match point.map(|p| run_point(sweep, p, backend, overlap)) {
             Ok(Ok(row)) => Reply::Row(row),
+            // The parent names the point; the reply says only what went wrong.
+            Ok(Err(SweepError::Run { message, .. })) => Reply::Error(message),
             Ok(Err(e)) => Reply::Error(e.to_string()),
             Err(message) => Reply::Error(message),
         };

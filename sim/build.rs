@@ -1,0 +1,32 @@
+//! Records the git commit the binary is built from, for `summary.json`'s `git_commit`, where
+//! the build can tell (a git checkout with `git` on the PATH); otherwise it stays unset and
+//! the field is left out.
+
+use std::process::Command;
+
+fn git(args: &[&str]) -> Option<String> {
+    let out = Command::new("git").args(args).output().ok()?;
+    if !out.status.success() {
+        return None;
+    }
+    let text = String::from_utf8(out.stdout).ok()?.trim().to_string();
+    (!text.is_empty()).then_some(text)
+}
+
+fn main() {
+    println!("cargo:rerun-if-env-changed=CARFOLLOW_GIT_COMMIT");
+    if let Some(commit) = git(&["rev-parse", "HEAD"]) {
+        println!("cargo:rustc-env=CARFOLLOW_GIT_COMMIT={commit}");
+        // Rebuild when the checked-out commit moves: HEAD itself, and the branch it names.
+        for what in ["HEAD", "packed-refs"] {
+            if let Some(path) = git(&["rev-parse", "--git-path", what]) {
+                println!("cargo:rerun-if-changed={path}");
+            }
+        }
+        if let Some(branch) = git(&["symbolic-ref", "-q", "HEAD"]) {
+            if let Some(path) = git(&["rev-parse", "--git-path", &branch]) {
+                println!("cargo:rerun-if-changed={path}");
+            }
+        }
+    }
+}
