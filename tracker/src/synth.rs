@@ -434,7 +434,9 @@ pub struct SequenceScore {
     pub searched: usize,
 }
 
-/// Runs `tracker` over `seq` (frame k at k / 15 s) and scores it.
+/// Runs `tracker` over `seq` (frame k at k / 15 s) and scores it. With the environment
+/// variable `SYNTH_TRACE` set, each frame's truth, estimate, status and check go to stderr
+/// (the `trace` example uses it).
 pub fn score_sequence(
     tracker: &mut crate::Tracker,
     model: &TargetModel,

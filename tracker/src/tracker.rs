@@ -111,7 +111,8 @@ pub struct TrackOutput {
     pub coverage: [f64; 2],
     /// How much more of the outline a move of a few pixels would cover (see
     /// [`crate::robust::coverage_gain`]): above a small margin, the fit is not on the
-    /// target's edges.
+    /// target's edges. NaN where it was not needed: a fit covered at least
+    /// [`crate::robust::SEARCH_BELOW_COVERAGE`] in both orientations.
     pub coverage_gain: f64,
     /// The edge threshold used, grey levels (the paper's 8, or robust mode's adaptive one).
     pub edge_threshold: f64,
@@ -249,8 +250,10 @@ impl Measured {
         self.passes(MIN_COVERAGE, MAX_COVERAGE_GAIN)
     }
 
+    /// At least `min_coverage` covered, and no move covering more than `max_gain` more (a
+    /// gain not computed, for a well-covered fit, passes).
     fn passes(&self, min_coverage: f64, max_gain: f64) -> bool {
-        self.coverage() >= min_coverage && self.gain <= max_gain
+        self.coverage() >= min_coverage && (self.gain.is_nan() || self.gain <= max_gain)
     }
 }
 
@@ -521,28 +524,35 @@ impl Tracker {
         // The check, in both modes: does the located outline lie on edges of its class?
         let (coverage, gain) = match &measurement {
             Some(m) => {
-                // The edges of the located outline and of every move the gain test makes:
-                // the window grown by the largest move.
-                let alias = self.alias_px.map(|a| a * m.location.scale);
-                let reach = [0, 1].map(|k| {
-                    let a = if alias[k].is_finite() { alias[k] } else { 0.0 };
-                    (a.max(PEAK_PROBE_PX) + COVERAGE_TOLERANCE_PX as f64 + 1.0).ceil() as usize
-                });
-                let (w, h) = (image.width(), image.height());
-                let grown = Window::around(m.location, self.half_extent_px, &self.config, w, h);
-                let grown = Window {
-                    x0: grown.x0.saturating_sub(reach[0]).max(1),
-                    y0: grown.y0.saturating_sub(reach[1]).max(1),
-                    x1: (grown.x1 + reach[0]).min(w.saturating_sub(1)),
-                    y1: (grown.y1 + reach[1]).min(h.saturating_sub(1)),
-                    size_index: grown.size_index,
-                };
-                self.extractor
-                    .extract(image, grown, &config, &mut self.check_edges, None);
-                self.maps.build(&self.check_edges, grown);
                 predict_features(&self.features, m.location, &mut self.check);
-                let gain = coverage_gain(&self.maps, &self.check, alias, &mut self.moved);
-                (self.maps.coverage(&self.check), gain)
+                self.maps.build(&self.edges, window);
+                let coverage = self.maps.coverage(&self.check);
+                let gain = if coverage[0].min(coverage[1]) >= SEARCH_BELOW_COVERAGE {
+                    // A fit this well covered is on the target: no other fit of it covers
+                    // so much (a fit a feature spacing off covers 0.55–0.7).
+                    f64::NAN
+                } else {
+                    // The edges of every move the gain test makes: the window grown by the
+                    // largest move.
+                    let alias = self.alias_px.map(|a| a * m.location.scale);
+                    let reach = [0, 1].map(|k| {
+                        let a = if alias[k].is_finite() { alias[k] } else { 0.0 };
+                        (a.max(PEAK_PROBE_PX) + COVERAGE_TOLERANCE_PX as f64 + 1.0).ceil() as usize
+                    });
+                    let (w, h) = (image.width(), image.height());
+                    let grown = Window {
+                        x0: window.x0.saturating_sub(reach[0]).max(1),
+                        y0: window.y0.saturating_sub(reach[1]).max(1),
+                        x1: (window.x1 + reach[0]).min(w.saturating_sub(1)),
+                        y1: (window.y1 + reach[1]).min(h.saturating_sub(1)),
+                        size_index: window.size_index,
+                    };
+                    self.extractor
+                        .extract(image, grown, &config, &mut self.check_edges, None);
+                    self.maps.build(&self.check_edges, grown);
+                    coverage_gain(&self.maps, &self.check, alias, &mut self.moved)
+                };
+                (coverage, gain)
             }
             None => ([0.0; 2], 0.0),
         };
@@ -743,9 +753,9 @@ impl Tracker {
     fn learn(&mut self, meas: &Measurement, predicted: Location, fresh: bool, strong: bool) {
         let z = meas.location.to_array();
         if !fresh {
-            for k in 0..3 {
+            for (k, zk) in z.iter().enumerate() {
                 for (b, p) in self.banks.predicted[k].iter().enumerate() {
-                    let e = z[k] - p;
+                    let e = zk - p;
                     let err = &mut self.banks.error[k][b];
                     *err = MODEL_ERROR_DECAY * *err + (1.0 - MODEL_ERROR_DECAY) * e * e;
                 }
