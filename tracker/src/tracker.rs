@@ -111,7 +111,7 @@ pub struct TrackOutput {
     pub coverage: [f64; 2],
     /// How much more of the outline a move of a few pixels would cover (see
     /// [`crate::robust::coverage_gain`]): above a small margin, the fit is not on the
-    /// target's edges. NaN where it was not needed: a fit covered at least
+    /// target's edges. −∞ where it was not needed: a fit covered at least
     /// [`crate::robust::SEARCH_BELOW_COVERAGE`] in both orientations.
     pub coverage_gain: f64,
     /// The edge threshold used, grey levels (the paper's 8, or robust mode's adaptive one).
@@ -251,9 +251,9 @@ impl Measured {
     }
 
     /// At least `min_coverage` covered, and no move covering more than `max_gain` more (a
-    /// gain not computed, for a well-covered fit, passes).
+    /// gain not computed (−∞), for a well-covered fit, passes).
     fn passes(&self, min_coverage: f64, max_gain: f64) -> bool {
-        self.coverage() >= min_coverage && (self.gain.is_nan() || self.gain <= max_gain)
+        self.coverage() >= min_coverage && self.gain <= max_gain
     }
 }
 
@@ -530,7 +530,7 @@ impl Tracker {
                 let gain = if coverage[0].min(coverage[1]) >= SEARCH_BELOW_COVERAGE {
                     // A fit this well covered is on the target: no other fit of it covers
                     // so much (a fit a feature spacing off covers 0.55–0.7).
-                    f64::NAN
+                    f64::NEG_INFINITY
                 } else {
                     // The edges of every move the gain test makes: the window grown by the
                     // largest move.
