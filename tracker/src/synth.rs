@@ -361,6 +361,33 @@ pub fn sequence(
     sequence_with_truth(kind, truth, half_extent_px)
 }
 
+/// The cluttered scene of frame `k` with the target at `at` (`half_extent_px`: half its size
+/// at scale 1): noise σ = 4, a telephone pole 7 px outside the board's left edge and a wire
+/// 9 px above it, near and parallel to features, and a shadow band sweeping across the
+/// target.
+pub fn clutter_scene(k: usize, at: Location, half_extent_px: [f64; 2]) -> SynthScene {
+    let (hw, hh) = (half_extent_px[0] * at.scale, half_extent_px[1] * at.scale);
+    let sweep = at.c_x - 60.0 + (2.0 * k as f64) % 120.0;
+    SynthScene {
+        noise_sigma: 4.0,
+        distractors: vec![
+            Rect {
+                bounds: [at.c_x - hw - 12.0, 0.0, at.c_x - hw - 9.0, 242.0],
+                value: 60.0,
+            },
+            Rect {
+                bounds: [0.0, at.c_y - hh - 13.0, 256.0, at.c_y - hh - 12.0],
+                value: 70.0,
+            },
+        ],
+        shadows: vec![Rect {
+            bounds: [sweep, 0.0, sweep + 14.0, 242.0],
+            value: 0.55,
+        }],
+        ..SynthScene::default()
+    }
+}
+
 /// The scenes of a sequence of `kind` for a given truth (see [`sequence`]).
 pub fn sequence_with_truth(
     kind: SequenceKind,
@@ -371,28 +398,7 @@ pub fn sequence_with_truth(
         .iter()
         .enumerate()
         .map(|(k, at)| match kind {
-            SequenceKind::Clutter => {
-                let (hw, hh) = (half_extent_px[0] * at.scale, half_extent_px[1] * at.scale);
-                let sweep = at.c_x - 60.0 + (2.0 * k as f64) % 120.0;
-                SynthScene {
-                    noise_sigma: 4.0,
-                    distractors: vec![
-                        Rect {
-                            bounds: [at.c_x - hw - 12.0, 0.0, at.c_x - hw - 9.0, 242.0],
-                            value: 60.0,
-                        },
-                        Rect {
-                            bounds: [0.0, at.c_y - hh - 13.0, 256.0, at.c_y - hh - 12.0],
-                            value: 70.0,
-                        },
-                    ],
-                    shadows: vec![Rect {
-                        bounds: [sweep, 0.0, sweep + 14.0, 242.0],
-                        value: 0.55,
-                    }],
-                    ..SynthScene::default()
-                }
-            }
+            SequenceKind::Clutter => clutter_scene(k, *at, half_extent_px),
             SequenceKind::Dim => SynthScene {
                 background: 55.0,
                 board: 80.0,
@@ -449,6 +455,7 @@ pub fn score_sequence(
         frames: seq.truth.len(),
         ..SequenceScore::default()
     };
+    let trace = std::env::var_os("SYNTH_TRACE").is_some();
     let (mut err_sum, mut err_n) = (0.0, 0usize);
     // Within a loss event: whether the tracker has said so yet, and how long it has not.
     let (mut reported, mut run) = (false, 0usize);
@@ -471,7 +478,7 @@ pub fn score_sequence(
             s.first_tracking.get_or_insert(k);
         }
         s.searched += usize::from(out.searched);
-        if std::env::var_os("SYNTH_TRACE").is_some() {
+        if trace {
             eprintln!(
                 "{k:4} truth {:7.2} {:7.2} {:.3}  est {:7.2} {:7.2} {:.3}  pred {:7.2} {:7.2}  {:8} cov {:.2} {:.2} gain {:.2} thr {:.1}{}{}",
                 at.c_x, at.c_y, at.scale, e.c_x, e.c_y, e.scale, out.predicted.c_x,

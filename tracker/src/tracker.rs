@@ -703,13 +703,7 @@ impl Tracker {
             let slow = self.motion[k].predict(0.0);
             let fast = self.banks.fast[k].predict(0.0);
             self.banks.predicted[k] = [slow, fast];
-            let [e_slow, e_fast] = self.banks.error[k];
-            // Coasting, the slower model extrapolates more calmly.
-            *out = if e_fast < e_slow && self.coast_cycles == 0 {
-                fast
-            } else {
-                slow
-            };
+            *out = if self.use_fast(k) { fast } else { slow };
         }
         let mut predicted = Location::new(p[0], p[1], p[2]);
         if let Some(ego) = ego {
@@ -725,6 +719,14 @@ impl Tracker {
             predicted.c_y += dy;
         }
         predicted
+    }
+
+    /// Whether parameter `k` is predicted by the fast model: its recent prediction errors
+    /// are smaller, and the tracker is not coasting (coasting, the slower model extrapolates
+    /// more calmly).
+    fn use_fast(&self, k: usize) -> bool {
+        let [e_slow, e_fast] = self.banks.error[k];
+        e_fast < e_slow && self.coast_cycles == 0
     }
 
     /// The image shift of a point at `at` when the camera turns by `ego`: its ray in the
@@ -978,15 +980,13 @@ impl Tracker {
             self.locked = false;
         }
         let next = if trusted {
-            let mut p = [0.0; 3];
-            for (k, out) in p.iter_mut().enumerate() {
-                let [e_slow, e_fast] = self.banks.error[k];
-                *out = if e_fast < e_slow {
+            let p = [0, 1, 2].map(|k| {
+                if self.use_fast(k) {
                     self.banks.fast[k].predict(1.0)
                 } else {
                     self.motion[k].predict(1.0)
-                };
-            }
+                }
+            });
             Location::new(p[0], p[1], p[2])
         } else {
             predicted

@@ -4,7 +4,7 @@
 //! on the target through clutter, and report `Lost` when the target leaves the image.
 //! Run with `cargo test -p tracker --test tracking --release`.
 
-use tracker::synth::{draw, nist_ten_segment, wander, Rect, SynthScene};
+use tracker::synth::{draw, nist_ten_segment, wander, SynthScene};
 use tracker::{Camera, GrayView, Location, Status, Tracker, TrackerConfig};
 
 struct Run {
@@ -109,31 +109,9 @@ fn an_offset_initial_placement_is_pulled_in() {
 }
 
 /// Clutter: noise, a telephone pole and a wire near and parallel to features, and a
-/// shadow band sweeping across the target.
+/// shadow band sweeping across the target (the shipped target: half size 25.6 × 16 px).
 fn cluttered(k: usize, at: Location) -> SynthScene {
-    let half_w = 25.6 * at.scale;
-    let half_h = 16.0 * at.scale;
-    let sweep = at.c_x - 60.0 + 2.0 * k as f64 % 120.0;
-    SynthScene {
-        noise_sigma: 4.0,
-        distractors: vec![
-            // A pole 7 px outside the board's left edge, full height.
-            Rect {
-                bounds: [at.c_x - half_w - 12.0, 0.0, at.c_x - half_w - 9.0, 242.0],
-                value: 60.0,
-            },
-            // A wire 9 px above the board.
-            Rect {
-                bounds: [0.0, at.c_y - half_h - 13.0, 256.0, at.c_y - half_h - 12.0],
-                value: 70.0,
-            },
-        ],
-        shadows: vec![Rect {
-            bounds: [sweep, 0.0, sweep + 14.0, 242.0],
-            value: 0.55,
-        }],
-        ..SynthScene::default()
-    }
+    tracker::synth::clutter_scene(k, at, [25.6, 16.0])
 }
 
 #[test]
