@@ -7,13 +7,19 @@
 //! nominal_range_m = 10.0                        # range at which scale = 1
 //! corners_m = [[-0.8, 0.5], [0.8, 0.5], ...]    # x right, y up, metres from the target centre
 //! segments = [[0, 1], [1, 2], ...]              # corner-index pairs, each horizontal or vertical
+//! paint = "steps"                               # optional: "steps" (default) or "stripes"
 //! ```
+//! `paint` says how the segments are painted on the board (`tracker::paint`): `steps`, the
+//! paper's, makes each segment one step edge between filled regions of different tone, and
+//! needs every segment to bound a closed region; `stripes`, not the paper's, paints each
+//! segment as a thin dark stripe with two edges.
 //! Errors name the file, the line and column, and the field or segment at fault.
 
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 use thiserror::Error;
 use toml::Spanned;
+use tracker::paint::{Paint, PaintError};
 use tracker::{TargetError, TargetModel};
 
 /// The file as written: parsed, not yet checked.
@@ -24,6 +30,7 @@ struct TargetFile {
     nominal_range_m: Spanned<f64>,
     corners_m: Vec<Spanned<[f64; 2]>>,
     segments: Vec<Spanned<[usize; 2]>>,
+    paint: Option<Spanned<String>>,
 }
 
 /// Largest corner coordinate, metres from the target's centre: a board of up to 10 m × 10 m,
@@ -83,6 +90,18 @@ pub enum TargetFileError {
         field: &'static str,
         /// What is wrong.
         source: TargetError,
+    },
+    /// `paint = "steps"` (the default), but a segment bounds no closed region.
+    #[error("{path}:{line}:{column}: `segments`: {source}")]
+    Unpaintable {
+        /// The file.
+        path: PathBuf,
+        /// 1-based line.
+        line: usize,
+        /// 1-based column.
+        column: usize,
+        /// Which segment.
+        source: PaintError,
     },
 }
 
@@ -150,7 +169,17 @@ pub fn parse(text: &str, path: &Path) -> Result<TargetModel, TargetFileError> {
     }
     let corners: Vec<[f64; 2]> = raw.corners_m.iter().map(|c| *c.get_ref()).collect();
     let segments: Vec<[usize; 2]> = raw.segments.iter().map(|s| *s.get_ref()).collect();
-    TargetModel::new(raw.name, *raw.nominal_range_m.get_ref(), corners, segments).map_err(
+    let paint = match &raw.paint {
+        None => Paint::Steps,
+        Some(p) => Paint::parse(p.get_ref()).ok_or_else(|| {
+            out_of_bounds(
+                "paint",
+                p.span(),
+                format!("= {:?}: must be \"steps\" or \"stripes\"", p.get_ref()),
+            )
+        })?,
+    };
+    let model = TargetModel::new(raw.name, *raw.nominal_range_m.get_ref(), corners, segments).map_err(
         |source| {
             // Point at the item the error is about.
             let (field, span) = match &source {
@@ -177,7 +206,18 @@ pub fn parse(text: &str, path: &Path) -> Result<TargetModel, TargetFileError> {
                 source,
             }
         },
-    )
+    )?
+    .with_paint(paint);
+    if let Err(PaintError::NotABoundary { segment }) = tracker::paint::layout(&model) {
+        let (line, column) = line_column(text, raw.segments[segment].span().start);
+        return Err(TargetFileError::Unpaintable {
+            path: path.to_owned(),
+            line,
+            column,
+            source: PaintError::NotABoundary { segment },
+        });
+    }
+    Ok(model)
 }
 
 #[cfg(test)]
@@ -215,6 +255,26 @@ segments = [
         assert_eq!(m.size_m(), [1.6, 1.0]);
         // The tracker's built-in copy for tests and benchmarks is the same model.
         assert_eq!(m, tracker::synth::nist_ten_segment());
+    }
+
+    #[test]
+    fn an_open_segment_cannot_be_a_step_edge_but_can_be_a_stripe() {
+        // A fifth corner and a bar from the top edge's middle that ends in the open.
+        let open = GOOD
+            .replace("[-0.8, -0.5]]", "[-0.8, -0.5], [0.0, 0.5], [0.0, 0.1]]")
+            .replace("[3, 0],", "[3, 0],\n    [4, 5],");
+        let e = err(&open);
+        assert!(
+            e.starts_with("t.toml:9:5: `segments`: segment 4 does not bound a closed region"),
+            "{e}"
+        );
+        let m = parse(&format!("{open}paint = \"stripes\"\n"), Path::new("t.toml")).unwrap();
+        assert_eq!(m.paint(), Paint::Stripes);
+        let e = err(&format!("{GOOD}paint = \"dots\"\n"));
+        assert!(
+            e.starts_with("t.toml:10:9: `paint` = \"dots\": must be"),
+            "{e}"
+        );
     }
 
     #[test]

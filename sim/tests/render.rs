@@ -4,14 +4,15 @@
 //!   to ±2 grey levels, with at most 0.5 % of pixels beyond (a missing reference is
 //!   written fresh; a failure leaves `-actual.png` and `-difference.png` beside it);
 //! - the same seed gives bit-identical frames;
-//! - the renderer puts the target's stripes where the tracker's camera model projects
-//!   them, to within 0.5 px;
+//! - the renderer puts the target's edges (step paint and stripes) where the tracker's camera
+//!   model projects them, to within 0.5 px;
 //! - a pole's shadow on the target darkens it;
 //! - the target is found in the frame where the ground truth says.
 //!
 //! Run: `cargo test -p sim --release --test render`.
 
 use image::{GrayImage, Luma};
+use tracker::paint::Paint;
 use nalgebra::{Isometry3, Point3};
 use sim::camera::{Backend, CameraRig, Frame, FrameInput, RenderOptions, Renderer};
 use sim::scene::{
@@ -178,70 +179,89 @@ fn renderer_matrix_agrees_with_the_tracker_camera() {
     }
 }
 
-/// Where the renderer actually puts each stripe, measured in the image: the dark-weighted
-/// centroid across the stripe, on a line through its middle, with 4× MSAA so edges carry
-/// sub-pixel information. Compared with the tracker's projection of the stripe's centre line.
+/// Where the renderer actually puts each segment's edge, measured in the image on a line
+/// across it through its middle, with 4× MSAA so edges carry sub-pixel information, and
+/// compared with the tracker's projection of the segment. Step paint (the default): the
+/// gradient-weighted centroid of the one step edge. Stripes: the dark-weighted centroid
+/// across the stripe, whose two edges straddle the segment.
 #[test]
-fn target_stripes_land_where_the_tracker_projects_them() {
-    let options = RenderOptions {
-        msaa_samples: 4,
-        ..options()
-    };
-    let mut description = bare(1);
-    description.sun.elevation_deg = 30.0;
-    let mut r = renderer(description, &options);
-    // Closer than nominal range so each stripe is ~3 px wide; a small roll so the test also
-    // covers the chassis attitude.
-    let (chase, lead) = builtin_poses(
-        r.scene().description(),
-        r.scene().route(),
-        &r.rig().mount,
-        1.0,
-    );
-    let lead = lead * Isometry3::translation(-4.0, 0.0, 0.0);
-    let roll = nalgebra::UnitQuaternion::from_axis_angle(&nalgebra::Vector3::x_axis(), 0.0);
-    let chase = chase * Isometry3::from_parts(nalgebra::Translation3::identity(), roll);
-    let frame = r
-        .render(&FrameInput {
-            frame_index: 0,
-            time_s: 1.0,
-            world_from_chase: chase,
-            world_from_lead: lead,
-        })
-        .unwrap();
-    let cam = camera_from_target(&r, &chase, &lead);
-    let target = r.scene().description().target.clone();
-    let corners = target.corners_m();
-    let image = &frame.image;
-    let mut worst: f64 = 0.0;
-    for &[a, b] in target.segments() {
-        let ([ax, ay], [bx, by]) = (corners[a], corners[b]);
-        let horizontal = (ay - by).abs() < 1e-9;
-        // 30 % along the segment: away from the junctions where another stripe meets it.
-        let mid = [ax + 0.3 * (bx - ax), ay + 0.3 * (by - ay), 0.003];
-        let [u, v] = project(&r, &cam, mid);
-        // Sample across the stripe (image y for horizontal stripes, x for vertical ones).
-        let (across, along) = if horizontal { (v, u) } else { (u, v) };
-        let line = along.round() as i64;
-        let pixel = |k: i64| -> f64 {
-            let (x, y) = if horizontal { (line, k) } else { (k, line) };
-            f64::from(image.get_pixel(x as u32, y as u32)[0])
+fn target_edges_land_where_the_tracker_projects_them() {
+    for paint in [Paint::Steps, Paint::Stripes] {
+        let options = RenderOptions {
+            msaa_samples: 4,
+            ..options()
         };
-        let centre = across.round() as i64;
-        let window: Vec<i64> = (centre - 4..=centre + 4).collect();
-        let light = window.iter().map(|&k| pixel(k)).fold(0.0, f64::max);
-        let (mut sum, mut weight) = (0.0, 0.0);
-        for &k in &window {
-            let w = light - pixel(k);
-            sum += w * k as f64;
-            weight += w;
+        let mut description = bare(1);
+        description.sun.elevation_deg = 30.0;
+        description.target = description.target.clone().with_paint(paint);
+        let mut r = renderer(description, &options);
+        // Closer than nominal range so each stripe is ~3 px wide.
+        let (chase, lead) = builtin_poses(
+            r.scene().description(),
+            r.scene().route(),
+            &r.rig().mount,
+            1.0,
+        );
+        let lead = lead * Isometry3::translation(-4.0, 0.0, 0.0);
+        let frame = r
+            .render(&FrameInput {
+                frame_index: 0,
+                time_s: 1.0,
+                world_from_chase: chase,
+                world_from_lead: lead,
+            })
+            .unwrap();
+        let cam = camera_from_target(&r, &chase, &lead);
+        let target = r.scene().description().target.clone();
+        let corners = target.corners_m();
+        let image = &frame.image;
+        let mut worst: f64 = 0.0;
+        for &[a, b] in target.segments() {
+            let ([ax, ay], [bx, by]) = (corners[a], corners[b]);
+            let horizontal = (ay - by).abs() < 1e-9;
+            // 30 % along the segment: away from the junctions where another segment meets it.
+            let mid = [ax + 0.3 * (bx - ax), ay + 0.3 * (by - ay), 0.003];
+            let [u, v] = project(&r, &cam, mid);
+            // Sample across the segment (image y for horizontal ones, x for vertical ones).
+            let (across, along) = if horizontal { (v, u) } else { (u, v) };
+            let line = along.round() as i64;
+            let pixel = |k: i64| -> f64 {
+                let (x, y) = if horizontal { (line, k) } else { (k, line) };
+                f64::from(image.get_pixel(x as u32, y as u32)[0])
+            };
+            let centre = across.round() as i64;
+            let window: Vec<i64> = (centre - 4..=centre + 4).collect();
+            let (mut sum, mut weight) = (0.0, 0.0);
+            match paint {
+                Paint::Steps => {
+                    // Pixel centres are at integers: the step between k and k + 1 is at k + ½.
+                    for pair in window.windows(2) {
+                        let w = (pixel(pair[1]) - pixel(pair[0])).abs();
+                        sum += w * (pair[0] as f64 + 0.5);
+                        weight += w;
+                    }
+                }
+                Paint::Stripes => {
+                    let light = window.iter().map(|&k| pixel(k)).fold(0.0, f64::max);
+                    for &k in &window {
+                        let w = light - pixel(k);
+                        sum += w * k as f64;
+                        weight += w;
+                    }
+                }
+            }
+            let measured = sum / weight;
+            let error = (measured - across).abs();
+            worst = worst.max(error);
+            assert!(
+                error <= 0.5,
+                "{paint:?}, segment {a}-{b}: measured at {measured:.2} px, tracker projects {across:.2} px"
+            );
         }
-        let measured = sum / weight;
-        let error = (measured - across).abs();
-        worst = worst.max(error);
-        assert!(error <= 0.5, "segment {a}-{b}: stripe centre measured at {measured:.2} px, tracker projects {across:.2} px");
+        eprintln!(
+            "{paint:?}: worst disagreement {worst:.3} px (stripes {STRIPE_WIDTH_M} m, overrun {STRIPE_OVERRUN_M} m)"
+        );
     }
-    eprintln!("worst stripe-centre disagreement: {worst:.3} px (stripes {STRIPE_WIDTH_M} m, overrun {STRIPE_OVERRUN_M} m)");
 }
 
 #[test]

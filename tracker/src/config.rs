@@ -57,7 +57,8 @@ pub struct TrackerConfig {
     pub min_support_fraction: f64,
     /// σ² floor of eq. 14, pixels²: below it the confidence is capped at 1/√0.1.
     pub sigma2_floor: f64,
-    /// λ of eq. 18, the motion model's forgetting factor (0 < λ ≤ 1). Not given by the paper.
+    /// λ of eq. 18, the motion model's forgetting factor (0 < λ < 1, as eq. 18 requires). Not
+    /// given by the paper.
     /// Default 0.8: an effective memory of 1/(1 − λ) = 5 frames (a third of a second at
     /// 15 Hz), enough to average the measurement noise of a three-coefficient model while
     /// following a hard brake within a few frames. Section 4's trade-off: smaller λ follows
@@ -76,14 +77,18 @@ pub struct TrackerConfig {
     /// Default 15 Hz (the paper's update rate).
     pub rate_hz: f64,
     /// How long (seconds) the tracker coasts on its prediction without a usable measurement
-    /// before it reports `Lost`. Not given by the paper. Default 1 s (15 frames): at 35 km/h
-    /// the lead moves about 10 m in that time; a quadratic extrapolation over longer is a
-    /// guess, not a track.
+    /// before it reports `Lost`. Not given by the paper, which has no loss state (a
+    /// teleoperator watched). Default 1 s (15 frames): at 35 km/h the lead moves about 10 m
+    /// in that time; a quadratic extrapolation over longer is a guess, not a track. In the
+    /// paper's mode `Lost` is a status only: the tracker goes on measuring, and reports
+    /// `tracking` again as soon as the features return.
     pub lost_after_s: f64,
-    /// Floor on J_l (eq. 15) when computing the confidences of eq. 17, which divide by it.
-    /// With three features the fit is exact and J_l = 0. Not in the paper. Default 1: the
-    /// expected residual of one degree of freedom when each feature's error matches its
-    /// stated σ.
+    /// Floor on J_l (eq. 15) for a fit with no degrees of freedom: with exactly three
+    /// features the fit is exact, J_l = 0, and eq. 17, which divides by J_l, has no value.
+    /// Not in the paper. Default 1: the expected residual of one degree of freedom when each
+    /// feature's error matches its stated σ. A fit with four or more features uses eq. 17 as
+    /// written; its J_l is floored only by [`crate::object_location::RELATIVE_RESIDUAL_FLOOR`]
+    /// of the weighted intercepts' energy, far below any residual a real image gives.
     pub min_fit_residual: f64,
     /// Improvement over the paper (off by default, so the default is the paper's tracker):
     /// locate each edge point to a fraction of a pixel across the edge by fitting a parabola
@@ -176,10 +181,10 @@ impl TrackerConfig {
             "must be > 0 pixels²",
         )?;
         check(
-            c.lambda > 0.0 && c.lambda <= 1.0,
+            c.lambda > 0.0 && c.lambda < 1.0,
             "lambda",
             c.lambda,
-            "must be in (0, 1]",
+            "must be in (0, 1) (eq. 18: 0 < λ < 1)",
         )?;
         for pair in c.window_scales.windows(2) {
             check(

@@ -7,6 +7,7 @@
 //! vertical and horizontal lines"); each becomes one [`Feature`].
 
 use crate::camera::Camera;
+use crate::paint::Paint;
 use thiserror::Error;
 
 /// How far (metres) two corner coordinates may differ and still count as equal when deciding
@@ -41,6 +42,7 @@ pub struct TargetModel {
     corners_m: Vec<[f64; 2]>,
     segments: Vec<[usize; 2]>,
     features: Vec<FeatureM>,
+    paint: Paint,
 }
 
 /// One segment of the model in metres, with its orientation resolved.
@@ -206,7 +208,20 @@ impl TargetModel {
             corners_m,
             segments,
             features,
+            paint: Paint::Steps,
         })
+    }
+
+    /// The model with another paint rule ([`Paint::Steps`] by default). Whether a model can
+    /// be painted with steps is checked by [`crate::paint::layout`].
+    pub fn with_paint(mut self, paint: Paint) -> Self {
+        self.paint = paint;
+        self
+    }
+
+    /// How the model's segments are painted on the board.
+    pub fn paint(&self) -> Paint {
+        self.paint
     }
 
     /// The model's name.

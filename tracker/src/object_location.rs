@@ -15,6 +15,12 @@ use crate::householder::{back_substitute, residual, triangularize, Row};
 use crate::location::Location;
 use crate::model::{Feature, Orientation};
 
+/// The smallest J_l eq. 17 divides by for a fit with degrees of freedom, as a fraction of
+/// Σ(w·b)², the weighted intercepts' energy: it only keeps the confidences finite when the
+/// features fit exactly (a synthetic image with no noise), and is ten orders of magnitude
+/// below the residual of a fit off by a hundredth of a pixel.
+pub const RELATIVE_RESIDUAL_FLOOR: f64 = 1e-24;
+
 /// The stage-4 measurement of the object's location, with its confidences.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Measurement {
@@ -40,7 +46,7 @@ pub fn locate_object(
     rows: &mut Vec<Row>,
 ) -> Option<Measurement> {
     rows.clear();
-    let (mut sum_wx2, mut sum_wy2) = (0.0, 0.0);
+    let (mut sum_wx2, mut sum_wy2, mut energy) = (0.0, 0.0, 0.0);
     for (f, l) in model.iter().zip(located) {
         let w = l.confidence;
         let Some(b) = l.intercept else { continue };
@@ -48,6 +54,7 @@ pub fn locate_object(
             continue;
         }
         // Row of A = W·A₁ and b = W·b₁ (eq. 16, 21): weights absorbed as w = 1/σ.
+        energy += (w * b) * (w * b);
         match f.orientation {
             Orientation::Vertical => {
                 rows.push([w, 0.0, w * f.offset_px, w * b]);
@@ -76,9 +83,15 @@ pub fn locate_object(
     if !location.is_valid() {
         return None;
     }
-    // J_l is z2ᵀz2 (eq. 26); eq. 17 divides by it, so it is floored (see the config).
+    // J_l is z2ᵀz2 (eq. 26); eq. 17 divides by it. A fit with no degrees of freedom has
+    // J_l = 0 and takes the configured floor; any other fit uses J_l as eq. 17 writes it,
+    // kept finite only by a relative epsilon (see `RELATIVE_RESIDUAL_FLOOR`).
     let j_l = residual(rows);
-    let j = j_l.max(config.min_fit_residual);
+    let j = if features_used == 3 {
+        j_l.max(config.min_fit_residual)
+    } else {
+        j_l.max(RELATIVE_RESIDUAL_FLOOR * energy).max(f64::MIN_POSITIVE)
+    };
     Some(Measurement {
         location,
         confidence: [

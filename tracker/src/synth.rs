@@ -8,7 +8,7 @@
 use crate::camera::Camera;
 use crate::location::Location;
 use crate::model::TargetModel;
-use crate::paint::{BOARD_MARGIN_M, STRIPE_EXTENSION_M, STRIPE_WIDTH_M};
+use crate::paint::{self, Paint};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
@@ -72,7 +72,7 @@ pub struct SynthScene {
     pub background: f64,
     /// Board grey level.
     pub board: f64,
-    /// Stripe grey level.
+    /// Grey level of the target's darkest paint (tone 0 of [`crate::paint::PaintRect`]).
     pub paint: f64,
     /// Gaussian sensor noise, grey levels (standard deviation).
     pub noise_sigma: f64,
@@ -98,8 +98,10 @@ impl Default for SynthScene {
     }
 }
 
-/// The target's painted rectangles (board first, then stripes) in image pixels, for a
-/// location.
+/// The target's painted rectangles in image pixels for a location: the board first, then
+/// what [`crate::paint::layout`] paints on it (a model that cannot be painted with steps is
+/// painted with stripes), each with its grey level between `scene.paint` (tone 0) and
+/// `scene.board` (tone 1).
 pub fn target_rects(
     model: &TargetModel,
     camera: &Camera,
@@ -109,40 +111,23 @@ pub fn target_rects(
     let [fx, fy] = camera.focal_px();
     let kx = at.scale * fx / model.nominal_range_m();
     let ky = at.scale * fy / model.nominal_range_m();
-    let to_px = |x0: f64, y0: f64, x1: f64, y1: f64, value: f64| Rect {
-        // Model y is up, image y is down.
-        bounds: [
-            at.c_x + x0 * kx,
-            at.c_y - y1 * ky,
-            at.c_x + x1 * kx,
-            at.c_y - y0 * ky,
-        ],
-        value,
-    };
-    let corners = model.corners_m();
-    let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
-    for &[x, y] in corners {
-        x0 = x0.min(x);
-        x1 = x1.max(x);
-        y0 = y0.min(y);
-        y1 = y1.max(y);
-    }
-    let m = BOARD_MARGIN_M;
-    let mut rects = vec![to_px(x0 - m, y0 - m, x1 + m, y1 + m, scene.board)];
-    let (hw, ext) = (0.5 * STRIPE_WIDTH_M, STRIPE_EXTENSION_M);
-    for &[a, b] in model.segments() {
-        let [ax, ay] = corners[a];
-        let [bx, by] = corners[b];
-        let (lx, hx) = (ax.min(bx), ax.max(bx));
-        let (ly, hy) = (ay.min(by), ay.max(by));
-        let rect = if (ay - by).abs() < 1e-9 {
-            to_px(lx - ext, ay - hw, hx + ext, ay + hw, scene.paint)
-        } else {
-            to_px(ax - hw, ly - ext, ax + hw, hy + ext, scene.paint)
-        };
-        rects.push(rect);
-    }
+    let rects = paint::layout(model).unwrap_or_else(|_| paint::stripes(model));
     rects
+        .iter()
+        .map(|r| {
+            let [x0, y0, x1, y1] = r.bounds_m;
+            Rect {
+                // Model y is up, image y is down.
+                bounds: [
+                    at.c_x + x0 * kx,
+                    at.c_y - y1 * ky,
+                    at.c_x + x1 * kx,
+                    at.c_y - y0 * ky,
+                ],
+                value: scene.paint + r.tone * (scene.board - scene.paint),
+            }
+        })
+        .collect()
 }
 
 /// Fraction of pixel (i, j) covered by a rectangle.
@@ -176,6 +161,24 @@ fn paint(buf: &mut [f64], width: usize, height: usize, rect: Rect, multiply: boo
     }
 }
 
+/// Adds a rectangle lying wholly on a surface of level `under`: each pixel gains its covered
+/// share of `rect.value − under`.
+fn add_over(buf: &mut [f64], width: usize, height: usize, rect: Rect, under: f64) {
+    let [x0, y0, x1, y1] = rect.bounds;
+    let i0 = (x0 - 0.5).floor().max(0.0) as usize;
+    let j0 = (y0 - 0.5).floor().max(0.0) as usize;
+    let i1 = ((x1 + 0.5).ceil().max(0.0) as usize).min(width);
+    let j1 = ((y1 + 0.5).ceil().max(0.0) as usize).min(height);
+    for j in j0..j1 {
+        for i in i0..i1 {
+            let c = coverage(rect.bounds, i, j);
+            if c > 0.0 {
+                buf[j * width + i] += c * (rect.value - under);
+            }
+        }
+    }
+}
+
 /// Draws one frame: background, the target at `at`, distractors, shadows, then noise from
 /// `seed`. Returns row-major grey levels, `scene.width × scene.height`.
 pub fn draw(
@@ -187,8 +190,16 @@ pub fn draw(
 ) -> Vec<u8> {
     let (w, h) = (scene.width, scene.height);
     let mut buf = vec![scene.background; w * h];
-    for rect in target_rects(model, camera, at, scene) {
-        paint(&mut buf, w, h, rect, false);
+    let rects = target_rects(model, camera, at, scene);
+    let steps = model.paint() == Paint::Steps && paint::layout(model).is_ok();
+    for (k, &rect) in rects.iter().enumerate() {
+        if steps && k > 0 {
+            // Step regions tile the board without overlapping: adding each one's share of a
+            // pixel over the board's level mixes the regions exactly by area.
+            add_over(&mut buf, w, h, rect, scene.board);
+        } else {
+            paint(&mut buf, w, h, rect, false);
+        }
     }
     for &rect in &scene.distractors {
         paint(&mut buf, w, h, rect, false);
@@ -275,7 +286,9 @@ pub enum SequenceKind {
     /// Camera shake on a rough road: ±5 px vertically at 2.3 Hz and ±2 px sideways at
     /// 1.7 Hz (at 15 frames a second), on top of a gentle wander.
     Shake,
-    /// A dim, noisy scene: 30 grey levels between board and stripes, noise σ = 7.
+    /// A dim, noisy scene: noise σ = 7, and 30 grey levels of contrast across the weakest of
+    /// the target's edges (the board 80, the darkest paint 20: the step-painted target's
+    /// mid tone, 50, is 30 levels from both).
     Dim,
 }
 
@@ -402,7 +415,7 @@ pub fn sequence_with_truth(
             SequenceKind::Dim => SynthScene {
                 background: 55.0,
                 board: 80.0,
-                paint: 50.0,
+                paint: 20.0,
                 noise_sigma: 7.0,
                 ..SynthScene::default()
             },

@@ -18,9 +18,9 @@ use crate::motion::MotionModel;
 use crate::object_location::{locate_object, Measurement};
 use crate::prediction::{predict_features, predict_location, PredictedFeature};
 use crate::robust::{
-    adaptive_threshold, alias_spacing, coverage_gain, ChamferSearch, EdgeMaps, NoiseEstimator,
+    adaptive_threshold, alias_spacing, search_threshold, coverage_gain, ChamferSearch, EdgeMaps, NoiseEstimator,
     ACQUIRE_EVERY_FRAMES, ACQUIRE_SCALES, CHAMFER_ACCEPT_PX, COVERAGE_TOLERANCE_PX, FAST_LAMBDA,
-    LOCAL_SEARCH_GROWTH_PX, LOCAL_SEARCH_PX, MAX_COVERAGE_GAIN, MAX_SCALE_STEP, MIN_COVERAGE,
+    LOCAL_SEARCH_GROWTH_PX, LOCAL_SEARCH_PX, MAX_COVERAGE_GAIN, MAX_SCALE_STEP, MIN_COVERAGE, SCALE_NOISE_PX,
     MODEL_ERROR_DECAY, PEAK_PROBE_PX, REACQUIRE_MIN_COVERAGE, SEARCH_BELOW_COVERAGE, SEARCH_MARGIN,
     SURPRISE_FORGETTING,
 };
@@ -187,8 +187,6 @@ pub struct Tracker {
     frame: u64,
     last_t_s: Option<f64>,
     coast_cycles: u64,
-    /// The paper's mode: lost, and no longer measuring (sticky until re-initialised).
-    lost: bool,
     /// Robust mode: whether the tracker holds the target (else it searches).
     locked: bool,
     /// Robust mode: whether it has ever held it.
@@ -330,7 +328,6 @@ impl Tracker {
             frame: 0,
             last_t_s: None,
             coast_cycles: 0,
-            lost: false,
             locked: true,
             ever_locked: true,
             last_estimate: init,
@@ -360,7 +357,6 @@ impl Tracker {
         self.frame = 0;
         self.last_t_s = None;
         self.coast_cycles = 0;
-        self.lost = false;
         self.locked = true;
         self.ever_locked = true;
         self.last_estimate = init;
@@ -567,10 +563,15 @@ impl Tracker {
     }
 
     /// The paper's loop. Its estimates are the paper's: every measurement updates the motion
-    /// models. The coverage check only decides the status: a measurement that fails it is
-    /// reported as `coasting`, so a loss is never silent. As before, coasting without any
-    /// measurement for `lost_after_s` is a sticky `lost`, after which it stops measuring
-    /// until [`Tracker::reinitialize`] (the paper's teleoperator).
+    /// models. The paper has no loss state (a teleoperator watched), so this loop never
+    /// stops measuring: the status is a report only. A measurement that fails the coverage
+    /// check is reported as `coasting`, so a loss is never silent; no measurement at all for
+    /// `lost_after_s` is reported as `lost`; and as soon as the features return within the
+    /// window, their measurement updates the models and the status is `tracking` again.
+    ///
+    /// One guard the paper does not need: if the motion models extrapolate to an invalid
+    /// location (a scale at or below zero), the window is placed on the last valid
+    /// estimate instead, so that measuring can go on.
     fn run_paper(
         &mut self,
         image: GrayView<'_>,
@@ -588,15 +589,15 @@ impl Tracker {
         for m in &mut self.motion {
             m.age(cycles);
         }
-        let m = if !self.lost && predicted.is_valid() {
-            self.measure(image, predicted, false, diagnostics)
+        let look_at = if predicted.is_valid() {
+            predicted
         } else {
-            self.lost = true;
-            Measured::none(Window::default(), self.config.edge_threshold)
+            self.last_estimate
         };
+        let m = self.measure(image, look_at, false, diagnostics);
         // Stage 5: each parameter's model takes the measurement with its eq. 17 confidence.
         let status = match &m.measurement {
-            Some(meas) if !self.lost => {
+            Some(meas) => {
                 let l = meas.location.to_array();
                 for ((model, z), w) in self.motion.iter_mut().zip(l).zip(meas.confidence) {
                     model.add(z, w);
@@ -608,11 +609,10 @@ impl Tracker {
                     Status::Coasting
                 }
             }
-            _ => {
+            None => {
                 self.coast_cycles += u64::from(cycles.max(1));
                 let coasted_s = self.coast_cycles as f64 / self.config.rate_hz;
-                if self.lost || coasted_s + 1e-9 >= self.config.lost_after_s {
-                    self.lost = true;
+                if coasted_s + 1e-9 >= self.config.lost_after_s {
                     Status::Lost
                 } else {
                     Status::Coasting
@@ -626,9 +626,8 @@ impl Tracker {
             predicted
         };
         let estimate = match &m.measurement {
-            Some(meas) if status != Status::Lost => meas.location,
-            _ if status == Status::Lost => self.last_estimate,
-            _ => predicted,
+            Some(meas) => meas.location,
+            None => look_at,
         };
         self.finish(
             frame, t_s, status, predicted, estimate, next, m, false, None,
@@ -833,7 +832,7 @@ impl Tracker {
     ) -> Option<Measured> {
         let mut config = self.config.clone();
         let sigma = self.noise.sigma(image, region);
-        config.edge_threshold = adaptive_threshold(self.config.edge_threshold, sigma);
+        config.edge_threshold = search_threshold(self.config.edge_threshold, sigma);
         let hit = self.search.search(
             image,
             region,
@@ -961,7 +960,8 @@ impl Tracker {
                 .abs()
                 .max((l.c_y - predicted.c_y).abs());
             let zoom = (l.scale / predicted.scale).ln().abs();
-            if !fresh && (jump > reach || zoom > frames * (1.0 + MAX_SCALE_STEP).ln()) {
+            let noise = SCALE_NOISE_PX / (self.half_extent_px[0] * predicted.scale).max(1.0);
+            if !fresh && (jump > reach || zoom > frames * (1.0 + MAX_SCALE_STEP).ln() + noise) {
                 m.gain = f64::INFINITY;
                 event = None;
             }

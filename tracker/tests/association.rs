@@ -71,15 +71,42 @@ fn points_go_to_the_nearest_spanning_feature_within_zeta() {
 }
 
 #[test]
-fn a_horizontal_point_never_goes_to_a_vertical_feature() {
-    let predicted = [v(0, 20.0, 0.0, 100.0)];
+fn points_are_matched_only_with_features_of_their_own_class() {
+    // A horizontal feature y = 52, a vertical one x = 20 and a horizontal one y = 90, all
+    // spanning the points. Judged by distance alone, each point would go to the other
+    // class's feature, on which it lies exactly; eq. 9 and 11 match a horizontal point
+    // only with horizontal features and a vertical point only with vertical ones.
+    let predicted = [
+        h(0, 52.0, 0.0, 100.0),
+        v(1, 20.0, 0.0, 100.0),
+        h(2, 90.0, 0.0, 100.0),
+    ];
     let edges = Edges {
-        horizontal: vec![pt(20.0, 50.0)],
-        vertical: vec![],
+        horizontal: vec![
+            pt(20.0, 50.0), // on feature 1's line, 2 px from feature 0: feature 0
+            pt(20.0, 70.0), // on feature 1's line, 18 and 20 px from 0 and 2: too far
+        ],
+        vertical: vec![
+            pt(23.0, 90.0), // on feature 2's line, 3 px from feature 1: feature 1
+            pt(40.0, 52.0), // on feature 0's line, 20 px from feature 1: too far
+        ],
     };
     let mut out = Vec::new();
-    associate(&edges, &predicted, 4.0, &mut out, None);
-    assert!(out.is_empty());
+    let mut diag = Vec::new();
+    associate(&edges, &predicted, 4.0, &mut out, Some(&mut diag));
+    let fates: Vec<EdgeFate> = diag.iter().map(|d| d.fate).collect();
+    assert_eq!(
+        fates,
+        vec![
+            EdgeFate::Associated(0),
+            EdgeFate::TooFar,
+            EdgeFate::Associated(1),
+            EdgeFate::TooFar,
+        ]
+    );
+    assert_eq!(out.iter().map(|a| a.feature).collect::<Vec<_>>(), vec![0, 1]);
+    assert_eq!(out[0].across, 50.0);
+    assert_eq!(out[1].across, 23.0);
 }
 
 #[test]

@@ -55,8 +55,9 @@ fn horizontal_step_gives_a_one_pixel_horizontal_line() {
 
 #[test]
 fn off_centre_boundary_is_found_on_the_nearer_pixel() {
-    // A ramp across x = 19 → 20 weighted so the boundary sits at x ≈ 19.8: pixel 19 is
-    // partly light. The maximum is then at pixel 20's side.
+    // Pixel 19 (covering x = 18.5 to 19.5) is a fifth light, so the boundary sits at
+    // x = 19.3. The normalised gradient is 10 at pixel 18, 50 at 19 and 40 at 20: the
+    // maximum is at pixel 19.
     let px: Vec<u8> = (0..W * H)
         .map(|i| match i % W {
             x if x < 19 => 50,
@@ -70,14 +71,15 @@ fn off_centre_boundary_is_found_on_the_nearer_pixel() {
         "{:?}",
         &edges.vertical[..3]
     );
-    // With sub-pixel edges on, the point moves right, towards the true boundary 19.8.
+    // With sub-pixel edges on, the parabola through (18, 10), (19, 50), (20, 40) peaks at
+    // 19 + (10 − 40) / (2 (10 − 2·50 + 40)) = 19.3, the true boundary.
     let config = TrackerConfig {
         subpixel_edges: true,
         ..TrackerConfig::default()
     };
     let (sub, _) = extract(&px, &config);
     for p in &sub.vertical {
-        assert!(p.x > 19.05 && p.x < 19.95, "sub-pixel x = {}", p.x);
+        assert!((p.x - 19.3).abs() < 1e-4, "sub-pixel x = {}", p.x);
     }
 }
 
@@ -144,7 +146,8 @@ fn fast_classes_agree_with_eq3_and_eq7() {
                 continue;
             }
             let want = classify_direction(edge_direction(f64::from(gx), f64::from(gy)), delta);
-            // A linear ramp f = 100 + a x + b y has Sobel gradient (8a, 8b): use a = gx/8.
+            // A linear ramp f = 100 + a x + b y has raw Sobel gradient (8a, 8b); a = 2·gx
+            // and b = 2·gy keep its values whole grey levels and its gradient along (gx, gy).
             let img: Vec<u8> = (0..9)
                 .map(|i| {
                     let (x, y) = (f64::from(i % 3) - 1.0, f64::from(i / 3) - 1.0);

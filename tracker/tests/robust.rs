@@ -160,12 +160,15 @@ fn a_slid_estimate_is_not_called_tracking() {
 
 #[test]
 fn robust_mode_finds_the_target_without_a_start() {
+    // Searching from nothing, robust mode tracks from the first frame, and loses no more
+    // frames over the sequence than when it is started on the target.
     for kind in [
         SequenceKind::Plain,
         SequenceKind::Clutter,
         SequenceKind::Dim,
     ] {
-        for s in scores(kind, TrackerMode::Robust, false) {
+        let started = scores(kind, TrackerMode::Robust, true);
+        for (s, on) in scores(kind, TrackerMode::Robust, false).iter().zip(&started) {
             assert_eq!(
                 s.first_tracking,
                 Some(0),
@@ -173,7 +176,13 @@ fn robust_mode_finds_the_target_without_a_start() {
                 kind.as_str(),
                 s.first_tracking
             );
-            assert_eq!(s.lost_truth, 0, "{}: {s:?}", kind.as_str());
+            assert!(
+                s.lost_truth <= on.lost_truth,
+                "{}: lost {} frames searching from nothing, {} started on the target: {s:?}",
+                kind.as_str(),
+                s.lost_truth,
+                on.lost_truth
+            );
         }
     }
 }

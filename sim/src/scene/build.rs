@@ -91,13 +91,14 @@ const DASH_PERIOD_M: f64 = 12.0;
 const CROSS_ROAD_HALF_M: f64 = 120.0;
 /// How far the board stands proud of the lead's back door, metres.
 const BOARD_STANDOFF_M: f64 = 0.01;
-/// How far the dark stripes stand proud of the light board, metres (depth-safe at 50 m).
+/// How far the paint on the board stands proud of it, metres (depth-safe at 50 m).
 const STRIPE_STANDOFF_M: f64 = 0.003;
 /// The paint rule, shared with the tracker's synthetic frames.
 pub use tracker::paint::{BOARD_MARGIN_M, STRIPE_EXTENSION_M as STRIPE_OVERRUN_M, STRIPE_WIDTH_M};
 /// Albedo of the board's light paint.
 pub const BOARD_ALBEDO: f64 = 0.85;
-/// Albedo of the board's dark stripes.
+/// Albedo of the board's darkest paint (tone 0 of `tracker::paint::PaintRect`); other
+/// tones lie between it and [`BOARD_ALBEDO`].
 pub const STRIPE_ALBEDO: f64 = 0.06;
 
 /// A piece of static geometry the renderer can cull: an index range and a bounding sphere
@@ -807,54 +808,22 @@ fn lead_vehicle(description: &SceneDescription) -> Mesh {
     };
     let normal = [-1.0, 0.0, 0.0];
     let target = &description.target;
-    let corners = target.corners_m();
-    let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
-    for &[x, y] in corners {
-        x0 = x0.min(x);
-        x1 = x1.max(x);
-        y0 = y0.min(y);
-        y1 = y1.max(y);
-    }
-    let m = BOARD_MARGIN_M;
-    mesh.quad_with_normal(
-        [
-            put(x0 - m, y0 - m, 0.0),
-            put(x1 + m, y0 - m, 0.0),
-            put(x1 + m, y1 + m, 0.0),
-            put(x0 - m, y1 + m, 0.0),
-        ],
-        normal,
-        BOARD_ALBEDO,
-        slot,
-    );
-    let (w, o) = (0.5 * STRIPE_WIDTH_M, STRIPE_OVERRUN_M);
-    for &[a, b] in target.segments() {
-        let ([ax, ay], [bx, by]) = (corners[a], corners[b]);
-        let (sx0, sx1, sy0, sy1) = if (ay - by).abs() <= tracker::model::AXIS_TOLERANCE_M {
-            (
-                ax.min(bx) - o,
-                ax.max(bx) + o,
-                0.5 * (ay + by) - w,
-                0.5 * (ay + by) + w,
-            )
-        } else {
-            (
-                0.5 * (ax + bx) - w,
-                0.5 * (ax + bx) + w,
-                ay.min(by) - o,
-                ay.max(by) + o,
-            )
-        };
-        let z = STRIPE_STANDOFF_M;
+    // Validated with the target file; a model that cannot be painted with steps (only a
+    // library caller could build one) is painted with stripes.
+    let rects = tracker::paint::layout(target).unwrap_or_else(|_| tracker::paint::stripes(target));
+    for (k, r) in rects.iter().enumerate() {
+        let [x0, y0, x1, y1] = r.bounds_m;
+        // The board lies on the door; what is painted on it stands just proud of it.
+        let z = if k == 0 { 0.0 } else { STRIPE_STANDOFF_M };
         mesh.quad_with_normal(
             [
-                put(sx0, sy0, z),
-                put(sx1, sy0, z),
-                put(sx1, sy1, z),
-                put(sx0, sy1, z),
+                put(x0, y0, z),
+                put(x1, y0, z),
+                put(x1, y1, z),
+                put(x0, y1, z),
             ],
             normal,
-            STRIPE_ALBEDO,
+            STRIPE_ALBEDO + r.tone * (BOARD_ALBEDO - STRIPE_ALBEDO),
             slot,
         );
     }
