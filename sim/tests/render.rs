@@ -267,7 +267,7 @@ fn target_edges_land_where_the_tracker_projects_them() {
 #[test]
 fn a_pole_shadow_darkens_the_target() {
     // Sun behind the camera and to its right, 30° up; a pole placed on the ray from the
-    // board point (−0.4, 0.375) towards the sun, 3 m in front of the board.
+    // board point (−1, 0) towards the sun, 3 m in front of the board.
     let mut description = bare(1);
     description.sun.azimuth_deg = 135.0;
     description.sun.elevation_deg = 30.0;
@@ -277,7 +277,7 @@ fn a_pole_shadow_darkens_the_target() {
         let rig = CameraRig::default();
         let (chase, lead) = builtin_poses(scene.description(), scene.route(), &rig.mount, 1.0);
         let world_from_target = lead * scene.lead_from_target();
-        let shaded = world_from_target * Point3::new(-0.4, 0.375, 0.0);
+        let shaded = world_from_target * Point3::new(-1.0, 0.0, 0.0);
         let sun = d.sun.direction();
         let t = 3.0 / -sun[0];
         if with_pole {
@@ -300,7 +300,8 @@ fn a_pole_shadow_darkens_the_target() {
             let [u, v] = project(&r, &cam, [x, y, 0.0]);
             i32::from(frame.image.get_pixel(u.round() as u32, v.round() as u32)[0])
         };
-        (value(-0.4, 0.375), value(0.4, 0.375))
+        // Two points of the board's margin, on its light paint, 2 m apart.
+        (value(-1.0, 0.0), value(1.0, 0.0))
     };
     let (shadowed, sunlit) = probe(true);
     assert!(
@@ -315,6 +316,7 @@ fn a_pole_shadow_darkens_the_target() {
 }
 
 /// Finds the target by normalised cross-correlation of a template painted by the paint rule
+/// (`tracker::paint::layout`)
 /// at the true scale, over the whole frame, and checks the best match is at the ground truth.
 #[test]
 fn target_is_found_where_the_ground_truth_says() {
@@ -325,23 +327,22 @@ fn target_is_found_where_the_ground_truth_says() {
         assert!(truth.in_view, "t = {t}: target not in view: {truth:?}");
         let target = r.scene().description().target.clone();
         let px_per_m = r.rig().intrinsics.focal_px()[0] / truth.target_cam_m[2];
-        let corners = target.corners_m();
+        let paint = tracker::paint::layout(&target).unwrap();
         let half = [0.9 * px_per_m, 0.6 * px_per_m];
         let mut template = Vec::new();
         for dv in -(half[1] as i64)..=half[1] as i64 {
             for du in -(half[0] as i64)..=half[0] as i64 {
                 let (x, y) = (du as f64 / px_per_m, -dv as f64 / px_per_m);
-                let dark = target.segments().iter().any(|&[a, b]| {
-                    let ([ax, ay], [bx, by]) = (corners[a], corners[b]);
-                    let (x0, x1, y0, y1) = (
-                        ax.min(bx) - 0.03,
-                        ax.max(bx) + 0.03,
-                        ay.min(by) - 0.03,
-                        ay.max(by) + 0.03,
-                    );
-                    (x0..=x1).contains(&x) && (y0..=y1).contains(&y)
-                });
-                template.push((du, dv, if dark { 0.0 } else { 1.0 }));
+                // The tone of the last painted rectangle holding the point.
+                let tone = paint
+                    .iter()
+                    .rev()
+                    .find(|r| {
+                        let [x0, y0, x1, y1] = r.bounds_m;
+                        (x0..=x1).contains(&x) && (y0..=y1).contains(&y)
+                    })
+                    .map_or(1.0, |r| r.tone);
+                template.push((du, dv, tone));
             }
         }
         let tm = template.iter().map(|t| t.2).sum::<f64>() / template.len() as f64;

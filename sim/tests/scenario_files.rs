@@ -113,7 +113,7 @@ fn out_of_range_values_deep_in_a_table_are_located() {
     let e = load(&text(), &["tracker.lambda=1.5"]).unwrap_err();
     assert_eq!(
         e,
-        "--set tracker.lambda=1.5: `tracker.lambda` = 1.5: must be in (0, 1]"
+        "--set tracker.lambda=1.5: `tracker.lambda` = 1.5: must be in (0, 1) (eq. 18: 0 < λ < 1)"
     );
 }
 

@@ -17,7 +17,7 @@ use super::sensor::apply_sensor;
 use crate::scene::{ObjectSlot, Scene, Vertex, GRASS_ALBEDO_RANGE, GROUND_CELL_M};
 use bytemuck::{Pod, Zeroable};
 use image::GrayImage;
-use nalgebra::{Isometry3, Matrix4, Point3, Vector3};
+use nalgebra::{Isometry3, Matrix4, Point3, Translation3, Vector3};
 use std::ops::Range;
 use thiserror::Error;
 
@@ -95,6 +95,7 @@ struct Globals {
     sun: [f32; 4],
     params: [f32; 4],
     ground: [f32; 4],
+    origin: [f32; 4],
 }
 
 /// Renders frames of one scene from the chase camera.
@@ -521,10 +522,17 @@ impl Renderer {
         // Poses: the camera from the chase chassis; every moving object's transform.
         let world_from_camera = rig.world_from_camera(&input.world_from_chase);
         let camera_from_world = world_from_camera.inverse();
-        let view_proj = rig.clip_from_camera() * camera_from_world.to_homogeneous();
-        let mut world_from_object = [[[0f32; 4]; 4]; ObjectSlot::COUNT as usize];
-        world_from_object[ObjectSlot::WORLD as usize] = to_f32(&Matrix4::identity());
+        // Positions reach the GPU relative to the camera (the origin), with every transform
+        // composed in f64: in f32, world coordinates kilometres from the world's origin
+        // lose millimetres, enough for the board to show through paint standing 3 mm proud
+        // of it.
         let eye = world_from_camera.translation.vector;
+        let world_from_relative = Translation3::from(eye).to_homogeneous();
+        let relative_from_world = Translation3::from(-eye).to_homogeneous();
+        let view_proj =
+            rig.clip_from_camera() * camera_from_world.to_homogeneous() * world_from_relative;
+        let mut world_from_object = [[[0f32; 4]; 4]; ObjectSlot::COUNT as usize];
+        world_from_object[ObjectSlot::WORLD as usize] = to_f32(&relative_from_world);
         let mut items = std::mem::take(&mut self.items);
         items.clear();
         for object in self.scene.objects() {
@@ -535,7 +543,8 @@ impl Renderer {
                 &input.world_from_lead,
                 input.time_s,
             ) {
-                world_from_object[object.slot as usize] = to_f32(&pose.to_homogeneous());
+                world_from_object[object.slot as usize] =
+                    to_f32(&(relative_from_world * pose.to_homogeneous()));
                 let c = pose * Point3::from(object.centre);
                 // The hood hides the bottom of the frame and the lead the middle: drawn
                 // first, they let depth testing reject what lies behind them unshaded.
@@ -626,7 +635,7 @@ impl Renderer {
         let brightness = description.sensor.brightness();
         let globals = Globals {
             view_proj: to_f32(&view_proj),
-            light_view_proj: to_f32(&light.clip_from_world),
+            light_view_proj: to_f32(&(light.clip_from_world * world_from_relative)),
             sun: [
                 sun.direction()[0] as f32,
                 sun.direction()[1] as f32,
@@ -645,6 +654,7 @@ impl Renderer {
                 (GRASS_ALBEDO_RANGE[1] - GRASS_ALBEDO_RANGE[0]) as f32,
                 self.grass_key as f32,
             ],
+            origin: [eye.x as f32, eye.y as f32, eye.z as f32, 0.0],
         };
         self.queue
             .write_buffer(&self.globals_buffer, 0, bytemuck::bytes_of(&globals));

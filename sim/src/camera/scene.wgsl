@@ -2,9 +2,10 @@
 // shading with soft shadows), sharing the vertex layout and the per-object transforms.
 
 struct Globals {
-    // World to clip space of the chase camera.
+    // Camera-relative world (world minus `origin`) to clip space of the chase camera.
     view_proj: mat4x4<f32>,
-    // World to the sun's orthographic clip space (fitted to what the camera sees).
+    // Camera-relative world to the sun's orthographic clip space (fitted to what the
+    // camera sees).
     light_view_proj: mat4x4<f32>,
     // xyz: unit vector towards the sun (world); w: sun strength.
     sun: vec4<f32>,
@@ -14,10 +15,14 @@ struct Globals {
     // Grass: x: 1 / lattice pitch (1/m); y: lowest albedo; z: albedo range; w: hash key
     // (an integer below 2^23).
     ground: vec4<f32>,
+    // xyz: the world position of the origin that positions are relative to (the camera's),
+    // so that vertices kilometres from the world's origin keep millimetre precision in f32.
+    origin: vec4<f32>,
 };
 
 struct Objects {
-    // Object slot → world transform (slot 0 is the identity: static geometry).
+    // Object slot → camera-relative world transform (slot 0, static geometry: a translation
+    // by −origin).
     world_from_object: array<mat4x4<f32>, 16>,
 };
 
@@ -66,7 +71,7 @@ fn vs_main(v: VertexIn) -> VertexOut {
     out.light = vec3<f32>(v.albedo, globals.params.x * brightness, globals.sun.w * facing * brightness);
     let p = globals.light_view_proj * vec4<f32>(world.xyz + normal * globals.params.z, 1.0);
     out.shadow = vec3<f32>(p.x * 0.5 + 0.5, 0.5 - p.y * 0.5, p.z);
-    out.ground = world.xz;
+    out.ground = world.xz + globals.origin.xz;
     return out;
 }
 

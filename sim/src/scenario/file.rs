@@ -148,7 +148,7 @@ pub struct TrackerFile {
     /// bounds).
     pub target: String,
     /// λ of eq. 18. This and the tracker settings below are checked by
-    /// `tracker::TrackerConfig::validate`, which states their ranges (λ in (0, 1]).
+    /// `tracker::TrackerConfig::validate`, which states their ranges (λ in (0, 1), as eq. 18 requires).
     pub lambda: Option<f64>,
     /// δ of eq. 7, degrees.
     pub delta_deg: Option<f64>,
