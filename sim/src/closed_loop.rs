@@ -895,6 +895,12 @@ impl ClosedLoop {
             tracker_event: track
                 .event
                 .map_or_else(String::new, |e| e.as_str().to_string()),
+            fit_residual: track.measurement.map_or(f64::NAN, |m| m.residual),
+            feature_sigma2: track
+                .features
+                .iter()
+                .map(|f| f.variance.unwrap_or(f64::NAN))
+                .collect(),
         }
     }
 }

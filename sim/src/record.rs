@@ -110,6 +110,11 @@ pub struct FrameRecord {
     /// `acquired` or `reacquired` on a frame where robust mode found the target by search;
     /// empty otherwise.
     pub tracker_event: String,
+    /// J_l of eq. 15 at the stage-4 fit (before any floor); NaN without a measurement.
+    pub fit_residual: f64,
+    /// σ² of eq. 13 for each feature, in the model's segment order, pixels²; NaN where no
+    /// point was associated.
+    pub feature_sigma2: Vec<f64>,
 }
 
 /// The pass/fail criteria of a scenario (`[expect]`). A criterion left out is not checked.

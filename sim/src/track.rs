@@ -101,10 +101,16 @@ fn header(model: &TargetModel) -> String {
     for j in 0..model.segments().len() {
         h.push_str(&format!(",f{j}_points,f{j}_confidence"));
     }
+    // Each feature's σ² of eq. 13 (empty where no point was associated).
+    for j in 0..model.segments().len() {
+        h.push_str(&format!(",f{j}_sigma2"));
+    }
     h
 }
 
-fn row(out: &TrackOutput) -> String {
+/// One row; `features` is the model's segment count (a frame without a measurement, in a
+/// search, has fewer located features: their columns are left empty).
+fn row(out: &TrackOutput, features: usize) -> String {
     let e = out.estimate;
     let (measured, w, residual, used) = match out.measurement {
         Some(m) => (1, m.confidence, m.residual, m.features_used),
@@ -145,8 +151,17 @@ fn row(out: &TrackOutput) -> String {
         u8::from(out.searched),
         out.event.map_or("", |e| e.as_str()),
     );
-    for f in &out.features {
-        r.push_str(&format!(",{},{:.5}", f.points, f.confidence));
+    for j in 0..features {
+        match out.features.get(j) {
+            Some(f) => r.push_str(&format!(",{},{:.5}", f.points, f.confidence)),
+            None => r.push_str(",,"),
+        }
+    }
+    for j in 0..features {
+        match out.features.get(j).and_then(|f| f.variance) {
+            Some(v) => r.push_str(&format!(",{v:.6}")),
+            None => r.push(','),
+        }
     }
     r
 }
@@ -219,7 +234,7 @@ pub fn run(job: &TrackJob) -> anyhow::Result<TrackSummary> {
             (tracker.step(view, t_s), Vec::new())
         };
         step_us.push(started.elapsed().as_secs_f64() * 1e6);
-        writeln!(csv, "{}", row(&out)).map_err(write_err)?;
+        writeln!(csv, "{}", row(&out, job.model.segments().len())).map_err(write_err)?;
         csv.flush().map_err(write_err)?;
         if let Some(dir) = &job.overlay_dir {
             let name = path

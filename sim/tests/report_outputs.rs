@@ -72,6 +72,8 @@ fn record(i: u64) -> FrameRecord {
         coverage: [0.95, 0.9],
         coverage_gain: 0.0,
         tracker_event: String::new(),
+        fit_residual: 0.8,
+        feature_sigma2: vec![0.1; 10],
     }
 }
 
@@ -118,6 +120,7 @@ fn run(dir: &Path) -> sim::report::Summary {
         video_stride: 3,
         expected_frames: Some(FRAMES),
         plots: true,
+        features: 10,
     };
     let mut out = RunOutputs::create(dir, options).unwrap();
     for i in 0..FRAMES {

@@ -233,6 +233,7 @@ fn run_one(
             video: args.video,
             video_stride: args.video_stride,
             expected_frames: Some(frames),
+            features: scenario.target.segments().len(),
             ..OutputOptions::default()
         },
     )

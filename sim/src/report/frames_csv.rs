@@ -16,7 +16,7 @@ use super::ReportError;
 use crate::record::FrameRecord;
 
 /// The columns of `frames.csv`, in order. The order is stable: new columns go at the end.
-pub const FRAMES_CSV_COLUMNS: [&str; 36] = [
+pub const FRAMES_CSV_COLUMNS: [&str; 37] = [
     "frame",
     "t_s",
     "true_range_m",
@@ -53,7 +53,14 @@ pub const FRAMES_CSV_COLUMNS: [&str; 36] = [
     "coverage_v",
     "coverage_gain",
     "tracker_event",
+    "fit_residual",
 ];
+
+/// The name of the column after [`FRAMES_CSV_COLUMNS`] holding feature `j`'s σ² (eq. 13),
+/// one per segment of the target model: `sigma2_f0`, `sigma2_f1`, ...
+pub fn sigma2_column(j: usize) -> String {
+    format!("sigma2_f{j}")
+}
 
 /// A streaming writer of `frames.csv`.
 #[derive(Debug)]
@@ -61,19 +68,26 @@ pub struct FramesCsv {
     path: PathBuf,
     out: BufWriter<File>,
     line: String,
+    features: usize,
 }
 
 impl FramesCsv {
-    /// Creates (or truncates) the file and writes the header.
-    pub fn create(path: impl AsRef<Path>) -> Result<FramesCsv, ReportError> {
+    /// Creates (or truncates) the file and writes the header: [`FRAMES_CSV_COLUMNS`], then
+    /// one σ² column per feature of a model with `features` segments ([`sigma2_column`]).
+    pub fn create(path: impl AsRef<Path>, features: usize) -> Result<FramesCsv, ReportError> {
         let path = path.as_ref().to_path_buf();
         let file = File::create(&path).map_err(ReportError::io(&path))?;
         let mut csv = FramesCsv {
             path,
             out: BufWriter::new(file),
             line: String::with_capacity(512),
+            features,
         };
-        let header = FRAMES_CSV_COLUMNS.join(",");
+        let mut header = FRAMES_CSV_COLUMNS.join(",");
+        for j in 0..features {
+            header.push(',');
+            header.push_str(&sigma2_column(j));
+        }
         csv.write_line(header)?;
         Ok(csv)
     }
@@ -85,7 +99,7 @@ impl FramesCsv {
 
     /// Writes one row for `r` and flushes it to the file.
     pub fn write(&mut self, r: &FrameRecord) -> Result<(), ReportError> {
-        let line = format_row(r, std::mem::take(&mut self.line));
+        let line = format_row(r, self.features, std::mem::take(&mut self.line));
         self.write_line(line)
     }
 
@@ -102,8 +116,9 @@ impl FramesCsv {
     }
 }
 
-/// One row, without its line end, in [`FRAMES_CSV_COLUMNS`] order.
-fn format_row(r: &FrameRecord, mut s: String) -> String {
+/// One row, without its line end, in [`FRAMES_CSV_COLUMNS`] order, then `features` σ²
+/// columns (empty where the record has none).
+fn format_row(r: &FrameRecord, features: usize, mut s: String) -> String {
     s.clear();
     let _ = write!(s, "{}", r.frame);
     for v in [
@@ -156,6 +171,12 @@ fn format_row(r: &FrameRecord, mut s: String) -> String {
     }
     s.push(',');
     text(&mut s, &r.tracker_event);
+    s.push(',');
+    num(&mut s, r.fit_residual);
+    for j in 0..features {
+        s.push(',');
+        num(&mut s, r.feature_sigma2.get(j).copied().unwrap_or(f64::NAN));
+    }
     s
 }
 
@@ -221,6 +242,8 @@ pub(crate) mod tests {
             coverage: [0.95, 0.9],
             coverage_gain: 0.25,
             tracker_event: String::new(),
+            fit_residual: 0.5,
+            feature_sigma2: vec![0.1, f64::NAN, 0.25],
         }
     }
 
@@ -232,7 +255,7 @@ pub(crate) mod tests {
     fn header_then_one_flushed_row_per_frame() {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("frames.csv");
-        let mut csv = FramesCsv::create(&path).unwrap();
+        let mut csv = FramesCsv::create(&path, 3).unwrap();
         csv.write(&record(0)).unwrap();
         let mut r = record(1);
         r.est_range_m = f64::NAN;
@@ -245,9 +268,12 @@ pub(crate) mod tests {
         drop(csv);
         let lines: Vec<&str> = text.lines().collect();
         assert_eq!(lines.len(), 3, "{text}");
-        assert_eq!(lines[0], FRAMES_CSV_COLUMNS.join(","));
+        assert_eq!(
+            lines[0],
+            format!("{},sigma2_f0,sigma2_f1,sigma2_f2", FRAMES_CSV_COLUMNS.join(","))
+        );
         for line in &lines {
-            assert_eq!(parse(line).len(), FRAMES_CSV_COLUMNS.len(), "{line}");
+            assert_eq!(parse(line).len(), FRAMES_CSV_COLUMNS.len() + 3, "{line}");
         }
         let col = |name: &str| FRAMES_CSV_COLUMNS.iter().position(|c| *c == name).unwrap();
         let row0 = parse(lines[1]);
@@ -267,6 +293,9 @@ pub(crate) mod tests {
         assert_eq!(row1[col("collision")], "1");
         assert_eq!(row0[col("coverage_v")], "0.9");
         assert_eq!(row0[col("tracker_event")], "");
+        assert_eq!(row0[col("fit_residual")], "0.5");
+        let n = FRAMES_CSV_COLUMNS.len();
+        assert_eq!(&row0[n..], ["0.1", "", "0.25"]);
     }
 
     #[test]
@@ -276,7 +305,7 @@ pub(crate) mod tests {
         r.throttle = -0.0;
         r.brake = 1e21;
         r.chase_mode = "stop, \"now\"".into();
-        let row = format_row(&r, String::new());
+        let row = format_row(&r, 0, String::new());
         assert!(row.contains(",0.0000001,"), "{row}");
         assert!(row.contains(",1000000000000000000000,"), "{row}");
         assert!(!row.contains("-0"), "{row}");
@@ -289,7 +318,7 @@ pub(crate) mod tests {
     fn create_names_the_file_on_error() {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("missing-dir").join("frames.csv");
-        let err = FramesCsv::create(&path).unwrap_err();
+        let err = FramesCsv::create(&path, 3).unwrap_err();
         assert!(err.to_string().contains("frames.csv"), "{err}");
     }
 }

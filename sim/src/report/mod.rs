@@ -14,7 +14,7 @@ mod summary;
 mod video;
 
 pub use error::ReportError;
-pub use frames_csv::{FramesCsv, FRAMES_CSV_COLUMNS};
+pub use frames_csv::{sigma2_column, FramesCsv, FRAMES_CSV_COLUMNS};
 pub use junit::{iso8601_utc, junit_xml, write_junit, JunitScenario};
 pub use outputs::{OutputOptions, RunOutputs};
 pub use plots::{write_plots, PLOT_FILES};

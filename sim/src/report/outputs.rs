@@ -35,6 +35,8 @@ pub struct OutputOptions {
     pub expected_frames: Option<u64>,
     /// Draw the PNG plots at the end.
     pub plots: bool,
+    /// Segments of the target model: `frames.csv` has a σ² column for each.
+    pub features: usize,
 }
 
 impl Default for OutputOptions {
@@ -44,6 +46,7 @@ impl Default for OutputOptions {
             video_stride: 1,
             expected_frames: None,
             plots: true,
+            features: 0,
         }
     }
 }
@@ -80,7 +83,7 @@ impl RunOutputs {
     ) -> Result<RunOutputs, ReportError> {
         let dir = dir.as_ref().to_path_buf();
         std::fs::create_dir_all(&dir).map_err(ReportError::io(&dir))?;
-        let csv = FramesCsv::create(dir.join("frames.csv"))?;
+        let csv = FramesCsv::create(dir.join("frames.csv"), options.features)?;
         let at_fraction = match options.expected_frames {
             Some(n) if options.video && n > 0 => vec![
                 (n / 4, "still_25pct.png"),

@@ -30,6 +30,11 @@ use crate::record::{Expect, FrameRecord, TrackerStatus};
 /// The frame period used when the records cannot tell it: the loop's 15 Hz.
 pub const DEFAULT_FRAME_PERIOD_S: f64 = 1.0 / 15.0;
 
+/// Centre error beyond which a frame counts towards `imprecise_share`, pixels.
+pub const IMPRECISE_CENTRE_PX: f64 = 2.0;
+/// Relative scale error beyond which a frame counts towards `imprecise_share`.
+pub const IMPRECISE_SCALE: f64 = 0.05;
+
 /// Slack when comparing accumulated times with a limit, seconds: sums of 1/15 s steps are not
 /// exact in binary.
 const TIME_TOLERANCE_S: f64 = 1e-9;
@@ -70,6 +75,11 @@ pub struct Summary {
     pub tracking_lost_s: f64,
     /// Number of ground-truth loss events (maximal runs of lost frames).
     pub tracking_loss_events: u64,
+    /// A tighter measure beside the 25 % of `tracking_lost_s`: the share (0–1) of the frames
+    /// with the target in view whose estimate is off by more than
+    /// [`IMPRECISE_CENTRE_PX`] in centre or [`IMPRECISE_SCALE`] in scale (or is no
+    /// estimate); `null` when the target is never in view.
+    pub imprecise_share: Option<f64>,
     /// Time the tracker itself said `lost`, seconds.
     pub tracker_lost_s: f64,
     /// Time the tracker itself said `coasting`, seconds.
@@ -234,6 +244,18 @@ impl Summary {
         };
         let tracking_lost_s = time_where(&|r| r.lost_truth);
         let tracking_loss_events = count_events(records.iter().map(|r| r.lost_truth));
+        let in_view: Vec<&FrameRecord> = records.iter().filter(|r| r.target_in_view).collect();
+        let imprecise_share = (!in_view.is_empty()).then(|| {
+            let off = in_view
+                .iter()
+                .filter(|r| {
+                    let centre = (r.est_cx - r.true_cx).hypot(r.est_cy - r.true_cy);
+                    let scale = (r.est_scale / r.true_scale - 1.0).abs();
+                    !(centre <= IMPRECISE_CENTRE_PX && scale <= IMPRECISE_SCALE)
+                })
+                .count();
+            off as f64 / in_view.len() as f64
+        });
         let events = loss_events(records);
         let tracker_lost_s = time_where(&|r| r.status == TrackerStatus::Lost);
         let tracker_coasting_s = time_where(&|r| r.status == TrackerStatus::Coasting);
@@ -260,6 +282,7 @@ impl Summary {
             time_outside_gap_band_s,
             tracking_lost_s,
             tracking_loss_events,
+            imprecise_share,
             tracker_lost_s,
             tracker_coasting_s,
             silent_loss_frames: records
@@ -783,6 +806,7 @@ mod tests {
             "time_outside_gap_band_s",
             "tracking_lost_s",
             "tracking_loss_events",
+            "imprecise_share",
             "tracker_lost_s",
             "tracker_coasting_s",
             "range_error_m",

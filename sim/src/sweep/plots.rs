@@ -12,7 +12,7 @@ use plotters::prelude::*;
 use std::path::{Path, PathBuf};
 
 /// Size of one axis's figure, pixels.
-const SIZE: (u32, u32) = (1400, 1000);
+const SIZE: (u32, u32) = (1400, 1500);
 const TITLE_PX: u32 = 22;
 const LABEL_PX: u32 = 15;
 const TICK_PX: u32 = 13;
@@ -39,7 +39,7 @@ pub(crate) fn write_plots(dir: &Path, rows: &[ResultRow]) -> Result<Vec<PathBuf>
         }
         let path = dir.join(format!("sweep-{axis}.png"));
         render(&path, SIZE, &|area: &Area| {
-            let panels = area.split_evenly((2, 2));
+            let panels = area.split_evenly((3, 2));
             for (panel, figure) in panels.iter().zip(FIGURES.iter()) {
                 draw_panel(panel, rows, &scenarios, &axis, figure)?;
             }

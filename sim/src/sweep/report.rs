@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 
 /// A figure of a point's summary the report compares: `(short name, JSON pointer into the
 /// summary, axis label)`.
-pub const FIGURES: [(&str, &str, &str); 4] = [
+pub const FIGURES: [(&str, &str, &str); 5] = [
     (
         "tracking_lost_s",
         "/tracking_lost_s",
@@ -30,6 +30,11 @@ pub const FIGURES: [(&str, &str, &str); 4] = [
         "/lateral_path_error_m/mean_abs",
         "path deviation, mean |lateral| (m)",
     ),
+    (
+        "imprecise_share",
+        "/imprecise_share",
+        "share of frames off by > 2 px or > 5 % in scale",
+    ),
 ];
 
 /// How [`best_values`] chooses, as `summary.md` states it.
@@ -39,7 +44,7 @@ mean range error, then the least mean time outside the gap band, then the earlie
 Overall, each scenario's means count equally.";
 
 /// An axis value and the mean of each of [`FIGURES`] there.
-type ValueMeans = (serde_json::Value, [Option<f64>; 4]);
+type ValueMeans = (serde_json::Value, [Option<f64>; FIGURES.len()]);
 
 /// Ties in tracking-loss time closer than this are ties, seconds.
 const TIE_S: f64 = 1e-3;
@@ -50,7 +55,7 @@ pub struct Best {
     /// The axis value.
     pub value: serde_json::Value,
     /// Mean of each of [`FIGURES`] at that value (`None` where no row had it).
-    pub means: [Option<f64>; 4],
+    pub means: [Option<f64>; FIGURES.len()],
 }
 
 /// Mean of each figure per distinct axis value (in first-seen order) over `rows`.
@@ -81,7 +86,7 @@ fn means_by_value(rows: &[&ResultRow], axis: &str) -> Vec<ValueMeans> {
 
 /// Picks by [`BEST_RULE`] among `(value, means)` in order.
 fn pick(candidates: Vec<ValueMeans>) -> Option<Best> {
-    let key = |m: &[Option<f64>; 4], i: usize| m[i].unwrap_or(f64::INFINITY);
+    let key = |m: &[Option<f64>; FIGURES.len()], i: usize| m[i].unwrap_or(f64::INFINITY);
     let mut best: Option<ValueMeans> = None;
     for (v, m) in candidates {
         let better = match &best {
@@ -184,11 +189,12 @@ pub fn write_report(dir: &Path, rows: &[ResultRow]) -> Result<Vec<PathBuf>, Swee
 }
 
 /// Columns of `table.csv` after the axis columns: `(header, JSON pointer)`.
-const CSV_FIGURES: [(&str, &str); 16] = [
+const CSV_FIGURES: [(&str, &str); 17] = [
     ("passed", "/passed"),
     ("duration_s", "/duration_s"),
     ("tracking_lost_s", "/tracking_lost_s"),
     ("tracking_loss_events", "/tracking_loss_events"),
+    ("imprecise_share", "/imprecise_share"),
     ("tracker_coasting_s", "/tracker_coasting_s"),
     ("range_error_mean_abs_m", "/range_error_m/mean_abs"),
     ("range_error_p95_abs_m", "/range_error_m/p95_abs"),
@@ -280,22 +286,23 @@ fn summary_md(rows: &[ResultRow]) -> String {
     );
     let _ = writeln!(md, "**Rule.** The best value of an axis is {BEST_RULE}\n");
     let header =
-        "| | tracking lost (s) | range error (m) | outside gap band (s) | path deviation (m) |";
+        "| | tracking lost (s) | range error (m) | outside gap band (s) | path deviation (m) | off > 2 px or 5 % (share) |";
     for axis in axis_paths(rows) {
         let (per, overall) = best_values(rows, &axis);
         let _ = writeln!(md, "## `{axis}`\n");
         let _ = writeln!(md, "Best value, with its mean figures:\n");
         let _ = writeln!(md, "| scenario | best `{axis}` {}", &header[2..]);
-        let _ = writeln!(md, "|---|---|---|---|---|---|");
+        let _ = writeln!(md, "|---|---|---|---|---|---|---|");
         let line = |md: &mut String, name: &str, b: &Best| {
             let _ = writeln!(
                 md,
-                "| {name} | {} | {} | {} | {} | {} |",
+                "| {name} | {} | {} | {} | {} | {} | {} |",
                 b.value,
                 fmt(b.means[0]),
                 fmt(b.means[1]),
                 fmt(b.means[2]),
-                fmt(b.means[3])
+                fmt(b.means[3]),
+                fmt(b.means[4])
             );
         };
         for (s, b) in &per {
