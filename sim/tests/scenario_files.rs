@@ -277,3 +277,24 @@ fn look_ahead_and_gains_are_bounded() {
         "{e}"
     );
 }
+
+#[test]
+fn a_chase_speed_profile_scripts_the_throttle_and_is_checked() {
+    let t = text().replace(
+        "initial_gap_m = 10.0",
+        "initial_gap_m = 10.0\nspeed_profile = [[0.0, 6.0], [10.0, 9.0]]",
+    );
+    let s = load(&t, &[]).unwrap();
+    assert!(
+        matches!(&s.chase.speed_mode, vehicle::SpeedMode::Manual { profile } if profile.knots.len() == 2),
+        "{:?}",
+        s.chase.speed_mode
+    );
+    // Refused: a speed out of range, a bad basis, a basis without a profile.
+    let e = load(&t.replace("[10.0, 9.0]", "[10.0, 90.0]"), &[]).unwrap_err();
+    assert!(e.contains("`chase.speed_profile` = [10, 90]"), "{e}");
+    let e = load(&t, &["chase.speed_basis=\"lap\""]).unwrap_err();
+    assert!(e.contains("`chase.speed_basis` = \"lap\""), "{e}");
+    let e = load(&text(), &["chase.speed_basis=\"distance\""]).unwrap_err();
+    assert!(e.contains("applies only with chase.speed_profile"), "{e}");
+}

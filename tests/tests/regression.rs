@@ -72,6 +72,7 @@ macro_rules! scenario_test {
 }
 
 scenario_test!(nist_grounds, "nist-grounds");
+scenario_test!(nist_grounds_manual, "nist-grounds-manual");
 scenario_test!(weave, "weave");
 scenario_test!(hard_braking, "hard-braking");
 scenario_test!(long_range, "long-range");
@@ -111,6 +112,7 @@ macro_rules! robust_test {
 }
 
 robust_test!(robust_nist_grounds, "nist-grounds");
+robust_test!(robust_nist_grounds_manual, "nist-grounds-manual");
 robust_test!(robust_weave, "weave");
 // Whole: both of its emergency stops (from 20.1 s) are what robust mode must hold.
 robust_test!(robust_hard_braking, "hard-braking");

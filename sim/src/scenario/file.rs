@@ -116,6 +116,16 @@ pub struct ChaseFile {
     /// Camera-to-target distance at t = 0, metres (default 10): 3–60, with the target in
     /// the camera's view.
     pub initial_gap_m: Option<f64>,
+    /// The paper's manual throttle ("throttle was controlled manually"): with a profile, the
+    /// chase's speed follows this scripted driver, as `[lead] speed_profile` is written
+    /// (`[[key, speed_mps], ...]`), and only steering is closed-loop; the emergency brake
+    /// still guards the gap. Without one, the gap keeper sets the speed.
+    #[serde(default, deserialize_with = "exact::optional_rows")]
+    pub speed_profile: Option<Vec<[f64; 2]>>,
+    /// What `speed_profile`'s keys are: `"time"` (seconds, the default) or `"distance"`
+    /// (metres driven).
+    #[serde(default = "default_basis")]
+    pub speed_basis: String,
     /// The controller (gap keeper or manual speed, look-ahead, loss handling). Its camera
     /// mount comes from `[camera.mount]`.
     #[serde(default)]
@@ -279,5 +289,14 @@ pub(crate) mod exact {
             .into_iter()
             .map(sized)
             .collect()
+    }
+
+    /// `Option<Vec<[f64; N]>>`: absent, or rows of exactly `N` numbers each.
+    pub fn optional_rows<'de, D: Deserializer<'de>, const N: usize>(
+        d: D,
+    ) -> Result<Option<Vec<[f64; N]>>, D::Error> {
+        Option::<Vec<Vec<f64>>>::deserialize(d)?
+            .map(|rows| rows.into_iter().map(sized).collect())
+            .transpose()
     }
 }

@@ -115,6 +115,36 @@ fn short(text: String) -> String {
     }
 }
 
+/// A speed profile from its file form (`SECTION.speed_basis`, `SECTION.speed_profile`);
+/// `Err((field, message))` naming what is wrong.
+fn speed_profile(
+    section: &str,
+    basis: &str,
+    rows: &[[f64; 2]],
+) -> Result<SpeedProfile, (String, String)> {
+    let basis = match basis {
+        "time" => ProfileBasis::Time,
+        "distance" => ProfileBasis::Distance,
+        other => {
+            return Err((
+                format!("{section}.speed_basis"),
+                format!("= {other:?}: must be \"time\" or \"distance\""),
+            ))
+        }
+    };
+    let field = format!("{section}.speed_profile");
+    for [k, v] in rows {
+        check(
+            k.abs() <= 1e7 && (0.0..=40.0).contains(v),
+            "knots are [key, speed_mps] with the key within ±1e7 (s or m) and speed 0–40 m/s",
+            format!("[{}, {}]", short(k.to_string()), short(v.to_string())),
+        )
+        .map_err(|m| (field.clone(), m))?;
+    }
+    let knots: Vec<(f32, f32)> = rows.iter().map(|[k, v]| (*k as f32, *v as f32)).collect();
+    SpeedProfile::new(basis, &knots).map_err(|e| (field, format!(": {e}")))
+}
+
 /// Range check helper: `Err(message)` saying what is allowed.
 fn check(ok: bool, allowed: &str, value: impl std::fmt::Display) -> Result<(), String> {
     if ok {
@@ -259,34 +289,8 @@ pub(super) fn validate(
             l.start_m,
         ),
     )?;
-    let basis = match l.speed_basis.as_str() {
-        "time" => ProfileBasis::Time,
-        "distance" => ProfileBasis::Distance,
-        other => {
-            return Err(invalid(
-                "lead.speed_basis",
-                format!("= {other:?}: must be \"time\" or \"distance\""),
-            ))
-        }
-    };
-    let knots: Vec<(f32, f32)> = l
-        .speed_profile
-        .iter()
-        .map(|[k, v]| (*k as f32, *v as f32))
-        .collect();
-    for [k, v] in &l.speed_profile {
-        at(
-            "lead.speed_profile",
-            check(
-                k.abs() <= 1e7 && (0.0..=40.0).contains(v),
-                "knots are [key, speed_mps] with the key within ±1e7 (s or m) and speed \
-                 0–40 m/s",
-                format!("[{}, {}]", short(k.to_string()), short(v.to_string())),
-            ),
-        )?;
-    }
-    let lead_profile = SpeedProfile::new(basis, &knots)
-        .map_err(|e| invalid("lead.speed_profile", format!(": {e}")))?;
+    let lead_profile = speed_profile("lead", &l.speed_basis, &l.speed_profile)
+        .map_err(|(field, message)| invalid(&field, message))?;
     let lead_initial_speed_mps = l
         .initial_speed_mps
         .unwrap_or_else(|| l.speed_profile.first().map_or(0.0, |k| k[1]));
@@ -329,6 +333,25 @@ pub(super) fn validate(
     })?;
     let mut chase = raw.chase.controller.clone();
     chase.camera_mount = raw.camera.mount;
+    if let Some(rows) = &raw.chase.speed_profile {
+        // The paper's manual throttle: the chase's speed follows a scripted driver and only
+        // its steering is closed-loop.
+        if chase.speed_mode != vehicle::SpeedMode::GapKeeping {
+            return Err(invalid(
+                "chase.speed_profile",
+                ": give either chase.speed_profile or chase.controller.speed_mode, not both"
+                    .into(),
+            ));
+        }
+        let profile = speed_profile("chase", &raw.chase.speed_basis, rows)
+            .map_err(|(field, message)| invalid(&field, message))?;
+        chase.speed_mode = vehicle::SpeedMode::Manual { profile };
+    } else if raw.chase.speed_basis != "time" {
+        return Err(invalid(
+            "chase.speed_basis",
+            ": applies only with chase.speed_profile".into(),
+        ));
+    }
     let c = &raw.camera;
     let defaults = Camera::default();
     let camera = Camera {
