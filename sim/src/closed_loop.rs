@@ -203,6 +203,7 @@ fn lead_body() -> (LeadVehicle, Isometry3<f64>) {
         width_m: f64::from(lead_params.width_m),
         height_m: LEAD_BODY_HEIGHT_M,
         board_centre_height_m: BOARD_CENTRE_HEIGHT_M,
+        distractors: Vec::new(),
     };
     let lead_from_scene = Isometry3::translation(
         0.5 * f64::from(lead_params.length_m) - f64::from(lead_params.rear_overhang_m),
@@ -246,11 +247,14 @@ fn scene_description(s: &Scenario) -> SceneDescription {
         seed: s.seed,
         route: s.route.clone(),
         densities: s.densities.clone(),
-        placements: Vec::new(),
+        placements: s.placements.clone(),
         sun: s.sun.clone(),
         sensor: s.sensor.clone(),
         target: s.target.clone(),
-        lead: lead_body,
+        lead: LeadVehicle {
+            distractors: s.distractors.clone(),
+            ..lead_body
+        },
         chase: hood,
     }
 }

@@ -208,6 +208,46 @@ pub struct EnvironmentFile {
     pub sensor: SensorFile,
     /// Gentle bumps under the road, so the chassis pitches and rolls.
     pub bumps: Option<BumpsConfig>,
+    /// Controlled distractors moving with the lead (`[[environment.distractors]]`).
+    #[serde(default)]
+    pub distractors: Vec<DistractorFile>,
+    /// Overpasses across the route (`[[environment.overpasses]]`).
+    #[serde(default)]
+    pub overpasses: Vec<OverpassFile>,
+}
+
+/// `[[environment.distractors]]`: a pole or a wire that moves with the lead beside one of
+/// the target's features (section 4's "close and parallel" clutter).
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct DistractorFile {
+    /// `"pole"` (vertical, beside a vertical feature) or `"wire"` (horizontal, beside a
+    /// horizontal feature).
+    pub kind: String,
+    /// The target segment it runs beside (its index in the target file).
+    pub feature: usize,
+    /// Gap from the feature's line to its near side, pixels at the nominal range (scale 1),
+    /// positive away from the target's centre: ±60. Give this or `offset_m`.
+    pub offset_px: Option<f64>,
+    /// The same gap in metres on the board: ±2. Give this or `offset_px`.
+    pub offset_m: Option<f64>,
+    /// Its width, metres: 0.005–0.5 (default 0.05 for a pole, 0.02 for a wire).
+    pub width_m: Option<f64>,
+    /// Its albedo: 0–1 (default 0.1, dark; the board's light paint is 0.85).
+    pub albedo: Option<f64>,
+}
+
+/// `[[environment.overpasses]]`: a bridge over the route, whose shadow lies across the
+/// road as a band.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct OverpassFile {
+    /// Where it crosses the route, metres along it: on the route.
+    pub station_m: f64,
+    /// The deck's width along the route, metres: 2–60 (default 10).
+    pub deck_m: Option<f64>,
+    /// The deck's underside above the road, metres: 4.5–20 (default 5.5).
+    pub height_m: Option<f64>,
 }
 
 /// `[environment.sun]`.

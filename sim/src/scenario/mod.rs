@@ -133,6 +133,10 @@ pub struct Scenario {
     pub sun: Sun,
     /// Clutter.
     pub densities: Densities,
+    /// Hand-placed scenery (overpasses).
+    pub placements: Vec<crate::scene::Placement>,
+    /// Controlled distractors moving with the lead.
+    pub distractors: Vec<crate::scene::Distractor>,
     /// Sensor.
     pub sensor: Sensor,
     /// Pass/fail criteria.

@@ -27,10 +27,41 @@ pub fn apply_override(root: &mut toml::Table, assignment: &str) -> Result<(), Sc
     let value = parse_value(value_text.trim());
     let (last, parents) = keys.split_last().expect("split gives at least one key");
     let mut table = root;
-    for (depth, key) in parents.iter().enumerate() {
+    let mut depth = 0;
+    while depth < parents.len() {
+        let key = parents[depth];
         let entry = table
             .entry(key.to_string())
             .or_insert_with(|| toml::Value::Table(toml::Table::new()));
+        // An array of tables is entered by a 0-based index: `environment.distractors.0.x`.
+        let entry = match entry {
+            toml::Value::Array(items) => {
+                let Some(index) = keys.get(depth + 1).and_then(|k| k.parse::<usize>().ok())
+                else {
+                    return Err(err(format!(
+                        "`{}` is a list: name an item by its index, as in `{}.0.{}`",
+                        keys[..=depth].join("."),
+                        keys[..=depth].join("."),
+                        keys[depth + 1]
+                    )));
+                };
+                let len = items.len();
+                depth += 1;
+                if depth == parents.len() {
+                    return Err(err(format!(
+                        "`{}` is an item of a list: set one of its fields",
+                        keys[..=depth].join(".")
+                    )));
+                }
+                items.get_mut(index).ok_or_else(|| {
+                    err(format!(
+                        "`{}` has {len} item(s), so no item {index}",
+                        keys[..depth].join(".")
+                    ))
+                })?
+            }
+            other => other,
+        };
         table = match entry {
             toml::Value::Table(t) => t,
             _ => {
@@ -41,6 +72,7 @@ pub fn apply_override(root: &mut toml::Table, assignment: &str) -> Result<(), Sc
                 )))
             }
         };
+        depth += 1;
     }
     table.insert(last.to_string(), value);
     Ok(())

@@ -6,7 +6,9 @@
 //! passes.
 
 use super::{Scenario, ScenarioError, ScenarioFile};
-use crate::scene::{Densities, RouteSegment, RouteSpec, Sensor, Sun};
+use crate::scene::{
+    Densities, Distractor, DistractorKind, Placement, RouteSegment, RouteSpec, Sensor, Sun,
+};
 use tracker::{Camera, TargetModel, TrackerConfig, TrackerMode};
 use vehicle::{DelayLineConfig, ProfileBasis, SpeedProfile, WorldConfig};
 
@@ -586,6 +588,117 @@ pub(super) fn validate(
             *dst = v;
         }
     }
+    // Controlled distractors and overpasses.
+    let mut distractors = Vec::new();
+    for (i, d) in e.distractors.iter().enumerate() {
+        let field = |name: &str| format!("environment.distractors[{i}].{name}");
+        let (kind, wanted) = match d.kind.as_str() {
+            "pole" => (DistractorKind::Pole, tracker::Orientation::Vertical),
+            "wire" => (DistractorKind::Wire, tracker::Orientation::Horizontal),
+            other => {
+                return Err(invalid(
+                    &field("kind"),
+                    format!("= {other:?}: must be \"pole\" or \"wire\""),
+                ))
+            }
+        };
+        let segments = target.segments().len();
+        at(
+            &field("feature"),
+            check(
+                d.feature < segments,
+                &format!("must be a segment of the target, 0–{}", segments - 1),
+                d.feature,
+            ),
+        )?;
+        let orientation = target
+            .orientations()
+            .nth(d.feature)
+            .expect("feature index checked");
+        if orientation != wanted {
+            return Err(invalid(
+                &field("feature"),
+                format!(
+                    "= {}: segment {} is {}, and a {} runs beside a {} one",
+                    d.feature,
+                    d.feature,
+                    orientation.as_str(),
+                    d.kind,
+                    wanted.as_str()
+                ),
+            ));
+        }
+        let px_m = target.nominal_range_m() / camera.focal_px()[0];
+        let offset_m = match (d.offset_px, d.offset_m) {
+            (Some(px), None) => {
+                at(
+                    &field("offset_px"),
+                    check(px.is_finite() && px.abs() <= 60.0, "must be within ±60 px", px),
+                )?;
+                px * px_m
+            }
+            (None, Some(m)) => {
+                at(
+                    &field("offset_m"),
+                    check(m.is_finite() && m.abs() <= 2.0, "must be within ±2 m", m),
+                )?;
+                m
+            }
+            _ => {
+                return Err(invalid(
+                    &field("offset_px"),
+                    ": give exactly one of offset_px and offset_m".into(),
+                ))
+            }
+        };
+        let width_m = d.width_m.unwrap_or(match kind {
+            DistractorKind::Pole => 0.05,
+            DistractorKind::Wire => 0.02,
+        });
+        at(
+            &field("width_m"),
+            check((0.005..=0.5).contains(&width_m), "must be 0.005–0.5 m", width_m),
+        )?;
+        let albedo = d.albedo.unwrap_or(0.1);
+        at(
+            &field("albedo"),
+            check((0.0..=1.0).contains(&albedo), "must be 0–1", albedo),
+        )?;
+        distractors.push(Distractor {
+            kind,
+            feature: d.feature,
+            offset_m,
+            width_m,
+            albedo,
+        });
+    }
+    let mut placements = Vec::new();
+    for (i, o) in e.overpasses.iter().enumerate() {
+        let field = |name: &str| format!("environment.overpasses[{i}].{name}");
+        at(
+            &field("station_m"),
+            check(
+                o.station_m.is_finite() && (0.0..=length).contains(&o.station_m),
+                &format!("must lie on the route, 0–{length:.0} m"),
+                o.station_m,
+            ),
+        )?;
+        let deck_m = o.deck_m.unwrap_or(10.0);
+        at(
+            &field("deck_m"),
+            check((2.0..=60.0).contains(&deck_m), "must be 2–60 m", deck_m),
+        )?;
+        let height_m = o.height_m.unwrap_or(5.5);
+        at(
+            &field("height_m"),
+            check((4.5..=20.0).contains(&height_m), "must be 4.5–20 m", height_m),
+        )?;
+        placements.push(Placement::Overpass {
+            station_m: o.station_m,
+            deck_m,
+            height_m,
+        });
+    }
     let mut sensor = Sensor::default();
     if let Some(v) = e.sensor.gain {
         sensor.gain = v;
@@ -753,6 +866,8 @@ pub(super) fn validate(
         world,
         sun,
         densities,
+        placements,
+        distractors,
         sensor,
         expect: raw.expect,
     };

@@ -2,7 +2,7 @@
 //! ground-plane cells (so the renderer can cull what it cannot see), and the moving objects
 //! (chase hood, lead vehicle with its board, oncoming traffic) in their own frames.
 
-use super::description::{Placement, SceneDescription};
+use super::description::{DistractorKind, Placement, SceneDescription};
 use super::mesh::Mesh;
 use super::rng::stream;
 use super::route::Route;
@@ -93,6 +93,12 @@ const CROSS_ROAD_HALF_M: f64 = 120.0;
 const BOARD_STANDOFF_M: f64 = 0.01;
 /// How far the paint on the board stands proud of it, metres (depth-safe at 50 m).
 const STRIPE_STANDOFF_M: f64 = 0.003;
+/// How far a controlled distractor stands in front of the board, metres.
+const DISTRACTOR_STANDOFF_M: f64 = 0.02;
+/// Height of a distractor pole, metres (a telephone pole's).
+const DISTRACTOR_POLE_M: f64 = 9.0;
+/// How far a distractor wire runs to each side of the target's centre, metres.
+const DISTRACTOR_REACH_M: f64 = 6.0;
 /// The paint rule, shared with the tracker's synthetic frames.
 pub use tracker::paint::{BOARD_MARGIN_M, STRIPE_EXTENSION_M as STRIPE_OVERRUN_M, STRIPE_WIDTH_M};
 /// Albedo of the board's light paint.
@@ -595,6 +601,11 @@ impl Scene {
                         .upright_box(x_m, z_m, 0.0, 0.13, 0.13, 0.0, POLE_TOP_M, 0.30);
                 }
                 Placement::Tree { x_m, z_m } => tree_at(&mut bins, &mut placed, x_m, z_m),
+                Placement::Overpass {
+                    station_m,
+                    deck_m,
+                    height_m,
+                } => overpass(&mut bins, &route, road_half, station_m, deck_m, height_m),
             }
         }
 
@@ -827,7 +838,61 @@ fn lead_vehicle(description: &SceneDescription) -> Mesh {
             slot,
         );
     }
+    // Controlled distractors, just in front of the board.
+    let features = target.features_px(&tracker::Camera::default());
+    for d in &lead.distractors {
+        let f = &features[d.feature];
+        // The feature's line, metres on the board (model y is up; the image's is down).
+        let k = target.nominal_range_m() / tracker::Camera::default().focal_px()[0];
+        let line = match f.orientation {
+            tracker::Orientation::Vertical => f.offset_px * k,
+            tracker::Orientation::Horizontal => -f.offset_px * k,
+        };
+        let outward = if line < 0.0 { -1.0 } else { 1.0 };
+        let near = line + outward * d.offset_m;
+        let far = near + outward * d.width_m;
+        let (a, b) = (near.min(far), near.max(far));
+        let z = DISTRACTOR_STANDOFF_M;
+        let ground = -lead.board_centre_height_m;
+        let [x0, y0, x1, y1] = match d.kind {
+            DistractorKind::Pole => [a, ground, b, ground + DISTRACTOR_POLE_M],
+            DistractorKind::Wire => [-DISTRACTOR_REACH_M, a, DISTRACTOR_REACH_M, b],
+        };
+        mesh.quad_with_normal(
+            [put(x0, y0, z), put(x1, y0, z), put(x1, y1, z), put(x0, y1, z)],
+            normal,
+            d.albedo,
+            slot,
+        );
+    }
     mesh
+}
+
+/// An overpass across the route at `station_m`: a deck 1 m thick, `deck_m` wide along the
+/// route and reaching 12 m beyond the road's edges, on two abutment walls.
+fn overpass(bins: &mut Bins, route: &Route, road_half: f64, station_m: f64, deck_m: f64, height_m: f64) {
+    let [x, z, heading] = route.at(station_m);
+    let along = [heading.cos(), 0.0, -heading.sin()];
+    let across = [heading.sin(), 0.0, heading.cos()];
+    let reach = road_half + 12.0;
+    let mesh = bins.at(x, z, Layer::Clutter);
+    mesh.oriented_box(
+        [x, height_m + 0.5, z],
+        [along, [0.0, 1.0, 0.0], across],
+        [0.5 * deck_m, 0.5, reach],
+        0.5,
+        ObjectSlot::WORLD,
+    );
+    for side in [-1.0, 1.0] {
+        let l = side * (road_half + 4.0);
+        mesh.oriented_box(
+            [x + l * across[0], 0.5 * height_m, z + l * across[2]],
+            [along, [0.0, 1.0, 0.0], across],
+            [0.5 * deck_m, 0.5 * height_m, 0.4],
+            0.55,
+            ObjectSlot::WORLD,
+        );
+    }
 }
 
 /// A car in its own frame (x forward): body, a dark glass cabin, wheels.

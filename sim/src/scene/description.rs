@@ -68,6 +68,44 @@ pub enum Placement {
         /// World z, metres.
         z_m: f64,
     },
+    /// A bridge carrying another road over the route: a deck across the road on two
+    /// abutments, whose shadow lies across the road as a band with straight edges.
+    Overpass {
+        /// Where its centre line crosses the route, metres along it.
+        station_m: f64,
+        /// The deck's width along the route, metres (the shadow band's width, for a sun
+        /// overhead).
+        deck_m: f64,
+        /// Height of the deck's underside above the road, metres.
+        height_m: f64,
+    },
+}
+
+/// What a controlled distractor is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DistractorKind {
+    /// A vertical bar from the ground up (a pole), beside a vertical feature.
+    Pole,
+    /// A horizontal bar across the image (a wire), beside a horizontal feature.
+    Wire,
+}
+
+/// A line that moves with the lead, beside one of the target's features, at a set offset:
+/// section 4's clutter "of similar orientation ... near a predicted feature location", held
+/// where a study wants it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Distractor {
+    /// Pole or wire.
+    pub kind: DistractorKind,
+    /// The target segment it runs beside (vertical for a pole, horizontal for a wire).
+    pub feature: usize,
+    /// Gap between the feature's line and the distractor's near side, metres on the board,
+    /// positive away from the target's centre.
+    pub offset_m: f64,
+    /// Its width across its length, metres.
+    pub width_m: f64,
+    /// Its albedo, 0–1 (the board's light paint is `BOARD_ALBEDO`).
+    pub albedo: f64,
 }
 
 /// The sun: a directional light, and the sky's ambient light.
@@ -149,6 +187,8 @@ pub struct LeadVehicle {
     pub height_m: f64,
     /// Height of the target's centre above the ground, metres.
     pub board_centre_height_m: f64,
+    /// Controlled distractors that move with it.
+    pub distractors: Vec<Distractor>,
 }
 
 impl Default for LeadVehicle {
@@ -161,6 +201,7 @@ impl Default for LeadVehicle {
             width_m: 2.5,
             height_m: 2.7,
             board_centre_height_m: 1.6,
+            distractors: Vec::new(),
         }
     }
 }
