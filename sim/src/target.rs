@@ -179,8 +179,8 @@ pub fn parse(text: &str, path: &Path) -> Result<TargetModel, TargetFileError> {
             )
         })?,
     };
-    let model = TargetModel::new(raw.name, *raw.nominal_range_m.get_ref(), corners, segments).map_err(
-        |source| {
+    let model = TargetModel::new(raw.name, *raw.nominal_range_m.get_ref(), corners, segments)
+        .map_err(|source| {
             // Point at the item the error is about.
             let (field, span) = match &source {
                 TargetError::BadNominalRange(_) => ("nominal_range_m", raw.nominal_range_m.span()),
@@ -205,9 +205,8 @@ pub fn parse(text: &str, path: &Path) -> Result<TargetModel, TargetFileError> {
                 field,
                 source,
             }
-        },
-    )?
-    .with_paint(paint);
+        })?
+        .with_paint(paint);
     if let Err(PaintError::NotABoundary { segment }) = tracker::paint::layout(&model) {
         let (line, column) = line_column(text, raw.segments[segment].span().start);
         return Err(TargetFileError::Unpaintable {

@@ -12,7 +12,6 @@
 //! Run: `cargo test -p sim --release --test render`.
 
 use image::{GrayImage, Luma};
-use tracker::paint::Paint;
 use nalgebra::{Isometry3, Point3};
 use sim::camera::{Backend, CameraRig, Frame, FrameInput, RenderOptions, Renderer};
 use sim::scene::{
@@ -20,6 +19,7 @@ use sim::scene::{
     SceneDescription, STRIPE_OVERRUN_M, STRIPE_WIDTH_M,
 };
 use std::path::PathBuf;
+use tracker::paint::Paint;
 
 fn options() -> RenderOptions {
     RenderOptions {
@@ -408,5 +408,55 @@ fn sensor_noise_has_the_configured_sigma() {
     assert!(
         lag1.abs() < 0.02,
         "neighbouring pixels correlate: {lag1:.3}"
+    );
+}
+
+/// A controlled distractor moves with the lead beside its feature: a dark pole 6 px (at the
+/// nominal range) outside the outer left feature darkens the board's margin there, and
+/// nowhere else on the row.
+#[test]
+fn a_distractor_pole_stands_where_it_is_put() {
+    let offset_m = 6.0 * 10.0 / 320.0;
+    let probe = |with_pole: bool| {
+        let mut d = bare(1);
+        if with_pole {
+            d.lead.distractors.push(sim::scene::Distractor {
+                kind: sim::scene::DistractorKind::Pole,
+                feature: 3,
+                offset_m,
+                width_m: 0.08,
+                albedo: 0.05,
+            });
+        }
+        let mut r = renderer(d, &options());
+        let (chase, lead) = builtin_poses(
+            r.scene().description(),
+            r.scene().route(),
+            &r.rig().mount,
+            1.0,
+        );
+        let frame = r
+            .render(&FrameInput {
+                frame_index: 0,
+                time_s: 1.0,
+                world_from_chase: chase,
+                world_from_lead: lead,
+            })
+            .unwrap();
+        let cam = camera_from_target(&r, &chase, &lead);
+        let value = |x: f64, y: f64| {
+            let [u, v] = project(&r, &cam, [x, y, 0.02]);
+            i32::from(frame.image.get_pixel(u.round() as u32, v.round() as u32)[0])
+        };
+        // The pole's middle, and the margin on the right at the same offset.
+        let x = -0.8 - offset_m - 0.04;
+        (value(x, 0.0), value(-x, 0.0))
+    };
+    let (pole, other_side) = probe(true);
+    let (bare_left, _) = probe(false);
+    assert!(pole + 40 < bare_left, "pole {pole}, bare board {bare_left}");
+    assert!(
+        (other_side - bare_left).abs() <= 3,
+        "{other_side} vs {bare_left}"
     );
 }

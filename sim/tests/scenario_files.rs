@@ -298,3 +298,50 @@ fn a_chase_speed_profile_scripts_the_throttle_and_is_checked() {
     let e = load(&text(), &["chase.speed_basis=\"distance\""]).unwrap_err();
     assert!(e.contains("applies only with chase.speed_profile"), "{e}");
 }
+
+fn section4() -> String {
+    std::fs::read_to_string(scenarios_dir().join("section4.toml")).unwrap()
+}
+
+#[test]
+fn distractors_and_overpasses_are_checked_and_list_items_can_be_set() {
+    let s = load(&section4(), &[]).unwrap();
+    assert_eq!(s.distractors.len(), 1);
+    // 2 px at the nominal 10 m with a 320 px focal length: 2 × 10 / 320 m.
+    assert!((s.distractors[0].offset_m - 2.0 * 10.0 / 320.0).abs() < 1e-12);
+    assert_eq!(s.placements.len(), 1);
+    // A list item's field by its index, as a sweep axis sets it.
+    let s = load(&section4(), &["environment.distractors.0.offset_m=0.1"]).unwrap_err();
+    assert!(
+        s.contains("give exactly one of offset_px and offset_m"),
+        "{s}"
+    );
+    let s = load(&section4(), &["environment.distractors.0.offset_px=-3"]).unwrap();
+    assert!((s.distractors[0].offset_m + 3.0 * 10.0 / 320.0).abs() < 1e-12);
+    let e = load(&section4(), &["environment.distractors.1.offset_px=3"]).unwrap_err();
+    assert!(e.contains("has 1 item(s), so no item 1"), "{e}");
+    let e = load(&section4(), &["environment.distractors.x=3"]).unwrap_err();
+    assert!(e.contains("is a list: name an item by its index"), "{e}");
+    // A pole beside a horizontal feature (segment 0 is the outer top) is refused.
+    let e = load(&section4(), &["environment.distractors.0.feature=0"]).unwrap_err();
+    assert!(
+        e.contains("`environment.distractors[0].feature` = 0: segment 0 is horizontal"),
+        "{e}"
+    );
+    let e = load(&section4(), &["environment.distractors.0.feature=10"]).unwrap_err();
+    assert!(e.contains("must be a segment of the target, 0–9"), "{e}");
+    let e = load(&section4(), &["environment.distractors.0.kind=\"tree\""]).unwrap_err();
+    assert!(e.contains("must be \"pole\" or \"wire\""), "{e}");
+    let e = load(&section4(), &["environment.distractors.0.albedo=1.5"]).unwrap_err();
+    assert!(
+        e.contains("`environment.distractors[0].albedo` = 1.5: must be 0–1"),
+        "{e}"
+    );
+    let e = load(&section4(), &["environment.overpasses.0.height_m=2"]).unwrap_err();
+    assert!(
+        e.contains("`environment.overpasses[0].height_m` = 2: must be 4.5–20 m"),
+        "{e}"
+    );
+    let e = load(&section4(), &["environment.overpasses.0.station_m=9000"]).unwrap_err();
+    assert!(e.contains("must lie on the route"), "{e}");
+}

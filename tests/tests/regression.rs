@@ -93,6 +93,7 @@ fn tape_17min() {
 
 scenario_test!(gravel_road, "gravel-road");
 scenario_test!(swerves, "swerves");
+scenario_test!(section4, "section4");
 
 macro_rules! robust_test {
     ($test:ident, $name:literal) => {
@@ -113,6 +114,7 @@ macro_rules! robust_test {
 
 robust_test!(robust_nist_grounds, "nist-grounds");
 robust_test!(robust_nist_grounds_manual, "nist-grounds-manual");
+robust_test!(robust_section4, "section4");
 robust_test!(robust_weave, "weave");
 // Whole: both of its emergency stops (from 20.1 s) are what robust mode must hold.
 robust_test!(robust_hard_braking, "hard-braking");

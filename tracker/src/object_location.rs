@@ -90,7 +90,8 @@ pub fn locate_object(
     let j = if features_used == 3 {
         j_l.max(config.min_fit_residual)
     } else {
-        j_l.max(RELATIVE_RESIDUAL_FLOOR * energy).max(f64::MIN_POSITIVE)
+        j_l.max(RELATIVE_RESIDUAL_FLOOR * energy)
+            .max(f64::MIN_POSITIVE)
     };
     Some(Measurement {
         location,

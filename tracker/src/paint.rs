@@ -190,7 +190,11 @@ fn steps(model: &TargetModel) -> Result<Vec<PaintRect>, PaintError> {
     );
     let (nx, ny) = (xs.len() - 1, ys.len() - 1);
     let cell = |i: usize, j: usize| j * nx + i;
-    let index_of = |lines: &[f64], v: f64| lines.iter().position(|&l| (l - v).abs() <= AXIS_TOLERANCE_M);
+    let index_of = |lines: &[f64], v: f64| {
+        lines
+            .iter()
+            .position(|&l| (l - v).abs() <= AXIS_TOLERANCE_M)
+    };
     // Barriers: `vertical[cell(i, j)]` is the segment along the left side of cell (i, j)
     // (between cells (i − 1, j) and (i, j)); `horizontal[cell(i, j)]` along its bottom.
     let mut vertical: Vec<Option<usize>> = vec![None; nx * ny];
@@ -223,11 +227,17 @@ fn steps(model: &TargetModel) -> Result<Vec<PaintRect>, PaintError> {
     for j in 0..ny {
         for i in 0..nx {
             if i > 0 && vertical[cell(i, j)].is_none() {
-                let (p, q) = (find(&mut parent, cell(i - 1, j)), find(&mut parent, cell(i, j)));
+                let (p, q) = (
+                    find(&mut parent, cell(i - 1, j)),
+                    find(&mut parent, cell(i, j)),
+                );
                 parent[p.max(q)] = p.min(q);
             }
             if j > 0 && horizontal[cell(i, j)].is_none() {
-                let (p, q) = (find(&mut parent, cell(i, j - 1)), find(&mut parent, cell(i, j)));
+                let (p, q) = (
+                    find(&mut parent, cell(i, j - 1)),
+                    find(&mut parent, cell(i, j)),
+                );
                 parent[p.max(q)] = p.min(q);
             }
         }

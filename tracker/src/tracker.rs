@@ -18,11 +18,11 @@ use crate::motion::MotionModel;
 use crate::object_location::{locate_object, Measurement};
 use crate::prediction::{predict_features, predict_location, PredictedFeature};
 use crate::robust::{
-    adaptive_threshold, alias_spacing, search_threshold, coverage_gain, ChamferSearch, EdgeMaps, NoiseEstimator,
-    ACQUIRE_EVERY_FRAMES, ACQUIRE_SCALES, CHAMFER_ACCEPT_PX, COVERAGE_TOLERANCE_PX, FAST_LAMBDA,
-    LOCAL_SEARCH_GROWTH_PX, LOCAL_SEARCH_PX, MAX_COVERAGE_GAIN, MAX_SCALE_STEP, MIN_COVERAGE, SCALE_NOISE_PX,
-    MODEL_ERROR_DECAY, PEAK_PROBE_PX, REACQUIRE_MIN_COVERAGE, SEARCH_BELOW_COVERAGE, SEARCH_MARGIN,
-    SURPRISE_FORGETTING,
+    adaptive_threshold, alias_spacing, coverage_gain, search_threshold, ChamferSearch, EdgeMaps,
+    NoiseEstimator, ACQUIRE_EVERY_FRAMES, ACQUIRE_SCALES, CHAMFER_ACCEPT_PX, COVERAGE_TOLERANCE_PX,
+    FAST_LAMBDA, LOCAL_SEARCH_GROWTH_PX, LOCAL_SEARCH_PX, MAX_COVERAGE_GAIN, MAX_SCALE_STEP,
+    MIN_COVERAGE, MODEL_ERROR_DECAY, PEAK_PROBE_PX, REACQUIRE_MIN_COVERAGE, SCALE_NOISE_PX,
+    SEARCH_BELOW_COVERAGE, SEARCH_MARGIN, SURPRISE_FORGETTING,
 };
 use crate::window::Window;
 use thiserror::Error;

@@ -104,7 +104,10 @@ fn points_are_matched_only_with_features_of_their_own_class() {
             EdgeFate::TooFar,
         ]
     );
-    assert_eq!(out.iter().map(|a| a.feature).collect::<Vec<_>>(), vec![0, 1]);
+    assert_eq!(
+        out.iter().map(|a| a.feature).collect::<Vec<_>>(),
+        vec![0, 1]
+    );
     assert_eq!(out[0].across, 50.0);
     assert_eq!(out[1].across, 23.0);
 }

@@ -168,7 +168,10 @@ fn robust_mode_finds_the_target_without_a_start() {
         SequenceKind::Dim,
     ] {
         let started = scores(kind, TrackerMode::Robust, true);
-        for (s, on) in scores(kind, TrackerMode::Robust, false).iter().zip(&started) {
+        for (s, on) in scores(kind, TrackerMode::Robust, false)
+            .iter()
+            .zip(&started)
+        {
             assert_eq!(
                 s.first_tracking,
                 Some(0),

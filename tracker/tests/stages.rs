@@ -7,9 +7,16 @@ use nalgebra::{DMatrix, DVector};
 use tracker::feature_location::FeatureLocation;
 use tracker::object_location::{locate_object, RELATIVE_RESIDUAL_FLOOR};
 use tracker::prediction::predict_features;
-use tracker::{Feature, Location, MotionModel, Orientation, PredictedFeature, TrackerConfig, Window};
+use tracker::{
+    Feature, Location, MotionModel, Orientation, PredictedFeature, TrackerConfig, Window,
+};
 
-fn feature(segment: usize, orientation: Orientation, offset_px: f64, extent_px: [f64; 2]) -> Feature {
+fn feature(
+    segment: usize,
+    orientation: Orientation,
+    offset_px: f64,
+    extent_px: [f64; 2],
+) -> Feature {
     Feature {
         segment,
         orientation,
@@ -62,7 +69,11 @@ fn object_location_and_its_confidences_by_hand() {
     // Eq. 17: w_x = √(3 / ⅔) = √4.5, w_y = √(2 / ⅔) = √3, w_scale = √(5 / ⅔) = √7.5.
     let model = five_features();
     let b = [80.0, 120.0, 101.0, 40.0, 60.0];
-    let loc: Vec<FeatureLocation> = model.iter().zip(b).map(|(f, b)| located(f, b, 1.0)).collect();
+    let loc: Vec<FeatureLocation> = model
+        .iter()
+        .zip(b)
+        .map(|(f, b)| located(f, b, 1.0))
+        .collect();
     let mut rows = Vec::new();
     let m = locate_object(&model, &loc, &TrackerConfig::default(), &mut rows).unwrap();
     let close = |a: f64, b: f64| (a - b).abs() < 1e-9;
@@ -110,7 +121,11 @@ fn an_exact_fit_takes_the_floor_only_without_degrees_of_freedom() {
     // only by the relative floor, far above any fit the floor of 1 would allow.
     let model = five_features();
     let b = [80.0, 120.0, 100.0, 40.0, 60.0];
-    let loc: Vec<FeatureLocation> = model.iter().zip(b).map(|(f, b)| located(f, b, 1.0)).collect();
+    let loc: Vec<FeatureLocation> = model
+        .iter()
+        .zip(b)
+        .map(|(f, b)| located(f, b, 1.0))
+        .collect();
     let m = locate_object(&model, &loc, &config, &mut rows).unwrap();
     assert!(m.residual < 1e-18, "{m:?}");
     let energy: f64 = b.iter().map(|b| b * b).sum();
@@ -131,8 +146,11 @@ fn an_exact_fit_takes_the_floor_only_without_degrees_of_freedom() {
 fn features_without_confidence_are_left_out_and_too_few_give_nothing() {
     let model = five_features();
     let b = [80.0, 120.0, 101.0, 40.0, 60.0];
-    let mut loc: Vec<FeatureLocation> =
-        model.iter().zip(b).map(|(f, b)| located(f, b, 1.0)).collect();
+    let mut loc: Vec<FeatureLocation> = model
+        .iter()
+        .zip(b)
+        .map(|(f, b)| located(f, b, 1.0))
+        .collect();
     // Without the odd centre feature the fit is exact again.
     loc[2].confidence = 0.0;
     let mut rows = Vec::new();

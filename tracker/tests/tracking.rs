@@ -209,7 +209,11 @@ fn stage8_gives_the_range_from_the_scale() {
     let [x, y, z] = out.position_3d;
     let e = out.estimate;
     // Eq. 36: z = TargetSize / TargetSizeImage × f, which is the nominal range over the scale.
-    assert!((z - 10.0 / e.scale).abs() < 1e-9, "z = {z}, scale {}", e.scale);
+    assert!(
+        (z - 10.0 / e.scale).abs() < 1e-9,
+        "z = {z}, scale {}",
+        e.scale
+    );
     // x and y: the centre's offset from the image centre (127.5, 120.5) times z / f.
     assert!((x - (e.c_x - 127.5) * z / 320.0).abs() < 1e-9, "x = {x}");
     assert!((y - (e.c_y - 120.5) * z / 320.0).abs() < 1e-9, "y = {y}");
@@ -245,10 +249,22 @@ fn the_paper_mode_keeps_looking_and_recovers_when_the_features_return() {
     );
     assert!(r.statuses[..20].iter().all(|&s| s == Status::Tracking));
     // Lost on the 15th frame without a measurement (the 1 s limit), as a status.
-    assert!(r.statuses[20..34].iter().all(|&s| s == Status::Coasting), "{:?}", &r.statuses[20..34]);
-    assert!(r.statuses[34..50].iter().all(|&s| s == Status::Lost), "{:?}", &r.statuses[34..50]);
+    assert!(
+        r.statuses[20..34].iter().all(|&s| s == Status::Coasting),
+        "{:?}",
+        &r.statuses[20..34]
+    );
+    assert!(
+        r.statuses[34..50].iter().all(|&s| s == Status::Lost),
+        "{:?}",
+        &r.statuses[34..50]
+    );
     // Back on the first frame the features are.
-    assert!(r.statuses[50..].iter().all(|&s| s == Status::Tracking), "{:?}", &r.statuses[50..]);
+    assert!(
+        r.statuses[50..].iter().all(|&s| s == Status::Tracking),
+        "{:?}",
+        &r.statuses[50..]
+    );
     assert!(max(&r.errors_px[50..]) < 1.0, "{:?}", &r.errors_px[50..]);
 }
 
@@ -264,7 +280,8 @@ fn distractors_inside_zeta_lower_the_confidence_of_the_features_they_touch() {
     let truth = clean_sequence();
     let model = nist_ten_segment();
     let camera = Camera::default();
-    let mut tracker = Tracker::new(model.clone(), camera, TrackerConfig::default(), truth[0]).unwrap();
+    let mut tracker =
+        Tracker::new(model.clone(), camera, TrackerConfig::default(), truth[0]).unwrap();
     // Segments: 0 outer top, 1 outer right, 2 outer bottom, 3 outer left.
     let (mut touched, mut clean) = ([0.0; 2], [0.0; 2]);
     let (mut more_points, mut worst) = (0, 0.0f64);
@@ -298,7 +315,10 @@ fn distractors_inside_zeta_lower_the_confidence_of_the_features_they_touch() {
         worst = worst.max((e.c_x - at.c_x).hypot(e.c_y - at.c_y));
     }
     let n = truth.len();
-    assert!(more_points >= 9 * n / 10, "distractor points associated in only {more_points} of {n} frames");
+    assert!(
+        more_points >= 9 * n / 10,
+        "distractor points associated in only {more_points} of {n} frames"
+    );
     for side in 0..2 {
         assert!(
             touched[side] < 0.5 * clean[side],

@@ -270,7 +270,10 @@ pub(crate) mod tests {
         assert_eq!(lines.len(), 3, "{text}");
         assert_eq!(
             lines[0],
-            format!("{},sigma2_f0,sigma2_f1,sigma2_f2", FRAMES_CSV_COLUMNS.join(","))
+            format!(
+                "{},sigma2_f0,sigma2_f1,sigma2_f2",
+                FRAMES_CSV_COLUMNS.join(",")
+            )
         );
         for line in &lines {
             assert_eq!(parse(line).len(), FRAMES_CSV_COLUMNS.len() + 3, "{line}");

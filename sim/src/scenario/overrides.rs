@@ -36,8 +36,7 @@ pub fn apply_override(root: &mut toml::Table, assignment: &str) -> Result<(), Sc
         // An array of tables is entered by a 0-based index: `environment.distractors.0.x`.
         let entry = match entry {
             toml::Value::Array(items) => {
-                let Some(index) = keys.get(depth + 1).and_then(|k| k.parse::<usize>().ok())
-                else {
+                let Some(index) = keys.get(depth + 1).and_then(|k| k.parse::<usize>().ok()) else {
                     return Err(err(format!(
                         "`{}` is a list: name an item by its index, as in `{}.0.{}`",
                         keys[..=depth].join("."),

@@ -341,8 +341,7 @@ pub(super) fn validate(
         if chase.speed_mode != vehicle::SpeedMode::GapKeeping {
             return Err(invalid(
                 "chase.speed_profile",
-                ": give either chase.speed_profile or chase.controller.speed_mode, not both"
-                    .into(),
+                ": give either chase.speed_profile or chase.controller.speed_mode, not both".into(),
             ));
         }
         let profile = speed_profile("chase", &raw.chase.speed_basis, rows)
@@ -633,7 +632,11 @@ pub(super) fn validate(
             (Some(px), None) => {
                 at(
                     &field("offset_px"),
-                    check(px.is_finite() && px.abs() <= 60.0, "must be within ±60 px", px),
+                    check(
+                        px.is_finite() && px.abs() <= 60.0,
+                        "must be within ±60 px",
+                        px,
+                    ),
                 )?;
                 px * px_m
             }
@@ -657,7 +660,11 @@ pub(super) fn validate(
         });
         at(
             &field("width_m"),
-            check((0.005..=0.5).contains(&width_m), "must be 0.005–0.5 m", width_m),
+            check(
+                (0.005..=0.5).contains(&width_m),
+                "must be 0.005–0.5 m",
+                width_m,
+            ),
         )?;
         let albedo = d.albedo.unwrap_or(0.1);
         at(
@@ -691,7 +698,11 @@ pub(super) fn validate(
         let height_m = o.height_m.unwrap_or(5.5);
         at(
             &field("height_m"),
-            check((4.5..=20.0).contains(&height_m), "must be 4.5–20 m", height_m),
+            check(
+                (4.5..=20.0).contains(&height_m),
+                "must be 4.5–20 m",
+                height_m,
+            ),
         )?;
         placements.push(Placement::Overpass {
             station_m: o.station_m,

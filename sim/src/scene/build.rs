@@ -859,7 +859,12 @@ fn lead_vehicle(description: &SceneDescription) -> Mesh {
             DistractorKind::Wire => [-DISTRACTOR_REACH_M, a, DISTRACTOR_REACH_M, b],
         };
         mesh.quad_with_normal(
-            [put(x0, y0, z), put(x1, y0, z), put(x1, y1, z), put(x0, y1, z)],
+            [
+                put(x0, y0, z),
+                put(x1, y0, z),
+                put(x1, y1, z),
+                put(x0, y1, z),
+            ],
             normal,
             d.albedo,
             slot,
@@ -870,7 +875,14 @@ fn lead_vehicle(description: &SceneDescription) -> Mesh {
 
 /// An overpass across the route at `station_m`: a deck 1 m thick, `deck_m` wide along the
 /// route and reaching 12 m beyond the road's edges, on two abutment walls.
-fn overpass(bins: &mut Bins, route: &Route, road_half: f64, station_m: f64, deck_m: f64, height_m: f64) {
+fn overpass(
+    bins: &mut Bins,
+    route: &Route,
+    road_half: f64,
+    station_m: f64,
+    deck_m: f64,
+    height_m: f64,
+) {
     let [x, z, heading] = route.at(station_m);
     let along = [heading.cos(), 0.0, -heading.sin()];
     let across = [heading.sin(), 0.0, heading.cos()];
