@@ -460,3 +460,60 @@ fn a_distractor_pole_stands_where_it_is_put() {
         "{other_side} vs {bare_left}"
     );
 }
+
+/// With `soft_shadows`, shadow edges on the target are as soft as the sun's disc makes them:
+/// a pole's shadow on
+/// the board has a penumbra as wide as 0.53° seen across the pole's distance (2.8 cm from
+/// 3 m, under a pixel at this range; 13 cm from 12 m, four pixels), where the main shadow
+/// map alone would blur every edge over its 11 cm texels.
+#[test]
+fn shadow_edges_on_the_board_widen_with_the_occluder_distance() {
+    let mut description = bare(1);
+    description.sun.soft_shadows = true;
+    description.sun.azimuth_deg = 135.0;
+    description.sun.elevation_deg = 30.0;
+    // Pixels along the inner rectangle's middle row that are neither lit nor shadowed.
+    let soft_pixels = |distance_m: f64| {
+        let mut d = description.clone();
+        let scene = Scene::build(d.clone()).unwrap();
+        let rig = CameraRig::default();
+        let (chase, lead) = builtin_poses(scene.description(), scene.route(), &rig.mount, 1.0);
+        let world_from_target = lead * scene.lead_from_target();
+        let shaded = world_from_target * Point3::new(0.0, 0.0, 0.0);
+        let sun = d.sun.direction();
+        let t = distance_m / (sun[0] * sun[0] + sun[2] * sun[2]).sqrt();
+        d.placements.push(Placement::Pole {
+            x_m: shaded.x + t * sun[0],
+            z_m: shaded.z + t * sun[2],
+        });
+        let mut r = renderer(d, &options());
+        let frame = r
+            .render(&FrameInput {
+                frame_index: 0,
+                time_s: 1.0,
+                world_from_chase: chase,
+                world_from_lead: lead,
+            })
+            .unwrap();
+        let cam = camera_from_target(&r, &chase, &lead);
+        let [u0, v] = project(&r, &cam, [-0.38, 0.0, 0.0]);
+        let [u1, _] = project(&r, &cam, [0.38, 0.0, 0.0]);
+        let row: Vec<f64> = (u0.ceil() as u32..=u1.floor() as u32)
+            .map(|u| f64::from(frame.image.get_pixel(u, v.round() as u32)[0]))
+            .collect();
+        let (lo, hi) = row
+            .iter()
+            .fold((f64::MAX, f64::MIN), |(a, b), &x| (a.min(x), b.max(x)));
+        assert!(hi - lo > 40.0, "no shadow on the board: {row:?}");
+        row.iter()
+            .filter(|&&x| x > lo + 0.2 * (hi - lo) && x < hi - 0.2 * (hi - lo))
+            .count()
+    };
+    let near = soft_pixels(3.0);
+    // 12 m away along the ground (the ray from the board's centre passes the 9 m pole's
+    // top at 15 m).
+    let far = soft_pixels(12.0);
+    eprintln!("soft pixels across the shadow's two edges: occluder 3 m: {near}, 12 m: {far}");
+    assert!(near <= 4, "a pole 3 m away casts {near} soft pixels");
+    assert!(far >= near + 3, "12 m away: {far} soft pixels, 3 m: {near}");
+}

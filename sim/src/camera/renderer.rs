@@ -78,6 +78,20 @@ const RECEIVER_TOP_M: f64 = 25.0;
 /// Shadow lookups start this many texels off the surface along its normal, which removes
 /// acne without detaching shadows from their casters.
 const NORMAL_OFFSET_TEXELS: f64 = 1.5;
+/// The board's own shadow map: a second, fine map around the target board, so that shadow
+/// edges on the target are as crisp as real ones. Side, texels.
+const BOARD_SHADOW_SIZE: u32 = 256;
+/// Half the side of the square it covers around the board's centre, metres: 4 m over 256
+/// texels is 1.6 cm a texel (half a pixel at 5 m), and holds the 2.3 × 1.7 m board at any
+/// sun angle.
+const BOARD_SHADOW_HALF_M: f64 = 2.0;
+/// How far towards the sun its casters may stand from the board, metres: a building's
+/// height at a low sun.
+const BOARD_CASTER_REACH_M: f64 = 40.0;
+/// The sun's angular diameter, degrees. A shadow's penumbra, seen across its edge, is as
+/// wide as the sun's disc seen from the receiver across the distance to the occluder:
+/// 2 tan(0.265°) ≈ 0.93 cm for every metre.
+const SUN_DIAMETER_DEG: f64 = 0.53;
 /// Depth format of both passes.
 const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// Colour format: 8-bit grey, what the frame grabber delivers.
@@ -96,6 +110,8 @@ struct Globals {
     params: [f32; 4],
     ground: [f32; 4],
     origin: [f32; 4],
+    board_view_proj: [[f32; 4]; 4],
+    board: [f32; 4],
 }
 
 /// Renders frames of one scene from the chase camera.
@@ -107,6 +123,7 @@ pub struct Renderer {
     device: wgpu::Device,
     queue: wgpu::Queue,
     shadow_pipeline: wgpu::RenderPipeline,
+    board_shadow_pipeline: wgpu::RenderPipeline,
     main_pipeline: wgpu::RenderPipeline,
     globals_buffer: wgpu::Buffer,
     objects_buffer: wgpu::Buffer,
@@ -115,6 +132,7 @@ pub struct Renderer {
     vertex_buffer: wgpu::Buffer,
     index_buffer: wgpu::Buffer,
     shadow_view: wgpu::TextureView,
+    board_shadow_view: wgpu::TextureView,
     color_texture: wgpu::Texture,
     color_view: wgpu::TextureView,
     msaa_view: Option<wgpu::TextureView>,
@@ -131,6 +149,7 @@ pub struct Renderer {
     items: Vec<DrawItem>,
     main_draws: Vec<Range<u32>>,
     shadow_draws: Vec<Range<u32>>,
+    board_shadow_draws: Vec<Range<u32>>,
 }
 
 /// What the last frame drew: triangles in each pass after culling.
@@ -256,6 +275,15 @@ impl Renderer {
             wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
         );
         let shadow_view = shadow_texture.create_view(&wgpu::TextureViewDescriptor::default());
+        let board_shadow_texture = texture(
+            "board shadow map",
+            size(BOARD_SHADOW_SIZE, BOARD_SHADOW_SIZE),
+            DEPTH_FORMAT,
+            1,
+            wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+        );
+        let board_shadow_view =
+            board_shadow_texture.create_view(&wgpu::TextureViewDescriptor::default());
         let frame_size = size(rig.width, rig.height);
         let color_texture = texture(
             "frame",
@@ -329,6 +357,16 @@ impl Renderer {
                     ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
                     count: None,
                 },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 2,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Depth,
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                    count: None,
+                },
             ],
         });
         let shadow_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
@@ -365,6 +403,10 @@ impl Renderer {
                 wgpu::BindGroupEntry {
                     binding: 1,
                     resource: wgpu::BindingResource::Sampler(&shadow_sampler),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: wgpu::BindingResource::TextureView(&board_shadow_view),
                 },
             ],
         });
@@ -422,6 +464,39 @@ impl Renderer {
             multiview_mask: None,
             cache: None,
         });
+        let board_shadow_pipeline =
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some("board shadow"),
+                layout: Some(&shadow_pipeline_layout),
+                vertex: wgpu::VertexState {
+                    module: &shader,
+                    entry_point: Some("vs_board_shadow"),
+                    compilation_options: Default::default(),
+                    buffers: &[Some(vertex_layout.clone())],
+                },
+                // Every closed mesh is wound counter-clockwise seen from outside
+                // (`Mesh::orient_faces`), open ones are two-sided: back faces never show.
+                primitive: wgpu::PrimitiveState {
+                    cull_mode: Some(wgpu::Face::Back),
+                    ..Default::default()
+                },
+                depth_stencil: Some(wgpu::DepthStencilState {
+                    format: DEPTH_FORMAT,
+                    depth_write_enabled: Some(true),
+                    depth_compare: Some(wgpu::CompareFunction::LessEqual),
+                    stencil: wgpu::StencilState::default(),
+                    // A little slope-scaled bias on top of the normal offset, for grazing light.
+                    bias: wgpu::DepthBiasState {
+                        constant: 2,
+                        slope_scale: 1.5,
+                        clamp: 0.0,
+                    },
+                }),
+                multisample: wgpu::MultisampleState::default(),
+                fragment: None,
+                multiview_mask: None,
+                cache: None,
+            });
         let main_pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some("main"),
             layout: Some(&main_pipeline_layout),
@@ -450,7 +525,12 @@ impl Renderer {
             },
             fragment: Some(wgpu::FragmentState {
                 module: &shader,
-                entry_point: Some("fs_main"),
+                // Soft shadows on the target: the board's fine map and the sun's disc.
+                entry_point: Some(if scene.description().sun.soft_shadows {
+                    "fs_main_soft"
+                } else {
+                    "fs_main"
+                }),
                 compilation_options: Default::default(),
                 targets: &[Some(wgpu::ColorTargetState {
                     format: COLOR_FORMAT,
@@ -471,6 +551,7 @@ impl Renderer {
             device,
             queue,
             shadow_pipeline,
+            board_shadow_pipeline,
             main_pipeline,
             globals_buffer,
             objects_buffer,
@@ -479,6 +560,7 @@ impl Renderer {
             vertex_buffer,
             index_buffer,
             shadow_view,
+            board_shadow_view,
             color_texture,
             color_view,
             msaa_view,
@@ -491,6 +573,7 @@ impl Renderer {
             items: Vec::new(),
             main_draws: Vec::new(),
             shadow_draws: Vec::new(),
+            board_shadow_draws: Vec::new(),
         })
     }
 
@@ -535,6 +618,7 @@ impl Renderer {
         world_from_object[ObjectSlot::WORLD as usize] = to_f32(&relative_from_world);
         let mut items = std::mem::take(&mut self.items);
         items.clear();
+        let mut board_centre = None;
         for object in self.scene.objects() {
             // Off the route: the zero matrix collapses it to nothing.
             if let Some(pose) = self.scene.world_from_object(
@@ -545,6 +629,9 @@ impl Renderer {
             ) {
                 world_from_object[object.slot as usize] =
                     to_f32(&(relative_from_world * pose.to_homogeneous()));
+                if object.slot == ObjectSlot::LEAD {
+                    board_centre = Some(pose * self.scene.lead_from_target() * Point3::origin());
+                }
                 let c = pose * Point3::from(object.centre);
                 // The hood hides the bottom of the frame and the lead the middle: drawn
                 // first, they let depth testing reject what lies behind them unshaded.
@@ -622,6 +709,32 @@ impl Renderer {
             push_merged(&mut merged, range);
         }
         shadow_draws = merged;
+        // The board's shadow map: a fine one around the target board, with its casters.
+        let board_light = board_centre.filter(|_| sun.soft_shadows).map(|c| {
+            Light::around(
+                c.coords,
+                sun.direction(),
+                BOARD_SHADOW_HALF_M,
+                BOARD_CASTER_REACH_M,
+                BOARD_SHADOW_SIZE,
+            )
+        });
+        let mut board_shadow_draws = std::mem::take(&mut self.board_shadow_draws);
+        board_shadow_draws.clear();
+        if let Some(light) = &board_light {
+            board_shadow_draws.extend(
+                items
+                    .iter()
+                    .filter(|d| d.casts_shadow && light.holds(d.centre, d.radius))
+                    .map(|d| d.indices.clone()),
+            );
+            board_shadow_draws.sort_by_key(|r| r.start);
+            let mut merged = Vec::with_capacity(board_shadow_draws.len());
+            for range in board_shadow_draws.drain(..) {
+                push_merged(&mut merged, range);
+            }
+            board_shadow_draws = merged;
+        }
         self.items = items;
 
         let triangles = |draws: &[Range<u32>]| draws.iter().map(|r| (r.end - r.start) / 3).sum();
@@ -655,6 +768,24 @@ impl Renderer {
                 self.grass_key as f32,
             ],
             origin: [eye.x as f32, eye.y as f32, eye.z as f32, 0.0],
+            board_view_proj: board_light.as_ref().map_or([[0.0; 4]; 4], |l| {
+                to_f32(&(l.clip_from_world * world_from_relative))
+            }),
+            board: match &board_light {
+                Some(l) => {
+                    let depth_m = l.max[2] - l.min[2];
+                    [
+                        depth_m as f32,
+                        (2.0 * (0.5 * SUN_DIAMETER_DEG).to_radians().tan()) as f32,
+                        l.texel_m as f32,
+                        // Receivers from 2 m in front of the board's centre (towards the
+                        // sun) use this map; the rest, the main one.
+                        ((BOARD_CASTER_REACH_M - BOARD_SHADOW_HALF_M) / depth_m) as f32,
+                    ]
+                }
+                // No lead in the scene: no receiver uses the board's map.
+                None => [1.0, 0.0, 1.0, 2.0],
+            },
         };
         self.queue
             .write_buffer(&self.globals_buffer, 0, bytemuck::bytes_of(&globals));
@@ -691,6 +822,30 @@ impl Renderer {
             pass.set_vertex_buffer(0, self.vertex_buffer.slice(..));
             pass.set_index_buffer(self.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
             for range in &shadow_draws {
+                pass.draw_indexed(range.clone(), 0, 0..1);
+            }
+        }
+        {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("board shadow"),
+                color_attachments: &[],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &self.board_shadow_view,
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(1.0),
+                        store: wgpu::StoreOp::Store,
+                    }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_pipeline(&self.board_shadow_pipeline);
+            pass.set_bind_group(0, &self.frame_bind_group, &[]);
+            pass.set_vertex_buffer(0, self.vertex_buffer.slice(..));
+            pass.set_index_buffer(self.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
+            for range in &board_shadow_draws {
                 pass.draw_indexed(range.clone(), 0, 0..1);
             }
         }
@@ -743,6 +898,7 @@ impl Renderer {
         }
         self.main_draws = main_draws;
         self.shadow_draws = shadow_draws;
+        self.board_shadow_draws = board_shadow_draws;
         encoder.copy_texture_to_buffer(
             wgpu::TexelCopyTextureInfo {
                 texture: &self.color_texture,
@@ -1007,13 +1163,8 @@ struct Light {
 }
 
 impl Light {
-    fn fit(
-        rig: &CameraRig,
-        world_from_camera: &Isometry3<f64>,
-        towards_sun: [f64; 3],
-        distance_m: f64,
-        size: u32,
-    ) -> Light {
+    /// The light frame's axes: x and y across the sun's rays, and the direction towards it.
+    fn axes(towards_sun: [f64; 3]) -> [Vector3<f64>; 3] {
         let d = Vector3::from(towards_sun).normalize();
         let hint = if d.y.abs() > 0.99 {
             Vector3::x()
@@ -1022,7 +1173,62 @@ impl Light {
         };
         let x = hint.cross(&d).normalize();
         let y = d.cross(&x);
-        let axes = [x, y, d];
+        [x, y, d]
+    }
+
+    /// The orthographic projection onto the box `min..max` (light coordinates) of a map
+    /// `size` texels square.
+    fn of_box(axes: [Vector3<f64>; 3], min: [f64; 3], max: [f64; 3], size: u32) -> Light {
+        let [x, y, d] = axes;
+        let (sx, sy, depth) = (max[0] - min[0], max[1] - min[1], max[2] - min[2]);
+        let row = |axis: &Vector3<f64>, scale: f64, offset: f64| {
+            [axis.x * scale, axis.y * scale, axis.z * scale, offset]
+        };
+        let r0 = row(&x, 2.0 / sx, -2.0 * min[0] / sx - 1.0);
+        let r1 = row(&y, 2.0 / sy, -2.0 * min[1] / sy - 1.0);
+        let r2 = row(&d, -1.0 / depth, max[2] / depth);
+        let clip_from_world = Matrix4::new(
+            r0[0], r0[1], r0[2], r0[3], //
+            r1[0], r1[1], r1[2], r1[3], //
+            r2[0], r2[1], r2[2], r2[3], //
+            0.0, 0.0, 0.0, 1.0,
+        );
+        Light {
+            clip_from_world,
+            axes,
+            min,
+            max,
+            texel_m: sx.max(sy) / f64::from(size),
+        }
+    }
+
+    /// A map around `centre` (world): `half_m` either side across the rays and along them,
+    /// and casters up to `reach_m` towards the sun.
+    fn around(
+        centre: Vector3<f64>,
+        towards_sun: [f64; 3],
+        half_m: f64,
+        reach_m: f64,
+        size: u32,
+    ) -> Light {
+        let axes = Self::axes(towards_sun);
+        let c = axes.map(|a| a.dot(&centre));
+        Self::of_box(
+            axes,
+            [c[0] - half_m, c[1] - half_m, c[2] - half_m],
+            [c[0] + half_m, c[1] + half_m, c[2] + reach_m],
+            size,
+        )
+    }
+
+    fn fit(
+        rig: &CameraRig,
+        world_from_camera: &Isometry3<f64>,
+        towards_sun: [f64; 3],
+        distance_m: f64,
+        size: u32,
+    ) -> Light {
+        let axes = Self::axes(towards_sun);
         // Corners of the camera's frustum from near to the shadow distance, clamped to the
         // height band receivers live in, in light coordinates.
         let [fx, fy] = rig.intrinsics.focal_px();
@@ -1046,26 +1252,7 @@ impl Light {
             }
         }
         max[2] += CASTER_REACH_M;
-        let (sx, sy, depth) = (max[0] - min[0], max[1] - min[1], max[2] - min[2]);
-        let row = |axis: &Vector3<f64>, scale: f64, offset: f64| {
-            [axis.x * scale, axis.y * scale, axis.z * scale, offset]
-        };
-        let r0 = row(&x, 2.0 / sx, -2.0 * min[0] / sx - 1.0);
-        let r1 = row(&y, 2.0 / sy, -2.0 * min[1] / sy - 1.0);
-        let r2 = row(&d, -1.0 / depth, max[2] / depth);
-        let clip_from_world = Matrix4::new(
-            r0[0], r0[1], r0[2], r0[3], //
-            r1[0], r1[1], r1[2], r1[3], //
-            r2[0], r2[1], r2[2], r2[3], //
-            0.0, 0.0, 0.0, 1.0,
-        );
-        Light {
-            clip_from_world,
-            axes,
-            min,
-            max,
-            texel_m: sx.max(sy) / f64::from(size),
-        }
+        Self::of_box(axes, min, max, size)
     }
 
     fn holds(&self, centre: [f64; 3], radius: f64) -> bool {

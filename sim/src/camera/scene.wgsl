@@ -18,6 +18,13 @@ struct Globals {
     // xyz: the world position of the origin that positions are relative to (the camera's),
     // so that vertices kilometres from the world's origin keep millimetre precision in f32.
     origin: vec4<f32>,
+    // Camera-relative world to the board's shadow map's clip space: a fine map around the
+    // target board.
+    board_view_proj: mat4x4<f32>,
+    // x: the board map's depth range (m); y: penumbra width per metre from the occluder
+    // (2 tan of the sun's angular radius); z: its texel (m); w: the least depth (clip) of
+    // receivers that use it.
+    board: vec4<f32>,
 };
 
 struct Objects {
@@ -30,6 +37,7 @@ struct Objects {
 @group(0) @binding(1) var<uniform> objects: Objects;
 @group(1) @binding(0) var shadow_map: texture_depth_2d;
 @group(1) @binding(1) var shadow_sampler: sampler_comparison;
+@group(1) @binding(2) var board_map: texture_depth_2d;
 
 struct VertexIn {
     @location(0) position: vec3<f32>,
@@ -50,12 +58,20 @@ struct VertexOut {
     @location(1) shadow: vec3<f32>,
     // World x and z, for the grass's mottling.
     @location(2) ground: vec2<f32>,
+    // Where the (normal-offset) point falls in the board's shadow map.
+    @location(3) board: vec3<f32>,
 };
 
 @vertex
 fn vs_shadow(v: VertexIn) -> @builtin(position) vec4<f32> {
     let world = objects.world_from_object[v.object] * vec4<f32>(v.position, 1.0);
     return globals.light_view_proj * world;
+}
+
+@vertex
+fn vs_board_shadow(v: VertexIn) -> @builtin(position) vec4<f32> {
+    let world = objects.world_from_object[v.object] * vec4<f32>(v.position, 1.0);
+    return globals.board_view_proj * world;
 }
 
 @vertex
@@ -72,6 +88,8 @@ fn vs_main(v: VertexIn) -> VertexOut {
     let p = globals.light_view_proj * vec4<f32>(world.xyz + normal * globals.params.z, 1.0);
     out.shadow = vec3<f32>(p.x * 0.5 + 0.5, 0.5 - p.y * 0.5, p.z);
     out.ground = world.xz + globals.origin.xz;
+    let b = globals.board_view_proj * vec4<f32>(world.xyz + normal * (1.5 * globals.board.z), 1.0);
+    out.board = vec3<f32>(b.x * 0.5 + 0.5, 0.5 - b.y * 0.5, b.z);
     return out;
 }
 
@@ -84,6 +102,50 @@ fn sunlight(p: vec3<f32>) -> f32 {
         return 1.0;
     }
     return textureSampleCompareLevel(shadow_map, shadow_sampler, p.xy, p.z);
+}
+
+// Fraction of sunlight at point `p` of the board's fine shadow map, with the sun's disc
+// (percentage-closer soft shadows, the occluder's distance found by comparisons alone: the
+// GL backend cannot read a depth texture's values). For each of five distances towards
+// the sun, 0.1 m to 25.6 m in steps of 4, five comparison taps spread over the penumbra
+// an occluder that far would cast ask whether one lies at least that far; the farthest
+// that does sets the penumbra, as wide as the sun's disc (0.53°) seen across twice that
+// distance (the geometric middle of the step), and nine bilinear taps spread over that
+// width average it.
+fn sunlight_board(p: vec3<f32>) -> f32 {
+    let dims = vec2<f32>(textureDimensions(board_map));
+    let texel = 1.0 / dims;
+    let depth_m = globals.board.x;
+    let per_m = globals.board.y;
+    let texel_m = globals.board.z;
+    var far = 0.0;
+    var step = 0.1;
+    for (var k = 0; k < 5; k = k + 1) {
+        let z = p.z - step / depth_m;
+        let reach = max(0.5 * step * per_m / texel_m, 1.0) * texel;
+        var blocked = 0.0;
+        blocked = blocked + (1.0 - textureSampleCompareLevel(board_map, shadow_sampler, p.xy, z));
+        blocked = blocked + (1.0 - textureSampleCompareLevel(board_map, shadow_sampler, p.xy + vec2<f32>(reach.x, reach.y), z));
+        blocked = blocked + (1.0 - textureSampleCompareLevel(board_map, shadow_sampler, p.xy + vec2<f32>(-reach.x, reach.y), z));
+        blocked = blocked + (1.0 - textureSampleCompareLevel(board_map, shadow_sampler, p.xy + vec2<f32>(reach.x, -reach.y), z));
+        blocked = blocked + (1.0 - textureSampleCompareLevel(board_map, shadow_sampler, p.xy - vec2<f32>(reach.x, reach.y), z));
+        if (blocked > 0.0) {
+            far = step;
+        }
+        step = step * 4.0;
+    }
+    if (far == 0.0) {
+        return textureSampleCompareLevel(board_map, shadow_sampler, p.xy, p.z);
+    }
+    let width = max(2.0 * far * per_m / texel_m, 1.0);
+    var lit = 0.0;
+    for (var j = 0; j < 3; j = j + 1) {
+        for (var i = 0; i < 3; i = i + 1) {
+            let o = (vec2<f32>(f32(i), f32(j)) - 1.0) * (width / 3.0) * texel;
+            lit = lit + textureSampleCompareLevel(board_map, shadow_sampler, p.xy + o, p.z);
+        }
+    }
+    return lit / 9.0;
 }
 
 // MurmurHash3's finaliser: a well-mixed 32-bit value for each grass lattice corner.
@@ -117,6 +179,29 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     var light = in.light.y;
     if (in.light.z > 0.0) {
         light += in.light.z * sunlight(in.shadow);
+    }
+    let grey = albedo * light;
+    return vec4<f32>(grey, grey, grey, 1.0);
+}
+
+// As `fs_main`, with soft shadows on the target: receivers within the board's fine map
+// take their sunlight from it (`sunlight_board`).
+@fragment
+fn fs_main_soft(in: VertexOut) -> @location(0) vec4<f32> {
+    var albedo = in.light.x;
+    if (albedo < 0.0) {
+        albedo = grass(in.ground);
+    }
+    var light = in.light.y;
+    if (in.light.z > 0.0) {
+        let b = in.board;
+        var sun = 0.0;
+        if (b.x >= 0.0 && b.x <= 1.0 && b.y >= 0.0 && b.y <= 1.0 && b.z >= globals.board.w && b.z <= 1.0) {
+            sun = sunlight_board(b);
+        } else {
+            sun = sunlight(in.shadow);
+        }
+        light += in.light.z * sun;
     }
     let grey = albedo * light;
     return vec4<f32>(grey, grey, grey, 1.0);

@@ -262,6 +262,9 @@ pub struct SunFile {
     pub strength: Option<f64>,
     /// Ambient light, 0–2.
     pub ambient: Option<f64>,
+    /// Soft shadows on the target (default false): a fine shadow map around the board and
+    /// penumbrae sized by the sun's 0.53° disc; about half the renderer's speed.
+    pub soft_shadows: Option<bool>,
 }
 
 /// `[environment.clutter]`: every density 0–1000 per km.

@@ -502,6 +502,7 @@ pub(super) fn validate(
     if let Some(v) = e.sun.ambient {
         sun.ambient = v;
     }
+    sun.soft_shadows = e.sun.soft_shadows.unwrap_or(false);
     at(
         "environment.sun.azimuth_deg",
         check(
