@@ -76,7 +76,14 @@ pub struct SweepArgs {
     /// wgpu backend: gl (default; Mesa llvmpipe), vulkan or primary. Overrides WGPU_BACKEND.
     #[arg(long)]
     pub backend: Option<String>,
+    /// Record every point, and keep the recordings (for Foxglove and `carfollow track`) of
+    /// the points whose criteria failed, in DIR/recordings/<scenario>-seed<seed>-<id>.mcap.
+    #[arg(long)]
+    pub mcap_failed: bool,
 }
+
+/// The folder of `--mcap-failed`'s recordings in a sweep's output folder.
+const RECORDINGS_DIR: &str = "recordings";
 
 /// Arguments of `carfollow sweep-worker` (started by `carfollow sweep`, not by people).
 #[derive(Args, Debug)]
@@ -92,6 +99,9 @@ pub struct SweepWorkerArgs {
     /// Overlap each point's physics with its rendering (there is a spare core).
     #[arg(long)]
     pub overlap: bool,
+    /// Record each point here, keeping the recordings of points that failed a criterion.
+    #[arg(long, value_name = "DIR")]
+    pub mcap_failed: Option<PathBuf>,
 }
 
 /// Runs a sweep worker: point requests on stdin, one JSON answer per line on stdout (see
@@ -103,6 +113,7 @@ pub fn run_sweep_worker(args: SweepWorkerArgs) -> anyhow::Result<ExitCode> {
         &sweep,
         backend,
         args.overlap,
+        args.mcap_failed.as_deref(),
         std::io::stdin().lock(),
         std::io::stdout().lock(),
     )
@@ -253,6 +264,9 @@ pub fn run_sweep(args: SweepArgs) -> anyhow::Result<ExitCode> {
         command.arg("--backend").arg(backend.to_string());
         if overlap {
             command.arg("--overlap");
+        }
+        if args.mcap_failed {
+            command.arg("--mcap-failed").arg(out.join(RECORDINGS_DIR));
         }
         command
     };

@@ -24,10 +24,12 @@ use nalgebra::{Isometry3, UnitQuaternion, Vector3 as NaVector3};
 use std::fs::File;
 use std::io::BufWriter;
 use std::path::{Path, PathBuf};
+use std::sync::mpsc::{sync_channel, Receiver, SyncSender};
 use std::sync::{Arc, Condvar, Mutex};
+use std::thread::JoinHandle;
 use thiserror::Error;
 use tracker::{EdgeFate, Orientation};
-use vehicle::{ChaseController, VehicleParams};
+use vehicle::{ChaseController, ChaseTelemetry, VehicleParams};
 
 /// Uncompressed bytes per MCAP chunk before it is compressed: 1 MiB, about 20 frames
 /// (1.3 s), so that Foxglove seeks quickly and a crash loses little.
@@ -108,8 +110,41 @@ struct Channels {
     events: Channel<Log>,
 }
 
-/// Writes a run's frames as Foxglove messages on the simulation clock (frame k at k/15 s).
+/// One frame as the recorder needs it: the loop's output, and the chase controller's state
+/// after it.
+struct FrameData {
+    out: FrameOutput,
+    telemetry: ChaseTelemetry,
+    trail: Vec<vehicle::Vector>,
+    /// The chase controller's events since the last frame.
+    controller_events: Vec<String>,
+}
+
+/// What the recording thread is told.
+enum Message {
+    /// A frame to record.
+    Frame(Box<FrameData>),
+    /// The run is over: its failed criteria and verdict, if it completed.
+    Finish(Option<(Vec<String>, String)>),
+}
+
+/// Writes a run's frames as Foxglove messages on the simulation clock (frame k at k/15 s),
+/// on a thread of its own so that the loop does not wait for PNG, protobuf and zstd: the
+/// loop hands each frame over and goes on. One thread writes, in frame order, so the file
+/// is the same every time.
 pub struct Recorder {
+    mcap: Option<PathBuf>,
+    to_writer: Option<SyncSender<Message>>,
+    thread: Option<JoinHandle<Result<(), RecordError>>>,
+    controller_events: usize,
+}
+
+/// Frames handed over but not yet written, at most: enough to ride out a slow chunk
+/// compression, few enough (about 5 MB) to bound memory when the disk is slow.
+const QUEUE_FRAMES: usize = 64;
+
+/// The recording thread's side.
+struct Writer {
     context: Arc<Context>,
     mcap: Option<(PathBuf, McapWriterHandle<BufWriter<File>>)>,
     server: Option<WebSocketServerHandle>,
@@ -121,7 +156,6 @@ pub struct Recorder {
     path: Vec<[f64; 2]>,
     last_status: Option<TrackerStatus>,
     last_lost_truth: bool,
-    controller_events: usize,
     last_log_time: u64,
     /// The last frame as PNG (the buffer is reused).
     png: Vec<u8>,
@@ -209,6 +243,126 @@ impl Recorder {
     /// Starts recording the run that `setup` describes: creates the MCAP file and writes its
     /// metadata record, and starts the live view's server (waiting for a client when asked).
     pub fn start(setup: &ReplaySetup, options: &RecorderOptions) -> Result<Recorder, RecordError> {
+        let writer = Writer::start(setup, options)?;
+        let (to_writer, from_loop) = sync_channel(QUEUE_FRAMES);
+        let thread = std::thread::Builder::new()
+            .name("recorder".into())
+            .spawn(move || writer.serve(from_loop))
+            .map_err(|e| RecordError::File {
+                path: options.mcap.clone().unwrap_or_default(),
+                message: format!("cannot start the recording thread: {e}"),
+            })?;
+        Ok(Recorder {
+            mcap: options.mcap.clone(),
+            to_writer: Some(to_writer),
+            thread: Some(thread),
+            controller_events: 0,
+        })
+    }
+
+    /// The MCAP file being written, if any.
+    pub fn mcap_path(&self) -> Option<&Path> {
+        self.mcap.as_deref()
+    }
+
+    /// Records one frame of the loop, with the chase controller as it stands after it.
+    pub fn frame(&mut self, out: &FrameOutput, chase: &ChaseController) {
+        let events = chase.events();
+        let controller_events = events[self.controller_events.min(events.len())..]
+            .iter()
+            .map(|e| {
+                format!(
+                    "chase controller at {:.3} s: {:?}",
+                    e.step.seconds(),
+                    e.kind
+                )
+            })
+            .collect();
+        self.controller_events = events.len();
+        let data = FrameData {
+            out: FrameOutput {
+                record: out.record.clone(),
+                image: out.image.clone(),
+                track: out.track.clone(),
+                edges: out.edges.clone(),
+                poses: out.poses,
+                ego: out.ego,
+            },
+            telemetry: *chase.telemetry(),
+            trail: chase.trail().positions(),
+            controller_events,
+        };
+        if let Some(to) = &self.to_writer {
+            // A writer that stopped has said why; `finish` reports it.
+            if to.send(Message::Frame(Box::new(data))).is_err() {
+                self.to_writer = None;
+            }
+        }
+    }
+
+    /// Ends the recording: logs each failed criterion of `summary` (at the last frame's time)
+    /// and closes the file, which is kept only when `keep` says so for this summary (the
+    /// file is removed otherwise). Returns the file kept, if any.
+    pub fn finish(
+        mut self,
+        summary: Option<&Summary>,
+        keep: impl FnOnce(Option<&Summary>) -> bool,
+    ) -> Result<Option<PathBuf>, RecordError> {
+        if let Some(to) = self.to_writer.take() {
+            let verdict = summary.map(|s| {
+                (
+                    s.failures.clone(),
+                    format!("{}: {}", s.scenario, if s.passed { "PASS" } else { "FAIL" }),
+                )
+            });
+            let _ = to.send(Message::Finish(verdict));
+        }
+        let thread = self.thread.take().expect("finished once");
+        let path = self.mcap.clone();
+        match thread.join() {
+            Ok(result) => result?,
+            Err(panic) => std::panic::resume_unwind(panic),
+        }
+        let Some(path) = path else {
+            return Ok(None);
+        };
+        if keep(summary) {
+            Ok(Some(path))
+        } else {
+            std::fs::remove_file(&path).map_err(|e| RecordError::File {
+                path: path.clone(),
+                message: e.to_string(),
+            })?;
+            Ok(None)
+        }
+    }
+}
+
+impl Drop for Recorder {
+    /// A run that stops early still leaves a readable recording of what ran.
+    fn drop(&mut self) {
+        if let Some(to) = self.to_writer.take() {
+            let _ = to.send(Message::Finish(None));
+        }
+        if let Some(thread) = self.thread.take() {
+            let _ = thread.join();
+        }
+    }
+}
+
+impl Writer {
+    fn serve(mut self, from_loop: Receiver<Message>) -> Result<(), RecordError> {
+        for message in from_loop {
+            match message {
+                Message::Frame(data) => self.frame(&data),
+                Message::Finish(verdict) => return self.finish(verdict),
+            }
+        }
+        // The loop went away without a word: close what was written.
+        self.finish(None)
+    }
+
+    fn start(setup: &ReplaySetup, options: &RecorderOptions) -> Result<Writer, RecordError> {
         let context = Context::new();
         let mcap = match &options.mcap {
             None => None,
@@ -305,7 +459,7 @@ impl Recorder {
             NaVector3::new(0.5 * (front + rear), 0.5 * chase_height, 0.0),
             [front - rear, chase_height, f64::from(chase.width_m)],
         );
-        Ok(Recorder {
+        Ok(Writer {
             context,
             mcap,
             server,
@@ -316,19 +470,13 @@ impl Recorder {
             path: Vec::new(),
             last_status: None,
             last_lost_truth: false,
-            controller_events: 0,
             last_log_time: 0,
             png: Vec::new(),
         })
     }
 
-    /// The MCAP file being written, if any.
-    pub fn mcap_path(&self) -> Option<&Path> {
-        self.mcap.as_ref().map(|(p, _)| p.as_path())
-    }
-
-    /// Records one frame of the loop, with the chase controller as it stands after it.
-    pub fn frame(&mut self, out: &FrameOutput, chase: &ChaseController) {
+    fn frame(&mut self, data: &FrameData) {
+        let out = &data.out;
         let r = &out.record;
         let ns = log_time_ns(r.frame);
         self.last_log_time = ns;
@@ -377,7 +525,7 @@ impl Recorder {
             },
             ns,
         );
-        let scene = self.scene(out, chase, ts);
+        let scene = self.scene(data, ts);
         let ch = &self.channels;
         ch.scene.log_with_time(&scene, ns);
 
@@ -426,7 +574,7 @@ impl Recorder {
             },
             ns,
         );
-        let telemetry = chase.telemetry();
+        let telemetry = &data.telemetry;
         ch.controller.log_with_time(
             &ControllerState {
                 frame: r.frame,
@@ -440,7 +588,7 @@ impl Recorder {
                 speed_ref_mps: f64::from(telemetry.speed_ref_mps),
                 curvature: f64::from(telemetry.curvature),
                 emergency: telemetry.emergency,
-                breadcrumbs: chase.trail().positions().len() as u32,
+                breadcrumbs: data.trail.len() as u32,
             },
             ns,
         );
@@ -464,7 +612,7 @@ impl Recorder {
             },
             ns,
         );
-        self.events(out, chase, ts);
+        self.events(data, ts);
         if let Some(server) = &self.server {
             server.broadcast_time(ns);
         }
@@ -472,8 +620,8 @@ impl Recorder {
 
     /// Both vehicles, the chase's breadcrumb trail, and a new segment of the lead's driven
     /// path once a second.
-    fn scene(&mut self, out: &FrameOutput, chase: &ChaseController, ts: Timestamp) -> SceneUpdate {
-        let r = &out.record;
+    fn scene(&mut self, data: &FrameData, ts: Timestamp) -> SceneUpdate {
+        let r = &data.out.record;
         let cube = |centre: NaVector3<f64>, size: [f64; 3], c: Color| CubePrimitive {
             pose: Some(Pose {
                 position: Some(vector3(&centre)),
@@ -532,9 +680,8 @@ impl Recorder {
         };
         let mut crumbs = entity("world", "breadcrumbs");
         crumbs.frame_locked = false;
-        let trail: Vec<Point3> = chase
-            .trail()
-            .positions()
+        let trail: Vec<Point3> = data
+            .trail
             .iter()
             .map(|p| Point3 {
                 x: f64::from(p.x),
@@ -603,8 +750,8 @@ impl Recorder {
 
     /// Logs what happened this frame: the tracker's status changes and (re)acquisitions, a
     /// loss and its end by the ground truth, and the chase controller's events.
-    fn events(&mut self, out: &FrameOutput, chase: &ChaseController, ts: Timestamp) {
-        let r = &out.record;
+    fn events(&mut self, data: &FrameData, ts: Timestamp) {
+        let r = &data.out.record;
         let mut lines: Vec<(foxglove::messages::log::Level, String)> = Vec::new();
         use foxglove::messages::log::Level;
         if self.last_status.is_some_and(|s| s != r.status)
@@ -641,18 +788,9 @@ impl Recorder {
         if r.collision {
             lines.push((Level::Error, "collision".into()));
         }
-        let events = chase.events();
-        for e in &events[self.controller_events.min(events.len())..] {
-            lines.push((
-                Level::Warning,
-                format!(
-                    "chase controller at {:.3} s: {:?}",
-                    e.step.seconds(),
-                    e.kind
-                ),
-            ));
+        for e in &data.controller_events {
+            lines.push((Level::Warning, e.clone()));
         }
-        self.controller_events = events.len();
         for (level, message) in lines {
             self.log(level, message, ts, "frame", r.frame);
         }
@@ -679,39 +817,28 @@ impl Recorder {
         );
     }
 
-    /// Ends the recording: logs each failed criterion of `summary` (at the last frame's time)
-    /// and closes the file, which is kept only when `keep` says so for this summary (the
-    /// file is removed otherwise). Returns the file kept, if any.
-    pub fn finish(
-        self,
-        summary: Option<&Summary>,
-        keep: impl FnOnce(Option<&Summary>) -> bool,
-    ) -> Result<Option<PathBuf>, RecordError> {
+    /// Logs the run's failed criteria and verdict, if it completed, at the last frame's
+    /// time; stops the live view; closes the file.
+    fn finish(self, verdict: Option<(Vec<String>, String)>) -> Result<(), RecordError> {
+        use foxglove::messages::log::Level;
         let ts = timestamp(self.last_log_time);
-        if let Some(s) = summary {
-            for failure in &s.failures {
+        if let Some((failures, line)) = verdict {
+            for failure in failures {
                 self.log(
-                    foxglove::messages::log::Level::Error,
+                    Level::Error,
                     format!("criterion failed: {failure}"),
                     ts,
                     "expect",
                     0,
                 );
             }
-            let verdict = if s.passed { "PASS" } else { "FAIL" };
-            self.log(
-                foxglove::messages::log::Level::Info,
-                format!("{}: {verdict}", s.scenario),
-                ts,
-                "expect",
-                0,
-            );
+            self.log(Level::Info, line, ts, "expect", 0);
         }
         if let Some(server) = self.server {
             let _ = server.stop();
         }
         let Some((path, handle)) = self.mcap else {
-            return Ok(None);
+            return Ok(());
         };
         let closed = handle.close();
         drop(self.context);
@@ -721,13 +848,7 @@ impl Recorder {
         };
         let mut writer = closed.map_err(|e| file_err(e.to_string()))?;
         std::io::Write::flush(&mut writer).map_err(|e| file_err(e.to_string()))?;
-        drop(writer);
-        if keep(summary) {
-            Ok(Some(path))
-        } else {
-            std::fs::remove_file(&path).map_err(|e| file_err(e.to_string()))?;
-            Ok(None)
-        }
+        Ok(())
     }
 }
 
