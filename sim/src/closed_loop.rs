@@ -800,7 +800,7 @@ impl ClosedLoop {
     /// renderer (at once), odd ones on the render worker (in the background).
     fn submit(&mut self, render_t: &mut Duration) -> Result<InFlight, LoopError> {
         let captured = self.capture();
-        let image = if captured.input.frame_index % 2 == 0 {
+        let image = if captured.input.frame_index.is_multiple_of(2) {
             Some(timed(render_t, || self.renderer.render(&captured.input))?)
         } else {
             let remote = self.remote.as_mut().expect("two frames in flight");

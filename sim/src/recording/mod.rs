@@ -235,7 +235,7 @@ impl ReplaySetup {
         let camera = numbers("camera", 5)?;
         let size = numbers("image_size", 2)?;
         let lead = numbers("lead_box_m", 3)?;
-        let whole = |v: f64| (v >= 1.0 && v <= 4096.0 && v.fract() == 0.0).then_some(v as u32);
+        let whole = |v: f64| ((1.0..=4096.0).contains(&v) && v.fract() == 0.0).then_some(v as u32);
         let (Some(width), Some(height)) = (whole(size[0]), whole(size[1])) else {
             return Err(format!(
                 "its `{METADATA_NAME}` metadata's `image_size` is not a size in pixels"
