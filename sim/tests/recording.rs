@@ -297,6 +297,11 @@ fn bad_recordings_and_flags_exit_2_in_one_line() {
     let good = std::fs::read(out.join("run.mcap")).unwrap();
     let csv = d.join("t.csv");
 
+    // No such file.
+    expect_input_error(
+        &replay(&d.join("nope.mcap"), &csv, &[]),
+        "nope.mcap: cannot read",
+    );
     // Truncated: half a file.
     let cut = d.join("cut.mcap");
     std::fs::write(&cut, &good[..good.len() / 2]).unwrap();

@@ -77,7 +77,11 @@ pub struct TrackArgs {
 
 /// Runs the subcommand.
 pub fn run_track(args: TrackArgs) -> anyhow::Result<()> {
-    if args.frames_dir.is_file() {
+    let mcap = args
+        .frames_dir
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("mcap"));
+    if mcap || args.frames_dir.is_file() {
         return replay_recording(args);
     }
     if !args.set.is_empty() {
