@@ -139,9 +139,10 @@ pub struct Recorder {
     controller_events: usize,
 }
 
-/// Frames handed over but not yet written, at most: enough to ride out a slow chunk
-/// compression, few enough (about 5 MB) to bound memory when the disk is slow.
-const QUEUE_FRAMES: usize = 64;
+/// Frames handed over but not yet written, at most (about 70 kB each): on a busy machine
+/// the writer falls behind the loop and catches up while the run's report is written, so
+/// the loop waits for it only when this many are queued (about 18 MB).
+const QUEUE_FRAMES: usize = 256;
 
 /// The recording thread's side.
 struct Writer {
@@ -284,7 +285,13 @@ impl Recorder {
                 record: out.record.clone(),
                 image: out.image.clone(),
                 track: out.track.clone(),
-                edges: out.edges.clone(),
+                // Only the points the overlay draws.
+                edges: out
+                    .edges
+                    .iter()
+                    .filter(|e| matches!(e.fate, EdgeFate::Associated(_) | EdgeFate::TooFar))
+                    .copied()
+                    .collect(),
                 poses: out.poses,
                 ego: out.ego,
             },
@@ -484,12 +491,13 @@ impl Writer {
         let ch = &self.channels;
         let (width, height) = out.image.dimensions();
 
+        // PNG at its fast level with the Sub filter: measured on nist-grounds' frames, 33.4 kB
+        // in 119 µs a frame, against 32.4 kB in 181 µs with adaptive filters, 34.1 kB in
+        // 5.4 ms at the default level, and 41.8 kB for zstd (level 1) on the raw frame. The
+        // sensor noise (σ = 2 grey levels, about 3 bits a pixel) is most of what remains.
         self.png.clear();
-        let encoder = PngEncoder::new_with_quality(
-            &mut self.png,
-            CompressionType::Fast,
-            FilterType::Adaptive,
-        );
+        let encoder =
+            PngEncoder::new_with_quality(&mut self.png, CompressionType::Fast, FilterType::Sub);
         // Writing to memory cannot fail for a frame of the size it says.
         let encoded = encoder.write_image(out.image.as_raw(), width, height, ExtendedColorType::L8);
         debug_assert!(encoded.is_ok());
