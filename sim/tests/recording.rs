@@ -314,15 +314,20 @@ fn bad_recordings_and_flags_exit_2_in_one_line() {
     )
     .unwrap();
     expect_input_error(&replay(&junk, &csv, &[]), "not an MCAP file");
-    // Corrupted in the middle: a chunk's bytes changed.
-    let mut bent = good.clone();
-    for b in &mut bent[good.len() / 3..good.len() / 3 + 64] {
-        *b ^= 0x5a;
+    // Damaged: some bytes of a chunk changed, wherever they are.
+    for at in [5, 8, 11, 14] {
+        let mut bent = good.clone();
+        let start = good.len() * at / 20;
+        for b in &mut bent[start..start + 64] {
+            *b ^= 0x5a;
+        }
+        let bent_path = d.join("bent.mcap");
+        std::fs::write(&bent_path, &bent).unwrap();
+        expect_input_error(
+            &replay(&bent_path, &csv, &[]),
+            "bent.mcap: not a readable MCAP file",
+        );
     }
-    let bent_path = d.join("bent.mcap");
-    std::fs::write(&bent_path, &bent).unwrap();
-    let o = replay(&bent_path, &csv, &[]);
-    expect_input_error(&o, "bent.mcap");
     // A valid MCAP file that is not a carfollow recording.
     let other = d.join("other.mcap");
     {

@@ -16,7 +16,7 @@ use foxglove::Decode;
 use image::GrayImage;
 use indicatif::{ProgressBar, ProgressStyle};
 use mcap::records::Record;
-use mcap::sans_io::linear_reader::{LinearReadEvent, LinearReader};
+use mcap::sans_io::linear_reader::{LinearReadEvent, LinearReader, LinearReaderOptions};
 use prost::Message;
 use std::collections::{BTreeMap, HashMap};
 use std::fmt::Write as _;
@@ -52,6 +52,10 @@ pub const REPLAY_CSV_COLUMNS: [&str; 16] = [
 /// Frames that may wait for the rest of their messages: a recording writes each frame's
 /// messages together, so more than this means the file is not one of ours.
 const MAX_PENDING_FRAMES: usize = 64;
+
+/// The largest record (or chunk) a recording may hold, bytes: a recording's chunks are about
+/// 1 MiB, so this refuses a damaged length before it allocates.
+const MAX_RECORD_BYTES: usize = 256 << 20;
 
 /// A replay that cannot run.
 #[derive(Debug, Error)]
@@ -252,7 +256,15 @@ pub fn replay(job: &ReplayJob) -> Result<ReplaySummary, ReplayError> {
     let path = job.input.as_path();
     let mut file = File::open(path).map_err(|e| bad(path, format!("cannot read: {e}")))?;
     check_complete(path, &mut file)?;
-    let mut reader = LinearReader::new();
+    // Every chunk's checksum is checked before any of its frames reaches the tracker: a
+    // damaged tape is refused, not replayed to other estimates.
+    let mut reader = LinearReader::new_with_options(
+        LinearReaderOptions::default()
+            .with_prevalidate_chunk_crcs(true)
+            .with_validate_data_section_crc(true)
+            .with_validate_summary_section_crc(true)
+            .with_record_length_limit(MAX_RECORD_BYTES),
+    );
     let mut topics_by_channel: HashMap<u16, String> = HashMap::new();
     let mut pending: BTreeMap<u64, Pending> = BTreeMap::new();
     let mut run: Option<Run> = None;
