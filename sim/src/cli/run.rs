@@ -260,7 +260,10 @@ fn run_one(
         }
     }
     let mut recorder = if record {
-        Some(Recorder::start(&ReplaySetup::of(scenario, &looped), &recording).map_err(incomplete)?)
+        let setup = ReplaySetup::of(scenario, &looped)
+            .map_err(anyhow::Error::msg)
+            .map_err(incomplete)?;
+        Some(Recorder::start(&setup, &recording).map_err(incomplete)?)
     } else {
         None
     };

@@ -140,14 +140,16 @@ fn triple(v: [f64; 3]) -> String {
 }
 
 impl ReplaySetup {
-    /// The setup of the run of `scenario` by `looped`, before its first step.
-    pub fn of(scenario: &Scenario, looped: &ClosedLoop) -> ReplaySetup {
+    /// The setup of the run of `scenario` by `looped`, before its first step; `Err` when the
+    /// resolved scenario cannot be written as TOML.
+    pub fn of(scenario: &Scenario, looped: &ClosedLoop) -> Result<ReplaySetup, String> {
         let rig = looped.rig();
-        ReplaySetup {
+        let resolved_toml = toml::to_string(&scenario.resolved)
+            .map_err(|e| format!("cannot write the resolved scenario as TOML: {e}"))?;
+        Ok(ReplaySetup {
             scenario: scenario.name.clone(),
             seed: scenario.seed,
-            resolved_toml: toml::to_string(&scenario.resolved)
-                .expect("a resolved scenario is plain TOML"),
+            resolved_toml,
             overrides: scenario.overrides.clone(),
             target_toml: target_toml(&scenario.target),
             start: looped.tracker_start(),
@@ -156,7 +158,7 @@ impl ReplaySetup {
             height: rig.height,
             frames: looped.frames(),
             lead_box_m: crate::closed_loop::lead_body_size_m(),
-        }
+        })
     }
 
     /// The metadata record: `scenario`, `seed`, `carfollow_version`, `git_commit` (when

@@ -64,8 +64,11 @@ pub fn run_point(
                 live: None,
             };
             Some(
-                Recorder::start(&ReplaySetup::of(&scenario, &looped), &options)
-                    .map_err(|e| fail(e.to_string()))?,
+                Recorder::start(
+                    &ReplaySetup::of(&scenario, &looped).map_err(fail)?,
+                    &options,
+                )
+                .map_err(|e| fail(e.to_string()))?,
             )
         }
     };
