@@ -409,6 +409,11 @@ fn mcap_failed_keeps_recordings_of_failures_only() {
         "--quiet",
     ]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(
+        String::from_utf8_lossy(&o.stdout).contains("1 recording of points whose criteria failed"),
+        "{}",
+        String::from_utf8_lossy(&o.stdout)
+    );
     let rows: Vec<serde_json::Value> = std::fs::read_to_string(sweep_out.join("results.jsonl"))
         .unwrap()
         .lines()

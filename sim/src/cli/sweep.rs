@@ -340,6 +340,20 @@ pub fn run_sweep(args: SweepArgs) -> anyhow::Result<ExitCode> {
                 .join(", ")
         );
     }
+    if args.mcap_failed {
+        let dir = out.join(RECORDINGS_DIR);
+        let kept = std::fs::read_dir(&dir).map_or(0, |entries| {
+            entries
+                .filter_map(Result::ok)
+                .filter(|e| e.path().extension().is_some_and(|x| x == "mcap"))
+                .count()
+        });
+        let noun = if kept == 1 { "recording" } else { "recordings" };
+        println!(
+            "{}: {kept} {noun} of points whose criteria failed",
+            dir.display()
+        );
+    }
     if errors.is_empty() {
         Ok(ExitCode::SUCCESS)
     } else {
