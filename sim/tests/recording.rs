@@ -437,27 +437,39 @@ fn mcap_failed_keeps_recordings_of_failures_only() {
     );
 }
 
+/// A child process that is killed if the test fails before it ends.
+struct Running(std::process::Child);
+
+impl Drop for Running {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
 #[test]
 fn live_view_serves_frames_over_foxglove_websocket() {
     let dir = tempfile::tempdir().unwrap();
-    let mut child = Command::new(env!("CARGO_BIN_EXE_carfollow"))
-        .args([
-            "run",
-            "--quiet",
-            "--set",
-            "duration_s=2",
-            "--out",
-            dir.path().join("live").to_str().unwrap(),
-            "--live",
-            "--live-port",
-            "0",
-            "--live-wait",
-        ])
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let mut lines = std::io::BufReader::new(child.stderr.take().unwrap()).lines();
+    let mut child = Running(
+        Command::new(env!("CARGO_BIN_EXE_carfollow"))
+            .args([
+                "run",
+                "--quiet",
+                "--set",
+                "duration_s=2",
+                "--out",
+                dir.path().join("live").to_str().unwrap(),
+                "--live",
+                "--live-port",
+                "0",
+                "--live-wait",
+            ])
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap(),
+    );
+    let mut lines = std::io::BufReader::new(child.0.stderr.take().unwrap()).lines();
     let url = loop {
         let line = lines
             .next()
@@ -477,6 +489,12 @@ fn live_view_serves_frames_over_foxglove_websocket() {
         .headers_mut()
         .insert("Sec-WebSocket-Protocol", "foxglove.sdk.v1".parse().unwrap());
     let (mut socket, _) = tungstenite::connect(request).unwrap();
+    // Not a timed check: a guard so that a server that never answers fails the test rather
+    // than hanging it.
+    if let tungstenite::stream::MaybeTlsStream::Plain(tcp) = socket.get_ref() {
+        tcp.set_read_timeout(Some(std::time::Duration::from_secs(120)))
+            .unwrap();
+    }
     // The server's info, then its channels; subscribe to the camera.
     let image_channel = loop {
         match socket.read().unwrap() {
@@ -521,7 +539,7 @@ fn live_view_serves_frames_over_foxglove_websocket() {
     let png = image::load_from_memory(&image.data).unwrap();
     assert_eq!((png.width(), png.height()), (256, 242));
     drop(socket);
-    let status = child.wait().unwrap();
+    let status = child.0.wait().unwrap();
     let said = drain.join().unwrap();
     assert!(matches!(status.code(), Some(0 | 1)), "{said:?}");
 }
