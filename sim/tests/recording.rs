@@ -543,3 +543,29 @@ fn live_view_serves_frames_over_foxglove_websocket() {
     let said = drain.join().unwrap();
     assert!(matches!(status.code(), Some(0 | 1)), "{said:?}");
 }
+
+/// A run that cannot complete (here: frames.csv on a full disk) still closes its recording,
+/// which replay then reads, and refuses for having no frames.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_run_that_cannot_complete_closes_its_recording() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("full");
+    std::fs::create_dir(&out).unwrap();
+    std::os::unix::fs::symlink("/dev/full", out.join("frames.csv")).unwrap();
+    let o = carfollow(&[
+        "run",
+        "--quiet",
+        "--set",
+        "duration_s=1",
+        "--mcap",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
+    let bytes = std::fs::read(out.join("run.mcap")).unwrap();
+    let summary = mcap::Summary::read(&bytes).unwrap();
+    assert!(summary.is_some(), "the recording has its summary section");
+    let csv = dir.path().join("t.csv");
+    expect_input_error(&replay(&out.join("run.mcap"), &csv, &[]), "has no frames");
+}
