@@ -66,6 +66,22 @@ pub struct FrameOutput {
     pub track: TrackOutput,
     /// Edge fates, when diagnostics were asked for.
     pub edges: Vec<EdgeDiagnostic>,
+    /// Where the vehicles and the camera were at the frame's capture.
+    pub poses: FramePoses,
+    /// The gyro's reading of the camera's rotation that the tracker was given with this
+    /// frame (robust mode, from the second frame on).
+    pub ego: Option<EgoMotion>,
+}
+
+/// Where the vehicles and the camera were when a frame was captured (world frame, y up).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FramePoses {
+    /// The chase's rear axle, on the ground (its vehicle frame: x forward, y up, z right).
+    pub world_from_chase: Isometry3<f64>,
+    /// The lead's body centre, as the scene draws it.
+    pub world_from_lead: Isometry3<f64>,
+    /// The camera (x right, y down, z forward).
+    pub world_from_camera: Isometry3<f64>,
 }
 
 /// Where a run's wall-clock time went, seconds in all: for speed reports only, never part
@@ -124,6 +140,10 @@ pub struct ClosedLoop {
     gyro: Option<Gyro>,
     /// The camera's orientation at the last tracked frame.
     last_camera: Option<UnitQuaternion<f64>>,
+    /// The gyro's reading handed to the tracker with the last tracked frame.
+    last_ego: Option<EgoMotion>,
+    /// The teleoperator's placement the tracker started from.
+    start: Location,
 }
 
 /// The physics side of the loop: both vehicles, their drivers and the delay line between
@@ -211,6 +231,12 @@ fn lead_body() -> (LeadVehicle, Isometry3<f64>) {
         0.0,
     );
     (body, lead_from_scene)
+}
+
+/// The lead's body as the scene draws it, metres: length, height, width.
+pub(crate) fn lead_body_size_m() -> [f64; 3] {
+    let (body, _) = lead_body();
+    [body.length_m, body.height_m, body.width_m]
 }
 
 /// The camera rig of a scenario: its intrinsics on its mount, 256 × 242 pixels.
@@ -569,7 +595,20 @@ impl ClosedLoop {
             gyro: (s.tracker.mode == TrackerMode::Robust)
                 .then(|| Gyro::new(&GyroConfig::default(), s.seed)),
             last_camera: None,
+            last_ego: None,
+            start: init,
         })
+    }
+
+    /// The teleoperator's placement the tracker started from (the first frame's truth with
+    /// the scenario's `tracker.init_offset`).
+    pub fn tracker_start(&self) -> Location {
+        self.start
+    }
+
+    /// The camera rig.
+    pub fn rig(&self) -> &CameraRig {
+        &self.rig
     }
 
     /// The scenario's name.
@@ -739,6 +778,11 @@ impl ClosedLoop {
         };
         debug_assert_eq!(captured.input.frame_index, self.frame);
         let record = self.record(&captured, &frame, &track, controls, collision);
+        let poses = FramePoses {
+            world_from_chase: captured.input.world_from_chase,
+            world_from_lead: captured.input.world_from_lead,
+            world_from_camera: self.rig.world_from_camera(&captured.input.world_from_chase),
+        };
         self.frame += 1;
         let [render_t, track_t, physics_t] = spent;
         self.timing.frames += 1;
@@ -751,6 +795,8 @@ impl ClosedLoop {
             image: frame.image,
             track,
             edges,
+            poses,
+            ego: self.last_ego,
         }))
     }
 
@@ -758,7 +804,7 @@ impl ClosedLoop {
     /// renderer (at once), odd ones on the render worker (in the background).
     fn submit(&mut self, render_t: &mut Duration) -> Result<InFlight, LoopError> {
         let captured = self.capture();
-        let image = if captured.input.frame_index % 2 == 0 {
+        let image = if captured.input.frame_index.is_multiple_of(2) {
             Some(timed(render_t, || self.renderer.render(&captured.input))?)
         } else {
             let remote = self.remote.as_mut().expect("two frames in flight");
@@ -813,9 +859,16 @@ impl ClosedLoop {
     }
 
     /// The gyro's reading of the camera's rotation since the last tracked frame, for the
-    /// frame `captured` (robust mode only). Frames are tracked in order, so this is called
-    /// once per frame, in order.
+    /// frame `captured` (robust mode only), kept for the frame's output. Frames are tracked
+    /// in order, so this is called once per frame, in order.
     fn ego_motion(&mut self, captured: &Captured) -> Option<EgoMotion> {
+        let ego = self.gyro_reading(captured);
+        self.last_ego = ego;
+        ego
+    }
+
+    /// See [`ClosedLoop::ego_motion`].
+    fn gyro_reading(&mut self, captured: &Captured) -> Option<EgoMotion> {
         let gyro = self.gyro.as_mut()?;
         let now = self
             .rig

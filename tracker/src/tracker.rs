@@ -874,7 +874,7 @@ impl Tracker {
             };
             // A whole-image search costs tens of milliseconds: after a long loss, one frame in
             // ACQUIRE_EVERY_FRAMES.
-            let skip = self.ever_locked && lost_long && frame % ACQUIRE_EVERY_FRAMES != 0;
+            let skip = self.ever_locked && lost_long && !frame.is_multiple_of(ACQUIRE_EVERY_FRAMES);
             let found = if skip {
                 None
             } else {

@@ -45,7 +45,7 @@ impl Step {
 
     /// Whether a camera frame is captured at this step (every [`STEPS_PER_FRAME`] steps).
     pub fn is_frame_start(self) -> bool {
-        self.0 % u64::from(STEPS_PER_FRAME) == 0
+        self.0.is_multiple_of(u64::from(STEPS_PER_FRAME))
     }
 
     /// The step nearest to `seconds` (rounded to the nearest step).

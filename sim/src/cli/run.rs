@@ -7,6 +7,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use sim::camera::Backend;
 use sim::child::RASTER_THREADS_ENV;
 use sim::closed_loop::{ClosedLoop, LoopTiming};
+use sim::recording::{LiveOptions, Recorder, RecorderOptions, ReplaySetup, MCAP_FILE};
 use sim::report::{write_junit, JunitScenario, OutputOptions, RunOutputs, Summary};
 use sim::scenario::Scenario;
 use std::io::IsTerminal;
@@ -70,6 +71,22 @@ pub struct RunArgs {
     /// results are the same). Default: 2 on a machine with two cores or more.
     #[arg(long, value_parser = clap::value_parser!(u8).range(1..=2))]
     pub renderers: Option<u8>,
+    /// Also record the run for Foxglove: run.mcap beside frames.csv (camera images with the
+    /// tracker's overlay, transforms, the scene, tracker, controller and truth, events).
+    #[arg(long)]
+    pub mcap: bool,
+    /// Record as --mcap, but keep run.mcap only when a criterion failed.
+    #[arg(long, conflicts_with = "mcap")]
+    pub mcap_failed: bool,
+    /// Serve the run live over Foxglove's WebSocket protocol on 127.0.0.1 while it goes on.
+    #[arg(long)]
+    pub live: bool,
+    /// The live view's port (0: any free port; the one chosen is printed).
+    #[arg(long, value_name = "PORT", default_value_t = 8765, requires = "live")]
+    pub live_port: u16,
+    /// With --live, hold the run until a client has subscribed to a topic.
+    #[arg(long, requires = "live")]
+    pub live_wait: bool,
 }
 
 /// Runs the subcommand: exit status 0 when every scenario passed its `[expect]`, 1 when one
@@ -207,7 +224,11 @@ fn run_one(
 ) -> anyhow::Result<Summary> {
     let started = Instant::now();
     // The scenario is validated: from here on, whatever stops the run is not bad input.
-    let mut looped = ClosedLoop::new(scenario, backend, args.video).map_err(incomplete)?;
+    let recording = recorder_options(dir, args);
+    let record = recording.mcap.is_some() || recording.live.is_some();
+    // The recording draws the overlay too, so it needs the edges' fates.
+    let mut looped =
+        ClosedLoop::new(scenario, backend, args.video || record).map_err(incomplete)?;
     if renderers(args) == 2 {
         let mut command = Command::new(
             std::env::current_exe()
@@ -227,6 +248,25 @@ fn run_one(
         }
     }
     let frames = looped.frames();
+    if let Some(p) = &recording.mcap {
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("{}: cannot create the output folder", dir.display()))
+            .map_err(incomplete)?;
+        // A recording of an earlier run must not pass for this one's.
+        if p.exists() {
+            std::fs::remove_file(p)
+                .with_context(|| format!("{}: cannot replace", p.display()))
+                .map_err(incomplete)?;
+        }
+    }
+    let mut recorder = if record {
+        let setup = ReplaySetup::of(scenario, &looped)
+            .map_err(anyhow::Error::msg)
+            .map_err(incomplete)?;
+        Some(Recorder::start(&setup, &recording).map_err(incomplete)?)
+    } else {
+        None
+    };
     let mut outputs = RunOutputs::create(
         dir,
         OutputOptions {
@@ -261,6 +301,9 @@ fn run_one(
     while let Some(out) = looped.step().map_err(incomplete)? {
         let written = Instant::now();
         outputs.record(&out.record).map_err(incomplete)?;
+        if let Some(r) = &mut recorder {
+            r.frame(&out, looped.chase());
+        }
         if args.video {
             let img = sim::overlay::draw(&out.image, &out.track, &out.edges);
             outputs
@@ -311,5 +354,28 @@ fn run_one(
             Some(timing),
         )
         .map_err(incomplete)?;
+    if let Some(r) = recorder {
+        let keep_failed_only = args.mcap_failed;
+        if let Some(path) = r
+            .finish(Some(&summary), |s| {
+                !keep_failed_only || s.is_some_and(|s| !s.passed)
+            })
+            .map_err(incomplete)?
+        {
+            println!("{}: recording", path.display());
+        }
+    }
     Ok(summary)
+}
+
+/// Where the run is recorded: `DIR/run.mcap` with `--mcap` or `--mcap-failed`, and the
+/// live view with `--live`.
+fn recorder_options(dir: &Path, args: &RunArgs) -> RecorderOptions {
+    RecorderOptions {
+        mcap: (args.mcap || args.mcap_failed).then(|| dir.join(MCAP_FILE)),
+        live: args.live.then_some(LiveOptions {
+            port: args.live_port,
+            wait_for_client: args.live_wait,
+        }),
+    }
 }

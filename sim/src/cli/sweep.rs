@@ -76,7 +76,14 @@ pub struct SweepArgs {
     /// wgpu backend: gl (default; Mesa llvmpipe), vulkan or primary. Overrides WGPU_BACKEND.
     #[arg(long)]
     pub backend: Option<String>,
+    /// Record every point, and keep the recordings (for Foxglove and `carfollow track`) of
+    /// the points whose criteria failed, in DIR/recordings/<scenario>-seed<seed>-<id>.mcap.
+    #[arg(long)]
+    pub mcap_failed: bool,
 }
+
+/// The folder of `--mcap-failed`'s recordings in a sweep's output folder.
+const RECORDINGS_DIR: &str = "recordings";
 
 /// Arguments of `carfollow sweep-worker` (started by `carfollow sweep`, not by people).
 #[derive(Args, Debug)]
@@ -92,6 +99,9 @@ pub struct SweepWorkerArgs {
     /// Overlap each point's physics with its rendering (there is a spare core).
     #[arg(long)]
     pub overlap: bool,
+    /// Record each point here, keeping the recordings of points that failed a criterion.
+    #[arg(long, value_name = "DIR")]
+    pub mcap_failed: Option<PathBuf>,
 }
 
 /// Runs a sweep worker: point requests on stdin, one JSON answer per line on stdout (see
@@ -103,6 +113,7 @@ pub fn run_sweep_worker(args: SweepWorkerArgs) -> anyhow::Result<ExitCode> {
         &sweep,
         backend,
         args.overlap,
+        args.mcap_failed.as_deref(),
         std::io::stdin().lock(),
         std::io::stdout().lock(),
     )
@@ -254,6 +265,9 @@ pub fn run_sweep(args: SweepArgs) -> anyhow::Result<ExitCode> {
         if overlap {
             command.arg("--overlap");
         }
+        if args.mcap_failed {
+            command.arg("--mcap-failed").arg(out.join(RECORDINGS_DIR));
+        }
         command
     };
     let errors = run_points(&todo, jobs, &spawn_worker, &writer, |r| {
@@ -324,6 +338,20 @@ pub fn run_sweep(args: SweepArgs) -> anyhow::Result<ExitCode> {
                 .map(|p| p.display().to_string())
                 .collect::<Vec<_>>()
                 .join(", ")
+        );
+    }
+    if args.mcap_failed {
+        let dir = out.join(RECORDINGS_DIR);
+        let kept = std::fs::read_dir(&dir).map_or(0, |entries| {
+            entries
+                .filter_map(Result::ok)
+                .filter(|e| e.path().extension().is_some_and(|x| x == "mcap"))
+                .count()
+        });
+        let noun = if kept == 1 { "recording" } else { "recordings" };
+        println!(
+            "{}: {kept} {noun} of points whose criteria failed",
+            dir.display()
         );
     }
     if errors.is_empty() {

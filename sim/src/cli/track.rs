@@ -1,7 +1,9 @@
 //! `carfollow track`: the tracker alone on a folder of recorded frames.
 
+use super::exit::incomplete;
 use anyhow::Context;
 use clap::Args;
+use sim::recording::{replay, ReplayError, ReplayJob};
 use sim::track::{parse_location, run, TrackJob};
 use std::path::PathBuf;
 use tracker::{TrackerConfig, TrackerMode};
@@ -9,28 +11,38 @@ use tracker::{TrackerConfig, TrackerMode};
 /// Arguments of `carfollow track`.
 #[derive(Args, Debug)]
 #[command(
-    about = "Run the tracker on a folder of recorded frames (PNG or PGM, sorted by name)",
+    about = "Run the tracker on a folder of frames (PNG or PGM), or replay a recording (run.mcap)",
     long_about = "Run the paper's tracker (stages 1-8) over every PNG or PGM in FRAMES_DIR, \
                   sorted by name, converting colour to grey. Writes one CSV row per frame as \
                   it goes: frame,cx,cy,scale,status, then confidences, the prediction, the \
-                  3-D position and per-feature counts."
+                  3-D position and per-feature counts.\n\n\
+                  Given a recording of `carfollow run --mcap` (a .mcap file) instead, replays \
+                  its camera frames through the tracker as the run set it up (target, camera, \
+                  settings and start, all from the recording); --mode, --lambda, \
+                  --subpixel-edges and --set tracker.KEY=VALUE change the settings. Writes \
+                  frames.csv's tracker columns (same names, same number format) and whether \
+                  each frame's estimate equals the recorded one; with the run's settings, \
+                  every frame does."
 )]
 pub struct TrackArgs {
-    /// Folder of frames.
+    /// Folder of frames, or a recording (run.mcap) to replay.
+    #[arg(value_name = "FRAMES_DIR|RUN.mcap")]
     pub frames_dir: PathBuf,
-    /// Target model file (TOML), e.g. scenarios/targets/nist-ten-segment.toml.
+    /// Target model file (TOML), e.g. scenarios/targets/nist-ten-segment.toml (frames only:
+    /// a recording carries its target).
     #[arg(long)]
-    pub target: PathBuf,
-    /// Camera focal length, pixels.
+    pub target: Option<PathBuf>,
+    /// Camera focal length, pixels (frames only: a recording carries its camera).
     #[arg(long)]
-    pub focal_px: f64,
+    pub focal_px: Option<f64>,
     /// The target's location in the first frame: CX,CY,SCALE (the teleoperator's placement).
     /// Required by the paper's mode; robust mode without it searches the whole image.
     #[arg(long, allow_hyphen_values = true)]
     pub init: Option<String>,
-    /// Tracker mode: paper (the paper's tracker, the default) or robust.
-    #[arg(long, default_value = "paper", value_parser = ["paper", "robust"])]
-    pub mode: String,
+    /// Tracker mode: paper (the paper's tracker, the default for frames; a recording
+    /// replays in its run's mode) or robust.
+    #[arg(long, value_parser = ["paper", "robust"])]
+    pub mode: Option<String>,
     /// Forgetting factor λ of the motion model (0 < λ ≤ 1).
     #[arg(long)]
     pub lambda: Option<f64>,
@@ -48,6 +60,10 @@ pub struct TrackArgs {
     /// default).
     #[arg(long)]
     pub subpixel_edges: bool,
+    /// Change a tracker setting of a recording's run, as in a scenario file, e.g. --set
+    /// tracker.zeta_px=4 (repeatable; recordings only).
+    #[arg(long = "set", value_name = "tracker.KEY=VALUE")]
+    pub set: Vec<String>,
     /// Where to write the CSV.
     #[arg(long, default_value = "track.csv")]
     pub out: PathBuf,
@@ -61,8 +77,27 @@ pub struct TrackArgs {
 
 /// Runs the subcommand.
 pub fn run_track(args: TrackArgs) -> anyhow::Result<()> {
-    let model = sim::target::load(&args.target)?;
-    let mode = TrackerMode::parse(&args.mode).expect("clap allows only known modes");
+    let mcap = args
+        .frames_dir
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("mcap"));
+    if mcap || args.frames_dir.is_file() {
+        return replay_recording(args);
+    }
+    if !args.set.is_empty() {
+        anyhow::bail!(
+            "--set changes a recording's settings; for frames, use --mode, --lambda, ..."
+        );
+    }
+    let (Some(target), Some(focal_px)) = (&args.target, args.focal_px) else {
+        anyhow::bail!(
+            "{}: frames need --target T.toml and --focal-px F (only a recording carries them)",
+            args.frames_dir.display()
+        );
+    };
+    let model = sim::target::load(target)?;
+    let mode = TrackerMode::parse(args.mode.as_deref().unwrap_or("paper"))
+        .expect("clap allows only known modes");
     let init = match &args.init {
         Some(text) => Some(parse_location(text).context("--init")?),
         None if mode == TrackerMode::Robust => None,
@@ -71,11 +106,8 @@ pub fn run_track(args: TrackArgs) -> anyhow::Result<()> {
              paper 2.2); --mode robust can search for the target instead"
         ),
     };
-    if !(args.focal_px.is_finite() && args.focal_px > 0.0) {
-        anyhow::bail!(
-            "--focal-px must be a positive number of pixels, got {}",
-            args.focal_px
-        );
+    if !(focal_px.is_finite() && focal_px > 0.0) {
+        anyhow::bail!("--focal-px must be a positive number of pixels, got {focal_px}");
     }
     if !(args.pixel_size_mm.is_finite() && args.pixel_size_mm > 0.0) {
         anyhow::bail!(
@@ -109,7 +141,7 @@ pub fn run_track(args: TrackArgs) -> anyhow::Result<()> {
     let job = TrackJob {
         frames_dir: args.frames_dir,
         model,
-        focal_px: args.focal_px,
+        focal_px,
         pixel_size_mm: args.pixel_size_mm,
         image_center_px,
         init,
@@ -128,6 +160,69 @@ pub fn run_track(args: TrackArgs) -> anyhow::Result<()> {
         s.lost,
         s.acquisitions,
         s.median_step_us
+    );
+    Ok(())
+}
+
+/// `carfollow track run.mcap`: the recording's frames through the tracker again, as its run
+/// set it up, with the settings the flags change.
+fn replay_recording(args: TrackArgs) -> anyhow::Result<()> {
+    for (flag, given) in [
+        ("--target", args.target.is_some()),
+        ("--focal-px", args.focal_px.is_some()),
+        ("--init", args.init.is_some()),
+        ("--center", args.center.is_some()),
+    ] {
+        if given {
+            anyhow::bail!(
+                "{}: {flag} is for folders of frames: a recording carries its target, camera and start",
+                args.frames_dir.display()
+            );
+        }
+    }
+    let mut overrides = Vec::new();
+    if let Some(mode) = &args.mode {
+        overrides.push(format!("tracker.mode={mode}"));
+    }
+    if let Some(lambda) = args.lambda {
+        overrides.push(format!("tracker.lambda={lambda}"));
+    }
+    if args.subpixel_edges {
+        overrides.push("tracker.subpixel_edges=true".to_string());
+    }
+    if args.rate_hz != 15.0 {
+        overrides.push(format!("tracker.rate_hz={}", args.rate_hz));
+    }
+    overrides.extend(args.set.iter().cloned());
+    let job = ReplayJob {
+        input: args.frames_dir.clone(),
+        overrides,
+        out_csv: args.out.clone(),
+        overlay_dir: args.overlay,
+        progress: !args.quiet,
+    };
+    let s = match replay(&job) {
+        Ok(s) => s,
+        Err(e @ ReplayError::Output(_)) => return Err(incomplete(e)),
+        Err(e) => return Err(e.into()),
+    };
+    let agreement = match s.first_difference {
+        None => "every estimate equals the recorded one".to_string(),
+        Some(k) => format!(
+            "{} of {} estimates equal the recorded ones, the first difference at frame {k}",
+            s.same_as_recorded, s.frames
+        ),
+    };
+    eprintln!(
+        "{}: {} of {} frames of {}: {} tracking, {} coasting, {} lost, {} (re)acquired; {agreement}",
+        args.out.display(),
+        s.frames,
+        s.frames_recorded,
+        s.scenario,
+        s.tracking,
+        s.coasting,
+        s.lost,
+        s.acquisitions,
     );
     Ok(())
 }

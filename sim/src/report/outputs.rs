@@ -145,7 +145,7 @@ impl RunOutputs {
             return Ok(());
         }
         let stride = self.options.video_stride.max(1);
-        if frame % u64::from(stride) == 0 {
+        if frame.is_multiple_of(u64::from(stride)) {
             if self.video.is_none() {
                 self.video = Some(VideoWriter::create(
                     self.dir.join("video.gif"),

@@ -29,4 +29,4 @@ pub use manifest::{
 };
 pub use report::{best_values, write_report, Best, BEST_RULE, FIGURES};
 pub use results::{dedupe_sorted, merge_dirs, read_rows, ResultRow, ResultsWriter, RESULTS_FILE};
-pub use run::{run_point, run_points, serve_points};
+pub use run::{recording_path, run_point, run_points, serve_points};

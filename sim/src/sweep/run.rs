@@ -22,10 +22,12 @@ use super::{Point, ResultRow, ResultsWriter, Sweep, SweepError};
 use crate::camera::Backend;
 use crate::child::Child;
 use crate::closed_loop::ClosedLoop;
+use crate::recording::{Recorder, RecorderOptions, ReplaySetup};
 use crate::report::Summary;
 use serde::{Deserialize, Serialize};
 use std::collections::VecDeque;
 use std::io::{BufRead, BufWriter, Write};
+use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::sync::Mutex;
 use std::time::Instant;
@@ -33,12 +35,15 @@ use std::time::Instant;
 /// Runs one point through the closed loop and returns its row. `overlap`: whether the
 /// loop overlaps each frame's physics with its rendering (see
 /// [`ClosedLoop::set_pipelined`]); worth it only when a core would otherwise be idle, that
-/// is, with fewer workers than cores. The row is the same either way.
+/// is, with fewer workers than cores. The row is the same either way. With `recordings`, the
+/// point is recorded (see [`crate::recording`]) to [`recording_path`] in that folder, and
+/// the recording is kept only when a criterion failed.
 pub fn run_point(
     sweep: &Sweep,
     point: &Point,
     backend: Backend,
     overlap: bool,
+    recordings: Option<&Path>,
 ) -> Result<ResultRow, SweepError> {
     let fail = |message: String| SweepError::Run {
         point: point.describe(),
@@ -46,10 +51,32 @@ pub fn run_point(
     };
     let scenario = sweep.scenario(point)?;
     let started = Instant::now();
-    let mut looped = ClosedLoop::new(&scenario, backend, false).map_err(|e| fail(e.to_string()))?;
+    let mut looped = ClosedLoop::new(&scenario, backend, recordings.is_some())
+        .map_err(|e| fail(e.to_string()))?;
     looped.set_pipelined(overlap);
+    let mut recorder = match recordings {
+        None => None,
+        Some(dir) => {
+            std::fs::create_dir_all(dir)
+                .map_err(|e| fail(format!("{}: cannot create: {e}", dir.display())))?;
+            let options = RecorderOptions {
+                mcap: Some(recording_path(dir, point)),
+                live: None,
+            };
+            Some(
+                Recorder::start(
+                    &ReplaySetup::of(&scenario, &looped).map_err(fail)?,
+                    &options,
+                )
+                .map_err(|e| fail(e.to_string()))?,
+            )
+        }
+    };
     let mut records = Vec::with_capacity(looped.frames() as usize);
     while let Some(out) = looped.step().map_err(|e| fail(e.to_string()))? {
+        if let Some(r) = &mut recorder {
+            r.frame(&out, looped.chase());
+        }
         records.push(out.record);
     }
     let wall_s = started.elapsed().as_secs_f64();
@@ -61,7 +88,20 @@ pub fn run_point(
         wall_s,
     );
     summary.timing = Some(looped.timing());
+    if let Some(r) = recorder {
+        r.finish(Some(&summary), |s| s.is_some_and(|s| !s.passed))
+            .map_err(|e| fail(e.to_string()))?;
+    }
     Ok(ResultRow::new(point, &summary, &sweep.hash))
+}
+
+/// Where `sweep --mcap-failed` keeps a point's recording in `dir`:
+/// `<scenario>-seed<seed>-<id>.mcap` (the id is the point's in `results.jsonl`).
+pub fn recording_path(dir: &Path, point: &Point) -> PathBuf {
+    dir.join(format!(
+        "{}-seed{}-{}.mcap",
+        point.scenario_name, point.seed, point.id
+    ))
 }
 
 /// A worker's answer for one point.
@@ -74,12 +114,14 @@ enum Reply {
 }
 
 /// The worker's side of the protocol (see the module notes): reads `INDEX ID` lines from
-/// `input` until it ends, runs each point (see [`run_point`] for `overlap`) and writes its
-/// reply line to `output`, flushed. Returns an error only when `input` or `output` fails.
+/// `input` until it ends, runs each point (see [`run_point`] for `overlap` and `recordings`)
+/// and writes its reply line to `output`, flushed. Returns an error only when `input` or
+/// `output` fails.
 pub fn serve_points(
     sweep: &Sweep,
     backend: Backend,
     overlap: bool,
+    recordings: Option<&Path>,
     input: impl BufRead,
     output: impl Write,
 ) -> std::io::Result<()> {
@@ -100,7 +142,7 @@ pub fn serve_points(
             },
             _ => Err(format!("not a point request: {line:?}")),
         };
-        let reply = match point.map(|p| run_point(sweep, p, backend, overlap)) {
+        let reply = match point.map(|p| run_point(sweep, p, backend, overlap, recordings)) {
             Ok(Ok(row)) => Reply::Row(row),
             // The parent names the point; the reply says only what went wrong.
             Ok(Err(SweepError::Run { message, .. })) => Reply::Error(message),
