@@ -124,12 +124,14 @@ pub fn target_toml(model: &TargetModel) -> String {
         nominal_range_m: f64,
         corners_m: &'a [[f64; 2]],
         segments: &'a [[usize; 2]],
+        paint: &'a str,
     }
     toml::to_string(&File {
         name: model.name(),
         nominal_range_m: model.nominal_range_m(),
         corners_m: model.corners_m(),
         segments: model.segments(),
+        paint: model.paint().as_str(),
     })
     .expect("a target model is plain TOML")
 }
@@ -282,6 +284,11 @@ mod tests {
         let text = target_toml(&s.target);
         let back = crate::target::parse(&text, std::path::Path::new("run.mcap")).unwrap();
         assert_eq!(back, s.target);
+        // Its paint rule too.
+        let stripes = s.target.clone().with_paint(tracker::paint::Paint::Stripes);
+        let back = crate::target::parse(&target_toml(&stripes), std::path::Path::new("run.mcap"))
+            .unwrap();
+        assert_eq!(back.paint(), tracker::paint::Paint::Stripes);
     }
 
     #[test]
