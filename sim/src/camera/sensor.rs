@@ -31,6 +31,51 @@ pub fn apply_sensor(image: &mut GrayImage, sensor: &Sensor, seed: u64, frame_ind
     add_noise(image.as_mut(), rng.next_u64(), k);
 }
 
+/// Adds (`sign` 1) or takes away (`sign` −1) the noise that frame `frame_index` of `seed`
+/// adds (the same arithmetic as [`apply_sensor`]'s), writing `src` into `dst`, each pixel
+/// clamped to 0–255. Recordings take it away and replays add it back: a noisy pixel `p`
+/// with noise `d` was `clamp(v + d)` for some `v` in 0–255, so `p − d` is in 0–255 too, and
+/// `clamp((p − d) + d) = p` exactly.
+pub fn shift_noise(
+    src: &[u8],
+    dst: &mut Vec<u8>,
+    noise_sigma_grey: f64,
+    seed: u64,
+    frame_index: u64,
+    sign: i32,
+) {
+    dst.clear();
+    if noise_sigma_grey <= 0.0 {
+        dst.extend_from_slice(src);
+        return;
+    }
+    let mut rng = stream(seed, "sensor-noise");
+    rng.set_word_pos(u128::from(frame_index) * WORDS_PER_FRAME);
+    let k = (f64::from(noise_sigma_grey as f32 / SUM4_SIGMA) * FIXED_ONE).round() as i32;
+    let key = rng.next_u64();
+    dst.extend(
+        src.iter()
+            .enumerate()
+            .map(|(i, &p)| (i32::from(p) + sign * noise_delta(i, key, k)).clamp(0, 255) as u8),
+    );
+}
+
+/// Pixel `i`'s noise for the frame key `key` and fixed-point gain `k`.
+#[inline(always)]
+fn noise_delta(i: usize, key: u64, k: i32) -> i32 {
+    let (key_lo, key_hi) = (key as u32, (key >> 32) as u32);
+    // MurmurHash3's 32-bit finaliser of a Weyl sequence: a bijection with full avalanche,
+    // so neighbouring pixels' words are unrelated.
+    let mut x = ((i as u32).wrapping_mul(0x9e37_79b9) ^ key_lo).wrapping_add(key_hi);
+    x ^= x >> 16;
+    x = x.wrapping_mul(0x85eb_ca6b);
+    x ^= x >> 13;
+    x = x.wrapping_mul(0xc2b2_ae35);
+    x ^= x >> 16;
+    let sum = (x & 0xff) + ((x >> 8) & 0xff) + ((x >> 16) & 0xff) + (x >> 24);
+    (k * (sum as i32 - 510) + FIXED_HALF) >> 16
+}
+
 /// Adds noise to every pixel: pixel `i`'s four random bytes are a hash of `i` keyed by the
 /// frame's random word, so pixels are independent of each other and of the order they are
 /// computed in, and the loop vectorises (with AVX2 where the CPU has it; the result is the
@@ -55,19 +100,8 @@ unsafe fn add_noise_avx2(pixels: &mut [u8], key: u64, k: i32) {
 /// The noise loop itself (see [`add_noise`]).
 #[inline(always)]
 fn add_noise_portable(pixels: &mut [u8], key: u64, k: i32) {
-    let (key_lo, key_hi) = (key as u32, (key >> 32) as u32);
     for (i, pixel) in pixels.iter_mut().enumerate() {
-        // MurmurHash3's 32-bit finaliser of a Weyl sequence: a bijection with full
-        // avalanche, so neighbouring pixels' words are unrelated.
-        let mut x = ((i as u32).wrapping_mul(0x9e37_79b9) ^ key_lo).wrapping_add(key_hi);
-        x ^= x >> 16;
-        x = x.wrapping_mul(0x85eb_ca6b);
-        x ^= x >> 13;
-        x = x.wrapping_mul(0xc2b2_ae35);
-        x ^= x >> 16;
-        let sum = (x & 0xff) + ((x >> 8) & 0xff) + ((x >> 16) & 0xff) + (x >> 24);
-        let delta = (k * (sum as i32 - 510) + FIXED_HALF) >> 16;
-        *pixel = (i32::from(*pixel) + delta).clamp(0, 255) as u8;
+        *pixel = (i32::from(*pixel) + noise_delta(i, key, k)).clamp(0, 255) as u8;
     }
 }
 
@@ -104,6 +138,40 @@ fn blur(image: &mut GrayImage, sigma: f64) {
                 acc += wt * tmp[(yy * w + x) as usize];
             }
             image.as_mut()[(y * w + x) as usize] = (acc / total).round().clamp(0.0, 255.0) as u8;
+        }
+    }
+}
+
+#[cfg(test)]
+mod shift_tests {
+    use super::*;
+
+    #[test]
+    fn noise_taken_away_and_added_back_gives_the_noisy_frame_exactly() {
+        // Every grey level, saturated ones included, under strong noise.
+        let clean: Vec<u8> = (0..256 * 64).map(|i| (i % 256) as u8).collect();
+        let sensor = Sensor {
+            noise_sigma_grey: 20.0,
+            ..Sensor::default()
+        };
+        for frame in [0, 7, 1234] {
+            let mut noisy = GrayImage::from_raw(256, 64, clean.clone()).unwrap();
+            apply_sensor(&mut noisy, &sensor, 42, frame);
+            let (mut quiet, mut back) = (Vec::new(), Vec::new());
+            shift_noise(noisy.as_raw(), &mut quiet, 20.0, 42, frame, -1);
+            shift_noise(&quiet, &mut back, 20.0, 42, frame, 1);
+            assert_eq!(back, noisy.as_raw().to_vec(), "frame {frame}");
+            // Away from saturation, taking the noise away gives the clean frame.
+            let restored = quiet
+                .iter()
+                .zip(&clean)
+                .filter(|(_, &c)| (80..=175).contains(&c))
+                .all(|(q, c)| q == c);
+            assert!(restored, "frame {frame}");
+            // Another frame's noise does not undo this one's.
+            let mut wrong = Vec::new();
+            shift_noise(noisy.as_raw(), &mut wrong, 20.0, 42, frame + 1, -1);
+            assert_ne!(wrong, quiet);
         }
     }
 }

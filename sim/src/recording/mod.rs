@@ -114,6 +114,11 @@ pub struct ReplaySetup {
     pub frames: u64,
     /// The lead's body, metres: length, height, width (for the scene).
     pub lead_box_m: [f64; 3],
+    /// The sensor noise σ (grey levels) the recorded images are without: each frame's
+    /// noise, which is a function of the seed and the frame's index
+    /// (`camera::shift_noise`), is subtracted when recording and added back on replay,
+    /// exactly. 0: the images are as the tracker saw them.
+    pub noise_removed_sigma: f64,
 }
 
 /// A target model as the TOML of `scenarios/targets/` (read back by [`crate::target::parse`]).
@@ -160,13 +165,15 @@ impl ReplaySetup {
             height: rig.height,
             frames: looped.frames(),
             lead_box_m: crate::closed_loop::lead_body_size_m(),
+            noise_removed_sigma: scenario.sensor.noise_sigma_grey,
         })
     }
 
     /// The metadata record: `scenario`, `seed`, `carfollow_version`, `git_commit` (when
     /// known), `overrides` (JSON list), `resolved_scenario` and `target` (TOML),
     /// `tracker_start` (`cx,cy,scale`), `camera` (`focal_length_mm,pixel_size_mm,
-    /// pixel_size_mm,centre_x,centre_y`), `image_size` (`W,H`) and `frames`. Numbers are in
+    /// pixel_size_mm,centre_x,centre_y`), `image_size` (`W,H`), `frames` and
+    /// `image_noise_removed_sigma` (see [`ReplaySetup::noise_removed_sigma`]). Numbers are in
     /// Rust's shortest round-trip form, so they read back exactly.
     pub fn metadata(&self) -> BTreeMap<String, String> {
         let c = self.camera;
@@ -207,6 +214,10 @@ impl ReplaySetup {
         );
         m.insert("frames".into(), self.frames.to_string());
         m.insert("lead_box_m".into(), triple(self.lead_box_m));
+        m.insert(
+            "image_noise_removed_sigma".into(),
+            self.noise_removed_sigma.to_string(),
+        );
         m
     }
 
@@ -261,6 +272,7 @@ impl ReplaySetup {
             height,
             frames: integer("frames")?,
             lead_box_m: [lead[0], lead[1], lead[2]],
+            noise_removed_sigma: numbers("image_noise_removed_sigma", 1)?[0],
         })
     }
 }
@@ -286,8 +298,8 @@ mod tests {
         assert_eq!(back, s.target);
         // Its paint rule too.
         let stripes = s.target.clone().with_paint(tracker::paint::Paint::Stripes);
-        let back = crate::target::parse(&target_toml(&stripes), std::path::Path::new("run.mcap"))
-            .unwrap();
+        let back =
+            crate::target::parse(&target_toml(&stripes), std::path::Path::new("run.mcap")).unwrap();
         assert_eq!(back.paint(), tracker::paint::Paint::Stripes);
     }
 

@@ -9,6 +9,7 @@
 
 use super::messages::{TrackerInputDecoded, TrackerStateDecoded};
 use super::{topics, ReplaySetup, METADATA_NAME};
+use crate::camera::shift_noise;
 use crate::overlay;
 use crate::scenario::Scenario;
 use foxglove::messages::CompressedImage;
@@ -406,6 +407,10 @@ struct Run {
     summary: ReplaySummary,
     width: u32,
     height: u32,
+    /// The sensor noise the images were recorded without, and its seed.
+    noise: (f64, u64),
+    /// The frame with its noise added back (the buffer is reused).
+    noisy: Vec<u8>,
 }
 
 impl Run {
@@ -451,6 +456,8 @@ impl Run {
             },
             width: tape.setup.width,
             height: tape.setup.height,
+            noise: (tape.setup.noise_removed_sigma, tape.setup.seed),
+            noisy: Vec::new(),
         })
     }
 
@@ -477,12 +484,18 @@ impl Run {
         if !input.t_s.is_finite() {
             return Err(bad(path, format!("frame {k}'s time is not a number")));
         }
-        let view = GrayView::new(
-            image.width() as usize,
-            image.height() as usize,
+        // The sensor noise, recorded apart, added back exactly (see
+        // `ReplaySetup::noise_removed_sigma`).
+        shift_noise(
             image.as_raw(),
-        )
-        .map_err(|e| bad(path, format!("frame {k}: {e}")))?;
+            &mut self.noisy,
+            self.noise.0,
+            self.noise.1,
+            k,
+            1,
+        );
+        let view = GrayView::new(image.width() as usize, image.height() as usize, &self.noisy)
+            .map_err(|e| bad(path, format!("frame {k}: {e}")))?;
         let ego = input.aided.then_some(EgoMotion {
             rotation_rad: [input.ego_x_rad, input.ego_y_rad, input.ego_z_rad],
         });

@@ -3,6 +3,7 @@
 
 use super::messages::{ControllerState, GroundTruth, TrackerInput, TrackerState};
 use super::{log_time_ns, topics, ReplaySetup, METADATA_NAME};
+use crate::camera::shift_noise;
 use crate::closed_loop::FrameOutput;
 use crate::overlay;
 use crate::record::TrackerStatus;
@@ -160,6 +161,11 @@ struct Writer {
     last_log_time: u64,
     /// The last frame as PNG (the buffer is reused).
     png: Vec<u8>,
+    /// The sensor noise the images are recorded without, and the seed it comes from (see
+    /// [`ReplaySetup::noise_removed_sigma`]).
+    noise: (f64, u64),
+    /// The last frame without its noise (the buffer is reused).
+    quiet: Vec<u8>,
 }
 
 /// An RGB colour of the overlay as Foxglove's colour.
@@ -479,6 +485,8 @@ impl Writer {
             last_lost_truth: false,
             last_log_time: 0,
             png: Vec::new(),
+            noise: (setup.noise_removed_sigma, setup.seed),
+            quiet: Vec::new(),
         })
     }
 
@@ -491,15 +499,26 @@ impl Writer {
         let ch = &self.channels;
         let (width, height) = out.image.dimensions();
 
-        // PNG at its fast level with the Sub filter: measured on nist-grounds' frames, 33.4 kB
-        // in 119 µs a frame, against 32.4 kB in 181 µs with adaptive filters, 34.1 kB in
-        // 5.4 ms at the default level, and 41.8 kB for zstd (level 1) on the raw frame. The
-        // sensor noise (σ = 2 grey levels, about 3 bits a pixel) is most of what remains.
+        // The sensor noise (σ = 2 grey levels is about 3 bits a pixel, which no lossless
+        // coding removes: 33.4 kB a frame of nist-grounds as PNG) is a function of the seed
+        // and the frame's index, so the image is recorded without it and replay adds it
+        // back exactly (`camera::shift_noise`).
+        shift_noise(
+            out.image.as_raw(),
+            &mut self.quiet,
+            self.noise.0,
+            self.noise.1,
+            r.frame,
+            -1,
+        );
+        // PNG at its fast level with the Sub filter (measured on nist-grounds' noisy frames:
+        // 33.4 kB in 119 µs a frame, against 32.4 kB in 181 µs with adaptive filters and 34.1
+        // kB in 5.4 ms at the default level).
         self.png.clear();
         let encoder =
             PngEncoder::new_with_quality(&mut self.png, CompressionType::Fast, FilterType::Sub);
         // Writing to memory cannot fail for a frame of the size it says.
-        let encoded = encoder.write_image(out.image.as_raw(), width, height, ExtendedColorType::L8);
+        let encoded = encoder.write_image(&self.quiet, width, height, ExtendedColorType::L8);
         debug_assert!(encoded.is_ok());
         ch.image.log_with_time(
             &CompressedImage {
