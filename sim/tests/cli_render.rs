@@ -56,3 +56,85 @@ fn set_without_a_scenario_exits_2() {
     assert!(err.contains("--set seed=3"), "{err}");
     assert_eq!(err.trim().lines().count(), 1, "{err}");
 }
+
+/// A shadow distractor puts a shadow's edge on the board at its offset from the feature: 3 px
+/// (at the nominal range) outside the outer left feature of `section4`, seen in the frame
+/// against the same frame with the distractor invisible.
+#[test]
+fn a_shadow_distractor_puts_its_edge_at_the_offset() {
+    let dir = tempfile::tempdir().unwrap();
+    let scenario = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../scenarios/section4.toml")
+        .to_str()
+        .unwrap()
+        .to_owned();
+    let frame = |name: &str, extra: &[&str]| {
+        let out = dir.path().join(name);
+        let mut args = vec![
+            scenario.as_str(),
+            "--time",
+            "3",
+            "--set",
+            "environment.sun.soft_shadows=true",
+        ];
+        args.extend(extra);
+        let done = render(&out, &args);
+        assert!(
+            done.status.success(),
+            "{}",
+            String::from_utf8_lossy(&done.stderr)
+        );
+        let said = String::from_utf8_lossy(&done.stdout).to_string();
+        (image::open(&out).unwrap().into_luma8(), said)
+    };
+    let (shadowed, said) = frame(
+        "shadow.png",
+        &[
+            "--set",
+            "environment.distractors.0.kind=\"shadow\"",
+            "--set",
+            "environment.distractors.0.offset_px=3",
+        ],
+    );
+    let (plain, _) = frame(
+        "plain.png",
+        &["--set", "environment.distractors.0.albedo=0.85"],
+    );
+    // "target c = (X, Y) px, scale S": the outer left feature is 0.8 m × 32 px/m × S left.
+    let numbers: Vec<f64> = said
+        .split(|c: char| !(c.is_ascii_digit() || c == '.'))
+        .filter_map(|t| t.parse().ok())
+        .collect();
+    let at = said
+        .find("target c = (")
+        .expect("the target's place is printed");
+    let tail: Vec<f64> = said[at..]
+        .split(|c: char| !(c.is_ascii_digit() || c == '.'))
+        .filter_map(|t| t.parse().ok())
+        .collect();
+    assert!(numbers.len() >= 3);
+    let (cx, cy, scale) = (tail[0], tail[1], tail[2]);
+    let feature = cx - 0.8 * 32.0 * scale;
+    let row = cy.round() as u32;
+    // Walking out from the feature over the board's light margin, the shadow's edge is
+    // where the frame stops (or starts) being darker than without the shadow; the band
+    // lies on one side of it or the other, as the sun falls.
+    let darker = |x: u32| {
+        f64::from(shadowed.get_pixel(x, row)[0]) + 40.0 < f64::from(plain.get_pixel(x, row)[0])
+    };
+    let first = feature.floor() as u32 - 1;
+    assert!(
+        f64::from(plain.get_pixel(first, row)[0]) > 120.0,
+        "not on the margin"
+    );
+    let edge = (0..first)
+        .rev()
+        .find(|&x| darker(x) != darker(first))
+        .expect("a shadow edge on the board's margin") as f64;
+    let offset = feature - (edge + 0.5);
+    assert!(
+        (offset - 3.0 * scale).abs() < 1.5,
+        "shadow edge {offset:.2} px outside the feature, wanted {:.2}",
+        3.0 * scale
+    );
+}

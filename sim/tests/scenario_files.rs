@@ -331,7 +331,26 @@ fn distractors_and_overpasses_are_checked_and_list_items_can_be_set() {
     let e = load(&section4(), &["environment.distractors.0.feature=10"]).unwrap_err();
     assert!(e.contains("must be a segment of the target, 0–9"), "{e}");
     let e = load(&section4(), &["environment.distractors.0.kind=\"tree\""]).unwrap_err();
-    assert!(e.contains("must be \"pole\" or \"wire\""), "{e}");
+    assert!(
+        e.contains("must be \"pole\", \"wire\" or \"shadow\""),
+        "{e}"
+    );
+    // A shadow edge beside any feature, while the sun lights the board; not with the sun
+    // behind it.
+    let s = load(&section4(), &["environment.distractors.0.kind=\"shadow\""]).unwrap();
+    assert!(matches!(
+        s.distractors[0].kind,
+        sim::scene::DistractorKind::Shadow { root_m, depth_m } if root_m.is_finite() && depth_m > 0.0
+    ));
+    let e = load(
+        &section4(),
+        &[
+            "environment.distractors.0.kind=\"shadow\"",
+            "environment.sun.azimuth_deg=-30",
+        ],
+    )
+    .unwrap_err();
+    assert!(e.contains("needs the sun in front of it"), "{e}");
     let e = load(&section4(), &["environment.distractors.0.albedo=1.5"]).unwrap_err();
     assert!(
         e.contains("`environment.distractors[0].albedo` = 1.5: must be 0–1"),

@@ -117,6 +117,10 @@ fn short(text: String) -> String {
     }
 }
 
+/// Width of a shadow distractor's band on the board, metres: wider than the target's
+/// spacing of parallel features, so that one edge of it lies near the chosen feature.
+const SHADOW_BAND_M: f64 = 0.5;
+
 /// A speed profile from its file form (`SECTION.speed_basis`, `SECTION.speed_profile`);
 /// `Err((field, message))` naming what is wrong.
 fn speed_profile(
@@ -593,12 +597,21 @@ pub(super) fn validate(
     for (i, d) in e.distractors.iter().enumerate() {
         let field = |name: &str| format!("environment.distractors[{i}].{name}");
         let (kind, wanted) = match d.kind.as_str() {
-            "pole" => (DistractorKind::Pole, tracker::Orientation::Vertical),
-            "wire" => (DistractorKind::Wire, tracker::Orientation::Horizontal),
+            "pole" => (DistractorKind::Pole, Some(tracker::Orientation::Vertical)),
+            "wire" => (DistractorKind::Wire, Some(tracker::Orientation::Horizontal)),
+            // Placed once the route is known (below): the fin depends on the sun's direction
+            // in the board's frame at the start.
+            "shadow" => (
+                DistractorKind::Shadow {
+                    root_m: f64::NAN,
+                    depth_m: f64::NAN,
+                },
+                None,
+            ),
             other => {
                 return Err(invalid(
                     &field("kind"),
-                    format!("= {other:?}: must be \"pole\" or \"wire\""),
+                    format!("= {other:?}: must be \"pole\", \"wire\" or \"shadow\""),
                 ))
             }
         };
@@ -615,7 +628,7 @@ pub(super) fn validate(
             .orientations()
             .nth(d.feature)
             .expect("feature index checked");
-        if orientation != wanted {
+        if let Some(wanted) = wanted.filter(|&w| w != orientation) {
             return Err(invalid(
                 &field("feature"),
                 format!(
@@ -656,8 +669,8 @@ pub(super) fn validate(
             }
         };
         let width_m = d.width_m.unwrap_or(match kind {
-            DistractorKind::Pole => 0.05,
             DistractorKind::Wire => 0.02,
+            _ => 0.05,
         });
         at(
             &field("width_m"),
@@ -776,6 +789,46 @@ pub(super) fn validate(
     // What the closed loop builds from all this, built here so that `check`, a sweep's
     // pre-flight and `run` refuse the same scenarios, and `ClosedLoop::new` refuses none.
     let scene_route = crate::scene::Route::new(route.clone());
+    // Shadow distractors: the fin that puts the shadow's edge at the offset, for the sun's
+    // direction in the board's frame with the lead on its starting heading.
+    for (i, d) in distractors.iter_mut().enumerate() {
+        if let DistractorKind::Shadow { root_m, depth_m } = &mut d.kind {
+            let lead_rotation = scene_route.pose_at(l.start_m, 0.0).rotation;
+            let board_rotation =
+                crate::scene::lead_from_target_of(&crate::scene::LeadVehicle::default()).rotation;
+            let s = (lead_rotation * board_rotation).inverse()
+                * nalgebra::Vector3::from(sun.direction());
+            let field = format!("environment.distractors[{i}].kind");
+            if s.z < 0.05 {
+                return Err(invalid(
+                    &field,
+                    ": a shadow on the board needs the sun in front of it at the start, and \
+                     it is behind or grazing it: turn the sun (environment.sun.azimuth_deg)"
+                        .into(),
+                ));
+            }
+            let f = &target.features_px(&camera)[d.feature];
+            let k = target.nominal_range_m() / camera.focal_px()[0];
+            let (line, slope) = match f.orientation {
+                tracker::Orientation::Vertical => (f.offset_px * k, s.x / s.z),
+                tracker::Orientation::Horizontal => (-f.offset_px * k, s.y / s.z),
+            };
+            if slope.abs() < 0.1 {
+                return Err(invalid(
+                    &field,
+                    ": the sun shines almost straight at the board, so no fin can cast a \
+                     shadow edge across this feature: turn the sun"
+                        .into(),
+                ));
+            }
+            // A shadow band SHADOW_BAND_M wide: the fin stands that far out divided by the
+            // slope, and its root lies the band's width from the edge, towards the sun.
+            let outward = if line < 0.0 { -1.0 } else { 1.0 };
+            let edge = line + outward * d.offset_m;
+            *depth_m = (SHADOW_BAND_M / slope.abs()).min(3.0);
+            *root_m = edge + *depth_m * slope;
+        }
+    }
     let (points, reach_m) =
         crate::closed_loop::lane_polyline(&scene_route, 0.5 * route.lane_width_m);
     let drivers_route =

@@ -857,6 +857,40 @@ fn lead_vehicle(description: &SceneDescription) -> Mesh {
         let [x0, y0, x1, y1] = match d.kind {
             DistractorKind::Pole => [a, ground, b, ground + DISTRACTOR_POLE_M],
             DistractorKind::Wire => [-DISTRACTOR_REACH_M, a, DISTRACTOR_REACH_M, b],
+            DistractorKind::Shadow { root_m, depth_m } => {
+                // A fin 1 cm thick, as the board's light paint, both faces drawn so that it
+                // casts a shadow whichever side the sun is on.
+                let (across, along_lo, along_hi) = match f.orientation {
+                    tracker::Orientation::Vertical => (root_m, ground, ground + 4.0),
+                    tracker::Orientation::Horizontal => {
+                        (root_m, -DISTRACTOR_REACH_M, DISTRACTOR_REACH_M)
+                    }
+                };
+                for side in [-0.005, 0.005] {
+                    let c = across + side;
+                    let corners = match f.orientation {
+                        tracker::Orientation::Vertical => [
+                            put(c, along_lo, 0.0),
+                            put(c, along_lo, depth_m),
+                            put(c, along_hi, depth_m),
+                            put(c, along_hi, 0.0),
+                        ],
+                        tracker::Orientation::Horizontal => [
+                            put(along_lo, c, 0.0),
+                            put(along_hi, c, 0.0),
+                            put(along_hi, c, depth_m),
+                            put(along_lo, c, depth_m),
+                        ],
+                    };
+                    let corners = if side < 0.0 {
+                        [corners[3], corners[2], corners[1], corners[0]]
+                    } else {
+                        corners
+                    };
+                    mesh.polygon(&corners, BOARD_ALBEDO, slot);
+                }
+                continue;
+            }
         };
         mesh.quad_with_normal(
             [

@@ -82,12 +82,23 @@ pub enum Placement {
 }
 
 /// What a controlled distractor is.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub enum DistractorKind {
     /// A vertical bar from the ground up (a pole), beside a vertical feature.
     Pole,
     /// A horizontal bar across the image (a wire), beside a horizontal feature.
     Wire,
+    /// The edge of a shadow, parallel to the feature: a thin fin standing out of the board
+    /// (vertical beside a vertical feature, a visor beside a horizontal one) casts it, placed
+    /// so that with the sun where it is at the start the shadow's far edge falls at the
+    /// offset. As the lead turns, the edge moves as a real shadow would.
+    Shadow {
+        /// Where the fin stands on the board, metres across the feature (x for a vertical
+        /// feature, y for a horizontal one, in the target's frame).
+        root_m: f64,
+        /// How far it stands out of the board towards the chase, metres.
+        depth_m: f64,
+    },
 }
 
 /// A line that moves with the lead, beside one of the target's features, at a set offset:
