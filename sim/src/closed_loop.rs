@@ -551,8 +551,10 @@ impl ClosedLoop {
         }
         let [dx, dy, ds] = s.init_offset;
         let init = Location::new(t.c_x + dx, t.c_y + dy, t.scale + ds);
-        let tracker = Tracker::new(s.target.clone(), s.camera, s.tracker.clone(), init)
+        let mut tracker = Tracker::new(s.target.clone(), s.camera, s.tracker.clone(), init)
             .map_err(|e| setup(format!("tracker: {e}")))?;
+        // The overlay and the recording draw associated and rejected points only.
+        tracker.set_association_fates_only(true);
         let target_width_px = tracker.target_width_px();
 
         // The lead's path so far: the lane behind its start, so the chase has a path from t = 0.

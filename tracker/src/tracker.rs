@@ -197,6 +197,9 @@ pub struct Tracker {
     /// Robust mode: the last location measured with a strong check, where a search after a
     /// loss starts.
     last_good: Location,
+    /// Diagnostics list only the fates association gives (see
+    /// [`Tracker::set_association_fates_only`]).
+    association_fates_only: bool,
     // Scratch, kept between frames so that a step allocates little.
     extractor: EdgeExtractor,
     edges: Edges,
@@ -310,6 +313,7 @@ impl Tracker {
         let lambda = config.lambda;
         let alias_px = alias_spacing(&features);
         Ok(Tracker {
+            association_fates_only: false,
             config,
             model,
             camera,
@@ -428,6 +432,15 @@ impl Tracker {
         self.run(image, t_s, Some(ego), None)
     }
 
+    /// With `true`, the diagnostics of [`Tracker::step_with_diagnostics`] list only the
+    /// classified edge points with their fates from association (associated with a feature,
+    /// or too far from any), not the weak or wrongly oriented pixels. Edge extraction then
+    /// takes its fast path, so a run that draws or records the overlay pays little for it;
+    /// the estimates are the same either way.
+    pub fn set_association_fates_only(&mut self, only: bool) {
+        self.association_fates_only = only;
+    }
+
     /// As [`Tracker::step`], and also returns every edge point in the window with its fate.
     pub fn step_with_diagnostics(
         &mut self,
@@ -500,12 +513,17 @@ impl Tracker {
         }
         // Stage 7 (for this image), then stages 1–4.
         predict_features(&self.features, at, &mut self.predicted);
+        let extraction_diagnostics = if self.association_fates_only {
+            None
+        } else {
+            diagnostics.as_deref_mut()
+        };
         self.extractor.extract(
             image,
             window,
             &config,
             &mut self.edges,
-            diagnostics.as_deref_mut(),
+            extraction_diagnostics,
         );
         associate(
             &self.edges,

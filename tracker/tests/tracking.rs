@@ -336,3 +336,35 @@ fn distractors_inside_zeta_lower_the_confidence_of_the_features_they_touch() {
     );
     assert!(worst < 2.0, "worst error {worst:.2} px");
 }
+
+#[test]
+fn association_fates_only_gives_the_same_estimates_and_fates() {
+    use tracker::EdgeFate;
+    let model = nist_ten_segment();
+    let camera = Camera::default();
+    let truth = clean_sequence();
+    let run = |only: bool| {
+        let mut t =
+            Tracker::new(model.clone(), camera, TrackerConfig::default(), truth[0]).unwrap();
+        t.set_association_fates_only(only);
+        truth
+            .iter()
+            .enumerate()
+            .map(|(k, &at)| {
+                let px = draw(&model, &camera, at, &cluttered(k, at), k as u64);
+                t.step_with_diagnostics(GrayView::new(256, 242, &px).unwrap(), k as f64 / 15.0)
+            })
+            .collect::<Vec<_>>()
+    };
+    let (full, only) = (run(false), run(true));
+    for ((out_full, fates_full), (out_only, fates_only)) in full.iter().zip(&only) {
+        assert_eq!(out_full, out_only);
+        let kept: Vec<_> = fates_full
+            .iter()
+            .filter(|d| matches!(d.fate, EdgeFate::Associated(_) | EdgeFate::TooFar))
+            .cloned()
+            .collect();
+        assert_eq!(&kept, fates_only);
+        assert!(fates_full.len() > fates_only.len());
+    }
+}

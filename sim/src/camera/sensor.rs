@@ -53,11 +53,29 @@ pub fn shift_noise(
     rng.set_word_pos(u128::from(frame_index) * WORDS_PER_FRAME);
     let k = (f64::from(noise_sigma_grey as f32 / SUM4_SIGMA) * FIXED_ONE).round() as i32;
     let key = rng.next_u64();
-    dst.extend(
-        src.iter()
-            .enumerate()
-            .map(|(i, &p)| (i32::from(p) + sign * noise_delta(i, key, k)).clamp(0, 255) as u8),
-    );
+    dst.resize(src.len(), 0);
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the CPU supports AVX2, checked just above.
+        unsafe { shift_noise_avx2(src, dst, key, k, sign) };
+        return;
+    }
+    shift_noise_portable(src, dst, key, k, sign);
+}
+
+/// [`shift_noise_portable`] compiled for AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn shift_noise_avx2(src: &[u8], dst: &mut [u8], key: u64, k: i32, sign: i32) {
+    shift_noise_portable(src, dst, key, k, sign);
+}
+
+/// The loop of [`shift_noise`]: the same integer arithmetic on every CPU.
+#[inline(always)]
+fn shift_noise_portable(src: &[u8], dst: &mut [u8], key: u64, k: i32, sign: i32) {
+    for (i, (d, &p)) in dst.iter_mut().zip(src).enumerate() {
+        *d = (i32::from(p) + sign * noise_delta(i, key, k)).clamp(0, 255) as u8;
+    }
 }
 
 /// Pixel `i`'s noise for the frame key `key` and fixed-point gain `k`.
