@@ -257,6 +257,12 @@ impl TargetModel {
         [x1 - x0, y1 - y0]
     }
 
+    /// Segment `j`'s line, metres from the target centre across it: y (up) for a horizontal
+    /// segment, x (right) for a vertical one. `None` past the last segment.
+    pub fn line_m(&self, j: usize) -> Option<f64> {
+        self.features.get(j).map(|f| f.offset_m)
+    }
+
     /// Each segment's orientation, in segment order.
     pub fn orientations(&self) -> impl Iterator<Item = Orientation> + '_ {
         self.features.iter().map(|f| f.orientation)

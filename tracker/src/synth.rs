@@ -138,8 +138,9 @@ fn coverage(bounds: [f64; 4], i: usize, j: usize) -> f64 {
     ox * oy
 }
 
-/// Paints a rectangle over `buf` (row-major f64 grey levels), mixing by coverage.
-fn paint(buf: &mut [f64], width: usize, height: usize, rect: Rect, multiply: bool) {
+/// Calls `f(index, coverage)` for every pixel of a `width × height` row-major buffer that
+/// `rect` covers in part.
+fn for_covered(width: usize, height: usize, rect: Rect, mut f: impl FnMut(usize, f64)) {
     let [x0, y0, x1, y1] = rect.bounds;
     let i0 = (x0 - 0.5).floor().max(0.0) as usize;
     let j0 = (y0 - 0.5).floor().max(0.0) as usize;
@@ -149,34 +150,31 @@ fn paint(buf: &mut [f64], width: usize, height: usize, rect: Rect, multiply: boo
         for i in i0..i1 {
             let c = coverage(rect.bounds, i, j);
             if c > 0.0 {
-                let p = &mut buf[j * width + i];
-                let target = if multiply {
-                    *p * rect.value
-                } else {
-                    rect.value
-                };
-                *p += c * (target - *p);
+                f(j * width + i, c);
             }
         }
     }
 }
 
+/// Paints a rectangle over `buf` (row-major f64 grey levels), mixing by coverage.
+fn paint(buf: &mut [f64], width: usize, height: usize, rect: Rect, multiply: bool) {
+    for_covered(width, height, rect, |k, c| {
+        let p = &mut buf[k];
+        let target = if multiply {
+            *p * rect.value
+        } else {
+            rect.value
+        };
+        *p += c * (target - *p);
+    });
+}
+
 /// Adds a rectangle lying wholly on a surface of level `under`: each pixel gains its covered
 /// share of `rect.value − under`.
 fn add_over(buf: &mut [f64], width: usize, height: usize, rect: Rect, under: f64) {
-    let [x0, y0, x1, y1] = rect.bounds;
-    let i0 = (x0 - 0.5).floor().max(0.0) as usize;
-    let j0 = (y0 - 0.5).floor().max(0.0) as usize;
-    let i1 = ((x1 + 0.5).ceil().max(0.0) as usize).min(width);
-    let j1 = ((y1 + 0.5).ceil().max(0.0) as usize).min(height);
-    for j in j0..j1 {
-        for i in i0..i1 {
-            let c = coverage(rect.bounds, i, j);
-            if c > 0.0 {
-                buf[j * width + i] += c * (rect.value - under);
-            }
-        }
-    }
+    for_covered(width, height, rect, |k, c| {
+        buf[k] += c * (rect.value - under)
+    });
 }
 
 /// Draws one frame: background, the target at `at`, distractors, shadows, then noise from

@@ -432,45 +432,15 @@ impl Renderer {
             bind_group_layouts: &[Some(&frame_layout), Some(&shadow_layout)],
             immediate_size: 0,
         });
-        let shadow_pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("shadow"),
-            layout: Some(&shadow_pipeline_layout),
-            vertex: wgpu::VertexState {
-                module: &shader,
-                entry_point: Some("vs_shadow"),
-                compilation_options: Default::default(),
-                buffers: &[Some(vertex_layout.clone())],
-            },
-            // Every closed mesh is wound counter-clockwise seen from outside
-            // (`Mesh::orient_faces`), open ones are two-sided: back faces never show.
-            primitive: wgpu::PrimitiveState {
-                cull_mode: Some(wgpu::Face::Back),
-                ..Default::default()
-            },
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: DEPTH_FORMAT,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::LessEqual),
-                stencil: wgpu::StencilState::default(),
-                // A little slope-scaled bias on top of the normal offset, for grazing light.
-                bias: wgpu::DepthBiasState {
-                    constant: 2,
-                    slope_scale: 1.5,
-                    clamp: 0.0,
-                },
-            }),
-            multisample: wgpu::MultisampleState::default(),
-            fragment: None,
-            multiview_mask: None,
-            cache: None,
-        });
-        let board_shadow_pipeline =
+        // Depth only, from the sun: the main shadow map (`vs_shadow`) and the board's
+        // (`vs_board_shadow`).
+        let depth_only_pipeline = |label: &str, entry: &str| {
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some("board shadow"),
+                label: Some(label),
                 layout: Some(&shadow_pipeline_layout),
                 vertex: wgpu::VertexState {
                     module: &shader,
-                    entry_point: Some("vs_board_shadow"),
+                    entry_point: Some(entry),
                     compilation_options: Default::default(),
                     buffers: &[Some(vertex_layout.clone())],
                 },
@@ -496,7 +466,10 @@ impl Renderer {
                 fragment: None,
                 multiview_mask: None,
                 cache: None,
-            });
+            })
+        };
+        let shadow_pipeline = depth_only_pipeline("shadow", "vs_shadow");
+        let board_shadow_pipeline = depth_only_pipeline("board shadow", "vs_board_shadow");
         let main_pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some("main"),
             layout: Some(&main_pipeline_layout),
@@ -696,19 +669,7 @@ impl Renderer {
             self.options.shadow_map_size,
         );
         let mut shadow_draws = std::mem::take(&mut self.shadow_draws);
-        shadow_draws.clear();
-        shadow_draws.extend(
-            items
-                .iter()
-                .filter(|d| d.casts_shadow && light.holds(d.centre, d.radius))
-                .map(|d| d.indices.clone()),
-        );
-        shadow_draws.sort_by_key(|r| r.start);
-        let mut merged = Vec::with_capacity(shadow_draws.len());
-        for range in shadow_draws.drain(..) {
-            push_merged(&mut merged, range);
-        }
-        shadow_draws = merged;
+        caster_draws(&items, &light, &mut shadow_draws);
         // The board's shadow map: a fine one around the target board, with its casters.
         let board_light = board_centre.filter(|_| sun.soft_shadows).map(|c| {
             Light::around(
@@ -722,18 +683,7 @@ impl Renderer {
         let mut board_shadow_draws = std::mem::take(&mut self.board_shadow_draws);
         board_shadow_draws.clear();
         if let Some(light) = &board_light {
-            board_shadow_draws.extend(
-                items
-                    .iter()
-                    .filter(|d| d.casts_shadow && light.holds(d.centre, d.radius))
-                    .map(|d| d.indices.clone()),
-            );
-            board_shadow_draws.sort_by_key(|r| r.start);
-            let mut merged = Vec::with_capacity(board_shadow_draws.len());
-            for range in board_shadow_draws.drain(..) {
-                push_merged(&mut merged, range);
-            }
-            board_shadow_draws = merged;
+            caster_draws(&items, light, &mut board_shadow_draws);
         }
         self.items = items;
 
@@ -825,7 +775,8 @@ impl Renderer {
                 pass.draw_indexed(range.clone(), 0, 0..1);
             }
         }
-        {
+        // The board's pass only with soft shadows: without them nothing samples its map.
+        if board_light.is_some() {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("board shadow"),
                 color_attachments: &[],
@@ -1095,6 +1046,21 @@ fn to_f32(m: &Matrix4<f64>) -> [[f32; 4]; 4] {
 }
 
 /// Appends an index range to a draw list, joining it to the last one when they touch.
+/// Into `draws`: the index ranges of the items that cast shadows within `light`'s box,
+/// sorted and joined into as few draws as possible (depth only, so order does not matter).
+fn caster_draws(items: &[DrawItem], light: &Light, draws: &mut Vec<Range<u32>>) {
+    let mut ranges: Vec<Range<u32>> = items
+        .iter()
+        .filter(|d| d.casts_shadow && light.holds(d.centre, d.radius))
+        .map(|d| d.indices.clone())
+        .collect();
+    ranges.sort_by_key(|r| r.start);
+    draws.clear();
+    for range in ranges {
+        push_merged(draws, range);
+    }
+}
+
 fn push_merged(draws: &mut Vec<Range<u32>>, range: Range<u32>) {
     match draws.last_mut() {
         Some(last) if last.end == range.start => last.end = range.end,

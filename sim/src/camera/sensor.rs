@@ -23,12 +23,19 @@ pub fn apply_sensor(image: &mut GrayImage, sensor: &Sensor, seed: u64, frame_ind
     if sensor.noise_sigma_grey <= 0.0 {
         return;
     }
+    let (key, k) = frame_noise(sensor.noise_sigma_grey, seed, frame_index);
+    add_noise(image.as_mut(), key, k);
+}
+
+/// Frame `frame_index`'s noise: the key of its pixel hash (a fixed slice of the
+/// `"sensor-noise"` stream of `seed`) and the noise gain in 16.16 fixed point (integer
+/// arithmetic rounds without a call to `roundf` per pixel: baseline x86-64 has no rounding
+/// instruction).
+fn frame_noise(noise_sigma_grey: f64, seed: u64, frame_index: u64) -> (u64, i32) {
     let mut rng = stream(seed, "sensor-noise");
     rng.set_word_pos(u128::from(frame_index) * WORDS_PER_FRAME);
-    // The noise gain in 16.16 fixed point: integer arithmetic rounds without a call to
-    // `roundf` per pixel (baseline x86-64 has no rounding instruction).
-    let k = (f64::from(sensor.noise_sigma_grey as f32 / SUM4_SIGMA) * FIXED_ONE).round() as i32;
-    add_noise(image.as_mut(), rng.next_u64(), k);
+    let k = (f64::from(noise_sigma_grey as f32 / SUM4_SIGMA) * FIXED_ONE).round() as i32;
+    (rng.next_u64(), k)
 }
 
 /// Adds (`sign` 1) or takes away (`sign` −1) the noise that frame `frame_index` of `seed`
@@ -49,10 +56,7 @@ pub fn shift_noise(
         dst.extend_from_slice(src);
         return;
     }
-    let mut rng = stream(seed, "sensor-noise");
-    rng.set_word_pos(u128::from(frame_index) * WORDS_PER_FRAME);
-    let k = (f64::from(noise_sigma_grey as f32 / SUM4_SIGMA) * FIXED_ONE).round() as i32;
-    let key = rng.next_u64();
+    let (key, k) = frame_noise(noise_sigma_grey, seed, frame_index);
     dst.resize(src.len(), 0);
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {

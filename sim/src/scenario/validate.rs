@@ -807,11 +807,9 @@ pub(super) fn validate(
                         .into(),
                 ));
             }
-            let f = &target.features_px(&camera)[d.feature];
-            let k = target.nominal_range_m() / camera.focal_px()[0];
-            let (line, slope) = match f.orientation {
-                tracker::Orientation::Vertical => (f.offset_px * k, s.x / s.z),
-                tracker::Orientation::Horizontal => (-f.offset_px * k, s.y / s.z),
+            let slope = match target.orientations().nth(d.feature) {
+                Some(tracker::Orientation::Vertical) => s.x / s.z,
+                _ => s.y / s.z,
             };
             if slope.abs() < 0.1 {
                 return Err(invalid(
@@ -823,8 +821,7 @@ pub(super) fn validate(
             }
             // A shadow band SHADOW_BAND_M wide: the fin stands that far out divided by the
             // slope, and its root lies the band's width from the edge, towards the sun.
-            let outward = if line < 0.0 { -1.0 } else { 1.0 };
-            let edge = line + outward * d.offset_m;
+            let (edge, _) = crate::scene::distractor_near_side(&target, d.feature, d.offset_m);
             *depth_m = (SHADOW_BAND_M / slope.abs()).min(3.0);
             *root_m = edge + *depth_m * slope;
         }

@@ -839,17 +839,9 @@ fn lead_vehicle(description: &SceneDescription) -> Mesh {
         );
     }
     // Controlled distractors, just in front of the board.
-    let features = target.features_px(&tracker::Camera::default());
     for d in &lead.distractors {
-        let f = &features[d.feature];
-        // The feature's line, metres on the board (model y is up; the image's is down).
-        let k = target.nominal_range_m() / tracker::Camera::default().focal_px()[0];
-        let line = match f.orientation {
-            tracker::Orientation::Vertical => f.offset_px * k,
-            tracker::Orientation::Horizontal => -f.offset_px * k,
-        };
-        let outward = if line < 0.0 { -1.0 } else { 1.0 };
-        let near = line + outward * d.offset_m;
+        let orientation = target.orientations().nth(d.feature);
+        let (near, outward) = super::distractor_near_side(target, d.feature, d.offset_m);
         let far = near + outward * d.width_m;
         let (a, b) = (near.min(far), near.max(far));
         let z = DISTRACTOR_STANDOFF_M;
@@ -860,27 +852,28 @@ fn lead_vehicle(description: &SceneDescription) -> Mesh {
             DistractorKind::Shadow { root_m, depth_m } => {
                 // A fin 1 cm thick, as the board's light paint, both faces drawn so that it
                 // casts a shadow whichever side the sun is on.
-                let (across, along_lo, along_hi) = match f.orientation {
-                    tracker::Orientation::Vertical => (root_m, ground, ground + 4.0),
-                    tracker::Orientation::Horizontal => {
-                        (root_m, -DISTRACTOR_REACH_M, DISTRACTOR_REACH_M)
-                    }
+                let vertical = orientation == Some(tracker::Orientation::Vertical);
+                let (along_lo, along_hi) = if vertical {
+                    (ground, ground + 4.0)
+                } else {
+                    (-DISTRACTOR_REACH_M, DISTRACTOR_REACH_M)
                 };
                 for side in [-0.005, 0.005] {
-                    let c = across + side;
-                    let corners = match f.orientation {
-                        tracker::Orientation::Vertical => [
+                    let c = root_m + side;
+                    let corners = if vertical {
+                        [
                             put(c, along_lo, 0.0),
                             put(c, along_lo, depth_m),
                             put(c, along_hi, depth_m),
                             put(c, along_hi, 0.0),
-                        ],
-                        tracker::Orientation::Horizontal => [
+                        ]
+                    } else {
+                        [
                             put(along_lo, c, 0.0),
                             put(along_hi, c, 0.0),
                             put(along_hi, c, depth_m),
                             put(along_lo, c, depth_m),
-                        ],
+                        ]
                     };
                     let corners = if side < 0.0 {
                         [corners[3], corners[2], corners[1], corners[0]]

@@ -119,6 +119,19 @@ pub struct Distractor {
     pub albedo: f64,
 }
 
+/// Where a distractor beside feature `feature` of `target` with gap `offset_m` has its near
+/// side, metres across the feature in the board's frame (x right or y up), and which way is
+/// outwards (away from the target's centre): `(near, ±1)`.
+pub fn distractor_near_side(
+    target: &tracker::TargetModel,
+    feature: usize,
+    offset_m: f64,
+) -> (f64, f64) {
+    let line = target.line_m(feature).unwrap_or(0.0);
+    let outward = if line < 0.0 { -1.0 } else { 1.0 };
+    (line + outward * offset_m, outward)
+}
+
 /// The sun: a directional light, and the sky's ambient light.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Sun {
