@@ -106,7 +106,7 @@ fn replay(recording: &Path, out_csv: &Path, extra: &[&str]) -> Output {
 }
 
 const PER_FRAME_TOPICS: [(&str, &str); 9] = [
-    ("/camera/image", "foxglove.CompressedImage"),
+    ("/camera/image", "foxglove.RawImage"),
     ("/camera/calibration", "foxglove.CameraCalibration"),
     ("/camera/annotations", "foxglove.ImageAnnotations"),
     ("/tf", "foxglove.FrameTransforms"),
@@ -177,7 +177,7 @@ fn a_recording_reads_back_and_replays_to_the_run_s_estimates() {
         "chunks are zstd-compressed"
     );
 
-    // Log times on the simulation clock, frame k at k/15 s; images are 256×242 grey PNG.
+    // Log times on the simulation clock, frame k at k/15 s; images are 256×242 raw mono8.
     let mut image_times = Vec::new();
     let mut events = Vec::new();
     for m in mcap::MessageStream::new(&bytes).unwrap() {
@@ -186,11 +186,10 @@ fn a_recording_reads_back_and_replays_to_the_run_s_estimates() {
             "/camera/image" => {
                 image_times.push(m.log_time);
                 if image_times.len() == 1 {
-                    let img = foxglove::messages::CompressedImage::decode(&m.data[..]).unwrap();
-                    assert_eq!(img.format, "png");
-                    let png = image::load_from_memory(&img.data).unwrap();
-                    assert_eq!((png.width(), png.height()), (256, 242));
-                    assert!(matches!(png, image::DynamicImage::ImageLuma8(_)));
+                    let img = foxglove::messages::RawImage::decode(&m.data[..]).unwrap();
+                    assert_eq!(img.encoding, "mono8");
+                    assert_eq!((img.width, img.height, img.step), (256, 242, 256));
+                    assert_eq!(img.data.len(), 256 * 242);
                 }
             }
             "/events" => {
@@ -507,7 +506,7 @@ fn live_view_serves_frames_over_foxglove_websocket() {
                         .iter()
                         .find(|c| c["topic"] == "/camera/image")
                     {
-                        assert_eq!(c["schemaName"], "foxglove.CompressedImage");
+                        assert_eq!(c["schemaName"], "foxglove.RawImage");
                         break c["id"].as_u64().unwrap();
                     }
                 }
@@ -529,15 +528,15 @@ fn live_view_serves_frames_over_foxglove_websocket() {
                 let t = u64::from_le_bytes(data[5..13].try_into().unwrap());
                 break (
                     t,
-                    foxglove::messages::CompressedImage::decode(&data[13..]).unwrap(),
+                    foxglove::messages::RawImage::decode(&data[13..]).unwrap(),
                 );
             }
         }
     };
     assert!((0..30).map(frame_ns).any(|t| t == log_time), "{log_time}");
-    assert_eq!(image.format, "png");
-    let png = image::load_from_memory(&image.data).unwrap();
-    assert_eq!((png.width(), png.height()), (256, 242));
+    assert_eq!(image.encoding, "mono8");
+    assert_eq!((image.width, image.height), (256, 242));
+    assert_eq!(image.data.len(), 256 * 242);
     drop(socket);
     let status = child.0.wait().unwrap();
     let said = drain.join().unwrap();

@@ -8,7 +8,7 @@
 //!
 //! | topic | schema |
 //! |---|---|
-//! | `/camera/image` | `foxglove.CompressedImage`, PNG (8-bit grey, lossless) |
+//! | `/camera/image` | `foxglove.RawImage`, mono8 (compressed with the chunk) |
 //! | `/camera/calibration` | `foxglove.CameraCalibration` |
 //! | `/camera/annotations` | `foxglove.ImageAnnotations`: the overlay |
 //! | `/tf` | `foxglove.FrameTransforms`: map → world, world → chase, world → lead, chase → camera |
@@ -47,7 +47,7 @@ pub const MCAP_FILE: &str = "run.mcap";
 
 /// The topics of a recording.
 pub mod topics {
-    /// `foxglove.CompressedImage`, PNG.
+    /// `foxglove.RawImage`, mono8.
     pub const IMAGE: &str = "/camera/image";
     /// `foxglove.CameraCalibration`.
     pub const CALIBRATION: &str = "/camera/calibration";

@@ -12,7 +12,7 @@ use super::{topics, ReplaySetup, METADATA_NAME};
 use crate::camera::shift_noise;
 use crate::overlay;
 use crate::scenario::Scenario;
-use foxglove::messages::CompressedImage;
+use foxglove::messages::{CompressedImage, RawImage};
 use foxglove::Decode;
 use image::GrayImage;
 use indicatif::{ProgressBar, ProgressStyle};
@@ -252,6 +252,49 @@ fn check_complete(path: &Path, file: &mut File) -> Result<(), ReplayError> {
     Ok(())
 }
 
+/// A camera frame of a recording: `foxglove.RawImage` mono8, or `foxglove.CompressedImage`
+/// PNG as recordings made before the raw frames have them.
+fn decode_image(schema: &str, data: &[u8]) -> Result<GrayImage, String> {
+    match schema {
+        "foxglove.RawImage" => {
+            let m = <RawImage as Decode>::decode(data).map_err(|e| e.to_string())?;
+            if m.encoding != "mono8" {
+                return Err(format!("its encoding is {:?}, not mono8", m.encoding));
+            }
+            let (w, h) = (m.width as usize, m.height as usize);
+            let step = m.step as usize;
+            if w == 0 || h == 0 || step < w || m.data.len() < step * (h - 1) + w {
+                return Err(format!(
+                    "{} bytes do not hold {w}×{h} pixels with a step of {step}",
+                    m.data.len()
+                ));
+            }
+            let mut pixels = Vec::with_capacity(w * h);
+            for row in m.data.chunks(step).take(h) {
+                pixels.extend_from_slice(&row[..w]);
+            }
+            // The size was checked just above.
+            GrayImage::from_raw(m.width, m.height, pixels)
+                .ok_or_else(|| "the frame does not hold its pixels".to_string())
+        }
+        "foxglove.CompressedImage" => {
+            let m = <CompressedImage as Decode>::decode(data).map_err(|e| e.to_string())?;
+            if m.format != "png" {
+                return Err(format!("its format is {:?}, not png", m.format));
+            }
+            match image::load_from_memory_with_format(&m.data, image::ImageFormat::Png)
+                .map_err(|e| e.to_string())?
+            {
+                image::DynamicImage::ImageLuma8(g) => Ok(g),
+                other => Err(format!("it is {:?}, not 8-bit grey", other.color())),
+            }
+        }
+        other => Err(format!(
+            "its schema is {other:?}, not foxglove.RawImage or foxglove.CompressedImage"
+        )),
+    }
+}
+
 /// Replays the recording through the tracker, writing the CSV (and overlays) as it goes.
 pub fn replay(job: &ReplayJob) -> Result<ReplaySummary, ReplayError> {
     let path = job.input.as_path();
@@ -267,6 +310,9 @@ pub fn replay(job: &ReplayJob) -> Result<ReplaySummary, ReplayError> {
             .with_record_length_limit(MAX_RECORD_BYTES),
     );
     let mut topics_by_channel: HashMap<u16, String> = HashMap::new();
+    let mut schema_names: HashMap<u16, String> = HashMap::new();
+    // The image schema of each image channel: raw mono8, or PNG in older recordings.
+    let mut image_schemas: HashMap<u16, String> = HashMap::new();
     let mut pending: BTreeMap<u64, Pending> = BTreeMap::new();
     let mut run: Option<Run> = None;
     let mut next_frame = 0u64;
@@ -293,7 +339,14 @@ pub fn replay(job: &ReplayJob) -> Result<ReplaySummary, ReplayError> {
                 let tape = Tape::new(path, setup, &job.overrides)?;
                 run = Some(Run::start(job, tape)?);
             }
+            Record::Schema { header, .. } => {
+                schema_names.insert(header.id, header.name);
+            }
             Record::Channel(c) => {
+                if c.topic == topics::IMAGE {
+                    let schema = schema_names.get(&c.schema_id).cloned().unwrap_or_default();
+                    image_schemas.insert(c.id, schema);
+                }
                 topics_by_channel.insert(c.id, c.topic.clone());
             }
             Record::Message { header, data } => {
@@ -304,33 +357,13 @@ pub fn replay(job: &ReplayJob) -> Result<ReplaySummary, ReplayError> {
                 let t = header.log_time;
                 match topic {
                     topics::IMAGE => {
-                        let image = <CompressedImage as Decode>::decode(data.as_ref())
-                            .map_err(|e| e.to_string())
-                            .and_then(|m| {
-                                if m.format != "png" {
-                                    return Err(format!("its format is {:?}, not png", m.format));
-                                }
-                                image::load_from_memory_with_format(
-                                    &m.data,
-                                    image::ImageFormat::Png,
-                                )
-                                .map_err(|e| e.to_string())
-                            })
-                            .map_err(|e| {
-                                bad(path, format!("the image at {t} ns cannot be decoded: {e}"))
-                            })?;
-                        let image = match image {
-                            image::DynamicImage::ImageLuma8(g) => g,
-                            other => {
-                                return Err(bad(
-                                    path,
-                                    format!(
-                                        "the image at {t} ns is {:?}, not 8-bit grey",
-                                        other.color()
-                                    ),
-                                ))
-                            }
-                        };
+                        let schema = image_schemas
+                            .get(&header.channel_id)
+                            .map(String::as_str)
+                            .unwrap_or("");
+                        let image = decode_image(schema, data.as_ref()).map_err(|e| {
+                            bad(path, format!("the image at {t} ns cannot be decoded: {e}"))
+                        })?;
                         pending.entry(t).or_default().image = Some(image);
                     }
                     topics::TRACKER => {
@@ -546,5 +579,76 @@ impl Run {
             ReplayError::Output(format!("{}: cannot write: {e}", self.csv_path.display()))
         })?;
         Ok(self.summary)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::decode_image;
+    use foxglove::messages::{CompressedImage, RawImage};
+    use foxglove::Encode;
+    use image::{GrayImage, Luma};
+
+    fn encoded(m: &impl Encode) -> Vec<u8> {
+        let mut buf = Vec::new();
+        m.encode(&mut buf).unwrap();
+        buf
+    }
+
+    fn frame() -> GrayImage {
+        GrayImage::from_fn(5, 3, |x, y| Luma([(7 * x + 40 * y) as u8]))
+    }
+
+    fn raw(width: u32, height: u32, step: u32, data: Vec<u8>, encoding: &str) -> Vec<u8> {
+        encoded(&RawImage {
+            width,
+            height,
+            step,
+            encoding: encoding.into(),
+            data: data.into(),
+            ..RawImage::default()
+        })
+    }
+
+    #[test]
+    fn raw_frames_come_back_with_and_without_row_padding() {
+        let f = frame();
+        let tight = raw(5, 3, 5, f.as_raw().clone(), "mono8");
+        assert_eq!(decode_image("foxglove.RawImage", &tight).unwrap(), f);
+        let padded: Vec<u8> = f
+            .rows()
+            .flat_map(|r| r.map(|p| p[0]).chain([0, 0]))
+            .collect();
+        let padded = raw(5, 3, 7, padded, "mono8");
+        assert_eq!(decode_image("foxglove.RawImage", &padded).unwrap(), f);
+    }
+
+    #[test]
+    fn png_frames_of_older_recordings_come_back() {
+        let f = frame();
+        let mut png = Vec::new();
+        f.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
+            .unwrap();
+        let m = encoded(&CompressedImage {
+            format: "png".into(),
+            data: png.into(),
+            ..CompressedImage::default()
+        });
+        assert_eq!(decode_image("foxglove.CompressedImage", &m).unwrap(), f);
+    }
+
+    #[test]
+    fn bad_frames_are_refused_with_the_reason() {
+        let f = frame();
+        let short = raw(5, 3, 5, f.as_raw()[..14].to_vec(), "mono8");
+        let e = decode_image("foxglove.RawImage", &short).unwrap_err();
+        assert!(e.contains("14 bytes do not hold 5×3 pixels"), "{e}");
+        let rgb = raw(5, 3, 15, vec![0; 45], "rgb8");
+        let e = decode_image("foxglove.RawImage", &rgb).unwrap_err();
+        assert!(e.contains("\"rgb8\", not mono8"), "{e}");
+        let e = decode_image("foxglove.Grid", &[]).unwrap_err();
+        assert!(e.contains("not foxglove.RawImage"), "{e}");
+        let e = decode_image("foxglove.RawImage", &[0xff; 9]).unwrap_err();
+        assert!(!e.is_empty());
     }
 }
