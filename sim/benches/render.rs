@@ -37,6 +37,7 @@ fn render(c: &mut Criterion) {
                         time_s,
                         world_from_chase,
                         world_from_lead,
+                        camera_pan_rad: 0.0,
                     })
                     .expect("frame")
             })
@@ -60,6 +61,7 @@ fn render(c: &mut Criterion) {
             time_s: 0.0,
             world_from_chase,
             world_from_lead,
+            camera_pan_rad: 0.0,
         })
         .expect("frame");
     eprintln!(

@@ -6,8 +6,11 @@
 //! delayed estimates and its own odometry; only the recorder (the [`FrameRecord`] built here)
 //! sees the truth.
 
-use crate::camera::{Backend, CameraRig, Frame, FrameInput, RenderError, RenderOptions, Renderer};
-use crate::record::{FrameRecord, TrackerStatus};
+use crate::camera::{
+    target_occluded, Backend, CameraRig, Frame, FrameInput, RenderError, RenderOptions, Renderer,
+};
+use crate::driven_path::DrivenPath;
+use crate::record::{FrameRecord, LossCause, TrackerStatus};
 use crate::render_worker::{fingerprint, RemoteRenderer};
 use crate::scenario::Scenario;
 use crate::scene::{self, ChaseVehicle, LeadVehicle, Scene, SceneDescription};
@@ -19,7 +22,7 @@ use thiserror::Error;
 use tracker::{EdgeDiagnostic, EgoMotion, GrayView, Location, TrackOutput, Tracker, TrackerMode};
 use vehicle::{
     direction_heading, ChaseController, DelayLine, Gyro, GyroConfig, LeadDriver, LeadEstimate,
-    Odometry, Pose, Rotation, Route, Step, TrackStatus, Vector, VehicleId, VehicleParams,
+    Odometry, PanHead, Pose, Rotation, Route, Step, TrackStatus, Vector, VehicleId, VehicleParams,
     VehicleState, World, STEPS_PER_FRAME,
 };
 
@@ -33,9 +36,6 @@ const GROUND_BEYOND_ROUTE_M: f32 = 200.0;
 const LEAD_BODY_HEIGHT_M: f64 = 2.7;
 /// Height of the board's centre above the ground, metres.
 const BOARD_CENTRE_HEIGHT_M: f64 = 1.6;
-/// How much of the lead's driven path is searched for the chase's lateral deviation, frames
-/// (40 s at 15 Hz): far more than any gap divided by any speed studied.
-const PATH_SEARCH_FRAMES: usize = 600;
 
 /// A run that could not start or go on.
 #[derive(Debug, Error)]
@@ -131,7 +131,8 @@ pub struct ClosedLoop {
     /// Scene origin (body centre) in the lead's vehicle frame (rear axle).
     lead_from_scene: Isometry3<f64>,
     target_width_px: f64,
-    lead_path: Vec<[f64; 2]>,
+    /// The lead's driven path, for the chase's lateral deviation.
+    lead_path: DrivenPath,
     chase_distance_m: f64,
     last_chase_xz: [f64; 2],
     diagnostics: bool,
@@ -155,6 +156,8 @@ struct Drive {
     chase: ChaseController,
     lead: LeadDriver,
     delay: DelayLine<LeadEstimate>,
+    /// The camera's pan head, when the scenario has one (`[camera.pan]`).
+    pan: Option<PanHead>,
 }
 
 impl Drive {
@@ -174,7 +177,11 @@ impl Drive {
                 step: step_now,
                 world_from_chase: chase.world_from_vehicle,
                 forward_speed_mps: chase.forward_speed_mps,
+                camera_pan_rad: self.pan_reading_rad() as f32,
             });
+            if let Some(pan) = &mut self.pan {
+                pan.step(f64::from(self.chase.telemetry().pan_rate_cmd_rad_s));
+            }
             let lead_controls = self.lead.update(step_now, &lead);
             self.world.set_controls(self.chase_id, controls);
             self.world.set_controls(self.lead_id, lead_controls);
@@ -184,8 +191,19 @@ impl Drive {
         (controls, collision)
     }
 
-    /// Queues the tracker's output for a frame captured at `captured`.
-    fn push_estimate(&mut self, captured: Step, track: &TrackOutput) {
+    /// The pan head's true angle, radians (0 without one).
+    fn pan_angle_rad(&self) -> f64 {
+        self.pan.as_ref().map_or(0.0, PanHead::angle_rad)
+    }
+
+    /// The pan head's encoder reading, radians (0 without one).
+    fn pan_reading_rad(&self) -> f64 {
+        self.pan.as_ref().map_or(0.0, PanHead::reading_rad)
+    }
+
+    /// Queues the tracker's output for a frame captured at `captured`, when the pan head's
+    /// encoder read `pan_reading_rad`.
+    fn push_estimate(&mut self, captured: Step, track: &TrackOutput, pan_reading_rad: f64) {
         let [x, y, z] = track.position_3d;
         let status = match track.status {
             tracker::Status::Tracking => TrackStatus::Tracking,
@@ -198,6 +216,7 @@ impl Drive {
                 capture_step: captured,
                 target_in_camera_m: Vector::new(x as f32, y as f32, z as f32),
                 status,
+                camera_pan_rad: pan_reading_rad as f32,
             },
         );
     }
@@ -319,6 +338,7 @@ pub(crate) fn check_start(
         &s.target,
         &world_from_chase,
         &world_from_lead,
+        0.0,
     );
     if truth.in_view {
         Ok(())
@@ -365,6 +385,8 @@ struct Captured {
     chase: VehicleState,
     lead: VehicleState,
     input: FrameInput,
+    /// The pan head's encoder reading at capture, radians (0 without one).
+    pan_reading_rad: f64,
 }
 
 /// A frame submitted but not yet tracked: rendered already (this process's renderer) or
@@ -422,24 +444,6 @@ fn iso(p: &Pose) -> Isometry3<f64> {
 
 fn xz(p: &Pose) -> [f64; 2] {
     [f64::from(p.translation.x), f64::from(p.translation.z)]
-}
-
-/// Distance from `p` to a polyline on the ground.
-fn distance_to_path(path: &[[f64; 2]], p: [f64; 2]) -> f64 {
-    path.windows(2)
-        .map(|w| {
-            let (a, b) = (w[0], w[1]);
-            let ab = [b[0] - a[0], b[1] - a[1]];
-            let ap = [p[0] - a[0], p[1] - a[1]];
-            let len2 = ab[0] * ab[0] + ab[1] * ab[1];
-            let t = if len2 > 0.0 {
-                ((ap[0] * ab[0] + ap[1] * ab[1]) / len2).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            (ap[0] - t * ab[0]).hypot(ap[1] - t * ab[1])
-        })
-        .fold(f64::INFINITY, f64::min)
 }
 
 /// The lane centre of the right lane as the drivers' polyline, one point every
@@ -542,6 +546,7 @@ impl ClosedLoop {
             time_s: 0.0,
             world_from_chase,
             world_from_lead,
+            camera_pan_rad: 0.0,
         })?;
         let t = first.truth;
         if !t.in_view {
@@ -558,12 +563,11 @@ impl ClosedLoop {
         let target_width_px = tracker.target_width_px();
 
         // The lead's path so far: the lane behind its start, so the chase has a path from t = 0.
-        let lead_path: Vec<[f64; 2]> = (0..=((s.lead_start_m - chase_start_m + 10.0) as usize))
-            .map(|k| {
-                let st = (chase_start_m - 10.0 + k as f64).max(0.0);
-                scene_route.point(st, lateral)
-            })
-            .collect();
+        let mut lead_path = DrivenPath::new();
+        for k in 0..=((s.lead_start_m - chase_start_m + 10.0) as usize) {
+            let st = (chase_start_m - 10.0 + k as f64).max(0.0);
+            lead_path.push(scene_route.point(st, lateral));
+        }
         let last_chase_xz = xz(&world.vehicle_state(chase_id).world_from_vehicle);
         Ok(ClosedLoop {
             name: s.name.clone(),
@@ -577,6 +581,13 @@ impl ClosedLoop {
                 chase,
                 lead,
                 delay,
+                pan: s
+                    .chase
+                    .pan_head
+                    .enabled
+                    .then(|| PanHead::new(s.chase.pan_head.clone(), s.seed))
+                    .transpose()
+                    .map_err(|e| setup(format!("pan head: {e}")))?,
             },
             renderer,
             remote: None,
@@ -711,12 +722,14 @@ impl ClosedLoop {
             time_s: now.seconds(),
             world_from_chase: iso(&chase.world_from_vehicle),
             world_from_lead: iso(&lead.world_from_vehicle) * self.lead_from_scene,
+            camera_pan_rad: self.drive.pan_angle_rad(),
         };
         Captured {
             now,
             chase,
             lead,
             input,
+            pan_reading_rad: self.drive.pan_reading_rad(),
         }
     }
 
@@ -758,7 +771,8 @@ impl ClosedLoop {
                 (seen, driven)
             });
             let (frame, track, edges) = seen?;
-            self.drive.push_estimate(captured.now, &track);
+            self.drive
+                .push_estimate(captured.now, &track, captured.pan_reading_rad);
             (captured, frame, track, edges, controls, collision)
         } else {
             let captured = self.capture();
@@ -774,7 +788,8 @@ impl ClosedLoop {
                     self.diagnostics,
                 )
             });
-            self.drive.push_estimate(captured.now, &track);
+            self.drive
+                .push_estimate(captured.now, &track, captured.pan_reading_rad);
             let (controls, collision) = timed(physics_t, || self.drive.advance_frame());
             (captured, frame, track, edges, controls, collision)
         };
@@ -783,7 +798,10 @@ impl ClosedLoop {
         let poses = FramePoses {
             world_from_chase: captured.input.world_from_chase,
             world_from_lead: captured.input.world_from_lead,
-            world_from_camera: self.rig.world_from_camera(&captured.input.world_from_chase),
+            world_from_camera: self.rig.world_from_camera_panned(
+                &captured.input.world_from_chase,
+                captured.input.camera_pan_rad,
+            ),
         };
         self.frame += 1;
         let [render_t, track_t, physics_t] = spent;
@@ -856,7 +874,11 @@ impl ClosedLoop {
         let (track, edges) = timed(track_t, || {
             track_frame(&mut self.tracker, &frame.image, t_s, ego, self.diagnostics)
         });
-        self.drive.push_estimate(pending.captured.now, &track);
+        self.drive.push_estimate(
+            pending.captured.now,
+            &track,
+            pending.captured.pan_reading_rad,
+        );
         Ok((pending.captured, frame, track, edges, controls, collision))
     }
 
@@ -874,12 +896,15 @@ impl ClosedLoop {
         let gyro = self.gyro.as_mut()?;
         let now = self
             .rig
-            .world_from_camera(&captured.input.world_from_chase)
+            .world_from_camera_panned(
+                &captured.input.world_from_chase,
+                captured.input.camera_pan_rad,
+            )
             .rotation;
         let previous = self.last_camera.replace(now)?;
         // The rotation from the last camera orientation to this one, in the last camera's
-        // frame; the gyro is fixed to the chassis, and so is the camera, so its axes are
-        // the camera's up to a constant rotation.
+        // frame; the gyro rides on the camera (on the pan head when there is one), so its
+        // axes are the camera's up to a constant rotation.
         let truth = (previous.inverse() * now).scaled_axis();
         let measured = gyro.measure(
             [truth.x, truth.y, truth.z],
@@ -907,7 +932,25 @@ impl ClosedLoop {
         let lost_truth = !truth.in_view
             || (est.c_x - truth.c_x).hypot(est.c_y - truth.c_y) > 0.25 * width_px
             || (est.scale / truth.scale - 1.0).abs() > 0.25;
-        let world_from_camera = self.rig.world_from_camera(&captured.input.world_from_chase);
+        let world_from_camera = self.rig.world_from_camera_panned(
+            &captured.input.world_from_chase,
+            captured.input.camera_pan_rad,
+        );
+        let loss_cause = if !lost_truth {
+            LossCause::None
+        } else if !truth.in_view {
+            LossCause::OutOfView
+        } else if target_occluded(
+            self.renderer.scene(),
+            &captured.input.world_from_chase,
+            &captured.input.world_from_lead,
+            &world_from_camera,
+            captured.input.time_s,
+        ) {
+            LossCause::Occluded
+        } else {
+            LossCause::Tracker
+        };
         let cam = world_from_camera.translation.vector;
         let [tx, ty, tz] = truth.target_cam_m;
         let target_world = world_from_camera * nalgebra::Point3::new(tx, ty, tz);
@@ -918,8 +961,7 @@ impl ClosedLoop {
             (chase_xz[0] - self.last_chase_xz[0]).hypot(chase_xz[1] - self.last_chase_xz[1]);
         self.last_chase_xz = chase_xz;
         self.lead_path.push(lead_xz);
-        let from = self.lead_path.len().saturating_sub(PATH_SEARCH_FRAMES);
-        let lateral_deviation_m = distance_to_path(&self.lead_path[from..], chase_xz);
+        let lateral_deviation_m = self.lead_path.distance(chase_xz);
         FrameRecord {
             frame: self.frame,
             t_s: captured.input.time_s,
@@ -960,6 +1002,9 @@ impl ClosedLoop {
                 .iter()
                 .map(|f| f.variance.unwrap_or(f64::NAN))
                 .collect(),
+            loss_cause,
+            camera_pan_deg: captured.input.camera_pan_rad.to_degrees(),
+            desired_gap_m: f64::from(self.drive.chase.telemetry().desired_gap_m),
         }
     }
 }

@@ -2,6 +2,17 @@
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
 
+/// `println!` for the command line's report on stdout, which goes on when stdout is gone:
+/// `carfollow run | head -1` keeps running and writing its outputs after `head` has left,
+/// instead of panicking on the closed pipe.
+macro_rules! say {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        // A reader that went away (a closed pipe) is not the run's failure.
+        let _ = writeln!(std::io::stdout(), $($arg)*);
+    }};
+}
+
 mod cli {
     pub mod check;
     pub mod exit;

@@ -37,6 +37,41 @@ impl From<tracker::Status> for TrackerStatus {
     }
 }
 
+/// Why ground truth judges a frame lost (see [`FrameRecord::lost_truth`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum LossCause {
+    /// Not lost.
+    #[default]
+    None,
+    /// The target is (partly) outside the image: no tracker could measure it.
+    OutOfView,
+    /// The target is in the image, but scenery stands between it and the camera
+    /// (`camera::target_occluded`).
+    Occluded,
+    /// The target is in view and not hidden: the tracker lost it.
+    Tracker,
+}
+
+impl LossCause {
+    /// The name written in `frames.csv` and `summary.json` (empty for [`LossCause::None`]).
+    pub fn as_str(self) -> &'static str {
+        match self {
+            LossCause::None => "",
+            LossCause::OutOfView => "out_of_view",
+            LossCause::Occluded => "occluded",
+            LossCause::Tracker => "tracker",
+        }
+    }
+
+    /// The causes of a loss, in the order reports list them.
+    pub const ALL: [LossCause; 3] = [
+        LossCause::OutOfView,
+        LossCause::Occluded,
+        LossCause::Tracker,
+    ];
+}
+
 /// One camera frame of a closed-loop run.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct FrameRecord {
@@ -115,6 +150,14 @@ pub struct FrameRecord {
     /// σ² of eq. 13 for each feature, in the model's segment order, pixels²; NaN where no
     /// point was associated.
     pub feature_sigma2: Vec<f64>,
+    /// Why the frame is lost by the ground truth ([`LossCause::None`] when it is not).
+    pub loss_cause: LossCause,
+    /// The camera's pan, degrees, positive to the right (0 for a fixed camera): the pan
+    /// head's true angle.
+    pub camera_pan_deg: f64,
+    /// The gap the chase controller aimed for, metres (its policy, the view limit in bends
+    /// and the safe gap; see `vehicle::GapKeeper`).
+    pub desired_gap_m: f64,
 }
 
 /// The pass/fail criteria of a scenario (`[expect]`). A criterion left out is not checked.

@@ -33,7 +33,7 @@ use std::io::{BufReader, BufWriter, Read, Write};
 use std::process::Command;
 
 /// Bytes of one request.
-const REQUEST_BYTES: usize = 16 * 8;
+const REQUEST_BYTES: usize = 17 * 8;
 /// Bytes of the ground truth after the image.
 const TRUTH_BYTES: usize = 6 * 8 + 1;
 
@@ -77,6 +77,7 @@ fn encode_request(input: &FrameInput) -> Vec<u8> {
     out.extend_from_slice(&input.time_s.to_le_bytes());
     put_pose(&mut out, &input.world_from_chase);
     put_pose(&mut out, &input.world_from_lead);
+    out.extend_from_slice(&input.camera_pan_rad.to_le_bytes());
     out
 }
 
@@ -88,6 +89,7 @@ fn decode_request(bytes: &[u8; REQUEST_BYTES]) -> FrameInput {
         time_s: get_f64(bytes, 1),
         world_from_chase: get_pose(bytes, 2),
         world_from_lead: get_pose(bytes, 9),
+        camera_pan_rad: get_f64(bytes, 16),
     }
 }
 
@@ -212,6 +214,7 @@ mod tests {
             time_s: 8.2 + 1.0 / 3.0,
             world_from_chase: pose(0.7, [1.0 / 3.0, 0.2, -1e5]),
             world_from_lead: pose(-2.9, [std::f64::consts::PI, 1e-9, 7.0]),
+            camera_pan_rad: -0.3 - 1e-12,
         };
         let bytes: [u8; REQUEST_BYTES] = encode_request(&input).try_into().unwrap();
         let back = decode_request(&bytes);

@@ -7,13 +7,17 @@
 //! - the renderer puts the target's edges (step paint and stripes) where the tracker's camera
 //!   model projects them, to within 0.5 px;
 //! - a pole's shadow on the target darkens it;
-//! - the target is found in the frame where the ground truth says.
+//! - the target is found in the frame where the ground truth says, also with the camera
+//!   panned;
+//! - the ground truth's occlusion test sees poles standing between the camera and the board.
 //!
 //! Run: `cargo test -p sim --release --test render`.
 
 use image::{GrayImage, Luma};
 use nalgebra::{Isometry3, Point3};
-use sim::camera::{Backend, CameraRig, Frame, FrameInput, RenderOptions, Renderer};
+use sim::camera::{
+    target_occluded, Backend, CameraRig, Frame, FrameInput, RenderOptions, Renderer,
+};
 use sim::scene::{
     builtin_description, builtin_poses, builtin_target, Densities, Placement, RouteSegment, Scene,
     SceneDescription, STRIPE_OVERRUN_M, STRIPE_WIDTH_M,
@@ -34,6 +38,11 @@ fn renderer(description: SceneDescription, options: &RenderOptions) -> Renderer 
 }
 
 fn builtin_frame(renderer: &mut Renderer, time_s: f64) -> Frame {
+    builtin_frame_panned(renderer, time_s, 0.0)
+}
+
+/// The built-in scene at `time_s` with the camera panned by `camera_pan_rad` (right).
+fn builtin_frame_panned(renderer: &mut Renderer, time_s: f64, camera_pan_rad: f64) -> Frame {
     let (world_from_chase, world_from_lead) = builtin_poses(
         renderer.scene().description(),
         renderer.scene().route(),
@@ -46,6 +55,7 @@ fn builtin_frame(renderer: &mut Renderer, time_s: f64) -> Frame {
             time_s,
             world_from_chase,
             world_from_lead,
+            camera_pan_rad,
         })
         .expect("frame")
 }
@@ -209,6 +219,7 @@ fn target_edges_land_where_the_tracker_projects_them() {
                 time_s: 1.0,
                 world_from_chase: chase,
                 world_from_lead: lead,
+                camera_pan_rad: 0.0,
             })
             .unwrap();
         let cam = camera_from_target(&r, &chase, &lead);
@@ -293,6 +304,7 @@ fn a_pole_shadow_darkens_the_target() {
                 time_s: 1.0,
                 world_from_chase: chase,
                 world_from_lead: lead,
+                camera_pan_rad: 0.0,
             })
             .unwrap();
         let cam = camera_from_target(&r, &chase, &lead);
@@ -318,11 +330,24 @@ fn a_pole_shadow_darkens_the_target() {
 /// Finds the target by normalised cross-correlation of a template painted by the paint rule
 /// (`tracker::paint::layout`)
 /// at the true scale, over the whole frame, and checks the best match is at the ground truth.
+/// Also with the camera on a pan head turned 7° right, 4° left: the frame follows the head,
+/// the board moves about 39 px (22 px) across the image, and the ground truth with it.
 #[test]
 fn target_is_found_where_the_ground_truth_says() {
     let mut r = renderer(builtin_description(builtin_target(), 3), &options());
-    for t in [0.0, 20.0] {
-        let frame = builtin_frame(&mut r, t);
+    let straight = builtin_frame(&mut r, 0.0).truth.c_x;
+    for (t, pan_deg) in [(0.0, 0.0), (20.0, 0.0), (0.0, 7.0), (0.0, -4.0)] {
+        let pan = f64::to_radians(pan_deg);
+        let frame = builtin_frame_panned(&mut r, t, pan);
+        if t == 0.0 {
+            // Turning the camera right moves the board left by about f·tan(pan).
+            let shift = straight - frame.truth.c_x;
+            let want = r.rig().intrinsics.focal_px()[0] * pan.tan();
+            assert!(
+                (shift - want).abs() < 2.0,
+                "pan {pan_deg}°: shift {shift:.1} px, want {want:.1}"
+            );
+        }
         let truth = frame.truth;
         assert!(truth.in_view, "t = {t}: target not in view: {truth:?}");
         let target = r.scene().description().target.clone();
@@ -370,10 +395,13 @@ fn target_is_found_where_the_ground_truth_says() {
             }
         }
         let (ncc, cx, cy) = best;
-        assert!(ncc > 0.5, "t = {t}: best match only {ncc:.2}");
+        assert!(
+            ncc > 0.5,
+            "t = {t}, pan {pan_deg}°: best match only {ncc:.2}"
+        );
         assert!(
             (cx as f64 - truth.c_x).abs() <= 1.0 && (cy as f64 - truth.c_y).abs() <= 1.0,
-            "t = {t}: found the target at ({cx}, {cy}) (ncc {ncc:.2}), ground truth says ({:.2}, {:.2})",
+            "t = {t}, pan {pan_deg}°: found the target at ({cx}, {cy}) (ncc {ncc:.2}), ground truth says ({:.2}, {:.2})",
             truth.c_x,
             truth.c_y
         );
@@ -441,6 +469,7 @@ fn a_distractor_pole_stands_where_it_is_put() {
                 time_s: 1.0,
                 world_from_chase: chase,
                 world_from_lead: lead,
+                camera_pan_rad: 0.0,
             })
             .unwrap();
         let cam = camera_from_target(&r, &chase, &lead);
@@ -493,6 +522,7 @@ fn shadow_edges_on_the_board_widen_with_the_occluder_distance() {
                 time_s: 1.0,
                 world_from_chase: chase,
                 world_from_lead: lead,
+                camera_pan_rad: 0.0,
             })
             .unwrap();
         let cam = camera_from_target(&r, &chase, &lead);
@@ -516,4 +546,38 @@ fn shadow_edges_on_the_board_widen_with_the_occluder_distance() {
     eprintln!("soft pixels across the shadow's two edges: occluder 3 m: {near}, 12 m: {far}");
     assert!(near <= 4, "a pole 3 m away casts {near} soft pixels");
     assert!(far >= near + 3, "12 m away: {far} soft pixels, 3 m: {near}");
+}
+
+/// Poles placed halfway along the rays from the camera to the board's left, middle and right
+/// columns hide it (all nine rays blocked); one pole in the middle column hides three rays
+/// of nine, which is not occlusion; none hides nothing.
+#[test]
+fn poles_between_the_camera_and_the_board_occlude_it() {
+    let rig = CameraRig::default();
+    let occluded = |columns: &[f64]| {
+        let mut d = bare(1);
+        let scene = Scene::build(d.clone()).unwrap();
+        let (chase, lead) = builtin_poses(scene.description(), scene.route(), &rig.mount, 1.0);
+        let eye = rig.world_from_camera(&chase).translation.vector;
+        let world_from_target = lead * scene.lead_from_target();
+        for &x in columns {
+            let p = world_from_target * Point3::new(x, 0.0, 0.0);
+            d.placements.push(Placement::Pole {
+                x_m: 0.5 * (eye.x + p.x),
+                z_m: 0.5 * (eye.z + p.z),
+            });
+        }
+        let scene = Scene::build(d).unwrap();
+        let camera = rig.world_from_camera(&chase);
+        target_occluded(&scene, &chase, &lead, &camera, 1.0)
+    };
+    let corners = builtin_target().corners_m().to_vec();
+    let (lo, hi) = corners
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(l, h), c| (l.min(c[0]), h.max(c[0])));
+    let inset = 0.05 * (hi - lo);
+    let columns = [lo + inset, 0.5 * (lo + hi), hi - inset];
+    assert!(!occluded(&[]));
+    assert!(!occluded(&columns[1..2]));
+    assert!(occluded(&columns));
 }

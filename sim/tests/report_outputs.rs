@@ -74,6 +74,9 @@ fn record(i: u64) -> FrameRecord {
         tracker_event: String::new(),
         fit_residual: 0.8,
         feature_sigma2: vec![0.1; 10],
+        loss_cause: sim::record::LossCause::None,
+        camera_pan_deg: 0.0,
+        desired_gap_m: 10.0,
     }
 }
 

@@ -202,6 +202,22 @@ fn what_the_loop_would_refuse_is_refused_by_validation() {
             "`camera.focal_length_mm` puts the target out of the camera's view at t = 0",
         ),
         ("environment.sun.azimuth_deg=nan", "`environment.sun.azimuth_deg` = NaN"),
+        (
+            "camera.pan.max_rate_deg_s=0",
+            "`camera.pan.max_rate_deg_s` = 0:",
+        ),
+        (
+            "camera.pan.encoder_noise_deg=-1",
+            "`camera.pan.encoder_noise_deg` = -1:",
+        ),
+        (
+            "chase.controller.pan_head.enabled=true",
+            "`chase.controller.pan_head` is set by `[camera.pan]`",
+        ),
+        (
+            "chase.controller.gap_keeper.policy={policy=\"idm\",standstill_gap_m=5,headway_s=1,comfortable_decel_mps2=9}",
+            "`chase.controller.gap_keeper.policy.comfortable_decel_mps2` = 9:",
+        ),
     ] {
         let e = load(&text(), &[set]).unwrap_err();
         assert!(e.contains(needle), "{set}: {e}");

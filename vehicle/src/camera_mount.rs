@@ -50,14 +50,23 @@ impl CameraMount {
         )
     }
 
-    /// The camera frame in the vehicle frame.
+    /// The camera frame in the vehicle frame, straight ahead.
     pub fn vehicle_from_camera(&self) -> Pose {
+        self.vehicle_from_camera_panned(0.0)
+    }
+
+    /// The camera frame in the vehicle frame with the camera panned by `pan_rad` about the
+    /// vehicle's vertical axis through the mount (positive to the right; see
+    /// [`crate::PanHead`]).
+    pub fn vehicle_from_camera_panned(&self, pan_rad: f32) -> Pose {
         let (s, c) = self.pitch_down_deg.to_radians().sin_cos();
         // Camera axes expressed in the vehicle frame.
         let z_cam = Vector::new(c, -s, 0.0); // optical axis: forward, tilted down
         let x_cam = Vector::Z; // right
         let y_cam = z_cam.cross(x_cam); // down, tilted back
-        let rotation = Rotation::from_mat3(&Mat3::from_cols(x_cam, y_cam, z_cam));
+                                        // Turning right is a negative rotation about y (up).
+        let rotation = Rotation::from_rotation_y(-pan_rad)
+            * Rotation::from_mat3(&Mat3::from_cols(x_cam, y_cam, z_cam));
         Pose::from_parts(
             Vector::new(self.forward_m, self.height_m, self.right_m),
             rotation,
@@ -91,5 +100,19 @@ mod tests {
             .vehicle_from_camera()
             .transform_point(Vector::new(0.0, 0.0, 10.0));
         assert!(p.y < 2.0 - 0.5, "{p}");
+    }
+
+    #[test]
+    fn a_camera_panned_right_looks_right() {
+        let m = CameraMount {
+            pitch_down_deg: 0.0,
+            ..CameraMount::default()
+        };
+        let p = m
+            .vehicle_from_camera_panned(30f32.to_radians())
+            .transform_point(Vector::new(0.0, 0.0, 10.0));
+        // 10 m along the optical axis: 30° right of forward (z is right), at mount height.
+        let want = Vector::new(2.2 + 10.0 * 0.866_025_4, 2.0, 5.0);
+        assert!((p - want).length() < 1e-4, "{p}");
     }
 }

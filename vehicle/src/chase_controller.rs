@@ -14,6 +14,7 @@ use crate::controls::Controls;
 use crate::error::{check_range, VehicleError};
 use crate::gap_keeper::{GapKeeper, GapKeeperConfig, Threat};
 use crate::lead_estimate::{LeadEstimate, TrackStatus};
+use crate::pan_head::PanHeadConfig;
 use crate::pose_history::{OwnMotion, PoseHistory};
 use crate::pure_pursuit::{curvature_toward, lookahead_point, steer_for_curvature, LookAhead};
 use crate::range_filter::{Gains, RangeFilter, RangeGate};
@@ -25,6 +26,41 @@ use serde::{Deserialize, Serialize};
 
 /// Below this speed a stopping vehicle counts as stopped, m/s.
 const STOPPED_MPS: f32 = 0.1;
+
+/// The chord over which the breadcrumbs' curvature is measured, m: long enough that the
+/// estimates' lateral noise (a few centimetres at 10 m) gives a curvature noise near
+/// 0.005 /m, a tenth of an 18 m bend's.
+const CURVATURE_CHORD_M: f32 = 5.0;
+
+/// The largest curvature of a path on the ground (x, z), 1/m: over each three points about
+/// `chord_m` apart along it, the curvature of the circle through them (2·sin(turn)/chord).
+/// 0 for a path shorter than two chords.
+fn max_curvature(path: &[Vector], chord_m: f32) -> f32 {
+    // Resample at about `chord_m` along the path.
+    let mut picked: Vec<Vector> = Vec::new();
+    for p in path {
+        let flat = Vector::new(p.x, 0.0, p.z);
+        match picked.last() {
+            Some(last) if last.distance(flat) < chord_m => {}
+            _ => picked.push(flat),
+        }
+    }
+    picked
+        .windows(3)
+        .map(|w| {
+            let (a, b) = (w[1] - w[0], w[2] - w[1]);
+            let cross = a.x * b.z - a.z * b.x;
+            let chord = (w[2] - w[0]).length();
+            if chord <= 0.0 {
+                0.0
+            } else {
+                // |a × b| = |a||b| sin(turn); the circle through three points has
+                // curvature 2·sin(angle at b)/|ac|.
+                (2.0 * cross / (a.length() * b.length() * chord)).abs()
+            }
+        })
+        .fold(0.0, f32::max)
+}
 
 /// How the chase vehicle chooses its speed.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -46,6 +82,20 @@ pub enum SpeedMode {
 pub struct ChaseControllerConfig {
     /// Where the camera sits on the chase vehicle.
     pub camera_mount: CameraMount,
+    /// The camera's pan head (default: none, the paper's fixed camera). When it is on, the
+    /// controller aims it at the lead.
+    pub pan_head: PanHeadConfig,
+    /// Half the camera's horizontal field of view, degrees (default 21.8°: 128 px at a
+    /// 320 px focal length). The scenario sets it from the camera's intrinsics; the
+    /// curve-aware gap keeping uses it ([`ChaseController::view_limited_gap_m`]).
+    pub half_fov_deg: f32,
+    /// How far inside the field of view's edge the target's centre must stay, degrees
+    /// (default 6°: the board's half-width at 5 m, 5.7°, and the estimate's latency); 0–45°,
+    /// and a margin wider than half the field of view leaves none.
+    pub view_margin_deg: f32,
+    /// Whether the gap shortens where the road curves so that the lead stays in view
+    /// (default true; see [`ChaseController::view_limited_gap_m`]).
+    pub curve_aware_gap: bool,
     /// Pure-pursuit look-ahead on the breadcrumbs.
     pub lookahead: LookAhead,
     /// Gap keeping or a scripted speed.
@@ -105,6 +155,10 @@ impl Default for ChaseControllerConfig {
     fn default() -> Self {
         ChaseControllerConfig {
             camera_mount: CameraMount::default(),
+            pan_head: PanHeadConfig::default(),
+            half_fov_deg: 21.8,
+            view_margin_deg: 6.0,
+            curve_aware_gap: true,
             lookahead: LookAhead::default(),
             speed_mode: SpeedMode::GapKeeping,
             gap_keeper: GapKeeperConfig::default(),
@@ -131,6 +185,8 @@ pub struct Odometry {
     pub world_from_chase: Pose,
     /// Speed along the chase vehicle's x axis, m/s.
     pub forward_speed_mps: f32,
+    /// The pan head's encoder reading, radians (0 for a fixed camera).
+    pub camera_pan_rad: f32,
 }
 
 /// What the chase controller is doing.
@@ -164,6 +220,12 @@ pub struct ChaseTelemetry {
     pub curvature: f32,
     /// Whether the emergency brake is on.
     pub emergency: bool,
+    /// The largest curvature of the lead's path ahead (the breadcrumbs), 1/m.
+    pub curvature_ahead: f32,
+    /// Where the pan head is aimed, radians (positive to the right; 0 without one).
+    pub pan_aim_rad: f32,
+    /// The rate commanded of the pan head, rad/s (0 without one).
+    pub pan_rate_cmd_rad_s: f32,
 }
 
 /// The chase vehicle's controller.
@@ -200,6 +262,14 @@ impl ChaseController {
     ) -> Result<ChaseController, VehicleError> {
         params.validate()?;
         config.camera_mount.validate()?;
+        config.pan_head.validate()?;
+        check_range("half_fov_deg", f64::from(config.half_fov_deg), 1.0, 89.0)?;
+        check_range(
+            "view_margin_deg",
+            f64::from(config.view_margin_deg),
+            0.0,
+            45.0,
+        )?;
         check_range(
             "estimate_timeout_ms",
             config.estimate_timeout_ms,
@@ -292,6 +362,9 @@ impl ChaseController {
                 lookahead_world_m: None,
                 curvature: 0.0,
                 emergency: false,
+                curvature_ahead: 0.0,
+                pan_aim_rad: 0.0,
+                pan_rate_cmd_rad_s: 0.0,
             },
             config,
         })
@@ -323,6 +396,69 @@ impl ChaseController {
         &self.telemetry
     }
 
+    /// The largest gap at which a lead on a path of curvature `curvature` (1/m) stays in
+    /// the camera's view, m; `None` when the curvature asks for no limit.
+    ///
+    /// The rule, from the geometry of a circular bend of radius R = 1/κ: with the chase's
+    /// rear axle on the arc and its camera f = `camera_mount.forward_m` ahead of it along
+    /// the heading, a lead a chord d from the camera, also on the arc, lies at a bearing of
+    /// about κ·(d + f)²/(2d) from the chase's heading (the small-angle chord geometry; exact
+    /// to a few per cent below 40°). Keeping that within α, the half field of view less
+    /// `view_margin_deg` (plus the pan head's mechanical limit when it has one), bounds the
+    /// gap: d² + 2(f − αR)d + f² ≤ 0, whose larger root is the limit. The gap keeper aims
+    /// at no more than this (never below its band's `min_gap_m`, and never closer than the
+    /// safe gap: safety first). A bend too tight for any gap in the band (a fixed camera in
+    /// an 18 m turn needs less than 4.5 m) gives the band's minimum.
+    pub fn view_limited_gap_m(&self, curvature: f32) -> Option<f32> {
+        let kappa = f64::from(curvature.abs());
+        if kappa < 1e-4 {
+            return None;
+        }
+        let c = &self.config;
+        let pan = if c.pan_head.enabled {
+            c.pan_head.limit_deg
+        } else {
+            0.0
+        };
+        // Beyond 60° the small-angle geometry says nothing useful: no limit.
+        let alpha = (f64::from((c.half_fov_deg - c.view_margin_deg).max(0.0)) + pan).to_radians();
+        if alpha >= 60f64.to_radians() {
+            return None;
+        }
+        let f = f64::from(c.camera_mount.forward_m.max(0.0));
+        let b = alpha / kappa - f;
+        let disc = b * b - f * f;
+        if b <= 0.0 || disc < 0.0 {
+            return Some(0.0);
+        }
+        Some((b + disc.sqrt()) as f32)
+    }
+
+    /// The pan head's aim and the rate commanded of it: at the bearing, from the camera's
+    /// pivot, of the newest breadcrumb (the lead where the last estimate put it, placed in
+    /// the world with the chase's pose at capture, so the chase's own turning since is
+    /// taken out), with [`PanHeadConfig::rate_for_error`] on the encoder's reading. Without
+    /// a head, or while the lead is lost, the head is held.
+    fn aim_pan_head(&self, pose: &Pose, encoder_rad: f32) -> (f32, f32) {
+        let c = &self.config;
+        if !c.pan_head.enabled {
+            return (0.0, 0.0);
+        }
+        let lead = match (self.trail.newest(), self.mode) {
+            (Some(crumb), ChaseMode::Following) => crumb.position_world_m,
+            _ => return (encoder_rad, 0.0),
+        };
+        let pivot = self.vehicle_from_camera.translation;
+        let v = pose.inverse_transform_point(lead) - pivot;
+        if v.x.hypot(v.z) < 0.5 {
+            return (encoder_rad, 0.0);
+        }
+        let limit = c.pan_head.limit_deg.to_radians() as f32;
+        let aim = v.z.atan2(v.x).clamp(-limit, limit);
+        let rate = c.pan_head.rate_for_error(f64::from(aim - encoder_rad));
+        (aim, rate as f32)
+    }
+
     fn log(&mut self, step: Step, kind: ControllerEventKind) {
         self.events.push(ControllerEvent { step, kind });
     }
@@ -348,8 +484,12 @@ impl ChaseController {
                 );
                 continue;
             };
+            // Stage 8's position is in the camera's frame as it was: turned by the pan
+            // head's measured angle, not the true one, which nobody on board knows.
             let in_vehicle = self
-                .vehicle_from_camera
+                .config
+                .camera_mount
+                .vehicle_from_camera_panned(estimate.camera_pan_rad)
                 .transform_point(estimate.target_in_camera_m);
             let camera = self.vehicle_from_camera.translation;
             let gap =
@@ -429,6 +569,17 @@ impl ChaseController {
             None => (None, None),
         };
         let (gap_m, range_rate) = carried(self.range.state());
+
+        // Where the lead's path bends most between here and the lead, and what that allows
+        // of the gap; the pan head's aim.
+        let curvature_ahead = max_curvature(&path, CURVATURE_CHORD_M);
+        let view_limit_m = self
+            .config
+            .curve_aware_gap
+            .then(|| self.view_limited_gap_m(curvature_ahead))
+            .flatten();
+        self.gap_keeper.set_view_limit(view_limit_m);
+        let (pan_aim_rad, pan_rate_cmd_rad_s) = self.aim_pan_head(&pose, odometry.camera_pan_rad);
         let threat = match carried(self.alarm_range.state()) {
             (Some(gap), Some(rate)) => self.config.gap_keeper.threat(gap, rate, v),
             _ => Threat::default(),
@@ -498,6 +649,9 @@ impl ChaseController {
             lookahead_world_m: target,
             curvature,
             emergency,
+            curvature_ahead,
+            pan_aim_rad,
+            pan_rate_cmd_rad_s,
         };
         if emergency {
             self.speed.reset();
@@ -535,24 +689,32 @@ mod tests {
             step: Step(step),
             world_from_chase: Pose::from_translation(Vector::new(step as f32 * 0.1, 0.0, 0.0)),
             forward_speed_mps: 12.0,
+            camera_pan_rad: 0.0,
         }
     }
 
-    #[test]
-    fn breadcrumbs_use_the_pose_at_capture_time() {
+    /// A controller that drove 25 steps and was then handed an estimate captured at step
+    /// 10 (chase at x = 1.0) with the camera panned by `pan_rad`, delivered at step 26.
+    fn delivered(target_in_camera_m: Vector, pan_rad: f32) -> ChaseController {
         let params = VehicleParams::hmmwv_m998();
         let mut c = ChaseController::new(level_mount(), &params, 12.0).unwrap();
         for s in 0..=25 {
             c.update(&odometry(s));
         }
-        // Captured at step 10 (chase at x = 1.0), 10 m straight ahead of the camera and
-        // 1 m to its right; delivered at step 26.
         c.receive(LeadEstimate {
             capture_step: Step(10),
-            target_in_camera_m: Vector::new(1.0, 0.0, 10.0),
+            target_in_camera_m,
             status: TrackStatus::Tracking,
+            camera_pan_rad: pan_rad,
         });
         c.update(&odometry(26));
+        c
+    }
+
+    #[test]
+    fn breadcrumbs_use_the_pose_at_capture_time() {
+        // 10 m straight ahead of the camera and 1 m to its right.
+        let c = delivered(Vector::new(1.0, 0.0, 10.0), 0.0);
         let crumb = c.trail().newest().unwrap();
         let want = Vector::new(1.0 + 2.2 + 10.0, 2.0, 1.0);
         assert!(
@@ -580,6 +742,7 @@ mod tests {
             capture_step: Step(10),
             target_in_camera_m: Vector::new(0.0, 0.0, 10.0),
             status: TrackStatus::Tracking,
+            camera_pan_rad: 0.0,
         });
         c.update(&odometry(101));
         assert!(c.trail().is_empty());
@@ -603,10 +766,112 @@ mod tests {
                 capture_step: Step(s),
                 target_in_camera_m: Vector::new(0.0, 0.0, 30.0),
                 status: TrackStatus::Tracking,
+                camera_pan_rad: 0.0,
             });
             c.update(&odometry(s));
         }
         // 5 s into a 5 -> 15 m/s ramp over 10 s.
         assert!((c.telemetry().speed_ref_mps - 10.0).abs() < 0.01);
+    }
+
+    #[test]
+    fn an_estimate_from_a_panned_camera_is_turned_by_the_encoder_reading() {
+        // The camera panned 90° right saw the target 10 m along its axis: 10 m to the
+        // right of the camera.
+        let c = delivered(Vector::new(0.0, 0.0, 10.0), std::f32::consts::FRAC_PI_2);
+        let crumb = c.trail().newest().unwrap().position_world_m;
+        let want = Vector::new(1.0 + 2.2, 2.0, 10.0);
+        assert!(
+            (crumb - want).length() < 1e-4,
+            "crumb at {crumb}, want {want}"
+        );
+    }
+
+    #[test]
+    fn the_pan_head_is_aimed_at_the_lead() {
+        let params = VehicleParams::hmmwv_m998();
+        let config = ChaseControllerConfig {
+            pan_head: PanHeadConfig {
+                enabled: true,
+                ..PanHeadConfig::default()
+            },
+            ..level_mount()
+        };
+        let mut c = ChaseController::new(config, &params, 12.0).unwrap();
+        for s in 0..=25 {
+            c.update(&odometry(s));
+        }
+        // A lead 10 m ahead of the camera and 10 m to its right: 45° right.
+        c.receive(LeadEstimate {
+            capture_step: Step(25),
+            target_in_camera_m: Vector::new(10.0, 0.0, 10.0),
+            status: TrackStatus::Tracking,
+            camera_pan_rad: 0.0,
+        });
+        let mut o = odometry(26);
+        o.world_from_chase = odometry(25).world_from_chase;
+        c.update(&o);
+        let t = c.telemetry();
+        assert!(
+            (t.pan_aim_rad - std::f32::consts::FRAC_PI_4).abs() < 1e-3,
+            "{t:?}"
+        );
+        assert!(t.pan_rate_cmd_rad_s > 0.0, "{t:?}");
+        // A fixed camera is never aimed.
+        let mut fixed = ChaseController::new(level_mount(), &params, 12.0).unwrap();
+        fixed.update(&odometry(0));
+        assert_eq!(fixed.telemetry().pan_rate_cmd_rad_s, 0.0);
+    }
+
+    #[test]
+    fn curvature_comes_from_the_path_s_geometry() {
+        // A quarter circle of radius 18 m, a point every 0.25 m, after 20 m of straight.
+        let mut path: Vec<Vector> = (0..80)
+            .map(|k| Vector::new(k as f32 * 0.25, 0.0, 0.0))
+            .collect();
+        for k in 0..=113 {
+            let a = k as f32 * 0.25 / 18.0;
+            path.push(Vector::new(
+                20.0 + 18.0 * a.sin(),
+                0.0,
+                18.0 * (1.0 - a.cos()),
+            ));
+        }
+        let k = max_curvature(&path, 5.0);
+        assert!((k - 1.0 / 18.0).abs() < 0.002, "κ {k}");
+        assert!(max_curvature(&path[..80], 5.0) < 1e-6);
+        assert_eq!(max_curvature(&path[..10], 5.0), 0.0);
+    }
+
+    #[test]
+    fn the_view_limits_the_gap_in_a_bend() {
+        let params = VehicleParams::hmmwv_m998();
+        let c = ChaseController::new(level_mount(), &params, 7.0).unwrap();
+        // Straight: no limit.
+        assert_eq!(c.view_limited_gap_m(0.0), None);
+        // An 18 m bend with the fixed camera (α = 15.8°): under 4.5 m.
+        let tight = c.view_limited_gap_m(1.0 / 18.0).unwrap();
+        assert!(tight > 3.5 && tight < 4.6, "{tight}");
+        // At the limit the bearing formula gives α back.
+        let kappa = 1.0f64 / 18.0;
+        let (d, f) = (f64::from(tight), 2.2);
+        let bearing = kappa * (d + f).powi(2) / (2.0 * d);
+        assert!((bearing - 15.8f64.to_radians()).abs() < 1e-3, "{bearing}");
+        // A gentle 120 m bend allows a longer gap.
+        assert!(c.view_limited_gap_m(1.0 / 120.0).unwrap() > 50.0);
+        // With a pan head there is no limit to speak of.
+        let panned = ChaseController::new(
+            ChaseControllerConfig {
+                pan_head: PanHeadConfig {
+                    enabled: true,
+                    ..PanHeadConfig::default()
+                },
+                ..level_mount()
+            },
+            &params,
+            7.0,
+        )
+        .unwrap();
+        assert_eq!(panned.view_limited_gap_m(1.0 / 18.0), None);
     }
 }

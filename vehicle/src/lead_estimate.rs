@@ -26,4 +26,8 @@ pub struct LeadEstimate {
     pub target_in_camera_m: Vector,
     /// The tracker's status.
     pub status: TrackStatus,
+    /// The pan head's encoder reading when the frame was captured, radians (positive to
+    /// the right; 0 for a fixed camera): stage 8's camera frame turned by it is the
+    /// mount's frame.
+    pub camera_pan_rad: f32,
 }

@@ -40,6 +40,7 @@
 //!     step: now,
 //!     world_from_chase: chase_state.world_from_vehicle,
 //!     forward_speed_mps: chase_state.forward_speed_mps,
+//!     camera_pan_rad: 0.0, // the pan head's encoder reading, if there is one
 //! };
 //! world.set_controls(chase_id, chase.update(&odometry));
 //! world.set_controls(lead_id, lead.update(now, &world.vehicle_state(lead_id)));
@@ -65,6 +66,7 @@ mod ground;
 mod gyro;
 mod lead_driver;
 mod lead_estimate;
+mod pan_head;
 mod pose_history;
 mod pure_pursuit;
 mod range_filter;
@@ -94,6 +96,7 @@ pub use ground::{BumpsConfig, Ground, GroundConfig};
 pub use gyro::{Gyro, GyroConfig};
 pub use lead_driver::{LeadDriver, LeadDriverConfig};
 pub use lead_estimate::{LeadEstimate, TrackStatus};
+pub use pan_head::{PanHead, PanHeadConfig};
 pub use pose_history::{OwnMotion, PoseHistory};
 pub use pure_pursuit::{
     curvature_to, curvature_toward, lookahead_point, steer_for_curvature, LookAhead,

@@ -21,6 +21,11 @@ fn noisy_lossy_sensing_still_follows_without_false_alarms() {
     let mut opts = RigOptions::straight(10.0, SpeedProfile::constant(9.0));
     opts.route = route;
     opts.initial_speed_mps = 9.0;
+    // A constant gap and no curve-aware cap, so that what is measured is the noise's
+    // effect alone (the default time gap moves its aim with the noisy speed, and the cap
+    // shortens it in the 25 m turn).
+    opts.chase_config.gap_keeper.policy = GapPolicy::ConstantDistance { gap_m: 10.0 };
+    opts.chase_config.curve_aware_gap = false;
     opts.noise = Some(SensorNoise {
         lateral_sigma_m: 0.05,
         range_sigma_fraction: 0.01,

@@ -16,6 +16,9 @@ pub struct FrameInput {
     pub world_from_chase: Isometry3<f64>,
     /// The lead vehicle's pose, same convention.
     pub world_from_lead: Isometry3<f64>,
+    /// The camera's pan about the chase's vertical axis through the mount, radians
+    /// (positive to the right; 0 for the paper's fixed camera): the pan head's true angle.
+    pub camera_pan_rad: f64,
 }
 
 /// What the tracker is scored against. Image coordinates have their origin at the top-left

@@ -7,12 +7,14 @@
 
 mod backend;
 mod frame;
+mod occlusion;
 mod renderer;
 mod rig;
 mod sensor;
 
 pub use backend::{Backend, BackendError};
 pub use frame::{Frame, FrameInput, GroundTruth};
+pub use occlusion::target_occluded;
 pub use renderer::{ground_truth_of, DrawStats, RenderError, RenderOptions, Renderer};
 pub use rig::{CameraRig, FAR_M, NEAR_M};
 pub use sensor::{apply_sensor, shift_noise};

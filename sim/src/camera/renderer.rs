@@ -142,9 +142,12 @@ pub struct Renderer {
     stats: DrawStats,
     /// The scene's grass hash key (see [`Scene::grass_key`]).
     grass_key: u32,
-    /// The first image row from which the hood covers every pixel to the bottom (the hood
-    /// moves with the camera, so this never changes); later draws are scissored above it.
+    /// The first image row from which the hood covers every pixel to the bottom, for the
+    /// camera straight ahead (the hood moves with the camera, so this changes only when the
+    /// camera pans); later draws are scissored above it.
     hood_row: u32,
+    /// The same for the last panned angle seen, as (angle's bits, row).
+    panned_hood_row: Option<(u64, u32)>,
     /// Per-frame scratch lists, kept to avoid allocating every frame.
     items: Vec<DrawItem>,
     main_draws: Vec<Range<u32>>,
@@ -515,7 +518,7 @@ impl Renderer {
             cache: None,
         });
 
-        let hood_row = hood_row(&rig, &scene.description().chase);
+        let hood_row = hood_row(&rig, &scene.description().chase, 0.0);
         Ok(Renderer {
             scene: scene.clone(),
             rig,
@@ -543,6 +546,7 @@ impl Renderer {
             stats: DrawStats::default(),
             grass_key: scene.grass_key(),
             hood_row,
+            panned_hood_row: None,
             items: Vec::new(),
             main_draws: Vec::new(),
             shadow_draws: Vec::new(),
@@ -572,11 +576,13 @@ impl Renderer {
 
     /// Renders one frame and reads it back.
     pub fn render(&mut self, input: &FrameInput) -> Result<Frame, RenderError> {
+        let hood_rows = self.hood_rows(input.camera_pan_rad);
         let rig = &self.rig;
         let description = self.scene.description();
 
         // Poses: the camera from the chase chassis; every moving object's transform.
-        let world_from_camera = rig.world_from_camera(&input.world_from_chase);
+        let world_from_camera =
+            rig.world_from_camera_panned(&input.world_from_chase, input.camera_pan_rad);
         let camera_from_world = world_from_camera.inverse();
         // Positions reach the GPU relative to the camera (the origin), with every transform
         // composed in f64: in f32, world coordinates kilometres from the world's origin
@@ -840,9 +846,9 @@ impl Renderer {
             pass.set_vertex_buffer(0, self.vertex_buffer.slice(..));
             pass.set_index_buffer(self.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
             for (k, range) in main_draws.iter().enumerate() {
-                if k == hood_draws && self.hood_row < rig.height {
+                if k == hood_draws && hood_rows < rig.height {
                     // The rows the hood covers from edge to edge hold nothing else.
-                    pass.set_scissor_rect(0, 0, rig.width, self.hood_row);
+                    pass.set_scissor_rect(0, 0, rig.width, hood_rows);
                 }
                 pass.draw_indexed(range.clone(), 0, 0..1);
             }
@@ -913,8 +919,27 @@ impl Renderer {
             input.frame_index,
         );
 
-        let truth = self.ground_truth(&input.world_from_chase, &input.world_from_lead);
+        let truth = self.ground_truth(
+            &input.world_from_chase,
+            &input.world_from_lead,
+            input.camera_pan_rad,
+        );
         Ok(Frame { image, truth })
+    }
+
+    /// The first row the hood covers from edge to edge, for the camera panned by `pan_rad`.
+    fn hood_rows(&mut self, pan_rad: f64) -> u32 {
+        if pan_rad == 0.0 {
+            return self.hood_row;
+        }
+        match self.panned_hood_row {
+            Some((bits, row)) if bits == pan_rad.to_bits() => row,
+            _ => {
+                let row = hood_row(&self.rig, &self.scene.description().chase, pan_rad);
+                self.panned_hood_row = Some((pan_rad.to_bits(), row));
+                row
+            }
+        }
     }
 
     /// The target's true position in the image and in the camera frame, for these poses.
@@ -922,6 +947,7 @@ impl Renderer {
         &self,
         world_from_chase: &Isometry3<f64>,
         world_from_lead: &Isometry3<f64>,
+        camera_pan_rad: f64,
     ) -> GroundTruth {
         ground_truth_of(
             &self.rig,
@@ -929,6 +955,7 @@ impl Renderer {
             &self.scene.description().target,
             world_from_chase,
             world_from_lead,
+            camera_pan_rad,
         )
     }
 }
@@ -943,9 +970,13 @@ pub fn ground_truth_of(
     target: &tracker::TargetModel,
     world_from_chase: &Isometry3<f64>,
     world_from_lead: &Isometry3<f64>,
+    camera_pan_rad: f64,
 ) -> GroundTruth {
-    let camera_from_target =
-        rig.world_from_camera(world_from_chase).inverse() * world_from_lead * lead_from_target;
+    let camera_from_target = rig
+        .world_from_camera_panned(world_from_chase, camera_pan_rad)
+        .inverse()
+        * world_from_lead
+        * lead_from_target;
     let centre = camera_from_target * Point3::origin();
     let target_cam_m = [centre.x, centre.y, centre.z];
     let [c_x, c_y] = rig
@@ -972,8 +1003,8 @@ pub fn ground_truth_of(
 
 /// The first row from which the ray through every pixel centre below hits the hood (one
 /// row of margin above that for rasterisation's edge rules); `rig.height` if there is none.
-fn hood_row(rig: &CameraRig, chase: &crate::scene::ChaseVehicle) -> u32 {
-    let chase_from_camera = rig.chase_from_camera();
+fn hood_row(rig: &CameraRig, chase: &crate::scene::ChaseVehicle, camera_pan_rad: f64) -> u32 {
+    let chase_from_camera = rig.chase_from_camera_panned(camera_pan_rad);
     let eye = chase_from_camera * Point3::origin();
     let [fx, fy] = rig.intrinsics.focal_px();
     let [cx, cy] = rig.intrinsics.image_center_px;

@@ -55,9 +55,32 @@ impl CameraRig {
     }
 
     /// The camera's pose in the world, following the chase chassis (including its pitch
-    /// and roll, which `world_from_chase` carries).
+    /// and roll, which `world_from_chase` carries), looking straight ahead.
     pub fn world_from_camera(&self, world_from_chase: &Isometry3<f64>) -> Isometry3<f64> {
         world_from_chase * self.chase_from_camera()
+    }
+
+    /// The camera frame in the chase vehicle's frame with the camera panned by `pan_rad`
+    /// about the vehicle's vertical axis through the mount (positive to the right).
+    pub fn chase_from_camera_panned(&self, pan_rad: f64) -> Isometry3<f64> {
+        let straight = self.chase_from_camera();
+        // Turning right is a negative rotation about y (up).
+        let pan = UnitQuaternion::from_axis_angle(&nalgebra::Vector3::y_axis(), -pan_rad);
+        Isometry3::from_parts(straight.translation, pan * straight.rotation)
+    }
+
+    /// The camera's pose in the world with the camera panned by `pan_rad` (see
+    /// [`CameraRig::chase_from_camera_panned`]).
+    pub fn world_from_camera_panned(
+        &self,
+        world_from_chase: &Isometry3<f64>,
+        pan_rad: f64,
+    ) -> Isometry3<f64> {
+        if pan_rad == 0.0 {
+            // Bit for bit the fixed camera's pose.
+            return self.world_from_camera(world_from_chase);
+        }
+        world_from_chase * self.chase_from_camera_panned(pan_rad)
     }
 
     /// Projects a camera-frame point to clip space for wgpu (x right, y up, depth 0..1),

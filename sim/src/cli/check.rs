@@ -21,7 +21,7 @@ pub fn run_check(args: CheckArgs) -> anyhow::Result<()> {
     let mut bad = 0;
     for path in &args.scenarios {
         match Scenario::load(path, &args.set) {
-            Ok(s) => println!(
+            Ok(s) => say!(
                 "{}: ok: `{}`, {} s, seed {}, target `{}`",
                 path.display(),
                 s.name,

@@ -80,6 +80,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
             time_s: args.time,
             world_from_chase,
             world_from_lead,
+            camera_pan_rad: 0.0,
         })
         .map_err(incomplete)?;
     frame
@@ -88,7 +89,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
         .with_context(|| format!("writing {}", args.out.display()))
         .map_err(incomplete)?;
     let t = frame.truth;
-    println!(
+    say!(
         "{}: t = {:.3} s on {}; target c = ({:.2}, {:.2}) px, scale {:.4}, camera-frame position ({:.3}, {:.3}, {:.3}) m{}",
         args.out.display(),
         args.time,
@@ -136,7 +137,7 @@ fn render_scenario(path: &std::path::Path, args: &RenderArgs) -> anyhow::Result<
                 .with_context(|| format!("writing {}", args.out.display()))
                 .map_err(incomplete)?;
             let r = out.record;
-            println!(
+            say!(
                 "{}: `{}` at t = {:.3} s; target c = ({:.2}, {:.2}) px, scale {:.4}, range {:.2} m; tracker: {}",
                 args.out.display(),
                 scenario.name,

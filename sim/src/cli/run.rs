@@ -123,7 +123,7 @@ pub fn run_run(args: RunArgs) -> anyhow::Result<ExitCode> {
         let outcome = run_one(scenario, backend, &dir, &args).map_err(|e| one_line(&e));
         let wall_s = started.elapsed().as_secs_f64();
         match &outcome {
-            Ok(summary) => println!("{}", verdict(summary, &dir)),
+            Ok(summary) => say!("{}", verdict(summary, &dir)),
             Err(e) => eprintln!("error: {}: could not complete: {e}", scenario.name),
         }
         // The scenario's own junit.xml, whatever happened.
@@ -141,7 +141,7 @@ pub fn run_run(args: RunArgs) -> anyhow::Result<ExitCode> {
             .map(|(s, wall_s, o)| junit_entry(s, *wall_s, o))
             .collect();
         let path = write_junit(root.join("junit.xml"), &entries).map_err(incomplete)?;
-        println!("{}: {} scenarios", path.display(), entries.len());
+        say!("{}: {} scenarios", path.display(), entries.len());
     }
     let code = if outcomes.iter().any(|(_, _, o)| o.is_err()) {
         exit::INCOMPLETE
@@ -362,7 +362,7 @@ fn run_one(
             })
             .map_err(incomplete)?
         {
-            println!("{}: recording", path.display());
+            say!("{}: recording", path.display());
         }
     }
     Ok(summary)

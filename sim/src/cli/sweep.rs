@@ -325,10 +325,10 @@ pub fn run_sweep(args: SweepArgs) -> anyhow::Result<ExitCode> {
     let (rows, _) = read_rows(&results)?;
     let rows = dedupe_sorted(rows);
     if rows.is_empty() {
-        println!("{}: no point finished; no report", results.display());
+        say!("{}: no point finished; no report", results.display());
     } else {
         let written = write_report(&out, &rows).map_err(incomplete)?;
-        println!(
+        say!(
             "{}: {} of {} points done; report: {}",
             results.display(),
             rows.len(),
@@ -349,7 +349,7 @@ pub fn run_sweep(args: SweepArgs) -> anyhow::Result<ExitCode> {
                 .count()
         });
         let noun = if kept == 1 { "recording" } else { "recordings" };
-        println!(
+        say!(
             "{}: {kept} {noun} of points whose criteria failed",
             dir.display()
         );
@@ -422,7 +422,7 @@ fn run_merge(args: MergeArgs) -> anyhow::Result<ExitCode> {
             .join(", ")
     };
     let Some(manifest) = manifests.first() else {
-        println!(
+        say!(
             "{}: {} points merged from {} folders; report: {report}",
             results.display(),
             rows.len(),
@@ -453,7 +453,7 @@ fn run_merge(args: MergeArgs) -> anyhow::Result<ExitCode> {
         .collect();
     let missing_file = out.join(MISSING_FILE);
     write_failed(&missing_file, &missing)?;
-    println!(
+    say!(
         "{}: {} of {} points merged from {} folders; report: {report}",
         results.display(),
         rows.len(),

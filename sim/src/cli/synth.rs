@@ -102,7 +102,7 @@ pub fn run_synth(args: SynthArgs) -> anyhow::Result<()> {
             .map_err(incomplete)?;
         writeln!(csv, "{k},{:.4},{:.4},{:.6}", at.c_x, at.c_y, at.scale)?;
     }
-    println!(
+    say!(
         "{}: {} {} frames; track them with: carfollow track {} --target {} --focal-px {} --init {},{},{} \
          (or --mode robust, with or without --init)",
         args.out_dir.display(),

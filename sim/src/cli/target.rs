@@ -25,7 +25,7 @@ pub struct TargetArgs {
 pub fn run_target(args: TargetArgs) -> anyhow::Result<()> {
     let model = sim::target::load(&args.target)?;
     let [w_m, h_m] = model.size_m();
-    println!(
+    say!(
         "{}: `{}`, {:.2} m × {:.2} m, nominal range {} m, {} segments",
         args.target.display(),
         model.name(),
@@ -36,7 +36,7 @@ pub fn run_target(args: TargetArgs) -> anyhow::Result<()> {
     );
     let camera = Camera::default();
     for (f, [a, b]) in model.features_px(&camera).iter().zip(model.segments()) {
-        println!(
+        say!(
             "  segment {}: corners {a}-{b}, {}, offset {:+.3} m",
             f.segment,
             f.orientation.as_str(),
@@ -79,7 +79,7 @@ pub fn run_target(args: TargetArgs) -> anyhow::Result<()> {
             .save(out)
             .with_context(|| format!("{}: cannot write", out.display()))
             .map_err(incomplete)?;
-        println!("drew {}", out.display());
+        say!("drew {}", out.display());
     }
     Ok(())
 }

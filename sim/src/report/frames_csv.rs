@@ -16,7 +16,7 @@ use super::ReportError;
 use crate::record::FrameRecord;
 
 /// The columns of `frames.csv`, in order. The order is stable: new columns go at the end.
-pub const FRAMES_CSV_COLUMNS: [&str; 37] = [
+pub const FRAMES_CSV_COLUMNS: [&str; 40] = [
     "frame",
     "t_s",
     "true_range_m",
@@ -54,6 +54,9 @@ pub const FRAMES_CSV_COLUMNS: [&str; 37] = [
     "coverage_gain",
     "tracker_event",
     "fit_residual",
+    "loss_cause",
+    "camera_pan_deg",
+    "desired_gap_m",
 ];
 
 /// The name of the column after [`FRAMES_CSV_COLUMNS`] holding feature `j`'s σ² (eq. 13),
@@ -173,6 +176,12 @@ fn format_row(r: &FrameRecord, features: usize, mut s: String) -> String {
     text(&mut s, &r.tracker_event);
     s.push(',');
     num(&mut s, r.fit_residual);
+    s.push(',');
+    s.push_str(r.loss_cause.as_str());
+    for v in [r.camera_pan_deg, r.desired_gap_m] {
+        s.push(',');
+        num(&mut s, v);
+    }
     for j in 0..features {
         s.push(',');
         num(&mut s, r.feature_sigma2.get(j).copied().unwrap_or(f64::NAN));
@@ -244,6 +253,9 @@ pub(crate) mod tests {
             tracker_event: String::new(),
             fit_residual: 0.5,
             feature_sigma2: vec![0.1, f64::NAN, 0.25],
+            loss_cause: crate::record::LossCause::None,
+            camera_pan_deg: 0.0,
+            desired_gap_m: 10.0,
         }
     }
 

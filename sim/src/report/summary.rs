@@ -25,7 +25,7 @@
 use serde::Serialize;
 
 use crate::closed_loop::LoopTiming;
-use crate::record::{Expect, FrameRecord, TrackerStatus};
+use crate::record::{Expect, FrameRecord, LossCause, TrackerStatus};
 
 /// The frame period used when the records cannot tell it: the loop's 15 Hz.
 pub const DEFAULT_FRAME_PERIOD_S: f64 = 1.0 / 15.0;
@@ -75,6 +75,9 @@ pub struct Summary {
     pub tracking_lost_s: f64,
     /// Number of ground-truth loss events (maximal runs of lost frames).
     pub tracking_loss_events: u64,
+    /// `tracking_lost_s` by cause, seconds: `out_of_view` (the target outside the image),
+    /// `occluded` (hidden by scenery) and `tracker` (in view, not hidden, and lost).
+    pub lost_by_cause_s: LostByCause,
     /// A tighter measure beside the 25 % of `tracking_lost_s`: the share (0–1) of the frames
     /// with the target in view whose estimate is off by more than
     /// [`IMPRECISE_CENTRE_PX`] in centre or [`IMPRECISE_SCALE`] in scale (or is no
@@ -117,6 +120,43 @@ pub struct Summary {
     pub resolved_scenario: Option<serde_json::Value>,
 }
 
+/// Time lost by the ground truth, by cause (see [`LossCause`]), seconds.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct LostByCause {
+    /// The target outside the image.
+    pub out_of_view: f64,
+    /// The target hidden by scenery.
+    pub occluded: f64,
+    /// The target in view and not hidden: the tracker's own loss.
+    pub tracker: f64,
+}
+
+impl LostByCause {
+    fn get(&self, cause: LossCause) -> f64 {
+        match cause {
+            LossCause::OutOfView => self.out_of_view,
+            LossCause::Occluded => self.occluded,
+            LossCause::Tracker => self.tracker,
+            LossCause::None => 0.0,
+        }
+    }
+
+    /// The causes with time lost, largest first (ties in [`LossCause::ALL`]'s order), as
+    /// "12.40 s out_of_view, 0.20 s tracker".
+    pub fn describe(&self) -> String {
+        let mut causes: Vec<LossCause> = LossCause::ALL
+            .into_iter()
+            .filter(|&c| self.get(c) > 0.0)
+            .collect();
+        causes.sort_by(|&a, &b| self.get(b).total_cmp(&self.get(a)));
+        causes
+            .iter()
+            .map(|&c| format!("{:.2} s {}", self.get(c), c.as_str()))
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+}
+
 /// A ground-truth loss event (a maximal run of frames lost by the truth) and the tracker's
 /// own report of it.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -130,6 +170,8 @@ pub struct LossEvent {
     /// Frames from the event's start to the first in it where the tracker's status was not
     /// `tracking` (0 when it already said so); `null` when it said `tracking` throughout.
     pub report_delay_frames: Option<u64>,
+    /// The cause of most of its frames (the first of [`LossCause::ALL`] on a tie).
+    pub cause: LossCause,
 }
 
 /// A tracker event in the run.
@@ -146,28 +188,51 @@ pub struct TrackerEventTime {
 /// The ground-truth loss events of a run, each with the tracker's report delay.
 pub fn loss_events(records: &[FrameRecord]) -> Vec<LossEvent> {
     let mut events: Vec<LossEvent> = Vec::new();
-    let mut open: Option<LossEvent> = None;
+    let mut open: Option<(LossEvent, [u64; 3])> = None;
+    let index = |c: LossCause| LossCause::ALL.iter().position(|&a| a == c);
+    let close = |(mut e, counts): (LossEvent, [u64; 3])| {
+        let most = (0..3).fold(0, |m, k| if counts[k] > counts[m] { k } else { m });
+        // A lost frame without a cause (records from before causes were kept) is the
+        // tracker's.
+        e.cause = if counts[most] > 0 {
+            LossCause::ALL[most]
+        } else {
+            LossCause::Tracker
+        };
+        e
+    };
     for r in records {
         match (&mut open, r.lost_truth) {
             (None, true) => {
-                open = Some(LossEvent {
-                    start_frame: r.frame,
-                    start_t_s: r.t_s,
-                    frames: 1,
-                    report_delay_frames: (r.status != TrackerStatus::Tracking).then_some(0),
-                });
+                let mut counts = [0; 3];
+                if let Some(k) = index(r.loss_cause) {
+                    counts[k] += 1;
+                }
+                open = Some((
+                    LossEvent {
+                        start_frame: r.frame,
+                        start_t_s: r.t_s,
+                        frames: 1,
+                        report_delay_frames: (r.status != TrackerStatus::Tracking).then_some(0),
+                        cause: LossCause::None,
+                    },
+                    counts,
+                ));
             }
-            (Some(e), true) => {
+            (Some((e, counts)), true) => {
                 if e.report_delay_frames.is_none() && r.status != TrackerStatus::Tracking {
                     e.report_delay_frames = Some(e.frames);
                 }
                 e.frames += 1;
+                if let Some(k) = index(r.loss_cause) {
+                    counts[k] += 1;
+                }
             }
-            (Some(_), false) => events.extend(open.take()),
+            (Some(_), false) => events.extend(open.take().map(close)),
             (None, false) => {}
         }
     }
-    events.extend(open);
+    events.extend(open.map(close));
     events
 }
 
@@ -243,6 +308,15 @@ impl Summary {
             None => 0.0,
         };
         let tracking_lost_s = time_where(&|r| r.lost_truth);
+        let lost_by_cause_s = LostByCause {
+            out_of_view: time_where(&|r| r.lost_truth && r.loss_cause == LossCause::OutOfView),
+            occluded: time_where(&|r| r.lost_truth && r.loss_cause == LossCause::Occluded),
+            // A lost frame without a cause (records from before causes were kept) is the
+            // tracker's.
+            tracker: time_where(&|r| {
+                r.lost_truth && matches!(r.loss_cause, LossCause::Tracker | LossCause::None)
+            }),
+        };
         let tracking_loss_events = count_events(records.iter().map(|r| r.lost_truth));
         let in_view: Vec<&FrameRecord> = records.iter().filter(|r| r.target_in_view).collect();
         let imprecise_share = (!in_view.is_empty()).then(|| {
@@ -282,6 +356,7 @@ impl Summary {
             time_outside_gap_band_s,
             tracking_lost_s,
             tracking_loss_events,
+            lost_by_cause_s,
             imprecise_share,
             tracker_lost_s,
             tracker_coasting_s,
@@ -475,10 +550,19 @@ fn check(s: &Summary, expect: &Expect) -> Vec<Criterion> {
             passed,
             value: t,
             limit: allowed,
-            message: format!(
-                "tracking lost (ground truth) for {t:.2} s in {} event(s) (allowed {allowed:.2} s)",
-                s.tracking_loss_events
-            ),
+            message: if t > 0.0 {
+                format!(
+                    "tracking lost (ground truth) for {t:.2} s in {} event(s) (allowed \
+                     {allowed:.2} s): {}",
+                    s.tracking_loss_events,
+                    s.lost_by_cause_s.describe()
+                )
+            } else {
+                format!(
+                    "tracking lost (ground truth) for {t:.2} s in {} event(s) (allowed {allowed:.2} s)",
+                    s.tracking_loss_events
+                )
+            },
         });
     }
     if let Some(allowed) = expect.max_lateral_deviation_m {
@@ -652,7 +736,33 @@ mod tests {
         assert!(close(s.tracker_coasting_s, 2.0 / 15.0));
         assert_eq!(
             s.failures,
-            vec!["tracking lost (ground truth) for 0.47 s in 4 event(s) (allowed 0.40 s)"]
+            vec!["tracking lost (ground truth) for 0.47 s in 4 event(s) (allowed 0.40 s): 0.47 s tracker"]
+        );
+        // With causes: each event takes the cause of most of its frames.
+        rs[0].loss_cause = LossCause::OutOfView;
+        rs[1].loss_cause = LossCause::OutOfView;
+        rs[2].loss_cause = LossCause::Tracker;
+        rs[10].loss_cause = LossCause::Occluded;
+        rs[20].loss_cause = LossCause::Tracker;
+        rs[21].loss_cause = LossCause::Tracker;
+        rs[44].loss_cause = LossCause::OutOfView;
+        let s = Summary::compute("x", 1, &rs, &expect, 1.0);
+        let causes: Vec<LossCause> = s.loss_events.iter().map(|e| e.cause).collect();
+        assert_eq!(
+            causes,
+            [
+                LossCause::OutOfView,
+                LossCause::Occluded,
+                LossCause::Tracker,
+                LossCause::OutOfView
+            ]
+        );
+        assert!(close(s.lost_by_cause_s.out_of_view, 3.0 / 15.0));
+        assert!(close(s.lost_by_cause_s.occluded, 1.0 / 15.0));
+        assert!(close(s.lost_by_cause_s.tracker, 3.0 / 15.0));
+        assert_eq!(
+            s.failures,
+            vec!["tracking lost (ground truth) for 0.47 s in 4 event(s) (allowed 0.40 s): 0.20 s out_of_view, 0.20 s tracker, 0.07 s occluded"]
         );
         assert_eq!(
             count_events([false, true, true, false, true].into_iter()),

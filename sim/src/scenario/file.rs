@@ -148,6 +148,13 @@ pub struct CameraFile {
     /// mounts it on the centreline).
     #[serde(default)]
     pub mount: vehicle::CameraMount,
+    /// The pan head (default: none, the paper's fixed camera): `enabled = true` turns the
+    /// camera to keep the lead centred, within `max_rate_deg_s`, `max_accel_deg_s2` and
+    /// `limit_deg`; its encoder reads the angle `encoder_latency_ms` late with
+    /// `encoder_noise_deg` of noise (see `vehicle::PanHeadConfig` for the defaults and
+    /// ranges).
+    #[serde(default)]
+    pub pan: vehicle::PanHeadConfig,
 }
 
 /// `[tracker]`.

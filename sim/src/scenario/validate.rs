@@ -337,8 +337,33 @@ pub(super) fn validate(
         let (field, message) = vehicle_error("camera.mount", &e);
         invalid(&field, message)
     })?;
+    for (field, set) in [
+        (
+            "chase.controller.pan_head",
+            raw.chase.controller.pan_head != vehicle::PanHeadConfig::default(),
+        ),
+        (
+            "chase.controller.half_fov_deg",
+            raw.chase.controller.half_fov_deg
+                != vehicle::ChaseControllerConfig::default().half_fov_deg,
+        ),
+    ] {
+        if set {
+            let from = if field.ends_with("pan_head") {
+                "`[camera.pan]`"
+            } else {
+                "the camera's focal length and pixel size"
+            };
+            return Err(invalid(field, format!("is set by {from}; remove it here")));
+        }
+    }
+    raw.camera.pan.validate().map_err(|e| {
+        let (field, message) = vehicle_error("camera.pan", &e);
+        invalid(&field, message)
+    })?;
     let mut chase = raw.chase.controller.clone();
     chase.camera_mount = raw.camera.mount;
+    chase.pan_head = raw.camera.pan.clone();
     if let Some(rows) = &raw.chase.speed_profile {
         // The paper's manual throttle: the chase's speed follows a scripted driver and only
         // its steering is closed-loop.
@@ -392,6 +417,10 @@ pub(super) fn validate(
             format!("{:?}", camera.pixel_size_mm),
         ),
     )?;
+    // The narrower half of the field of view, for the curve-aware gap keeping.
+    let [fx, _] = camera.focal_px();
+    let [cx, _] = camera.image_center_px;
+    chase.half_fov_deg = ((cx + 0.5).min(255.5 - cx) / fx).atan().to_degrees() as f32;
 
     // Tracker.
     let t = &raw.tracker;

@@ -178,6 +178,7 @@ impl Rig {
             capture_step: now,
             target_in_camera_m,
             status,
+            camera_pan_rad: 0.0,
         })
     }
 
@@ -198,6 +199,7 @@ impl Rig {
             step: now,
             world_from_chase: chase.world_from_vehicle,
             forward_speed_mps: chase.forward_speed_mps,
+            camera_pan_rad: 0.0,
         };
         let chase_controls = self.chase.update(&odometry);
         let lead_controls = self.lead.update(now, &lead);
