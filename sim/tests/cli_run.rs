@@ -346,3 +346,72 @@ fn video_stride_thins_the_gif() {
         assert_eq!(n, frames, "--video-stride {stride}");
     }
 }
+
+/// With the camera on a pan head, turning through `intersections`' first right-angle turn,
+/// the render worker draws what this process would: the head's angle crosses to it bit for
+/// bit, and `frames.csv` records it.
+#[test]
+fn a_panned_camera_renders_alike_in_the_worker() {
+    let dir = tempfile::tempdir().unwrap();
+    let scenario = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenarios/intersections.toml");
+    let runs: Vec<std::path::PathBuf> = ["1", "2"]
+        .iter()
+        .map(|n| {
+            let out = dir.path().join(n);
+            let o = carfollow(&[
+                "run",
+                scenario.to_str().unwrap(),
+                "--quiet",
+                "--set",
+                "duration_s=14",
+                "--renderers",
+                n,
+                "--out",
+                out.to_str().unwrap(),
+            ]);
+            assert!(
+                matches!(o.status.code(), Some(0 | 1)),
+                "{}",
+                String::from_utf8_lossy(&o.stderr)
+            );
+            out
+        })
+        .collect();
+    let csv = |d: &Path| std::fs::read_to_string(d.join("frames.csv")).unwrap();
+    assert!(csv(&runs[0]) == csv(&runs[1]), "frames.csv differs");
+    let text = csv(&runs[0]);
+    let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
+    let col = header.iter().position(|c| *c == "camera_pan_deg").unwrap();
+    let most = text
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(col).unwrap().parse::<f64>().unwrap().abs())
+        .fold(0.0, f64::max);
+    assert!(most > 10.0, "the head turned only {most}°");
+}
+
+/// A reader that leaves early (`carfollow run | head -1`) costs nothing: no panic, the run's
+/// own exit status, and every output written.
+#[test]
+fn a_closed_stdout_is_no_failure() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_carfollow"))
+        .args([
+            "run",
+            "--set",
+            "duration_s=2",
+            "--out",
+            dir.path().to_str().unwrap(),
+        ])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Close the reading end before the run says anything.
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(matches!(out.status.code(), Some(0 | 1)), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert!(dir.path().join("summary.json").is_file());
+}
