@@ -85,6 +85,12 @@ pub struct ControllerState {
     pub emergency: bool,
     /// Breadcrumbs on the trail.
     pub breadcrumbs: u32,
+    /// The largest curvature of the lead's path ahead, 1/m (the curve-aware gap keeping's).
+    pub curvature_ahead: f64,
+    /// Where the pan head is aimed, degrees, positive to the right (0 without one).
+    pub pan_aim_deg: f64,
+    /// The rate commanded of the pan head, degrees per second.
+    pub pan_rate_cmd_deg_s: f64,
 }
 
 /// What only the recorder sees (`/truth`).
@@ -120,6 +126,10 @@ pub struct GroundTruth {
     pub chase_distance_m: f64,
     /// The vehicles touched during this frame.
     pub collision: bool,
+    /// Why the frame is lost (`out_of_view`, `occluded`, `tracker`; empty when it is not).
+    pub loss_cause: String,
+    /// The pan head's true angle, degrees, positive to the right (0 without one).
+    pub camera_pan_deg: f64,
 }
 
 /// What the tracker was given with one frame besides the image (`/tracker/input`): the

@@ -629,6 +629,9 @@ impl Writer {
                 curvature: f64::from(telemetry.curvature),
                 emergency: telemetry.emergency,
                 breadcrumbs: data.trail.len() as u32,
+                curvature_ahead: f64::from(telemetry.curvature_ahead),
+                pan_aim_deg: f64::from(telemetry.pan_aim_rad).to_degrees(),
+                pan_rate_cmd_deg_s: f64::from(telemetry.pan_rate_cmd_rad_s).to_degrees(),
             },
             ns,
         );
@@ -649,6 +652,8 @@ impl Writer {
                 lateral_deviation_m: r.lateral_deviation_m,
                 chase_distance_m: r.chase_distance_m,
                 collision: r.collision,
+                loss_cause: r.loss_cause.as_str().into(),
+                camera_pan_deg: r.camera_pan_deg,
             },
             ns,
         );
