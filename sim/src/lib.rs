@@ -6,6 +6,7 @@
 pub mod camera;
 pub mod child;
 pub mod closed_loop;
+mod frame_parts;
 pub mod overlay;
 pub mod record;
 pub mod recording;

@@ -4,6 +4,8 @@
 //!   to ±2 grey levels, with at most 0.5 % of pixels beyond (a missing reference is
 //!   written fresh; a failure leaves `-actual.png` and `-difference.png` beside it);
 //! - the same seed gives bit-identical frames;
+//! - a frame rendered only in part has, inside that part, the whole frame's pixels bit for
+//!   bit (with blur, anti-aliasing and soft shadows too);
 //! - the renderer puts the target's edges (step paint and stripes) where the tracker's camera
 //!   model projects them, to within 0.5 px;
 //! - a pole's shadow on the target darkens it;
@@ -153,6 +155,83 @@ fn same_seed_gives_bit_identical_frames() {
         builtin_frame(&mut c, 5.0).image,
         "another seed differs"
     );
+}
+
+#[test]
+fn a_part_of_a_frame_is_the_whole_frame_there() {
+    let part = tracker::PixelRect {
+        x0: 97,
+        y0: 61,
+        x1: 171,
+        y1: 139,
+    };
+    let blurred = |mut d: SceneDescription| {
+        d.sensor.blur_sigma_px = Some(0.8);
+        d
+    };
+    let soft = |mut d: SceneDescription| {
+        d.sun.soft_shadows = true;
+        d
+    };
+    let msaa = RenderOptions {
+        msaa_samples: 4,
+        ..options()
+    };
+    let cases = [
+        ("plain", builtin_description(builtin_target(), 3), options()),
+        (
+            "blurred",
+            blurred(builtin_description(builtin_target(), 3)),
+            options(),
+        ),
+        (
+            "soft shadows",
+            soft(builtin_description(builtin_target(), 3)),
+            options(),
+        ),
+        ("4x msaa", builtin_description(builtin_target(), 3), msaa),
+    ];
+    for (name, description, options) in cases {
+        let mut r = renderer(description, &options);
+        for time_s in [2.0, 11.0] {
+            let whole = builtin_frame(&mut r, time_s);
+            let input = FrameInput {
+                frame_index: (time_s * 15.0).round() as u64,
+                time_s,
+                world_from_chase: builtin_poses(
+                    r.scene().description(),
+                    r.scene().route(),
+                    &r.rig().mount,
+                    time_s,
+                )
+                .0,
+                world_from_lead: builtin_poses(
+                    r.scene().description(),
+                    r.scene().route(),
+                    &r.rig().mount,
+                    time_s,
+                )
+                .1,
+            };
+            let partial = r.render_part(&input, Some(part)).expect("frame");
+            assert_eq!(partial.exact, part, "{name}");
+            assert_eq!(partial.truth, whole.truth, "{name}");
+            let mut outside_differs = 0;
+            for (x, y, p) in whole.image.enumerate_pixels() {
+                let q = partial.image.get_pixel(x, y);
+                let (x, y) = (x as usize, y as usize);
+                if (part.x0..part.x1).contains(&x) && (part.y0..part.y1).contains(&y) {
+                    assert_eq!(p, q, "{name} at t = {time_s} s: pixel ({x}, {y})");
+                } else if p != q {
+                    outside_differs += 1;
+                }
+            }
+            // (Multisampled, the rest is whatever the multisampled target last held.)
+            if options.msaa_samples == 1 {
+                assert!(outside_differs > 10_000, "{name}: the rest was not drawn");
+            }
+        }
+    }
 }
 
 #[test]

@@ -13,13 +13,14 @@
 use super::backend::{Backend, BackendError};
 use super::frame::{Frame, FrameInput, GroundTruth};
 use super::rig::CameraRig;
-use super::sensor::apply_sensor;
+use super::sensor::{apply_sensor, blur_reach_px};
 use crate::scene::{ObjectSlot, Scene, Vertex, GRASS_ALBEDO_RANGE, GROUND_CELL_M};
 use bytemuck::{Pod, Zeroable};
 use image::GrayImage;
 use nalgebra::{Isometry3, Matrix4, Point3, Translation3, Vector3};
 use std::ops::Range;
 use thiserror::Error;
+use tracker::PixelRect;
 
 /// Options that trade quality for speed; none changes the scene.
 #[derive(Clone, Debug, PartialEq)]
@@ -572,8 +573,24 @@ impl Renderer {
 
     /// Renders one frame and reads it back.
     pub fn render(&mut self, input: &FrameInput) -> Result<Frame, RenderError> {
+        self.render_part(input, None)
+    }
+
+    /// Renders the part of one frame the tracker will read (`needed`; the whole frame when
+    /// `None`) and reads it back. The colour pass is scissored to `needed` grown by the
+    /// sensor blur's reach, so each pixel of `needed` (the frame's [`Frame::exact`]) is
+    /// bit for bit what [`Renderer::render`] gives; everything else (shadows, the sensor
+    /// noise, the ground truth) is the whole frame's, and the pixels outside are unspecified.
+    pub fn render_part(
+        &mut self,
+        input: &FrameInput,
+        needed: Option<PixelRect>,
+    ) -> Result<Frame, RenderError> {
         let rig = &self.rig;
         let description = self.scene.description();
+        let whole = PixelRect::whole(rig.width as usize, rig.height as usize);
+        let exact = needed.map_or(whole, |r| r.intersection(&whole));
+        let scissor = exact.grown(blur_reach_px(&description.sensor), whole.x1, whole.y1);
 
         // Poses: the camera from the chase chassis; every moving object's transform.
         let world_from_camera = rig.world_from_camera(&input.world_from_chase);
@@ -771,8 +788,23 @@ impl Renderer {
             pass.set_bind_group(0, &self.frame_bind_group, &[]);
             pass.set_vertex_buffer(0, self.vertex_buffer.slice(..));
             pass.set_index_buffer(self.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
-            for range in &shadow_draws {
-                pass.draw_indexed(range.clone(), 0, 0..1);
+            // Only the texels the part of the frame asked for can sample.
+            let size = self.options.shadow_map_size;
+            let seen = if scissor == whole {
+                PixelRect::whole(size as usize, size as usize)
+            } else {
+                light.texels_seen(rig, &world_from_camera, scissor, size)
+            };
+            if !seen.is_empty() {
+                pass.set_scissor_rect(
+                    seen.x0 as u32,
+                    seen.y0 as u32,
+                    seen.width() as u32,
+                    seen.height() as u32,
+                );
+                for range in &shadow_draws {
+                    pass.draw_indexed(range.clone(), 0, 0..1);
+                }
             }
         }
         // The board's pass only with soft shadows: without them nothing samples its map.
@@ -839,10 +871,32 @@ impl Renderer {
             pass.set_bind_group(1, &self.shadow_bind_group, &[]);
             pass.set_vertex_buffer(0, self.vertex_buffer.slice(..));
             pass.set_index_buffer(self.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
+            // Only the part of the frame asked for is shaded.
+            let set_scissor = |pass: &mut wgpu::RenderPass, r: PixelRect| {
+                pass.set_scissor_rect(
+                    r.x0 as u32,
+                    r.y0 as u32,
+                    r.width() as u32,
+                    r.height() as u32,
+                )
+            };
+            if scissor != whole && !scissor.is_empty() {
+                set_scissor(&mut pass, scissor);
+            }
             for (k, range) in main_draws.iter().enumerate() {
+                if scissor.is_empty() {
+                    break;
+                }
                 if k == hood_draws && self.hood_row < rig.height {
                     // The rows the hood covers from edge to edge hold nothing else.
-                    pass.set_scissor_rect(0, 0, rig.width, self.hood_row);
+                    let above = scissor.intersection(&PixelRect {
+                        y1: self.hood_row as usize,
+                        ..whole
+                    });
+                    if above.is_empty() {
+                        break;
+                    }
+                    set_scissor(&mut pass, above);
                 }
                 pass.draw_indexed(range.clone(), 0, 0..1);
             }
@@ -914,7 +968,11 @@ impl Renderer {
         );
 
         let truth = self.ground_truth(&input.world_from_chase, &input.world_from_lead);
-        Ok(Frame { image, truth })
+        Ok(Frame {
+            image,
+            truth,
+            exact,
+        })
     }
 
     /// The target's true position in the image and in the camera frame, for these poses.
@@ -1219,6 +1277,86 @@ impl Light {
         }
         max[2] += CASTER_REACH_M;
         Self::of_box(axes, min, max, size)
+    }
+
+    /// The texels of this map (`size` a side) that shading the camera's pixels `part` can
+    /// sample: every receiver seen through `part` lies in the camera's frustum cut to
+    /// `part`, from the near to the far plane, and within the receivers' height band; that
+    /// region's corners all lie on its edges clipped to the band, and the map is an
+    /// orthographic projection, so their bounding box in the map holds it. Grown by the
+    /// normal offset of the lookups and the bilinear comparison's texel.
+    fn texels_seen(
+        &self,
+        rig: &CameraRig,
+        world_from_camera: &Isometry3<f64>,
+        part: PixelRect,
+        size: u32,
+    ) -> PixelRect {
+        let [fx, fy] = rig.intrinsics.focal_px();
+        let [cx, cy] = rig.intrinsics.image_center_px;
+        let (u0, u1) = (part.x0 as f64 - 0.5, part.x1 as f64 - 0.5);
+        let (v0, v1) = (part.y0 as f64 - 0.5, part.y1 as f64 - 0.5);
+        let corner = |u: f64, v: f64, z: f64| {
+            world_from_camera * Point3::new((u - cx) / fx * z, (v - cy) / fy * z, z)
+        };
+        let rect = [(u0, v0), (u1, v0), (u1, v1), (u0, v1)];
+        let (near, far) = (super::rig::NEAR_M, super::rig::FAR_M);
+        let mut edges = Vec::with_capacity(12);
+        for k in 0..4 {
+            let (a, b) = (rect[k], rect[(k + 1) % 4]);
+            edges.push((corner(a.0, a.1, near), corner(a.0, a.1, far)));
+            edges.push((corner(a.0, a.1, near), corner(b.0, b.1, near)));
+            edges.push((corner(a.0, a.1, far), corner(b.0, b.1, far)));
+        }
+        let (mut lo, mut hi) = ([f64::MAX; 2], [f64::MIN; 2]);
+        for (a, b) in edges {
+            // The part of the edge within the receivers' height band.
+            let (mut t0, mut t1) = (0.0f64, 1.0f64);
+            let dy = b.y - a.y;
+            for (bound, below) in [(0.0, true), (RECEIVER_TOP_M, false)] {
+                if dy.abs() < 1e-12 {
+                    if (below && a.y < bound) || (!below && a.y > bound) {
+                        t1 = -1.0;
+                    }
+                    continue;
+                }
+                let t = (bound - a.y) / dy;
+                // Inside is y >= 0 (below the band's floor is out) and y <= top.
+                let entering = if below { dy > 0.0 } else { dy < 0.0 };
+                if entering {
+                    t0 = t0.max(t);
+                } else {
+                    t1 = t1.min(t);
+                }
+            }
+            if t0 > t1 {
+                continue;
+            }
+            for t in [t0, t1] {
+                let p = a.coords + (b.coords - a.coords) * t;
+                for k in 0..2 {
+                    let v = self.axes[k].dot(&p);
+                    lo[k] = lo[k].min(v);
+                    hi[k] = hi[k].max(v);
+                }
+            }
+        }
+        if lo[0] > hi[0] {
+            return PixelRect::whole(0, 0);
+        }
+        // Map texels: x from min[0], y from max[1] downwards (the clip y is flipped).
+        let n = f64::from(size);
+        let (sx, sy) = (self.max[0] - self.min[0], self.max[1] - self.min[1]);
+        let margin = NORMAL_OFFSET_TEXELS + 2.0;
+        let tx = |v: f64| (v - self.min[0]) / sx * n;
+        let ty = |v: f64| (self.max[1] - v) / sy * n;
+        let clip = |t: f64| t.clamp(0.0, n) as usize;
+        PixelRect {
+            x0: clip((tx(lo[0]) - margin).floor()),
+            x1: clip((tx(hi[0]) + margin).ceil()),
+            y0: clip((ty(hi[1]) - margin).floor()),
+            y1: clip((ty(lo[1]) + margin).ceil()),
+        }
     }
 
     fn holds(&self, centre: [f64; 3], radius: f64) -> bool {
