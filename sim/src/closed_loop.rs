@@ -288,6 +288,7 @@ fn scene_description(s: &Scenario) -> SceneDescription {
             ..lead_body
         },
         chase: hood,
+        ground: s.world.ground.clone(),
     }
 }
 

@@ -9,7 +9,9 @@
 //! - the renderer puts the target's edges (step paint and stripes) where the tracker's camera
 //!   model projects them, to within 0.5 px;
 //! - a pole's shadow on the target darkens it;
-//! - the target is found in the frame where the ground truth says.
+//! - the target is found in the frame where the ground truth says;
+//! - over bumps, the road is drawn on the physics' height field: its lane paint appears
+//!   where the physics surface projects, not where flat ground would.
 //!
 //! Run: `cargo test -p sim --release --test render`.
 
@@ -195,23 +197,17 @@ fn a_part_of_a_frame_is_the_whole_frame_there() {
         let mut r = renderer(description, &options);
         for time_s in [2.0, 11.0] {
             let whole = builtin_frame(&mut r, time_s);
+            let (world_from_chase, world_from_lead) = builtin_poses(
+                r.scene().description(),
+                r.scene().route(),
+                &r.rig().mount,
+                time_s,
+            );
             let input = FrameInput {
                 frame_index: (time_s * 15.0).round() as u64,
                 time_s,
-                world_from_chase: builtin_poses(
-                    r.scene().description(),
-                    r.scene().route(),
-                    &r.rig().mount,
-                    time_s,
-                )
-                .0,
-                world_from_lead: builtin_poses(
-                    r.scene().description(),
-                    r.scene().route(),
-                    &r.rig().mount,
-                    time_s,
-                )
-                .1,
+                world_from_chase,
+                world_from_lead,
             };
             let partial = r.render_part(&input, Some(part)).expect("frame");
             assert_eq!(partial.exact, part, "{name}");
@@ -595,4 +591,77 @@ fn shadow_edges_on_the_board_widen_with_the_occluder_distance() {
     eprintln!("soft pixels across the shadow's two edges: occluder 3 m: {near}, 12 m: {far}");
     assert!(near <= 4, "a pole 3 m away casts {near} soft pixels");
     assert!(far >= near + 3, "12 m away: {far} soft pixels, 3 m: {near}");
+}
+
+#[test]
+fn the_road_is_drawn_on_the_physics_height_field() {
+    let mut d = bare(3);
+    d.ground.bumps = Some(vehicle::BumpsConfig {
+        amplitude_m: 0.8,
+        wavelength_m: 25.0,
+        half_extent_m: 400.0,
+        cell_m: 0.5,
+        seed: 11,
+    });
+    let mut r = renderer(d.clone(), &options());
+    let physics = vehicle::World::new(&vehicle::WorldConfig {
+        ground: d.ground.clone(),
+    })
+    .unwrap();
+    let terrain = r.scene().terrain().expect("bumps").clone();
+    let time_s = 4.0;
+    let (world_from_chase, world_from_lead) =
+        builtin_poses(&d, r.scene().route(), &r.rig().mount, time_s);
+    // The lead far ahead, out of the way of the paint looked at.
+    let lead_far = nalgebra::Translation3::new(0.0, 0.0, 150.0) * world_from_lead;
+    let frame = r
+        .render(&FrameInput {
+            frame_index: 60,
+            time_s,
+            world_from_chase,
+            world_from_lead: lead_far,
+        })
+        .expect("frame");
+    let lane = d.route.lane_width_m;
+    let chase_s = {
+        let p = world_from_chase.translation.vector;
+        // The straight runs along the route from its start: its station is the distance.
+        let [x0, z0] = r.scene().route().point(0.0, 0.0);
+        ((p.x - x0).powi(2) + (p.z - z0).powi(2)).sqrt()
+    };
+    let (mut on_bumps, mut on_flat, mut checked) = (0, 0, 0);
+    for k in 0..40 {
+        // The right edge line, 8 to 28 m ahead of the chase.
+        let s = chase_s + 8.0 + 0.5 * k as f64;
+        let [x, z] = r.scene().route().point(s, lane + 0.1);
+        let h = terrain.height_m(x, z);
+        // The physics' own surface there (its ground as the wheels feel it).
+        let felt = f64::from(physics.ground().height_m(x as f32, z as f32));
+        assert!(
+            (h - felt).abs() < 0.02,
+            "terrain {h} against the bump field {felt}"
+        );
+        if h < 0.25 {
+            continue;
+        }
+        checked += 1;
+        let px = |y: f64| {
+            r.rig()
+                .project_world(&world_from_chase, [x, y, z])
+                .map(|[u, v]| frame.image.get_pixel(u.round() as u32, v.round() as u32)[0])
+                .expect("in view")
+        };
+        let paint = |v: u8| v > 110;
+        on_bumps += usize::from(paint(px(h + 0.03)));
+        on_flat += usize::from(paint(px(0.03)));
+    }
+    assert!(checked >= 8, "only {checked} stations over a bump");
+    assert!(
+        on_bumps * 10 >= checked * 9,
+        "paint where the physics surface projects at {on_bumps} of {checked} stations"
+    );
+    assert!(
+        on_flat * 2 <= checked,
+        "paint where flat ground would project at {on_flat} of {checked} stations"
+    );
 }
