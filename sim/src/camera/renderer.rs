@@ -653,7 +653,7 @@ impl Renderer {
 
         // Main pass: what the camera's frustum holds, front to back (by class, then by
         // distance), so early depth testing rejects hidden fragments before shading them.
-        let frustum = Frustum::new(rig, &camera_from_world);
+        let frustum = Frustum::of_part(rig, &camera_from_world, scissor);
         let mut main_draws = std::mem::take(&mut self.main_draws);
         main_draws.clear();
         items.sort_by(|a, b| {
@@ -686,7 +686,14 @@ impl Renderer {
             self.options.shadow_map_size,
         );
         let mut shadow_draws = std::mem::take(&mut self.shadow_draws);
-        caster_draws(&items, &light, &mut shadow_draws);
+        // Only the texels the part of the frame asked for can sample.
+        let size = self.options.shadow_map_size;
+        let seen = if scissor == whole {
+            PixelRect::whole(size as usize, size as usize)
+        } else {
+            light.texels_seen(rig, &world_from_camera, scissor, size)
+        };
+        caster_draws(&items, &light, Some((seen, size)), &mut shadow_draws);
         // The board's shadow map: a fine one around the target board, with its casters.
         let board_light = board_centre.filter(|_| sun.soft_shadows).map(|c| {
             Light::around(
@@ -700,7 +707,7 @@ impl Renderer {
         let mut board_shadow_draws = std::mem::take(&mut self.board_shadow_draws);
         board_shadow_draws.clear();
         if let Some(light) = &board_light {
-            caster_draws(&items, light, &mut board_shadow_draws);
+            caster_draws(&items, light, None, &mut board_shadow_draws);
         }
         self.items = items;
 
@@ -788,13 +795,6 @@ impl Renderer {
             pass.set_bind_group(0, &self.frame_bind_group, &[]);
             pass.set_vertex_buffer(0, self.vertex_buffer.slice(..));
             pass.set_index_buffer(self.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
-            // Only the texels the part of the frame asked for can sample.
-            let size = self.options.shadow_map_size;
-            let seen = if scissor == whole {
-                PixelRect::whole(size as usize, size as usize)
-            } else {
-                light.texels_seen(rig, &world_from_camera, scissor, size)
-            };
             if !seen.is_empty() {
                 pass.set_scissor_rect(
                     seen.x0 as u32,
@@ -1106,10 +1106,19 @@ fn to_f32(m: &Matrix4<f64>) -> [[f32; 4]; 4] {
 /// Appends an index range to a draw list, joining it to the last one when they touch.
 /// Into `draws`: the index ranges of the items that cast shadows within `light`'s box,
 /// sorted and joined into as few draws as possible (depth only, so order does not matter).
-fn caster_draws(items: &[DrawItem], light: &Light, draws: &mut Vec<Range<u32>>) {
+fn caster_draws(
+    items: &[DrawItem],
+    light: &Light,
+    texels: Option<(PixelRect, u32)>,
+    draws: &mut Vec<Range<u32>>,
+) {
     let mut ranges: Vec<Range<u32>> = items
         .iter()
-        .filter(|d| d.casts_shadow && light.holds(d.centre, d.radius))
+        .filter(|d| {
+            d.casts_shadow
+                && light.holds(d.centre, d.radius)
+                && texels.is_none_or(|(t, size)| light.reaches(t, size, d.centre, d.radius))
+        })
         .map(|d| d.indices.clone())
         .collect();
     ranges.sort_by_key(|r| r.start);
@@ -1148,13 +1157,14 @@ struct Frustum {
 }
 
 impl Frustum {
-    fn new(rig: &CameraRig, camera_from_world: &Isometry3<f64>) -> Frustum {
+    /// The frustum through the pixels `part` of the frame.
+    fn of_part(rig: &CameraRig, camera_from_world: &Isometry3<f64>, part: PixelRect) -> Frustum {
         let [fx, fy] = rig.intrinsics.focal_px();
         let [cx, cy] = rig.intrinsics.image_center_px;
-        let left = (-0.5 - cx) / fx;
-        let right = (f64::from(rig.width) - 0.5 - cx) / fx;
-        let top = (-0.5 - cy) / fy;
-        let bottom = (f64::from(rig.height) - 0.5 - cy) / fy;
+        let left = (part.x0 as f64 - 0.5 - cx) / fx;
+        let right = (part.x1 as f64 - 0.5 - cx) / fx;
+        let top = (part.y0 as f64 - 0.5 - cy) / fy;
+        let bottom = (part.y1 as f64 - 0.5 - cy) / fy;
         Frustum {
             camera_from_world: *camera_from_world,
             sides: [
@@ -1357,6 +1367,24 @@ impl Light {
             y0: clip((ty(hi[1]) - margin).floor()),
             y1: clip((ty(lo[1]) + margin).ceil()),
         }
+    }
+
+    /// Whether a sphere can cover any of the texels `texels` of this map (`size` a side).
+    fn reaches(&self, texels: PixelRect, size: u32, centre: [f64; 3], radius: f64) -> bool {
+        let n = f64::from(size);
+        let (sx, sy) = (self.max[0] - self.min[0], self.max[1] - self.min[1]);
+        let c = Vector3::from(centre);
+        let (x, y) = (self.axes[0].dot(&c), self.axes[1].dot(&c));
+        // The texels' extent in the light frame (texel rows run down from max[1]).
+        let x0 = self.min[0] + texels.x0 as f64 / n * sx;
+        let x1 = self.min[0] + texels.x1 as f64 / n * sx;
+        let y0 = self.max[1] - texels.y1 as f64 / n * sy;
+        let y1 = self.max[1] - texels.y0 as f64 / n * sy;
+        !texels.is_empty()
+            && x + radius >= x0
+            && x - radius <= x1
+            && y + radius >= y0
+            && y - radius <= y1
     }
 
     fn holds(&self, centre: [f64; 3], radius: f64) -> bool {
