@@ -10,6 +10,7 @@ use crate::camera::{
     target_occluded, Backend, CameraRig, Frame, FrameInput, RenderError, RenderOptions, Renderer,
 };
 use crate::driven_path::DrivenPath;
+use crate::frame_parts::{track_part, FrameParts};
 use crate::record::{FrameRecord, LossCause, TrackerStatus};
 use crate::render_worker::{fingerprint, RemoteRenderer};
 use crate::scenario::Scenario;
@@ -107,6 +108,9 @@ pub struct LoopTiming {
     pub pipelined: bool,
     /// Camera frames rendered at once: 2 with a render worker, else 1.
     pub frames_in_flight: usize,
+    /// Frames rendered only in part whose tracking read beyond that part, and which were
+    /// rendered whole and tracked again (see [`ClosedLoop::set_whole_frames`]).
+    pub rerendered_frames: u64,
 }
 
 /// The running loop.
@@ -126,6 +130,8 @@ pub struct ClosedLoop {
     /// The scene's fingerprint, which a render worker must match.
     fingerprint: u64,
     timing: LoopTiming,
+    /// Which part of each frame to render.
+    parts: FrameParts,
     rig: CameraRig,
     tracker: Tracker,
     /// Scene origin (body centre) in the lead's vehicle frame (rear axle).
@@ -301,6 +307,7 @@ fn scene_description(s: &Scenario) -> SceneDescription {
             ..lead_body
         },
         chase: hood,
+        ground: s.world.ground.clone(),
     }
 }
 
@@ -597,6 +604,7 @@ impl ClosedLoop {
                 setup_s: started.elapsed().as_secs_f64(),
                 ..LoopTiming::default()
             },
+            parts: FrameParts::new(rig.width, rig.height),
             rig,
             tracker,
             lead_from_scene,
@@ -676,8 +684,18 @@ impl ClosedLoop {
         LoopTiming {
             pipelined: self.pipelined,
             frames_in_flight: self.frames_in_flight(),
+            rerendered_frames: self.parts.rerendered,
             ..self.timing
         }
+    }
+
+    /// Renders every frame whole (the default), or, with `false`, only the part of each
+    /// frame the tracker reads (see `sim::frame_parts`): several times faster, and the
+    /// estimates are the same bit for bit, but [`FrameOutput::image`] then holds only that
+    /// part (the rest is unspecified). Whole frames are for whoever looks at the images:
+    /// the video, recordings, stills.
+    pub fn set_whole_frames(&mut self, on: bool) {
+        self.parts.whole_frames = on;
     }
 
     /// Whether each frame's rendering and tracking overlap the physics to the next frame.
@@ -751,6 +769,7 @@ impl ClosedLoop {
             let captured = self.capture();
             let t_s = captured.input.time_s;
             let ego = self.ego_motion(&captured);
+            let needed = self.parts.needed(captured.input.frame_index);
             let (renderer, tracker, drive) =
                 (&mut self.renderer, &mut self.tracker, &mut self.drive);
             let diagnostics = self.diagnostics;
@@ -758,38 +777,44 @@ impl ClosedLoop {
             let input = &captured.input;
             let (seen, (controls, collision)) = std::thread::scope(|scope| {
                 let physics = scope.spawn(|| timed(physics_t, || drive.advance_frame()));
-                let seen = timed(render_t, || renderer.render(input)).map(|frame| {
-                    let (track, edges) = timed(track_t, || {
-                        track_frame(tracker, &frame.image, t_s, ego, diagnostics)
-                    });
-                    (frame, track, edges)
-                });
+                let seen = timed(render_t, || renderer.render_part(input, needed)).and_then(
+                    |mut frame| {
+                        let ((track, edges), again) = timed(track_t, || {
+                            track_part(tracker, renderer, input, &mut frame, |t, f| {
+                                track_frame(t, &f.image, t_s, ego, diagnostics)
+                            })
+                        })?;
+                        Ok((frame, track, edges, again))
+                    },
+                );
                 let driven = match physics.join() {
                     Ok(driven) => driven,
                     Err(panic) => std::panic::resume_unwind(panic),
                 };
                 (seen, driven)
             });
-            let (frame, track, edges) = seen?;
-            self.drive
-                .push_estimate(captured.now, &track, captured.pan_reading_rad);
+            let (frame, track, edges, again) = seen?;
+            self.tracked(&captured, &track, again);
             (captured, frame, track, edges, controls, collision)
         } else {
             let captured = self.capture();
             let ego = self.ego_motion(&captured);
+            let needed = self.parts.needed(captured.input.frame_index);
             let [render_t, track_t, physics_t] = &mut spent;
-            let frame = timed(render_t, || self.renderer.render(&captured.input))?;
-            let (track, edges) = timed(track_t, || {
-                track_frame(
+            let mut frame = timed(render_t, || {
+                self.renderer.render_part(&captured.input, needed)
+            })?;
+            let (t_s, diagnostics) = (captured.input.time_s, self.diagnostics);
+            let ((track, edges), again) = timed(track_t, || {
+                track_part(
                     &mut self.tracker,
-                    &frame.image,
-                    captured.input.time_s,
-                    ego,
-                    self.diagnostics,
+                    &mut self.renderer,
+                    &captured.input,
+                    &mut frame,
+                    |t, f| track_frame(t, &f.image, t_s, ego, diagnostics),
                 )
-            });
-            self.drive
-                .push_estimate(captured.now, &track, captured.pan_reading_rad);
+            })?;
+            self.tracked(&captured, &track, again);
             let (controls, collision) = timed(physics_t, || self.drive.advance_frame());
             (captured, frame, track, edges, controls, collision)
         };
@@ -824,11 +849,16 @@ impl ClosedLoop {
     /// renderer (at once), odd ones on the render worker (in the background).
     fn submit(&mut self, render_t: &mut Duration) -> Result<InFlight, LoopError> {
         let captured = self.capture();
+        let needed = self.parts.needed(captured.input.frame_index);
         let image = if captured.input.frame_index.is_multiple_of(2) {
-            Some(timed(render_t, || self.renderer.render(&captured.input))?)
+            Some(timed(render_t, || {
+                self.renderer.render_part(&captured.input, needed)
+            })?)
         } else {
             let remote = self.remote.as_mut().expect("two frames in flight");
-            remote.submit(&captured.input).map_err(LoopError::Worker)?;
+            remote
+                .submit(&captured.input, needed)
+                .map_err(LoopError::Worker)?;
             None
         };
         Ok(InFlight { captured, image })
@@ -862,7 +892,7 @@ impl ClosedLoop {
         if self.frame + 1 < self.frames {
             self.in_flight = Some(self.submit(render_t)?);
         }
-        let frame = match pending.image {
+        let mut frame = match pending.image {
             Some(frame) => frame,
             None => {
                 let remote = self.remote.as_mut().expect("two frames in flight");
@@ -871,15 +901,32 @@ impl ClosedLoop {
         };
         let t_s = pending.captured.input.time_s;
         let ego = self.ego_motion(&pending.captured);
-        let (track, edges) = timed(track_t, || {
-            track_frame(&mut self.tracker, &frame.image, t_s, ego, self.diagnostics)
-        });
-        self.drive.push_estimate(
-            pending.captured.now,
-            &track,
-            pending.captured.pan_reading_rad,
-        );
+        let diagnostics = self.diagnostics;
+        let ((track, edges), again) = timed(track_t, || {
+            track_part(
+                &mut self.tracker,
+                &mut self.renderer,
+                &pending.captured.input,
+                &mut frame,
+                |t, f| track_frame(t, &f.image, t_s, ego, diagnostics),
+            )
+        })?;
+        self.tracked(&pending.captured, &track, again);
         Ok((pending.captured, frame, track, edges, controls, collision))
+    }
+
+    /// After frame `captured` is tracked: its estimate into the delay line, and what it
+    /// read for the part of the next frames to render.
+    fn tracked(&mut self, captured: &Captured, track: &TrackOutput, rerendered: bool) {
+        self.drive
+            .push_estimate(captured.now, track, captured.pan_reading_rad);
+        self.parts.observe(
+            captured.input.frame_index,
+            track.estimate,
+            track.next,
+            self.tracker.last_read(),
+        );
+        self.parts.rerendered += u64::from(rerendered);
     }
 
     /// The gyro's reading of the camera's rotation since the last tracked frame, for the

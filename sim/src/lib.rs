@@ -7,6 +7,7 @@ pub mod camera;
 pub mod child;
 pub mod closed_loop;
 pub mod driven_path;
+mod frame_parts;
 pub mod overlay;
 pub mod record;
 pub mod recording;

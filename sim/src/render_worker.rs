@@ -15,12 +15,13 @@
 //! **The protocol**, over the worker's stdin and stdout, all numbers little-endian:
 //! - the worker first writes its scene's fingerprint ([`fingerprint`]), a `u64`, which the
 //!   loop checks against its own;
-//! - each request is 16 `f64`-sized fields: the frame index (`u64`), the time, then each of
+//! - each request is 20 `u64`-sized fields: the frame index (`u64`), the time, then each of
 //!   the chase's and the lead's poses as translation x, y, z and rotation quaternion i, j,
-//!   k, w (exact bits, so the worker renders exactly the loop's poses);
+//!   k, w (`f64`, exact bits, so the worker renders exactly the loop's poses), then the
+//!   part of the frame to render, x0, y0, x1, y1 (`u64`, see [`Renderer::render_part`]);
 //! - each answer is the image (width × height bytes, row by row), then the ground truth:
 //!   c_x, c_y, scale, the target centre in the camera frame x, y, z (`f64`), and in view
-//!   (one byte, 0 or 1).
+//!   (one byte, 0 or 1), then the frame's exact pixels x0, y0, x1, y1 (`u64`).
 //!
 //! The worker exits when its input ends, so it never outlives the loop.
 
@@ -31,11 +32,12 @@ use image::GrayImage;
 use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion};
 use std::io::{BufReader, BufWriter, Read, Write};
 use std::process::Command;
+use tracker::PixelRect;
 
 /// Bytes of one request.
-const REQUEST_BYTES: usize = 17 * 8;
-/// Bytes of the ground truth after the image.
-const TRUTH_BYTES: usize = 6 * 8 + 1;
+const REQUEST_BYTES: usize = 21 * 8;
+/// Bytes of the ground truth and the exact pixels after the image.
+const TRUTH_BYTES: usize = 6 * 8 + 1 + 4 * 8;
 
 /// A fingerprint of everything that decides a frame's pixels: the scene description, the
 /// rig and the render options (FNV-1a over their exact debug forms, which print every
@@ -71,26 +73,48 @@ fn get_pose(bytes: &[u8], first: usize) -> Isometry3<f64> {
     )
 }
 
-fn encode_request(input: &FrameInput) -> Vec<u8> {
+fn get_u64(bytes: &[u8], field: usize) -> u64 {
+    let mut b = [0u8; 8];
+    b.copy_from_slice(&bytes[field * 8..field * 8 + 8]);
+    u64::from_le_bytes(b)
+}
+
+fn put_rect(out: &mut Vec<u8>, r: PixelRect) {
+    for v in [r.x0, r.y0, r.x1, r.y1] {
+        out.extend_from_slice(&(v as u64).to_le_bytes());
+    }
+}
+
+fn get_rect(bytes: &[u8], first: usize) -> PixelRect {
+    let f = |i| get_u64(bytes, first + i) as usize;
+    PixelRect {
+        x0: f(0),
+        y0: f(1),
+        x1: f(2),
+        y1: f(3),
+    }
+}
+
+fn encode_request(input: &FrameInput, part: PixelRect) -> Vec<u8> {
     let mut out = Vec::with_capacity(REQUEST_BYTES);
     out.extend_from_slice(&input.frame_index.to_le_bytes());
     out.extend_from_slice(&input.time_s.to_le_bytes());
     put_pose(&mut out, &input.world_from_chase);
     put_pose(&mut out, &input.world_from_lead);
     out.extend_from_slice(&input.camera_pan_rad.to_le_bytes());
+    put_rect(&mut out, part);
     out
 }
 
-fn decode_request(bytes: &[u8; REQUEST_BYTES]) -> FrameInput {
-    let mut index = [0u8; 8];
-    index.copy_from_slice(&bytes[..8]);
-    FrameInput {
-        frame_index: u64::from_le_bytes(index),
+fn decode_request(bytes: &[u8; REQUEST_BYTES]) -> (FrameInput, PixelRect) {
+    let input = FrameInput {
+        frame_index: get_u64(bytes, 0),
         time_s: get_f64(bytes, 1),
         world_from_chase: get_pose(bytes, 2),
         world_from_lead: get_pose(bytes, 9),
         camera_pan_rad: get_f64(bytes, 16),
-    }
+    };
+    (input, get_rect(bytes, 17))
 }
 
 /// The worker's side: renders each request from `input` with `renderer` and writes the
@@ -112,8 +136,9 @@ pub fn serve_frames(
             Err(e) if e.kind() == std::io::ErrorKind::UnexpectedEof => return Ok(()),
             Err(e) => return Err(e),
         }
+        let (frame_input, part) = decode_request(&request);
         let frame = renderer
-            .render(&decode_request(&request))
+            .render_part(&frame_input, Some(part))
             .map_err(std::io::Error::other)?;
         output.write_all(frame.image.as_raw())?;
         let t = frame.truth;
@@ -122,6 +147,9 @@ pub fn serve_frames(
             output.write_all(&v.to_le_bytes())?;
         }
         output.write_all(&[u8::from(t.in_view)])?;
+        let mut exact = Vec::with_capacity(32);
+        put_rect(&mut exact, frame.exact);
+        output.write_all(&exact)?;
         output.flush()?;
     }
 }
@@ -161,12 +189,14 @@ impl RemoteRenderer {
         })
     }
 
-    /// Sends a frame to render; its answer comes from [`RemoteRenderer::receive`].
-    pub fn submit(&mut self, input: &FrameInput) -> Result<(), String> {
+    /// Sends a frame to render, only the part `needed` of it if given (see
+    /// [`Renderer::render_part`]); its answer comes from [`RemoteRenderer::receive`].
+    pub fn submit(&mut self, input: &FrameInput, needed: Option<PixelRect>) -> Result<(), String> {
+        let part = needed.unwrap_or(PixelRect::whole(self.width as usize, self.height as usize));
         self.child
             .stdin()
             .and_then(|stdin| {
-                stdin.write_all(&encode_request(input))?;
+                stdin.write_all(&encode_request(input, part))?;
                 stdin.flush()
             })
             .map_err(|e| format!("cannot send a frame: {e}"))
@@ -193,6 +223,7 @@ impl RemoteRenderer {
                 target_cam_m: [f(3), f(4), f(5)],
                 in_view: truth[48] != 0,
             },
+            exact: get_rect(&truth[49..], 0),
         })
     }
 }
@@ -216,9 +247,16 @@ mod tests {
             world_from_lead: pose(-2.9, [std::f64::consts::PI, 1e-9, 7.0]),
             camera_pan_rad: -0.3 - 1e-12,
         };
-        let bytes: [u8; REQUEST_BYTES] = encode_request(&input).try_into().unwrap();
-        let back = decode_request(&bytes);
+        let part = PixelRect {
+            x0: 3,
+            y0: 40,
+            x1: 250,
+            y1: 241,
+        };
+        let bytes: [u8; REQUEST_BYTES] = encode_request(&input, part).try_into().unwrap();
+        let (back, back_part) = decode_request(&bytes);
         assert_eq!(back, input);
+        assert_eq!(back_part, part);
         assert_eq!(
             back.world_from_lead.rotation.quaternion().coords,
             input.world_from_lead.rotation.quaternion().coords

@@ -1,5 +1,6 @@
 //! `carfollow run` end to end: two renderers (the second in a worker process) give the same
-//! outputs as one; the exit status follows the `[expect]` verdict; bad input exits 2 with a
+//! outputs as one; rendering only the part of each frame the tracker reads gives the
+//! estimates of whole frames (`--video` and `--mcap` render whole frames); the exit status follows the `[expect]` verdict; bad input exits 2 with a
 //! one-line error. Run with `cargo test --release -p sim --test cli_run`.
 
 use std::path::Path;
@@ -66,6 +67,46 @@ fn two_renderers_give_the_outputs_of_one() {
         serde_json::from_slice(&std::fs::read(one.join("summary.json")).unwrap()).unwrap();
     assert_eq!(one["timing"]["frames_in_flight"], 1);
     assert!(summary["timing"]["render_s"].as_f64().unwrap() > 0.0);
+}
+
+#[test]
+fn frames_csv_is_the_same_with_and_without_whole_frames() {
+    let dir = tempfile::tempdir().unwrap();
+    // Robust mode on the bumpy road: the camera pitches, and the tracker searches.
+    let gravel = scenario("gravel-road.toml");
+    let runs: [(&str, Vec<&str>); 5] = [
+        ("part", vec![]),
+        ("video", vec!["--video", "--video-stride", "15"]),
+        ("mcap", vec!["--mcap"]),
+        ("part-one-renderer", vec!["--renderers", "1"]),
+        (
+            "video-one-renderer",
+            vec!["--renderers", "1", "--video", "--video-stride", "15"],
+        ),
+    ];
+    let mut csvs = Vec::new();
+    for (name, extra) in &runs {
+        let out = dir.path().join(name);
+        let mut args = vec![gravel.as_str()];
+        args.extend(extra);
+        let o = run(&out, &args);
+        assert!(
+            o.status.code() == Some(0) || o.status.code() == Some(1),
+            "{name}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        let summary: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(out.join("summary.json")).unwrap()).unwrap();
+        assert!(summary["timing"]["rerendered_frames"].as_u64().is_some());
+        csvs.push((name, std::fs::read(out.join("frames.csv")).unwrap()));
+    }
+    let (_, first) = &csvs[0];
+    for (name, csv) in &csvs[1..] {
+        assert!(
+            csv == first,
+            "frames.csv of `{name}` differs from the partial frames'"
+        );
+    }
 }
 
 #[test]

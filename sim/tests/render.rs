@@ -4,12 +4,16 @@
 //!   to ±2 grey levels, with at most 0.5 % of pixels beyond (a missing reference is
 //!   written fresh; a failure leaves `-actual.png` and `-difference.png` beside it);
 //! - the same seed gives bit-identical frames;
+//! - a frame rendered only in part has, inside that part, the whole frame's pixels bit for
+//!   bit (with blur, anti-aliasing and soft shadows too);
 //! - the renderer puts the target's edges (step paint and stripes) where the tracker's camera
 //!   model projects them, to within 0.5 px;
 //! - a pole's shadow on the target darkens it;
 //! - the target is found in the frame where the ground truth says, also with the camera
 //!   panned;
-//! - the ground truth's occlusion test sees poles standing between the camera and the board.
+//! - the ground truth's occlusion test sees poles standing between the camera and the board;
+//! - over bumps, the road is drawn on the physics' height field: its lane paint appears
+//!   where the physics surface projects, not where flat ground would.
 //!
 //! Run: `cargo test -p sim --release --test render`.
 
@@ -163,6 +167,79 @@ fn same_seed_gives_bit_identical_frames() {
         builtin_frame(&mut c, 5.0).image,
         "another seed differs"
     );
+}
+
+#[test]
+fn a_part_of_a_frame_is_the_whole_frame_there() {
+    let part = tracker::PixelRect {
+        x0: 97,
+        y0: 61,
+        x1: 171,
+        y1: 139,
+    };
+    let blurred = |mut d: SceneDescription| {
+        d.sensor.blur_sigma_px = Some(0.8);
+        d
+    };
+    let soft = |mut d: SceneDescription| {
+        d.sun.soft_shadows = true;
+        d
+    };
+    let msaa = RenderOptions {
+        msaa_samples: 4,
+        ..options()
+    };
+    let cases = [
+        ("plain", builtin_description(builtin_target(), 3), options()),
+        (
+            "blurred",
+            blurred(builtin_description(builtin_target(), 3)),
+            options(),
+        ),
+        (
+            "soft shadows",
+            soft(builtin_description(builtin_target(), 3)),
+            options(),
+        ),
+        ("4x msaa", builtin_description(builtin_target(), 3), msaa),
+    ];
+    for (name, description, options) in cases {
+        let mut r = renderer(description, &options);
+        // The last with the camera panned 8° right: the hood's rows move with the head.
+        for (time_s, camera_pan_rad) in [(2.0, 0.0), (11.0, 0.0), (2.0, 0.14)] {
+            let whole = builtin_frame_panned(&mut r, time_s, camera_pan_rad);
+            let (world_from_chase, world_from_lead) = builtin_poses(
+                r.scene().description(),
+                r.scene().route(),
+                &r.rig().mount,
+                time_s,
+            );
+            let input = FrameInput {
+                frame_index: (time_s * 15.0).round() as u64,
+                time_s,
+                world_from_chase,
+                world_from_lead,
+                camera_pan_rad,
+            };
+            let partial = r.render_part(&input, Some(part)).expect("frame");
+            assert_eq!(partial.exact, part, "{name}");
+            assert_eq!(partial.truth, whole.truth, "{name}");
+            let mut outside_differs = 0;
+            for (x, y, p) in whole.image.enumerate_pixels() {
+                let q = partial.image.get_pixel(x, y);
+                let (x, y) = (x as usize, y as usize);
+                if (part.x0..part.x1).contains(&x) && (part.y0..part.y1).contains(&y) {
+                    assert_eq!(p, q, "{name} at t = {time_s} s: pixel ({x}, {y})");
+                } else if p != q {
+                    outside_differs += 1;
+                }
+            }
+            // (Multisampled, the rest is whatever the multisampled target last held.)
+            if options.msaa_samples == 1 {
+                assert!(outside_differs > 10_000, "{name}: the rest was not drawn");
+            }
+        }
+    }
 }
 
 #[test]
@@ -580,4 +657,78 @@ fn poles_between_the_camera_and_the_board_occlude_it() {
     assert!(!occluded(&[]));
     assert!(!occluded(&columns[1..2]));
     assert!(occluded(&columns));
+}
+
+#[test]
+fn the_road_is_drawn_on_the_physics_height_field() {
+    let mut d = bare(3);
+    d.ground.bumps = Some(vehicle::BumpsConfig {
+        amplitude_m: 0.8,
+        wavelength_m: 25.0,
+        half_extent_m: 400.0,
+        cell_m: 0.5,
+        seed: 11,
+    });
+    let mut r = renderer(d.clone(), &options());
+    let physics = vehicle::World::new(&vehicle::WorldConfig {
+        ground: d.ground.clone(),
+    })
+    .unwrap();
+    let terrain = r.scene().terrain().expect("bumps").clone();
+    let time_s = 4.0;
+    let (world_from_chase, world_from_lead) =
+        builtin_poses(&d, r.scene().route(), &r.rig().mount, time_s);
+    // The lead far ahead, out of the way of the paint looked at.
+    let lead_far = nalgebra::Translation3::new(0.0, 0.0, 150.0) * world_from_lead;
+    let frame = r
+        .render(&FrameInput {
+            frame_index: 60,
+            time_s,
+            world_from_chase,
+            world_from_lead: lead_far,
+            camera_pan_rad: 0.0,
+        })
+        .expect("frame");
+    let lane = d.route.lane_width_m;
+    let chase_s = {
+        let p = world_from_chase.translation.vector;
+        // The straight runs along the route from its start: its station is the distance.
+        let [x0, z0] = r.scene().route().point(0.0, 0.0);
+        ((p.x - x0).powi(2) + (p.z - z0).powi(2)).sqrt()
+    };
+    let (mut on_bumps, mut on_flat, mut checked) = (0, 0, 0);
+    for k in 0..40 {
+        // The right edge line, 8 to 28 m ahead of the chase.
+        let s = chase_s + 8.0 + 0.5 * k as f64;
+        let [x, z] = r.scene().route().point(s, lane + 0.1);
+        let h = terrain.height_m(x, z);
+        // The physics' own surface there (its ground as the wheels feel it).
+        let felt = f64::from(physics.ground().height_m(x as f32, z as f32));
+        assert!(
+            (h - felt).abs() < 0.02,
+            "terrain {h} against the bump field {felt}"
+        );
+        if h < 0.25 {
+            continue;
+        }
+        checked += 1;
+        let px = |y: f64| {
+            r.rig()
+                .project_world(&world_from_chase, [x, y, z])
+                .map(|[u, v]| frame.image.get_pixel(u.round() as u32, v.round() as u32)[0])
+                .expect("in view")
+        };
+        let paint = |v: u8| v > 110;
+        on_bumps += usize::from(paint(px(h + 0.03)));
+        on_flat += usize::from(paint(px(0.03)));
+    }
+    assert!(checked >= 8, "only {checked} stations over a bump");
+    assert!(
+        on_bumps * 10 >= checked * 9,
+        "paint where the physics surface projects at {on_bumps} of {checked} stations"
+    );
+    assert!(
+        on_flat * 2 <= checked,
+        "paint where flat ground would project at {on_flat} of {checked} stations"
+    );
 }

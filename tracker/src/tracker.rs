@@ -16,6 +16,7 @@ use crate::location::Location;
 use crate::model::{Feature, Orientation, TargetModel};
 use crate::motion::MotionModel;
 use crate::object_location::{locate_object, Measurement};
+use crate::pixel_rect::PixelRect;
 use crate::prediction::{predict_features, predict_location, PredictedFeature};
 use crate::robust::{
     adaptive_threshold, alias_spacing, coverage_gain, search_threshold, ChamferSearch, EdgeMaps,
@@ -200,6 +201,8 @@ pub struct Tracker {
     /// Diagnostics list only the fates association gives (see
     /// [`Tracker::set_association_fates_only`]).
     association_fates_only: bool,
+    /// The pixels the current (or last) step has read: see [`Tracker::last_read`].
+    read: PixelRect,
     // Scratch, kept between frames so that a step allocates little.
     extractor: EdgeExtractor,
     edges: Edges,
@@ -314,6 +317,7 @@ impl Tracker {
         let alias_px = alias_spacing(&features);
         Ok(Tracker {
             association_fates_only: false,
+            read: PixelRect::whole(0, 0),
             config,
             model,
             camera,
@@ -441,6 +445,23 @@ impl Tracker {
         self.association_fates_only = only;
     }
 
+    /// The bounding box of every pixel the last step read from its image (an empty
+    /// rectangle before the first step). The step's output depends on no pixel outside it:
+    /// the same state stepped on any image that agrees inside it gives the same output, so a
+    /// renderer may draw only that much of a frame (and draw the rest, and step again from a
+    /// copy of the state, when a step read more than was drawn).
+    pub fn last_read(&self) -> PixelRect {
+        self.read
+    }
+
+    /// Records that this step reads `window` of an image `width × height` with the pixel
+    /// operators.
+    fn note_read(&mut self, window: Window, width: usize, height: usize) {
+        if !window.is_empty() {
+            self.read = self.read.union(&PixelRect::read_by(window, width, height));
+        }
+    }
+
     /// As [`Tracker::step`], and also returns every edge point in the window with its fate.
     pub fn step_with_diagnostics(
         &mut self,
@@ -477,6 +498,7 @@ impl Tracker {
             Some(last) => (((t_s - last) * self.config.rate_hz).round().max(1.0)) as u32,
         };
         self.last_t_s = Some(t_s);
+        self.read = PixelRect::whole(0, 0);
         let frame = self.frame;
         self.frame += 1;
         match self.config.mode {
@@ -502,6 +524,8 @@ impl Tracker {
             image.width(),
             image.height(),
         );
+        let (w, h) = (image.width(), image.height());
+        self.note_read(window, w, h);
         let mut config = self.config.clone();
         if robust {
             let sigma = self.noise.sigma(image, window);
@@ -553,7 +577,6 @@ impl Tracker {
                         let a = if alias[k].is_finite() { alias[k] } else { 0.0 };
                         (a.max(PEAK_PROBE_PX) + COVERAGE_TOLERANCE_PX as f64 + 1.0).ceil() as usize
                     });
-                    let (w, h) = (image.width(), image.height());
                     let grown = Window {
                         x0: window.x0.saturating_sub(reach[0]).max(1),
                         y0: window.y0.saturating_sub(reach[1]).max(1),
@@ -561,6 +584,7 @@ impl Tracker {
                         y1: (window.y1 + reach[1]).min(h.saturating_sub(1)),
                         size_index: window.size_index,
                     };
+                    self.note_read(grown, w, h);
                     self.extractor
                         .extract(image, grown, &config, &mut self.check_edges, None);
                     self.maps.build(&self.check_edges, grown);
@@ -848,6 +872,7 @@ impl Tracker {
         scales: [f64; 2],
         diagnostics: Option<&mut Vec<EdgeDiagnostic>>,
     ) -> Option<Measured> {
+        self.note_read(region, image.width(), image.height());
         let mut config = self.config.clone();
         let sigma = self.noise.sigma(image, region);
         config.edge_threshold = search_threshold(self.config.edge_threshold, sigma);

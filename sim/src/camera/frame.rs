@@ -2,6 +2,7 @@
 
 use image::GrayImage;
 use nalgebra::Isometry3;
+use tracker::PixelRect;
 
 /// The inputs of one frame: the clock and the two vehicles' poses (from physics).
 #[derive(Clone, Debug, PartialEq)]
@@ -43,6 +44,10 @@ pub struct GroundTruth {
 pub struct Frame {
     /// The 8-bit grey image, `width × height` of the rig.
     pub image: GrayImage,
+    /// The pixels of `image` that are the camera's (the whole image unless only part of the
+    /// frame was rendered: see [`crate::camera::Renderer::render_part`]); the rest is
+    /// unspecified (the sky's grey, or with MSAA what the multisampled target last held).
+    pub exact: PixelRect,
     /// The target's true position.
     pub truth: GroundTruth,
 }

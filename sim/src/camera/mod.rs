@@ -17,4 +17,4 @@ pub use frame::{Frame, FrameInput, GroundTruth};
 pub use occlusion::target_occluded;
 pub use renderer::{ground_truth_of, DrawStats, RenderError, RenderOptions, Renderer};
 pub use rig::{CameraRig, FAR_M, NEAR_M};
-pub use sensor::{apply_sensor, shift_noise};
+pub use sensor::{apply_sensor, blur_reach_px, shift_noise};

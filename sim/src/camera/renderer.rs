@@ -13,13 +13,14 @@
 use super::backend::{Backend, BackendError};
 use super::frame::{Frame, FrameInput, GroundTruth};
 use super::rig::CameraRig;
-use super::sensor::apply_sensor;
+use super::sensor::{apply_sensor, blur_reach_px};
 use crate::scene::{ObjectSlot, Scene, Vertex, GRASS_ALBEDO_RANGE, GROUND_CELL_M};
 use bytemuck::{Pod, Zeroable};
 use image::GrayImage;
 use nalgebra::{Isometry3, Matrix4, Point3, Translation3, Vector3};
 use std::ops::Range;
 use thiserror::Error;
+use tracker::PixelRect;
 
 /// Options that trade quality for speed; none changes the scene.
 #[derive(Clone, Debug, PartialEq)]
@@ -576,9 +577,25 @@ impl Renderer {
 
     /// Renders one frame and reads it back.
     pub fn render(&mut self, input: &FrameInput) -> Result<Frame, RenderError> {
+        self.render_part(input, None)
+    }
+
+    /// Renders the part of one frame the tracker will read (`needed`; the whole frame when
+    /// `None`) and reads it back. The colour pass is scissored to `needed` grown by the
+    /// sensor blur's reach, so each pixel of `needed` (the frame's [`Frame::exact`]) is
+    /// bit for bit what [`Renderer::render`] gives; everything else (shadows, the sensor
+    /// noise, the ground truth) is the whole frame's, and the pixels outside are unspecified.
+    pub fn render_part(
+        &mut self,
+        input: &FrameInput,
+        needed: Option<PixelRect>,
+    ) -> Result<Frame, RenderError> {
         let hood_rows = self.hood_rows(input.camera_pan_rad);
         let rig = &self.rig;
         let description = self.scene.description();
+        let whole = PixelRect::whole(rig.width as usize, rig.height as usize);
+        let exact = needed.map_or(whole, |r| r.intersection(&whole));
+        let scissor = exact.grown(blur_reach_px(&description.sensor), whole.x1, whole.y1);
 
         // Poses: the camera from the chase chassis; every moving object's transform.
         let world_from_camera =
@@ -642,7 +659,7 @@ impl Renderer {
 
         // Main pass: what the camera's frustum holds, front to back (by class, then by
         // distance), so early depth testing rejects hidden fragments before shading them.
-        let frustum = Frustum::new(rig, &camera_from_world);
+        let frustum = Frustum::of_part(rig, &camera_from_world, scissor);
         let mut main_draws = std::mem::take(&mut self.main_draws);
         main_draws.clear();
         items.sort_by(|a, b| {
@@ -675,7 +692,14 @@ impl Renderer {
             self.options.shadow_map_size,
         );
         let mut shadow_draws = std::mem::take(&mut self.shadow_draws);
-        caster_draws(&items, &light, &mut shadow_draws);
+        // Only the texels the part of the frame asked for can sample.
+        let size = self.options.shadow_map_size;
+        let seen = if scissor == whole {
+            PixelRect::whole(size as usize, size as usize)
+        } else {
+            light.texels_seen(rig, &world_from_camera, scissor, size)
+        };
+        caster_draws(&items, &light, Some((seen, size)), &mut shadow_draws);
         // The board's shadow map: a fine one around the target board, with its casters.
         let board_light = board_centre.filter(|_| sun.soft_shadows).map(|c| {
             Light::around(
@@ -689,7 +713,7 @@ impl Renderer {
         let mut board_shadow_draws = std::mem::take(&mut self.board_shadow_draws);
         board_shadow_draws.clear();
         if let Some(light) = &board_light {
-            caster_draws(&items, light, &mut board_shadow_draws);
+            caster_draws(&items, light, None, &mut board_shadow_draws);
         }
         self.items = items;
 
@@ -777,8 +801,16 @@ impl Renderer {
             pass.set_bind_group(0, &self.frame_bind_group, &[]);
             pass.set_vertex_buffer(0, self.vertex_buffer.slice(..));
             pass.set_index_buffer(self.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
-            for range in &shadow_draws {
-                pass.draw_indexed(range.clone(), 0, 0..1);
+            if !seen.is_empty() {
+                pass.set_scissor_rect(
+                    seen.x0 as u32,
+                    seen.y0 as u32,
+                    seen.width() as u32,
+                    seen.height() as u32,
+                );
+                for range in &shadow_draws {
+                    pass.draw_indexed(range.clone(), 0, 0..1);
+                }
             }
         }
         // The board's pass only with soft shadows: without them nothing samples its map.
@@ -845,10 +877,32 @@ impl Renderer {
             pass.set_bind_group(1, &self.shadow_bind_group, &[]);
             pass.set_vertex_buffer(0, self.vertex_buffer.slice(..));
             pass.set_index_buffer(self.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
+            // Only the part of the frame asked for is shaded.
+            let set_scissor = |pass: &mut wgpu::RenderPass, r: PixelRect| {
+                pass.set_scissor_rect(
+                    r.x0 as u32,
+                    r.y0 as u32,
+                    r.width() as u32,
+                    r.height() as u32,
+                )
+            };
+            if scissor != whole && !scissor.is_empty() {
+                set_scissor(&mut pass, scissor);
+            }
             for (k, range) in main_draws.iter().enumerate() {
+                if scissor.is_empty() {
+                    break;
+                }
                 if k == hood_draws && hood_rows < rig.height {
                     // The rows the hood covers from edge to edge hold nothing else.
-                    pass.set_scissor_rect(0, 0, rig.width, hood_rows);
+                    let above = scissor.intersection(&PixelRect {
+                        y1: hood_rows as usize,
+                        ..whole
+                    });
+                    if above.is_empty() {
+                        break;
+                    }
+                    set_scissor(&mut pass, above);
                 }
                 pass.draw_indexed(range.clone(), 0, 0..1);
             }
@@ -924,7 +978,11 @@ impl Renderer {
             &input.world_from_lead,
             input.camera_pan_rad,
         );
-        Ok(Frame { image, truth })
+        Ok(Frame {
+            image,
+            truth,
+            exact,
+        })
     }
 
     /// The first row the hood covers from edge to edge, for the camera panned by `pan_rad`.
@@ -1079,10 +1137,19 @@ fn to_f32(m: &Matrix4<f64>) -> [[f32; 4]; 4] {
 /// Appends an index range to a draw list, joining it to the last one when they touch.
 /// Into `draws`: the index ranges of the items that cast shadows within `light`'s box,
 /// sorted and joined into as few draws as possible (depth only, so order does not matter).
-fn caster_draws(items: &[DrawItem], light: &Light, draws: &mut Vec<Range<u32>>) {
+fn caster_draws(
+    items: &[DrawItem],
+    light: &Light,
+    texels: Option<(PixelRect, u32)>,
+    draws: &mut Vec<Range<u32>>,
+) {
     let mut ranges: Vec<Range<u32>> = items
         .iter()
-        .filter(|d| d.casts_shadow && light.holds(d.centre, d.radius))
+        .filter(|d| {
+            d.casts_shadow
+                && light.holds(d.centre, d.radius)
+                && texels.is_none_or(|(t, size)| light.reaches(t, size, d.centre, d.radius))
+        })
         .map(|d| d.indices.clone())
         .collect();
     ranges.sort_by_key(|r| r.start);
@@ -1121,13 +1188,14 @@ struct Frustum {
 }
 
 impl Frustum {
-    fn new(rig: &CameraRig, camera_from_world: &Isometry3<f64>) -> Frustum {
+    /// The frustum through the pixels `part` of the frame.
+    fn of_part(rig: &CameraRig, camera_from_world: &Isometry3<f64>, part: PixelRect) -> Frustum {
         let [fx, fy] = rig.intrinsics.focal_px();
         let [cx, cy] = rig.intrinsics.image_center_px;
-        let left = (-0.5 - cx) / fx;
-        let right = (f64::from(rig.width) - 0.5 - cx) / fx;
-        let top = (-0.5 - cy) / fy;
-        let bottom = (f64::from(rig.height) - 0.5 - cy) / fy;
+        let left = (part.x0 as f64 - 0.5 - cx) / fx;
+        let right = (part.x1 as f64 - 0.5 - cx) / fx;
+        let top = (part.y0 as f64 - 0.5 - cy) / fy;
+        let bottom = (part.y1 as f64 - 0.5 - cy) / fy;
         Frustum {
             camera_from_world: *camera_from_world,
             sides: [
@@ -1250,6 +1318,104 @@ impl Light {
         }
         max[2] += CASTER_REACH_M;
         Self::of_box(axes, min, max, size)
+    }
+
+    /// The texels of this map (`size` a side) that shading the camera's pixels `part` can
+    /// sample: every receiver seen through `part` lies in the camera's frustum cut to
+    /// `part`, from the near to the far plane, and within the receivers' height band; that
+    /// region's corners all lie on its edges clipped to the band, and the map is an
+    /// orthographic projection, so their bounding box in the map holds it. Grown by the
+    /// normal offset of the lookups and the bilinear comparison's texel.
+    fn texels_seen(
+        &self,
+        rig: &CameraRig,
+        world_from_camera: &Isometry3<f64>,
+        part: PixelRect,
+        size: u32,
+    ) -> PixelRect {
+        let [fx, fy] = rig.intrinsics.focal_px();
+        let [cx, cy] = rig.intrinsics.image_center_px;
+        let (u0, u1) = (part.x0 as f64 - 0.5, part.x1 as f64 - 0.5);
+        let (v0, v1) = (part.y0 as f64 - 0.5, part.y1 as f64 - 0.5);
+        let corner = |u: f64, v: f64, z: f64| {
+            world_from_camera * Point3::new((u - cx) / fx * z, (v - cy) / fy * z, z)
+        };
+        let rect = [(u0, v0), (u1, v0), (u1, v1), (u0, v1)];
+        let (near, far) = (super::rig::NEAR_M, super::rig::FAR_M);
+        let mut edges = Vec::with_capacity(12);
+        for k in 0..4 {
+            let (a, b) = (rect[k], rect[(k + 1) % 4]);
+            edges.push((corner(a.0, a.1, near), corner(a.0, a.1, far)));
+            edges.push((corner(a.0, a.1, near), corner(b.0, b.1, near)));
+            edges.push((corner(a.0, a.1, far), corner(b.0, b.1, far)));
+        }
+        let (mut lo, mut hi) = ([f64::MAX; 2], [f64::MIN; 2]);
+        for (a, b) in edges {
+            // The part of the edge within the receivers' height band.
+            let (mut t0, mut t1) = (0.0f64, 1.0f64);
+            let dy = b.y - a.y;
+            for (bound, below) in [(0.0, true), (RECEIVER_TOP_M, false)] {
+                if dy.abs() < 1e-12 {
+                    if (below && a.y < bound) || (!below && a.y > bound) {
+                        t1 = -1.0;
+                    }
+                    continue;
+                }
+                let t = (bound - a.y) / dy;
+                // Inside is y >= 0 (below the band's floor is out) and y <= top.
+                let entering = if below { dy > 0.0 } else { dy < 0.0 };
+                if entering {
+                    t0 = t0.max(t);
+                } else {
+                    t1 = t1.min(t);
+                }
+            }
+            if t0 > t1 {
+                continue;
+            }
+            for t in [t0, t1] {
+                let p = a.coords + (b.coords - a.coords) * t;
+                for k in 0..2 {
+                    let v = self.axes[k].dot(&p);
+                    lo[k] = lo[k].min(v);
+                    hi[k] = hi[k].max(v);
+                }
+            }
+        }
+        if lo[0] > hi[0] {
+            return PixelRect::whole(0, 0);
+        }
+        // Map texels: x from min[0], y from max[1] downwards (the clip y is flipped).
+        let n = f64::from(size);
+        let (sx, sy) = (self.max[0] - self.min[0], self.max[1] - self.min[1]);
+        let margin = NORMAL_OFFSET_TEXELS + 2.0;
+        let tx = |v: f64| (v - self.min[0]) / sx * n;
+        let ty = |v: f64| (self.max[1] - v) / sy * n;
+        let clip = |t: f64| t.clamp(0.0, n) as usize;
+        PixelRect {
+            x0: clip((tx(lo[0]) - margin).floor()),
+            x1: clip((tx(hi[0]) + margin).ceil()),
+            y0: clip((ty(hi[1]) - margin).floor()),
+            y1: clip((ty(lo[1]) + margin).ceil()),
+        }
+    }
+
+    /// Whether a sphere can cover any of the texels `texels` of this map (`size` a side).
+    fn reaches(&self, texels: PixelRect, size: u32, centre: [f64; 3], radius: f64) -> bool {
+        let n = f64::from(size);
+        let (sx, sy) = (self.max[0] - self.min[0], self.max[1] - self.min[1]);
+        let c = Vector3::from(centre);
+        let (x, y) = (self.axes[0].dot(&c), self.axes[1].dot(&c));
+        // The texels' extent in the light frame (texel rows run down from max[1]).
+        let x0 = self.min[0] + texels.x0 as f64 / n * sx;
+        let x1 = self.min[0] + texels.x1 as f64 / n * sx;
+        let y0 = self.max[1] - texels.y1 as f64 / n * sy;
+        let y1 = self.max[1] - texels.y0 as f64 / n * sy;
+        !texels.is_empty()
+            && x + radius >= x0
+            && x - radius <= x1
+            && y + radius >= y0
+            && y - radius <= y1
     }
 
     fn holds(&self, centre: [f64; 3], radius: f64) -> bool {

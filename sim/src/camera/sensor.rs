@@ -132,9 +132,21 @@ const FIXED_ONE: f64 = 65_536.0;
 /// 0.5 in that fixed point: added before the shift, it rounds to nearest.
 const FIXED_HALF: i32 = 32_768;
 
+/// How far the sensor's blur reaches, pixels: a pixel's value depends on the rendered
+/// pixels up to this far away in each direction (0 without blur).
+pub fn blur_reach_px(sensor: &Sensor) -> usize {
+    sensor.blur_sigma_px.map_or(0, blur_radius)
+}
+
+/// The blur kernel's radius for `sigma`, pixels: 2.5 σ (the weights beyond are below 5 %
+/// of the centre's).
+fn blur_radius(sigma: f64) -> usize {
+    (2.5 * sigma).ceil().max(1.0) as usize
+}
+
 /// Separable Gaussian blur with standard deviation `sigma` pixels, edges clamped.
 fn blur(image: &mut GrayImage, sigma: f64) {
-    let radius = (2.5 * sigma).ceil().max(1.0) as i64;
+    let radius = blur_radius(sigma) as i64;
     let weights: Vec<f32> = (-radius..=radius)
         .map(|k| (-(k * k) as f64 / (2.0 * sigma * sigma)).exp() as f32)
         .collect();

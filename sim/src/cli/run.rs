@@ -229,6 +229,9 @@ fn run_one(
     // The recording draws the overlay too, so it needs the edges' fates.
     let mut looped =
         ClosedLoop::new(scenario, backend, args.video || record).map_err(incomplete)?;
+    // Only the video and the recording look at the frames: otherwise only the part the
+    // tracker reads is rendered.
+    looped.set_whole_frames(args.video || record);
     if renderers(args) == 2 {
         let mut command = Command::new(
             std::env::current_exe()

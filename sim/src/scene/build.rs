@@ -3,9 +3,10 @@
 //! (chase hood, lead vehicle with its board, oncoming traffic) in their own frames.
 
 use super::description::{DistractorKind, Placement, SceneDescription};
-use super::mesh::Mesh;
+use super::mesh::{Mesh, Vertex};
 use super::rng::stream;
 use super::route::Route;
+use super::terrain::Terrain;
 use nalgebra::{Isometry3, Matrix3, Point3, Rotation3, Translation3, UnitQuaternion, Vector3};
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
@@ -56,6 +57,16 @@ const ROAD_Y_M: f64 = 0.02;
 const CROSS_ROAD_Y_M: f64 = 0.015;
 /// Height of lane paint, cracks, patches and pot holes, metres.
 const MARK_Y_M: f64 = 0.03;
+/// Over bumps, how far the grass verges on the height field reach beyond the road's edge,
+/// metres: the flat grass beyond is 5 m or more from the wheels, where a bump's rise of a
+/// few centimetres is a pixel at the tracker's ranges.
+const VERGE_M: f64 = 5.0;
+/// Height of those verges above the ground, metres: above the flat grass, below the road.
+const VERGE_Y_M: f64 = 0.005;
+/// Longest edge of a verge's pieces on the height field, metres: grass has no paint to
+/// fight for depth with, so it may depart from the field by a centimetre or two between
+/// vertices (curvature ≤ 0.14 /m for the roughest shipped bumps: 1.7 cm over 1 m).
+const VERGE_EDGE_M: f64 = 1.0;
 /// How far the road continues straight past either end of the route, metres, so the camera
 /// never sees the road end.
 const ROAD_RUNOUT_M: f64 = 250.0;
@@ -135,7 +146,7 @@ pub enum Layer {
     /// The road, crossing roads, lane paint, cracks, patches and pot holes (just above the
     /// grass, so they hide it).
     Surface,
-    /// The grass.
+    /// The grass (and over bumps, the verges beside the road on the height field).
     Ground,
 }
 
@@ -178,6 +189,7 @@ pub struct DynamicObject {
 pub struct Scene {
     description: SceneDescription,
     route: Route,
+    terrain: Option<Terrain>,
     mesh: Mesh,
     chunks: Vec<Chunk>,
     objects: Vec<DynamicObject>,
@@ -186,6 +198,8 @@ pub struct Scene {
 /// A point in the road's frame: station along the centreline and lateral offset (right).
 struct RoadFrame<'a> {
     route: &'a Route,
+    /// The ground's height field, if it has bumps: strips over it are cut into cells.
+    terrain: Option<&'a Terrain>,
 }
 
 impl RoadFrame<'_> {
@@ -218,9 +232,13 @@ impl Scene {
     pub fn build(description: SceneDescription) -> Result<Scene, SceneError> {
         description.validate()?;
         let route = Route::new(description.route.clone());
+        let terrain = Terrain::new(&description.ground)?;
         let mut bins = Bins::default();
         let seed = description.seed;
-        let road = RoadFrame { route: &route };
+        let road = RoadFrame {
+            route: &route,
+            terrain: terrain.as_ref(),
+        };
         let lane = description.route.lane_width_m;
         let road_half = lane + SHOULDER_M;
         let length = route.length_m();
@@ -276,6 +294,19 @@ impl Scene {
                 ROAD_STEP_M
             };
             let mid = road.world(0.5 * (s + s1), 0.0, 0.0);
+            if let Some(t) = terrain.as_ref().filter(|t| t.covers(mid[0], mid[2])) {
+                // Over bumps, grass verges on the height field too, so the road does not
+                // stand out of the flat grass.
+                let mut verges = Mesh::default();
+                for (l0, l1) in [
+                    (-road_half - VERGE_M, -road_half),
+                    (road_half, road_half + VERGE_M),
+                ] {
+                    strip(&mut verges, &road, s, s1, l0, l1, VERGE_Y_M, GRASS_ALBEDO);
+                }
+                bins.at(mid[0], mid[2], Layer::Ground)
+                    .append(&t.drape(&verges, VERGE_EDGE_M));
+            }
             let mesh = bins.at(mid[0], mid[2], Layer::Surface);
             strip(mesh, &road, s, s1, -road_half, road_half, ROAD_Y_M, ASPHALT);
             for side in [-1.0, 1.0] {
@@ -609,6 +640,17 @@ impl Scene {
             }
         }
 
+        // Over bumps, the road's surfaces lie on the physics' height field.
+        if let Some(t) = &terrain {
+            for (&(_, _, layer), bin) in bins.bins.iter_mut() {
+                if layer == Layer::Surface {
+                    // Strips come in cells already; the diagonal of a cell is the longest
+                    // edge that needs no cutting.
+                    *bin = t.drape(bin, t.cell_m() * std::f64::consts::SQRT_2);
+                }
+            }
+        }
+
         // Concatenate the bins into one mesh, recording each as a chunk.
         let mut mesh = Mesh::default();
         let mut chunks = Vec::new();
@@ -687,6 +729,7 @@ impl Scene {
         Ok(Scene {
             description,
             route,
+            terrain,
             mesh,
             chunks,
             objects,
@@ -696,6 +739,11 @@ impl Scene {
     /// The description this scene was built from.
     pub fn description(&self) -> &SceneDescription {
         &self.description
+    }
+
+    /// The ground's height field, when the ground has bumps.
+    pub fn terrain(&self) -> Option<&Terrain> {
+        self.terrain.as_ref()
     }
 
     /// The route.
@@ -960,16 +1008,50 @@ fn strip(
     y: f64,
     albedo: f64,
 ) {
-    mesh.polygon(
-        &[
-            road.world(s0, l0, y),
-            road.world(s1, l0, y),
-            road.world(s1, l1, y),
-            road.world(s0, l1, y),
-        ],
-        albedo,
-        ObjectSlot::WORLD,
+    let corners = [
+        road.world(s0, l0, y),
+        road.world(s1, l0, y),
+        road.world(s1, l1, y),
+        road.world(s0, l1, y),
+    ];
+    let pitch = road
+        .terrain
+        .filter(|t| corners.iter().any(|c| t.covers(c[0], c[2])))
+        .map(|t| t.cell_m());
+    let Some(pitch) = pitch else {
+        mesh.polygon(&corners, albedo, ObjectSlot::WORLD);
+        return;
+    };
+    // Over bumps, a grid of pieces no longer than a cell, sharing vertices, for
+    // `Terrain::drape` to raise.
+    let (ns, nl) = (
+        ((s1 - s0) / pitch).ceil().max(1.0) as usize,
+        ((l1 - l0).abs() / pitch).ceil().max(1.0) as usize,
     );
+    let base = mesh.vertices.len() as u32;
+    for i in 0..=ns {
+        for j in 0..=nl {
+            let p = road.world(
+                s0 + (s1 - s0) * i as f64 / ns as f64,
+                l0 + (l1 - l0) * j as f64 / nl as f64,
+                y,
+            );
+            mesh.vertices.push(Vertex {
+                position: p.map(|x| x as f32),
+                normal: [0.0, 1.0, 0.0],
+                albedo: albedo as f32,
+                object: ObjectSlot::WORLD,
+            });
+        }
+    }
+    let at = |i: usize, j: usize| base + (i * (nl + 1) + j) as u32;
+    for i in 0..ns {
+        for j in 0..nl {
+            // The winding of the polygon above: (s0, l0), (s1, l0), (s1, l1), (s0, l1).
+            let (a, b, c, d) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+            mesh.indices.extend_from_slice(&[a, b, c, a, c, d]);
+        }
+    }
 }
 
 /// Axes of a ground-standing object with the given heading: forward, up, right.

@@ -45,6 +45,7 @@ pub fn builtin_description(target: TargetModel, seed: u64) -> SceneDescription {
         target,
         lead: LeadVehicle::default(),
         chase: ChaseVehicle::default(),
+        ground: vehicle::GroundConfig::default(),
     }
 }
 

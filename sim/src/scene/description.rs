@@ -307,6 +307,9 @@ pub struct SceneDescription {
     pub lead: LeadVehicle,
     /// The chase vehicle's hood.
     pub chase: ChaseVehicle,
+    /// The ground, as the physics has it (the flat plane and its bumps): the road and the
+    /// verges beside it are drawn on the same height field (see `Terrain`).
+    pub ground: vehicle::GroundConfig,
 }
 
 impl SceneDescription {

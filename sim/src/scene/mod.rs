@@ -10,6 +10,7 @@ mod description;
 mod mesh;
 mod rng;
 mod route;
+mod terrain;
 
 pub use build::{
     lead_from_target_of, Chunk, DynamicObject, Layer, Motion, ObjectSlot, Scene, SceneError,
@@ -26,3 +27,4 @@ pub use description::{
 pub use mesh::{Mesh, Vertex};
 pub use rng::stream;
 pub use route::{Route, RouteSegment, RouteSpec};
+pub use terrain::Terrain;

@@ -54,6 +54,8 @@ pub fn run_point(
     let mut looped = ClosedLoop::new(&scenario, backend, recordings.is_some())
         .map_err(|e| fail(e.to_string()))?;
     looped.set_pipelined(overlap);
+    // Only a recording looks at the frames.
+    looped.set_whole_frames(recordings.is_some());
     let mut recorder = match recordings {
         None => None,
         Some(dir) => {
