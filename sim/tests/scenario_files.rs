@@ -204,7 +204,7 @@ fn what_the_loop_would_refuse_is_refused_by_validation() {
         ("environment.sun.azimuth_deg=nan", "`environment.sun.azimuth_deg` = NaN"),
         (
             "camera.pan.max_rate_deg_s=0",
-            "`camera.pan.max_rate_deg_s` = 0:",
+            "`camera.pan.max_rate_deg_s` = 0: must be finite and within 0.1–2000",
         ),
         (
             "camera.pan.encoder_noise_deg=-1",

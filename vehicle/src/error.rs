@@ -14,6 +14,8 @@ pub enum VehicleError {
         value: f64,
         /// Why it is rejected.
         reason: &'static str,
+        /// The allowed range `[min, max]`, when the value must lie in one.
+        allowed: Option<[f64; 2]>,
     },
     /// A route needs at least two distinct points.
     #[error("route has {points} usable points; at least 2 distinct points are needed")]
@@ -51,6 +53,7 @@ pub(crate) fn check_range(
             field,
             value,
             reason: "out of range or not finite",
+            allowed: Some([min, max]),
         })
     }
 }

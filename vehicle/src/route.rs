@@ -51,6 +51,7 @@ impl Route {
                     field: "route point",
                     value: f64::NAN,
                     reason: "not finite",
+                    allowed: None,
                 });
             }
             if kept.last().is_none_or(|q| q.distance(p) > MIN_SPACING_M) {

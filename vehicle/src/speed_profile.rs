@@ -72,6 +72,7 @@ impl SpeedProfile {
                     field: "speed_mps",
                     value: f64::from(k.speed_mps),
                     reason: "speeds must be finite and not negative",
+                    allowed: None,
                 });
             }
             if !k.key.is_finite() || (i > 0 && k.key <= self.knots[i - 1].key) {

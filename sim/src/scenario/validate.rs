@@ -84,12 +84,23 @@ fn check_speed_gains(g: &vehicle::SpeedGains) -> Result<(), (&'static str, Strin
 /// say of it.
 fn vehicle_error(prefix: &str, e: &vehicle::VehicleError) -> (String, String) {
     match e {
-        vehicle::VehicleError::InvalidParameter { field, value, .. } => (
+        vehicle::VehicleError::InvalidParameter {
+            field,
+            value,
+            allowed,
+            ..
+        } => (
             format!("{prefix}.{field}"),
-            format!(
-                "= {}: out of its allowed range, or not finite",
-                short(value.to_string())
-            ),
+            match allowed {
+                Some([min, max]) => format!(
+                    "= {}: must be finite and within {min}–{max}",
+                    short(value.to_string())
+                ),
+                None => format!(
+                    "= {}: out of its allowed range, or not finite",
+                    short(value.to_string())
+                ),
+            },
         ),
         other => (prefix.to_string(), format!(": {other}")),
     }
