@@ -187,6 +187,7 @@ impl Renderer {
             )));
         }
         let backend = options.backend;
+        let _one_at_a_time = gl_lock();
 
         // Instance, adapter and device on exactly the chosen backend.
         let mut instance_descriptor = wgpu::InstanceDescriptor::new_without_display_handle();
@@ -586,6 +587,16 @@ impl Renderer {
     /// bit for bit what [`Renderer::render`] gives; everything else (shadows, the sensor
     /// noise, the ground truth) is the whole frame's, and the pixels outside are unspecified.
     pub fn render_part(
+        &mut self,
+        input: &FrameInput,
+        needed: Option<PixelRect>,
+    ) -> Result<Frame, RenderError> {
+        let _one_at_a_time = gl_lock();
+        self.render_part_locked(input, needed)
+    }
+
+    /// [`Renderer::render_part`], with [`gl_lock`] held.
+    fn render_part_locked(
         &mut self,
         input: &FrameInput,
         needed: Option<PixelRect>,
@@ -1101,6 +1112,19 @@ fn hood_row(rig: &CameraRig, chase: &crate::scene::ChaseVehicle, camera_pan_rad:
         row += 1;
     }
     row.min(rig.height)
+}
+
+/// One renderer of this process at a time. Mesa's llvmpipe rasterises every GL context of a
+/// process on one shared rasteriser, so two renderers on two threads only take turns anyway
+/// (which is why `run`'s second renderer is a process of its own); but unserialised, its
+/// shared scene lists race: test binaries that ran closed loops on two threads died of a
+/// segmentation fault inside `swrast_dri.so`, now and then, under load. Held while a frame is
+/// submitted and read back, and while a device is created.
+fn gl_lock() -> std::sync::MutexGuard<'static, ()> {
+    static LOCK: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    // A renderer that panicked holding it left nothing half-done that the lock protects.
+    LOCK.lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner)
 }
 
 /// Uploads `bytes` into a new buffer.
