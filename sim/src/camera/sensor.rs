@@ -283,20 +283,22 @@ mod shift_tests {
 mod effect_tests {
     use super::*;
 
-    fn flat(level: u8) -> GrayImage {
-        GrayImage::from_pixel(256, 242, image::Luma([level]))
+    /// A flat 256×242 frame of grey `level` through `sensor` (the default camera), frame
+    /// `frame` of `seed`.
+    fn sensed(level: u8, sensor: &Sensor, seed: u64, frame: u64) -> GrayImage {
+        let mut image = GrayImage::from_pixel(256, 242, image::Luma([level]));
+        apply_sensor(&mut image, sensor, &tracker::Camera::default(), seed, frame);
+        image
     }
 
     #[test]
     fn vignetting_darkens_a_flat_scene_by_the_cos4_law() {
-        let camera = tracker::Camera::default();
         let sensor = Sensor {
             noise_sigma_grey: 0.0,
             vignetting: 1.0,
             ..Sensor::default()
         };
-        let mut image = flat(200);
-        apply_sensor(&mut image, &sensor, &camera, 1, 0);
+        let image = sensed(200, &sensor, 1, 0);
         // The corner (0, 0) sees at θ with tan²θ = (127.5² + 120.5²) / 320².
         let tan2 = (127.5f64.powi(2) + 120.5f64.powi(2)) / 320.0f64.powi(2);
         let cos4 = (1.0 / (1.0 + tan2)).powi(2);
@@ -306,12 +308,11 @@ mod effect_tests {
         }
         // The centre is untouched, and a half-strength lens darkens the corner half as much.
         assert_eq!(image.get_pixel(127, 120)[0], 200);
-        let mut half = flat(200);
         let sensor = Sensor {
             vignetting: 0.5,
             ..sensor
         };
-        apply_sensor(&mut half, &sensor, &camera, 1, 0);
+        let half = sensed(200, &sensor, 1, 0);
         let v = f64::from(half.get_pixel(0, 0)[0]);
         assert!((v - 200.0 * (1.0 - 0.5 * (1.0 - cos4))).abs() <= 0.5, "{v}");
     }
@@ -323,8 +324,7 @@ mod effect_tests {
             shot_noise_full_well_e: Some(full_well_e),
             ..Sensor::default()
         };
-        let mut image = flat(level);
-        apply_sensor(&mut image, &sensor, &tracker::Camera::default(), 7, frame);
+        let image = sensed(level, &sensor, 7, frame);
         let n = image.as_raw().len() as f64;
         let mean = image.iter().map(|&p| f64::from(p)).sum::<f64>() / n;
         assert!((mean - f64::from(level)).abs() < 0.05, "{mean}");
@@ -357,18 +357,12 @@ mod effect_tests {
             vignetting: 0.7,
             ..Sensor::default()
         };
-        let camera = tracker::Camera::default();
-        let noisy = |seed, frame| {
-            let mut image = flat(120);
-            apply_sensor(&mut image, &sensor, &camera, seed, frame);
-            image
-        };
+        let noisy = |seed, frame| sensed(120, &sensor, seed, frame);
         assert_eq!(noisy(5, 9), noisy(5, 9));
         assert_ne!(noisy(5, 9), noisy(5, 10));
         assert_ne!(noisy(5, 9), noisy(6, 9));
         // Off, the frame is the read noise's alone.
-        let mut plain = flat(120);
-        apply_sensor(&mut plain, &Sensor::default(), &camera, 5, 9);
+        let plain = sensed(120, &Sensor::default(), 5, 9);
         let mut read_only = Vec::new();
         shift_noise(&[120; 256 * 242], &mut read_only, 2.0, 5, 9, 1);
         assert_eq!(plain.as_raw(), &read_only);
@@ -381,20 +375,12 @@ mod effect_tests {
             noise_sigma_grey: 6.0,
             ..Sensor::default()
         };
-        let camera = tracker::Camera::default();
-        let mut shot_only = flat(90);
-        apply_sensor(
-            &mut shot_only,
-            &Sensor {
-                noise_sigma_grey: 0.0,
-                ..sensor.clone()
-            },
-            &camera,
-            3,
-            4,
-        );
-        let mut both = flat(90);
-        apply_sensor(&mut both, &sensor, &camera, 3, 4);
+        let quiet_sensor = Sensor {
+            noise_sigma_grey: 0.0,
+            ..sensor.clone()
+        };
+        let shot_only = sensed(90, &quiet_sensor, 3, 4);
+        let both = sensed(90, &sensor, 3, 4);
         let mut quiet = Vec::new();
         shift_noise(both.as_raw(), &mut quiet, 6.0, 3, 4, -1);
         assert_eq!(&quiet, shot_only.as_raw());
