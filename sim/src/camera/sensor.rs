@@ -46,24 +46,27 @@ pub fn apply_sensor(
     add_noise(image.as_mut(), key, k);
 }
 
-/// The factor by which the lens's cos⁴ law with strength `strength` (0–1) scales pixel
-/// `(x, y)` of a camera with the intrinsics `camera`: `1 − strength · (1 − cos⁴θ)`, θ the
-/// angle between the pixel's ray and the optical axis.
-pub fn vignetting_factor(strength: f64, camera: &tracker::Camera, x: f64, y: f64) -> f64 {
-    let [cx, cy] = camera.image_center_px;
-    let tan_x = (x - cx) * camera.pixel_size_mm[0] / camera.focal_length_mm;
-    let tan_y = (y - cy) * camera.pixel_size_mm[1] / camera.focal_length_mm;
-    let cos2 = 1.0 / (1.0 + tan_x * tan_x + tan_y * tan_y);
-    1.0 - strength * (1.0 - cos2 * cos2)
-}
-
-/// Scales each pixel by its [`vignetting_factor`], rounding to the nearest grey level.
+/// Scales each pixel by the lens's cos⁴ law with strength `strength` (0–1) for a camera with
+/// the intrinsics `camera`: by `1 − strength · (1 − cos⁴θ)`, θ the angle between the pixel's
+/// ray and the optical axis (in f32, from each row's and each column's share of tan²θ),
+/// rounding to the nearest grey level.
 fn vignette(image: &mut GrayImage, strength: f64, camera: &tracker::Camera) {
     let width = image.width() as usize;
-    for (i, pixel) in image.as_mut().iter_mut().enumerate() {
-        let (x, y) = ((i % width) as f64, (i / width) as f64);
-        let v = f64::from(*pixel) * vignetting_factor(strength, camera, x, y);
-        *pixel = v.round().clamp(0.0, 255.0) as u8;
+    let tan2 = |offset_px: f64, axis: usize| {
+        let t = offset_px * camera.pixel_size_mm[axis] / camera.focal_length_mm;
+        (t * t) as f32
+    };
+    let [cx, cy] = camera.image_center_px;
+    let columns: Vec<f32> = (0..width).map(|x| tan2(x as f64 - cx, 0)).collect();
+    let s = strength as f32;
+    for (y, row) in image.as_mut().chunks_exact_mut(width).enumerate() {
+        let row_tan2 = 1.0 + tan2(y as f64 - cy, 1);
+        for (pixel, &column_tan2) in row.iter_mut().zip(&columns) {
+            let cos2 = 1.0 / (row_tan2 + column_tan2);
+            let factor = 1.0 - s * (1.0 - cos2 * cos2);
+            // Non-negative and at most 255: adding a half and truncating rounds.
+            *pixel = (f32::from(*pixel) * factor + 0.5) as u8;
+        }
     }
 }
 
@@ -80,7 +83,8 @@ fn add_shot_noise(pixels: &mut [u8], full_well_e: f64, seed: u64, frame_index: u
     for (i, pixel) in pixels.iter_mut().enumerate() {
         let z = sum4_centred(i, key) as f32;
         let v = f32::from(*pixel) + scale[usize::from(*pixel)] * z;
-        *pixel = v.round().clamp(0.0, 255.0) as u8;
+        // Clamped first, so adding a half and truncating rounds to nearest.
+        *pixel = (v.clamp(0.0, 255.0) + 0.5) as u8;
     }
 }
 
