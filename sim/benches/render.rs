@@ -38,6 +38,7 @@ fn render(c: &mut Criterion) {
                         world_from_chase,
                         world_from_lead,
                         camera_pan_rad: 0.0,
+                        auto_gain: 1.0,
                     })
                     .expect("frame")
             })
@@ -62,6 +63,7 @@ fn render(c: &mut Criterion) {
             world_from_chase,
             world_from_lead,
             camera_pan_rad: 0.0,
+            auto_gain: 1.0,
         })
         .expect("frame");
     eprintln!(

@@ -6,6 +6,7 @@
 //! delayed estimates and its own odometry; only the recorder (the [`FrameRecord`] built here)
 //! sees the truth.
 
+use crate::auto_gain::AutoGainControl;
 use crate::camera::{
     target_occluded, Backend, CameraRig, Frame, FrameInput, RenderError, RenderOptions, Renderer,
 };
@@ -132,6 +133,8 @@ pub struct ClosedLoop {
     timing: LoopTiming,
     /// Which part of each frame to render.
     parts: FrameParts,
+    /// The camera's automatic gain control (gain 1 when off).
+    auto_gain: AutoGainControl,
     rig: CameraRig,
     tracker: Tracker,
     /// Scene origin (body centre) in the lead's vehicle frame (rear axle).
@@ -554,6 +557,7 @@ impl ClosedLoop {
             world_from_chase,
             world_from_lead,
             camera_pan_rad: 0.0,
+            auto_gain: 1.0,
         })?;
         let t = first.truth;
         if !t.in_view {
@@ -605,6 +609,12 @@ impl ClosedLoop {
                 ..LoopTiming::default()
             },
             parts: FrameParts::new(rig.width, rig.height),
+            auto_gain: AutoGainControl::new(
+                s.sensor.auto_gain,
+                rig.width,
+                rig.height,
+                f64::from(vehicle::CAMERA_HZ),
+            ),
             rig,
             tracker,
             lead_from_scene,
@@ -735,12 +745,14 @@ impl ClosedLoop {
         debug_assert!(now.is_frame_start());
         let chase = self.drive.world.vehicle_state(self.drive.chase_id);
         let lead = self.drive.world.vehicle_state(self.drive.lead_id);
+        let frame_index = now.0 / u64::from(STEPS_PER_FRAME);
         let input = FrameInput {
-            frame_index: now.0 / u64::from(STEPS_PER_FRAME),
+            frame_index,
             time_s: now.seconds(),
             world_from_chase: iso(&chase.world_from_vehicle),
             world_from_lead: iso(&lead.world_from_vehicle) * self.lead_from_scene,
             camera_pan_rad: self.drive.pan_angle_rad(),
+            auto_gain: self.auto_gain.gain_for(frame_index),
         };
         Captured {
             now,
@@ -819,6 +831,8 @@ impl ClosedLoop {
             (captured, frame, track, edges, controls, collision)
         };
         debug_assert_eq!(captured.input.frame_index, self.frame);
+        self.auto_gain
+            .observe(self.frame, captured.input.auto_gain, &frame.image);
         let record = self.record(&captured, &frame, &track, controls, collision);
         let poses = FramePoses {
             world_from_chase: captured.input.world_from_chase,

@@ -205,6 +205,7 @@ mod tests {
             world_from_chase,
             world_from_lead,
             camera_pan_rad: 0.0,
+            auto_gain: 1.0,
         };
         let whole = renderer.render(&input).expect("frame");
         let t = whole.truth;

@@ -3,6 +3,7 @@
 //! the tracker on recorded frames, recordings that open in Foxglove with their replay, and
 //! the `carfollow` command line.
 #![warn(missing_docs)]
+mod auto_gain;
 pub mod camera;
 pub mod child;
 pub mod closed_loop;

@@ -35,7 +35,7 @@ use std::process::Command;
 use tracker::PixelRect;
 
 /// Bytes of one request.
-const REQUEST_BYTES: usize = 21 * 8;
+const REQUEST_BYTES: usize = 22 * 8;
 /// Bytes of the ground truth and the exact pixels after the image.
 const TRUTH_BYTES: usize = 6 * 8 + 1 + 4 * 8;
 
@@ -102,6 +102,7 @@ fn encode_request(input: &FrameInput, part: PixelRect) -> Vec<u8> {
     put_pose(&mut out, &input.world_from_chase);
     put_pose(&mut out, &input.world_from_lead);
     out.extend_from_slice(&input.camera_pan_rad.to_le_bytes());
+    out.extend_from_slice(&input.auto_gain.to_le_bytes());
     put_rect(&mut out, part);
     out
 }
@@ -113,8 +114,9 @@ fn decode_request(bytes: &[u8; REQUEST_BYTES]) -> (FrameInput, PixelRect) {
         world_from_chase: get_pose(bytes, 2),
         world_from_lead: get_pose(bytes, 9),
         camera_pan_rad: get_f64(bytes, 16),
+        auto_gain: get_f64(bytes, 17),
     };
-    (input, get_rect(bytes, 17))
+    (input, get_rect(bytes, 18))
 }
 
 /// The worker's side: renders each request from `input` with `renderer` and writes the
@@ -246,6 +248,7 @@ mod tests {
             world_from_chase: pose(0.7, [1.0 / 3.0, 0.2, -1e5]),
             world_from_lead: pose(-2.9, [std::f64::consts::PI, 1e-9, 7.0]),
             camera_pan_rad: -0.3 - 1e-12,
+            auto_gain: 1.0 / 3.0,
         };
         let part = PixelRect {
             x0: 3,

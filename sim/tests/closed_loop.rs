@@ -150,3 +150,53 @@ fn a_render_worker_with_another_scene_is_refused() {
         .add_render_worker(render_worker(&["duration_s=1"]))
         .unwrap());
 }
+
+/// The records and the metered mean grey of each frame, with whole frames or not, and with
+/// a render worker or not.
+fn run_metered(set: &[&str], whole: bool, worker: bool) -> (Vec<FrameRecord>, Vec<f64>) {
+    let mut l = builtin_loop(set);
+    l.set_whole_frames(whole);
+    if worker {
+        assert!(l.add_render_worker(render_worker(set)).unwrap());
+    }
+    let window = sim::scene::AutoGain::metering_window(256, 242);
+    let (mut records, mut means) = (Vec::new(), Vec::new());
+    while let Some(out) = l.step().unwrap() {
+        let mut sum = 0u64;
+        for y in window.y0..window.y1 {
+            for x in window.x0..window.x1 {
+                sum += u64::from(out.image.get_pixel(x as u32, y as u32)[0]);
+            }
+        }
+        means.push(sum as f64 / (window.width() * window.height()) as f64);
+        records.push(out.record);
+    }
+    (records, means)
+}
+
+#[test]
+fn auto_gain_brightens_a_dark_scene_alike_with_and_without_whole_frames() {
+    // A sensor at a fifth of its nominal gain sees the scene dark.
+    let set = [
+        "duration_s=4",
+        "environment.sensor.gain=0.2",
+        "environment.sensor.auto_gain={target_grey=110,time_constant_s=0.4}",
+    ];
+    let (whole, means) = run_metered(&set, true, false);
+    assert_eq!(whole.len(), 60);
+    eprintln!("metered means: {means:.1?}");
+    assert!(means[0] < 40.0, "{}", means[0]);
+    assert!(means[59] > 2.0 * means[0], "{} → {}", means[0], means[59]);
+    assert!((means[59] - 110.0).abs() < 20.0, "{}", means[59]);
+    // The first two frames are exposed before any metering; then it rises.
+    assert_eq!(means[0], means[0].min(means[1]).min(means[5]));
+    let (part, part_means) = run_metered(&set, false, false);
+    assert_eq!(whole, part);
+    assert_eq!(means, part_means);
+    let (two, two_means) = run_metered(&set, false, true);
+    assert_eq!(whole, two);
+    assert_eq!(means, two_means);
+    // Without the control the scene stays dark.
+    let (_, dark) = run_metered(&set[..2], true, false);
+    assert!(dark[59] < 40.0, "{}", dark[59]);
+}

@@ -60,6 +60,7 @@ fn builtin_frame_panned(renderer: &mut Renderer, time_s: f64, camera_pan_rad: f6
             world_from_chase,
             world_from_lead,
             camera_pan_rad,
+            auto_gain: 1.0,
         })
         .expect("frame")
 }
@@ -220,6 +221,7 @@ fn a_part_of_a_frame_is_the_whole_frame_there() {
                 world_from_chase,
                 world_from_lead,
                 camera_pan_rad,
+                auto_gain: 1.0,
             };
             let partial = r.render_part(&input, Some(part)).expect("frame");
             assert_eq!(partial.exact, part, "{name}");
@@ -297,6 +299,7 @@ fn target_edges_land_where_the_tracker_projects_them() {
                 world_from_chase: chase,
                 world_from_lead: lead,
                 camera_pan_rad: 0.0,
+                auto_gain: 1.0,
             })
             .unwrap();
         let cam = camera_from_target(&r, &chase, &lead);
@@ -382,6 +385,7 @@ fn a_pole_shadow_darkens_the_target() {
                 world_from_chase: chase,
                 world_from_lead: lead,
                 camera_pan_rad: 0.0,
+                auto_gain: 1.0,
             })
             .unwrap();
         let cam = camera_from_target(&r, &chase, &lead);
@@ -491,7 +495,7 @@ fn target_is_found_where_the_ground_truth_says() {
 fn sensor_noise_has_the_configured_sigma() {
     let sensor = builtin_description(builtin_target(), 1).sensor;
     let mut image = GrayImage::from_pixel(256, 242, Luma([128]));
-    sim::camera::apply_sensor(&mut image, &sensor, 1, 17);
+    sim::camera::apply_sensor(&mut image, &sensor, &tracker::Camera::default(), 1, 17);
     let values: Vec<f64> = image.iter().map(|&p| f64::from(p) - 128.0).collect();
     let n = values.len() as f64;
     let mean = values.iter().sum::<f64>() / n;
@@ -547,6 +551,7 @@ fn a_distractor_pole_stands_where_it_is_put() {
                 world_from_chase: chase,
                 world_from_lead: lead,
                 camera_pan_rad: 0.0,
+                auto_gain: 1.0,
             })
             .unwrap();
         let cam = camera_from_target(&r, &chase, &lead);
@@ -600,6 +605,7 @@ fn shadow_edges_on_the_board_widen_with_the_occluder_distance() {
                 world_from_chase: chase,
                 world_from_lead: lead,
                 camera_pan_rad: 0.0,
+                auto_gain: 1.0,
             })
             .unwrap();
         let cam = camera_from_target(&r, &chase, &lead);
@@ -687,6 +693,7 @@ fn the_road_is_drawn_on_the_physics_height_field() {
             world_from_chase,
             world_from_lead: lead_far,
             camera_pan_rad: 0.0,
+            auto_gain: 1.0,
         })
         .expect("frame");
     let lane = d.route.lane_width_m;

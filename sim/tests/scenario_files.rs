@@ -380,3 +380,82 @@ fn distractors_and_overpasses_are_checked_and_list_items_can_be_set() {
     let e = load(&section4(), &["environment.overpasses.0.station_m=9000"]).unwrap_err();
     assert!(e.contains("must lie on the route"), "{e}");
 }
+
+/// The camera effects' fields: bad values are refused naming the field and what is
+/// allowed, from a `--set` and from the file at its line; good ones are taken.
+#[test]
+fn camera_effects_are_validated_with_the_field_named() {
+    for (set, needle) in [
+        (
+            "environment.sensor.vignetting=1.5",
+            "`environment.sensor.vignetting` = 1.5: must be 0–1",
+        ),
+        (
+            "environment.sensor.vignetting=nan",
+            "`environment.sensor.vignetting` = NaN: must be 0–1",
+        ),
+        (
+            "environment.sensor.shot_noise_full_well_e=10",
+            "`environment.sensor.shot_noise_full_well_e` = 10: must be 100–1e7 electrons",
+        ),
+        (
+            "environment.sensor.auto_gain={time_constant_s=0}",
+            "`environment.sensor.auto_gain.time_constant_s` = 0: must be 0.1–60 s",
+        ),
+        (
+            "environment.sensor.auto_gain={target_grey=250}",
+            "`environment.sensor.auto_gain.target_grey` = 250: must be 10–245 grey levels",
+        ),
+        (
+            "environment.sensor.auto_gain={max_gain=inf}",
+            "`environment.sensor.auto_gain.max_gain` = inf: must be 1–64",
+        ),
+        (
+            "environment.sensor.auto_gain={gain=2}",
+            "unknown field `gain`",
+        ),
+    ] {
+        let e = load(&text(), &[set]).unwrap_err();
+        assert!(e.contains(needle), "{set}: {e}");
+    }
+    let t = text().replace(
+        "sensor = { noise_sigma_grey = 2.0 }",
+        "sensor = { noise_sigma_grey = 2.0, vignetting = -0.1 }",
+    );
+    assert_ne!(t, text());
+    let e = load(&t, &[]).unwrap_err();
+    let line = line_of(&t, "vignetting = -0.1");
+    assert!(e.starts_with(&format!("/bad.toml:{line}:")), "{e}");
+    assert!(
+        e.contains("`environment.sensor.vignetting` = -0.1: must be 0–1"),
+        "{e}"
+    );
+    let t = text().replace(
+        "sensor = { noise_sigma_grey = 2.0 }",
+        "sensor = { noise_sigma_grey = 2.0, auto_gain = { max_gain = 0.5 } }",
+    );
+    let e = load(&t, &[]).unwrap_err();
+    let line = line_of(&t, "max_gain = 0.5");
+    assert!(e.starts_with(&format!("/bad.toml:{line}:")), "{e}");
+    assert!(
+        e.contains("`environment.sensor.auto_gain.max_gain` = 0.5"),
+        "{e}"
+    );
+
+    let s = load(
+        &text(),
+        &[
+            "environment.sensor.vignetting=0.6",
+            "environment.sensor.shot_noise_full_well_e=20000",
+            "environment.sensor.auto_gain={time_constant_s=0.3}",
+        ],
+    )
+    .unwrap();
+    assert_eq!(s.sensor.vignetting, 0.6);
+    assert_eq!(s.sensor.shot_noise_full_well_e, Some(20000.0));
+    let a = s.sensor.auto_gain.unwrap();
+    assert_eq!((a.time_constant_s, a.target_grey), (0.3, 110.0));
+    // Off by default.
+    let s = load(&text(), &[]).unwrap();
+    assert_eq!(s.sensor, sim::scene::Sensor::default());
+}

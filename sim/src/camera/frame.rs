@@ -20,6 +20,9 @@ pub struct FrameInput {
     /// The camera's pan about the chase's vertical axis through the mount, radians
     /// (positive to the right; 0 for the paper's fixed camera): the pan head's true angle.
     pub camera_pan_rad: f64,
+    /// The automatic gain control's gain for this frame, a factor on the sensor's
+    /// brightness (1 without it; see [`crate::scene::AutoGain`]).
+    pub auto_gain: f64,
 }
 
 /// What the tracker is scored against. Image coordinates have their origin at the top-left

@@ -14,7 +14,7 @@ use super::backend::{Backend, BackendError};
 use super::frame::{Frame, FrameInput, GroundTruth};
 use super::rig::CameraRig;
 use super::sensor::{apply_sensor, blur_reach_px};
-use crate::scene::{ObjectSlot, Scene, Vertex, GRASS_ALBEDO_RANGE, GROUND_CELL_M};
+use crate::scene::{AutoGain, ObjectSlot, Scene, Vertex, GRASS_ALBEDO_RANGE, GROUND_CELL_M};
 use bytemuck::{Pod, Zeroable};
 use image::GrayImage;
 use nalgebra::{Isometry3, Matrix4, Point3, Translation3, Vector3};
@@ -583,8 +583,9 @@ impl Renderer {
 
     /// Renders the part of one frame the tracker will read (`needed`; the whole frame when
     /// `None`) and reads it back. The colour pass is scissored to `needed` grown by the
-    /// sensor blur's reach, so each pixel of `needed` (the frame's [`Frame::exact`]) is
-    /// bit for bit what [`Renderer::render`] gives; everything else (shadows, the sensor
+    /// sensor blur's reach, so each pixel of `needed` (the frame's [`Frame::exact`], with
+    /// the automatic gain control's metering window when it is on) is bit for bit what
+    /// [`Renderer::render`] gives; everything else (shadows, the sensor
     /// noise, the ground truth) is the whole frame's, and the pixels outside are unspecified.
     pub fn render_part(
         &mut self,
@@ -605,7 +606,14 @@ impl Renderer {
         let rig = &self.rig;
         let description = self.scene.description();
         let whole = PixelRect::whole(rig.width as usize, rig.height as usize);
-        let exact = needed.map_or(whole, |r| r.intersection(&whole));
+        // With automatic gain control, its metering window is always exact too.
+        let exact = match (needed, description.sensor.auto_gain) {
+            (None, _) => whole,
+            (Some(r), None) => r.intersection(&whole),
+            (Some(r), Some(_)) => r
+                .union(&AutoGain::metering_window(whole.x1, whole.y1))
+                .intersection(&whole),
+        };
         let scissor = exact.grown(blur_reach_px(&description.sensor), whole.x1, whole.y1);
 
         // Poses: the camera from the chase chassis; every moving object's transform.
@@ -736,7 +744,7 @@ impl Renderer {
         };
 
         // Uniforms.
-        let brightness = description.sensor.brightness();
+        let brightness = description.sensor.brightness() * input.auto_gain;
         let globals = Globals {
             view_proj: to_f32(&view_proj),
             light_view_proj: to_f32(&(light.clip_from_world * world_from_relative)),
@@ -980,6 +988,7 @@ impl Renderer {
         apply_sensor(
             &mut image,
             &description.sensor,
+            &rig.intrinsics,
             description.seed,
             input.frame_index,
         );

@@ -1,5 +1,9 @@
-//! The sensor's noise and blur, applied to the rendered (already gain- and
-//! exposure-scaled) image on the CPU.
+//! The lens's and the sensor's effects on the rendered (already gain- and exposure-scaled)
+//! image, applied on the CPU: vignetting, blur, shot noise and the additive read noise.
+//!
+//! The read noise is the last step, so recordings can take it away exactly and replays add
+//! it back ([`shift_noise`]); vignetting and shot noise come before it, and a recording
+//! keeps them as part of its image.
 
 use crate::scene::{stream, Sensor};
 use image::GrayImage;
@@ -14,11 +18,26 @@ const WORDS_PER_FRAME: u128 = 2;
 /// (Irwin–Hall), and costs one 32-bit random word per pixel instead of a logarithm.
 const SUM4_SIGMA: f32 = 147.800_54;
 
-/// Applies blur (optical, so first) and then additive Gaussian noise to `image`, in place.
-/// Frame `frame_index`'s noise is a fixed slice of the `"sensor-noise"` stream of `seed`.
-pub fn apply_sensor(image: &mut GrayImage, sensor: &Sensor, seed: u64, frame_index: u64) {
+/// Applies, in place and in this order, the lens's cos⁴ vignetting and blur (optical, so
+/// first), the shot noise (before the read-out) and the additive Gaussian read noise, for
+/// a camera with the intrinsics `camera`. Frame `frame_index`'s noises are fixed slices of
+/// the `"sensor-shot-noise"` and `"sensor-noise"` streams of `seed`. Each effect that is
+/// off leaves the image untouched.
+pub fn apply_sensor(
+    image: &mut GrayImage,
+    sensor: &Sensor,
+    camera: &tracker::Camera,
+    seed: u64,
+    frame_index: u64,
+) {
+    if sensor.vignetting > 0.0 {
+        vignette(image, sensor.vignetting, camera);
+    }
     if let Some(sigma) = sensor.blur_sigma_px {
         blur(image, sigma);
+    }
+    if let Some(full_well_e) = sensor.shot_noise_full_well_e {
+        add_shot_noise(image.as_mut(), full_well_e, seed, frame_index);
     }
     if sensor.noise_sigma_grey <= 0.0 {
         return;
@@ -27,15 +46,62 @@ pub fn apply_sensor(image: &mut GrayImage, sensor: &Sensor, seed: u64, frame_ind
     add_noise(image.as_mut(), key, k);
 }
 
+/// Scales each pixel by the lens's cos⁴ law with strength `strength` (0–1) for a camera with
+/// the intrinsics `camera`: by `1 − strength · (1 − cos⁴θ)`, θ the angle between the pixel's
+/// ray and the optical axis (in f32, from each row's and each column's share of tan²θ),
+/// rounding to the nearest grey level.
+fn vignette(image: &mut GrayImage, strength: f64, camera: &tracker::Camera) {
+    let width = image.width() as usize;
+    let tan2 = |offset_px: f64, axis: usize| {
+        let t = offset_px * camera.pixel_size_mm[axis] / camera.focal_length_mm;
+        (t * t) as f32
+    };
+    let [cx, cy] = camera.image_center_px;
+    let columns: Vec<f32> = (0..width).map(|x| tan2(x as f64 - cx, 0)).collect();
+    let s = strength as f32;
+    for (y, row) in image.as_mut().chunks_exact_mut(width).enumerate() {
+        let row_tan2 = 1.0 + tan2(y as f64 - cy, 1);
+        for (pixel, &column_tan2) in row.iter_mut().zip(&columns) {
+            let cos2 = 1.0 / (row_tan2 + column_tan2);
+            let factor = 1.0 - s * (1.0 - cos2 * cos2);
+            // Non-negative and at most 255: adding a half and truncating rounds.
+            *pixel = (f32::from(*pixel) * factor + 0.5) as u8;
+        }
+    }
+}
+
+/// Adds shot noise: a pixel of grey `v` collects `v / 255 · full_well_e` electrons, whose
+/// Poisson spread (Gaussian, standard deviation the square root of the count) is
+/// `sqrt(255 · v / full_well_e)` grey levels. Pixel `i`'s deviate is the same hash as the
+/// read noise's, keyed by frame `frame_index`'s words of the `"sensor-shot-noise"` stream.
+fn add_shot_noise(pixels: &mut [u8], full_well_e: f64, seed: u64, frame_index: u64) {
+    let key = frame_key("sensor-shot-noise", seed, frame_index);
+    // Per grey level: its standard deviation over that of the hash's sum of four bytes.
+    let scale: Vec<f32> = (0..256)
+        .map(|v| ((255.0 * f64::from(v) / full_well_e).sqrt() as f32) / SUM4_SIGMA)
+        .collect();
+    for (i, pixel) in pixels.iter_mut().enumerate() {
+        let z = sum4_centred(i, key) as f32;
+        let v = f32::from(*pixel) + scale[usize::from(*pixel)] * z;
+        // Clamped first, so adding a half and truncating rounds to nearest.
+        *pixel = (v.clamp(0.0, 255.0) + 0.5) as u8;
+    }
+}
+
+/// The key of frame `frame_index`'s pixel hash: a fixed slice of stream `name` of `seed`.
+fn frame_key(name: &str, seed: u64, frame_index: u64) -> u64 {
+    let mut rng = stream(seed, name);
+    rng.set_word_pos(u128::from(frame_index) * WORDS_PER_FRAME);
+    rng.next_u64()
+}
+
 /// Frame `frame_index`'s noise: the key of its pixel hash (a fixed slice of the
 /// `"sensor-noise"` stream of `seed`) and the noise gain in 16.16 fixed point (integer
 /// arithmetic rounds without a call to `roundf` per pixel: baseline x86-64 has no rounding
 /// instruction).
 fn frame_noise(noise_sigma_grey: f64, seed: u64, frame_index: u64) -> (u64, i32) {
-    let mut rng = stream(seed, "sensor-noise");
-    rng.set_word_pos(u128::from(frame_index) * WORDS_PER_FRAME);
     let k = (f64::from(noise_sigma_grey as f32 / SUM4_SIGMA) * FIXED_ONE).round() as i32;
-    (rng.next_u64(), k)
+    (frame_key("sensor-noise", seed, frame_index), k)
 }
 
 /// Adds (`sign` 1) or takes away (`sign` −1) the noise that frame `frame_index` of `seed`
@@ -85,6 +151,13 @@ fn shift_noise_portable(src: &[u8], dst: &mut [u8], key: u64, k: i32, sign: i32)
 /// Pixel `i`'s noise for the frame key `key` and fixed-point gain `k`.
 #[inline(always)]
 fn noise_delta(i: usize, key: u64, k: i32) -> i32 {
+    (k * sum4_centred(i, key) + FIXED_HALF) >> 16
+}
+
+/// Pixel `i`'s sum of four random bytes for the frame key `key`, less its mean (510):
+/// zero-mean, standard deviation [`SUM4_SIGMA`].
+#[inline(always)]
+fn sum4_centred(i: usize, key: u64) -> i32 {
     let (key_lo, key_hi) = (key as u32, (key >> 32) as u32);
     // MurmurHash3's 32-bit finaliser of a Weyl sequence: a bijection with full avalanche,
     // so neighbouring pixels' words are unrelated.
@@ -95,7 +168,7 @@ fn noise_delta(i: usize, key: u64, k: i32) -> i32 {
     x = x.wrapping_mul(0xc2b2_ae35);
     x ^= x >> 16;
     let sum = (x & 0xff) + ((x >> 8) & 0xff) + ((x >> 16) & 0xff) + (x >> 24);
-    (k * (sum as i32 - 510) + FIXED_HALF) >> 16
+    sum as i32 - 510
 }
 
 /// Adds noise to every pixel: pixel `i`'s four random bytes are a hash of `i` keyed by the
@@ -190,7 +263,7 @@ mod shift_tests {
         };
         for frame in [0, 7, 1234] {
             let mut noisy = GrayImage::from_raw(256, 64, clean.clone()).unwrap();
-            apply_sensor(&mut noisy, &sensor, 42, frame);
+            apply_sensor(&mut noisy, &sensor, &tracker::Camera::default(), 42, frame);
             let (mut quiet, mut back) = (Vec::new(), Vec::new());
             shift_noise(noisy.as_raw(), &mut quiet, 20.0, 42, frame, -1);
             shift_noise(&quiet, &mut back, 20.0, 42, frame, 1);
@@ -207,5 +280,113 @@ mod shift_tests {
             shift_noise(noisy.as_raw(), &mut wrong, 20.0, 42, frame + 1, -1);
             assert_ne!(wrong, quiet);
         }
+    }
+}
+
+#[cfg(test)]
+mod effect_tests {
+    use super::*;
+
+    /// A flat 256×242 frame of grey `level` through `sensor` (the default camera), frame
+    /// `frame` of `seed`.
+    fn sensed(level: u8, sensor: &Sensor, seed: u64, frame: u64) -> GrayImage {
+        let mut image = GrayImage::from_pixel(256, 242, image::Luma([level]));
+        apply_sensor(&mut image, sensor, &tracker::Camera::default(), seed, frame);
+        image
+    }
+
+    #[test]
+    fn vignetting_darkens_a_flat_scene_by_the_cos4_law() {
+        let sensor = Sensor {
+            noise_sigma_grey: 0.0,
+            vignetting: 1.0,
+            ..Sensor::default()
+        };
+        let image = sensed(200, &sensor, 1, 0);
+        // The corner (0, 0) sees at θ with tan²θ = (127.5² + 120.5²) / 320².
+        let tan2 = (127.5f64.powi(2) + 120.5f64.powi(2)) / 320.0f64.powi(2);
+        let cos4 = (1.0 / (1.0 + tan2)).powi(2);
+        for (x, y) in [(0, 0), (255, 0), (0, 241), (255, 241)] {
+            let v = f64::from(image.get_pixel(x, y)[0]);
+            assert!((v - 200.0 * cos4).abs() <= 0.5, "({x}, {y}): {v}");
+        }
+        // The centre is untouched, and a half-strength lens darkens the corner half as much.
+        assert_eq!(image.get_pixel(127, 120)[0], 200);
+        let sensor = Sensor {
+            vignetting: 0.5,
+            ..sensor
+        };
+        let half = sensed(200, &sensor, 1, 0);
+        let v = f64::from(half.get_pixel(0, 0)[0]);
+        assert!((v - 200.0 * (1.0 - 0.5 * (1.0 - cos4))).abs() <= 0.5, "{v}");
+    }
+
+    /// The variance of a flat frame of `level` under shot noise only.
+    fn shot_variance(level: u8, full_well_e: f64, frame: u64) -> f64 {
+        let sensor = Sensor {
+            noise_sigma_grey: 0.0,
+            shot_noise_full_well_e: Some(full_well_e),
+            ..Sensor::default()
+        };
+        let image = sensed(level, &sensor, 7, frame);
+        let n = image.as_raw().len() as f64;
+        let mean = image.iter().map(|&p| f64::from(p)).sum::<f64>() / n;
+        assert!((mean - f64::from(level)).abs() < 0.05, "{mean}");
+        image
+            .iter()
+            .map(|&p| (f64::from(p) - mean).powi(2))
+            .sum::<f64>()
+            / n
+    }
+
+    #[test]
+    fn shot_noise_variance_grows_with_the_signal() {
+        let full_well_e = 2000.0;
+        for level in [20u8, 80, 200] {
+            // Poisson: variance 255 · v / full well, grey levels², plus 1/12 of rounding.
+            let expected = 255.0 * f64::from(level) / full_well_e + 1.0 / 12.0;
+            let got = shot_variance(level, full_well_e, 3);
+            assert!(
+                (got / expected - 1.0).abs() < 0.05,
+                "{level}: {got} vs {expected}"
+            );
+        }
+        assert!(shot_variance(0, full_well_e, 3) == 0.0);
+    }
+
+    #[test]
+    fn the_effects_are_seeded_and_off_by_default() {
+        let sensor = Sensor {
+            shot_noise_full_well_e: Some(1000.0),
+            vignetting: 0.7,
+            ..Sensor::default()
+        };
+        let noisy = |seed, frame| sensed(120, &sensor, seed, frame);
+        assert_eq!(noisy(5, 9), noisy(5, 9));
+        assert_ne!(noisy(5, 9), noisy(5, 10));
+        assert_ne!(noisy(5, 9), noisy(6, 9));
+        // Off, the frame is the read noise's alone.
+        let plain = sensed(120, &Sensor::default(), 5, 9);
+        let mut read_only = Vec::new();
+        shift_noise(&[120; 256 * 242], &mut read_only, 2.0, 5, 9, 1);
+        assert_eq!(plain.as_raw(), &read_only);
+    }
+
+    #[test]
+    fn the_read_noise_of_a_frame_with_shot_noise_is_taken_away_exactly() {
+        let sensor = Sensor {
+            shot_noise_full_well_e: Some(500.0),
+            noise_sigma_grey: 6.0,
+            ..Sensor::default()
+        };
+        let quiet_sensor = Sensor {
+            noise_sigma_grey: 0.0,
+            ..sensor.clone()
+        };
+        let shot_only = sensed(90, &quiet_sensor, 3, 4);
+        let both = sensed(90, &sensor, 3, 4);
+        let mut quiet = Vec::new();
+        shift_noise(both.as_raw(), &mut quiet, 6.0, 3, 4, -1);
+        assert_eq!(&quiet, shot_only.as_raw());
     }
 }

@@ -81,6 +81,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
             world_from_chase,
             world_from_lead,
             camera_pan_rad: 0.0,
+            auto_gain: 1.0,
         })
         .map_err(incomplete)?;
     frame

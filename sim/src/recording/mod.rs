@@ -117,7 +117,9 @@ pub struct ReplaySetup {
     /// The sensor noise σ (grey levels) the recorded images are without: each frame's
     /// noise, which is a function of the seed and the frame's index
     /// (`camera::shift_noise`), is subtracted when recording and added back on replay,
-    /// exactly. 0: the images are as the tracker saw them.
+    /// exactly. 0: the images are as the tracker saw them. The other camera effects
+    /// (vignetting, shot noise, the automatic gain) come before that noise and stay in the
+    /// recorded images.
     pub noise_removed_sigma: f64,
 }
 

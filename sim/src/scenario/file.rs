@@ -308,6 +308,25 @@ pub struct SensorFile {
     pub noise_sigma_grey: Option<f64>,
     /// Optional Gaussian blur, pixels: 0–[`super::MAX_BLUR_SIGMA_PX`].
     pub blur_sigma_px: Option<f64>,
+    /// Strength of the lens's cos⁴ vignetting: 0 (off, the default)–1.
+    pub vignetting: Option<f64>,
+    /// Shot noise: the full-well capacity, electrons, at grey 255: 100–10⁷ (absent: off).
+    pub shot_noise_full_well_e: Option<f64>,
+    /// Automatic gain control (absent: off).
+    pub auto_gain: Option<AutoGainFile>,
+}
+
+/// `[environment.sensor.auto_gain]`: every field optional, with
+/// [`crate::scene::AutoGain::default`]'s values.
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct AutoGainFile {
+    /// The mean grey the control aims at: 10–245.
+    pub target_grey: Option<f64>,
+    /// Its time constant, seconds: 0.1–60.
+    pub time_constant_s: Option<f64>,
+    /// Its largest gain (the smallest is the reciprocal): 1–64.
+    pub max_gain: Option<f64>,
 }
 
 /// Fixed-length arrays of numbers read strictly: the toml parser lets `[f64; 2]` take the

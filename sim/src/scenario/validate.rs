@@ -7,7 +7,8 @@
 
 use super::{Scenario, ScenarioError, ScenarioFile};
 use crate::scene::{
-    Densities, Distractor, DistractorKind, Placement, RouteSegment, RouteSpec, Sensor, Sun,
+    AutoGain, Densities, Distractor, DistractorKind, Placement, RouteSegment, RouteSpec, Sensor,
+    Sun,
 };
 use tracker::{Camera, TargetModel, TrackerConfig, TrackerMode};
 use vehicle::{DelayLineConfig, ProfileBasis, SpeedProfile, WorldConfig};
@@ -797,6 +798,70 @@ pub(super) fn validate(
                 sigma,
             ),
         )?;
+    }
+    if let Some(v) = e.sensor.vignetting {
+        sensor.vignetting = v;
+    }
+    at(
+        "environment.sensor.vignetting",
+        check(
+            (0.0..=1.0).contains(&sensor.vignetting),
+            "must be 0–1",
+            sensor.vignetting,
+        ),
+    )?;
+    sensor.shot_noise_full_well_e = e.sensor.shot_noise_full_well_e;
+    if let Some(full_well_e) = sensor.shot_noise_full_well_e {
+        at(
+            "environment.sensor.shot_noise_full_well_e",
+            check(
+                (100.0..=1e7).contains(&full_well_e),
+                "must be 100–1e7 electrons",
+                full_well_e,
+            ),
+        )?;
+    }
+    if let Some(a) = &e.sensor.auto_gain {
+        let mut auto_gain = AutoGain::default();
+        for (field, value, into, lo, hi, unit) in [
+            (
+                "target_grey",
+                a.target_grey,
+                &mut auto_gain.target_grey,
+                10.0,
+                245.0,
+                " grey levels",
+            ),
+            (
+                "time_constant_s",
+                a.time_constant_s,
+                &mut auto_gain.time_constant_s,
+                0.1,
+                60.0,
+                " s",
+            ),
+            (
+                "max_gain",
+                a.max_gain,
+                &mut auto_gain.max_gain,
+                1.0,
+                64.0,
+                "",
+            ),
+        ] {
+            if let Some(v) = value {
+                *into = v;
+            }
+            at(
+                &format!("environment.sensor.auto_gain.{field}"),
+                check(
+                    (lo..=hi).contains(&*into),
+                    &format!("must be {lo}–{hi}{unit}"),
+                    *into,
+                ),
+            )?;
+        }
+        sensor.auto_gain = Some(auto_gain);
     }
 
     // Expectations.

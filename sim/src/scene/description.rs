@@ -181,6 +181,54 @@ pub struct Sensor {
     pub noise_sigma_grey: f64,
     /// Optional optical blur: Gaussian standard deviation, pixels.
     pub blur_sigma_px: Option<f64>,
+    /// Strength of the lens's cos⁴ fall-off of light towards the corners, 0–1: a pixel
+    /// seeing at angle θ off the optical axis is scaled by `1 − s·(1 − cos⁴θ)` (0 = off).
+    pub vignetting: f64,
+    /// Optional signal-dependent shot noise: the full-well capacity, electrons, that a
+    /// grey level of 255 collects. A pixel of grey `v` then has Poisson noise of standard
+    /// deviation `sqrt(255 · v / full_well_e)` grey levels (Gaussian approximation).
+    pub shot_noise_full_well_e: Option<f64>,
+    /// Optional automatic gain control (off: the fixed `gain`).
+    pub auto_gain: Option<AutoGain>,
+}
+
+/// The camera's automatic gain control: a gain, on top of `Sensor::gain`, that brings the
+/// mean grey of the metering window ([`AutoGain::metering_window`]) towards a target with
+/// a first-order time constant.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AutoGain {
+    /// The mean grey level the control aims at, 1–254.
+    pub target_grey: f64,
+    /// Time constant of the control, seconds.
+    pub time_constant_s: f64,
+    /// The largest gain it sets; the smallest is its reciprocal.
+    pub max_gain: f64,
+}
+
+impl Default for AutoGain {
+    /// Aims at mid-grey over about half a second, within a factor 8 either way.
+    fn default() -> Self {
+        AutoGain {
+            target_grey: 110.0,
+            time_constant_s: 0.5,
+            max_gain: 8.0,
+        }
+    }
+}
+
+impl AutoGain {
+    /// The window the control meters, for frames `width × height`: the central half of
+    /// the frame in each direction. The renderer always renders it exactly when the
+    /// control is on, so that the gain never depends on pixels a partial frame leaves
+    /// unspecified.
+    pub fn metering_window(width: usize, height: usize) -> tracker::PixelRect {
+        tracker::PixelRect {
+            x0: width / 4,
+            y0: height / 4,
+            x1: width - width / 4,
+            y1: height - height / 4,
+        }
+    }
 }
 
 impl Sensor {
@@ -202,6 +250,9 @@ impl Default for Sensor {
             exposure_ms: Sensor::NOMINAL_EXPOSURE_MS,
             noise_sigma_grey: 2.0,
             blur_sigma_px: None,
+            vignetting: 0.0,
+            shot_noise_full_well_e: None,
+            auto_gain: None,
         }
     }
 }
@@ -389,6 +440,20 @@ impl SceneDescription {
         positive("sensor.exposure_ms", self.sensor.exposure_ms)?;
         if let Some(sigma) = self.sensor.blur_sigma_px {
             positive("sensor.blur_sigma_px", sigma)?;
+        }
+        if !(0.0..=1.0).contains(&self.sensor.vignetting) {
+            return Err(SceneError::Invalid {
+                field: "sensor.vignetting".into(),
+                reason: format!("must be 0–1, got {}", self.sensor.vignetting),
+            });
+        }
+        if let Some(e) = self.sensor.shot_noise_full_well_e {
+            positive("sensor.shot_noise_full_well_e", e)?;
+        }
+        if let Some(a) = self.sensor.auto_gain {
+            positive("sensor.auto_gain.target_grey", a.target_grey)?;
+            positive("sensor.auto_gain.time_constant_s", a.time_constant_s)?;
+            positive("sensor.auto_gain.max_gain", a.max_gain)?;
         }
         positive("lead.length_m", self.lead.length_m)?;
         positive("lead.width_m", self.lead.width_m)?;

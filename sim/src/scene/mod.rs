@@ -21,8 +21,8 @@ pub use builtin::{
     builtin_description, builtin_poses, builtin_target, BUILTIN_GAP_M, BUILTIN_SPEED_M_S,
 };
 pub use description::{
-    distractor_near_side, CameraMount, ChaseVehicle, Densities, Distractor, DistractorKind,
-    LeadVehicle, Placement, SceneDescription, Sensor, Sun,
+    distractor_near_side, AutoGain, CameraMount, ChaseVehicle, Densities, Distractor,
+    DistractorKind, LeadVehicle, Placement, SceneDescription, Sensor, Sun,
 };
 pub use mesh::{Mesh, Vertex};
 pub use rng::stream;
