@@ -32,14 +32,12 @@ fn render(c: &mut Criterion) {
                     builtin_poses(scene.description(), scene.route(), &rig.mount, time_s);
                 frame_index += 1;
                 renderer
-                    .render(&FrameInput {
+                    .render(&FrameInput::fixed_camera(
                         frame_index,
                         time_s,
                         world_from_chase,
                         world_from_lead,
-                        camera_pan_rad: 0.0,
-                        auto_gain: 1.0,
-                    })
+                    ))
                     .expect("frame")
             })
         });
@@ -57,14 +55,12 @@ fn render(c: &mut Criterion) {
     let (world_from_chase, world_from_lead) =
         builtin_poses(scene.description(), scene.route(), &rig.mount, 0.0);
     renderer
-        .render(&FrameInput {
-            frame_index: 0,
-            time_s: 0.0,
+        .render(&FrameInput::fixed_camera(
+            0,
+            0.0,
             world_from_chase,
             world_from_lead,
-            camera_pan_rad: 0.0,
-            auto_gain: 1.0,
-        })
+        ))
         .expect("frame");
     eprintln!(
         "scene: {} triangles; frame 0 drew {:?}",

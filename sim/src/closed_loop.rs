@@ -397,6 +397,8 @@ struct Captured {
     input: FrameInput,
     /// The pan head's encoder reading at capture, radians (0 without one).
     pan_reading_rad: f64,
+    /// The camera in the world (panned by the head's true angle).
+    world_from_camera: Isometry3<f64>,
 }
 
 /// A frame submitted but not yet tracked: rendered already (this process's renderer) or
@@ -551,14 +553,12 @@ impl ClosedLoop {
         let world_from_chase = iso(&world.vehicle_state(chase_id).world_from_vehicle);
         let world_from_lead =
             iso(&world.vehicle_state(lead_id).world_from_vehicle) * lead_from_scene;
-        let first = renderer.render(&FrameInput {
-            frame_index: 0,
-            time_s: 0.0,
+        let first = renderer.render(&FrameInput::fixed_camera(
+            0,
+            0.0,
             world_from_chase,
             world_from_lead,
-            camera_pan_rad: 0.0,
-            auto_gain: 1.0,
-        })?;
+        ))?;
         let t = first.truth;
         if !t.in_view {
             return Err(setup(
@@ -754,12 +754,16 @@ impl ClosedLoop {
             camera_pan_rad: self.drive.pan_angle_rad(),
             auto_gain: self.auto_gain.gain_for(frame_index),
         };
+        let world_from_camera = self
+            .rig
+            .world_from_camera_panned(&input.world_from_chase, input.camera_pan_rad);
         Captured {
             now,
             chase,
             lead,
             input,
             pan_reading_rad: self.drive.pan_reading_rad(),
+            world_from_camera,
         }
     }
 
@@ -837,10 +841,7 @@ impl ClosedLoop {
         let poses = FramePoses {
             world_from_chase: captured.input.world_from_chase,
             world_from_lead: captured.input.world_from_lead,
-            world_from_camera: self.rig.world_from_camera_panned(
-                &captured.input.world_from_chase,
-                captured.input.camera_pan_rad,
-            ),
+            world_from_camera: captured.world_from_camera,
         };
         self.frame += 1;
         let [render_t, track_t, physics_t] = spent;
@@ -955,13 +956,7 @@ impl ClosedLoop {
     /// See [`ClosedLoop::ego_motion`].
     fn gyro_reading(&mut self, captured: &Captured) -> Option<EgoMotion> {
         let gyro = self.gyro.as_mut()?;
-        let now = self
-            .rig
-            .world_from_camera_panned(
-                &captured.input.world_from_chase,
-                captured.input.camera_pan_rad,
-            )
-            .rotation;
+        let now = captured.world_from_camera.rotation;
         let previous = self.last_camera.replace(now)?;
         // The rotation from the last camera orientation to this one, in the last camera's
         // frame; the gyro rides on the camera (on the pan head when there is one), so its
@@ -993,10 +988,7 @@ impl ClosedLoop {
         let lost_truth = !truth.in_view
             || (est.c_x - truth.c_x).hypot(est.c_y - truth.c_y) > 0.25 * width_px
             || (est.scale / truth.scale - 1.0).abs() > 0.25;
-        let world_from_camera = self.rig.world_from_camera_panned(
-            &captured.input.world_from_chase,
-            captured.input.camera_pan_rad,
-        );
+        let world_from_camera = captured.world_from_camera;
         let loss_cause = if !lost_truth {
             LossCause::None
         } else if !truth.in_view {

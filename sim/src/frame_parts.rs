@@ -199,14 +199,7 @@ mod tests {
             &renderer.rig().mount,
             time_s,
         );
-        let input = FrameInput {
-            frame_index: 45,
-            time_s,
-            world_from_chase,
-            world_from_lead,
-            camera_pan_rad: 0.0,
-            auto_gain: 1.0,
-        };
+        let input = FrameInput::fixed_camera(45, time_s, world_from_chase, world_from_lead);
         let whole = renderer.render(&input).expect("frame");
         let t = whole.truth;
         let camera = renderer.rig().intrinsics;

@@ -293,14 +293,7 @@ fn target_edges_land_where_the_tracker_projects_them() {
         );
         let lead = lead * Isometry3::translation(-4.0, 0.0, 0.0);
         let frame = r
-            .render(&FrameInput {
-                frame_index: 0,
-                time_s: 1.0,
-                world_from_chase: chase,
-                world_from_lead: lead,
-                camera_pan_rad: 0.0,
-                auto_gain: 1.0,
-            })
+            .render(&FrameInput::fixed_camera(0, 1.0, chase, lead))
             .unwrap();
         let cam = camera_from_target(&r, &chase, &lead);
         let target = r.scene().description().target.clone();
@@ -379,14 +372,7 @@ fn a_pole_shadow_darkens_the_target() {
         }
         let mut r = renderer(d, &options());
         let frame = r
-            .render(&FrameInput {
-                frame_index: 0,
-                time_s: 1.0,
-                world_from_chase: chase,
-                world_from_lead: lead,
-                camera_pan_rad: 0.0,
-                auto_gain: 1.0,
-            })
+            .render(&FrameInput::fixed_camera(0, 1.0, chase, lead))
             .unwrap();
         let cam = camera_from_target(&r, &chase, &lead);
         let value = |x: f64, y: f64| {
@@ -545,14 +531,7 @@ fn a_distractor_pole_stands_where_it_is_put() {
             1.0,
         );
         let frame = r
-            .render(&FrameInput {
-                frame_index: 0,
-                time_s: 1.0,
-                world_from_chase: chase,
-                world_from_lead: lead,
-                camera_pan_rad: 0.0,
-                auto_gain: 1.0,
-            })
+            .render(&FrameInput::fixed_camera(0, 1.0, chase, lead))
             .unwrap();
         let cam = camera_from_target(&r, &chase, &lead);
         let value = |x: f64, y: f64| {
@@ -599,14 +578,7 @@ fn shadow_edges_on_the_board_widen_with_the_occluder_distance() {
         });
         let mut r = renderer(d, &options());
         let frame = r
-            .render(&FrameInput {
-                frame_index: 0,
-                time_s: 1.0,
-                world_from_chase: chase,
-                world_from_lead: lead,
-                camera_pan_rad: 0.0,
-                auto_gain: 1.0,
-            })
+            .render(&FrameInput::fixed_camera(0, 1.0, chase, lead))
             .unwrap();
         let cam = camera_from_target(&r, &chase, &lead);
         let [u0, v] = project(&r, &cam, [-0.38, 0.0, 0.0]);
@@ -687,14 +659,12 @@ fn the_road_is_drawn_on_the_physics_height_field() {
     // The lead far ahead, out of the way of the paint looked at.
     let lead_far = nalgebra::Translation3::new(0.0, 0.0, 150.0) * world_from_lead;
     let frame = r
-        .render(&FrameInput {
-            frame_index: 60,
+        .render(&FrameInput::fixed_camera(
+            60,
             time_s,
             world_from_chase,
-            world_from_lead: lead_far,
-            camera_pan_rad: 0.0,
-            auto_gain: 1.0,
-        })
+            lead_far,
+        ))
         .expect("frame");
     let lane = d.route.lane_width_m;
     let chase_s = {

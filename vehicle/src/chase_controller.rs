@@ -234,7 +234,8 @@ pub struct ChaseController {
     config: ChaseControllerConfig,
     wheelbase_m: f32,
     max_steer_rad: f32,
-    vehicle_from_camera: Pose,
+    /// The camera's centre in the vehicle frame (the pan head turns about it).
+    camera_pivot: Vector,
     history: PoseHistory,
     pending: Vec<LeadEstimate>,
     trail: BreadcrumbTrail,
@@ -325,7 +326,7 @@ impl ChaseController {
         Ok(ChaseController {
             wheelbase_m: params.wheelbase_m,
             max_steer_rad: params.max_steer_rad,
-            vehicle_from_camera: config.camera_mount.vehicle_from_camera(),
+            camera_pivot: config.camera_mount.vehicle_from_camera().translation,
             history: PoseHistory::new(steps_from_ms(config.pose_history_ms) as usize),
             pending: Vec::new(),
             trail: BreadcrumbTrail::new(config.breadcrumb_spacing_m, config.max_breadcrumbs),
@@ -448,8 +449,7 @@ impl ChaseController {
             (Some(crumb), ChaseMode::Following) => crumb.position_world_m,
             _ => return (encoder_rad, 0.0),
         };
-        let pivot = self.vehicle_from_camera.translation;
-        let v = pose.inverse_transform_point(lead) - pivot;
+        let v = pose.inverse_transform_point(lead) - self.camera_pivot;
         if v.x.hypot(v.z) < 0.5 {
             return (encoder_rad, 0.0);
         }
@@ -491,7 +491,7 @@ impl ChaseController {
                 .camera_mount
                 .vehicle_from_camera_panned(estimate.camera_pan_rad)
                 .transform_point(estimate.target_in_camera_m);
-            let camera = self.vehicle_from_camera.translation;
+            let camera = self.camera_pivot;
             let gap =
                 ((in_vehicle.x - camera.x).powi(2) + (in_vehicle.z - camera.z).powi(2)).sqrt();
             let captured_s = estimate.capture_step.seconds();

@@ -25,6 +25,26 @@ pub struct FrameInput {
     pub auto_gain: f64,
 }
 
+impl FrameInput {
+    /// Frame `frame_index` at `time_s` of a fixed camera (no pan) without automatic gain:
+    /// the paper's camera.
+    pub fn fixed_camera(
+        frame_index: u64,
+        time_s: f64,
+        world_from_chase: Isometry3<f64>,
+        world_from_lead: Isometry3<f64>,
+    ) -> FrameInput {
+        FrameInput {
+            frame_index,
+            time_s,
+            world_from_chase,
+            world_from_lead,
+            camera_pan_rad: 0.0,
+            auto_gain: 1.0,
+        }
+    }
+}
+
 /// What the tracker is scored against. Image coordinates have their origin at the top-left
 /// corner and pixel centres at integer coordinates.
 #[derive(Clone, Copy, Debug, PartialEq)]

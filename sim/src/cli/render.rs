@@ -75,14 +75,12 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
     let (world_from_chase, world_from_lead) =
         builtin_poses(scene.description(), scene.route(), &rig.mount, args.time);
     let frame = renderer
-        .render(&FrameInput {
-            frame_index: (args.time * FRAME_RATE_HZ).round() as u64,
-            time_s: args.time,
+        .render(&FrameInput::fixed_camera(
+            (args.time * FRAME_RATE_HZ).round() as u64,
+            args.time,
             world_from_chase,
             world_from_lead,
-            camera_pan_rad: 0.0,
-            auto_gain: 1.0,
-        })
+        ))
         .map_err(incomplete)?;
     frame
         .image

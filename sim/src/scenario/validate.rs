@@ -331,11 +331,29 @@ pub(super) fn validate(
             initial_gap_m,
         ),
     )?;
-    if raw.chase.controller.camera_mount != vehicle::CameraMount::default() {
-        return Err(invalid(
+    // What the camera's own sections set, the controller's copy may not.
+    let controller = &raw.chase.controller;
+    let defaults = vehicle::ChaseControllerConfig::default();
+    for (field, set, by) in [
+        (
             "chase.controller.camera_mount",
-            "is set by `[camera.mount]`; remove it here".into(),
-        ));
+            controller.camera_mount != defaults.camera_mount,
+            "`[camera.mount]`",
+        ),
+        (
+            "chase.controller.pan_head",
+            controller.pan_head != defaults.pan_head,
+            "`[camera.pan]`",
+        ),
+        (
+            "chase.controller.half_fov_deg",
+            controller.half_fov_deg != defaults.half_fov_deg,
+            "the camera's focal length and pixel size",
+        ),
+    ] {
+        if set {
+            return Err(invalid(field, format!("is set by {by}; remove it here")));
+        }
     }
     at(
         "camera.mount.right_m",
@@ -349,26 +367,6 @@ pub(super) fn validate(
         let (field, message) = vehicle_error("camera.mount", &e);
         invalid(&field, message)
     })?;
-    for (field, set) in [
-        (
-            "chase.controller.pan_head",
-            raw.chase.controller.pan_head != vehicle::PanHeadConfig::default(),
-        ),
-        (
-            "chase.controller.half_fov_deg",
-            raw.chase.controller.half_fov_deg
-                != vehicle::ChaseControllerConfig::default().half_fov_deg,
-        ),
-    ] {
-        if set {
-            let from = if field.ends_with("pan_head") {
-                "`[camera.pan]`"
-            } else {
-                "the camera's focal length and pixel size"
-            };
-            return Err(invalid(field, format!("is set by {from}; remove it here")));
-        }
-    }
     raw.camera.pan.validate().map_err(|e| {
         let (field, message) = vehicle_error("camera.pan", &e);
         invalid(&field, message)
