@@ -8,6 +8,7 @@
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use sim::camera::{Backend, CameraRig, FrameInput, RenderOptions, Renderer};
 use sim::scene::{builtin_description, builtin_poses, builtin_target, Scene};
+use tracker::PixelRect;
 
 fn render(c: &mut Criterion) {
     let scene = Scene::build(builtin_description(builtin_target(), 1)).expect("built-in scene");
@@ -42,6 +43,44 @@ fn render(c: &mut Criterion) {
             })
         });
     }
+    // Only the part the tracker reads, as `run` renders it: a 110 × 90 px window around
+    // the target (what `nist-grounds`' tracker reads at 10 m).
+    let options = RenderOptions {
+        backend,
+        ..RenderOptions::default()
+    };
+    let mut renderer = Renderer::new(&scene, rig.clone(), &options).expect("renderer");
+    let mut frame_index = 0u64;
+    group.bench_function("frame_part_110x90", |b| {
+        b.iter(|| {
+            let time_s = (frame_index % 600) as f64 / 15.0;
+            let (world_from_chase, world_from_lead) =
+                builtin_poses(scene.description(), scene.route(), &rig.mount, time_s);
+            frame_index += 1;
+            let truth = renderer.ground_truth(&world_from_chase, &world_from_lead, 0.0);
+            let (x, y) = (truth.c_x.round() as usize, truth.c_y.round() as usize);
+            let h: usize = std::env::var("HALF")
+                .map(|v| v.parse().unwrap())
+                .unwrap_or(55);
+            let part = PixelRect {
+                x0: x.saturating_sub(h),
+                y0: y.saturating_sub(h * 45 / 55),
+                x1: (x + h).min(rig.width as usize),
+                y1: (y + h * 45 / 55).min(rig.height as usize),
+            };
+            renderer
+                .render_part(
+                    &FrameInput::fixed_camera(
+                        frame_index,
+                        time_s,
+                        world_from_chase,
+                        world_from_lead,
+                    ),
+                    Some(part),
+                )
+                .expect("frame")
+        })
+    });
     group.finish();
     let mut renderer = Renderer::new(
         &scene,

@@ -8,7 +8,8 @@
 
 use crate::auto_gain::AutoGainControl;
 use crate::camera::{
-    target_occluded, Backend, CameraRig, Frame, FrameInput, RenderError, RenderOptions, Renderer,
+    target_occluded, Backend, CameraRig, Field, Frame, FrameInput, RenderError, RenderOptions,
+    Renderer,
 };
 use crate::driven_path::DrivenPath;
 use crate::frame_parts::{track_part, FrameParts};
@@ -167,6 +168,20 @@ struct Drive {
     delay: DelayLine<LeadEstimate>,
     /// The camera's pan head, when the scenario has one (`[camera.pan]`).
     pan: Option<PanHead>,
+    /// With an interlaced camera, the world one field period before the next frame
+    /// (its earlier field; `Some` once the first frame's physics has run).
+    interlaced: bool,
+    earlier_field: Option<EarlierField>,
+}
+
+/// The world when an interlaced frame's earlier field is exposed.
+#[derive(Clone, Copy)]
+struct EarlierField {
+    time_s: f64,
+    world_from_chase: Isometry3<f64>,
+    /// The lead's vehicle frame (not yet the scene's).
+    world_from_lead: Isometry3<f64>,
+    camera_pan_rad: f64,
 }
 
 impl Drive {
@@ -175,7 +190,10 @@ impl Drive {
     fn advance_frame(&mut self) -> (vehicle::Controls, bool) {
         let mut collision = false;
         let mut controls = vehicle::Controls::default();
-        for _ in 0..STEPS_PER_FRAME {
+        for k in 0..u64::from(STEPS_PER_FRAME) {
+            if self.interlaced && k == u64::from(STEPS_PER_FRAME) - scene::FIELD_PERIOD_STEPS {
+                self.earlier_field = Some(self.field_now());
+            }
             let step_now: Step = self.world.now();
             for estimate in self.delay.pop_due(step_now) {
                 self.chase.receive(estimate);
@@ -198,6 +216,16 @@ impl Drive {
             collision |= self.world.vehicles_touch(self.chase_id, self.lead_id);
         }
         (controls, collision)
+    }
+
+    /// The world now, as an interlaced frame's earlier field sees it.
+    fn field_now(&self) -> EarlierField {
+        EarlierField {
+            time_s: self.world.now().seconds(),
+            world_from_chase: iso(&self.world.vehicle_state(self.chase_id).world_from_vehicle),
+            world_from_lead: iso(&self.world.vehicle_state(self.lead_id).world_from_vehicle),
+            camera_pan_rad: self.pan_angle_rad(),
+        }
     }
 
     /// The pan head's true angle, radians (0 without one).
@@ -401,6 +429,50 @@ struct Captured {
     world_from_camera: Isometry3<f64>,
 }
 
+impl Captured {
+    /// The world of `drive` at the start of a frame, seen from `rig`.
+    fn of(
+        drive: &Drive,
+        rig: &CameraRig,
+        lead_from_scene: &Isometry3<f64>,
+        auto_gain: &AutoGainControl,
+    ) -> Captured {
+        let now = drive.world.now();
+        debug_assert!(now.is_frame_start());
+        let chase = drive.world.vehicle_state(drive.chase_id);
+        let lead = drive.world.vehicle_state(drive.lead_id);
+        let frame_index = now.0 / u64::from(STEPS_PER_FRAME);
+        let input = FrameInput {
+            frame_index,
+            time_s: now.seconds(),
+            world_from_chase: iso(&chase.world_from_vehicle),
+            world_from_lead: iso(&lead.world_from_vehicle) * lead_from_scene,
+            camera_pan_rad: drive.pan_angle_rad(),
+            auto_gain: auto_gain.gain_for(frame_index),
+            // Before the first frame the world stood still.
+            earlier_field: drive.interlaced.then(|| {
+                let f = drive.earlier_field.unwrap_or_else(|| drive.field_now());
+                Field {
+                    time_s: f.time_s,
+                    world_from_chase: f.world_from_chase,
+                    world_from_lead: f.world_from_lead * lead_from_scene,
+                    camera_pan_rad: f.camera_pan_rad,
+                }
+            }),
+        };
+        let world_from_camera =
+            rig.world_from_camera_panned(&input.world_from_chase, input.camera_pan_rad);
+        Captured {
+            now,
+            chase,
+            lead,
+            input,
+            pan_reading_rad: drive.pan_reading_rad(),
+            world_from_camera,
+        }
+    }
+}
+
 /// A frame submitted but not yet tracked: rendered already (this process's renderer) or
 /// rendering in the worker.
 struct InFlight {
@@ -599,6 +671,8 @@ impl ClosedLoop {
                     .then(|| PanHead::new(s.chase.pan_head.clone(), s.seed))
                     .transpose()
                     .map_err(|e| setup(format!("pan head: {e}")))?,
+                interlaced: s.sensor.interlaced,
+                earlier_field: None,
             },
             renderer,
             remote: None,
@@ -741,30 +815,12 @@ impl ClosedLoop {
     /// The state of the world at the start of frame `frame_index` (now), and the camera's
     /// input for it.
     fn capture(&self) -> Captured {
-        let now = self.drive.world.now();
-        debug_assert!(now.is_frame_start());
-        let chase = self.drive.world.vehicle_state(self.drive.chase_id);
-        let lead = self.drive.world.vehicle_state(self.drive.lead_id);
-        let frame_index = now.0 / u64::from(STEPS_PER_FRAME);
-        let input = FrameInput {
-            frame_index,
-            time_s: now.seconds(),
-            world_from_chase: iso(&chase.world_from_vehicle),
-            world_from_lead: iso(&lead.world_from_vehicle) * self.lead_from_scene,
-            camera_pan_rad: self.drive.pan_angle_rad(),
-            auto_gain: self.auto_gain.gain_for(frame_index),
-        };
-        let world_from_camera = self
-            .rig
-            .world_from_camera_panned(&input.world_from_chase, input.camera_pan_rad);
-        Captured {
-            now,
-            chase,
-            lead,
-            input,
-            pan_reading_rad: self.drive.pan_reading_rad(),
-            world_from_camera,
-        }
+        Captured::of(
+            &self.drive,
+            &self.rig,
+            &self.lead_from_scene,
+            &self.auto_gain,
+        )
     }
 
     /// Runs one camera frame and the physics up to the next one. `None` when the scenario's
@@ -796,9 +852,12 @@ impl ClosedLoop {
                 let seen = timed(render_t, || renderer.render_part(input, needed)).and_then(
                     |mut frame| {
                         let ((track, edges), again) = timed(track_t, || {
-                            track_part(tracker, renderer, input, &mut frame, |t, f| {
-                                track_frame(t, &f.image, t_s, ego, diagnostics)
-                            })
+                            track_part(
+                                tracker,
+                                &mut frame,
+                                || renderer.render(input),
+                                |t, f| track_frame(t, &f.image, t_s, ego, diagnostics),
+                            )
                         })?;
                         Ok((frame, track, edges, again))
                     },
@@ -824,9 +883,8 @@ impl ClosedLoop {
             let ((track, edges), again) = timed(track_t, || {
                 track_part(
                     &mut self.tracker,
-                    &mut self.renderer,
-                    &captured.input,
                     &mut frame,
+                    || self.renderer.render(&captured.input),
                     |t, f| track_frame(t, &f.image, t_s, ego, diagnostics),
                 )
             })?;
@@ -880,8 +938,16 @@ impl ClosedLoop {
     }
 
     /// One frame with two in flight (see [`ClosedLoop::add_render_worker`]): frame k was
-    /// submitted by the previous step; the physics to k + 1 runs while it renders; then
-    /// frame k + 1 is submitted on the other renderer, and frame k is tracked.
+    /// submitted by the previous step, to the worker or rendered here. Both renderers are
+    /// kept busy:
+    /// - frame k rendered here: the physics to k + 1 (which needs no estimate from frame k:
+    ///   see `set_pipelined`), frame k + 1 to the worker, then frame k is tracked while the
+    ///   worker renders;
+    /// - frame k in the worker: the physics to k + 1 and frame k + 1's rendering run on a
+    ///   second thread while frame k is received from the worker and tracked here.
+    ///
+    /// Should frame k's tracking need the whole frame, the renderer that is free then
+    /// renders it.
     #[allow(clippy::type_complexity)]
     fn step_two_in_flight(
         &mut self,
@@ -902,30 +968,82 @@ impl ClosedLoop {
             Some(p) => p,
             None => self.submit(render_t)?,
         };
-        // 4 needs no estimate from frame k (see `set_pipelined`).
-        let (controls, collision) = timed(physics_t, || self.drive.advance_frame());
-        if self.frame + 1 < self.frames {
-            self.in_flight = Some(self.submit(render_t)?);
-        }
-        let mut frame = match pending.image {
-            Some(frame) => frame,
-            None => {
-                let remote = self.remote.as_mut().expect("two frames in flight");
-                timed(render_t, || remote.receive()).map_err(LoopError::Worker)?
-            }
-        };
+        let more = self.frame + 1 < self.frames;
         let t_s = pending.captured.input.time_s;
         let ego = self.ego_motion(&pending.captured);
         let diagnostics = self.diagnostics;
-        let ((track, edges), again) = timed(track_t, || {
-            track_part(
-                &mut self.tracker,
-                &mut self.renderer,
-                &pending.captured.input,
-                &mut frame,
-                |t, f| track_frame(t, &f.image, t_s, ego, diagnostics),
-            )
-        })?;
+        let step = |t: &mut Tracker, f: &Frame| track_frame(t, &f.image, t_s, ego, diagnostics);
+        let input = &pending.captured.input;
+        let (frame, (track, edges), again, controls, collision) = match pending.image {
+            Some(mut frame) => {
+                let (controls, collision) = timed(physics_t, || self.drive.advance_frame());
+                if more {
+                    self.in_flight = Some(self.submit(render_t)?);
+                }
+                let renderer = &mut self.renderer;
+                let (out, again) = timed(track_t, || {
+                    track_part(
+                        &mut self.tracker,
+                        &mut frame,
+                        || renderer.render(input),
+                        step,
+                    )
+                })?;
+                (frame, out, again, controls, collision)
+            }
+            None => {
+                let remote = self.remote.as_mut().expect("two frames in flight");
+                let (drive, renderer, parts) = (&mut self.drive, &mut self.renderer, &self.parts);
+                let (rig, lead_from_scene, auto_gain) =
+                    (&self.rig, &self.lead_from_scene, &self.auto_gain);
+                let tracker = &mut self.tracker;
+                let (mut physics, mut rendering) = (Duration::ZERO, Duration::ZERO);
+                let (ahead, seen) = std::thread::scope(|scope| {
+                    let ahead = scope.spawn(|| {
+                        let driven = timed(&mut physics, || drive.advance_frame());
+                        let next = more
+                            .then(|| {
+                                let captured = Captured::of(drive, rig, lead_from_scene, auto_gain);
+                                let needed = parts.needed(captured.input.frame_index);
+                                timed(&mut rendering, || {
+                                    renderer.render_part(&captured.input, needed)
+                                })
+                                .map(|image| InFlight {
+                                    captured,
+                                    image: Some(image),
+                                })
+                            })
+                            .transpose();
+                        (driven, next)
+                    });
+                    let seen = timed(render_t, || remote.receive()).and_then(|mut frame| {
+                        let (out, again) = timed(track_t, || {
+                            track_part(
+                                tracker,
+                                &mut frame,
+                                || {
+                                    remote.submit(input, None)?;
+                                    remote.receive()
+                                },
+                                step,
+                            )
+                        })?;
+                        Ok((frame, out, again))
+                    });
+                    let ahead = match ahead.join() {
+                        Ok(ahead) => ahead,
+                        Err(panic) => std::panic::resume_unwind(panic),
+                    };
+                    (ahead, seen)
+                });
+                *physics_t += physics;
+                *render_t += rendering;
+                let ((controls, collision), next) = ahead;
+                self.in_flight = next?;
+                let (frame, out, again) = seen.map_err(LoopError::Worker)?;
+                (frame, out, again, controls, collision)
+            }
+        };
         self.tracked(&pending.captured, &track, again);
         Ok((pending.captured, frame, track, edges, controls, collision))
     }

@@ -12,7 +12,7 @@
 //! whole frames (`sim/tests/cli_run.rs` compares `frames.csv` with and without `--video`).
 //! Whole frames are rendered when something needs them: the video, recordings, stills.
 
-use crate::camera::{Frame, FrameInput, RenderError, Renderer};
+use crate::camera::Frame;
 use tracker::{EdgeDiagnostic, Location, PixelRect, TrackOutput, Tracker};
 
 /// Margin around the predicted read rectangle, pixels: the robust tracker's search near
@@ -116,17 +116,17 @@ impl FrameParts {
 
 /// Tracks `frame` with `step` (the tracker's step on an image). When the frame is only
 /// partly rendered and the step read beyond its exact pixels, the tracker goes back to its
-/// state before the step, `renderer` renders the whole frame from `input` into `frame`,
-/// and the step runs again; the second value says whether that happened.
-pub(crate) fn track_part(
+/// state before the step, `whole` renders the whole frame into `frame` (on whichever
+/// renderer is free: the images are the same), and the step runs again; the second value
+/// says whether that happened.
+pub(crate) fn track_part<E>(
     tracker: &mut Tracker,
-    renderer: &mut Renderer,
-    input: &FrameInput,
     frame: &mut Frame,
+    whole: impl FnOnce() -> Result<Frame, E>,
     step: impl Fn(&mut Tracker, &Frame) -> (TrackOutput, Vec<EdgeDiagnostic>),
-) -> Result<((TrackOutput, Vec<EdgeDiagnostic>), bool), RenderError> {
-    let whole = PixelRect::whole(frame.image.width() as usize, frame.image.height() as usize);
-    if frame.exact == whole {
+) -> Result<((TrackOutput, Vec<EdgeDiagnostic>), bool), E> {
+    let all = PixelRect::whole(frame.image.width() as usize, frame.image.height() as usize);
+    if frame.exact == all {
         return Ok((step(tracker, frame), false));
     }
     let before = tracker.clone();
@@ -135,7 +135,7 @@ pub(crate) fn track_part(
         return Ok((out, false));
     }
     *tracker = before;
-    *frame = renderer.render(input)?;
+    *frame = whole()?;
     Ok((step(tracker, frame), true))
 }
 
@@ -182,7 +182,7 @@ mod tests {
     /// whole and tracked again, and the output is the whole frame's.
     #[test]
     fn a_step_beyond_the_part_renders_the_rest_and_steps_again() {
-        use crate::camera::{Backend, CameraRig, RenderOptions};
+        use crate::camera::{Backend, CameraRig, FrameInput, RenderOptions, Renderer};
         use crate::scene::{builtin_description, builtin_poses, builtin_target, Scene};
         use tracker::{GrayView, TrackerConfig};
 
@@ -226,7 +226,8 @@ mod tests {
         assert_ne!(partial.image, whole.image);
         let mut tracker = new_tracker();
         let ((out, _), again) =
-            track_part(&mut tracker, &mut renderer, &input, &mut partial, step).expect("track");
+            track_part(&mut tracker, &mut partial, || renderer.render(&input), step)
+                .expect("track");
         assert!(again, "rendered whole and stepped again");
         assert_eq!(out, expected);
         assert_eq!(partial, whole);
@@ -236,7 +237,7 @@ mod tests {
         let mut enough = renderer.render_part(&input, Some(read)).expect("frame");
         let mut tracker = new_tracker();
         let ((out, _), again) =
-            track_part(&mut tracker, &mut renderer, &input, &mut enough, step).expect("track");
+            track_part(&mut tracker, &mut enough, || renderer.render(&input), step).expect("track");
         assert!(!again);
         assert_eq!(out, expected);
         assert_eq!(enough.exact, read);

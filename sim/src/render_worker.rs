@@ -15,17 +15,20 @@
 //! **The protocol**, over the worker's stdin and stdout, all numbers little-endian:
 //! - the worker first writes its scene's fingerprint ([`fingerprint`]), a `u64`, which the
 //!   loop checks against its own;
-//! - each request is 20 `u64`-sized fields: the frame index (`u64`), the time, then each of
+//! - each request is 39 `u64`-sized fields: the frame index (`u64`), the time, then each of
 //!   the chase's and the lead's poses as translation x, y, z and rotation quaternion i, j,
-//!   k, w (`f64`, exact bits, so the worker renders exactly the loop's poses), then the
-//!   part of the frame to render, x0, y0, x1, y1 (`u64`, see [`Renderer::render_part`]);
+//!   k, w (`f64`, exact bits, so the worker renders exactly the loop's poses), the camera's
+//!   pan and the automatic gain (`f64`), then the part of the frame to render, x0, y0, x1,
+//!   y1 (`u64`, see [`Renderer::render_part`]), then for an interlaced camera's earlier
+//!   field a flag (`u64`, 1 when there is one), its time, the two poses and the pan, as
+//!   above;
 //! - each answer is the image (width × height bytes, row by row), then the ground truth:
 //!   c_x, c_y, scale, the target centre in the camera frame x, y, z (`f64`), and in view
 //!   (one byte, 0 or 1), then the frame's exact pixels x0, y0, x1, y1 (`u64`).
 //!
 //! The worker exits when its input ends, so it never outlives the loop.
 
-use crate::camera::{CameraRig, Frame, FrameInput, GroundTruth, RenderOptions, Renderer};
+use crate::camera::{CameraRig, Field, Frame, FrameInput, GroundTruth, RenderOptions, Renderer};
 use crate::child::Child;
 use crate::scene::SceneDescription;
 use image::GrayImage;
@@ -35,7 +38,7 @@ use std::process::Command;
 use tracker::PixelRect;
 
 /// Bytes of one request.
-const REQUEST_BYTES: usize = 22 * 8;
+const REQUEST_BYTES: usize = 39 * 8;
 /// Bytes of the ground truth and the exact pixels after the image.
 const TRUTH_BYTES: usize = 6 * 8 + 1 + 4 * 8;
 
@@ -104,6 +107,12 @@ fn encode_request(input: &FrameInput, part: PixelRect) -> Vec<u8> {
     out.extend_from_slice(&input.camera_pan_rad.to_le_bytes());
     out.extend_from_slice(&input.auto_gain.to_le_bytes());
     put_rect(&mut out, part);
+    let field = input.earlier_field.unwrap_or(input.field());
+    out.extend_from_slice(&u64::from(input.earlier_field.is_some()).to_le_bytes());
+    out.extend_from_slice(&field.time_s.to_le_bytes());
+    put_pose(&mut out, &field.world_from_chase);
+    put_pose(&mut out, &field.world_from_lead);
+    out.extend_from_slice(&field.camera_pan_rad.to_le_bytes());
     out
 }
 
@@ -115,6 +124,12 @@ fn decode_request(bytes: &[u8; REQUEST_BYTES]) -> (FrameInput, PixelRect) {
         world_from_lead: get_pose(bytes, 9),
         camera_pan_rad: get_f64(bytes, 16),
         auto_gain: get_f64(bytes, 17),
+        earlier_field: (get_u64(bytes, 22) != 0).then(|| Field {
+            time_s: get_f64(bytes, 23),
+            world_from_chase: get_pose(bytes, 24),
+            world_from_lead: get_pose(bytes, 31),
+            camera_pan_rad: get_f64(bytes, 38),
+        }),
     };
     (input, get_rect(bytes, 18))
 }
@@ -249,6 +264,12 @@ mod tests {
             world_from_lead: pose(-2.9, [std::f64::consts::PI, 1e-9, 7.0]),
             camera_pan_rad: -0.3 - 1e-12,
             auto_gain: 1.0 / 3.0,
+            earlier_field: Some(Field {
+                time_s: 8.2 + 1.0 / 7.0,
+                world_from_chase: pose(0.69, [1.0 / 7.0, 0.21, -1e5 + 0.1]),
+                world_from_lead: pose(-2.8, [3.0, 2e-9, 7.1]),
+                camera_pan_rad: -0.29,
+            }),
         };
         let part = PixelRect {
             x0: 3,

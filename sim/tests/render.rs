@@ -13,14 +13,15 @@
 //!   panned;
 //! - the ground truth's occlusion test sees poles standing between the camera and the board;
 //! - over bumps, the road is drawn on the physics' height field: its lane paint appears
-//!   where the physics surface projects, not where flat ground would.
+//!   where the physics surface projects, not where flat ground would;
+//! - an interlaced frame's even rows are its own time's and its odd rows its earlier field's.
 //!
 //! Run: `cargo test -p sim --release --test render`.
 
 use image::{GrayImage, Luma};
 use nalgebra::{Isometry3, Point3};
 use sim::camera::{
-    target_occluded, Backend, CameraRig, Frame, FrameInput, RenderOptions, Renderer,
+    target_occluded, Backend, CameraRig, Field, Frame, FrameInput, RenderOptions, Renderer,
 };
 use sim::scene::{
     builtin_description, builtin_poses, builtin_target, Densities, Placement, RouteSegment, Scene,
@@ -61,6 +62,7 @@ fn builtin_frame_panned(renderer: &mut Renderer, time_s: f64, camera_pan_rad: f6
             world_from_lead,
             camera_pan_rad,
             auto_gain: 1.0,
+            earlier_field: None,
         })
         .expect("frame")
 }
@@ -222,6 +224,7 @@ fn a_part_of_a_frame_is_the_whole_frame_there() {
                 world_from_lead,
                 camera_pan_rad,
                 auto_gain: 1.0,
+                earlier_field: None,
             };
             let partial = r.render_part(&input, Some(part)).expect("frame");
             assert_eq!(partial.exact, part, "{name}");
@@ -708,4 +711,96 @@ fn the_road_is_drawn_on_the_physics_height_field() {
         on_flat * 2 <= checked,
         "paint where flat ground would project at {on_flat} of {checked} stations"
     );
+}
+
+/// An interlaced frame is two fields: its even rows are the frame of its own time and its
+/// odd rows the frame of its earlier field, pixel for pixel (the sensor noise is the
+/// frame's own, added once to both), whole or in part.
+#[test]
+fn an_interlaced_frame_takes_its_odd_rows_from_the_earlier_field() {
+    let mut r = renderer(builtin_description(builtin_target(), 3), &options());
+    let time_s = 4.0;
+    let poses = |r: &Renderer, t: f64| {
+        builtin_poses(
+            r.scene().description(),
+            r.scene().route(),
+            &r.rig().mount,
+            t,
+        )
+    };
+    let (world_from_chase, world_from_lead) = poses(&r, time_s);
+    // One field earlier, with the lead a little further left than the route would put it,
+    // so that the two fields differ around the target.
+    let earlier_s = time_s - 1.0 / 60.0;
+    let (chase0, lead0) = poses(&r, earlier_s);
+    let earlier = Field {
+        time_s: earlier_s,
+        world_from_chase: chase0,
+        world_from_lead: lead0 * Isometry3::translation(0.0, 0.0, -0.3),
+        camera_pan_rad: 0.0,
+    };
+    let input = FrameInput {
+        earlier_field: Some(earlier),
+        ..FrameInput::fixed_camera(60, time_s, world_from_chase, world_from_lead)
+    };
+    let interlaced = r.render(&input).expect("frame");
+    let own = r
+        .render(&FrameInput::fixed_camera(
+            60,
+            time_s,
+            world_from_chase,
+            world_from_lead,
+        ))
+        .expect("frame");
+    let other = r
+        .render(&FrameInput {
+            camera_pan_rad: earlier.camera_pan_rad,
+            ..FrameInput::fixed_camera(
+                60,
+                earlier.time_s,
+                earlier.world_from_chase,
+                earlier.world_from_lead,
+            )
+        })
+        .expect("frame");
+    let width = interlaced.image.width() as usize;
+    let rows = |image: &GrayImage, parity: usize| -> Vec<u8> {
+        image
+            .as_raw()
+            .chunks_exact(width)
+            .skip(parity)
+            .step_by(2)
+            .flatten()
+            .copied()
+            .collect()
+    };
+    assert_eq!(rows(&interlaced.image, 0), rows(&own.image, 0));
+    assert_eq!(rows(&interlaced.image, 1), rows(&other.image, 1));
+    let differing = rows(&own.image, 1)
+        .iter()
+        .zip(rows(&other.image, 1))
+        .filter(|(a, b)| a.abs_diff(*b) > 8)
+        .count();
+    assert!(differing > 100, "the fields barely differ: {differing} px");
+    // The ground truth is the frame's own time's.
+    assert_eq!(interlaced.truth, own.truth);
+
+    // In part: the part's pixels are the whole interlaced frame's.
+    let t = own.truth;
+    let part = tracker::PixelRect {
+        x0: t.c_x as usize - 40,
+        y0: t.c_y as usize - 30,
+        x1: t.c_x as usize + 40,
+        y1: t.c_y as usize + 30,
+    };
+    let partial = r.render_part(&input, Some(part)).expect("frame");
+    for y in part.y0..part.y1 {
+        for x in part.x0..part.x1 {
+            assert_eq!(
+                partial.image.get_pixel(x as u32, y as u32),
+                interlaced.image.get_pixel(x as u32, y as u32),
+                "({x}, {y})"
+            );
+        }
+    }
 }

@@ -23,6 +23,35 @@ pub struct FrameInput {
     /// The automatic gain control's gain for this frame, a factor on the sensor's
     /// brightness (1 without it; see [`crate::scene::AutoGain`]).
     pub auto_gain: f64,
+    /// With an interlaced camera (`environment.sensor.interlaced`), the world when the
+    /// frame's other field was exposed, one field period earlier: the frame's odd rows show
+    /// it, its even rows the world above. `None` for a progressive camera.
+    pub earlier_field: Option<Field>,
+}
+
+/// The poses of one field of an interlaced frame (see [`FrameInput::earlier_field`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Field {
+    /// Simulation time, seconds.
+    pub time_s: f64,
+    /// The chase vehicle's pose.
+    pub world_from_chase: Isometry3<f64>,
+    /// The lead vehicle's pose.
+    pub world_from_lead: Isometry3<f64>,
+    /// The camera's pan, radians.
+    pub camera_pan_rad: f64,
+}
+
+impl FrameInput {
+    /// This frame's own (even rows') field.
+    pub fn field(&self) -> Field {
+        Field {
+            time_s: self.time_s,
+            world_from_chase: self.world_from_chase,
+            world_from_lead: self.world_from_lead,
+            camera_pan_rad: self.camera_pan_rad,
+        }
+    }
 }
 
 impl FrameInput {
@@ -41,6 +70,7 @@ impl FrameInput {
             world_from_lead,
             camera_pan_rad: 0.0,
             auto_gain: 1.0,
+            earlier_field: None,
         }
     }
 }

@@ -13,7 +13,7 @@ mod rig;
 mod sensor;
 
 pub use backend::{Backend, BackendError};
-pub use frame::{Frame, FrameInput, GroundTruth};
+pub use frame::{Field, Frame, FrameInput, GroundTruth};
 pub use occlusion::target_occluded;
 pub use renderer::{ground_truth_of, DrawStats, RenderError, RenderOptions, Renderer};
 pub use rig::{CameraRig, FAR_M, NEAR_M};

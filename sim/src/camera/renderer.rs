@@ -11,7 +11,7 @@
 //! the shadow map is 512² by default (1024² cost about 1 ms a frame on clearing alone).
 
 use super::backend::{Backend, BackendError};
-use super::frame::{Frame, FrameInput, GroundTruth};
+use super::frame::{Field, Frame, FrameInput, GroundTruth};
 use super::rig::CameraRig;
 use super::sensor::{apply_sensor, blur_reach_px};
 use crate::scene::{AutoGain, ObjectSlot, Scene, Vertex, GRASS_ALBEDO_RANGE, GROUND_CELL_M};
@@ -602,10 +602,8 @@ impl Renderer {
         input: &FrameInput,
         needed: Option<PixelRect>,
     ) -> Result<Frame, RenderError> {
-        let hood_rows = self.hood_rows(input.camera_pan_rad);
-        let rig = &self.rig;
         let description = self.scene.description();
-        let whole = PixelRect::whole(rig.width as usize, rig.height as usize);
+        let whole = PixelRect::whole(self.rig.width as usize, self.rig.height as usize);
         // With automatic gain control, its metering window is always exact too.
         let exact = match (needed, description.sensor.auto_gain) {
             (None, _) => whole,
@@ -615,10 +613,52 @@ impl Renderer {
                 .intersection(&whole),
         };
         let scissor = exact.grown(blur_reach_px(&description.sensor), whole.x1, whole.y1);
+        let mut image = self.draw_field(&input.field(), input.auto_gain, scissor)?;
+        if let Some(earlier) = &input.earlier_field {
+            // An interlaced camera: the odd rows are the earlier field's.
+            let other = self.draw_field(earlier, input.auto_gain, scissor)?;
+            interlace(&mut image, &other);
+        }
+
+        // The sensor: blur and noise, seeded per frame.
+        let description = self.scene.description();
+        apply_sensor(
+            &mut image,
+            &description.sensor,
+            &self.rig.intrinsics,
+            description.seed,
+            input.frame_index,
+        );
+
+        let truth = self.ground_truth(
+            &input.world_from_chase,
+            &input.world_from_lead,
+            input.camera_pan_rad,
+        );
+        Ok(Frame {
+            image,
+            truth,
+            exact,
+        })
+    }
+
+    /// Draws the scene as it stands in `field`, with the automatic gain `auto_gain`, in the
+    /// pixels `scissor` of the frame, and reads the frame back (the pixels outside
+    /// `scissor` are what earlier frames left).
+    fn draw_field(
+        &mut self,
+        field: &Field,
+        auto_gain: f64,
+        scissor: PixelRect,
+    ) -> Result<GrayImage, RenderError> {
+        let hood_rows = self.hood_rows(field.camera_pan_rad);
+        let rig = &self.rig;
+        let description = self.scene.description();
+        let whole = PixelRect::whole(rig.width as usize, rig.height as usize);
 
         // Poses: the camera from the chase chassis; every moving object's transform.
         let world_from_camera =
-            rig.world_from_camera_panned(&input.world_from_chase, input.camera_pan_rad);
+            rig.world_from_camera_panned(&field.world_from_chase, field.camera_pan_rad);
         let camera_from_world = world_from_camera.inverse();
         // Positions reach the GPU relative to the camera (the origin), with every transform
         // composed in f64: in f32, world coordinates kilometres from the world's origin
@@ -638,9 +678,9 @@ impl Renderer {
             // Off the route: the zero matrix collapses it to nothing.
             if let Some(pose) = self.scene.world_from_object(
                 object,
-                &input.world_from_chase,
-                &input.world_from_lead,
-                input.time_s,
+                &field.world_from_chase,
+                &field.world_from_lead,
+                field.time_s,
             ) {
                 world_from_object[object.slot as usize] =
                     to_f32(&(relative_from_world * pose.to_homogeneous()));
@@ -744,7 +784,7 @@ impl Renderer {
         };
 
         // Uniforms.
-        let brightness = description.sensor.brightness() * input.auto_gain;
+        let brightness = description.sensor.brightness() * auto_gain;
         let globals = Globals {
             view_proj: to_f32(&view_proj),
             light_view_proj: to_f32(&(light.clip_from_world * world_from_relative)),
@@ -981,28 +1021,8 @@ impl Renderer {
             }
         }
         self.staging.unmap();
-        let mut image = GrayImage::from_raw(rig.width, rig.height, pixels)
-            .expect("buffer holds width × height bytes");
-
-        // The sensor: blur and noise, seeded per frame.
-        apply_sensor(
-            &mut image,
-            &description.sensor,
-            &rig.intrinsics,
-            description.seed,
-            input.frame_index,
-        );
-
-        let truth = self.ground_truth(
-            &input.world_from_chase,
-            &input.world_from_lead,
-            input.camera_pan_rad,
-        );
-        Ok(Frame {
-            image,
-            truth,
-            exact,
-        })
+        Ok(GrayImage::from_raw(rig.width, rig.height, pixels)
+            .expect("buffer holds width × height bytes"))
     }
 
     /// The first row the hood covers from edge to edge, for the camera panned by `pan_rad`.
@@ -1076,6 +1096,21 @@ pub fn ground_truth_of(
         scale: target.nominal_range_m() / centre.z,
         target_cam_m,
         in_view,
+    }
+}
+
+/// Replaces the odd rows of `frame` with those of `other`: the two fields of an interlaced
+/// frame.
+fn interlace(frame: &mut GrayImage, other: &GrayImage) {
+    let width = frame.width() as usize;
+    for (row, from) in frame
+        .as_mut()
+        .chunks_exact_mut(width)
+        .zip(other.as_raw().chunks_exact(width))
+        .skip(1)
+        .step_by(2)
+    {
+        row.copy_from_slice(from);
     }
 }
 

@@ -314,6 +314,9 @@ pub struct SensorFile {
     pub shot_noise_full_well_e: Option<f64>,
     /// Automatic gain control (absent: off).
     pub auto_gain: Option<AutoGainFile>,
+    /// An interlaced video camera: each frame's odd rows exposed one field (1/60 s)
+    /// before its even rows (default false: progressive).
+    pub interlaced: Option<bool>,
 }
 
 /// `[environment.sensor.auto_gain]`: every field optional, with

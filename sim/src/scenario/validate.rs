@@ -809,6 +809,7 @@ pub(super) fn validate(
         ),
     )?;
     sensor.shot_noise_full_well_e = e.sensor.shot_noise_full_well_e;
+    sensor.interlaced = e.sensor.interlaced.unwrap_or(false);
     if let Some(full_well_e) = sensor.shot_noise_full_well_e {
         at(
             "environment.sensor.shot_noise_full_well_e",

@@ -190,7 +190,16 @@ pub struct Sensor {
     pub shot_noise_full_well_e: Option<f64>,
     /// Optional automatic gain control (off: the fixed `gain`).
     pub auto_gain: Option<AutoGain>,
+    /// An interlaced video camera, as the 1990s CCDs were: each frame is two fields, its
+    /// even rows exposed at the frame's time and its odd rows one field period
+    /// ([`FIELD_PERIOD_STEPS`] physics steps, 1/60 s) earlier, so what moves across the
+    /// image shows combed edges. False: a progressive camera, every row at once.
+    pub interlaced: bool,
 }
+
+/// The field period of an interlaced camera, in physics steps: 2 at 120 Hz, 1/60 s, the
+/// field rate of 60 Hz video.
+pub const FIELD_PERIOD_STEPS: u64 = 2;
 
 /// The camera's automatic gain control: a gain, on top of `Sensor::gain`, that brings the
 /// mean grey of the metering window ([`AutoGain::metering_window`]) towards a target with
@@ -253,6 +262,7 @@ impl Default for Sensor {
             vignetting: 0.0,
             shot_noise_full_well_e: None,
             auto_gain: None,
+            interlaced: false,
         }
     }
 }

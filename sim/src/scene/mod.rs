@@ -22,7 +22,7 @@ pub use builtin::{
 };
 pub use description::{
     distractor_near_side, AutoGain, CameraMount, ChaseVehicle, Densities, Distractor,
-    DistractorKind, LeadVehicle, Placement, SceneDescription, Sensor, Sun,
+    DistractorKind, LeadVehicle, Placement, SceneDescription, Sensor, Sun, FIELD_PERIOD_STEPS,
 };
 pub use mesh::{Mesh, Vertex};
 pub use rng::stream;
