@@ -709,3 +709,45 @@ fn the_road_is_drawn_on_the_physics_height_field() {
         "paint where flat ground would project at {on_flat} of {checked} stations"
     );
 }
+
+/// Compares `image` with the reference `tests/golden/{name}.png` bit for bit (a missing
+/// reference is written fresh).
+fn golden_exact(name: &str, image: &GrayImage) {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/golden");
+    let reference_path = dir.join(format!("{name}.png"));
+    let Ok(reference) = image::open(&reference_path) else {
+        image.save(&reference_path).expect("write reference");
+        eprintln!("wrote a fresh reference {}", reference_path.display());
+        return;
+    };
+    let reference = reference.to_luma8();
+    let differ = image
+        .pixels()
+        .zip(reference.pixels())
+        .filter(|(a, b)| a != b)
+        .count();
+    if reference.dimensions() != image.dimensions() || differ > 0 {
+        image.save(dir.join(format!("{name}-actual.png"))).unwrap();
+        panic!("{name}: {differ} pixels differ from the reference; see {name}-actual.png");
+    }
+}
+
+/// Untextured frames (the scene without trees, whose canopies are perforated) are the
+/// frames the renderer drew before ground textures existed, bit for bit: the references
+/// were rendered by the renderer without textures.
+#[test]
+fn untextured_frames_are_the_untextured_renderers_bit_for_bit() {
+    for soft in [false, true] {
+        let mut d = builtin_description(builtin_target(), 1);
+        d.densities.trees_per_km = 0.0;
+        d.sensor.noise_sigma_grey = 0.0;
+        d.sun.soft_shadows = soft;
+        let mut renderer = renderer(d, &options());
+        let name = if soft {
+            "untextured-soft-t12"
+        } else {
+            "untextured-t12"
+        };
+        golden_exact(name, &builtin_frame(&mut renderer, 12.0).image);
+    }
+}
