@@ -105,15 +105,23 @@ fn project(renderer: &Renderer, cam_from_target: &Isometry3<f64>, p: [f64; 3]) -
         .expect("in front")
 }
 
-fn golden(name: &str, image: &GrayImage) {
+/// The folder of reference images, and the reference `name` in it; a missing one is written
+/// fresh from `image` (`None`).
+fn reference(name: &str, image: &GrayImage) -> (PathBuf, Option<GrayImage>) {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/golden");
     let reference_path = dir.join(format!("{name}.png"));
     let Ok(reference) = image::open(&reference_path) else {
         image.save(&reference_path).expect("write reference");
         eprintln!("wrote a fresh reference {}", reference_path.display());
+        return (dir, None);
+    };
+    (dir, Some(reference.to_luma8()))
+}
+
+fn golden(name: &str, image: &GrayImage) {
+    let (dir, Some(reference)) = reference(name, image) else {
         return;
     };
-    let reference = reference.to_luma8();
     assert_eq!(
         reference.dimensions(),
         image.dimensions(),
@@ -713,14 +721,9 @@ fn the_road_is_drawn_on_the_physics_height_field() {
 /// Compares `image` with the reference `tests/golden/{name}.png` bit for bit (a missing
 /// reference is written fresh).
 fn golden_exact(name: &str, image: &GrayImage) {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/golden");
-    let reference_path = dir.join(format!("{name}.png"));
-    let Ok(reference) = image::open(&reference_path) else {
-        image.save(&reference_path).expect("write reference");
-        eprintln!("wrote a fresh reference {}", reference_path.display());
+    let (dir, Some(reference)) = reference(name, image) else {
         return;
     };
-    let reference = reference.to_luma8();
     let differ = image
         .pixels()
         .zip(reference.pixels())

@@ -114,22 +114,24 @@ fn vs_board_shadow(v: VertexIn) -> @builtin(position) vec4<f32> {
     return globals.board_view_proj * world;
 }
 
-@vertex
-fn vs_foliage_shadow(v: VertexIn) -> FoliageShadowOut {
+// A canopy's vertex seen from the sun through `light_from_world` (a shadow map's
+// camera-relative world to clip space).
+fn foliage_shadow_of(v: VertexIn, light_from_world: mat4x4<f32>) -> FoliageShadowOut {
     let world = objects.world_from_object[v.object & 0xffu] * vec4<f32>(v.position, 1.0);
     var out: FoliageShadowOut;
-    out.clip = globals.light_view_proj * world;
+    out.clip = light_from_world * world;
     out.world = world.xyz + globals.origin.xyz;
     return out;
 }
 
 @vertex
+fn vs_foliage_shadow(v: VertexIn) -> FoliageShadowOut {
+    return foliage_shadow_of(v, globals.light_view_proj);
+}
+
+@vertex
 fn vs_foliage_board_shadow(v: VertexIn) -> FoliageShadowOut {
-    let world = objects.world_from_object[v.object & 0xffu] * vec4<f32>(v.position, 1.0);
-    var out: FoliageShadowOut;
-    out.clip = globals.board_view_proj * world;
-    out.world = world.xyz + globals.origin.xyz;
-    return out;
+    return foliage_shadow_of(v, globals.board_view_proj);
 }
 
 @vertex
@@ -403,23 +405,25 @@ fn leafy(p: vec3<f32>) -> bool {
     return noise3(p / CLUSTER_PITCH_M) >= CLUSTER_HOLE && noise3(p / LEAF_PITCH_M + 17.0) >= LEAF_HOLE;
 }
 
-// A canopy from the camera: holes discarded, leaves shaded as `fs_main`.
-@fragment
-fn fs_foliage(in: FoliageOut) -> @location(0) vec4<f32> {
+// A canopy's albedo from the camera, its holes discarded.
+fn leaf_albedo(in: FoliageOut) -> f32 {
     if (!leafy(vec3<f32>(in.ground.x, in.height, in.ground.y))) {
         discard;
     }
-    let grey = in.light.x * lit(in.light, in.shadow);
+    return in.light.x;
+}
+
+// A canopy from the camera: holes discarded, leaves shaded as `fs_main`.
+@fragment
+fn fs_foliage(in: FoliageOut) -> @location(0) vec4<f32> {
+    let grey = leaf_albedo(in) * lit(in.light, in.shadow);
     return vec4<f32>(grey, grey, grey, 1.0);
 }
 
 // `fs_foliage` with soft shadows on the target.
 @fragment
 fn fs_foliage_soft(in: FoliageOut) -> @location(0) vec4<f32> {
-    if (!leafy(vec3<f32>(in.ground.x, in.height, in.ground.y))) {
-        discard;
-    }
-    let grey = in.light.x * lit_soft(in.light, in.shadow, in.board);
+    let grey = leaf_albedo(in) * lit_soft(in.light, in.shadow, in.board);
     return vec4<f32>(grey, grey, grey, 1.0);
 }
 

@@ -244,7 +244,7 @@ pub struct RoadFile {
 #[derive(Clone, Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct TexturesFile {
-    /// On or off (default: [`crate::scene::Textures::default`]).
+    /// On or off (default on, [`crate::scene::Textures::default`]).
     pub enabled: Option<bool>,
     /// Scale of the texture's departures from its mean: 0–2 (default 1).
     pub contrast: Option<f64>,
