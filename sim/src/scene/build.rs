@@ -1217,3 +1217,58 @@ fn building(mesh: &mut Mesh, at: [f64; 2], heading: f64, half: [f64; 2], height:
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{builtin_description, builtin_target};
+
+    /// The materials each surface carries: the road's as its surface says, the paint's, the
+    /// grass's; canopies in their own layer, casting shadows; the slots unchanged.
+    #[test]
+    fn surfaces_carry_their_material_and_canopies_their_layer() {
+        for (surface, road) in [
+            (RoadSurface::Asphalt, Material::ASPHALT),
+            (RoadSurface::Gravel, Material::GRAVEL),
+        ] {
+            let mut d = builtin_description(builtin_target(), 2);
+            d.road_surface = surface;
+            let scene = Scene::build(d).expect("scene");
+            let materials = |layer: Layer| -> std::collections::BTreeSet<u32> {
+                scene
+                    .chunks()
+                    .iter()
+                    .filter(|c| c.layer == layer)
+                    .flat_map(|c| {
+                        &scene.mesh().indices[c.indices.start as usize..c.indices.end as usize]
+                    })
+                    .map(|&i| scene.mesh().vertices[i as usize].object)
+                    .collect()
+            };
+            assert_eq!(
+                materials(Layer::Surface),
+                [road, Material::PAINT].into_iter().collect()
+            );
+            assert_eq!(
+                materials(Layer::Ground),
+                [Material::GRASS].into_iter().collect()
+            );
+            assert_eq!(
+                materials(Layer::Clutter),
+                [Material::NONE].into_iter().collect()
+            );
+            let foliage: Vec<&Chunk> = scene
+                .chunks()
+                .iter()
+                .filter(|c| c.layer == Layer::Foliage)
+                .collect();
+            assert!(!foliage.is_empty() && foliage.iter().all(|c| c.casts_shadow));
+            for object in scene.objects() {
+                let range = object.indices.start as usize..object.indices.end as usize;
+                assert!(scene.mesh().indices[range]
+                    .iter()
+                    .all(|&i| scene.mesh().vertices[i as usize].object == object.slot));
+            }
+        }
+    }
+}
