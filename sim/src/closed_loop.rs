@@ -339,6 +339,8 @@ fn scene_description(s: &Scenario) -> SceneDescription {
         },
         chase: hood,
         ground: s.world.ground.clone(),
+        road_surface: s.road_surface,
+        textures: s.textures,
     }
 }
 

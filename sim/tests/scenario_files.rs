@@ -459,3 +459,54 @@ fn camera_effects_are_validated_with_the_field_named() {
     let s = load(&text(), &[]).unwrap();
     assert_eq!(s.sensor, sim::scene::Sensor::default());
 }
+
+/// Ground textures and the road's surface: bad values are refused naming the field, from a
+/// `--set` and from the file; good ones are taken.
+#[test]
+fn textures_and_the_road_surface_are_validated_with_the_field_named() {
+    for (set, needle) in [
+        (
+            "environment.textures.contrast=3",
+            "`environment.textures.contrast` = 3: must be 0–2",
+        ),
+        (
+            "environment.textures.contrast=nan",
+            "`environment.textures.contrast` = NaN: must be 0–2",
+        ),
+        (
+            "environment.road.surface=\"mud\"",
+            "`environment.road.surface` = \"mud\": must be \"asphalt\" or \"gravel\"",
+        ),
+        (
+            "environment.textures={enable=true}",
+            "unknown field `enable`",
+        ),
+    ] {
+        let e = load(&text(), &[set]).unwrap_err();
+        assert!(e.contains(needle), "{set}: {e}");
+    }
+    let t = text().replace(
+        "sensor = { noise_sigma_grey = 2.0 }",
+        "sensor = { noise_sigma_grey = 2.0 }\nroad = { surface = \"tarmac\" }",
+    );
+    assert_ne!(t, text());
+    let e = load(&t, &[]).unwrap_err();
+    let line = line_of(&t, "surface = \"tarmac\"");
+    assert!(e.starts_with(&format!("/bad.toml:{line}:")), "{e}");
+    assert!(e.contains("`environment.road.surface`"), "{e}");
+
+    let s = load(
+        &text(),
+        &[
+            "environment.textures={enabled=true, contrast=0.5}",
+            "environment.road.surface=\"gravel\"",
+        ],
+    )
+    .unwrap();
+    assert!(s.textures.enabled);
+    assert_eq!(s.textures.contrast, 0.5);
+    assert_eq!(s.road_surface, sim::scene::RoadSurface::Gravel);
+    let s = load(&text(), &[]).unwrap();
+    assert_eq!(s.textures, sim::scene::Textures::default());
+    assert_eq!(s.road_surface, sim::scene::RoadSurface::Asphalt);
+}

@@ -11,6 +11,7 @@ mod occlusion;
 mod renderer;
 mod rig;
 mod sensor;
+mod textures;
 
 pub use backend::{Backend, BackendError};
 pub use frame::{Field, Frame, FrameInput, GroundTruth};
@@ -18,3 +19,4 @@ pub use occlusion::target_occluded;
 pub use renderer::{ground_truth_of, DrawStats, RenderError, RenderOptions, Renderer};
 pub use rig::{CameraRig, FAR_M, NEAR_M};
 pub use sensor::{apply_sensor, blur_reach_px, shift_noise};
+pub use textures::{GroundTextures, TextureLayer, LAYERS, TEXTURE_SIZE, TILE_M};

@@ -79,7 +79,10 @@ fn ray_blocked(
             })
     };
     let world = Isometry3::identity();
-    let statics = scene.chunks().iter().filter(|c| c.layer == Layer::Clutter);
+    let statics = scene
+        .chunks()
+        .iter()
+        .filter(|c| matches!(c.layer, Layer::Clutter | Layer::Foliage));
     for chunk in statics {
         if segment_near_sphere(from, to, Point3::from(chunk.centre), chunk.radius)
             && hits(&chunk.indices, &world)

@@ -14,7 +14,8 @@ use super::backend::{Backend, BackendError};
 use super::frame::{Field, Frame, FrameInput, GroundTruth};
 use super::rig::CameraRig;
 use super::sensor::{apply_sensor, blur_reach_px};
-use crate::scene::{AutoGain, ObjectSlot, Scene, Vertex, GRASS_ALBEDO_RANGE, GROUND_CELL_M};
+use super::textures::{GroundTextures, LAYERS, TEXTURE_SIZE, TILE_M};
+use crate::scene::{AutoGain, Layer, ObjectSlot, Scene, Vertex, GRASS_ALBEDO_RANGE, GROUND_CELL_M};
 use bytemuck::{Pod, Zeroable};
 use image::GrayImage;
 use nalgebra::{Isometry3, Matrix4, Point3, Translation3, Vector3};
@@ -113,6 +114,23 @@ struct Globals {
     origin: [f32; 4],
     board_view_proj: [[f32; 4]; 4],
     board: [f32; 4],
+    textures: [f32; 4],
+    strength: [f32; 4],
+}
+
+/// The strength of the paint's texture relative to the other materials': paint fills the
+/// asphalt's pores, so its grain is faint.
+const PAINT_DETAIL: f64 = 0.3;
+
+/// Which pipeline of the main pass draws a piece of geometry.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Shading {
+    /// Flat albedo (and the grass's mottle): `fs_main`.
+    Plain,
+    /// Perforated canopies: `fs_foliage`, both faces.
+    Foliage,
+    /// Textured ground surfaces: `fs_ground`.
+    Ground,
 }
 
 /// Renders frames of one scene from the chase camera.
@@ -126,6 +144,11 @@ pub struct Renderer {
     shadow_pipeline: wgpu::RenderPipeline,
     board_shadow_pipeline: wgpu::RenderPipeline,
     main_pipeline: wgpu::RenderPipeline,
+    /// The textured ground's pipeline, when the scene's textures are on.
+    ground_pipeline: Option<wgpu::RenderPipeline>,
+    foliage_pipeline: wgpu::RenderPipeline,
+    foliage_shadow_pipeline: wgpu::RenderPipeline,
+    foliage_board_shadow_pipeline: wgpu::RenderPipeline,
     globals_buffer: wgpu::Buffer,
     objects_buffer: wgpu::Buffer,
     frame_bind_group: wgpu::BindGroup,
@@ -151,9 +174,11 @@ pub struct Renderer {
     panned_hood_row: Option<(u64, u32)>,
     /// Per-frame scratch lists, kept to avoid allocating every frame.
     items: Vec<DrawItem>,
-    main_draws: Vec<Range<u32>>,
+    main_draws: Vec<(Range<u32>, Shading)>,
     shadow_draws: Vec<Range<u32>>,
     board_shadow_draws: Vec<Range<u32>>,
+    foliage_shadow_draws: Vec<Range<u32>>,
+    foliage_board_shadow_draws: Vec<Range<u32>>,
 }
 
 /// What the last frame drew: triangles in each pass after culling.
@@ -318,6 +343,71 @@ impl Renderer {
         )
         .create_view(&wgpu::TextureViewDescriptor::default());
 
+        // Ground textures: generated from the scene's seed, every mip level uploaded (a
+        // 1×1 stand-in when they are off: the layout binds a texture either way).
+        let textures = &scene.description().textures;
+        let generated = textures
+            .enabled
+            .then(|| GroundTextures::generate(scene.description().seed));
+        let (side, levels) = match &generated {
+            Some(g) => (TEXTURE_SIZE as u32, g.level_count()),
+            None => (1, 1),
+        };
+        let ground_texture = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("ground textures"),
+            size: wgpu::Extent3d {
+                width: side,
+                height: side,
+                depth_or_array_layers: LAYERS as u32,
+            },
+            mip_level_count: levels,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: wgpu::TextureFormat::R8Unorm,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            view_formats: &[],
+        });
+        for level in 0..levels {
+            let s = side >> level;
+            let texels = match &generated {
+                Some(g) => g.texels(level as usize),
+                None => vec![128; LAYERS],
+            };
+            queue.write_texture(
+                wgpu::TexelCopyTextureInfo {
+                    texture: &ground_texture,
+                    mip_level: level,
+                    origin: wgpu::Origin3d::ZERO,
+                    aspect: wgpu::TextureAspect::All,
+                },
+                &texels,
+                wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(s),
+                    rows_per_image: Some(s),
+                },
+                wgpu::Extent3d {
+                    width: s,
+                    height: s,
+                    depth_or_array_layers: LAYERS as u32,
+                },
+            );
+        }
+        let ground_view = ground_texture.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
+            ..Default::default()
+        });
+        // Trilinear, tiling.
+        let ground_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("ground textures"),
+            address_mode_u: wgpu::AddressMode::Repeat,
+            address_mode_v: wgpu::AddressMode::Repeat,
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            mipmap_filter: wgpu::MipmapFilterMode::Linear,
+            ..Default::default()
+        });
+
         // Readback buffer: rows padded to wgpu's 256-byte copy alignment.
         let padded_row = rig.width.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
             * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
@@ -372,6 +462,22 @@ impl Renderer {
                     },
                     count: None,
                 },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 3,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                        view_dimension: wgpu::TextureViewDimension::D2Array,
+                        multisampled: false,
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 4,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                    count: None,
+                },
             ],
         });
         let shadow_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
@@ -413,6 +519,14 @@ impl Renderer {
                     binding: 2,
                     resource: wgpu::BindingResource::TextureView(&board_shadow_view),
                 },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: wgpu::BindingResource::TextureView(&ground_view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 4,
+                    resource: wgpu::BindingResource::Sampler(&ground_sampler),
+                },
             ],
         });
 
@@ -438,8 +552,8 @@ impl Renderer {
             immediate_size: 0,
         });
         // Depth only, from the sun: the main shadow map (`vs_shadow`) and the board's
-        // (`vs_board_shadow`).
-        let depth_only_pipeline = |label: &str, entry: &str| {
+        // (`vs_board_shadow`); canopies with a fragment stage that discards their holes.
+        let depth_only_pipeline = |label: &str, entry: &str, fragment: Option<&str>| {
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(label),
                 layout: Some(&shadow_pipeline_layout),
@@ -451,6 +565,8 @@ impl Renderer {
                 },
                 // Every closed mesh is wound counter-clockwise seen from outside
                 // (`Mesh::orient_faces`), open ones are two-sided: back faces never show.
+                // A canopy's clumps cast from their sunlit side alone (as the outer leaves
+                // of a real clump do most of its shading).
                 primitive: wgpu::PrimitiveState {
                     cull_mode: Some(wgpu::Face::Back),
                     ..Default::default()
@@ -468,57 +584,82 @@ impl Renderer {
                     },
                 }),
                 multisample: wgpu::MultisampleState::default(),
-                fragment: None,
+                fragment: fragment.map(|entry| wgpu::FragmentState {
+                    module: &shader,
+                    entry_point: Some(entry),
+                    compilation_options: Default::default(),
+                    targets: &[],
+                }),
                 multiview_mask: None,
                 cache: None,
             })
         };
-        let shadow_pipeline = depth_only_pipeline("shadow", "vs_shadow");
-        let board_shadow_pipeline = depth_only_pipeline("board shadow", "vs_board_shadow");
-        let main_pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("main"),
-            layout: Some(&main_pipeline_layout),
-            vertex: wgpu::VertexState {
-                module: &shader,
-                entry_point: Some("vs_main"),
-                compilation_options: Default::default(),
-                buffers: &[Some(vertex_layout)],
-            },
-            // Every closed mesh is wound counter-clockwise seen from outside
-            // (`Mesh::orient_faces`), open ones are two-sided: back faces never show.
-            primitive: wgpu::PrimitiveState {
-                cull_mode: Some(wgpu::Face::Back),
-                ..Default::default()
-            },
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: DEPTH_FORMAT,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Less),
-                stencil: wgpu::StencilState::default(),
-                bias: wgpu::DepthBiasState::default(),
-            }),
-            multisample: wgpu::MultisampleState {
-                count: samples,
-                ..Default::default()
-            },
-            fragment: Some(wgpu::FragmentState {
-                module: &shader,
-                // Soft shadows on the target: the board's fine map and the sun's disc.
-                entry_point: Some(if scene.description().sun.soft_shadows {
-                    "fs_main_soft"
-                } else {
-                    "fs_main"
+        let shadow_pipeline = depth_only_pipeline("shadow", "vs_shadow", None);
+        let board_shadow_pipeline = depth_only_pipeline("board shadow", "vs_board_shadow", None);
+        let foliage_shadow_pipeline = depth_only_pipeline(
+            "foliage shadow",
+            "vs_foliage_shadow",
+            Some("fs_foliage_shadow"),
+        );
+        let foliage_board_shadow_pipeline = depth_only_pipeline(
+            "foliage board shadow",
+            "vs_foliage_board_shadow",
+            Some("fs_foliage_shadow"),
+        );
+        // Soft shadows on the target: the board's fine map and the sun's disc.
+        let soft = scene.description().sun.soft_shadows;
+        let shaded_pipeline = |label: &str, vertex: &str, fragment: &str, cull| {
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(label),
+                layout: Some(&main_pipeline_layout),
+                vertex: wgpu::VertexState {
+                    module: &shader,
+                    entry_point: Some(vertex),
+                    compilation_options: Default::default(),
+                    buffers: &[Some(vertex_layout.clone())],
+                },
+                // Every closed mesh is wound counter-clockwise seen from outside
+                // (`Mesh::orient_faces`), open ones are two-sided: back faces never show
+                // (canopies' do, through their holes).
+                primitive: wgpu::PrimitiveState {
+                    cull_mode: cull,
+                    ..Default::default()
+                },
+                depth_stencil: Some(wgpu::DepthStencilState {
+                    format: DEPTH_FORMAT,
+                    depth_write_enabled: Some(true),
+                    depth_compare: Some(wgpu::CompareFunction::Less),
+                    stencil: wgpu::StencilState::default(),
+                    bias: wgpu::DepthBiasState::default(),
                 }),
-                compilation_options: Default::default(),
-                targets: &[Some(wgpu::ColorTargetState {
-                    format: COLOR_FORMAT,
-                    blend: None,
-                    write_mask: wgpu::ColorWrites::ALL,
-                })],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
+                multisample: wgpu::MultisampleState {
+                    count: samples,
+                    ..Default::default()
+                },
+                fragment: Some(wgpu::FragmentState {
+                    module: &shader,
+                    entry_point: Some(&if soft {
+                        format!("{fragment}_soft")
+                    } else {
+                        fragment.to_string()
+                    }),
+                    compilation_options: Default::default(),
+                    targets: &[Some(wgpu::ColorTargetState {
+                        format: COLOR_FORMAT,
+                        blend: None,
+                        write_mask: wgpu::ColorWrites::ALL,
+                    })],
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        };
+        let back = Some(wgpu::Face::Back);
+        let main_pipeline = shaded_pipeline("main", "vs_main", "fs_main", back);
+        let ground_pipeline = textures
+            .enabled
+            .then(|| shaded_pipeline("ground", "vs_ground", "fs_ground", back));
+        let foliage_pipeline = shaded_pipeline("foliage", "vs_foliage", "fs_foliage", None);
 
         let hood_row = hood_row(&rig, &scene.description().chase, 0.0);
         Ok(Renderer {
@@ -531,6 +672,10 @@ impl Renderer {
             shadow_pipeline,
             board_shadow_pipeline,
             main_pipeline,
+            ground_pipeline,
+            foliage_pipeline,
+            foliage_shadow_pipeline,
+            foliage_board_shadow_pipeline,
             globals_buffer,
             objects_buffer,
             frame_bind_group,
@@ -553,6 +698,8 @@ impl Renderer {
             main_draws: Vec::new(),
             shadow_draws: Vec::new(),
             board_shadow_draws: Vec::new(),
+            foliage_shadow_draws: Vec::new(),
+            foliage_board_shadow_draws: Vec::new(),
         })
     }
 
@@ -702,9 +849,11 @@ impl Renderer {
                     casts_shadow: object.casts_shadow,
                     class,
                     distance_m: (c.coords - eye).norm(),
+                    shading: Shading::Plain,
                 });
             }
         }
+        let textured = self.ground_pipeline.is_some();
         for chunk in self.scene.chunks() {
             items.push(DrawItem {
                 indices: chunk.indices.clone(),
@@ -713,6 +862,11 @@ impl Renderer {
                 casts_shadow: chunk.casts_shadow,
                 class: 3 + chunk.layer as u8,
                 distance_m: (Vector3::from(chunk.centre) - eye).norm(),
+                shading: match chunk.layer {
+                    Layer::Foliage => Shading::Foliage,
+                    Layer::Surface | Layer::Ground if textured => Shading::Ground,
+                    _ => Shading::Plain,
+                },
             });
         }
 
@@ -728,14 +882,21 @@ impl Renderer {
         });
         let mut hood_draws = 0;
         for item in items.iter().filter(|d| frustum.sees(d.centre, d.radius)) {
+            let draw = (item.indices.clone(), item.shading);
             if item.class == HOOD_CLASS {
-                main_draws.push(item.indices.clone());
+                main_draws.push(draw);
                 hood_draws = main_draws.len();
             } else if main_draws.len() == hood_draws {
                 // Never joined to the hood's draw: what follows is scissored.
-                main_draws.push(item.indices.clone());
+                main_draws.push(draw);
             } else {
-                push_merged(&mut main_draws, item.indices.clone());
+                // Joined to the last draw when they touch and share a pipeline.
+                match main_draws.last_mut() {
+                    Some((last, shading)) if last.end == draw.0.start && *shading == draw.1 => {
+                        last.end = draw.0.end
+                    }
+                    _ => main_draws.push(draw),
+                }
             }
         }
 
@@ -758,7 +919,10 @@ impl Renderer {
         } else {
             light.texels_seen(rig, &world_from_camera, scissor, size)
         };
-        caster_draws(&items, &light, Some((seen, size)), &mut shadow_draws);
+        let mut foliage_shadow_draws = std::mem::take(&mut self.foliage_shadow_draws);
+        let texels = Some((seen, size));
+        caster_draws(&items, &light, texels, false, &mut shadow_draws);
+        caster_draws(&items, &light, texels, true, &mut foliage_shadow_draws);
         // The board's shadow map: a fine one around the target board, with its casters.
         let board_light = board_centre.filter(|_| sun.soft_shadows).map(|c| {
             Light::around(
@@ -770,17 +934,21 @@ impl Renderer {
             )
         });
         let mut board_shadow_draws = std::mem::take(&mut self.board_shadow_draws);
+        let mut foliage_board_shadow_draws = std::mem::take(&mut self.foliage_board_shadow_draws);
         board_shadow_draws.clear();
+        foliage_board_shadow_draws.clear();
         if let Some(light) = &board_light {
-            caster_draws(&items, light, None, &mut board_shadow_draws);
+            caster_draws(&items, light, None, false, &mut board_shadow_draws);
+            caster_draws(&items, light, None, true, &mut foliage_board_shadow_draws);
         }
         self.items = items;
 
-        let triangles = |draws: &[Range<u32>]| draws.iter().map(|r| (r.end - r.start) / 3).sum();
+        let triangles =
+            |draws: &[Range<u32>]| -> u32 { draws.iter().map(|r| (r.end - r.start) / 3).sum() };
         self.stats = DrawStats {
-            main_triangles: triangles(&main_draws),
-            shadow_triangles: triangles(&shadow_draws),
-            draw_calls: (main_draws.len() + shadow_draws.len()) as u32,
+            main_triangles: main_draws.iter().map(|(r, _)| (r.end - r.start) / 3).sum(),
+            shadow_triangles: triangles(&shadow_draws) + triangles(&foliage_shadow_draws),
+            draw_calls: (main_draws.len() + shadow_draws.len() + foliage_shadow_draws.len()) as u32,
         };
 
         // Uniforms.
@@ -824,6 +992,16 @@ impl Renderer {
                 }
                 // No lead in the scene: no receiver uses the board's map.
                 None => [1.0, 0.0, 1.0, 2.0],
+            },
+            textures: [
+                (1.0 / TILE_M[0]) as f32,
+                (1.0 / TILE_M[1]) as f32,
+                (1.0 / TILE_M[2]) as f32,
+                0.0,
+            ],
+            strength: {
+                let c = description.textures.contrast;
+                [c as f32, c as f32, c as f32, (c * PAINT_DETAIL) as f32]
             },
         };
         self.queue
@@ -870,6 +1048,12 @@ impl Renderer {
                 for range in &shadow_draws {
                     pass.draw_indexed(range.clone(), 0, 0..1);
                 }
+                if !foliage_shadow_draws.is_empty() {
+                    pass.set_pipeline(&self.foliage_shadow_pipeline);
+                    for range in &foliage_shadow_draws {
+                        pass.draw_indexed(range.clone(), 0, 0..1);
+                    }
+                }
             }
         }
         // The board's pass only with soft shadows: without them nothing samples its map.
@@ -895,6 +1079,12 @@ impl Renderer {
             pass.set_index_buffer(self.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
             for range in &board_shadow_draws {
                 pass.draw_indexed(range.clone(), 0, 0..1);
+            }
+            if !foliage_board_shadow_draws.is_empty() {
+                pass.set_pipeline(&self.foliage_board_shadow_pipeline);
+                for range in &foliage_board_shadow_draws {
+                    pass.draw_indexed(range.clone(), 0, 0..1);
+                }
             }
         }
         {
@@ -931,7 +1121,6 @@ impl Renderer {
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
-            pass.set_pipeline(&self.main_pipeline);
             pass.set_bind_group(0, &self.frame_bind_group, &[]);
             pass.set_bind_group(1, &self.shadow_bind_group, &[]);
             pass.set_vertex_buffer(0, self.vertex_buffer.slice(..));
@@ -948,9 +1137,21 @@ impl Renderer {
             if scissor != whole && !scissor.is_empty() {
                 set_scissor(&mut pass, scissor);
             }
-            for (k, range) in main_draws.iter().enumerate() {
+            let mut current = None;
+            for (k, (range, shading)) in main_draws.iter().enumerate() {
                 if scissor.is_empty() {
                     break;
+                }
+                if current != Some(*shading) {
+                    pass.set_pipeline(match shading {
+                        Shading::Plain => &self.main_pipeline,
+                        Shading::Foliage => &self.foliage_pipeline,
+                        Shading::Ground => self
+                            .ground_pipeline
+                            .as_ref()
+                            .expect("ground draws only with the ground's pipeline"),
+                    });
+                    current = Some(*shading);
                 }
                 if k == hood_draws && hood_rows < rig.height {
                     // The rows the hood covers from edge to edge hold nothing else.
@@ -969,6 +1170,8 @@ impl Renderer {
         self.main_draws = main_draws;
         self.shadow_draws = shadow_draws;
         self.board_shadow_draws = board_shadow_draws;
+        self.foliage_shadow_draws = foliage_shadow_draws;
+        self.foliage_board_shadow_draws = foliage_board_shadow_draws;
         encoder.copy_texture_to_buffer(
             wgpu::TexelCopyTextureInfo {
                 texture: &self.color_texture,
@@ -1202,19 +1405,21 @@ fn to_f32(m: &Matrix4<f64>) -> [[f32; 4]; 4] {
     out
 }
 
-/// Appends an index range to a draw list, joining it to the last one when they touch.
 /// Into `draws`: the index ranges of the items that cast shadows within `light`'s box,
-/// sorted and joined into as few draws as possible (depth only, so order does not matter).
+/// canopies (`foliage`) or the rest, sorted and joined into as few draws as possible
+/// (depth only, so order does not matter).
 fn caster_draws(
     items: &[DrawItem],
     light: &Light,
     texels: Option<(PixelRect, u32)>,
+    foliage: bool,
     draws: &mut Vec<Range<u32>>,
 ) {
     let mut ranges: Vec<Range<u32>> = items
         .iter()
         .filter(|d| {
             d.casts_shadow
+                && (d.shading == Shading::Foliage) == foliage
                 && light.holds(d.centre, d.radius)
                 && texels.is_none_or(|(t, size)| light.reaches(t, size, d.centre, d.radius))
         })
@@ -1227,6 +1432,7 @@ fn caster_draws(
     }
 }
 
+/// Appends an index range to a draw list, joining it to the last one when they touch.
 fn push_merged(draws: &mut Vec<Range<u32>>, range: Range<u32>) {
     match draws.last_mut() {
         Some(last) if last.end == range.start => last.end = range.end,
@@ -1246,6 +1452,8 @@ struct DrawItem {
     class: u8,
     /// From the camera to the bounding sphere's centre, metres.
     distance_m: f64,
+    /// Which pipeline draws it.
+    shading: Shading,
 }
 
 /// The camera's view frustum as planes through the optical centre plus near and far, in the

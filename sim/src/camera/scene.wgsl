@@ -1,5 +1,7 @@
 // The road scene: one shadow pass (depth from the sun) and one main pass (grey Lambert
 // shading with soft shadows), sharing the vertex layout and the per-object transforms.
+// Ground surfaces may take a procedural texture (`vs_ground`, `fs_ground`), and tree
+// canopies are perforated at leaf scale in both passes (`leafy`), so their shadows dapple.
 
 struct Globals {
     // Camera-relative world (world minus `origin`) to clip space of the chase camera.
@@ -25,6 +27,12 @@ struct Globals {
     // (2 tan of the sun's angular radius); z: its texel (m); w: the least depth (clip) of
     // receivers that use it.
     board: vec4<f32>,
+    // Ground textures: x, y, z: 1 / tile side (1/m) of the asphalt, grass and gravel
+    // layers of `ground_textures`.
+    textures: vec4<f32>,
+    // Strength of the texture's detail for materials 1–4 (asphalt, grass, gravel, paint):
+    // the factor's departure from 1 is scaled by it.
+    strength: vec4<f32>,
 };
 
 struct Objects {
@@ -38,11 +46,15 @@ struct Objects {
 @group(1) @binding(0) var shadow_map: texture_depth_2d;
 @group(1) @binding(1) var shadow_sampler: sampler_comparison;
 @group(1) @binding(2) var board_map: texture_depth_2d;
+// Detail factors (half of them: 0–1 holds 0–2, mean 1), one layer per texture, mipmapped.
+@group(1) @binding(3) var ground_textures: texture_2d_array<f32>;
+@group(1) @binding(4) var ground_sampler: sampler;
 
 struct VertexIn {
     @location(0) position: vec3<f32>,
     @location(1) normal: vec3<f32>,
     @location(2) albedo: f32,
+    // Bits 0–7: the object slot; the bits above, the ground material (0: none).
     @location(3) object: u32,
 };
 
@@ -62,21 +74,74 @@ struct VertexOut {
     @location(3) board: vec3<f32>,
 };
 
+// A ground surface's vertex: `VertexOut`'s fields, and its texture.
+struct GroundOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) @interpolate(flat) light: vec3<f32>,
+    @location(1) shadow: vec3<f32>,
+    @location(2) ground: vec2<f32>,
+    @location(3) board: vec3<f32>,
+    // x: the texture's layer; y: its strength; z: 1 / its tile's side (1/m).
+    @location(4) @interpolate(flat) texture: vec3<f32>,
+};
+
+// A canopy's vertex: `VertexOut`'s fields, and the world height (with `ground`, the
+// world position the leaf pattern is hashed from).
+struct FoliageOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) @interpolate(flat) light: vec3<f32>,
+    @location(1) shadow: vec3<f32>,
+    @location(2) ground: vec2<f32>,
+    @location(3) board: vec3<f32>,
+    @location(4) height: f32,
+};
+
+// A canopy's vertex in the shadow passes: its world position, for the leaf pattern.
+struct FoliageShadowOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) world: vec3<f32>,
+};
+
 @vertex
 fn vs_shadow(v: VertexIn) -> @builtin(position) vec4<f32> {
-    let world = objects.world_from_object[v.object] * vec4<f32>(v.position, 1.0);
+    let world = objects.world_from_object[v.object & 0xffu] * vec4<f32>(v.position, 1.0);
     return globals.light_view_proj * world;
 }
 
 @vertex
 fn vs_board_shadow(v: VertexIn) -> @builtin(position) vec4<f32> {
-    let world = objects.world_from_object[v.object] * vec4<f32>(v.position, 1.0);
+    let world = objects.world_from_object[v.object & 0xffu] * vec4<f32>(v.position, 1.0);
     return globals.board_view_proj * world;
+}
+
+// A canopy's vertex seen from the sun through `light_from_world` (a shadow map's
+// camera-relative world to clip space).
+fn foliage_shadow_of(v: VertexIn, light_from_world: mat4x4<f32>) -> FoliageShadowOut {
+    let world = objects.world_from_object[v.object & 0xffu] * vec4<f32>(v.position, 1.0);
+    var out: FoliageShadowOut;
+    out.clip = light_from_world * world;
+    out.world = world.xyz + globals.origin.xyz;
+    return out;
+}
+
+@vertex
+fn vs_foliage_shadow(v: VertexIn) -> FoliageShadowOut {
+    return foliage_shadow_of(v, globals.light_view_proj);
+}
+
+@vertex
+fn vs_foliage_board_shadow(v: VertexIn) -> FoliageShadowOut {
+    return foliage_shadow_of(v, globals.board_view_proj);
 }
 
 @vertex
 fn vs_main(v: VertexIn) -> VertexOut {
-    let m = objects.world_from_object[v.object];
+    return vs_main_of(v);
+}
+
+// What `vs_main` computes, for the vertex stages that add to it.
+fn vs_main_of(v: VertexIn) -> VertexOut {
+    let m = objects.world_from_object[v.object & 0xffu];
     let world = m * vec4<f32>(v.position, 1.0);
     var out: VertexOut;
     out.clip = globals.view_proj * world;
@@ -90,6 +155,43 @@ fn vs_main(v: VertexIn) -> VertexOut {
     out.ground = world.xz + globals.origin.xz;
     let b = globals.board_view_proj * vec4<f32>(world.xyz + normal * (1.5 * globals.board.z), 1.0);
     out.board = vec3<f32>(b.x * 0.5 + 0.5, 0.5 - b.y * 0.5, b.z);
+    return out;
+}
+
+@vertex
+fn vs_ground(v: VertexIn) -> GroundOut {
+    let o = vs_main_of(v);
+    var out: GroundOut;
+    out.clip = o.clip;
+    out.light = o.light;
+    out.shadow = o.shadow;
+    out.ground = o.ground;
+    out.board = o.board;
+    // Material → layer and strength: asphalt, grass, gravel, and paint (asphalt, faint).
+    var layer = 0u;
+    var strength = 0.0;
+    switch (v.object >> 8u) {
+        case 1u: { layer = 0u; strength = globals.strength.x; }
+        case 2u: { layer = 1u; strength = globals.strength.y; }
+        case 3u: { layer = 2u; strength = globals.strength.z; }
+        case 4u: { layer = 0u; strength = globals.strength.w; }
+        default: {}
+    }
+    out.texture = vec3<f32>(f32(layer), strength, globals.textures[layer]);
+    return out;
+}
+
+@vertex
+fn vs_foliage(v: VertexIn) -> FoliageOut {
+    let o = vs_main_of(v);
+    var out: FoliageOut;
+    out.clip = o.clip;
+    out.light = o.light;
+    out.shadow = o.shadow;
+    out.ground = o.ground;
+    out.board = o.board;
+    let world = objects.world_from_object[v.object & 0xffu] * vec4<f32>(v.position, 1.0);
+    out.height = world.y + globals.origin.y;
     return out;
 }
 
@@ -205,4 +307,131 @@ fn fs_main_soft(in: VertexOut) -> @location(0) vec4<f32> {
     }
     let grey = albedo * light;
     return vec4<f32>(grey, grey, grey, 1.0);
+}
+
+// The detail factor of a ground surface at world (x, z): one trilinear sample of its
+// texture's layer (`texture`: layer, strength, 1 / tile side), its departure from 1
+// scaled by the material's strength.
+fn detail(ground: vec2<f32>, texture: vec3<f32>) -> f32 {
+    let t = textureSample(ground_textures, ground_sampler, ground * texture.z, i32(texture.x)).r;
+    return 1.0 + texture.y * (2.0 * t - 1.0);
+}
+
+// Light reaching a surface of face light `light` (see `VertexOut`) at shadow-map point
+// `shadow`: ambient, and sunlight as the main map lets it through.
+fn lit(light: vec3<f32>, shadow: vec3<f32>) -> f32 {
+    var l = light.y;
+    if (light.z > 0.0) {
+        l += light.z * sunlight(shadow);
+    }
+    return l;
+}
+
+// As `lit`, with soft shadows on the target (see `fs_main_soft`).
+fn lit_soft(light: vec3<f32>, shadow: vec3<f32>, b: vec3<f32>) -> f32 {
+    var l = light.y;
+    if (light.z > 0.0) {
+        var sun = 0.0;
+        if (b.x >= 0.0 && b.x <= 1.0 && b.y >= 0.0 && b.y <= 1.0 && b.z >= globals.board.w && b.z <= 1.0) {
+            sun = sunlight_board(b);
+        } else {
+            sun = sunlight(shadow);
+        }
+        l += light.z * sun;
+    }
+    return l;
+}
+
+// A ground surface's albedo: the face's (the grass's mottle where it is negative) times
+// its texture's detail.
+fn ground_albedo(in: GroundOut) -> f32 {
+    let d = detail(in.ground, in.texture);
+    var albedo = in.light.x;
+    if (albedo < 0.0) {
+        albedo = grass(in.ground);
+    }
+    return albedo * d;
+}
+
+// Textured ground: `fs_main` with the albedo modulated by the surface's texture.
+@fragment
+fn fs_ground(in: GroundOut) -> @location(0) vec4<f32> {
+    let grey = ground_albedo(in) * lit(in.light, in.shadow);
+    return vec4<f32>(grey, grey, grey, 1.0);
+}
+
+// `fs_ground` with soft shadows on the target.
+@fragment
+fn fs_ground_soft(in: GroundOut) -> @location(0) vec4<f32> {
+    let grey = ground_albedo(in) * lit_soft(in.light, in.shadow, in.board);
+    return vec4<f32>(grey, grey, grey, 1.0);
+}
+
+// Leaf pattern: two trilinear value noises over the canopy's surface, on lattices of
+// pitch `CLUSTER_PITCH_M` and `LEAF_PITCH_M`; where the first is below `CLUSTER_HOLE` a
+// gap between leaf clusters (15–40 cm, wide enough to show in the sun's 11–20 cm shadow
+// texels), where the second is below `LEAF_HOLE` a gap between leaves (5–15 cm).
+const CLUSTER_PITCH_M: f32 = 0.3;
+const CLUSTER_HOLE: f32 = 0.4;
+const LEAF_PITCH_M: f32 = 0.08;
+const LEAF_HOLE: f32 = 0.35;
+
+// MurmurHash3's finaliser of a 3-D lattice corner.
+fn hash3(i: vec3<i32>) -> f32 {
+    var x = (bitcast<u32>(i.x) * 0x8da6b343u) ^ (bitcast<u32>(i.y) * 0xd8163841u) ^ (bitcast<u32>(i.z) * 0xcb1ab31fu) ^ u32(globals.ground.w);
+    x = x ^ (x >> 16u);
+    x = x * 0x85ebca6bu;
+    x = x ^ (x >> 13u);
+    x = x * 0xc2b2ae35u;
+    x = x ^ (x >> 16u);
+    return f32(x >> 8u) / 16777216.0;
+}
+
+// Value noise at `c` (lattice units): the hashed corners, trilinearly interpolated.
+fn noise3(c: vec3<f32>) -> f32 {
+    let i = vec3<i32>(floor(c));
+    let f = c - floor(c);
+    let x00 = mix(hash3(i), hash3(i + vec3<i32>(1, 0, 0)), f.x);
+    let x10 = mix(hash3(i + vec3<i32>(0, 1, 0)), hash3(i + vec3<i32>(1, 1, 0)), f.x);
+    let x01 = mix(hash3(i + vec3<i32>(0, 0, 1)), hash3(i + vec3<i32>(1, 0, 1)), f.x);
+    let x11 = mix(hash3(i + vec3<i32>(0, 1, 1)), hash3(i + vec3<i32>(1, 1, 1)), f.x);
+    return mix(mix(x00, x10, f.y), mix(x01, x11, f.y), f.z);
+}
+
+// Whether a canopy's surface at world point `p` holds leaves (else it is a hole). The
+// same in the main pass and the shadow passes, so the sun shines through the holes the
+// camera sees.
+fn leafy(p: vec3<f32>) -> bool {
+    return noise3(p / CLUSTER_PITCH_M) >= CLUSTER_HOLE && noise3(p / LEAF_PITCH_M + 17.0) >= LEAF_HOLE;
+}
+
+// A canopy's albedo from the camera, its holes discarded.
+fn leaf_albedo(in: FoliageOut) -> f32 {
+    if (!leafy(vec3<f32>(in.ground.x, in.height, in.ground.y))) {
+        discard;
+    }
+    return in.light.x;
+}
+
+// A canopy from the camera: holes discarded, leaves shaded as `fs_main`.
+@fragment
+fn fs_foliage(in: FoliageOut) -> @location(0) vec4<f32> {
+    let grey = leaf_albedo(in) * lit(in.light, in.shadow);
+    return vec4<f32>(grey, grey, grey, 1.0);
+}
+
+// `fs_foliage` with soft shadows on the target.
+@fragment
+fn fs_foliage_soft(in: FoliageOut) -> @location(0) vec4<f32> {
+    let grey = leaf_albedo(in) * lit_soft(in.light, in.shadow, in.board);
+    return vec4<f32>(grey, grey, grey, 1.0);
+}
+
+// A canopy from the sun: the holes let the light through. The only fragment stage of
+// the shadow passes.
+@fragment
+fn fs_foliage_shadow(in: FoliageShadowOut) {
+    if (!leafy(in.world)) {
+        discard;
+    }
 }

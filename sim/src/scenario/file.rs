@@ -221,6 +221,33 @@ pub struct EnvironmentFile {
     /// Overpasses across the route (`[[environment.overpasses]]`).
     #[serde(default)]
     pub overpasses: Vec<OverpassFile>,
+    /// The road's surface.
+    #[serde(default)]
+    pub road: RoadFile,
+    /// Procedural textures on the ground (`[environment.textures]`).
+    #[serde(default)]
+    pub textures: TexturesFile,
+}
+
+/// `[environment.road]`.
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RoadFile {
+    /// What the road is paved with: `"asphalt"` (the default) or `"gravel"`. It chooses the
+    /// road's texture; the road's grey is the same.
+    pub surface: Option<String>,
+}
+
+/// `[environment.textures]`: seeded, mipmapped detail on the road and the grass (asphalt
+/// grain, patches and sealed cracks; grass blades; gravel stones), multiplying each
+/// surface's albedo by a factor of mean 1.
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct TexturesFile {
+    /// On or off (default on, [`crate::scene::Textures::default`]).
+    pub enabled: Option<bool>,
+    /// Scale of the texture's departures from its mean: 0–2 (default 1).
+    pub contrast: Option<f64>,
 }
 
 /// `[[environment.distractors]]`: a pole or a wire that moves with the lead beside one of

@@ -139,6 +139,10 @@ pub struct Scenario {
     pub distractors: Vec<crate::scene::Distractor>,
     /// Sensor.
     pub sensor: Sensor,
+    /// What the road is paved with.
+    pub road_surface: crate::scene::RoadSurface,
+    /// Textures on the ground.
+    pub textures: crate::scene::Textures,
     /// Pass/fail criteria.
     pub expect: Expect,
     /// Chase: where its rear axle starts, metres along the route (from `lead_start_m`,

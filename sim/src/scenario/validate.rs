@@ -7,8 +7,8 @@
 
 use super::{Scenario, ScenarioError, ScenarioFile};
 use crate::scene::{
-    AutoGain, Densities, Distractor, DistractorKind, Placement, RouteSegment, RouteSpec, Sensor,
-    Sun,
+    AutoGain, Densities, Distractor, DistractorKind, Placement, RoadSurface, RouteSegment,
+    RouteSpec, Sensor, Sun, Textures,
 };
 use tracker::{Camera, TargetModel, TrackerConfig, TrackerMode};
 use vehicle::{DelayLineConfig, ProfileBasis, SpeedProfile, WorldConfig};
@@ -863,6 +863,32 @@ pub(super) fn validate(
         sensor.auto_gain = Some(auto_gain);
     }
 
+    let road_surface = match e.road.surface.as_deref() {
+        None | Some("asphalt") => RoadSurface::Asphalt,
+        Some("gravel") => RoadSurface::Gravel,
+        Some(other) => {
+            return Err(invalid(
+                "environment.road.surface",
+                format!("= {other:?}: must be \"asphalt\" or \"gravel\""),
+            ))
+        }
+    };
+    let mut textures = Textures::default();
+    if let Some(v) = e.textures.enabled {
+        textures.enabled = v;
+    }
+    if let Some(v) = e.textures.contrast {
+        textures.contrast = v;
+    }
+    at(
+        "environment.textures.contrast",
+        check(
+            (0.0..=2.0).contains(&textures.contrast),
+            "must be 0–2",
+            textures.contrast,
+        ),
+    )?;
+
     // Expectations.
     let x = &raw.expect;
     if let Some([lo, hi]) = x.gap_band_m {
@@ -1035,6 +1061,8 @@ pub(super) fn validate(
         placements,
         distractors,
         sensor,
+        road_surface,
+        textures,
         expect: raw.expect,
     };
     // The last of the loop's set-up checks: the scene, and the target in view at t = 0.

@@ -2,7 +2,7 @@
 //! ground-plane cells (so the renderer can cull what it cannot see), and the moving objects
 //! (chase hood, lead vehicle with its board, oncoming traffic) in their own frames.
 
-use super::description::{DistractorKind, Placement, SceneDescription};
+use super::description::{DistractorKind, Placement, RoadSurface, SceneDescription};
 use super::mesh::{Mesh, Vertex};
 use super::rng::stream;
 use super::route::Route;
@@ -43,6 +43,33 @@ impl ObjectSlot {
     pub const FIRST_ONCOMING: u32 = 3;
     /// How many slots the renderer provides (its uniform array's length).
     pub const COUNT: u32 = 16;
+    /// The bits of [`Vertex::object`] that hold the slot; the bits above hold the
+    /// surface's [`Material`].
+    pub const MASK: u32 = 0xff;
+}
+
+/// Ground materials: which procedural texture the renderer lays on a ground surface (see
+/// `sim::camera::GroundTextures`). A vertex carries its material in the bits of
+/// [`Vertex::object`] above [`ObjectSlot::MASK`], or-ed with its slot; only the road's
+/// surfaces and the grass carry one.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Material;
+
+impl Material {
+    /// No texture: everything that stands up, and the moving objects.
+    pub const NONE: u32 = 0;
+    /// Asphalt: the paved road, crossing roads, cracks, patches and pot holes.
+    pub const ASPHALT: u32 = 1 << 8;
+    /// Grass: the ground and the verges.
+    pub const GRASS: u32 = 2 << 8;
+    /// Gravel: an unpaved road's surface.
+    pub const GRAVEL: u32 = 3 << 8;
+    /// Lane paint: the asphalt's texture, faint.
+    pub const PAINT: u32 = 4 << 8;
+    /// The material bits of a vertex's `object`.
+    pub fn of(object: u32) -> u32 {
+        object & !ObjectSlot::MASK
+    }
 }
 
 /// Side of the square ground cells static geometry is binned into, metres. 50 m keeps the
@@ -139,8 +166,11 @@ pub struct Chunk {
 /// ground last, so that depth testing rejects hidden ground before it is shaded.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum Layer {
-    /// Trees, poles, houses, buildings, parked vehicles: they cast shadows.
+    /// Tree trunks, poles, houses, buildings, parked vehicles: they cast shadows.
     Clutter,
+    /// Tree canopies: perforated (the renderer discards leaf-sized holes in them, from the
+    /// camera and from the sun alike), so their shadows are dappled.
+    Foliage,
     /// Telephone wires: thin, and too thin to cast a shadow worth a texel.
     Wires,
     /// The road, crossing roads, lane paint, cracks, patches and pot holes (just above the
@@ -278,12 +308,19 @@ impl Scene {
                 [origin[0], 0.0, origin[1] + size[1]],
             ],
             GRASS_ALBEDO,
-            ObjectSlot::WORLD,
+            ObjectSlot::WORLD | Material::GRASS,
         );
 
         // Road strip, edge lines and the dashed centre line.
         const ASPHALT: f64 = 0.30;
         const PAINT: f64 = 0.75;
+        let road_object = ObjectSlot::WORLD
+            | match description.road_surface {
+                RoadSurface::Asphalt => Material::ASPHALT,
+                RoadSurface::Gravel => Material::GRAVEL,
+            };
+        let paint_object = ObjectSlot::WORLD | Material::PAINT;
+        let grass_object = ObjectSlot::WORLD | Material::GRASS;
         let mut s = -ROAD_RUNOUT_M;
         while s < length + ROAD_RUNOUT_M {
             let straight =
@@ -302,13 +339,15 @@ impl Scene {
                     (-road_half - VERGE_M, -road_half),
                     (road_half, road_half + VERGE_M),
                 ] {
-                    strip(&mut verges, &road, s, s1, l0, l1, VERGE_Y_M, GRASS_ALBEDO);
+                    let (y, albedo) = (VERGE_Y_M, GRASS_ALBEDO);
+                    strip(&mut verges, &road, [s, s1, l0, l1], y, albedo, grass_object);
                 }
                 bins.at(mid[0], mid[2], Layer::Ground)
                     .append(&t.drape(&verges, VERGE_EDGE_M));
             }
             let mesh = bins.at(mid[0], mid[2], Layer::Surface);
-            strip(mesh, &road, s, s1, -road_half, road_half, ROAD_Y_M, ASPHALT);
+            let lateral = [s, s1, -road_half, road_half];
+            strip(mesh, &road, lateral, ROAD_Y_M, ASPHALT, road_object);
             for side in [-1.0, 1.0] {
                 let l = side * (lane + 0.1);
                 let mut a = s;
@@ -319,15 +358,14 @@ impl Scene {
                 while a < s1 {
                     let b = (a + piece).min(s1);
                     if !route.near_intersection(0.5 * (a + b), road_half + 1.0) {
+                        let w = 0.5 * PAINT_WIDTH_M;
                         strip(
                             mesh,
                             &road,
-                            a,
-                            b,
-                            l - 0.5 * PAINT_WIDTH_M,
-                            l + 0.5 * PAINT_WIDTH_M,
+                            [a, b, l - w, l + w],
                             MARK_Y_M,
                             PAINT,
+                            paint_object,
                         );
                     }
                     a = b;
@@ -340,15 +378,14 @@ impl Scene {
             if !route.near_intersection(s + 0.5 * DASH_M, road_half + 1.0) {
                 let mid = road.world(s + 0.5 * DASH_M, 0.0, 0.0);
                 let mesh = bins.at(mid[0], mid[2], Layer::Surface);
+                let w = 0.5 * PAINT_WIDTH_M;
                 strip(
                     mesh,
                     &road,
-                    s,
-                    s + DASH_M,
-                    -0.5 * PAINT_WIDTH_M,
-                    0.5 * PAINT_WIDTH_M,
+                    [s, s + DASH_M, -w, w],
                     MARK_Y_M,
                     PAINT,
+                    paint_object,
                 );
             }
             s += DASH_PERIOD_M;
@@ -378,7 +415,7 @@ impl Scene {
                         p(t, road_half),
                     ],
                     ASPHALT * 0.95,
-                    ObjectSlot::WORLD,
+                    road_object,
                 );
                 t = t1;
             }
@@ -411,7 +448,7 @@ impl Scene {
                         road.world(s, l + w, MARK_Y_M),
                     ],
                     0.10,
-                    ObjectSlot::WORLD,
+                    road_object,
                 );
                 (s, l) = (s1, l1);
             }
@@ -431,7 +468,7 @@ impl Scene {
                     road.world(s - hs, l + hl, MARK_Y_M),
                 ],
                 albedo,
-                ObjectSlot::WORLD,
+                road_object,
             );
             road_marks.push((road.world(s, l, 0.0), mesh));
         }
@@ -447,19 +484,29 @@ impl Scene {
                 })
                 .collect();
             let mut mesh = Mesh::default();
-            mesh.polygon(&corners, 0.06, ObjectSlot::WORLD);
+            mesh.polygon(&corners, 0.06, road_object);
             road_marks.push((road.world(s, l, 0.0), mesh));
         }
         for (p, mesh) in &road_marks {
             bins.at(p[0], p[2], Layer::Surface).append(mesh);
         }
 
-        // Trees: trunk and a canopy of clumps with gaps between them, so their shadows dapple.
+        // Trees: trunk and a canopy of clumps with gaps between them, each clump's surface
+        // perforated by the renderer (`Layer::Foliage`), so their shadows dapple.
         let mut trees = stream(seed, "trees");
         let tree_at = |bins: &mut Bins, rng: &mut ChaCha8Rng, x: f64, z: f64| {
             let trunk = rng.random_range(2.5..4.0);
-            let mesh = bins.at(x, z, Layer::Clutter);
-            mesh.upright_box(x, z, 0.0, 0.15, 0.15, 0.0, trunk + 1.0, 0.22);
+            bins.at(x, z, Layer::Clutter).upright_box(
+                x,
+                z,
+                0.0,
+                0.15,
+                0.15,
+                0.0,
+                trunk + 1.0,
+                0.22,
+            );
+            let mesh = bins.at(x, z, Layer::Foliage);
             for _ in 0..rng.random_range(5..9) {
                 let c = [
                     x + rng.random_range(-1.6..1.6),
@@ -665,7 +712,7 @@ impl Scene {
                 indices: start..mesh.indices.len() as u32,
                 centre,
                 radius,
-                casts_shadow: layer == Layer::Clutter,
+                casts_shadow: matches!(layer, Layer::Clutter | Layer::Foliage),
                 layer,
             });
         }
@@ -996,17 +1043,16 @@ fn car(mesh: &mut Mesh, slot: u32, albedo: f64) {
     }
 }
 
-/// A strip of road-parallel surface from station `s0` to `s1`, lateral `l0` to `l1`.
-#[allow(clippy::too_many_arguments)]
+/// A strip of road-parallel surface from station `s0` to `s1`, lateral `l0` to `l1`
+/// (`[s0, s1, l0, l1]`), static, its vertices' `object` being `object` (the world's slot
+/// and a [`Material`]).
 fn strip(
     mesh: &mut Mesh,
     road: &RoadFrame<'_>,
-    s0: f64,
-    s1: f64,
-    l0: f64,
-    l1: f64,
+    [s0, s1, l0, l1]: [f64; 4],
     y: f64,
     albedo: f64,
+    object: u32,
 ) {
     let corners = [
         road.world(s0, l0, y),
@@ -1019,7 +1065,7 @@ fn strip(
         .filter(|t| corners.iter().any(|c| t.covers(c[0], c[2])))
         .map(|t| t.cell_m());
     let Some(pitch) = pitch else {
-        mesh.polygon(&corners, albedo, ObjectSlot::WORLD);
+        mesh.polygon(&corners, albedo, object);
         return;
     };
     // Over bumps, a grid of pieces no longer than a cell, sharing vertices, for
@@ -1040,7 +1086,7 @@ fn strip(
                 position: p.map(|x| x as f32),
                 normal: [0.0, 1.0, 0.0],
                 albedo: albedo as f32,
-                object: ObjectSlot::WORLD,
+                object,
             });
         }
     }
@@ -1167,6 +1213,61 @@ fn building(mesh: &mut Mesh, at: [f64; 2], heading: f64, half: [f64; 2], height:
                         ObjectSlot::WORLD,
                     );
                 }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{builtin_description, builtin_target};
+
+    /// The materials each surface carries: the road's as its surface says, the paint's, the
+    /// grass's; canopies in their own layer, casting shadows; the slots unchanged.
+    #[test]
+    fn surfaces_carry_their_material_and_canopies_their_layer() {
+        for (surface, road) in [
+            (RoadSurface::Asphalt, Material::ASPHALT),
+            (RoadSurface::Gravel, Material::GRAVEL),
+        ] {
+            let mut d = builtin_description(builtin_target(), 2);
+            d.road_surface = surface;
+            let scene = Scene::build(d).expect("scene");
+            let materials = |layer: Layer| -> std::collections::BTreeSet<u32> {
+                scene
+                    .chunks()
+                    .iter()
+                    .filter(|c| c.layer == layer)
+                    .flat_map(|c| {
+                        &scene.mesh().indices[c.indices.start as usize..c.indices.end as usize]
+                    })
+                    .map(|&i| scene.mesh().vertices[i as usize].object)
+                    .collect()
+            };
+            assert_eq!(
+                materials(Layer::Surface),
+                [road, Material::PAINT].into_iter().collect()
+            );
+            assert_eq!(
+                materials(Layer::Ground),
+                [Material::GRASS].into_iter().collect()
+            );
+            assert_eq!(
+                materials(Layer::Clutter),
+                [Material::NONE].into_iter().collect()
+            );
+            let foliage: Vec<&Chunk> = scene
+                .chunks()
+                .iter()
+                .filter(|c| c.layer == Layer::Foliage)
+                .collect();
+            assert!(!foliage.is_empty() && foliage.iter().all(|c| c.casts_shadow));
+            for object in scene.objects() {
+                let range = object.indices.start as usize..object.indices.end as usize;
+                assert!(scene.mesh().indices[range]
+                    .iter()
+                    .all(|&i| scene.mesh().vertices[i as usize].object == object.slot));
             }
         }
     }

@@ -3,7 +3,8 @@
 //! on the route at a fixed gap (physics will supply the poses later).
 
 use super::description::{
-    CameraMount, ChaseVehicle, Densities, LeadVehicle, SceneDescription, Sensor, Sun,
+    CameraMount, ChaseVehicle, Densities, LeadVehicle, RoadSurface, SceneDescription, Sensor, Sun,
+    Textures,
 };
 use super::route::{Route, RouteSegment, RouteSpec};
 use nalgebra::Isometry3;
@@ -46,6 +47,8 @@ pub fn builtin_description(target: TargetModel, seed: u64) -> SceneDescription {
         lead: LeadVehicle::default(),
         chase: ChaseVehicle::default(),
         ground: vehicle::GroundConfig::default(),
+        road_surface: RoadSurface::default(),
+        textures: Textures::default(),
     }
 }
 

@@ -347,6 +347,45 @@ impl Default for CameraMount {
     }
 }
 
+/// What the road is paved with: it chooses the road's texture (see [`Textures`]); its
+/// albedo is the same either way.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum RoadSurface {
+    /// Asphalt: fine aggregate, patches and sealed cracks.
+    #[default]
+    Asphalt,
+    /// Gravel: stones of a few centimetres.
+    Gravel,
+}
+
+/// Procedural textures on the ground's surfaces (asphalt, grass, gravel): detail that
+/// multiplies each surface's albedo by a factor of mean 1, sampled trilinearly from
+/// seeded, mipmapped textures at the surface's world position.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Textures {
+    /// Whether the ground is textured (off: the flat albedos and the grass's mottle alone,
+    /// the frames the renderer drew before it had textures, bit for bit).
+    pub enabled: bool,
+    /// Scale of the texture's departures from its mean: 1 as generated, 0 none.
+    pub contrast: f64,
+}
+
+impl Textures {
+    /// The texture contrast when textures are on and none is given.
+    pub const DEFAULT_CONTRAST: f64 = 1.0;
+}
+
+impl Default for Textures {
+    /// On, at the generated contrast (the regression suite passes with them, every
+    /// shipped scenario in both tracker modes).
+    fn default() -> Self {
+        Textures {
+            enabled: true,
+            contrast: Self::DEFAULT_CONTRAST,
+        }
+    }
+}
+
 /// Everything needed to build the world. Filled by the scenario code.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SceneDescription {
@@ -371,6 +410,10 @@ pub struct SceneDescription {
     /// The ground, as the physics has it (the flat plane and its bumps): the road and the
     /// verges beside it are drawn on the same height field (see `Terrain`).
     pub ground: vehicle::GroundConfig,
+    /// What the road is paved with.
+    pub road_surface: RoadSurface,
+    /// Textures on the ground's surfaces.
+    pub textures: Textures,
 }
 
 impl SceneDescription {
@@ -472,6 +515,12 @@ impl SceneDescription {
             "lead.board_centre_height_m",
             self.lead.board_centre_height_m,
         )?;
+        if !(0.0..=2.0).contains(&self.textures.contrast) {
+            return Err(SceneError::Invalid {
+                field: "textures.contrast".into(),
+                reason: format!("must be 0–2, got {}", self.textures.contrast),
+            });
+        }
         positive("chase.hood_width_m", self.chase.hood_width_m)?;
         positive("chase.hood_height_m", self.chase.hood_height_m)?;
         Ok(())

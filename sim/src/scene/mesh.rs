@@ -14,7 +14,9 @@ pub struct Vertex {
     pub normal: [f32; 3],
     /// Diffuse reflectance, 0 (black) to 1 (white).
     pub albedo: f32,
-    /// Index of the object transform (0 = world).
+    /// Index of the object transform (0 = world) in the low bits
+    /// ([`crate::scene::ObjectSlot::MASK`]), or-ed with the ground material of a road or
+    /// grass surface ([`crate::scene::Material`]) in the bits above.
     pub object: u32,
 }
 
