@@ -2,7 +2,10 @@
 //! ground-plane cells (so the renderer can cull what it cannot see), and the moving objects
 //! (chase hood, lead vehicle with its board, oncoming traffic) in their own frames.
 
-use super::clutter::{building, car, house, overpass};
+use super::clutter::{
+    building, car, ground_under, house, overpass, pole, stand, BuildingSpec, CarBody, HouseSpec,
+    PoleFittings, POLE_ALBEDO, POLE_TOP_M,
+};
 use super::description::{DistractorKind, Placement, SceneDescription};
 use super::mesh::{Mesh, Vertex};
 use super::rng::stream;
@@ -459,8 +462,12 @@ impl Scene {
         let mut trees = stream(seed, "trees");
         let tree_at = |bins: &mut Bins, rng: &mut ChaCha8Rng, x: f64, z: f64| {
             let trunk = rng.random_range(2.5..4.0);
+            let base = ground_under(
+                terrain.as_ref(),
+                &[[x - 0.15, z - 0.15], [x + 0.15, z + 0.15]],
+            );
             let mesh = bins.at(x, z, Layer::Clutter);
-            mesh.upright_box(x, z, 0.0, 0.15, 0.15, 0.0, trunk + 1.0, 0.22);
+            mesh.upright_box(x, z, 0.0, 0.15, 0.15, base, trunk + 1.0, 0.22);
             for _ in 0..rng.random_range(5..9) {
                 let c = [
                     x + rng.random_range(-1.6..1.6),
@@ -486,10 +493,10 @@ impl Scene {
             tree_at(&mut bins, &mut trees, x, z);
         }
 
-        // Telephone poles on the right, with a cross-arm and sagging wires between them.
+        // Telephone poles on the right, with cross-arms, insulators and sagging wires
+        // between them; some carry a lower cross-arm or a transformer.
         let mut poles = stream(seed, "poles");
-        const POLE_TOP_M: f64 = 9.0;
-        const ARM_Y_M: f64 = 8.4;
+        let mut fittings = stream(seed, "pole-fittings");
         if d.poles_per_km > 0.0 {
             let spacing = 1000.0 / d.poles_per_km;
             let mut s = poles.random_range(-50.0..-50.0 + spacing);
@@ -503,12 +510,14 @@ impl Scene {
                 let l = road_half + 2.0;
                 let heading = route.at(here)[2];
                 let [px, pz] = route.point(here, l);
-                let mesh = bins.at(px, pz, Layer::Clutter);
-                mesh.upright_box(px, pz, heading, 0.13, 0.13, 0.0, POLE_TOP_M, 0.30);
-                let right = [heading.sin(), 0.0, heading.cos()];
-                let end = |k: f64| [px + k * right[0], ARM_Y_M, pz + k * right[2]];
-                mesh.beam(end(-1.0), end(1.0), 0.06, 0.28);
-                let ends = [end(-0.9), end(0.9)];
+                let mut item = Mesh::default();
+                let kind = PoleFittings::pick(fittings.random_range(0.0..1.0));
+                let mut ends = pole(&mut item, [px, pz], heading, kind);
+                let base = stand(terrain.as_ref(), &mut item);
+                for end in &mut ends {
+                    end[1] += base;
+                }
+                bins.at(px, pz, Layer::Clutter).append(&item);
                 if let Some(prev) = previous {
                     let wires = bins.at(px, pz, Layer::Wires);
                     for k in 0..2 {
@@ -537,6 +546,7 @@ impl Scene {
 
         // Houses (gabled, windows on every wall) and taller buildings with a window grid.
         let mut houses = stream(seed, "houses");
+        let mut house_details = stream(seed, "house-details");
         for _ in 0..count(d.houses_per_km, length + 150.0) {
             let s = houses.random_range(-50.0..length + 100.0);
             if route.near_intersection(s, road_half + 16.0) {
@@ -548,19 +558,32 @@ impl Scene {
             let walls = if houses.random_bool(0.3) { 5.8 } else { 3.0 };
             let [x, z] = route.point(s, l);
             let heading = route.at(s)[2] + houses.random_range(-0.1..0.1);
-            let mesh = bins.at(x, z, Layer::Clutter);
             let wall_albedo = houses.random_range(0.45..0.8);
+            let roof_albedo = houses.random_range(0.12..0.3);
+            // The details from their own stream, so the houses stand where they did.
+            let door_at = house_details.random_range(0.0..1.0);
+            let chimney = house_details.random_range(0.0..1.0);
+            let chimney_at = house_details.random_bool(0.5).then_some(chimney);
+            let mut item = Mesh::default();
             house(
-                mesh,
+                &mut item,
                 [x, z],
                 heading,
-                half,
-                walls,
-                wall_albedo,
-                houses.random_range(0.12..0.3),
+                &HouseSpec {
+                    half,
+                    walls,
+                    wall_albedo,
+                    roof_albedo,
+                    road_side: -side,
+                    door_at,
+                    chimney_at,
+                },
             );
+            stand(terrain.as_ref(), &mut item);
+            bins.at(x, z, Layer::Clutter).append(&item);
         }
         let mut buildings = stream(seed, "buildings");
+        let mut building_details = stream(seed, "building-details");
         for _ in 0..count(d.buildings_per_km, length + 150.0) {
             let s = buildings.random_range(-50.0..length + 100.0);
             if route.near_intersection(s, road_half + 20.0) {
@@ -579,19 +602,27 @@ impl Scene {
             let height = buildings.random_range(8.0..20.0);
             let [x, z] = route.point(s, l);
             let heading = route.at(s)[2];
-            let mesh = bins.at(x, z, Layer::Clutter);
+            let albedo = buildings.random_range(0.35..0.7);
+            let mut item = Mesh::default();
             building(
-                mesh,
+                &mut item,
                 [x, z],
                 heading,
-                half,
-                height,
-                buildings.random_range(0.35..0.7),
+                &BuildingSpec {
+                    half,
+                    height,
+                    albedo,
+                    road_side: -side,
+                    entrance_at: building_details.random_range(0.0..1.0),
+                },
             );
+            stand(terrain.as_ref(), &mut item);
+            bins.at(x, z, Layer::Clutter).append(&item);
         }
 
         // Parked vehicles on the right shoulder.
         let mut parked = stream(seed, "parked-vehicles");
+        let mut parked_bodies = stream(seed, "parked-vehicle-bodies");
         for _ in 0..count(d.parked_vehicles_per_km, length) {
             let s = parked.random_range(0.0..length);
             if route.near_intersection(s, road_half + 8.0) {
@@ -603,6 +634,7 @@ impl Scene {
                 &mut car_mesh,
                 ObjectSlot::WORLD,
                 parked.random_range(0.1..0.8),
+                CarBody::pick(parked_bodies.random_range(0.0..1.0)),
             );
             for v in &mut car_mesh.vertices {
                 let p = pose
@@ -620,6 +652,7 @@ impl Scene {
                 v.position = [p.x as f32, p.y as f32, p.z as f32];
                 v.normal = [n.x as f32, n.y as f32, n.z as f32];
             }
+            stand(terrain.as_ref(), &mut car_mesh);
             let t = pose.translation.vector;
             bins.at(t.x, t.z, Layer::Clutter).append(&car_mesh);
         }
@@ -629,15 +662,25 @@ impl Scene {
         for placement in &description.placements {
             match *placement {
                 Placement::Pole { x_m, z_m } => {
-                    bins.at(x_m, z_m, Layer::Clutter)
-                        .upright_box(x_m, z_m, 0.0, 0.13, 0.13, 0.0, POLE_TOP_M, 0.30);
+                    let mut item = Mesh::default();
+                    item.upright_box(x_m, z_m, 0.0, 0.13, 0.13, 0.0, POLE_TOP_M, POLE_ALBEDO);
+                    stand(terrain.as_ref(), &mut item);
+                    bins.at(x_m, z_m, Layer::Clutter).append(&item);
                 }
                 Placement::Tree { x_m, z_m } => tree_at(&mut bins, &mut placed, x_m, z_m),
                 Placement::Overpass {
                     station_m,
                     deck_m,
                     height_m,
-                } => overpass(&mut bins, &route, road_half, station_m, deck_m, height_m),
+                } => overpass(
+                    &mut bins,
+                    &route,
+                    terrain.as_ref(),
+                    road_half,
+                    station_m,
+                    deck_m,
+                    height_m,
+                ),
             }
         }
 
@@ -706,13 +749,19 @@ impl Scene {
         let lead_mesh = lead_vehicle(&description);
         push_object(&mut mesh, lead_mesh, ObjectSlot::LEAD, true, Motion::Lead);
         let mut oncoming = stream(seed, "oncoming-vehicles");
+        let mut oncoming_bodies = stream(seed, "oncoming-vehicle-bodies");
         let span = length + d.oncoming_speed_m_s * 60.0;
         let n = count(d.oncoming_vehicles_per_km, span)
             .min((ObjectSlot::COUNT - ObjectSlot::FIRST_ONCOMING) as usize);
         for k in 0..n {
             let slot = ObjectSlot::FIRST_ONCOMING + k as u32;
             let mut part = Mesh::default();
-            car(&mut part, slot, oncoming.random_range(0.1..0.8));
+            car(
+                &mut part,
+                slot,
+                oncoming.random_range(0.1..0.8),
+                CarBody::pick(oncoming_bodies.random_range(0.0..1.0)),
+            );
             let start_m = oncoming.random_range(0.0..span);
             push_object(
                 &mut mesh,
