@@ -2,6 +2,10 @@
 //! ground-plane cells (so the renderer can cull what it cannot see), and the moving objects
 //! (chase hood, lead vehicle with its board, oncoming traffic) in their own frames.
 
+use super::clutter::{
+    building, car, ground_under, house, overpass, pole, stand, BuildingSpec, CarBody, HouseSpec,
+    PoleFittings, POLE_ALBEDO, POLE_TOP_M,
+};
 use super::description::{DistractorKind, Placement, RoadSurface, SceneDescription};
 use super::mesh::{Mesh, Vertex};
 use super::rng::stream;
@@ -241,12 +245,12 @@ impl RoadFrame<'_> {
 
 /// Static geometry binned by ground cell and by layer.
 #[derive(Default)]
-struct Bins {
+pub(super) struct Bins {
     bins: BTreeMap<(i64, i64, Layer), Mesh>,
 }
 
 impl Bins {
-    fn at(&mut self, x: f64, z: f64, layer: Layer) -> &mut Mesh {
+    pub(super) fn at(&mut self, x: f64, z: f64, layer: Layer) -> &mut Mesh {
         let key = (
             (x / BIN_M).floor() as i64,
             (z / BIN_M).floor() as i64,
@@ -496,13 +500,17 @@ impl Scene {
         let mut trees = stream(seed, "trees");
         let tree_at = |bins: &mut Bins, rng: &mut ChaCha8Rng, x: f64, z: f64| {
             let trunk = rng.random_range(2.5..4.0);
+            let base = ground_under(
+                terrain.as_ref(),
+                &[[x - 0.15, z - 0.15], [x + 0.15, z + 0.15]],
+            );
             bins.at(x, z, Layer::Clutter).upright_box(
                 x,
                 z,
                 0.0,
                 0.15,
                 0.15,
-                0.0,
+                base,
                 trunk + 1.0,
                 0.22,
             );
@@ -532,10 +540,10 @@ impl Scene {
             tree_at(&mut bins, &mut trees, x, z);
         }
 
-        // Telephone poles on the right, with a cross-arm and sagging wires between them.
+        // Telephone poles on the right, with cross-arms, insulators and sagging wires
+        // between them; some carry a lower cross-arm or a transformer.
         let mut poles = stream(seed, "poles");
-        const POLE_TOP_M: f64 = 9.0;
-        const ARM_Y_M: f64 = 8.4;
+        let mut fittings = stream(seed, "pole-fittings");
         if d.poles_per_km > 0.0 {
             let spacing = 1000.0 / d.poles_per_km;
             let mut s = poles.random_range(-50.0..-50.0 + spacing);
@@ -549,12 +557,14 @@ impl Scene {
                 let l = road_half + 2.0;
                 let heading = route.at(here)[2];
                 let [px, pz] = route.point(here, l);
-                let mesh = bins.at(px, pz, Layer::Clutter);
-                mesh.upright_box(px, pz, heading, 0.13, 0.13, 0.0, POLE_TOP_M, 0.30);
-                let right = [heading.sin(), 0.0, heading.cos()];
-                let end = |k: f64| [px + k * right[0], ARM_Y_M, pz + k * right[2]];
-                mesh.beam(end(-1.0), end(1.0), 0.06, 0.28);
-                let ends = [end(-0.9), end(0.9)];
+                let mut item = Mesh::default();
+                let kind = PoleFittings::pick(fittings.random_range(0.0..1.0));
+                let mut ends = pole(&mut item, [px, pz], heading, kind);
+                let base = stand(terrain.as_ref(), &mut item);
+                for end in &mut ends {
+                    end[1] += base;
+                }
+                bins.at(px, pz, Layer::Clutter).append(&item);
                 if let Some(prev) = previous {
                     let wires = bins.at(px, pz, Layer::Wires);
                     for k in 0..2 {
@@ -583,6 +593,7 @@ impl Scene {
 
         // Houses (gabled, windows on every wall) and taller buildings with a window grid.
         let mut houses = stream(seed, "houses");
+        let mut house_details = stream(seed, "house-details");
         for _ in 0..count(d.houses_per_km, length + 150.0) {
             let s = houses.random_range(-50.0..length + 100.0);
             if route.near_intersection(s, road_half + 16.0) {
@@ -594,19 +605,32 @@ impl Scene {
             let walls = if houses.random_bool(0.3) { 5.8 } else { 3.0 };
             let [x, z] = route.point(s, l);
             let heading = route.at(s)[2] + houses.random_range(-0.1..0.1);
-            let mesh = bins.at(x, z, Layer::Clutter);
             let wall_albedo = houses.random_range(0.45..0.8);
+            let roof_albedo = houses.random_range(0.12..0.3);
+            // The details from their own stream, so the houses stand where they did.
+            let door_at = house_details.random_range(0.0..1.0);
+            let chimney = house_details.random_range(0.0..1.0);
+            let chimney_at = house_details.random_bool(0.5).then_some(chimney);
+            let mut item = Mesh::default();
             house(
-                mesh,
+                &mut item,
                 [x, z],
                 heading,
-                half,
-                walls,
-                wall_albedo,
-                houses.random_range(0.12..0.3),
+                &HouseSpec {
+                    half,
+                    walls,
+                    wall_albedo,
+                    roof_albedo,
+                    road_side: -side,
+                    door_at,
+                    chimney_at,
+                },
             );
+            stand(terrain.as_ref(), &mut item);
+            bins.at(x, z, Layer::Clutter).append(&item);
         }
         let mut buildings = stream(seed, "buildings");
+        let mut building_details = stream(seed, "building-details");
         for _ in 0..count(d.buildings_per_km, length + 150.0) {
             let s = buildings.random_range(-50.0..length + 100.0);
             if route.near_intersection(s, road_half + 20.0) {
@@ -625,19 +649,27 @@ impl Scene {
             let height = buildings.random_range(8.0..20.0);
             let [x, z] = route.point(s, l);
             let heading = route.at(s)[2];
-            let mesh = bins.at(x, z, Layer::Clutter);
+            let albedo = buildings.random_range(0.35..0.7);
+            let mut item = Mesh::default();
             building(
-                mesh,
+                &mut item,
                 [x, z],
                 heading,
-                half,
-                height,
-                buildings.random_range(0.35..0.7),
+                &BuildingSpec {
+                    half,
+                    height,
+                    albedo,
+                    road_side: -side,
+                    entrance_at: building_details.random_range(0.0..1.0),
+                },
             );
+            stand(terrain.as_ref(), &mut item);
+            bins.at(x, z, Layer::Clutter).append(&item);
         }
 
         // Parked vehicles on the right shoulder.
         let mut parked = stream(seed, "parked-vehicles");
+        let mut parked_bodies = stream(seed, "parked-vehicle-bodies");
         for _ in 0..count(d.parked_vehicles_per_km, length) {
             let s = parked.random_range(0.0..length);
             if route.near_intersection(s, road_half + 8.0) {
@@ -649,6 +681,7 @@ impl Scene {
                 &mut car_mesh,
                 ObjectSlot::WORLD,
                 parked.random_range(0.1..0.8),
+                CarBody::pick(parked_bodies.random_range(0.0..1.0)),
             );
             for v in &mut car_mesh.vertices {
                 let p = pose
@@ -666,6 +699,7 @@ impl Scene {
                 v.position = [p.x as f32, p.y as f32, p.z as f32];
                 v.normal = [n.x as f32, n.y as f32, n.z as f32];
             }
+            stand(terrain.as_ref(), &mut car_mesh);
             let t = pose.translation.vector;
             bins.at(t.x, t.z, Layer::Clutter).append(&car_mesh);
         }
@@ -675,15 +709,25 @@ impl Scene {
         for placement in &description.placements {
             match *placement {
                 Placement::Pole { x_m, z_m } => {
-                    bins.at(x_m, z_m, Layer::Clutter)
-                        .upright_box(x_m, z_m, 0.0, 0.13, 0.13, 0.0, POLE_TOP_M, 0.30);
+                    let mut item = Mesh::default();
+                    item.upright_box(x_m, z_m, 0.0, 0.13, 0.13, 0.0, POLE_TOP_M, POLE_ALBEDO);
+                    stand(terrain.as_ref(), &mut item);
+                    bins.at(x_m, z_m, Layer::Clutter).append(&item);
                 }
                 Placement::Tree { x_m, z_m } => tree_at(&mut bins, &mut placed, x_m, z_m),
                 Placement::Overpass {
                     station_m,
                     deck_m,
                     height_m,
-                } => overpass(&mut bins, &route, road_half, station_m, deck_m, height_m),
+                } => overpass(
+                    &mut bins,
+                    &route,
+                    terrain.as_ref(),
+                    road_half,
+                    station_m,
+                    deck_m,
+                    height_m,
+                ),
             }
         }
 
@@ -752,13 +796,19 @@ impl Scene {
         let lead_mesh = lead_vehicle(&description);
         push_object(&mut mesh, lead_mesh, ObjectSlot::LEAD, true, Motion::Lead);
         let mut oncoming = stream(seed, "oncoming-vehicles");
+        let mut oncoming_bodies = stream(seed, "oncoming-vehicle-bodies");
         let span = length + d.oncoming_speed_m_s * 60.0;
         let n = count(d.oncoming_vehicles_per_km, span)
             .min((ObjectSlot::COUNT - ObjectSlot::FIRST_ONCOMING) as usize);
         for k in 0..n {
             let slot = ObjectSlot::FIRST_ONCOMING + k as u32;
             let mut part = Mesh::default();
-            car(&mut part, slot, oncoming.random_range(0.1..0.8));
+            car(
+                &mut part,
+                slot,
+                oncoming.random_range(0.1..0.8),
+                CarBody::pick(oncoming_bodies.random_range(0.0..1.0)),
+            );
             let start_m = oncoming.random_range(0.0..span);
             push_object(
                 &mut mesh,
@@ -995,54 +1045,6 @@ fn lead_vehicle(description: &SceneDescription) -> Mesh {
     mesh
 }
 
-/// An overpass across the route at `station_m`: a deck 1 m thick, `deck_m` wide along the
-/// route and reaching 12 m beyond the road's edges, on two abutment walls.
-fn overpass(
-    bins: &mut Bins,
-    route: &Route,
-    road_half: f64,
-    station_m: f64,
-    deck_m: f64,
-    height_m: f64,
-) {
-    let [x, z, heading] = route.at(station_m);
-    let along = [heading.cos(), 0.0, -heading.sin()];
-    let across = [heading.sin(), 0.0, heading.cos()];
-    let reach = road_half + 12.0;
-    let mesh = bins.at(x, z, Layer::Clutter);
-    mesh.oriented_box(
-        [x, height_m + 0.5, z],
-        [along, [0.0, 1.0, 0.0], across],
-        [0.5 * deck_m, 0.5, reach],
-        0.5,
-        ObjectSlot::WORLD,
-    );
-    for side in [-1.0, 1.0] {
-        let l = side * (road_half + 4.0);
-        mesh.oriented_box(
-            [x + l * across[0], 0.5 * height_m, z + l * across[2]],
-            [along, [0.0, 1.0, 0.0], across],
-            [0.5 * deck_m, 0.5 * height_m, 0.4],
-            0.55,
-            ObjectSlot::WORLD,
-        );
-    }
-}
-
-/// A car in its own frame (x forward): body, a dark glass cabin, wheels.
-fn car(mesh: &mut Mesh, slot: u32, albedo: f64) {
-    mesh.aabb([-2.2, 0.3, -0.9], [2.2, 1.0, 0.9], albedo, slot);
-    mesh.aabb([-1.5, 1.0, -0.8], [0.8, 1.5, 0.8], 0.12, slot);
-    for (x, z) in [(-1.4, -0.9), (-1.4, 0.9), (1.4, -0.9), (1.4, 0.9)] {
-        mesh.aabb(
-            [x - 0.33, 0.0, z - 0.12],
-            [x + 0.33, 0.62, z + 0.12],
-            0.05,
-            slot,
-        );
-    }
-}
-
 /// A strip of road-parallel surface from station `s0` to `s1`, lateral `l0` to `l1`
 /// (`[s0, s1, l0, l1]`), static, its vertices' `object` being `object` (the world's slot
 /// and a [`Material`]).
@@ -1096,124 +1098,6 @@ fn strip(
             // The winding of the polygon above: (s0, l0), (s1, l0), (s1, l1), (s0, l1).
             let (a, b, c, d) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
             mesh.indices.extend_from_slice(&[a, b, c, a, c, d]);
-        }
-    }
-}
-
-/// Axes of a ground-standing object with the given heading: forward, up, right.
-fn axes(heading: f64) -> [[f64; 3]; 3] {
-    let (s, c) = heading.sin_cos();
-    [[c, 0.0, -s], [0.0, 1.0, 0.0], [s, 0.0, c]]
-}
-
-/// A gabled house: walls, roof, and windows on its long walls and a door.
-fn house(
-    mesh: &mut Mesh,
-    at: [f64; 2],
-    heading: f64,
-    half: [f64; 2],
-    walls: f64,
-    wall_albedo: f64,
-    roof_albedo: f64,
-) {
-    let [u, _, w] = axes(heading);
-    let p = |a: f64, y: f64, b: f64| [at[0] + a * u[0] + b * w[0], y, at[1] + a * u[2] + b * w[2]];
-    mesh.upright_box(
-        at[0],
-        at[1],
-        heading,
-        half[0],
-        half[1],
-        0.0,
-        walls,
-        wall_albedo,
-    );
-    let ridge = walls + 2.5;
-    for side in [-1.0, 1.0] {
-        mesh.polygon(
-            &[
-                p(-half[0] - 0.3, walls, side * (half[1] + 0.3)),
-                p(half[0] + 0.3, walls, side * (half[1] + 0.3)),
-                p(half[0] + 0.3, ridge, 0.0),
-                p(-half[0] - 0.3, ridge, 0.0),
-            ],
-            roof_albedo,
-            ObjectSlot::WORLD,
-        );
-        // The gable, wound so that its normal points out of the house.
-        let (b0, b1) = (side * half[1], -side * half[1]);
-        mesh.polygon(
-            &[
-                p(side * half[0], walls, b0),
-                p(side * half[0], walls, b1),
-                p(side * half[0], ridge, 0.0),
-            ],
-            wall_albedo,
-            ObjectSlot::WORLD,
-        );
-    }
-    let floors = if walls > 4.0 { 2 } else { 1 };
-    let windows = ((2.0 * half[0]) / 3.0).floor() as usize;
-    for side in [-1.0, 1.0] {
-        let b = side * (half[1] + 0.03);
-        let normal = [side * w[0], 0.0, side * w[2]];
-        for floor in 0..floors {
-            let y0 = 1.0 + 2.8 * floor as f64;
-            for k in 0..windows {
-                let a = -half[0] + (k as f64 + 0.5) * 2.0 * half[0] / windows as f64;
-                mesh.quad_with_normal(
-                    [
-                        p(a - 0.5, y0, b),
-                        p(a + 0.5, y0, b),
-                        p(a + 0.5, y0 + 1.2, b),
-                        p(a - 0.5, y0 + 1.2, b),
-                    ],
-                    normal,
-                    0.08,
-                    ObjectSlot::WORLD,
-                );
-            }
-        }
-    }
-}
-
-/// A flat-roofed building with a grid of windows on all four walls.
-fn building(mesh: &mut Mesh, at: [f64; 2], heading: f64, half: [f64; 2], height: f64, albedo: f64) {
-    let [u, _, w] = axes(heading);
-    let p = |a: f64, y: f64, b: f64| [at[0] + a * u[0] + b * w[0], y, at[1] + a * u[2] + b * w[2]];
-    mesh.upright_box(at[0], at[1], heading, half[0], half[1], 0.0, height, albedo);
-    let floors = (height / 3.0).floor() as usize;
-    for (axis, extent, across) in [(0usize, half[0], half[1]), (1, half[1], half[0])] {
-        let columns = (2.0 * extent / 2.5).floor() as usize;
-        for side in [-1.0, 1.0] {
-            let off = side * (across + 0.03);
-            let normal = if axis == 0 {
-                [side * w[0], 0.0, side * w[2]]
-            } else {
-                [side * u[0], 0.0, side * u[2]]
-            };
-            for floor in 0..floors.saturating_sub(0) {
-                let y0 = 0.9 + 3.0 * floor as f64;
-                if y0 + 1.4 > height {
-                    break;
-                }
-                for k in 0..columns {
-                    let a = -extent + (k as f64 + 0.5) * 2.0 * extent / columns as f64;
-                    let q = |da: f64, y: f64| {
-                        if axis == 0 {
-                            p(a + da, y, off)
-                        } else {
-                            p(off, y, a + da)
-                        }
-                    };
-                    mesh.quad_with_normal(
-                        [q(-0.6, y0), q(0.6, y0), q(0.6, y0 + 1.4), q(-0.6, y0 + 1.4)],
-                        normal,
-                        0.08,
-                        ObjectSlot::WORLD,
-                    );
-                }
-            }
         }
     }
 }

@@ -113,6 +113,19 @@ impl Mesh {
         self.box_faces(centre, axes, half, albedo, object, [false; 3]);
     }
 
+    /// Appends an oriented box without its bottom (−`v`) face: it stands on the ground or
+    /// on another part, so its bottom can never be seen nor cast a shadow (ten triangles).
+    pub fn standing_box(
+        &mut self,
+        centre: P,
+        axes: [P; 3],
+        half: [f64; 3],
+        albedo: f64,
+        object: u32,
+    ) {
+        self.box_faces(centre, axes, half, albedo, object, [false, true, false]);
+    }
+
     /// The faces of an oriented box, leaving out those `skip` names: `[ends, bottom, _]`
     /// drops both ±`u` faces (a beam's ends) and the −`v` face (what stands on the ground).
     fn box_faces(
@@ -181,8 +194,8 @@ impl Mesh {
         );
     }
 
-    /// Appends a box standing on the ground at `(x, z)`, rotated by `heading` about +y (no
-    /// bottom face when `bottom` is at ground level).
+    /// Appends a box standing on the ground at `(x, z)`, from height `bottom` (the ground's
+    /// there) to `top`, rotated by `heading` about +y, without a bottom face.
     #[allow(clippy::too_many_arguments)]
     pub fn upright_box(
         &mut self,
@@ -203,7 +216,7 @@ impl Mesh {
             [half_length, 0.5 * (top - bottom), half_width],
             albedo,
             0,
-            [false, bottom <= 0.0, false],
+            [false, true, false],
         );
     }
 

@@ -6,6 +6,7 @@
 
 mod build;
 mod builtin;
+mod clutter;
 mod description;
 mod mesh;
 mod rng;
