@@ -169,19 +169,10 @@ struct Drive {
     /// The camera's pan head, when the scenario has one (`[camera.pan]`).
     pan: Option<PanHead>,
     /// With an interlaced camera, the world one field period before the next frame
-    /// (its earlier field; `Some` once the first frame's physics has run).
+    /// (its earlier field, the lead's pose that of its vehicle frame, not yet the scene's;
+    /// `Some` once the first frame's physics has run).
     interlaced: bool,
-    earlier_field: Option<EarlierField>,
-}
-
-/// The world when an interlaced frame's earlier field is exposed.
-#[derive(Clone, Copy)]
-struct EarlierField {
-    time_s: f64,
-    world_from_chase: Isometry3<f64>,
-    /// The lead's vehicle frame (not yet the scene's).
-    world_from_lead: Isometry3<f64>,
-    camera_pan_rad: f64,
+    earlier_field: Option<Field>,
 }
 
 impl Drive {
@@ -219,8 +210,8 @@ impl Drive {
     }
 
     /// The world now, as an interlaced frame's earlier field sees it.
-    fn field_now(&self) -> EarlierField {
-        EarlierField {
+    fn field_now(&self) -> Field {
+        Field {
             time_s: self.world.now().seconds(),
             world_from_chase: iso(&self.world.vehicle_state(self.chase_id).world_from_vehicle),
             world_from_lead: iso(&self.world.vehicle_state(self.lead_id).world_from_vehicle),
@@ -455,10 +446,8 @@ impl Captured {
             earlier_field: drive.interlaced.then(|| {
                 let f = drive.earlier_field.unwrap_or_else(|| drive.field_now());
                 Field {
-                    time_s: f.time_s,
-                    world_from_chase: f.world_from_chase,
                     world_from_lead: f.world_from_lead * lead_from_scene,
-                    camera_pan_rad: f.camera_pan_rad,
+                    ..f
                 }
             }),
         };

@@ -52,9 +52,7 @@ impl FrameInput {
             camera_pan_rad: self.camera_pan_rad,
         }
     }
-}
 
-impl FrameInput {
     /// Frame `frame_index` at `time_s` of a fixed camera (no pan) without automatic gain:
     /// the paper's camera.
     pub fn fixed_camera(

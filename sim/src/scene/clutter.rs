@@ -833,7 +833,6 @@ pub(super) fn building(mesh: &mut Mesh, at: [f64; 2], heading: f64, spec: &Build
 #[cfg(test)]
 mod tests {
     use super::*;
-    use vehicle::{BumpsConfig, GroundConfig};
 
     fn triangles(mesh: &Mesh) -> usize {
         mesh.indices.len() / 3
@@ -1060,18 +1059,9 @@ mod tests {
     }
 
     fn bumpy() -> Terrain {
-        Terrain::new(&GroundConfig {
-            bumps: Some(BumpsConfig {
-                amplitude_m: 0.12,
-                wavelength_m: 7.0,
-                half_extent_m: 60.0,
-                cell_m: 0.5,
-                seed: 4,
-            }),
-            ..GroundConfig::default()
-        })
-        .unwrap()
-        .unwrap()
+        Terrain::new(&super::super::terrain::tests::bumpy_ground())
+            .unwrap()
+            .unwrap()
     }
 
     #[test]

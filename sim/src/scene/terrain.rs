@@ -166,11 +166,13 @@ impl Terrain {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
     use vehicle::BumpsConfig;
 
-    fn bumpy_ground() -> GroundConfig {
+    /// Bumps 12 cm high on a 0.5 m grid, 60 m around the origin (the other scene modules'
+    /// tests stand things on them too).
+    pub(in crate::scene) fn bumpy_ground() -> GroundConfig {
         GroundConfig {
             bumps: Some(BumpsConfig {
                 amplitude_m: 0.12,
