@@ -11,6 +11,7 @@ mod occlusion;
 mod renderer;
 mod rig;
 mod sensor;
+mod shadow_tiles;
 mod textures;
 
 pub use backend::{Backend, BackendError};

@@ -14,6 +14,7 @@ use super::backend::{Backend, BackendError};
 use super::frame::{Field, Frame, FrameInput, GroundTruth};
 use super::rig::CameraRig;
 use super::sensor::{apply_sensor, blur_reach_px};
+use super::shadow_tiles::{self, TileCache, TileFrame, Window, NO_TILE};
 use super::textures::{GroundTextures, LAYERS, TEXTURE_SIZE, TILE_M};
 use crate::scene::{AutoGain, Layer, ObjectSlot, Scene, Vertex, GRASS_ALBEDO_RANGE, GROUND_CELL_M};
 use bytemuck::{Pod, Zeroable};
@@ -39,16 +40,22 @@ pub struct RenderOptions {
     /// Multisample anti-aliasing: 1 (off) or 4. A real CCD integrates over each pixel;
     /// 4× gets closer to that at some cost in speed.
     pub msaa_samples: u32,
+    /// Cached static shadows: the static scenery's shadows come from tiles of the sun's
+    /// depth map drawn once and kept (10 cm texels; see `shadow_tiles`), and each frame
+    /// draws only the moving vehicles into its own map. Off, every caster is drawn into
+    /// each frame's map, as the renderer did before the cache.
+    pub cached_shadows: bool,
 }
 
 impl Default for RenderOptions {
-    /// GL, a 512² shadow map over 60 m, no MSAA.
+    /// GL, a 512² shadow map over 60 m, cached static shadows, no MSAA.
     fn default() -> Self {
         RenderOptions {
             backend: Backend::Gl,
             shadow_map_size: 512,
             shadow_distance_m: 60.0,
             msaa_samples: 1,
+            cached_shadows: true,
         }
     }
 }
@@ -101,6 +108,8 @@ const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R8Unorm;
 
 /// Draw-order class of the chase vehicle's hood: drawn first, unscissored.
 const HOOD_CLASS: u8 = 0;
+/// Draw-order class of the first static layer: below it, the moving objects.
+const FIRST_STATIC_CLASS: u8 = 3;
 
 /// The uniform block `Globals` of `scene.wgsl`.
 #[repr(C)]
@@ -116,6 +125,9 @@ struct Globals {
     board: [f32; 4],
     textures: [f32; 4],
     strength: [f32; 4],
+    tiles_view_proj: [[f32; 4]; 4],
+    tile_params: [f32; 4],
+    tile_layers: [[u32; 4]; shadow_tiles::WINDOW],
 }
 
 /// The strength of the paint's texture relative to the other materials': paint fills the
@@ -172,6 +184,14 @@ pub struct Renderer {
     hood_row: u32,
     /// The same for the last panned angle seen, as (angle's bits, row).
     panned_hood_row: Option<(u64, u32)>,
+    /// The static shadow tiles' frame, which tile each layer of their texture holds, the
+    /// layers as render targets, and the uniforms their passes read.
+    tile_frame: TileFrame,
+    tile_cache: TileCache,
+    tile_views: Vec<wgpu::TextureView>,
+    tile_globals_buffer: wgpu::Buffer,
+    tile_objects_buffer: wgpu::Buffer,
+    tile_bind_group: wgpu::BindGroup,
     /// Per-frame scratch lists, kept to avoid allocating every frame.
     items: Vec<DrawItem>,
     main_draws: Vec<(Range<u32>, Shading)>,
@@ -190,6 +210,8 @@ pub struct DrawStats {
     pub shadow_triangles: u32,
     /// Draw calls in both passes.
     pub draw_calls: u32,
+    /// Static shadow tiles drawn for the frame (not held by the cache yet).
+    pub shadow_tiles_drawn: u32,
 }
 
 impl Renderer {
@@ -277,6 +299,19 @@ impl Renderer {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
+        // The same for the static shadow tiles' passes, which run in submissions of their own.
+        let tile_globals_buffer = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("tile globals"),
+            size: std::mem::size_of::<Globals>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let tile_objects_buffer = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("tile objects"),
+            size: 64 * u64::from(ObjectSlot::COUNT),
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
 
         // Textures: the shadow map, the grey target (and its multisampled twin), depth.
         let size = |w, h| wgpu::Extent3d {
@@ -314,6 +349,46 @@ impl Renderer {
         );
         let board_shadow_view =
             board_shadow_texture.create_view(&wgpu::TextureViewDescriptor::default());
+        // The static shadow tiles: one layer a tile (two small stand-ins when the cache is
+        // off: the layout binds an array either way, and GL makes one layer a plain 2-D
+        // texture).
+        let (tile_side, tile_layers) = if options.cached_shadows {
+            (shadow_tiles::TILE_TEXELS, shadow_tiles::LAYERS)
+        } else {
+            (1, 2)
+        };
+        let tile_texture = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("shadow tiles"),
+            size: wgpu::Extent3d {
+                width: tile_side,
+                height: tile_side,
+                depth_or_array_layers: tile_layers,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: DEPTH_FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        });
+        let tile_array_view = tile_texture.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
+            ..Default::default()
+        });
+        let tile_views = (0..tile_layers)
+            .map(|layer| {
+                tile_texture.create_view(&wgpu::TextureViewDescriptor {
+                    dimension: Some(wgpu::TextureViewDimension::D2),
+                    base_array_layer: layer,
+                    array_layer_count: Some(1),
+                    ..Default::default()
+                })
+            })
+            .collect();
+        let tile_frame = TileFrame::new(
+            Light::axes(scene.description().sun.direction()),
+            scene.chunks().iter().map(|c| (c.centre, c.radius)),
+        );
         let frame_size = size(rig.width, rig.height);
         let color_texture = texture(
             "frame",
@@ -478,6 +553,16 @@ impl Renderer {
                     ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
                     count: None,
                 },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 5,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Depth,
+                        view_dimension: wgpu::TextureViewDimension::D2Array,
+                        multisampled: false,
+                    },
+                    count: None,
+                },
             ],
         });
         let shadow_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
@@ -489,20 +574,24 @@ impl Renderer {
             compare: Some(wgpu::CompareFunction::LessEqual),
             ..Default::default()
         });
-        let frame_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("frame"),
-            layout: &frame_layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: globals_buffer.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: objects_buffer.as_entire_binding(),
-                },
-            ],
-        });
+        let uniforms_group = |label, globals: &wgpu::Buffer, objects: &wgpu::Buffer| {
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some(label),
+                layout: &frame_layout,
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: globals.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: objects.as_entire_binding(),
+                    },
+                ],
+            })
+        };
+        let frame_bind_group = uniforms_group("frame", &globals_buffer, &objects_buffer);
+        let tile_bind_group = uniforms_group("tile", &tile_globals_buffer, &tile_objects_buffer);
         let shadow_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("shadow"),
             layout: &shadow_layout,
@@ -526,6 +615,10 @@ impl Renderer {
                 wgpu::BindGroupEntry {
                     binding: 4,
                     resource: wgpu::BindingResource::Sampler(&ground_sampler),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 5,
+                    resource: wgpu::BindingResource::TextureView(&tile_array_view),
                 },
             ],
         });
@@ -694,6 +787,12 @@ impl Renderer {
             grass_key: scene.grass_key(),
             hood_row,
             panned_hood_row: None,
+            tile_frame,
+            tile_cache: TileCache::new(tile_layers),
+            tile_views,
+            tile_globals_buffer,
+            tile_objects_buffer,
+            tile_bind_group,
             items: Vec::new(),
             main_draws: Vec::new(),
             shadow_draws: Vec::new(),
@@ -860,7 +959,7 @@ impl Renderer {
                 centre: chunk.centre,
                 radius: chunk.radius,
                 casts_shadow: chunk.casts_shadow,
-                class: 3 + chunk.layer as u8,
+                class: FIRST_STATIC_CLASS + chunk.layer as u8,
                 distance_m: (Vector3::from(chunk.centre) - eye).norm(),
                 shading: match chunk.layer {
                     Layer::Foliage => Shading::Foliage,
@@ -911,6 +1010,27 @@ impl Renderer {
             self.options.shadow_distance_m,
             self.options.shadow_map_size,
         );
+        // Static shadows from the cached tiles under the fitted map (see `shadow_tiles`): this
+        // frame's map then holds the moving vehicles alone.
+        let window = if self.options.cached_shadows {
+            shadow_tiles::window([light.min[0], light.min[1]], [light.max[0], light.max[1]])
+        } else {
+            None
+        };
+        let mut tile_layers = [[NO_TILE; 4]; shadow_tiles::WINDOW];
+        let mut tiles_drawn = 0;
+        if let Some(w) = &window {
+            self.tile_cache.begin_frame();
+            for (a, b, cell) in w.cells() {
+                let (layer, fresh) = self.tile_cache.layer(cell);
+                if fresh {
+                    self.draw_tile(cell, layer);
+                    tiles_drawn += 1;
+                }
+                tile_layers[b][a] = layer;
+            }
+        }
+        let with_static = window.is_none();
         let mut shadow_draws = std::mem::take(&mut self.shadow_draws);
         // Only the texels the part of the frame asked for can sample.
         let size = self.options.shadow_map_size;
@@ -921,8 +1041,22 @@ impl Renderer {
         };
         let mut foliage_shadow_draws = std::mem::take(&mut self.foliage_shadow_draws);
         let texels = Some((seen, size));
-        caster_draws(&items, &light, texels, false, &mut shadow_draws);
-        caster_draws(&items, &light, texels, true, &mut foliage_shadow_draws);
+        caster_draws(
+            &items,
+            &light,
+            texels,
+            false,
+            with_static,
+            &mut shadow_draws,
+        );
+        caster_draws(
+            &items,
+            &light,
+            texels,
+            true,
+            with_static,
+            &mut foliage_shadow_draws,
+        );
         // The board's shadow map: a fine one around the target board, with its casters.
         let board_light = board_centre.filter(|_| sun.soft_shadows).map(|c| {
             Light::around(
@@ -938,8 +1072,15 @@ impl Renderer {
         board_shadow_draws.clear();
         foliage_board_shadow_draws.clear();
         if let Some(light) = &board_light {
-            caster_draws(&items, light, None, false, &mut board_shadow_draws);
-            caster_draws(&items, light, None, true, &mut foliage_board_shadow_draws);
+            caster_draws(&items, light, None, false, true, &mut board_shadow_draws);
+            caster_draws(
+                &items,
+                light,
+                None,
+                true,
+                true,
+                &mut foliage_board_shadow_draws,
+            );
         }
         self.items = items;
 
@@ -949,6 +1090,7 @@ impl Renderer {
             main_triangles: main_draws.iter().map(|(r, _)| (r.end - r.start) / 3).sum(),
             shadow_triangles: triangles(&shadow_draws) + triangles(&foliage_shadow_draws),
             draw_calls: (main_draws.len() + shadow_draws.len() + foliage_shadow_draws.len()) as u32,
+            shadow_tiles_drawn: tiles_drawn,
         };
 
         // Uniforms.
@@ -968,12 +1110,7 @@ impl Renderer {
                 (NORMAL_OFFSET_TEXELS * light.texel_m) as f32,
                 1.0 / self.options.shadow_map_size as f32,
             ],
-            ground: [
-                (1.0 / GROUND_CELL_M) as f32,
-                GRASS_ALBEDO_RANGE[0] as f32,
-                (GRASS_ALBEDO_RANGE[1] - GRASS_ALBEDO_RANGE[0]) as f32,
-                self.grass_key as f32,
-            ],
+            ground: self.ground_params(),
             origin: [eye.x as f32, eye.y as f32, eye.z as f32, 0.0],
             board_view_proj: board_light.as_ref().map_or([[0.0; 4]; 4], |l| {
                 to_f32(&(l.clip_from_world * world_from_relative))
@@ -1003,6 +1140,18 @@ impl Renderer {
                 let c = description.textures.contrast;
                 [c as f32, c as f32, c as f32, (c * PAINT_DETAIL) as f32]
             },
+            tiles_view_proj: window.as_ref().map_or([[0.0; 4]; 4], |w: &Window| {
+                to_f32(&self.tile_frame.lookup(w.corner, &eye))
+            }),
+            tile_params: [
+                (NORMAL_OFFSET_TEXELS * shadow_tiles::TEXEL_M) as f32,
+                (f64::from(shadow_tiles::INNER_TEXELS) / f64::from(shadow_tiles::TILE_TEXELS))
+                    as f32,
+                (f64::from(shadow_tiles::GUARD_TEXELS) / f64::from(shadow_tiles::TILE_TEXELS))
+                    as f32,
+                0.0,
+            ],
+            tile_layers,
         };
         self.queue
             .write_buffer(&self.globals_buffer, 0, bytemuck::bytes_of(&globals));
@@ -1228,6 +1377,89 @@ impl Renderer {
             .expect("buffer holds width × height bytes"))
     }
 
+    /// The grass's parameters in [`Globals`]: lattice frequency, albedo range, hash key.
+    fn ground_params(&self) -> [f32; 4] {
+        [
+            (1.0 / GROUND_CELL_M) as f32,
+            GRASS_ALBEDO_RANGE[0] as f32,
+            (GRASS_ALBEDO_RANGE[1] - GRASS_ALBEDO_RANGE[0]) as f32,
+            self.grass_key as f32,
+        ]
+    }
+
+    /// Draws static shadow tile `cell` into layer `layer` of the tiles' texture: every
+    /// static caster over it, in a submission of its own (its uniforms are not the frame's).
+    fn draw_tile(&self, cell: shadow_tiles::Cell, layer: u32) {
+        let frame = &self.tile_frame;
+        let (min, max) = frame.tile_box(cell);
+        let light = Light::of_box(frame.axes, min, max, shadow_tiles::TILE_TEXELS);
+        // Vertices reach the GPU relative to a point of the tile, as the frame's do relative
+        // to the camera.
+        let origin = frame.tile_origin(cell);
+        let globals = Globals {
+            light_view_proj: to_f32(
+                &(light.clip_from_world * Translation3::from(origin).to_homogeneous()),
+            ),
+            origin: [origin.x as f32, origin.y as f32, origin.z as f32, 0.0],
+            ground: self.ground_params(),
+            ..Globals::zeroed()
+        };
+        let mut objects = [[[0f32; 4]; 4]; ObjectSlot::COUNT as usize];
+        objects[ObjectSlot::WORLD as usize] = to_f32(&Translation3::from(-origin).to_homogeneous());
+        self.queue
+            .write_buffer(&self.tile_globals_buffer, 0, bytemuck::bytes_of(&globals));
+        self.queue
+            .write_buffer(&self.tile_objects_buffer, 0, bytemuck::cast_slice(&objects));
+        let (mut solid, mut leafy) = (Vec::new(), Vec::new());
+        for chunk in self.scene.chunks() {
+            if chunk.casts_shadow && frame.touches(cell, chunk.centre, chunk.radius) {
+                let draws = if chunk.layer == Layer::Foliage {
+                    &mut leafy
+                } else {
+                    &mut solid
+                };
+                push_merged(draws, chunk.indices.clone());
+            }
+        }
+        let mut encoder = self
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("shadow tile"),
+            });
+        {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("shadow tile"),
+                color_attachments: &[],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &self.tile_views[layer as usize],
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(1.0),
+                        store: wgpu::StoreOp::Store,
+                    }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_bind_group(0, &self.tile_bind_group, &[]);
+            pass.set_vertex_buffer(0, self.vertex_buffer.slice(..));
+            pass.set_index_buffer(self.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
+            for (pipeline, draws) in [
+                (&self.shadow_pipeline, &solid),
+                (&self.foliage_shadow_pipeline, &leafy),
+            ] {
+                if !draws.is_empty() {
+                    pass.set_pipeline(pipeline);
+                    for range in draws {
+                        pass.draw_indexed(range.clone(), 0, 0..1);
+                    }
+                }
+            }
+        }
+        self.queue.submit([encoder.finish()]);
+    }
+
     /// The first row the hood covers from edge to edge, for the camera panned by `pan_rad`.
     fn hood_rows(&mut self, pan_rad: f64) -> u32 {
         if pan_rad == 0.0 {
@@ -1406,19 +1638,22 @@ fn to_f32(m: &Matrix4<f64>) -> [[f32; 4]; 4] {
 }
 
 /// Into `draws`: the index ranges of the items that cast shadows within `light`'s box,
-/// canopies (`foliage`) or the rest, sorted and joined into as few draws as possible
-/// (depth only, so order does not matter).
+/// canopies (`foliage`) or the rest, the static ones only `with_static` (else the moving
+/// objects alone), sorted and joined into as few draws as possible (depth only, so order
+/// does not matter).
 fn caster_draws(
     items: &[DrawItem],
     light: &Light,
     texels: Option<(PixelRect, u32)>,
     foliage: bool,
+    with_static: bool,
     draws: &mut Vec<Range<u32>>,
 ) {
     let mut ranges: Vec<Range<u32>> = items
         .iter()
         .filter(|d| {
             d.casts_shadow
+                && (with_static || d.class < FIRST_STATIC_CLASS)
                 && (d.shading == Shading::Foliage) == foliage
                 && light.holds(d.centre, d.radius)
                 && texels.is_none_or(|(t, size)| light.reaches(t, size, d.centre, d.radius))

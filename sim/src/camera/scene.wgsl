@@ -33,6 +33,16 @@ struct Globals {
     // Strength of the texture's detail for materials 1–4 (asphalt, grass, gravel, paint):
     // the factor's departure from 1 is scaled by it.
     strength: vec4<f32>,
+    // Camera-relative world to the static shadow tiles' window: x, y in tiles from the
+    // window's corner, z the tiles' depth (0 nearest the sun). Zero when the frame has no
+    // window (its own map then holds every caster).
+    tiles_view_proj: mat4x4<f32>,
+    // x: normal offset for tile lookups (m); y: a tile's own square, as a share of its
+    // texture's side; z: its guard band, the same; w: unused.
+    tile_params: vec4<f32>,
+    // The layer of `shadow_tiles` holding each of the window's 4 × 4 tiles (rows of
+    // increasing y), 0xffffffff for none.
+    tile_layers: array<vec4<u32>, 4>,
 };
 
 struct Objects {
@@ -49,6 +59,8 @@ struct Objects {
 // Detail factors (half of them: 0–1 holds 0–2, mean 1), one layer per texture, mipmapped.
 @group(1) @binding(3) var ground_textures: texture_2d_array<f32>;
 @group(1) @binding(4) var ground_sampler: sampler;
+// The static scenery's shadows, one tile a layer (see `tile_layers`).
+@group(1) @binding(5) var shadow_tiles: texture_depth_2d_array;
 
 struct VertexIn {
     @location(0) position: vec3<f32>,
@@ -72,6 +84,8 @@ struct VertexOut {
     @location(2) ground: vec2<f32>,
     // Where the (normal-offset) point falls in the board's shadow map.
     @location(3) board: vec3<f32>,
+    // Where the (normal-offset) point falls in the static shadow tiles' window.
+    @location(5) tiles: vec3<f32>,
 };
 
 // A ground surface's vertex: `VertexOut`'s fields, and its texture.
@@ -83,6 +97,7 @@ struct GroundOut {
     @location(3) board: vec3<f32>,
     // x: the texture's layer; y: its strength; z: 1 / its tile's side (1/m).
     @location(4) @interpolate(flat) texture: vec3<f32>,
+    @location(5) tiles: vec3<f32>,
 };
 
 // A canopy's vertex: `VertexOut`'s fields, and the world height (with `ground`, the
@@ -94,6 +109,7 @@ struct FoliageOut {
     @location(2) ground: vec2<f32>,
     @location(3) board: vec3<f32>,
     @location(4) height: f32,
+    @location(5) tiles: vec3<f32>,
 };
 
 // A canopy's vertex in the shadow passes: its world position, for the leaf pattern.
@@ -155,6 +171,7 @@ fn vs_main_of(v: VertexIn) -> VertexOut {
     out.ground = world.xz + globals.origin.xz;
     let b = globals.board_view_proj * vec4<f32>(world.xyz + normal * (1.5 * globals.board.z), 1.0);
     out.board = vec3<f32>(b.x * 0.5 + 0.5, 0.5 - b.y * 0.5, b.z);
+    out.tiles = (globals.tiles_view_proj * vec4<f32>(world.xyz + normal * globals.tile_params.x, 1.0)).xyz;
     return out;
 }
 
@@ -167,6 +184,7 @@ fn vs_ground(v: VertexIn) -> GroundOut {
     out.shadow = o.shadow;
     out.ground = o.ground;
     out.board = o.board;
+    out.tiles = o.tiles;
     // Material → layer and strength: asphalt, grass, gravel, and paint (asphalt, faint).
     var layer = 0u;
     var strength = 0.0;
@@ -190,6 +208,7 @@ fn vs_foliage(v: VertexIn) -> FoliageOut {
     out.shadow = o.shadow;
     out.ground = o.ground;
     out.board = o.board;
+    out.tiles = o.tiles;
     let world = objects.world_from_object[v.object & 0xffu] * vec4<f32>(v.position, 1.0);
     out.height = world.y + globals.origin.y;
     return out;
@@ -199,11 +218,35 @@ fn vs_foliage(v: VertexIn) -> FoliageOut {
 // comparison tap, a 2×2-texel percentage-closer filter, so shadow edges ramp over about a
 // texel (~11 cm at 512²).
 // More taps cost llvmpipe more than the whole rest of the frame.
-fn sunlight(p: vec3<f32>) -> f32 {
+fn sunlight_map(p: vec3<f32>) -> f32 {
     if (p.x < 0.0 || p.x > 1.0 || p.y < 0.0 || p.y > 1.0 || p.z > 1.0) {
         return 1.0;
     }
     return textureSampleCompareLevel(shadow_map, shadow_sampler, p.xy, p.z);
+}
+
+// The same from the static shadow tiles, at point `q` of their window (`tiles_view_proj`):
+// one bilinear comparison tap in the tile under it; the guard band around each tile holds
+// its neighbours' texels, so the tap never needs two tiles.
+fn sunlight_tiles(q: vec3<f32>) -> f32 {
+    if (q.x < 0.0 || q.y < 0.0 || q.x >= 4.0 || q.y >= 4.0 || q.z > 1.0) {
+        return 1.0;
+    }
+    let cell = vec2<u32>(floor(q.xy));
+    let layer = globals.tile_layers[cell.y][cell.x];
+    if (layer == 0xffffffffu) {
+        return 1.0;
+    }
+    // Texture rows run down from the tile's greatest y.
+    let f = fract(q.xy);
+    let uv = globals.tile_params.z + vec2<f32>(f.x, 1.0 - f.y) * globals.tile_params.y;
+    return textureSampleCompareLevel(shadow_tiles, shadow_sampler, uv, i32(layer), q.z);
+}
+
+// Fraction of sunlight at a receiver: the frame's map (`p`) and the static tiles (`q`);
+// whichever shades it more.
+fn sunlight(p: vec3<f32>, q: vec3<f32>) -> f32 {
+    return min(sunlight_map(p), sunlight_tiles(q));
 }
 
 // Fraction of sunlight at point `p` of the board's fine shadow map, with the sun's disc
@@ -280,7 +323,7 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     }
     var light = in.light.y;
     if (in.light.z > 0.0) {
-        light += in.light.z * sunlight(in.shadow);
+        light += in.light.z * sunlight(in.shadow, in.tiles);
     }
     let grey = albedo * light;
     return vec4<f32>(grey, grey, grey, 1.0);
@@ -301,7 +344,7 @@ fn fs_main_soft(in: VertexOut) -> @location(0) vec4<f32> {
         if (b.x >= 0.0 && b.x <= 1.0 && b.y >= 0.0 && b.y <= 1.0 && b.z >= globals.board.w && b.z <= 1.0) {
             sun = sunlight_board(b);
         } else {
-            sun = sunlight(in.shadow);
+            sun = sunlight(in.shadow, in.tiles);
         }
         light += in.light.z * sun;
     }
@@ -319,23 +362,23 @@ fn detail(ground: vec2<f32>, texture: vec3<f32>) -> f32 {
 
 // Light reaching a surface of face light `light` (see `VertexOut`) at shadow-map point
 // `shadow`: ambient, and sunlight as the main map lets it through.
-fn lit(light: vec3<f32>, shadow: vec3<f32>) -> f32 {
+fn lit(light: vec3<f32>, shadow: vec3<f32>, tiles: vec3<f32>) -> f32 {
     var l = light.y;
     if (light.z > 0.0) {
-        l += light.z * sunlight(shadow);
+        l += light.z * sunlight(shadow, tiles);
     }
     return l;
 }
 
 // As `lit`, with soft shadows on the target (see `fs_main_soft`).
-fn lit_soft(light: vec3<f32>, shadow: vec3<f32>, b: vec3<f32>) -> f32 {
+fn lit_soft(light: vec3<f32>, shadow: vec3<f32>, tiles: vec3<f32>, b: vec3<f32>) -> f32 {
     var l = light.y;
     if (light.z > 0.0) {
         var sun = 0.0;
         if (b.x >= 0.0 && b.x <= 1.0 && b.y >= 0.0 && b.y <= 1.0 && b.z >= globals.board.w && b.z <= 1.0) {
             sun = sunlight_board(b);
         } else {
-            sun = sunlight(shadow);
+            sun = sunlight(shadow, tiles);
         }
         l += light.z * sun;
     }
@@ -356,14 +399,14 @@ fn ground_albedo(in: GroundOut) -> f32 {
 // Textured ground: `fs_main` with the albedo modulated by the surface's texture.
 @fragment
 fn fs_ground(in: GroundOut) -> @location(0) vec4<f32> {
-    let grey = ground_albedo(in) * lit(in.light, in.shadow);
+    let grey = ground_albedo(in) * lit(in.light, in.shadow, in.tiles);
     return vec4<f32>(grey, grey, grey, 1.0);
 }
 
 // `fs_ground` with soft shadows on the target.
 @fragment
 fn fs_ground_soft(in: GroundOut) -> @location(0) vec4<f32> {
-    let grey = ground_albedo(in) * lit_soft(in.light, in.shadow, in.board);
+    let grey = ground_albedo(in) * lit_soft(in.light, in.shadow, in.tiles, in.board);
     return vec4<f32>(grey, grey, grey, 1.0);
 }
 
@@ -416,14 +459,14 @@ fn leaf_albedo(in: FoliageOut) -> f32 {
 // A canopy from the camera: holes discarded, leaves shaded as `fs_main`.
 @fragment
 fn fs_foliage(in: FoliageOut) -> @location(0) vec4<f32> {
-    let grey = leaf_albedo(in) * lit(in.light, in.shadow);
+    let grey = leaf_albedo(in) * lit(in.light, in.shadow, in.tiles);
     return vec4<f32>(grey, grey, grey, 1.0);
 }
 
 // `fs_foliage` with soft shadows on the target.
 @fragment
 fn fs_foliage_soft(in: FoliageOut) -> @location(0) vec4<f32> {
-    let grey = leaf_albedo(in) * lit_soft(in.light, in.shadow, in.board);
+    let grey = leaf_albedo(in) * lit_soft(in.light, in.shadow, in.tiles, in.board);
     return vec4<f32>(grey, grey, grey, 1.0);
 }
 
