@@ -14,7 +14,7 @@ use crate::camera::{
 use crate::driven_path::DrivenPath;
 use crate::frame_parts::{track_part, FrameParts};
 use crate::record::{FrameRecord, LossCause, TrackerStatus};
-use crate::render_worker::{fingerprint, RemoteRenderer};
+use crate::render_worker::{fingerprint, RemoteRenderer, StartedWorker};
 use crate::scenario::Scenario;
 use crate::scene::{self, ChaseVehicle, LeadVehicle, Scene, SceneDescription};
 use image::GrayImage;
@@ -471,6 +471,12 @@ struct InFlight {
     image: Option<Frame>,
 }
 
+/// Whether no estimate through `delay` reaches the controller sooner than a frame after
+/// its capture, so that the physics to the next frame needs none from this one.
+fn renders_ahead<T>(delay: &DelayLine<T>) -> bool {
+    delay.min_latency_steps() >= u64::from(STEPS_PER_FRAME)
+}
+
 /// Runs `f`, adding its wall-clock time to `spent`.
 fn timed<T>(spent: &mut Duration, f: impl FnOnce() -> T) -> T {
     let started = Instant::now();
@@ -647,7 +653,7 @@ impl ClosedLoop {
             name: s.name.clone(),
             frames: (s.duration_s * f64::from(vehicle::CAMERA_HZ)).round() as u64,
             frame: 0,
-            pipelined: delay.min_latency_steps() >= u64::from(STEPS_PER_FRAME),
+            pipelined: renders_ahead(&delay),
             drive: Drive {
                 world,
                 chase_id,
@@ -738,11 +744,28 @@ impl ClosedLoop {
         if !self.pipelined || self.frame > 0 {
             return Ok(false);
         }
-        let expected = self.fingerprint;
-        let remote =
-            RemoteRenderer::start(command, expected, &self.rig).map_err(LoopError::Worker)?;
+        let started = RemoteRenderer::spawn(command).map_err(LoopError::Worker)?;
+        self.add_started_render_worker(started)
+    }
+
+    /// [`ClosedLoop::add_render_worker`] with a worker already started (before this loop
+    /// set up, so that both set up at once: see [`ClosedLoop::renders_ahead`]). A worker
+    /// this loop cannot use is dropped, which ends it.
+    pub fn add_started_render_worker(&mut self, worker: StartedWorker) -> Result<bool, LoopError> {
+        if !self.pipelined || self.frame > 0 {
+            return Ok(false);
+        }
+        let remote = worker
+            .ready(self.fingerprint, &self.rig)
+            .map_err(LoopError::Worker)?;
         self.remote = Some(remote);
         Ok(true)
+    }
+
+    /// Whether the loop of scenario `s` renders frames ahead (see `set_pipelined`), so that
+    /// it can take a render worker.
+    pub fn renders_ahead(s: &Scenario) -> bool {
+        DelayLine::<()>::new(&s.delay).is_ok_and(|d| renders_ahead(&d))
     }
 
     /// How many camera frames render at once: 2 with a render worker, else 1.

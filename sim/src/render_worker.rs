@@ -26,7 +26,8 @@
 //!   c_x, c_y, scale, the target centre in the camera frame x, y, z (`f64`), and in view
 //!   (one byte, 0 or 1), then the frame's exact pixels x0, y0, x1, y1 (`u64`).
 //!
-//! The worker exits when its input ends, so it never outlives the loop.
+//! The worker exits when its input ends, so it never outlives the loop. It may be started
+//! before the loop sets up ([`RemoteRenderer::spawn`]), so that the two set up side by side.
 
 use crate::camera::{CameraRig, Field, Frame, FrameInput, GroundTruth, RenderOptions, Renderer};
 use crate::child::Child;
@@ -178,16 +179,36 @@ pub struct RemoteRenderer {
     height: u32,
 }
 
+/// A render worker started and perhaps still setting up: [`StartedWorker::ready`] waits
+/// for it. Dropping it ends the worker.
+pub struct StartedWorker {
+    child: Child,
+}
+
 impl RemoteRenderer {
     /// Starts `command` (a worker that serves this scene: `carfollow render-worker` with the
     /// scenario's file and overrides) and checks that it renders the scene of `expected`
     /// fingerprint at `rig`'s size.
     pub fn start(
-        mut command: Command,
+        command: Command,
         expected: u64,
         rig: &CameraRig,
     ) -> Result<RemoteRenderer, String> {
-        let mut child = Child::spawn(&mut command).map_err(|e| format!("cannot start it: {e}"))?;
+        Self::spawn(command)?.ready(expected, rig)
+    }
+
+    /// Starts `command` (see [`RemoteRenderer::start`]) without waiting for it to set up.
+    pub fn spawn(mut command: Command) -> Result<StartedWorker, String> {
+        let child = Child::spawn(&mut command).map_err(|e| format!("cannot start it: {e}"))?;
+        Ok(StartedWorker { child })
+    }
+}
+
+impl StartedWorker {
+    /// Waits for the worker to set up, and checks that it renders the scene of `expected`
+    /// fingerprint at `rig`'s size.
+    pub fn ready(self, expected: u64, rig: &CameraRig) -> Result<RemoteRenderer, String> {
+        let mut child = self.child;
         let mut hello = [0u8; 8];
         child
             .stdout()
@@ -205,7 +226,9 @@ impl RemoteRenderer {
             height: rig.height,
         })
     }
+}
 
+impl RemoteRenderer {
     /// Sends a frame to render, only the part `needed` of it if given (see
     /// [`Renderer::render_part`]); its answer comes from [`RemoteRenderer::receive`].
     pub fn submit(&mut self, input: &FrameInput, needed: Option<PixelRect>) -> Result<(), String> {

@@ -6,8 +6,9 @@ use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use sim::camera::Backend;
 use sim::child::RASTER_THREADS_ENV;
-use sim::closed_loop::{ClosedLoop, LoopTiming};
+use sim::closed_loop::{ClosedLoop, LoopError, LoopTiming};
 use sim::recording::{LiveOptions, Recorder, RecorderOptions, ReplaySetup, MCAP_FILE};
+use sim::render_worker::RemoteRenderer;
 use sim::report::{write_junit, JunitScenario, OutputOptions, RunOutputs, Summary};
 use sim::scenario::Scenario;
 use std::io::IsTerminal;
@@ -226,13 +227,8 @@ fn run_one(
     // The scenario is validated: from here on, whatever stops the run is not bad input.
     let recording = recorder_options(dir, args);
     let record = recording.mcap.is_some() || recording.live.is_some();
-    // The recording draws the overlay too, so it needs the edges' fates.
-    let mut looped =
-        ClosedLoop::new(scenario, backend, args.video || record).map_err(incomplete)?;
-    // Only the video and the recording look at the frames: otherwise only the part the
-    // tracker reads is rendered.
-    looped.set_whole_frames(args.video || record);
-    if renderers(args) == 2 {
+    // The render worker starts first, so that it sets up while this process does.
+    let worker = if renderers(args) == 2 && ClosedLoop::renders_ahead(scenario) {
         let mut command = Command::new(
             std::env::current_exe()
                 .context("cannot find this program to start a renderer")
@@ -246,7 +242,21 @@ fn run_one(
             command.arg("--set").arg(set);
         }
         command.arg("--backend").arg(backend.to_string());
-        if let Err(e) = looped.add_render_worker(command) {
+        Some(RemoteRenderer::spawn(command))
+    } else {
+        None
+    };
+    // The recording draws the overlay too, so it needs the edges' fates.
+    let mut looped =
+        ClosedLoop::new(scenario, backend, args.video || record).map_err(incomplete)?;
+    // Only the video and the recording look at the frames: otherwise only the part the
+    // tracker reads is rendered.
+    looped.set_whole_frames(args.video || record);
+    if let Some(worker) = worker {
+        let added = worker
+            .map_err(LoopError::Worker)
+            .and_then(|w| looped.add_started_render_worker(w));
+        if let Err(e) = added {
             eprintln!("warning: {e}; rendering one frame at a time");
         }
     }
