@@ -20,6 +20,7 @@ use crate::scene::{self, ChaseVehicle, LeadVehicle, Scene, SceneDescription};
 use image::GrayImage;
 use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion};
 use serde::Serialize;
+use std::collections::VecDeque;
 use std::time::{Duration, Instant};
 use thiserror::Error;
 use tracker::{EdgeDiagnostic, EgoMotion, GrayView, Location, TrackOutput, Tracker, TrackerMode};
@@ -127,8 +128,11 @@ pub struct ClosedLoop {
     renderer: Renderer,
     /// The second renderer, in a worker process, when two frames are in flight.
     remote: Option<RemoteRenderer>,
-    /// The frame submitted by the last step and not yet tracked (two in flight).
-    in_flight: Option<InFlight>,
+    /// Frames submitted by earlier steps and not yet tracked, in order (two in flight).
+    in_flight: VecDeque<InFlight>,
+    /// What the physics to the frame after the first in flight left, when an earlier step
+    /// has run it already (two in flight).
+    advanced: Option<Driven>,
     /// The scene's fingerprint, which a render worker must match.
     fingerprint: u64,
     timing: LoopTiming,
@@ -178,7 +182,7 @@ struct Drive {
 impl Drive {
     /// The controllers and the physics, eight steps to the next frame. Returns the chase's
     /// last controls and whether the vehicles touched.
-    fn advance_frame(&mut self) -> (vehicle::Controls, bool) {
+    fn advance_frame(&mut self) -> Driven {
         let mut collision = false;
         let mut controls = vehicle::Controls::default();
         for k in 0..u64::from(STEPS_PER_FRAME) {
@@ -206,7 +210,12 @@ impl Drive {
             self.world.step();
             collision |= self.world.vehicles_touch(self.chase_id, self.lead_id);
         }
-        (controls, collision)
+        Driven {
+            controls,
+            collision,
+            chase_mode: self.chase.mode(),
+            desired_gap_m: self.chase.telemetry().desired_gap_m,
+        }
     }
 
     /// The world now, as an interlaced frame's earlier field sees it.
@@ -464,11 +473,40 @@ impl Captured {
     }
 }
 
+/// What the physics from a frame to the next leaves for the frame's record: the last
+/// controls, whether the vehicles touched, and the chase controller's mode and desired gap
+/// at its end (taken then: with two frames in flight the physics runs on before the
+/// record is made).
+#[derive(Clone, Copy, Debug)]
+struct Driven {
+    controls: vehicle::Controls,
+    collision: bool,
+    chase_mode: vehicle::ChaseMode,
+    desired_gap_m: f32,
+}
+
 /// A frame submitted but not yet tracked: rendered already (this process's renderer) or
 /// rendering in the worker.
 struct InFlight {
     captured: Captured,
     image: Option<Frame>,
+}
+
+/// [`ClosedLoop::tracked`] on the loop's parts, but for the count of frames rendered again.
+fn record_tracked(
+    drive: &mut Drive,
+    parts: &mut FrameParts,
+    tracker: &Tracker,
+    captured: &Captured,
+    track: &TrackOutput,
+) {
+    drive.push_estimate(captured.now, track, captured.pan_reading_rad);
+    parts.observe(
+        captured.input.frame_index,
+        track.estimate,
+        track.next,
+        tracker.last_read(),
+    );
 }
 
 /// Whether no estimate through `delay` reaches the controller sooner than a frame after
@@ -673,7 +711,8 @@ impl ClosedLoop {
             },
             renderer,
             remote: None,
-            in_flight: None,
+            in_flight: VecDeque::new(),
+            advanced: None,
             fingerprint,
             timing: LoopTiming {
                 setup_s: started.elapsed().as_secs_f64(),
@@ -810,7 +849,7 @@ impl ClosedLoop {
     /// whether the loop is now pipelined.
     pub fn set_pipelined(&mut self, on: bool) -> bool {
         if !on && self.remote.is_some() {
-            if self.in_flight.is_some() {
+            if !self.in_flight.is_empty() {
                 // A frame is rendering in the worker: too late to change.
                 return self.pipelined;
             }
@@ -847,7 +886,7 @@ impl ClosedLoop {
         let mut spent = [Duration::ZERO; 3];
         // 1. The camera; 2. the tracker, on the image only; 3. the delay line; 4. the
         // controllers and the physics to the next frame.
-        let (captured, frame, track, edges, controls, collision) = if self.remote.is_some() {
+        let (captured, frame, track, edges, driven) = if self.remote.is_some() {
             self.step_two_in_flight(&mut spent)?
         } else if self.pipelined {
             // 4 needs no estimate from this frame (see `set_pipelined`), so it runs on a
@@ -861,7 +900,7 @@ impl ClosedLoop {
             let diagnostics = self.diagnostics;
             let [render_t, track_t, physics_t] = &mut spent;
             let input = &captured.input;
-            let (seen, (controls, collision)) = std::thread::scope(|scope| {
+            let (seen, driven) = std::thread::scope(|scope| {
                 let physics = scope.spawn(|| timed(physics_t, || drive.advance_frame()));
                 let seen = timed(render_t, || renderer.render_part(input, needed)).and_then(
                     |mut frame| {
@@ -884,7 +923,7 @@ impl ClosedLoop {
             });
             let (frame, track, edges, again) = seen?;
             self.tracked(&captured, &track, again);
-            (captured, frame, track, edges, controls, collision)
+            (captured, frame, track, edges, driven)
         } else {
             let captured = self.capture();
             let ego = self.ego_motion(&captured);
@@ -903,13 +942,16 @@ impl ClosedLoop {
                 )
             })?;
             self.tracked(&captured, &track, again);
-            let (controls, collision) = timed(physics_t, || self.drive.advance_frame());
-            (captured, frame, track, edges, controls, collision)
+            let driven = timed(physics_t, || self.drive.advance_frame());
+            (captured, frame, track, edges, driven)
         };
         debug_assert_eq!(captured.input.frame_index, self.frame);
-        self.auto_gain
-            .observe(self.frame, captured.input.auto_gain, &frame.image);
-        let record = self.record(&captured, &frame, &track, controls, collision);
+        if self.remote.is_none() {
+            // (With two in flight the step has metered the frame already.)
+            self.auto_gain
+                .observe(self.frame, captured.input.auto_gain, &frame.image);
+        }
+        let record = self.record(&captured, &frame, &track, driven);
         let poses = FramePoses {
             world_from_chase: captured.input.world_from_chase,
             world_from_lead: captured.input.world_from_lead,
@@ -951,127 +993,169 @@ impl ClosedLoop {
         Ok(InFlight { captured, image })
     }
 
-    /// One frame with two in flight (see [`ClosedLoop::add_render_worker`]): frame k was
-    /// submitted by the previous step, to the worker or rendered here. Both renderers are
-    /// kept busy:
-    /// - frame k rendered here: the physics to k + 1 (which needs no estimate from frame k:
-    ///   see `set_pipelined`), frame k + 1 to the worker, then frame k is tracked while the
-    ///   worker renders;
-    /// - frame k in the worker: the physics to k + 1 and frame k + 1's rendering run on a
-    ///   second thread while frame k is received from the worker and tracked here.
+    /// One frame with two in flight (see [`ClosedLoop::add_render_worker`]). Frames
+    /// alternate: even ones render here, odd ones in the worker. Both renderers are kept
+    /// busy:
+    /// - frame k in the worker: the physics to k + 1 here, then frame k + 1 renders on a
+    ///   second thread while frame k is received and tracked; then (the physics to k + 2
+    ///   needs estimates up to k alone: see `set_pipelined`) the physics to k + 2 runs and
+    ///   frame k + 2 goes to the worker before frame k + 1 has finished rendering;
+    /// - frame k rendered here: it is tracked (the physics to k + 1 ran in the step before,
+    ///   and frame k + 1 is in the worker). With diagnostics on (a recording reads the chase
+    ///   controller after each frame), the physics to k + 1 runs here instead, and frame
+    ///   k + 1 goes to the worker then.
     ///
     /// Should frame k's tracking need the whole frame, the renderer that is free then
-    /// renders it.
+    /// renders it. Each frame is metered for the automatic gain control as soon as it is
+    /// tracked, before any later frame is captured.
     #[allow(clippy::type_complexity)]
     fn step_two_in_flight(
         &mut self,
         spent: &mut [Duration; 3],
-    ) -> Result<
-        (
-            Captured,
-            Frame,
-            TrackOutput,
-            Vec<EdgeDiagnostic>,
-            vehicle::Controls,
-            bool,
-        ),
-        LoopError,
-    > {
+    ) -> Result<(Captured, Frame, TrackOutput, Vec<EdgeDiagnostic>, Driven), LoopError> {
         let [render_t, track_t, physics_t] = spent;
-        let pending = match self.in_flight.take() {
-            Some(p) => p,
-            None => self.submit(render_t)?,
-        };
-        let more = self.frame + 1 < self.frames;
+        if self.in_flight.is_empty() {
+            let first = self.submit(render_t)?;
+            self.in_flight.push_back(first);
+        }
+        let pending = self.in_flight.pop_front().expect("a frame in flight");
+        let k = pending.captured.input.frame_index;
+        let more = k + 1 < self.frames;
         let t_s = pending.captured.input.time_s;
         let ego = self.ego_motion(&pending.captured);
         let diagnostics = self.diagnostics;
         let step = |t: &mut Tracker, f: &Frame| track_frame(t, &f.image, t_s, ego, diagnostics);
         let input = &pending.captured.input;
-        let (frame, (track, edges), again, controls, collision) = match pending.image {
-            Some(mut frame) => {
-                let (controls, collision) = timed(physics_t, || self.drive.advance_frame());
-                if more {
-                    self.in_flight = Some(self.submit(render_t)?);
+        if let Some(mut frame) = pending.image {
+            let driven = match self.advanced.take() {
+                Some(advanced) => advanced,
+                None => {
+                    // Nothing ran ahead (the first frame): the physics to k + 1, and frame
+                    // k + 1 to the worker.
+                    let advanced = timed(physics_t, || self.drive.advance_frame());
+                    if more {
+                        let next = self.submit(render_t)?;
+                        self.in_flight.push_back(next);
+                    }
+                    advanced
                 }
-                let renderer = &mut self.renderer;
+            };
+            let renderer = &mut self.renderer;
+            let ((track, edges), again) = timed(track_t, || {
+                track_part(
+                    &mut self.tracker,
+                    &mut frame,
+                    || renderer.render(input),
+                    step,
+                )
+            })?;
+            self.tracked(&pending.captured, &track, again);
+            self.auto_gain.observe(k, input.auto_gain, &frame.image);
+            return Ok((pending.captured, frame, track, edges, driven));
+        }
+        let driven = timed(physics_t, || self.drive.advance_frame());
+        let next = more.then(|| {
+            Captured::of(
+                &self.drive,
+                &self.rig,
+                &self.lead_from_scene,
+                &self.auto_gain,
+            )
+        });
+        let needed = next
+            .as_ref()
+            .and_then(|c| self.parts.needed(c.input.frame_index));
+        let frames = self.frames;
+        let ClosedLoop {
+            drive,
+            renderer,
+            remote,
+            parts,
+            auto_gain,
+            rig,
+            lead_from_scene,
+            tracker,
+            ..
+        } = self;
+        let remote = remote.as_mut().expect("two frames in flight");
+        let mut rendering = Duration::ZERO;
+        let (rendered, seen) = std::thread::scope(|scope| {
+            let rendering = &mut rendering;
+            let ahead = next.map(|captured| {
+                scope.spawn(move || {
+                    timed(rendering, || renderer.render_part(&captured.input, needed)).map(
+                        |image| InFlight {
+                            captured,
+                            image: Some(image),
+                        },
+                    )
+                })
+            });
+            let seen = (|| -> Result<_, String> {
+                let mut frame = timed(render_t, || remote.receive())?;
                 let (out, again) = timed(track_t, || {
                     track_part(
-                        &mut self.tracker,
+                        tracker,
                         &mut frame,
-                        || renderer.render(input),
+                        || {
+                            remote.submit(input, None)?;
+                            remote.receive()
+                        },
                         step,
                     )
                 })?;
-                (frame, out, again, controls, collision)
-            }
-            None => {
-                let remote = self.remote.as_mut().expect("two frames in flight");
-                let (drive, renderer, parts) = (&mut self.drive, &mut self.renderer, &self.parts);
-                let (rig, lead_from_scene, auto_gain) =
-                    (&self.rig, &self.lead_from_scene, &self.auto_gain);
-                let tracker = &mut self.tracker;
-                let (mut physics, mut rendering) = (Duration::ZERO, Duration::ZERO);
-                let (ahead, seen) = std::thread::scope(|scope| {
-                    let ahead = scope.spawn(|| {
-                        let driven = timed(&mut physics, || drive.advance_frame());
-                        let next = more
-                            .then(|| {
-                                let captured = Captured::of(drive, rig, lead_from_scene, auto_gain);
-                                let needed = parts.needed(captured.input.frame_index);
-                                timed(&mut rendering, || {
-                                    renderer.render_part(&captured.input, needed)
-                                })
-                                .map(|image| InFlight {
-                                    captured,
-                                    image: Some(image),
-                                })
+                record_tracked(drive, parts, tracker, &pending.captured, &out.0);
+                auto_gain.observe(k, input.auto_gain, &frame.image);
+                // The physics to k + 2 needs estimates up to k alone. (Not with diagnostics:
+                // the recording takes the chase controller as it stands after each frame.)
+                let ahead = if more && !diagnostics {
+                    let advanced = timed(physics_t, || drive.advance_frame());
+                    let submitted = (k + 2 < frames)
+                        .then(|| {
+                            let captured = Captured::of(drive, rig, lead_from_scene, auto_gain);
+                            let needed = parts.needed(captured.input.frame_index);
+                            remote.submit(&captured.input, needed).map(|()| InFlight {
+                                captured,
+                                image: None,
                             })
-                            .transpose();
-                        (driven, next)
-                    });
-                    let seen = timed(render_t, || remote.receive()).and_then(|mut frame| {
-                        let (out, again) = timed(track_t, || {
-                            track_part(
-                                tracker,
-                                &mut frame,
-                                || {
-                                    remote.submit(input, None)?;
-                                    remote.receive()
-                                },
-                                step,
-                            )
-                        })?;
-                        Ok((frame, out, again))
-                    });
-                    let ahead = match ahead.join() {
-                        Ok(ahead) => ahead,
-                        Err(panic) => std::panic::resume_unwind(panic),
-                    };
-                    (ahead, seen)
-                });
-                *physics_t += physics;
-                *render_t += rendering;
-                let ((controls, collision), next) = ahead;
-                self.in_flight = next?;
-                let (frame, out, again) = seen.map_err(LoopError::Worker)?;
-                (frame, out, again, controls, collision)
-            }
-        };
-        self.tracked(&pending.captured, &track, again);
-        Ok((pending.captured, frame, track, edges, controls, collision))
+                        })
+                        .transpose()?;
+                    Some((advanced, submitted))
+                } else {
+                    None
+                };
+                Ok((frame, out, again, ahead))
+            })();
+            let rendered = ahead
+                .map(|thread| match thread.join() {
+                    Ok(rendered) => rendered,
+                    Err(panic) => std::panic::resume_unwind(panic),
+                })
+                .transpose();
+            (rendered, seen)
+        });
+        *render_t += rendering;
+        let (frame, (track, edges), again, ahead) = seen.map_err(LoopError::Worker)?;
+        if let Some(rendered) = rendered? {
+            self.in_flight.push_back(rendered);
+        }
+        if let Some((advanced, submitted)) = ahead {
+            self.advanced = Some(advanced);
+            self.in_flight.extend(submitted);
+        }
+        self.parts.rerendered += u64::from(again);
+        Ok((pending.captured, frame, track, edges, driven))
     }
 
     /// After frame `captured` is tracked: its estimate into the delay line, and what it
     /// read for the part of the next frames to render.
     fn tracked(&mut self, captured: &Captured, track: &TrackOutput, rerendered: bool) {
-        self.drive
-            .push_estimate(captured.now, track, captured.pan_reading_rad);
-        self.parts.observe(
-            captured.input.frame_index,
-            track.estimate,
-            track.next,
-            self.tracker.last_read(),
+        record_tracked(
+            &mut self.drive,
+            &mut self.parts,
+            &self.tracker,
+            captured,
+            track,
         );
         self.parts.rerendered += u64::from(rerendered);
     }
@@ -1109,9 +1193,14 @@ impl ClosedLoop {
         captured: &Captured,
         frame: &Frame,
         track: &TrackOutput,
-        controls: vehicle::Controls,
-        collision: bool,
+        driven: Driven,
     ) -> FrameRecord {
+        let Driven {
+            controls,
+            collision,
+            chase_mode,
+            desired_gap_m,
+        } = driven;
         let (chase_state, lead_state) = (&captured.chase, &captured.lead);
         let truth = frame.truth;
         let est = track.estimate;
@@ -1175,7 +1264,7 @@ impl ClosedLoop {
             chase_xz,
             lead_xz,
             collision,
-            chase_mode: format!("{:?}", self.drive.chase.mode()).to_lowercase(),
+            chase_mode: format!("{chase_mode:?}").to_lowercase(),
             coverage: track.coverage,
             coverage_gain: track.coverage_gain,
             tracker_event: track
@@ -1189,7 +1278,7 @@ impl ClosedLoop {
                 .collect(),
             loss_cause,
             camera_pan_deg: captured.input.camera_pan_rad.to_degrees(),
-            desired_gap_m: f64::from(self.drive.chase.telemetry().desired_gap_m),
+            desired_gap_m: f64::from(desired_gap_m),
         }
     }
 }

@@ -26,6 +26,38 @@ fn run(out: &Path, extra: &[&str]) -> Output {
     carfollow(&args)
 }
 
+/// With two renderers the physics runs a frame further ahead of the records than with one,
+/// and the automatic gain control meters each frame before a later one is captured: the
+/// records (with the controller's desired gap and mode) and the gains are those of one
+/// renderer, with an interlaced camera too.
+#[test]
+fn two_renderers_keep_the_automatic_gain_and_controller_records_of_one() {
+    let dir = tempfile::tempdir().unwrap();
+    let (one, two) = (dir.path().join("one"), dir.path().join("two"));
+    let settings = [
+        "--set",
+        "environment.sensor.auto_gain={target_grey=110,time_constant_s=0.4}",
+        "--set",
+        "environment.sensor.interlaced=true",
+    ];
+    for (out, renderers) in [(&one, "1"), (&two, "2")] {
+        let mut args = vec!["--renderers", renderers];
+        args.extend(settings);
+        let status = run(out, &args);
+        assert!(
+            status.status.code() == Some(0) || status.status.code() == Some(1),
+            "{}",
+            String::from_utf8_lossy(&status.stderr)
+        );
+    }
+    let csv = |d: &Path| std::fs::read_to_string(d.join("frames.csv")).unwrap();
+    assert!(csv(&one).lines().count() > 50);
+    assert!(
+        csv(&one) == csv(&two),
+        "frames.csv differs between one and two renderers"
+    );
+}
+
 #[test]
 fn two_renderers_give_the_outputs_of_one() {
     let dir = tempfile::tempdir().unwrap();
