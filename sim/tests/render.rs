@@ -1069,6 +1069,7 @@ fn a_frame_is_the_same_whatever_the_shadow_cache_held() {
         builtin_frame(&mut used, 0.5 * f64::from(k));
         drawn += used.stats().shadow_tiles_drawn;
     }
+    // The cache holds 16 tiles.
     assert!(drawn > 32, "{drawn} tiles drawn: the cache never evicted");
     let again = builtin_frame(&mut used, time_s).image;
     assert!(

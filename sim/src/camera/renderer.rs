@@ -234,13 +234,6 @@ impl Renderer {
             )));
         }
         let backend = options.backend;
-        // The ground textures are generated on another thread while the device opens.
-        let seed = scene.description().seed;
-        let generating = scene
-            .description()
-            .textures
-            .enabled
-            .then(|| std::thread::spawn(move || GroundTextures::generate(seed)));
         let _one_at_a_time = gl_lock();
 
         // Instance, adapter and device on exactly the chosen backend.
@@ -428,10 +421,9 @@ impl Renderer {
         // Ground textures: generated from the scene's seed, every mip level uploaded (a
         // 1×1 stand-in when they are off: the layout binds a texture either way).
         let textures = &scene.description().textures;
-        let generated = generating.map(|thread| match thread.join() {
-            Ok(generated) => generated,
-            Err(panic) => std::panic::resume_unwind(panic),
-        });
+        let generated = textures
+            .enabled
+            .then(|| GroundTextures::generate(scene.description().seed));
         let (side, levels) = match &generated {
             Some(g) => (TEXTURE_SIZE as u32, g.level_count()),
             None => (1, 1),

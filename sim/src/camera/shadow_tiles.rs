@@ -31,8 +31,9 @@ pub(super) const TILE_SIDE_M: f64 = INNER_TEXELS as f64 * TEXEL_M;
 /// Tiles a side of the window a frame reads: 4 × 25.2 m holds any fitted map up to 75.6 m
 /// across wherever it falls on the grid.
 pub(super) const WINDOW: usize = 4;
-/// Tiles a renderer keeps: twice what the widest window needs.
-pub(super) const LAYERS: u32 = 32;
+/// Tiles a renderer keeps: what the widest window needs (4 MB). A window of 3 × 3, the
+/// usual one, leaves the last window's other tiles cached.
+pub(super) const LAYERS: u32 = (WINDOW * WINDOW) as u32;
 /// A window cell with no tile: its receivers are lit as far as static casters go.
 pub(super) const NO_TILE: u32 = u32::MAX;
 /// How far beyond the fitted map's box the window must reach, metres: the lookups' normal
@@ -203,7 +204,7 @@ impl TileCache {
                 let k = (0..self.cells.len())
                     .filter(|&k| self.used[k] != frame)
                     .min_by_key(|&k| (self.cells[k].is_some(), self.used[k]))
-                    .expect("more layers than a window has tiles");
+                    .expect("as many layers as a window has tiles");
                 self.cells[k] = Some(cell);
                 (k, true)
             }
