@@ -168,6 +168,12 @@ pub struct Renderer {
     vertex_buffer: wgpu::Buffer,
     index_buffer: wgpu::Buffer,
     shadow_view: wgpu::TextureView,
+    /// The texels of the frame's shadow map the last frame may have written, when it drew
+    /// the moving vehicles alone (else `None`: the next frame clears the whole map). A
+    /// frame sets them back to the cleared depth instead of clearing all 512² texels.
+    shadow_dirty: Option<PixelRect>,
+    /// Writes the cleared depth (1) wherever it is scissored to: `vs_far`.
+    far_pipeline: wgpu::RenderPipeline,
     board_shadow_view: wgpu::TextureView,
     color_texture: wgpu::Texture,
     color_view: wgpu::TextureView,
@@ -688,6 +694,28 @@ impl Renderer {
             })
         };
         let shadow_pipeline = depth_only_pipeline("shadow", "vs_shadow", None);
+        let far_pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("far"),
+            layout: Some(&shadow_pipeline_layout),
+            vertex: wgpu::VertexState {
+                module: &shader,
+                entry_point: Some("vs_far"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            primitive: wgpu::PrimitiveState::default(),
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: DEPTH_FORMAT,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Always),
+                stencil: wgpu::StencilState::default(),
+                bias: wgpu::DepthBiasState::default(),
+            }),
+            multisample: wgpu::MultisampleState::default(),
+            fragment: None,
+            multiview_mask: None,
+            cache: None,
+        });
         let board_shadow_pipeline = depth_only_pipeline("board shadow", "vs_board_shadow", None);
         let foliage_shadow_pipeline = depth_only_pipeline(
             "foliage shadow",
@@ -776,6 +804,8 @@ impl Renderer {
             vertex_buffer,
             index_buffer,
             shadow_view,
+            shadow_dirty: None,
+            far_pipeline,
             board_shadow_view,
             color_texture,
             color_view,
@@ -1057,6 +1087,15 @@ impl Renderer {
             with_static,
             &mut foliage_shadow_draws,
         );
+        // What this frame writes into its map: with the static casters cached, the moving
+        // vehicles' texels within `seen`; the next frame resets just those.
+        let (reset, dirty) = match (&window, self.shadow_dirty) {
+            (Some(_), previous) => (
+                previous,
+                Some(light.casters_texels(&items, size).intersection(&seen)),
+            ),
+            (None, _) => (None, None),
+        };
         // The board's shadow map: a fine one around the target board, with its casters.
         let board_light = board_centre.filter(|_| sun.soft_shadows).map(|c| {
             Light::around(
@@ -1174,7 +1213,11 @@ impl Renderer {
                 depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                     view: &self.shadow_view,
                     depth_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(1.0),
+                        load: if reset.is_some() {
+                            wgpu::LoadOp::Load
+                        } else {
+                            wgpu::LoadOp::Clear(1.0)
+                        },
                         store: wgpu::StoreOp::Store,
                     }),
                     stencil_ops: None,
@@ -1183,8 +1226,18 @@ impl Renderer {
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
-            pass.set_pipeline(&self.shadow_pipeline);
             pass.set_bind_group(0, &self.frame_bind_group, &[]);
+            if let Some(r) = reset.filter(|r| !r.is_empty()) {
+                pass.set_pipeline(&self.far_pipeline);
+                pass.set_scissor_rect(
+                    r.x0 as u32,
+                    r.y0 as u32,
+                    r.width() as u32,
+                    r.height() as u32,
+                );
+                pass.draw(0..3, 0..1);
+            }
+            pass.set_pipeline(&self.shadow_pipeline);
             pass.set_vertex_buffer(0, self.vertex_buffer.slice(..));
             pass.set_index_buffer(self.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
             if !seen.is_empty() {
@@ -1317,6 +1370,7 @@ impl Renderer {
             }
         }
         self.main_draws = main_draws;
+        self.shadow_dirty = dirty;
         self.shadow_draws = shadow_draws;
         self.board_shadow_draws = board_shadow_draws;
         self.foliage_shadow_draws = foliage_shadow_draws;
@@ -1909,6 +1963,39 @@ impl Light {
             y0: clip((ty(hi[1]) - margin).floor()),
             y1: clip((ty(lo[1]) + margin).ceil()),
         }
+    }
+
+    /// The texels of this map (`size` a side) that the moving casters among `items` within
+    /// its box can cover, grown by two texels (the rasteriser's rounding, with room to
+    /// spare).
+    fn casters_texels(&self, items: &[DrawItem], size: u32) -> PixelRect {
+        let n = f64::from(size);
+        let (sx, sy) = (self.max[0] - self.min[0], self.max[1] - self.min[1]);
+        let clip = |t: f64| t.clamp(0.0, n) as usize;
+        items
+            .iter()
+            .filter(|d| {
+                d.casts_shadow && d.class < FIRST_STATIC_CLASS && self.holds(d.centre, d.radius)
+            })
+            .map(|d| {
+                let c = Vector3::from(d.centre);
+                let tx = (self.axes[0].dot(&c) - self.min[0]) / sx * n;
+                let ty = (self.max[1] - self.axes[1].dot(&c)) / sy * n;
+                let (rx, ry) = (d.radius / sx * n + 2.0, d.radius / sy * n + 2.0);
+                PixelRect {
+                    x0: clip((tx - rx).floor()),
+                    x1: clip((tx + rx).ceil()),
+                    y0: clip((ty - ry).floor()),
+                    y1: clip((ty + ry).ceil()),
+                }
+            })
+            .fold(PixelRect::whole(0, 0), |a, b| {
+                if a.is_empty() {
+                    b
+                } else {
+                    a.union(&b)
+                }
+            })
     }
 
     /// Whether a sphere can cover any of the texels `texels` of this map (`size` a side).

@@ -124,6 +124,14 @@ fn vs_shadow(v: VertexIn) -> @builtin(position) vec4<f32> {
     return globals.light_view_proj * world;
 }
 
+// A triangle over the whole map at the far plane: with depth always written, it sets the
+// texels it is scissored to back to the cleared depth.
+@vertex
+fn vs_far(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
+    let p = vec2<f32>(f32((i << 1u) & 2u), f32(i & 2u)) * 2.0 - 1.0;
+    return vec4<f32>(p, 1.0, 1.0);
+}
+
 @vertex
 fn vs_board_shadow(v: VertexIn) -> @builtin(position) vec4<f32> {
     let world = objects.world_from_object[v.object & 0xffu] * vec4<f32>(v.position, 1.0);
