@@ -292,32 +292,22 @@ impl Renderer {
             wgpu::BufferUsages::INDEX,
         );
 
-        // Uniforms: the per-frame globals and the object transforms.
-        let globals_buffer = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("globals"),
-            size: std::mem::size_of::<Globals>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let objects_buffer = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("objects"),
-            size: 64 * u64::from(ObjectSlot::COUNT),
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        // The same for the static shadow tiles' passes, which run in submissions of their own.
-        let tile_globals_buffer = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("tile globals"),
-            size: std::mem::size_of::<Globals>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let tile_objects_buffer = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("tile objects"),
-            size: 64 * u64::from(ObjectSlot::COUNT),
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        // Uniforms: the per-frame globals and the object transforms, and the same for the
+        // static shadow tiles' passes, which run in submissions of their own.
+        let uniform_buffer = |label, size| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            })
+        };
+        let globals_size = std::mem::size_of::<Globals>() as u64;
+        let objects_size = 64 * u64::from(ObjectSlot::COUNT);
+        let globals_buffer = uniform_buffer("globals", globals_size);
+        let objects_buffer = uniform_buffer("objects", objects_size);
+        let tile_globals_buffer = uniform_buffer("tile globals", globals_size);
+        let tile_objects_buffer = uniform_buffer("tile objects", objects_size);
 
         // Textures: the shadow map, the grey target (and its multisampled twin), depth.
         let size = |w, h| wgpu::Extent3d {
