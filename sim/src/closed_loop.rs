@@ -856,7 +856,7 @@ impl ClosedLoop {
             // Two frames in flight overlap by nature.
             self.remote = None;
         }
-        self.pipelined = on && self.drive.delay.min_latency_steps() >= u64::from(STEPS_PER_FRAME);
+        self.pipelined = on && renders_ahead(&self.drive.delay);
         self.pipelined
     }
 

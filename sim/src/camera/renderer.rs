@@ -1197,25 +1197,16 @@ impl Renderer {
                 label: Some("frame"),
             });
         {
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("shadow"),
-                color_attachments: &[],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &self.shadow_view,
-                    depth_ops: Some(wgpu::Operations {
-                        load: if reset.is_some() {
-                            wgpu::LoadOp::Load
-                        } else {
-                            wgpu::LoadOp::Clear(1.0)
-                        },
-                        store: wgpu::StoreOp::Store,
-                    }),
-                    stencil_ops: None,
-                }),
-                timestamp_writes: None,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
+            let mut pass = depth_pass(
+                &mut encoder,
+                "shadow",
+                &self.shadow_view,
+                if reset.is_some() {
+                    wgpu::LoadOp::Load
+                } else {
+                    wgpu::LoadOp::Clear(1.0)
+                },
+            );
             pass.set_bind_group(0, &self.frame_bind_group, &[]);
             if let Some(r) = reset.filter(|r| !r.is_empty()) {
                 pass.set_pipeline(&self.far_pipeline);
@@ -1250,21 +1241,12 @@ impl Renderer {
         }
         // The board's pass only with soft shadows: without them nothing samples its map.
         if board_light.is_some() {
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("board shadow"),
-                color_attachments: &[],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &self.board_shadow_view,
-                    depth_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(1.0),
-                        store: wgpu::StoreOp::Store,
-                    }),
-                    stencil_ops: None,
-                }),
-                timestamp_writes: None,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
+            let mut pass = depth_pass(
+                &mut encoder,
+                "board shadow",
+                &self.board_shadow_view,
+                wgpu::LoadOp::Clear(1.0),
+            );
             pass.set_pipeline(&self.board_shadow_pipeline);
             pass.set_bind_group(0, &self.frame_bind_group, &[]);
             pass.set_vertex_buffer(0, self.vertex_buffer.slice(..));
@@ -1471,21 +1453,12 @@ impl Renderer {
                 label: Some("shadow tile"),
             });
         {
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("shadow tile"),
-                color_attachments: &[],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &self.tile_views[layer as usize],
-                    depth_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(1.0),
-                        store: wgpu::StoreOp::Store,
-                    }),
-                    stencil_ops: None,
-                }),
-                timestamp_writes: None,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
+            let mut pass = depth_pass(
+                &mut encoder,
+                "shadow tile",
+                &self.tile_views[layer as usize],
+                wgpu::LoadOp::Clear(1.0),
+            );
             pass.set_bind_group(0, &self.tile_bind_group, &[]);
             pass.set_vertex_buffer(0, self.vertex_buffer.slice(..));
             pass.set_index_buffer(self.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
@@ -1679,6 +1652,31 @@ fn to_f32(m: &Matrix4<f64>) -> [[f32; 4]; 4] {
         }
     }
     out
+}
+
+/// A depth-only render pass into `view`, loading (or clearing) it as `load` says and
+/// storing it: the passes from the sun.
+fn depth_pass<'e>(
+    encoder: &'e mut wgpu::CommandEncoder,
+    label: &str,
+    view: &wgpu::TextureView,
+    load: wgpu::LoadOp<f32>,
+) -> wgpu::RenderPass<'e> {
+    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some(label),
+        color_attachments: &[],
+        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+            view,
+            depth_ops: Some(wgpu::Operations {
+                load,
+                store: wgpu::StoreOp::Store,
+            }),
+            stencil_ops: None,
+        }),
+        timestamp_writes: None,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    })
 }
 
 /// Into `draws`: the index ranges of the items that cast shadows within `light`'s box,
