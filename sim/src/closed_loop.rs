@@ -177,25 +177,62 @@ struct Drive {
     /// `Some` once the first frame's physics has run).
     interlaced: bool,
     earlier_field: Option<Field>,
+    /// The steps of the physics to the next frame run so far (see
+    /// [`Drive::advance_before`]).
+    ahead: Option<FrameSteps>,
+}
+
+/// The steps of one frame's physics run so far, and what they did.
+#[derive(Clone, Copy, Debug, Default)]
+struct FrameSteps {
+    steps: u64,
+    controls: vehicle::Controls,
+    collision: bool,
 }
 
 impl Drive {
-    /// The controllers and the physics, eight steps to the next frame. Returns the chase's
-    /// last controls and whether the vehicles touched.
+    /// The controllers and the physics, eight steps to the next frame (the rest of them,
+    /// when [`Drive::advance_before`] has run some already). Returns the chase's last
+    /// controls and whether the vehicles touched.
     fn advance_frame(&mut self) -> Driven {
-        let mut collision = false;
-        let mut controls = vehicle::Controls::default();
-        for k in 0..u64::from(STEPS_PER_FRAME) {
-            if self.interlaced && k == u64::from(STEPS_PER_FRAME) - scene::FIELD_PERIOD_STEPS {
+        self.advance_steps(None);
+        let ahead = self.ahead.take().expect("the frame's steps have run");
+        Driven {
+            controls: ahead.controls,
+            collision: ahead.collision,
+            chase_mode: self.chase.mode(),
+            desired_gap_m: self.chase.telemetry().desired_gap_m,
+        }
+    }
+
+    /// Runs the steps of the physics to the next frame that come before step `due` (the
+    /// earliest an estimate not yet queued can be due), without completing the frame: what
+    /// they do depends on no estimate still to come, so they may run while the frames whose
+    /// estimates those are are still being rendered and tracked. [`Drive::advance_frame`]
+    /// runs the rest; the outcome is the same, step for step, as running them all then.
+    fn advance_before(&mut self, due: Step) {
+        self.advance_steps(Some(due));
+    }
+
+    /// The frame's steps not yet run, or those before `until`.
+    fn advance_steps(&mut self, until: Option<Step>) {
+        let mut ahead = self.ahead.take().unwrap_or_default();
+        while ahead.steps < u64::from(STEPS_PER_FRAME) {
+            let step_now: Step = self.world.now();
+            if until.is_some_and(|until| step_now >= until) {
+                break;
+            }
+            if self.interlaced
+                && ahead.steps == u64::from(STEPS_PER_FRAME) - scene::FIELD_PERIOD_STEPS
+            {
                 self.earlier_field = Some(self.field_now());
             }
-            let step_now: Step = self.world.now();
             for estimate in self.delay.pop_due(step_now) {
                 self.chase.receive(estimate);
             }
             let chase = self.world.vehicle_state(self.chase_id);
             let lead = self.world.vehicle_state(self.lead_id);
-            controls = self.chase.update(&Odometry {
+            ahead.controls = self.chase.update(&Odometry {
                 step: step_now,
                 world_from_chase: chase.world_from_vehicle,
                 forward_speed_mps: chase.forward_speed_mps,
@@ -205,17 +242,19 @@ impl Drive {
                 pan.step(f64::from(self.chase.telemetry().pan_rate_cmd_rad_s));
             }
             let lead_controls = self.lead.update(step_now, &lead);
-            self.world.set_controls(self.chase_id, controls);
+            self.world.set_controls(self.chase_id, ahead.controls);
             self.world.set_controls(self.lead_id, lead_controls);
             self.world.step();
-            collision |= self.world.vehicles_touch(self.chase_id, self.lead_id);
+            ahead.collision |= self.world.vehicles_touch(self.chase_id, self.lead_id);
+            ahead.steps += 1;
         }
-        Driven {
-            controls,
-            collision,
-            chase_mode: self.chase.mode(),
-            desired_gap_m: self.chase.telemetry().desired_gap_m,
-        }
+        self.ahead = Some(ahead);
+    }
+
+    /// The earliest step at which the estimate of frame `frame_index` (not yet queued) can
+    /// fall due.
+    fn earliest_due(&self, frame_index: u64) -> Step {
+        Step(frame_index * u64::from(STEPS_PER_FRAME) + self.delay.min_latency_steps())
     }
 
     /// The world now, as an interlaced frame's earlier field sees it.
@@ -506,6 +545,7 @@ fn record_tracked(
         track.estimate,
         track.next,
         tracker.last_read(),
+        captured.world_from_camera.rotation,
     );
 }
 
@@ -708,6 +748,7 @@ impl ClosedLoop {
                     .map_err(|e| setup(format!("pan head: {e}")))?,
                 interlaced: s.sensor.interlaced,
                 earlier_field: None,
+                ahead: None,
             },
             renderer,
             remote: None,
@@ -718,7 +759,12 @@ impl ClosedLoop {
                 setup_s: started.elapsed().as_secs_f64(),
                 ..LoopTiming::default()
             },
-            parts: FrameParts::new(rig.width, rig.height),
+            parts: FrameParts::new(
+                rig.width,
+                rig.height,
+                // Robust mode turns its prediction with the gyro's reading.
+                (s.tracker.mode == TrackerMode::Robust).then_some(rig.intrinsics),
+            ),
             auto_gain: AutoGainControl::new(
                 s.sensor.auto_gain,
                 rig.width,
@@ -894,7 +940,10 @@ impl ClosedLoop {
             let captured = self.capture();
             let t_s = captured.input.time_s;
             let ego = self.ego_motion(&captured);
-            let needed = self.parts.needed(captured.input.frame_index);
+            let needed = self.parts.needed(
+                captured.input.frame_index,
+                &captured.world_from_camera.rotation,
+            );
             let (renderer, tracker, drive) =
                 (&mut self.renderer, &mut self.tracker, &mut self.drive);
             let diagnostics = self.diagnostics;
@@ -908,7 +957,7 @@ impl ClosedLoop {
                             track_part(
                                 tracker,
                                 &mut frame,
-                                || renderer.render(input),
+                                |part| renderer.render_part(input, part),
                                 |t, f| track_frame(t, &f.image, t_s, ego, diagnostics),
                             )
                         })?;
@@ -927,7 +976,10 @@ impl ClosedLoop {
         } else {
             let captured = self.capture();
             let ego = self.ego_motion(&captured);
-            let needed = self.parts.needed(captured.input.frame_index);
+            let needed = self.parts.needed(
+                captured.input.frame_index,
+                &captured.world_from_camera.rotation,
+            );
             let [render_t, track_t, physics_t] = &mut spent;
             let mut frame = timed(render_t, || {
                 self.renderer.render_part(&captured.input, needed)
@@ -937,7 +989,7 @@ impl ClosedLoop {
                 track_part(
                     &mut self.tracker,
                     &mut frame,
-                    || self.renderer.render(&captured.input),
+                    |part| self.renderer.render_part(&captured.input, part),
                     |t, f| track_frame(t, &f.image, t_s, ego, diagnostics),
                 )
             })?;
@@ -978,7 +1030,10 @@ impl ClosedLoop {
     /// renderer (at once), odd ones on the render worker (in the background).
     fn submit(&mut self, render_t: &mut Duration) -> Result<InFlight, LoopError> {
         let captured = self.capture();
-        let needed = self.parts.needed(captured.input.frame_index);
+        let needed = self.parts.needed(
+            captured.input.frame_index,
+            &captured.world_from_camera.rotation,
+        );
         let image = if captured.input.frame_index.is_multiple_of(2) {
             Some(timed(render_t, || {
                 self.renderer.render_part(&captured.input, needed)
@@ -1045,7 +1100,7 @@ impl ClosedLoop {
                 track_part(
                     &mut self.tracker,
                     &mut frame,
-                    || renderer.render(input),
+                    |part| renderer.render_part(input, part),
                     step,
                 )
             })?;
@@ -1062,9 +1117,10 @@ impl ClosedLoop {
                 &self.auto_gain,
             )
         });
-        let needed = next
-            .as_ref()
-            .and_then(|c| self.parts.needed(c.input.frame_index));
+        let needed = next.as_ref().and_then(|c| {
+            self.parts
+                .needed(c.input.frame_index, &c.world_from_camera.rotation)
+        });
         let frames = self.frames;
         let ClosedLoop {
             drive,
@@ -1092,13 +1148,21 @@ impl ClosedLoop {
                 })
             });
             let seen = (|| -> Result<_, String> {
+                // The physics to k + 2 runs after frame k is tracked (below); its steps
+                // before the estimate of frame k can fall due run now, while frame k comes
+                // back.
+                let ahead_of_k = more && !diagnostics;
+                if ahead_of_k {
+                    let due = drive.earliest_due(k);
+                    timed(physics_t, || drive.advance_before(due));
+                }
                 let mut frame = timed(render_t, || remote.receive())?;
                 let (out, again) = timed(track_t, || {
                     track_part(
                         tracker,
                         &mut frame,
-                        || {
-                            remote.submit(input, None)?;
+                        |part| {
+                            remote.submit(input, part)?;
                             remote.receive()
                         },
                         step,
@@ -1108,18 +1172,28 @@ impl ClosedLoop {
                 auto_gain.observe(k, input.auto_gain, &frame.image);
                 // The physics to k + 2 needs estimates up to k alone. (Not with diagnostics:
                 // the recording takes the chase controller as it stands after each frame.)
-                let ahead = if more && !diagnostics {
+                let ahead = if ahead_of_k {
                     let advanced = timed(physics_t, || drive.advance_frame());
                     let submitted = (k + 2 < frames)
                         .then(|| {
                             let captured = Captured::of(drive, rig, lead_from_scene, auto_gain);
-                            let needed = parts.needed(captured.input.frame_index);
+                            let needed = parts.needed(
+                                captured.input.frame_index,
+                                &captured.world_from_camera.rotation,
+                            );
                             remote.submit(&captured.input, needed).map(|()| InFlight {
                                 captured,
                                 image: None,
                             })
                         })
                         .transpose()?;
+                    if submitted.is_some() {
+                        // The physics to k + 3 (the next step's) needs frame k + 1 tracked
+                        // only from the step its estimate can fall due: the steps before
+                        // run now, while frame k + 1 finishes rendering here.
+                        let due = drive.earliest_due(k + 1);
+                        timed(physics_t, || drive.advance_before(due));
+                    }
                     Some((advanced, submitted))
                 } else {
                     None

@@ -13,16 +13,25 @@
 //! Whole frames are rendered when something needs them: the video, recordings, stills.
 
 use crate::camera::Frame;
+use nalgebra::UnitQuaternion;
+use std::collections::VecDeque;
+use tracker::{Camera, EgoMotion};
 use tracker::{EdgeDiagnostic, Location, PixelRect, TrackOutput, Tracker};
 
-/// Margin around the predicted read rectangle, pixels: the robust tracker's search near
-/// its prediction reaches [`tracker::robust::LOCAL_SEARCH_PX`] (16 px) beyond the
-/// target, and its coverage check a feature spacing and [`tracker::robust::PEAK_PROBE_PX`]
-/// beyond the window; a frame whose step reaches farther is rendered whole and tracked again.
-const MARGIN_PX: f64 = 12.0;
-/// Further margin for each frame of prediction, pixels: what the predicted motion can be
-/// off by in a frame (the chase's pitch on a bump moves the target a few pixels a frame).
-const MARGIN_PER_FRAME_PX: f64 = 6.0;
+/// Margin around the predicted read rectangle, pixels, whatever the prediction's recent
+/// record: the read rectangle's edges are whole pixels.
+const MARGIN_PX: f64 = 2.0;
+/// How many of the latest frames' prediction errors set the margin.
+const RECENT_FRAMES: usize = 6;
+/// The margin per frame of prediction follows the error this many places from the largest
+/// of the latest [`RECENT_FRAMES`] (1: the largest). The prediction's error drifts smoothly
+/// as the target speeds up or turns, so the latest errors bound the next one; but one or two
+/// frames now and then read 13–17 px farther (the tracker's check of a fit that covers
+/// little reads a band around its window), and a margin that wide for six
+/// frames after each would cost more than rendering those frames again.
+const ERROR_RANK: usize = 3;
+/// The margin per frame of prediction before [`ERROR_RANK`] errors are known, pixels.
+const FIRST_ERROR_PX: f64 = 6.0;
 
 /// What the last tracked frame read, and where the tracker said the target was going.
 #[derive(Clone, Copy, Debug)]
@@ -33,6 +42,40 @@ struct Seen {
     shift_px: [f64; 2],
     /// The predicted growth of the target per frame (ratio of scales).
     zoom: f64,
+    /// The camera's orientation then (world from camera).
+    camera: UnitQuaternion<f64>,
+}
+
+impl Seen {
+    /// Where the read rectangle is predicted to be `ahead` frames on, with where it was:
+    /// the least and greatest x, then y, pixels, before any margin. `turning`: the camera
+    /// (intrinsics) when the tracker turns its prediction with the camera's rotation, and
+    /// the camera's orientation `ahead` frames on.
+    fn predicted(
+        &self,
+        ahead: f64,
+        turning: Option<(&Camera, &UnitQuaternion<f64>)>,
+    ) -> [[f64; 2]; 2] {
+        let r = self.read;
+        let half = [0.5 * r.width() as f64, 0.5 * r.height() as f64];
+        let mut centre =
+            [0, 1].map(|k| [r.x0, r.y0][k] as f64 + half[k] + ahead * self.shift_px[k]);
+        if let Some((camera, now)) = turning {
+            let turn = (self.camera.inverse() * now).scaled_axis();
+            let ego = EgoMotion {
+                rotation_rad: [turn.x, turn.y, turn.z],
+            };
+            let d = ego.image_shift(camera, Location::new(centre[0], centre[1], 1.0));
+            centre = [centre[0] + d[0], centre[1] + d[1]];
+        }
+        let grow = self.zoom.powf(ahead).max(1.0);
+        let was = [[r.x0, r.x1], [r.y0, r.y1]];
+        [0, 1].map(|k| {
+            let c = centre[k];
+            let h = half[k] * grow;
+            [(c - h).min(was[k][0] as f64), (c + h).max(was[k][1] as f64)]
+        })
+    }
 }
 
 /// Chooses the part of each frame to render.
@@ -40,27 +83,40 @@ struct Seen {
 pub(crate) struct FrameParts {
     /// Whether every frame is rendered whole (someone needs the images).
     pub(crate) whole_frames: bool,
+    /// The camera's intrinsics when the tracker turns its prediction with the camera's
+    /// rotation (robust mode's gyro): the parts then turn with it too.
+    turning: Option<Camera>,
     width: usize,
     height: usize,
     last: Option<Seen>,
-    /// Frames whose step read beyond what was rendered, and were rendered whole.
+    /// The latest frames' prediction errors: how far beyond its prediction from the frame
+    /// before each frame's step read, per frame of prediction, pixels.
+    errors: VecDeque<f64>,
+    /// Frames whose step read beyond what was rendered, and were rendered again.
     pub(crate) rerendered: u64,
 }
 
 impl FrameParts {
-    /// For frames `width × height`, whole frames at first.
-    pub(crate) fn new(width: u32, height: u32) -> FrameParts {
+    /// For frames `width × height`, whole frames at first; `turning`: see the field.
+    pub(crate) fn new(width: u32, height: u32, turning: Option<Camera>) -> FrameParts {
         FrameParts {
             whole_frames: true,
+            turning,
             width: width as usize,
             height: height as usize,
             last: None,
+            errors: VecDeque::with_capacity(RECENT_FRAMES + 1),
             rerendered: 0,
         }
     }
 
-    /// The part of frame `frame_index` to render; `None` for all of it.
-    pub(crate) fn needed(&self, frame_index: u64) -> Option<PixelRect> {
+    /// The part of frame `frame_index`, whose camera has the orientation `camera` (world
+    /// from camera), to render; `None` for all of it.
+    pub(crate) fn needed(
+        &self,
+        frame_index: u64,
+        camera: &UnitQuaternion<f64>,
+    ) -> Option<PixelRect> {
         if self.whole_frames {
             return None;
         }
@@ -70,33 +126,29 @@ impl FrameParts {
             return None;
         }
         let ahead = (frame_index - seen.frame_index) as f64;
-        let r = seen.read;
-        let half = [0.5 * r.width() as f64, 0.5 * r.height() as f64];
-        let centre = [r.x0 as f64 + half[0], r.y0 as f64 + half[1]];
-        let grow = seen.zoom.powf(ahead).max(1.0);
-        let margin = MARGIN_PX + MARGIN_PER_FRAME_PX * ahead;
-        let moved = [0, 1].map(|k| {
-            let c = centre[k] + ahead * seen.shift_px[k];
-            let h = half[k] * grow;
-            [c - h, c + h]
-        });
-        // Where it was, where it is predicted to be, and the margin around both.
-        let lo = |k: usize, at: f64| (moved[k][0].min(at) - margin).floor().max(0.0) as usize;
-        let hi = |k: usize, at: f64, n: usize| {
-            ((moved[k][1].max(at) + margin).ceil().max(0.0) as usize).min(n)
-        };
+        let margin = MARGIN_PX + self.error_px() * ahead;
+        let [x, y] = seen.predicted(ahead, self.turning.as_ref().map(|c| (c, camera)));
+        let lo = |at: f64| (at - margin).floor().max(0.0) as usize;
+        let hi = |at: f64, n: usize| ((at + margin).ceil().max(0.0) as usize).min(n);
         let part = PixelRect {
-            x0: lo(0, r.x0 as f64),
-            y0: lo(1, r.y0 as f64),
-            x1: hi(0, r.x1 as f64, self.width),
-            y1: hi(1, r.y1 as f64, self.height),
+            x0: lo(x[0]),
+            y0: lo(y[0]),
+            x1: hi(x[1], self.width),
+            y1: hi(y[1], self.height),
         };
         Some(part)
     }
 
-    /// Notes what the step of frame `frame_index` read (`read`), its estimate and its
-    /// prediction for the next frame.
-    pub(crate) fn observe(&mut self, frame_index: u64, e: Location, n: Location, read: PixelRect) {
+    /// Notes what the step of frame `frame_index` (whose camera had the orientation
+    /// `camera`) read (`read`), its estimate and its prediction for the next frame.
+    pub(crate) fn observe(
+        &mut self,
+        frame_index: u64,
+        e: Location,
+        n: Location,
+        read: PixelRect,
+        camera: UnitQuaternion<f64>,
+    ) {
         let finite = [e.c_x, e.c_y, e.scale, n.c_x, n.c_y, n.scale]
             .iter()
             .all(|v| v.is_finite());
@@ -105,27 +157,64 @@ impl FrameParts {
         } else {
             ([0.0; 2], 1.0)
         };
+        let whole = PixelRect::whole(self.width, self.height);
+        if let Some(last) = self.last {
+            let was = last.read;
+            if !read.is_empty() && read != whole && !was.is_empty() && was != whole {
+                let ahead = frame_index.saturating_sub(last.frame_index).max(1) as f64;
+                let [x, y] = last.predicted(ahead, self.turning.as_ref().map(|c| (c, &camera)));
+                let beyond = (x[0] - read.x0 as f64)
+                    .max(read.x1 as f64 - x[1])
+                    .max(y[0] - read.y0 as f64)
+                    .max(read.y1 as f64 - y[1])
+                    .max(0.0);
+                if self.errors.len() == RECENT_FRAMES {
+                    self.errors.pop_front();
+                }
+                self.errors.push_back(beyond / ahead);
+            }
+        }
         self.last = Some(Seen {
             frame_index,
             read,
             shift_px,
             zoom,
+            camera,
         });
+    }
+
+    /// The margin per frame of prediction, pixels: the [`ERROR_RANK`]th largest of the
+    /// latest errors.
+    fn error_px(&self) -> f64 {
+        if self.errors.len() < ERROR_RANK {
+            return FIRST_ERROR_PX;
+        }
+        let mut latest: Vec<f64> = self.errors.iter().copied().collect();
+        latest.sort_by(|a, b| b.total_cmp(a));
+        latest[ERROR_RANK - 1]
     }
 }
 
+/// How far beyond what a step read (on a part that fell short) the second part reaches,
+/// pixels: on the pixels it lacked the step may read differently, and the tracker's check
+/// of a fit that covers little reads a band of 13–17 px around its window.
+const RETRY_MARGIN_PX: usize = 20;
+
 /// Tracks `frame` with `step` (the tracker's step on an image). When the frame is only
 /// partly rendered and the step read beyond its exact pixels, the tracker goes back to its
-/// state before the step, `whole` renders the whole frame into `frame` (on whichever
-/// renderer is free: the images are the same), and the step runs again; the second value
-/// says whether that happened.
+/// state before the step, `render` renders a larger part of the frame into `frame` (what
+/// the step read and what was rendered, grown by [`RETRY_MARGIN_PX`]; on whichever
+/// renderer is free: the images are the same), and the step runs again; should that step
+/// also read beyond it, the same with the whole frame (`None`). The second value says
+/// whether the frame was rendered again.
 pub(crate) fn track_part<E>(
     tracker: &mut Tracker,
     frame: &mut Frame,
-    whole: impl FnOnce() -> Result<Frame, E>,
+    mut render: impl FnMut(Option<PixelRect>) -> Result<Frame, E>,
     step: impl Fn(&mut Tracker, &Frame) -> (TrackOutput, Vec<EdgeDiagnostic>),
 ) -> Result<((TrackOutput, Vec<EdgeDiagnostic>), bool), E> {
-    let all = PixelRect::whole(frame.image.width() as usize, frame.image.height() as usize);
+    let (width, height) = (frame.image.width() as usize, frame.image.height() as usize);
+    let all = PixelRect::whole(width, height);
     if frame.exact == all {
         return Ok((step(tracker, frame), false));
     }
@@ -134,8 +223,18 @@ pub(crate) fn track_part<E>(
     if frame.exact.contains(&tracker.last_read()) {
         return Ok((out, false));
     }
+    let larger = frame
+        .exact
+        .union(&tracker.last_read())
+        .grown(RETRY_MARGIN_PX, width, height);
+    *tracker = before.clone();
+    *frame = render((larger != all).then_some(larger))?;
+    let out = step(tracker, frame);
+    if frame.exact.contains(&tracker.last_read()) {
+        return Ok((out, true));
+    }
     *tracker = before;
-    *frame = whole()?;
+    *frame = render(None)?;
     Ok((step(tracker, frame), true))
 }
 
@@ -145,9 +244,14 @@ mod tests {
 
     #[test]
     fn the_part_follows_the_prediction_and_grows_with_it() {
-        let mut parts = FrameParts::new(256, 242);
+        let still = UnitQuaternion::identity();
+        let mut parts = FrameParts::new(256, 242, None);
         parts.whole_frames = false;
-        assert_eq!(parts.needed(1), None, "nothing seen yet: the whole frame");
+        assert_eq!(
+            parts.needed(1, &still),
+            None,
+            "nothing seen yet: the whole frame"
+        );
         let read = PixelRect {
             x0: 100,
             y0: 90,
@@ -159,27 +263,101 @@ mod tests {
             Location::new(130.0, 110.0, 1.0),
             Location::new(134.0, 108.0, 1.1),
             read,
+            still,
         );
-        let one = parts.needed(5).unwrap();
-        let two = parts.needed(6).unwrap();
+        let one = parts.needed(5, &still).unwrap();
+        let two = parts.needed(6, &still).unwrap();
         assert!(one.contains(&read) && two.contains(&one));
-        // Two frames on, the rectangle (60 × 40, grown 21 %) moved by (8, −4), plus margins.
-        let m = MARGIN_PX + 2.0 * MARGIN_PER_FRAME_PX;
+        // Two frames on, the rectangle (60 × 40, grown 21 %) moved by (8, −4), plus margins
+        // (no errors known yet).
+        let m = MARGIN_PX + 2.0 * FIRST_ERROR_PX;
         assert_eq!(two.x1, (130.0 + 8.0 + 30.0 * 1.21 + m).ceil() as usize);
         assert_eq!(two.y0, (110.0 - 4.0 - 20.0 * 1.21 - m).floor() as usize);
         assert!(two.width() < 256 / 2, "{two:?}");
         // A step that read the whole frame (a search) asks for the whole next one.
         let at = Location::new(130.0, 110.0, 1.0);
-        parts.observe(5, at, at, PixelRect::whole(256, 242));
-        assert_eq!(parts.needed(6), None);
+        parts.observe(5, at, at, PixelRect::whole(256, 242), still);
+        assert_eq!(parts.needed(6, &still), None);
         // As does a loop that needs whole frames.
-        parts.observe(6, at, at, read);
+        parts.observe(6, at, at, read, still);
         parts.whole_frames = true;
-        assert_eq!(parts.needed(7), None);
+        assert_eq!(parts.needed(7, &still), None);
     }
 
-    /// A part that misses the target: the step reads beyond it, so the frame is rendered
-    /// whole and tracked again, and the output is the whole frame's.
+    /// A read rectangle of 60 × 40 px at (`x`, 90), the target not moving.
+    fn read_at(x: usize) -> PixelRect {
+        PixelRect {
+            x0: x,
+            y0: 90,
+            x1: x + 60,
+            y1: 130,
+        }
+    }
+
+    #[test]
+    fn the_margin_follows_the_latest_errors_and_ignores_a_stray_one() {
+        let still = UnitQuaternion::identity();
+        let at = Location::new(130.0, 110.0, 1.0);
+        let mut parts = FrameParts::new(256, 242, None);
+        parts.whole_frames = false;
+        // The target drifts 3 px a frame that the prediction (standing still) misses.
+        for k in 0..8 {
+            parts.observe(k, at, at, read_at(100 + 3 * k as usize), still);
+        }
+        assert_eq!(parts.error_px(), 3.0);
+        let next = parts.needed(8, &still).unwrap();
+        assert_eq!(next.x1, (100 + 21 + 60) + (MARGIN_PX + 3.0) as usize);
+        // A steady prediction: the margin shrinks to the least.
+        for k in 8..16 {
+            parts.observe(k, at, at, read_at(121), still);
+        }
+        assert_eq!(parts.error_px(), 0.0);
+        // One frame that reads 15 px farther (the coverage check's band) does not widen
+        // the margin of the frames after it; three do.
+        parts.observe(16, at, at, read_at(121).grown(15, 256, 242), still);
+        parts.observe(17, at, at, read_at(121), still);
+        assert_eq!(parts.error_px(), 0.0);
+        for k in 18..21 {
+            parts.observe(k, at, at, read_at(121 + 5 * (k as usize - 17)), still);
+        }
+        assert_eq!(parts.error_px(), 5.0);
+    }
+
+    #[test]
+    fn with_a_turning_prediction_the_part_turns_with_the_camera() {
+        let camera = Camera::default();
+        let at = Location::new(128.0, 121.0, 1.0);
+        let read = read_at(98);
+        let before = UnitQuaternion::identity();
+        // The camera turns right by 1° (about its y axis, down in the camera frame).
+        let after =
+            UnitQuaternion::from_axis_angle(&nalgebra::Vector3::y_axis(), 1f64.to_radians());
+        let mut turning = FrameParts::new(256, 242, Some(camera));
+        let mut fixed = FrameParts::new(256, 242, None);
+        for parts in [&mut turning, &mut fixed] {
+            parts.whole_frames = false;
+            parts.observe(1, at, at, read, before);
+        }
+        let shift = EgoMotion {
+            rotation_rad: [0.0, 1f64.to_radians(), 0.0],
+        }
+        .image_shift(&camera, Location::new(128.0, 110.0, 1.0));
+        assert!(
+            shift[0] < -5.0,
+            "turning right moves the scene left: {shift:?}"
+        );
+        let turned = turning.needed(2, &after).unwrap();
+        let still = fixed.needed(2, &after).unwrap();
+        // Where it was stays in the part; the part reaches as far left as the turn moves it.
+        assert_eq!(turned.x1, still.x1);
+        let m = MARGIN_PX + FIRST_ERROR_PX;
+        assert_eq!(turned.x0, (98.0 + shift[0] - m).floor() as usize);
+        assert!(turned.x0 < still.x0);
+    }
+
+    /// A part that misses the target: the step reads beyond it, so a larger part (or, when
+    /// that falls short too, the whole frame) is rendered and tracked again, and the
+    /// output is the whole frame's.
     #[test]
     fn a_step_beyond_the_part_renders_the_rest_and_steps_again() {
         use crate::camera::{Backend, CameraRig, FrameInput, RenderOptions, Renderer};
@@ -225,10 +403,48 @@ mod tests {
         let mut partial = renderer.render_part(&input, Some(corner)).expect("frame");
         assert_ne!(partial.image, whole.image);
         let mut tracker = new_tracker();
-        let ((out, _), again) =
-            track_part(&mut tracker, &mut partial, || renderer.render(&input), step)
-                .expect("track");
-        assert!(again, "rendered whole and stepped again");
+        let mut asked = Vec::new();
+        let ((out, _), again) = track_part(
+            &mut tracker,
+            &mut partial,
+            |p| {
+                asked.push(p);
+                renderer.render_part(&input, p)
+            },
+            step,
+        )
+        .expect("track");
+        assert!(again, "rendered again and stepped again");
+        assert_eq!(out, expected);
+        // Once: a part holding what the step read, not the whole frame.
+        assert_eq!(asked.len(), 1, "{asked:?}");
+        let larger = asked[0].expect("a part");
+        assert!(larger.contains(&corner) && larger.contains(&reference.last_read()));
+        assert_eq!(partial.exact, larger);
+        let (w, _) = whole.image.dimensions();
+        for y in larger.y0..larger.y1 {
+            let row = |f: &Frame| f.image.as_raw()[y * w as usize..][larger.x0..larger.x1].to_vec();
+            assert_eq!(row(&partial), row(&whole), "row {y}");
+        }
+
+        // Should the larger part fall short too (here a renderer that draws the corner
+        // again), the whole frame.
+        let mut partial = renderer.render_part(&input, Some(corner)).expect("frame");
+        let mut tracker = new_tracker();
+        let mut asked = Vec::new();
+        let ((out, _), again) = track_part(
+            &mut tracker,
+            &mut partial,
+            |p| {
+                asked.push(p);
+                renderer.render_part(&input, p.map(|_| corner))
+            },
+            step,
+        )
+        .expect("track");
+        assert!(again);
+        assert_eq!(asked.len(), 2, "{asked:?}");
+        assert_eq!(asked[1], None);
         assert_eq!(out, expected);
         assert_eq!(partial, whole);
 
@@ -236,8 +452,13 @@ mod tests {
         let read = reference.last_read();
         let mut enough = renderer.render_part(&input, Some(read)).expect("frame");
         let mut tracker = new_tracker();
-        let ((out, _), again) =
-            track_part(&mut tracker, &mut enough, || renderer.render(&input), step).expect("track");
+        let ((out, _), again) = track_part(
+            &mut tracker,
+            &mut enough,
+            |p| renderer.render_part(&input, p),
+            step,
+        )
+        .expect("track");
         assert!(!again);
         assert_eq!(out, expected);
         assert_eq!(enough.exact, read);

@@ -81,6 +81,31 @@ pub struct EgoMotion {
     pub rotation_rad: [f64; 3],
 }
 
+impl EgoMotion {
+    /// How far a point seen at `at` moves in the image of `camera` when the camera turns
+    /// by this rotation, pixels: its ray in the old camera frame, rotated into the new one
+    /// (R⁻¹), projected again. Zero for a rotation that is not finite or that turns the
+    /// point behind the camera.
+    pub fn image_shift(&self, camera: &Camera, at: Location) -> [f64; 2] {
+        let [fx, fy] = camera.focal_px();
+        let [cx, cy] = camera.image_center_px;
+        let ray = [(at.c_x - cx) / fx, (at.c_y - cy) / fy, 1.0];
+        let r = self.rotation_rad;
+        if !r.iter().all(|v| v.is_finite()) {
+            return [0.0; 2];
+        }
+        // R⁻¹ is the rotation by −r (Rodrigues' formula).
+        let seen = rotate(ray, [-r[0], -r[1], -r[2]]);
+        if seen[2] <= 1e-6 {
+            return [0.0; 2];
+        }
+        [
+            cx + fx * seen[0] / seen[2] - at.c_x,
+            cy + fy * seen[1] / seen[2] - at.c_y,
+        ]
+    }
+}
+
 /// Everything the tracker made of one frame.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TrackOutput {
@@ -748,7 +773,7 @@ impl Tracker {
         }
         let mut predicted = Location::new(p[0], p[1], p[2]);
         if let Some(ego) = ego {
-            let [dx, dy] = self.ego_shift(predicted, ego);
+            let [dx, dy] = ego.image_shift(&self.camera, predicted);
             for (k, d) in [(0, dx), (1, dy)] {
                 self.motion[k].shift(d);
                 self.banks.fast[k].shift(d);
@@ -768,27 +793,6 @@ impl Tracker {
     fn use_fast(&self, k: usize) -> bool {
         let [e_slow, e_fast] = self.banks.error[k];
         e_fast < e_slow && self.coast_cycles == 0
-    }
-
-    /// The image shift of a point at `at` when the camera turns by `ego`: its ray in the
-    /// old camera frame, rotated into the new one (R⁻¹), projected again.
-    fn ego_shift(&self, at: Location, ego: EgoMotion) -> [f64; 2] {
-        let [fx, fy] = self.camera.focal_px();
-        let [cx, cy] = self.camera.image_center_px;
-        let ray = [(at.c_x - cx) / fx, (at.c_y - cy) / fy, 1.0];
-        let r = ego.rotation_rad;
-        if !r.iter().all(|v| v.is_finite()) {
-            return [0.0; 2];
-        }
-        // R⁻¹ is the rotation by −r (Rodrigues' formula).
-        let seen = rotate(ray, [-r[0], -r[1], -r[2]]);
-        if seen[2] <= 1e-6 {
-            return [0.0; 2];
-        }
-        [
-            cx + fx * seen[0] / seen[2] - at.c_x,
-            cy + fy * seen[1] / seen[2] - at.c_y,
-        ]
     }
 
     /// Adds a trusted measurement to both banks, after the surprise test, and updates the

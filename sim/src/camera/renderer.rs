@@ -13,7 +13,7 @@
 use super::backend::{Backend, BackendError};
 use super::frame::{Field, Frame, FrameInput, GroundTruth};
 use super::rig::CameraRig;
-use super::sensor::{apply_sensor, blur_reach_px};
+use super::sensor::{apply_sensor_to_rows, blur_reach_px};
 use super::shadow_tiles::{self, TileCache, TileFrame, Window, NO_TILE};
 use super::textures::{GroundTextures, LAYERS, TEXTURE_SIZE, TILE_M};
 use crate::scene::{AutoGain, Layer, ObjectSlot, Scene, Vertex, GRASS_ALBEDO_RANGE, GROUND_CELL_M};
@@ -128,6 +128,7 @@ struct Globals {
     tiles_view_proj: [[f32; 4]; 4],
     tile_params: [f32; 4],
     tile_layers: [[u32; 4]; shadow_tiles::WINDOW],
+    sky: [f32; 4],
 }
 
 /// The strength of the paint's texture relative to the other materials': paint fills the
@@ -159,6 +160,8 @@ pub struct Renderer {
     /// The textured ground's pipeline, when the scene's textures are on.
     ground_pipeline: Option<wgpu::RenderPipeline>,
     foliage_pipeline: wgpu::RenderPipeline,
+    /// The sky's grey and the far depth, drawn first in the main pass: `vs_far`, `fs_sky`.
+    sky_pipeline: wgpu::RenderPipeline,
     foliage_shadow_pipeline: wgpu::RenderPipeline,
     foliage_board_shadow_pipeline: wgpu::RenderPipeline,
     globals_buffer: wgpu::Buffer,
@@ -771,6 +774,43 @@ impl Renderer {
             .enabled
             .then(|| shaded_pipeline("ground", "vs_ground", "fs_ground", back));
         let foliage_pipeline = shaded_pipeline("foliage", "vs_foliage", "fs_foliage", None);
+        // The main pass's background: the sky's grey at the far plane, wherever the pass is
+        // scissored to (the attachments are loaded, not cleared: a clear fills every pixel
+        // of both, however small the part drawn).
+        let sky_pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("sky"),
+            layout: Some(&main_pipeline_layout),
+            vertex: wgpu::VertexState {
+                module: &shader,
+                entry_point: Some("vs_far"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            primitive: wgpu::PrimitiveState::default(),
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: DEPTH_FORMAT,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Always),
+                stencil: wgpu::StencilState::default(),
+                bias: wgpu::DepthBiasState::default(),
+            }),
+            multisample: wgpu::MultisampleState {
+                count: samples,
+                ..Default::default()
+            },
+            fragment: Some(wgpu::FragmentState {
+                module: &shader,
+                entry_point: Some("fs_sky"),
+                compilation_options: Default::default(),
+                targets: &[Some(wgpu::ColorTargetState {
+                    format: COLOR_FORMAT,
+                    blend: None,
+                    write_mask: wgpu::ColorWrites::ALL,
+                })],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
 
         let hood_row = hood_row(&rig, &scene.description().chase, 0.0);
         Ok(Renderer {
@@ -785,6 +825,7 @@ impl Renderer {
             main_pipeline,
             ground_pipeline,
             foliage_pipeline,
+            sky_pipeline,
             foliage_shadow_pipeline,
             foliage_board_shadow_pipeline,
             globals_buffer,
@@ -888,12 +929,14 @@ impl Renderer {
 
         // The sensor: blur and noise, seeded per frame.
         let description = self.scene.description();
-        apply_sensor(
+        // The read noise only on the rows drawn (the only ones read back).
+        apply_sensor_to_rows(
             &mut image,
             &description.sensor,
             &self.rig.intrinsics,
             description.seed,
             input.frame_index,
+            scissor.y0..scissor.y1,
         );
 
         let truth = self.ground_truth(
@@ -1181,6 +1224,7 @@ impl Renderer {
                 0.0,
             ],
             tile_layers,
+            sky: [(sun.sky * brightness).clamp(0.0, 1.0) as f32, 0.0, 0.0, 0.0],
         };
         self.queue
             .write_buffer(&self.globals_buffer, 0, bytemuck::bytes_of(&globals));
@@ -1262,11 +1306,11 @@ impl Renderer {
             }
         }
         {
-            let sky = (sun.sky * brightness).clamp(0.0, 1.0);
             let (view, resolve_target) = match &self.msaa_view {
                 Some(msaa) => (msaa, Some(&self.color_view)),
                 None => (&self.color_view, None),
             };
+            // Loaded, not cleared: the sky's draw below resets the part drawn.
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("main"),
                 color_attachments: &[Some(wgpu::RenderPassColorAttachment {
@@ -1274,20 +1318,15 @@ impl Renderer {
                     depth_slice: None,
                     resolve_target,
                     ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(wgpu::Color {
-                            r: sky,
-                            g: sky,
-                            b: sky,
-                            a: 1.0,
-                        }),
+                        load: wgpu::LoadOp::Load,
                         store: wgpu::StoreOp::Store,
                     },
                 })],
                 depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                     view: &self.depth_view,
                     depth_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(1.0),
-                        store: wgpu::StoreOp::Discard,
+                        load: wgpu::LoadOp::Load,
+                        store: wgpu::StoreOp::Store,
                     }),
                     stencil_ops: None,
                 }),
@@ -1310,6 +1349,10 @@ impl Renderer {
             };
             if scissor != whole && !scissor.is_empty() {
                 set_scissor(&mut pass, scissor);
+            }
+            if !scissor.is_empty() {
+                pass.set_pipeline(&self.sky_pipeline);
+                pass.draw(0..3, 0..1);
             }
             let mut current = None;
             for (k, (range, shading)) in main_draws.iter().enumerate() {
@@ -1347,35 +1390,50 @@ impl Renderer {
         self.board_shadow_draws = board_shadow_draws;
         self.foliage_shadow_draws = foliage_shadow_draws;
         self.foliage_board_shadow_draws = foliage_board_shadow_draws;
-        encoder.copy_texture_to_buffer(
-            wgpu::TexelCopyTextureInfo {
-                texture: &self.color_texture,
-                mip_level: 0,
-                origin: wgpu::Origin3d::ZERO,
-                aspect: wgpu::TextureAspect::All,
-            },
-            wgpu::TexelCopyBufferInfo {
-                buffer: &self.staging,
-                layout: wgpu::TexelCopyBufferLayout {
-                    offset: 0,
-                    bytes_per_row: Some(self.padded_row),
-                    rows_per_image: Some(rig.height),
+        // Only the rows of the part drawn come back.
+        let rows = scissor.y0 as u32..scissor.y1 as u32;
+        if !rows.is_empty() {
+            encoder.copy_texture_to_buffer(
+                wgpu::TexelCopyTextureInfo {
+                    texture: &self.color_texture,
+                    mip_level: 0,
+                    origin: wgpu::Origin3d {
+                        x: 0,
+                        y: rows.start,
+                        z: 0,
+                    },
+                    aspect: wgpu::TextureAspect::All,
                 },
-            },
-            wgpu::Extent3d {
-                width: rig.width,
-                height: rig.height,
-                depth_or_array_layers: 1,
-            },
-        );
+                wgpu::TexelCopyBufferInfo {
+                    buffer: &self.staging,
+                    layout: wgpu::TexelCopyBufferLayout {
+                        offset: 0,
+                        bytes_per_row: Some(self.padded_row),
+                        rows_per_image: Some(rows.len() as u32),
+                    },
+                },
+                wgpu::Extent3d {
+                    width: rig.width,
+                    height: rows.len() as u32,
+                    depth_or_array_layers: 1,
+                },
+            );
+        }
         self.queue.submit([encoder.finish()]);
 
         // Map and read, dropping the row padding.
         let backend = self.options.backend;
         let readback = |reason: String| RenderError::Readback { backend, reason };
+        let width = rig.width as usize;
+        let mut pixels = vec![0; width * rig.height as usize];
+        if rows.is_empty() {
+            return Ok(GrayImage::from_raw(rig.width, rig.height, pixels)
+                .expect("buffer holds width × height bytes"));
+        }
+        let bytes = u64::from(self.padded_row) * rows.len() as u64;
         let (sender, receiver) = std::sync::mpsc::channel();
         self.staging
-            .map_async(wgpu::MapMode::Read, .., move |result| {
+            .map_async(wgpu::MapMode::Read, ..bytes, move |result| {
                 let _ = sender.send(result);
             });
         self.device
@@ -1388,14 +1446,17 @@ impl Renderer {
             .recv()
             .map_err(|e| readback(e.to_string()))?
             .map_err(|e| readback(e.to_string()))?;
-        let mut pixels = Vec::with_capacity((rig.width * rig.height) as usize);
         {
             let data = self
                 .staging
-                .get_mapped_range(..)
+                .get_mapped_range(..bytes)
                 .map_err(|e| readback(e.to_string()))?;
-            for row in data.chunks_exact(self.padded_row as usize) {
-                pixels.extend_from_slice(&row[..rig.width as usize]);
+            let drawn = &mut pixels[rows.start as usize * width..rows.end as usize * width];
+            for (row, out) in data
+                .chunks_exact(self.padded_row as usize)
+                .zip(drawn.chunks_exact_mut(width))
+            {
+                out.copy_from_slice(&row[..width]);
             }
         }
         self.staging.unmap();

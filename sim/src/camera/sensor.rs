@@ -30,6 +30,21 @@ pub fn apply_sensor(
     seed: u64,
     frame_index: u64,
 ) {
+    let rows = 0..image.height() as usize;
+    apply_sensor_to_rows(image, sensor, camera, seed, frame_index, rows);
+}
+
+/// [`apply_sensor`], but the read noise only on the rows `rows` (the others are left as
+/// they are: a renderer that drew only those rows need not pay for the rest). Each pixel of
+/// those rows is what [`apply_sensor`] makes of it.
+pub fn apply_sensor_to_rows(
+    image: &mut GrayImage,
+    sensor: &Sensor,
+    camera: &tracker::Camera,
+    seed: u64,
+    frame_index: u64,
+    rows: std::ops::Range<usize>,
+) {
     if sensor.vignetting > 0.0 {
         vignette(image, sensor.vignetting, camera);
     }
@@ -43,7 +58,9 @@ pub fn apply_sensor(
         return;
     }
     let (key, k) = frame_noise(sensor.noise_sigma_grey, seed, frame_index);
-    add_noise(image.as_mut(), key, k);
+    let width = image.width() as usize;
+    let first = rows.start * width;
+    add_noise(&mut image.as_mut()[first..rows.end * width], first, key, k);
 }
 
 /// Scales each pixel by the lens's cos⁴ law with strength `strength` (0–1) for a camera with
@@ -171,32 +188,32 @@ fn sum4_centred(i: usize, key: u64) -> i32 {
     sum as i32 - 510
 }
 
-/// Adds noise to every pixel: pixel `i`'s four random bytes are a hash of `i` keyed by the
-/// frame's random word, so pixels are independent of each other and of the order they are
+/// Adds noise to every pixel of `pixels`, the frame's pixels from index `first` on: pixel
+/// `i`'s four random bytes are a hash of `i` keyed by the frame's random word, so pixels are independent of each other and of the order they are
 /// computed in, and the loop vectorises (with AVX2 where the CPU has it; the result is the
 /// same integer arithmetic either way, so frames do not depend on the CPU).
-fn add_noise(pixels: &mut [u8], key: u64, k: i32) {
+fn add_noise(pixels: &mut [u8], first: usize, key: u64, k: i32) {
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {
         // SAFETY: the CPU supports AVX2, checked just above.
-        unsafe { add_noise_avx2(pixels, key, k) };
+        unsafe { add_noise_avx2(pixels, first, key, k) };
         return;
     }
-    add_noise_portable(pixels, key, k);
+    add_noise_portable(pixels, first, key, k);
 }
 
 /// [`add_noise_portable`] compiled for AVX2.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn add_noise_avx2(pixels: &mut [u8], key: u64, k: i32) {
-    add_noise_portable(pixels, key, k);
+unsafe fn add_noise_avx2(pixels: &mut [u8], first: usize, key: u64, k: i32) {
+    add_noise_portable(pixels, first, key, k);
 }
 
 /// The noise loop itself (see [`add_noise`]).
 #[inline(always)]
-fn add_noise_portable(pixels: &mut [u8], key: u64, k: i32) {
+fn add_noise_portable(pixels: &mut [u8], first: usize, key: u64, k: i32) {
     for (i, pixel) in pixels.iter_mut().enumerate() {
-        *pixel = (i32::from(*pixel) + noise_delta(i, key, k)).clamp(0, 255) as u8;
+        *pixel = (i32::from(*pixel) + noise_delta(first + i, key, k)).clamp(0, 255) as u8;
     }
 }
 
