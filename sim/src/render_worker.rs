@@ -22,9 +22,10 @@
 //!   y1 (`u64`, see [`Renderer::render_part`]), then for an interlaced camera's earlier
 //!   field a flag (`u64`, 1 when there is one), its time, the two poses and the pan, as
 //!   above;
-//! - each answer is the image (width × height bytes, row by row), then the ground truth:
-//!   c_x, c_y, scale, the target centre in the camera frame x, y, z (`f64`), and in view
-//!   (one byte, 0 or 1), then the frame's exact pixels x0, y0, x1, y1 (`u64`).
+//! - each answer is the ground truth: c_x, c_y, scale, the target centre in the camera
+//!   frame x, y, z (`f64`), and in view (one byte, 0 or 1), then the frame's exact pixels
+//!   x0, y0, x1, y1 (`u64`), then the image's rows y0 to y1 (width bytes each; the rows
+//!   outside hold no exact pixel and are not sent).
 //!
 //! The worker exits when its input ends, so it never outlives the loop. It may be started
 //! before the loop sets up ([`RemoteRenderer::spawn`]), so that the two set up side by side.
@@ -40,7 +41,7 @@ use tracker::PixelRect;
 
 /// Bytes of one request.
 const REQUEST_BYTES: usize = 39 * 8;
-/// Bytes of the ground truth and the exact pixels after the image.
+/// Bytes of the ground truth and the exact pixels before the image's rows.
 const TRUTH_BYTES: usize = 6 * 8 + 1 + 4 * 8;
 
 /// A fingerprint of everything that decides a frame's pixels: the scene description, the
@@ -158,7 +159,6 @@ pub fn serve_frames(
         let frame = renderer
             .render_part(&frame_input, Some(part))
             .map_err(std::io::Error::other)?;
-        output.write_all(frame.image.as_raw())?;
         let t = frame.truth;
         let [x, y, z] = t.target_cam_m;
         for v in [t.c_x, t.c_y, t.scale, x, y, z] {
@@ -168,6 +168,8 @@ pub fn serve_frames(
         let mut exact = Vec::with_capacity(32);
         put_rect(&mut exact, frame.exact);
         output.write_all(&exact)?;
+        let width = frame.image.width() as usize;
+        output.write_all(&frame.image.as_raw()[frame.exact.y0 * width..frame.exact.y1 * width])?;
         output.flush()?;
     }
 }
@@ -244,12 +246,21 @@ impl RemoteRenderer {
 
     /// Waits for the frame submitted first and not yet received.
     pub fn receive(&mut self) -> Result<Frame, String> {
-        let mut pixels = vec![0u8; (self.width * self.height) as usize];
         let mut truth = [0u8; TRUTH_BYTES];
         let stdout = self.child.stdout();
         stdout
-            .read_exact(&mut pixels)
-            .and_then(|()| stdout.read_exact(&mut truth))
+            .read_exact(&mut truth)
+            .map_err(|e| format!("no frame came back: {e}"))?;
+        let exact = get_rect(&truth[49..], 0);
+        let (width, height) = (self.width as usize, self.height as usize);
+        if exact.x0 > exact.x1 || exact.y0 > exact.y1 || exact.x1 > width || exact.y1 > height {
+            return Err(format!(
+                "the frame came back with exact pixels {exact:?} outside {width} × {height}"
+            ));
+        }
+        let mut pixels = vec![0u8; width * height];
+        stdout
+            .read_exact(&mut pixels[exact.y0 * width..exact.y1 * width])
             .map_err(|e| format!("no frame came back: {e}"))?;
         let image = GrayImage::from_raw(self.width, self.height, pixels)
             .expect("the buffer holds width × height bytes");
@@ -263,7 +274,7 @@ impl RemoteRenderer {
                 target_cam_m: [f(3), f(4), f(5)],
                 in_view: truth[48] != 0,
             },
-            exact: get_rect(&truth[49..], 0),
+            exact,
         })
     }
 }

@@ -1012,12 +1012,14 @@ impl Renderer {
                     class,
                     distance_m: (c.coords - eye).norm(),
                     shading: Shading::Plain,
+                    chunk: None,
                 });
             }
         }
         let textured = self.ground_pipeline.is_some();
-        for chunk in self.scene.chunks() {
+        for (index, chunk) in self.scene.chunks().iter().enumerate() {
             items.push(DrawItem {
+                chunk: Some(index),
                 indices: chunk.indices.clone(),
                 centre: chunk.centre,
                 radius: chunk.radius,
@@ -1043,15 +1045,28 @@ impl Renderer {
                 .expect("finite distances")
         });
         let mut hood_draws = 0;
+        let chunks = self.scene.chunks();
         for item in items.iter().filter(|d| frustum.sees(d.centre, d.radius)) {
-            let draw = (item.indices.clone(), item.shading);
             if item.class == HOOD_CLASS {
-                main_draws.push(draw);
+                main_draws.push((item.indices.clone(), item.shading));
                 hood_draws = main_draws.len();
-            } else if main_draws.len() == hood_draws {
-                // Never joined to the hood's draw: what follows is scissored.
-                main_draws.push(draw);
-            } else {
+                continue;
+            }
+            // A chunk's parts that the frustum holds, in order (the whole of the chunk's
+            // range when it holds them all); an object's whole range.
+            let parts = item.chunk.map_or(&[][..], |c| &chunks[c].parts[..]);
+            let whole = std::iter::once(item.indices.clone()).filter(|_| parts.is_empty());
+            let visible = parts
+                .iter()
+                .filter(|p| frustum.sees(p.centre, p.radius))
+                .map(|p| p.indices.clone());
+            for range in whole.chain(visible) {
+                let draw = (range, item.shading);
+                if main_draws.len() == hood_draws {
+                    // Never joined to the hood's draw: what follows is scissored.
+                    main_draws.push(draw);
+                    continue;
+                }
                 // Joined to the last draw when they touch and share a pipeline.
                 match main_draws.last_mut() {
                     Some((last, shading)) if last.end == draw.0.start && *shading == draw.1 => {
@@ -1792,6 +1807,9 @@ struct DrawItem {
     distance_m: f64,
     /// Which pipeline draws it.
     shading: Shading,
+    /// The static chunk it is (its index in [`Scene::chunks`]), whose parts the main pass
+    /// culls one by one.
+    chunk: Option<usize>,
 }
 
 /// The camera's view frustum as planes through the optical centre plus near and far, in the

@@ -81,6 +81,11 @@ impl Material {
 /// kilometre-long route.
 pub const BIN_M: f64 = 50.0;
 
+/// Side of the square cells whose clutter, canopies and wires a [`Chunk`] can cull one by
+/// one ([`ChunkPart`]), metres: a frame rendered only in part (the tracker's window) then
+/// draws fewer of them; a 50 m cell's clutter was 70 % of the triangles such a part drew.
+pub const PART_M: f64 = 10.0;
+
 /// Height of the road surface above the grass, metres; the crossing roads sit just below it
 /// and the paint and marks just above, so nothing fights for depth.
 const ROAD_Y_M: f64 = 0.02;
@@ -164,6 +169,22 @@ pub struct Chunk {
     pub casts_shadow: bool,
     /// What kind of geometry it holds; the renderer draws layers front to back.
     pub layer: Layer,
+    /// Its pieces, in index order, together `indices`: each a run of the geometry (in the
+    /// order it was laid) standing in one [`PART_M`] cell; the road's surfaces and the
+    /// grass are one piece.
+    pub parts: Vec<ChunkPart>,
+}
+
+/// A piece of a [`Chunk`] the renderer can cull on its own: an index range and a bounding
+/// sphere (world frame).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ChunkPart {
+    /// Range into [`Scene::mesh`]'s indices.
+    pub indices: Range<u32>,
+    /// Bounding sphere centre, world metres.
+    pub centre: [f64; 3],
+    /// Bounding sphere radius, metres.
+    pub radius: f64,
 }
 
 /// Kinds of static geometry, in the order the renderer draws them: what stands up first, the
@@ -243,20 +264,36 @@ impl RoadFrame<'_> {
     }
 }
 
-/// Static geometry binned by ground cell and by layer.
+/// Static geometry binned by ground cell and by layer. Within a bin of what stands up
+/// (clutter, canopies, wires), each run of geometry added in one [`PART_M`] cell is a part
+/// of its own (see [`ChunkPart`]).
 #[derive(Default)]
 pub(super) struct Bins {
-    bins: BTreeMap<(i64, i64, Layer), Mesh>,
+    bins: BTreeMap<(i64, i64, Layer), Bin>,
+}
+
+/// One bin's geometry, and where each of its parts starts: the index and the part's cell.
+#[derive(Default)]
+pub(super) struct Bin {
+    mesh: Mesh,
+    parts: Vec<(usize, (i64, i64))>,
 }
 
 impl Bins {
+    /// The mesh of the bin of ground point (`x`, `z`) and layer `layer`, for geometry there
+    /// to be added to it.
     pub(super) fn at(&mut self, x: f64, z: f64, layer: Layer) -> &mut Mesh {
-        let key = (
-            (x / BIN_M).floor() as i64,
-            (z / BIN_M).floor() as i64,
-            layer,
-        );
-        self.bins.entry(key).or_default()
+        let cell = |m: f64| ((x / m).floor() as i64, (z / m).floor() as i64);
+        let (cx, cz) = cell(BIN_M);
+        let bin = self.bins.entry((cx, cz, layer)).or_default();
+        let part = match layer {
+            Layer::Clutter | Layer::Foliage | Layer::Wires => cell(PART_M),
+            Layer::Surface | Layer::Ground => (0, 0),
+        };
+        if bin.parts.last().is_none_or(|&(_, last)| last != part) {
+            bin.parts.push((bin.mesh.indices.len(), part));
+        }
+        &mut bin.mesh
     }
 }
 
@@ -737,7 +774,7 @@ impl Scene {
                 if layer == Layer::Surface {
                     // Strips come in cells already; the diagonal of a cell is the longest
                     // edge that needs no cutting.
-                    *bin = t.drape(bin, t.cell_m() * std::f64::consts::SQRT_2);
+                    bin.mesh = t.drape(&bin.mesh, t.cell_m() * std::f64::consts::SQRT_2);
                 }
             }
         }
@@ -745,19 +782,39 @@ impl Scene {
         // Concatenate the bins into one mesh, recording each as a chunk.
         let mut mesh = Mesh::default();
         let mut chunks = Vec::new();
-        for (&(_, _, layer), bin) in &bins.bins {
+        for (&(_, _, layer), Bin { mesh: bin, parts }) in &bins.bins {
             if bin.indices.is_empty() {
                 continue;
             }
             let (centre, radius) = bin.bounding_sphere();
             let start = mesh.indices.len() as u32;
             mesh.append(bin);
+            // Each part runs to where the next starts (a part may have added nothing).
+            let ends = parts
+                .iter()
+                .skip(1)
+                .map(|&(at, _)| at)
+                .chain([bin.indices.len()]);
+            let parts = parts
+                .iter()
+                .zip(ends)
+                .filter(|((at, _), end)| end > at)
+                .map(|(&(at, _), end)| {
+                    let (centre, radius) = bin.bounding_sphere_of(at..end);
+                    ChunkPart {
+                        indices: start + at as u32..start + end as u32,
+                        centre,
+                        radius,
+                    }
+                })
+                .collect();
             chunks.push(Chunk {
                 indices: start..mesh.indices.len() as u32,
                 centre,
                 radius,
                 casts_shadow: matches!(layer, Layer::Clutter | Layer::Foliage),
                 layer,
+                parts,
             });
         }
 

@@ -2,6 +2,7 @@
 //! made of (boxes, flat quads on the ground, octahedra for canopy clumps, beams for wires).
 
 use bytemuck::{Pod, Zeroable};
+use std::ops::Range;
 
 /// One vertex: position and normal in the owning object's frame, a grey albedo, and the
 /// object slot whose transform places it in the world (see [`crate::scene::ObjectSlot`]).
@@ -317,37 +318,40 @@ impl Mesh {
 
     /// Centre and radius of a sphere holding every vertex (object frame).
     pub fn bounding_sphere(&self) -> ([f64; 3], f64) {
-        if self.vertices.is_empty() {
-            return ([0.0; 3], 0.0);
-        }
-        let mut min = [f64::MAX; 3];
-        let mut max = [f64::MIN; 3];
-        for v in &self.vertices {
-            for k in 0..3 {
-                min[k] = min[k].min(f64::from(v.position[k]));
-                max[k] = max[k].max(f64::from(v.position[k]));
-            }
-        }
-        let centre = [
-            0.5 * (min[0] + max[0]),
-            0.5 * (min[1] + max[1]),
-            0.5 * (min[2] + max[2]),
-        ];
-        let radius = self
-            .vertices
-            .iter()
-            .map(|v| {
-                let d = sub(
-                    [
-                        f64::from(v.position[0]),
-                        f64::from(v.position[1]),
-                        f64::from(v.position[2]),
-                    ],
-                    centre,
-                );
-                (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
-            })
-            .fold(0.0, f64::max);
-        (centre, radius)
+        sphere_around(self.vertices.iter())
     }
+
+    /// Centre and radius of a sphere holding every vertex that the indices `indices` (a
+    /// range of [`Mesh::indices`]) use.
+    pub fn bounding_sphere_of(&self, indices: Range<usize>) -> ([f64; 3], f64) {
+        sphere_around(
+            self.indices[indices]
+                .iter()
+                .map(|&i| &self.vertices[i as usize]),
+        )
+    }
+}
+
+/// The sphere around `vertices` whose centre is the middle of their bounding box.
+fn sphere_around<'a>(vertices: impl Iterator<Item = &'a Vertex> + Clone) -> ([f64; 3], f64) {
+    let position = |v: &Vertex| v.position.map(f64::from);
+    let mut min = [f64::MAX; 3];
+    let mut max = [f64::MIN; 3];
+    for p in vertices.clone().map(position) {
+        for k in 0..3 {
+            min[k] = min[k].min(p[k]);
+            max[k] = max[k].max(p[k]);
+        }
+    }
+    if min[0] > max[0] {
+        return ([0.0; 3], 0.0);
+    }
+    let centre = [0, 1, 2].map(|k| 0.5 * (min[k] + max[k]));
+    let radius = vertices
+        .map(|v| {
+            let d = sub(position(v), centre);
+            (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
+        })
+        .fold(0.0, f64::max);
+    (centre, radius)
 }
