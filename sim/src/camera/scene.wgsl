@@ -43,8 +43,6 @@ struct Globals {
     // The layer of `shadow_tiles` holding each of the window's 4 × 4 tiles (rows of
     // increasing y), 0xffffffff for none.
     tile_layers: array<vec4<u32>, 4>,
-    // x: the sky's grey (scaled by the sensor's brightness, clamped to 0–1).
-    sky: vec4<f32>,
 };
 
 struct Objects {
@@ -132,13 +130,6 @@ fn vs_shadow(v: VertexIn) -> @builtin(position) vec4<f32> {
 fn vs_far(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
     let p = vec2<f32>(f32((i << 1u) & 2u), f32(i & 2u)) * 2.0 - 1.0;
     return vec4<f32>(p, 1.0, 1.0);
-}
-
-// The sky, behind everything: the main pass's background (with `vs_far`).
-@fragment
-fn fs_sky() -> @location(0) vec4<f32> {
-    let grey = globals.sky.x;
-    return vec4<f32>(grey, grey, grey, 1.0);
 }
 
 @vertex
