@@ -112,7 +112,8 @@ pub struct LoopTiming {
     /// Camera frames rendered at once: 2 with a render worker, else 1.
     pub frames_in_flight: usize,
     /// Frames rendered only in part whose tracking read beyond that part, and which were
-    /// rendered whole and tracked again (see [`ClosedLoop::set_whole_frames`]).
+    /// rendered again (a larger part, or whole) and tracked again (see
+    /// [`ClosedLoop::set_whole_frames`]).
     pub rerendered_frames: u64,
 }
 
