@@ -400,20 +400,26 @@ mod tests {
             x1: 12,
             y1: 12,
         };
-        let mut partial = renderer.render_part(&input, Some(corner)).expect("frame");
-        assert_ne!(partial.image, whole.image);
-        let mut tracker = new_tracker();
-        let mut asked = Vec::new();
-        let ((out, _), again) = track_part(
-            &mut tracker,
-            &mut partial,
-            |p| {
-                asked.push(p);
-                renderer.render_part(&input, p)
-            },
-            step,
-        )
-        .expect("track");
+        // Tracks the corner's part; `narrow`: a renderer that draws the corner again
+        // whatever part it is asked for. The parts asked for come back too.
+        let mut track_corner = |narrow: bool| {
+            let mut partial = renderer.render_part(&input, Some(corner)).expect("frame");
+            assert_ne!(partial.image, whole.image);
+            let mut tracker = new_tracker();
+            let mut asked = Vec::new();
+            let ((out, _), again) = track_part(
+                &mut tracker,
+                &mut partial,
+                |p| {
+                    asked.push(p);
+                    renderer.render_part(&input, if narrow { p.map(|_| corner) } else { p })
+                },
+                step,
+            )
+            .expect("track");
+            (out, again, asked, partial)
+        };
+        let (out, again, asked, partial) = track_corner(false);
         assert!(again, "rendered again and stepped again");
         assert_eq!(out, expected);
         // Once: a part holding what the step read, not the whole frame.
@@ -427,21 +433,8 @@ mod tests {
             assert_eq!(row(&partial), row(&whole), "row {y}");
         }
 
-        // Should the larger part fall short too (here a renderer that draws the corner
-        // again), the whole frame.
-        let mut partial = renderer.render_part(&input, Some(corner)).expect("frame");
-        let mut tracker = new_tracker();
-        let mut asked = Vec::new();
-        let ((out, _), again) = track_part(
-            &mut tracker,
-            &mut partial,
-            |p| {
-                asked.push(p);
-                renderer.render_part(&input, p.map(|_| corner))
-            },
-            step,
-        )
-        .expect("track");
+        // Should the larger part fall short too, the whole frame.
+        let (out, again, asked, partial) = track_corner(true);
         assert!(again);
         assert_eq!(asked.len(), 2, "{asked:?}");
         assert_eq!(asked[1], None);
