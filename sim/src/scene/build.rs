@@ -81,9 +81,9 @@ impl Material {
 /// kilometre-long route.
 pub const BIN_M: f64 = 50.0;
 
-/// Side of the square cells whose clutter, canopies and wires a [`Chunk`] can cull one by
-/// one ([`ChunkPart`]), metres: a frame rendered only in part (the tracker's window) then
-/// draws fewer of them; a 50 m cell's clutter was 70 % of the triangles such a part drew.
+/// Side of the square cells whose geometry a [`Chunk`] can cull one by one ([`ChunkPart`]),
+/// metres: a frame rendered only in part (the tracker's window) then draws less of it; a
+/// 50 m cell's clutter was 70 % of the triangles such a part drew.
 pub const PART_M: f64 = 10.0;
 
 /// Height of the road surface above the grass, metres; the crossing roads sit just below it
@@ -170,8 +170,8 @@ pub struct Chunk {
     /// What kind of geometry it holds; the renderer draws layers front to back.
     pub layer: Layer,
     /// Its pieces, in index order, together `indices`: each a run of the geometry (in the
-    /// order it was laid) standing in one [`PART_M`] cell; the road's surfaces and the
-    /// grass are one piece.
+    /// order it was laid) laid in one [`PART_M`] cell. Drawn in that order, coplanar pieces
+    /// (overlapping patches on the road) show as they would drawn whole.
     pub parts: Vec<ChunkPart>,
 }
 
@@ -264,9 +264,8 @@ impl RoadFrame<'_> {
     }
 }
 
-/// Static geometry binned by ground cell and by layer. Within a bin of what stands up
-/// (clutter, canopies, wires), each run of geometry added in one [`PART_M`] cell is a part
-/// of its own (see [`ChunkPart`]).
+/// Static geometry binned by ground cell and by layer. Within a bin, each run of geometry
+/// added in one [`PART_M`] cell is a part of its own (see [`ChunkPart`]).
 #[derive(Default)]
 pub(super) struct Bins {
     bins: BTreeMap<(i64, i64, Layer), Bin>,
@@ -286,10 +285,7 @@ impl Bins {
         let cell = |m: f64| ((x / m).floor() as i64, (z / m).floor() as i64);
         let (cx, cz) = cell(BIN_M);
         let bin = self.bins.entry((cx, cz, layer)).or_default();
-        let part = match layer {
-            Layer::Clutter | Layer::Foliage | Layer::Wires => cell(PART_M),
-            Layer::Surface | Layer::Ground => (0, 0),
-        };
+        let part = cell(PART_M);
         if bin.parts.last().is_none_or(|&(_, last)| last != part) {
             bin.parts.push((bin.mesh.indices.len(), part));
         }
@@ -774,7 +770,15 @@ impl Scene {
                 if layer == Layer::Surface {
                     // Strips come in cells already; the diagonal of a cell is the longest
                     // edge that needs no cutting.
-                    bin.mesh = t.drape(&bin.mesh, t.cell_m() * std::f64::consts::SQRT_2);
+                    let mut marks: Vec<usize> = bin.parts.iter().map(|&(at, _)| at).collect();
+                    bin.mesh = t.drape_marked(
+                        &bin.mesh,
+                        t.cell_m() * std::f64::consts::SQRT_2,
+                        &mut marks,
+                    );
+                    for (part, at) in bin.parts.iter_mut().zip(marks) {
+                        part.0 = at;
+                    }
                 }
             }
         }

@@ -84,6 +84,13 @@ impl Terrain {
     /// Triangles short enough already keep their (shared) vertices; windings are kept;
     /// normals are the surface's. Triangles off the patch are kept as they are.
     pub fn drape(&self, mesh: &Mesh, max_edge_m: f64) -> Mesh {
+        self.drape_marked(mesh, max_edge_m, &mut [])
+    }
+
+    /// [`Terrain::drape`], moving each of `marks` (a position in `mesh`'s indices, at the
+    /// start of a triangle, in increasing order) to where that triangle's pieces start in the
+    /// draped mesh: triangles come out in the order they went in.
+    pub fn drape_marked(&self, mesh: &Mesh, max_edge_m: f64, marks: &mut [usize]) -> Mesh {
         // Every vertex raised, shared by the triangles already fine enough.
         let mut out = Mesh {
             vertices: mesh.vertices.iter().map(|v| self.lifted(*v)).collect(),
@@ -91,7 +98,12 @@ impl Terrain {
         };
         let max2 = max_edge_m * max_edge_m * (1.0 + 1e-9);
         let d2 = |x: [f64; 3], y: [f64; 3]| (x[0] - y[0]).powi(2) + (x[2] - y[2]).powi(2);
-        for tri in mesh.indices.chunks_exact(3) {
+        let mut next_mark = 0;
+        for (t, tri) in mesh.indices.chunks_exact(3).enumerate() {
+            while next_mark < marks.len() && marks[next_mark] <= 3 * t {
+                marks[next_mark] = out.indices.len();
+                next_mark += 1;
+            }
             let v = [0, 1, 2].map(|k| mesh.vertices[tri[k] as usize]);
             let p = v.map(|v| v.position.map(f64::from));
             let fine = d2(p[0], p[1]) <= max2 && d2(p[1], p[2]) <= max2 && d2(p[2], p[0]) <= max2;
@@ -136,6 +148,9 @@ impl Terrain {
                 }
                 out.indices.extend_from_slice(&[base, base + 1, base + 2]);
             }
+        }
+        for mark in &mut marks[next_mark..] {
+            *mark = out.indices.len();
         }
         out
     }
@@ -213,5 +228,42 @@ pub(super) mod tests {
             f64::from(ground.height_m(gx as f32, gz as f32))
         );
         assert_eq!(t.height_m(61.0, 0.0), 0.0);
+    }
+
+    #[test]
+    fn draping_keeps_the_pieces_of_a_mesh_in_order() {
+        let t = Terrain::new(&bumpy_ground()).unwrap().unwrap();
+        let quad = |x: f64| {
+            let mut m = Mesh::default();
+            m.polygon(
+                &[
+                    [x, 0.0, 0.0],
+                    [x + 3.0, 0.0, 0.0],
+                    [x + 3.0, 0.0, 2.0],
+                    [x, 0.0, 2.0],
+                ],
+                0.3,
+                0,
+            );
+            m
+        };
+        let (a, b) = (quad(0.0), quad(10.0));
+        let mut both = a.clone();
+        both.append(&b);
+        let mut marks = [0, a.indices.len()];
+        let draped = t.drape_marked(&both, 0.7, &mut marks);
+        // The second piece starts where the first one's pieces end, and is the second
+        // piece draped alone, triangle for triangle.
+        let (alone_a, alone_b) = (t.drape(&a, 0.7), t.drape(&b, 0.7));
+        assert!(alone_a.indices.len() > a.indices.len(), "the quad was cut");
+        assert_eq!(marks, [0, alone_a.indices.len()]);
+        let corners = |m: &Mesh, from: usize| -> Vec<[f32; 3]> {
+            m.indices[from..]
+                .iter()
+                .map(|&i| m.vertices[i as usize].position)
+                .collect()
+        };
+        assert_eq!(corners(&draped, marks[1]), corners(&alone_b, 0));
+        assert_eq!(t.drape(&both, 0.7), draped);
     }
 }
