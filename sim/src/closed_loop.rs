@@ -12,7 +12,7 @@ use crate::camera::{
     Renderer,
 };
 use crate::driven_path::DrivenPath;
-use crate::frame_parts::{track_part, FrameParts};
+use crate::frame_parts::{camera_turn, track_part, FrameParts};
 use crate::record::{FrameRecord, LossCause, TrackerStatus};
 use crate::render_worker::{fingerprint, RemoteRenderer, StartedWorker};
 use crate::scenario::Scenario;
@@ -1252,9 +1252,8 @@ impl ClosedLoop {
         // The rotation from the last camera orientation to this one, in the last camera's
         // frame; the gyro rides on the camera (on the pan head when there is one), so its
         // axes are the camera's up to a constant rotation.
-        let truth = (previous.inverse() * now).scaled_axis();
         let measured = gyro.measure(
-            [truth.x, truth.y, truth.z],
+            camera_turn(&previous, &now),
             1.0 / f64::from(vehicle::CAMERA_HZ),
         );
         Some(EgoMotion {

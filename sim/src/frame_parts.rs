@@ -61,9 +61,8 @@ impl Seen {
         let mut centre =
             [0, 1].map(|k| [r.x0, r.y0][k] as f64 + half[k] + ahead * self.shift_px[k]);
         if let Some((camera, now)) = turning {
-            let turn = (self.camera.inverse() * now).scaled_axis();
             let ego = EgoMotion {
-                rotation_rad: [turn.x, turn.y, turn.z],
+                rotation_rad: camera_turn(&self.camera, now),
             };
             let d = ego.image_shift(camera, Location::new(centre[0], centre[1], 1.0));
             centre = [centre[0] + d[0], centre[1] + d[1]];
@@ -189,10 +188,23 @@ impl FrameParts {
         if self.errors.len() < ERROR_RANK {
             return FIRST_ERROR_PX;
         }
-        let mut latest: Vec<f64> = self.errors.iter().copied().collect();
-        latest.sort_by(|a, b| b.total_cmp(a));
+        // Sorted on the stack: this runs for every frame.
+        let mut latest = [0.0; RECENT_FRAMES];
+        let latest = &mut latest[..self.errors.len()];
+        for (to, &e) in latest.iter_mut().zip(&self.errors) {
+            *to = e;
+        }
+        latest.sort_unstable_by(|a, b| b.total_cmp(a));
         latest[ERROR_RANK - 1]
     }
+}
+
+/// The rotation vector (radians) that takes camera orientation `previous` to `now` (both
+/// world from camera), in the `previous` camera's frame: what a gyro on the camera reads
+/// between them, and what [`EgoMotion`] holds.
+pub(crate) fn camera_turn(previous: &UnitQuaternion<f64>, now: &UnitQuaternion<f64>) -> [f64; 3] {
+    let turn = (previous.inverse() * now).scaled_axis();
+    [turn.x, turn.y, turn.z]
 }
 
 /// How far beyond what a step read (on a part that fell short) the second part reaches,
