@@ -68,16 +68,25 @@ impl GroundTextures {
     /// Level `level` of every layer as 8-bit texels (half the factor, so 0–255 is 0–2),
     /// layer after layer: what the texture array's level holds.
     pub fn texels(&self, level: usize) -> Vec<u8> {
-        self.levels
-            .iter()
-            .flat_map(|layer| layer[level].iter().map(|&v| quantise(v)))
-            .collect()
+        let mut out = Vec::with_capacity(self.levels.len() * self.levels[0][level].len());
+        for layer in &self.levels {
+            out.extend(layer[level].iter().map(|&v| quantise(v)));
+        }
+        out
     }
 }
 
 /// A detail factor (0–2) as an 8-bit unsigned-normalised texel.
 pub fn quantise(v: f32) -> u8 {
-    (f64::from(v) * 127.5).round().clamp(0.0, 255.0) as u8
+    // Rounded half away from zero, as `f64::round`: the product of an f32 and 127.5 is
+    // exact in f64, and so is adding a half to it wherever that could round up; the cast
+    // saturates at 0 and 255 (and takes NaN to 0).
+    let x = f64::from(v) * 127.5;
+    if x >= 0.0 {
+        (x + 0.5) as u8
+    } else {
+        0
+    }
 }
 
 /// The mip chain of a square `n × n` level (`n` a power of two): the level itself, then
@@ -89,10 +98,10 @@ pub fn mip_chain(level0: Vec<f32>, n: usize) -> Vec<Vec<f32>> {
         let above = levels.last().expect("one level");
         let half = side / 2;
         let mut next = Vec::with_capacity(half * half);
-        for y in 0..half {
-            for x in 0..half {
-                let at = |dx: usize, dy: usize| above[(2 * y + dy) * side + 2 * x + dx];
-                next.push(0.25 * (at(0, 0) + at(1, 0) + at(0, 1) + at(1, 1)));
+        for rows in above.chunks_exact(2 * side) {
+            let (upper, lower) = rows.split_at(side);
+            for (u, l) in upper.chunks_exact(2).zip(lower.chunks_exact(2)) {
+                next.push(0.25 * (u[0] + u[1] + l[0] + l[1]));
             }
         }
         levels.push(next);
@@ -105,10 +114,13 @@ pub fn mip_chain(level0: Vec<f32>, n: usize) -> Vec<Vec<f32>> {
 /// (the clipping moves the mean by a fraction of a percent at most).
 fn normalised(level: Vec<f64>) -> Vec<f32> {
     let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+    let mut level = level;
     let m = mean(&level);
-    let clipped: Vec<f64> = level.iter().map(|v| (v / m).clamp(0.0, 2.0)).collect();
-    let m = mean(&clipped);
-    clipped
+    for v in &mut level {
+        *v = (*v / m).clamp(0.0, 2.0);
+    }
+    let m = mean(&level);
+    level
         .iter()
         .map(|v| (v / m).min(2.0 - 1.0 / 255.0) as f32)
         .collect()
@@ -123,16 +135,20 @@ fn value_noise(rng: &mut ChaCha8Rng, n: usize, cells: usize) -> Vec<f64> {
         .collect();
     let at = |i: usize, j: usize| lattice[(j % cells) * cells + i % cells];
     let pitch = n / cells;
+    // The smoothstep of each offset within a cell, the same along x and y.
+    let s = |t: f64| t * t * (3.0 - 2.0 * t);
+    let weights: Vec<f64> = (0..pitch).map(|r| s(r as f64 / pitch as f64)).collect();
     let mut out = Vec::with_capacity(n * n);
     for y in 0..n {
-        for x in 0..n {
-            let (i, j) = (x / pitch, y / pitch);
-            let s = |t: f64| t * t * (3.0 - 2.0 * t);
-            let fx = s((x % pitch) as f64 / pitch as f64);
-            let fy = s((y % pitch) as f64 / pitch as f64);
-            let a = at(i, j) + (at(i + 1, j) - at(i, j)) * fx;
-            let b = at(i, j + 1) + (at(i + 1, j + 1) - at(i, j + 1)) * fx;
-            out.push(a + (b - a) * fy);
+        let (j, fy) = (y / pitch, weights[y % pitch]);
+        for i in 0..n / pitch {
+            let (a0, a1) = (at(i, j), at(i + 1, j));
+            let (b0, b1) = (at(i, j + 1), at(i + 1, j + 1));
+            for &fx in &weights {
+                let a = a0 + (a1 - a0) * fx;
+                let b = b0 + (b1 - b0) * fx;
+                out.push(a + (b - a) * fy);
+            }
         }
     }
     out
@@ -147,7 +163,26 @@ fn laplace(rng: &mut ChaCha8Rng) -> f64 {
 /// Wrap-around index of texel `(x, y)` in an `n × n` grid.
 fn wrap(n: usize, x: i64, y: i64) -> usize {
     let n = n as i64;
-    (y.rem_euclid(n) * n + x.rem_euclid(n)) as usize
+    // Coordinates stray less than a tile beyond it: a subtraction or addition, not a
+    // division, in all but the rarest case.
+    let within = |v: i64| {
+        if v < 0 {
+            if v >= -n {
+                v + n
+            } else {
+                v.rem_euclid(n)
+            }
+        } else if v >= n {
+            if v < 2 * n {
+                v - n
+            } else {
+                v.rem_euclid(n)
+            }
+        } else {
+            v
+        }
+    };
+    (within(y) * n + within(x)) as usize
 }
 
 /// Asphalt at 1 cm a texel: aggregate grain (Laplace, 8 % spread, with a 2 % chance of a
@@ -242,13 +277,21 @@ fn gravel(rng: &mut ChaCha8Rng, n: usize) -> Vec<f64> {
         let r: f64 = rng.random_range(2.0..8.0);
         let bright = rng.random_range(0.5..1.5);
         let ri = r.ceil() as i64;
+        let (fx, fy) = (x.fract(), y.fract());
+        let (cx, cy) = (x.floor() as i64, y.floor() as i64);
         for dy in -ri..=ri {
+            let oy = dy as f64 + 0.5 - fy;
+            // No texel of a row farther than the radius is inside (adding ox² cannot
+            // bring the sum back under it).
+            if oy * oy > r * r {
+                continue;
+            }
             for dx in -ri..=ri {
-                let (ox, oy) = (dx as f64 + 0.5 - x.fract(), dy as f64 + 0.5 - y.fract());
+                let ox = dx as f64 + 0.5 - fx;
                 let d2 = ox * ox + oy * oy;
                 if d2 <= r * r {
                     let shade = 1.0 + 0.25 * (ox * light[0] + oy * light[1]) / r;
-                    v[wrap(n, x.floor() as i64 + dx, y.floor() as i64 + dy)] = bright * shade;
+                    v[wrap(n, cx + dx, cy + dy)] = bright * shade;
                 }
             }
         }
@@ -262,6 +305,32 @@ mod tests {
 
     fn mean(v: &[f32]) -> f64 {
         v.iter().map(|&x| f64::from(x)).sum::<f64>() / v.len() as f64
+    }
+
+    #[test]
+    fn wrapping_and_quantising_agree_with_their_plain_definitions() {
+        let n = 512usize;
+        for y in [
+            -5000i64, -1025, -513, -512, -511, -1, 0, 1, 511, 512, 513, 1023, 1024, 7000,
+        ] {
+            for x in [-3000i64, -512, -3, 0, 5, 511, 512, 1023, 1024, 5000] {
+                let plain = (y.rem_euclid(512) * 512 + x.rem_euclid(512)) as usize;
+                assert_eq!(wrap(n, x, y), plain, "({x}, {y})");
+            }
+        }
+        let plain = |v: f32| (f64::from(v) * 127.5).round().clamp(0.0, 255.0) as u8;
+        let mut values: Vec<f32> = (0..=600_000)
+            .map(|k| k as f32 * (2.1 / 600_000.0))
+            .collect();
+        // Exact halves (k + 0.5) / 127.5, their neighbours, and values out of range.
+        for k in 0..256 {
+            let half = (k as f32 + 0.5) / 127.5;
+            values.extend([half, half.next_down(), half.next_up()]);
+        }
+        values.extend([-1.0, -0.001, 0.0, 2.0, 2.5, 1e9, f32::NAN, f32::INFINITY]);
+        for v in values {
+            assert_eq!(quantise(v), plain(v), "{v}");
+        }
     }
 
     #[test]
