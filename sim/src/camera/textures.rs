@@ -112,9 +112,8 @@ pub fn mip_chain(level0: Vec<f32>, n: usize) -> Vec<Vec<f32>> {
 
 /// Scaled to mean 1 and clipped to what a texel holds (0–2), then scaled to mean 1 again
 /// (the clipping moves the mean by a fraction of a percent at most).
-fn normalised(level: Vec<f64>) -> Vec<f32> {
+fn normalised(mut level: Vec<f64>) -> Vec<f32> {
     let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
-    let mut level = level;
     let m = mean(&level);
     for v in &mut level {
         *v = (*v / m).clamp(0.0, 2.0);
