@@ -15,8 +15,7 @@
 use crate::camera::Frame;
 use nalgebra::UnitQuaternion;
 use std::collections::VecDeque;
-use tracker::{Camera, EgoMotion};
-use tracker::{EdgeDiagnostic, Location, PixelRect, TrackOutput, Tracker};
+use tracker::{Camera, EdgeDiagnostic, EgoMotion, Location, PixelRect, TrackOutput, Tracker};
 
 /// Margin around the predicted read rectangle, pixels, whatever the prediction's recent
 /// record: the read rectangle's edges are whole pixels.

@@ -34,9 +34,10 @@ pub fn apply_sensor(
     apply_sensor_to_rows(image, sensor, camera, seed, frame_index, rows);
 }
 
-/// [`apply_sensor`], but the read noise only on the rows `rows` (the others are left as
-/// they are: a renderer that drew only those rows need not pay for the rest). Each pixel of
-/// those rows is what [`apply_sensor`] makes of it.
+/// [`apply_sensor`] on the rows `rows` alone (a renderer that drew only those rows need not
+/// pay for the rest; the others are left as they are, but for the vignetting of those the
+/// blur reads). Each pixel of those rows is what [`apply_sensor`] makes of it: every effect
+/// but the blur is pixel by pixel, and the blur reads the rows within its reach.
 pub fn apply_sensor_to_rows(
     image: &mut GrayImage,
     sensor: &Sensor,
@@ -45,29 +46,39 @@ pub fn apply_sensor_to_rows(
     frame_index: u64,
     rows: std::ops::Range<usize>,
 ) {
+    let (width, height) = (image.width() as usize, image.height() as usize);
+    let rows = rows.start.min(rows.end)..rows.end.min(height);
     if sensor.vignetting > 0.0 {
-        vignette(image, sensor.vignetting, camera);
+        // Also the rows the blur reads around them.
+        let reach = sensor.blur_sigma_px.map_or(0, blur_radius);
+        let around = rows.start.saturating_sub(reach)..(rows.end + reach).min(height);
+        vignette(image, sensor.vignetting, camera, around);
     }
     if let Some(sigma) = sensor.blur_sigma_px {
-        blur(image, sigma);
+        blur(image, sigma, rows.clone());
     }
+    let first = rows.start * width;
+    let pixels = &mut image.as_mut()[first..rows.end * width];
     if let Some(full_well_e) = sensor.shot_noise_full_well_e {
-        add_shot_noise(image.as_mut(), full_well_e, seed, frame_index);
+        add_shot_noise(pixels, first, full_well_e, seed, frame_index);
     }
     if sensor.noise_sigma_grey <= 0.0 {
         return;
     }
     let (key, k) = frame_noise(sensor.noise_sigma_grey, seed, frame_index);
-    let width = image.width() as usize;
-    let first = rows.start * width;
-    add_noise(&mut image.as_mut()[first..rows.end * width], first, key, k);
+    add_noise(pixels, first, key, k);
 }
 
-/// Scales each pixel by the lens's cos⁴ law with strength `strength` (0–1) for a camera with
-/// the intrinsics `camera`: by `1 − strength · (1 − cos⁴θ)`, θ the angle between the pixel's
-/// ray and the optical axis (in f32, from each row's and each column's share of tan²θ),
-/// rounding to the nearest grey level.
-fn vignette(image: &mut GrayImage, strength: f64, camera: &tracker::Camera) {
+/// Scales each pixel of the rows `rows` by the lens's cos⁴ law with strength `strength`
+/// (0–1) for a camera with the intrinsics `camera`: by `1 − strength · (1 − cos⁴θ)`, θ the
+/// angle between the pixel's ray and the optical axis (in f32, from each row's and each
+/// column's share of tan²θ), rounding to the nearest grey level.
+fn vignette(
+    image: &mut GrayImage,
+    strength: f64,
+    camera: &tracker::Camera,
+    rows: std::ops::Range<usize>,
+) {
     let width = image.width() as usize;
     let tan2 = |offset_px: f64, axis: usize| {
         let t = offset_px * camera.pixel_size_mm[axis] / camera.focal_length_mm;
@@ -76,7 +87,8 @@ fn vignette(image: &mut GrayImage, strength: f64, camera: &tracker::Camera) {
     let [cx, cy] = camera.image_center_px;
     let columns: Vec<f32> = (0..width).map(|x| tan2(x as f64 - cx, 0)).collect();
     let s = strength as f32;
-    for (y, row) in image.as_mut().chunks_exact_mut(width).enumerate() {
+    let pixels = &mut image.as_mut()[rows.start * width..rows.end * width];
+    for (y, row) in (rows.start..).zip(pixels.chunks_exact_mut(width)) {
         let row_tan2 = 1.0 + tan2(y as f64 - cy, 1);
         for (pixel, &column_tan2) in row.iter_mut().zip(&columns) {
             let cos2 = 1.0 / (row_tan2 + column_tan2);
@@ -91,14 +103,15 @@ fn vignette(image: &mut GrayImage, strength: f64, camera: &tracker::Camera) {
 /// Poisson spread (Gaussian, standard deviation the square root of the count) is
 /// `sqrt(255 · v / full_well_e)` grey levels. Pixel `i`'s deviate is the same hash as the
 /// read noise's, keyed by frame `frame_index`'s words of the `"sensor-shot-noise"` stream.
-fn add_shot_noise(pixels: &mut [u8], full_well_e: f64, seed: u64, frame_index: u64) {
+/// `pixels` are the frame's pixels from index `first` on.
+fn add_shot_noise(pixels: &mut [u8], first: usize, full_well_e: f64, seed: u64, frame_index: u64) {
     let key = frame_key("sensor-shot-noise", seed, frame_index);
     // Per grey level: its standard deviation over that of the hash's sum of four bytes.
     let scale: Vec<f32> = (0..256)
         .map(|v| ((255.0 * f64::from(v) / full_well_e).sqrt() as f32) / SUM4_SIGMA)
         .collect();
     for (i, pixel) in pixels.iter_mut().enumerate() {
-        let z = sum4_centred(i, key) as f32;
+        let z = sum4_centred(first + i, key) as f32;
         let v = f32::from(*pixel) + scale[usize::from(*pixel)] * z;
         // Clamped first, so adding a half and truncating rounds to nearest.
         *pixel = (v.clamp(0.0, 255.0) + 0.5) as u8;
@@ -189,8 +202,9 @@ fn sum4_centred(i: usize, key: u64) -> i32 {
 }
 
 /// Adds noise to every pixel of `pixels`, the frame's pixels from index `first` on: pixel
-/// `i`'s four random bytes are a hash of `i` keyed by the frame's random word, so pixels are independent of each other and of the order they are
-/// computed in, and the loop vectorises (with AVX2 where the CPU has it; the result is the
+/// `i`'s four random bytes are a hash of `i` keyed by the frame's random word, so pixels
+/// are independent of each other and of the order they are computed in, and the loop
+/// vectorises (with AVX2 where the CPU has it; the result is the
 /// same integer arithmetic either way, so frames do not depend on the CPU).
 fn add_noise(pixels: &mut [u8], first: usize, key: u64, k: i32) {
     #[cfg(target_arch = "x86_64")]
@@ -234,17 +248,20 @@ fn blur_radius(sigma: f64) -> usize {
     (2.5 * sigma).ceil().max(1.0) as usize
 }
 
-/// Separable Gaussian blur with standard deviation `sigma` pixels, edges clamped.
-fn blur(image: &mut GrayImage, sigma: f64) {
+/// Separable Gaussian blur with standard deviation `sigma` pixels, edges clamped, of the
+/// rows `rows` (reading the rows within the blur's reach of them).
+fn blur(image: &mut GrayImage, sigma: f64, rows: std::ops::Range<usize>) {
     let radius = blur_radius(sigma) as i64;
     let weights: Vec<f32> = (-radius..=radius)
         .map(|k| (-(k * k) as f64 / (2.0 * sigma * sigma)).exp() as f32)
         .collect();
     let total: f32 = weights.iter().sum();
     let (w, h) = (image.width() as i64, image.height() as i64);
+    let (y0, y1) = (rows.start as i64, rows.end as i64);
     let src: Vec<f32> = image.iter().map(|&p| f32::from(p)).collect();
     let mut tmp = vec![0f32; src.len()];
-    for y in 0..h {
+    // The horizontal pass on the rows the vertical one reads.
+    for y in (y0 - radius).max(0)..(y1 + radius).min(h) {
         for x in 0..w {
             let mut acc = 0.0;
             for (i, wt) in weights.iter().enumerate() {
@@ -254,7 +271,7 @@ fn blur(image: &mut GrayImage, sigma: f64) {
             tmp[(y * w + x) as usize] = acc / total;
         }
     }
-    for y in 0..h {
+    for y in y0..y1 {
         for x in 0..w {
             let mut acc = 0.0;
             for (i, wt) in weights.iter().enumerate() {
@@ -269,6 +286,31 @@ fn blur(image: &mut GrayImage, sigma: f64) {
 #[cfg(test)]
 mod shift_tests {
     use super::*;
+
+    #[test]
+    fn the_sensor_on_some_rows_gives_those_rows_of_the_whole_frame() {
+        let (w, h) = (64u32, 48u32);
+        let image = GrayImage::from_fn(w, h, |x, y| image::Luma([((x * 7 + y * 13) % 256) as u8]));
+        let sensor = Sensor {
+            noise_sigma_grey: 6.0,
+            blur_sigma_px: Some(1.2),
+            vignetting: 0.6,
+            shot_noise_full_well_e: Some(2000.0),
+            ..Sensor::default()
+        };
+        let camera = tracker::Camera::default();
+        let mut whole = image.clone();
+        apply_sensor(&mut whole, &sensor, &camera, 7, 3);
+        for rows in [0..h as usize, 10..20, 0..5, 40..48, 17..17] {
+            let mut part = image.clone();
+            apply_sensor_to_rows(&mut part, &sensor, &camera, 7, 3, rows.clone());
+            let row =
+                |img: &GrayImage, y: usize| img.as_raw()[y * w as usize..][..w as usize].to_vec();
+            for y in rows.clone() {
+                assert_eq!(row(&part, y), row(&whole, y), "rows {rows:?}, row {y}");
+            }
+        }
+    }
 
     #[test]
     fn noise_taken_away_and_added_back_gives_the_noisy_frame_exactly() {
