@@ -29,6 +29,10 @@ pub fn direction_heading(direction: Vector) -> f32 {
 pub struct Route {
     points: Vec<Vector>,
     arc_m: Vec<f32>,
+    /// Each segment's unit tangent and its heading, computed once: the drivers ask for
+    /// them at every physics step, many times over for the lead's preview of the turns.
+    tangents: Vec<Vector>,
+    headings: Vec<f32>,
 }
 
 /// Where a point projects onto a route.
@@ -68,9 +72,13 @@ impl Route {
             s += w[0].distance(w[1]);
             arc_m.push(s);
         }
+        let tangents: Vec<Vector> = kept.windows(2).map(|w| (w[1] - w[0]).normalize()).collect();
+        let headings = tangents.iter().map(|&t| direction_heading(t)).collect();
         Ok(Route {
             points: kept,
             arc_m,
+            tangents,
+            headings,
         })
     }
 
@@ -99,8 +107,7 @@ impl Route {
 
     /// The unit tangent at arc length `s_m`.
     pub fn tangent_at(&self, s_m: f32) -> Vector {
-        let i = self.segment_at(s_m);
-        (self.points[i + 1] - self.points[i]).normalize()
+        self.tangents[self.segment_at(s_m)]
     }
 
     /// The unit normal to the left of the tangent at `s_m`.
@@ -117,8 +124,8 @@ impl Route {
         if b - a < 1e-3 {
             return 0.0;
         }
-        let ha = direction_heading(self.tangent_at(a));
-        let hb = direction_heading(self.tangent_at(b));
+        let ha = self.headings[self.segment_at(a)];
+        let hb = self.headings[self.segment_at(b)];
         let mut d = hb - ha;
         while d > std::f32::consts::PI {
             d -= std::f32::consts::TAU;
@@ -233,6 +240,48 @@ mod tests {
         // A left turn from +x ends heading -z.
         let end = r.tangent_at(r.length_m());
         assert!((end - Vector::new(0.0, 0.0, -1.0)).length() < 1e-3);
+    }
+
+    #[test]
+    fn tangents_and_curvature_agree_with_their_plain_definitions() {
+        let r = RouteBuilder::new(Vector::new(3.0, 0.0, -7.0), 0.4)
+            .straight(12.0)
+            .arc(15.0, 1.2)
+            .arc(-9.0, 2.0)
+            .straight(0.7)
+            .arc(30.0, -0.5)
+            .build()
+            .unwrap();
+        // Each segment's tangent and heading from its two points, as computed at every call.
+        let plain_tangent = |s: f32| {
+            let i = r.segment_at(s);
+            (r.points[i + 1] - r.points[i]).normalize()
+        };
+        let plain_curvature = |s: f32| {
+            let a = (s - CURVATURE_HALF_WINDOW_M).max(0.0);
+            let b = (s + CURVATURE_HALF_WINDOW_M).min(r.length_m());
+            if b - a < 1e-3 {
+                return 0.0;
+            }
+            let mut d = direction_heading(plain_tangent(b)) - direction_heading(plain_tangent(a));
+            while d > std::f32::consts::PI {
+                d -= std::f32::consts::TAU;
+            }
+            while d < -std::f32::consts::PI {
+                d += std::f32::consts::TAU;
+            }
+            d / (b - a)
+        };
+        let mut s = -5.0;
+        while s < r.length_m() + 5.0 {
+            assert_eq!(r.tangent_at(s), plain_tangent(s), "tangent at {s}");
+            assert_eq!(
+                r.curvature_at(s).to_bits(),
+                plain_curvature(s).to_bits(),
+                "curvature at {s}"
+            );
+            s += 0.0173;
+        }
     }
 
     #[test]
