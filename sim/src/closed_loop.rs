@@ -14,6 +14,7 @@ use crate::camera::{
 use crate::driven_path::DrivenPath;
 use crate::frame_parts::{camera_turn, track_part, FrameParts};
 use crate::record::{FrameRecord, LossCause, TrackerStatus};
+use crate::render_thread::RenderThread;
 use crate::render_worker::{fingerprint, RemoteRenderer, StartedWorker};
 use crate::scenario::Scenario;
 use crate::scene::{self, ChaseVehicle, LeadVehicle, Scene, SceneDescription};
@@ -21,6 +22,7 @@ use image::GrayImage;
 use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion};
 use serde::Serialize;
 use std::collections::VecDeque;
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 use thiserror::Error;
 use tracker::{EdgeDiagnostic, EgoMotion, GrayView, Location, TrackOutput, Tracker, TrackerMode};
@@ -126,7 +128,14 @@ pub struct ClosedLoop {
     /// Whether the physics to the next frame runs on a second thread while this frame is
     /// rendered and tracked (see [`ClosedLoop::set_pipelined`]).
     pipelined: bool,
-    renderer: Renderer,
+    /// This process's renderer: `None` while it renders a frame on `render_thread`.
+    renderer: Option<Box<Renderer>>,
+    /// The thread this process's frames render on with two in flight, once started.
+    render_thread: Option<RenderThread>,
+    /// The renderer's scene, for the records while the renderer is away.
+    scene: Arc<Scene>,
+    /// The renderer's adapter.
+    adapter_name: String,
     /// The second renderer, in a worker process, when two frames are in flight.
     remote: Option<RemoteRenderer>,
     /// Frames submitted by earlier steps and not yet tracked, in order (two in flight).
@@ -525,12 +534,15 @@ struct Driven {
     desired_gap_m: f32,
 }
 
-/// A frame submitted but not yet tracked: rendered already (this process's renderer) or
-/// rendering in the worker.
+/// A frame submitted but not yet tracked: rendering on this process's render thread
+/// (`here`) or in the worker.
 struct InFlight {
     captured: Captured,
-    image: Option<Frame>,
+    here: bool,
 }
+
+/// Why this process's renderer must be at hand: only frames in flight take it away.
+const HERE: &str = "this process's renderer is here when no frame of its is in flight";
 
 /// [`ClosedLoop::tracked`] on the loop's parts, but for the count of frames rendered again.
 fn record_tracked(
@@ -751,7 +763,10 @@ impl ClosedLoop {
                 earlier_field: None,
                 ahead: None,
             },
-            renderer,
+            scene: renderer.shared_scene(),
+            adapter_name: renderer.adapter_name().to_string(),
+            renderer: Some(Box::new(renderer)),
+            render_thread: None,
             remote: None,
             in_flight: VecDeque::new(),
             advanced: None,
@@ -909,7 +924,7 @@ impl ClosedLoop {
 
     /// The renderer's adapter, for reports.
     pub fn adapter_name(&self) -> &str {
-        self.renderer.adapter_name()
+        &self.adapter_name
     }
 
     /// The state of the world at the start of frame `frame_index` (now), and the camera's
@@ -945,8 +960,11 @@ impl ClosedLoop {
                 captured.input.frame_index,
                 &captured.world_from_camera.rotation,
             );
-            let (renderer, tracker, drive) =
-                (&mut self.renderer, &mut self.tracker, &mut self.drive);
+            let (renderer, tracker, drive) = (
+                self.renderer.as_deref_mut().expect(HERE),
+                &mut self.tracker,
+                &mut self.drive,
+            );
             let diagnostics = self.diagnostics;
             let [render_t, track_t, physics_t] = &mut spent;
             let input = &captured.input;
@@ -982,15 +1000,14 @@ impl ClosedLoop {
                 &captured.world_from_camera.rotation,
             );
             let [render_t, track_t, physics_t] = &mut spent;
-            let mut frame = timed(render_t, || {
-                self.renderer.render_part(&captured.input, needed)
-            })?;
+            let renderer = self.renderer.as_deref_mut().expect(HERE);
+            let mut frame = timed(render_t, || renderer.render_part(&captured.input, needed))?;
             let (t_s, diagnostics) = (captured.input.time_s, self.diagnostics);
             let ((track, edges), again) = timed(track_t, || {
                 track_part(
                     &mut self.tracker,
                     &mut frame,
-                    |part| self.renderer.render_part(&captured.input, part),
+                    |part| renderer.render_part(&captured.input, part),
                     |t, f| track_frame(t, &f.image, t_s, ego, diagnostics),
                 )
             })?;
@@ -1028,42 +1045,53 @@ impl ClosedLoop {
     }
 
     /// Starts rendering the frame of the world as it is now: even frames on this process's
-    /// renderer (at once), odd ones on the render worker (in the background).
-    fn submit(&mut self, render_t: &mut Duration) -> Result<InFlight, LoopError> {
+    /// render thread, odd ones in the render worker, both in the background.
+    fn submit(&mut self) -> Result<InFlight, LoopError> {
         let captured = self.capture();
         let needed = self.parts.needed(
             captured.input.frame_index,
             &captured.world_from_camera.rotation,
         );
-        let image = if captured.input.frame_index.is_multiple_of(2) {
-            Some(timed(render_t, || {
-                self.renderer.render_part(&captured.input, needed)
-            })?)
+        let here = captured.input.frame_index.is_multiple_of(2);
+        if here {
+            let thread = match &mut self.render_thread {
+                Some(thread) => thread,
+                None => self
+                    .render_thread
+                    .insert(RenderThread::start().map_err(|e| {
+                        LoopError::Worker(format!("cannot start the render thread: {e}"))
+                    })?),
+            };
+            let renderer = self.renderer.take().expect(HERE);
+            thread.render(renderer, captured.input.clone(), needed);
         } else {
             let remote = self.remote.as_mut().expect("two frames in flight");
             remote
                 .submit(&captured.input, needed)
                 .map_err(LoopError::Worker)?;
-            None
-        };
-        Ok(InFlight { captured, image })
+        }
+        Ok(InFlight { captured, here })
     }
 
     /// One frame with two in flight (see [`ClosedLoop::add_render_worker`]). Frames
-    /// alternate: even ones render here, odd ones in the worker. Both renderers are kept
-    /// busy:
-    /// - frame k in the worker: the physics to k + 1 here, then frame k + 1 renders on a
-    ///   second thread while frame k is received and tracked; then (the physics to k + 2
-    ///   needs estimates up to k alone: see `set_pipelined`) the physics to k + 2 runs and
-    ///   frame k + 2 goes to the worker before frame k + 1 has finished rendering;
-    /// - frame k rendered here: it is tracked (the physics to k + 1 ran in the step before,
-    ///   and frame k + 1 is in the worker). With diagnostics on (a recording reads the chase
-    ///   controller after each frame), the physics to k + 1 runs here instead, and frame
-    ///   k + 1 goes to the worker then.
+    /// alternate: even ones render on this process's render thread, odd ones in the worker,
+    /// and each renderer starts its next frame as soon as that frame can be captured:
+    /// - frame k is tracked (waiting for its render first), then, when frame k + 1 is still
+    ///   to come, the physics to k + 2 runs (it needs estimates up to frame k alone: see
+    ///   `set_pipelined`) and frame k + 2 goes to frame k's renderer, all before this step
+    ///   returns frame k's outputs;
+    /// - frame k's renderer is the worker: the physics to k + 2's steps before the estimate
+    ///   of frame k can fall due run while frame k comes back, and after frame k + 2 is
+    ///   submitted, those of the physics to k + 3 before frame k + 1's estimate can.
     ///
-    /// Should frame k's tracking need the whole frame, the renderer that is free then
-    /// renders it. Each frame is metered for the automatic gain control as soon as it is
-    /// tracked, before any later frame is captured.
+    /// With diagnostics on (a recording reads the chase controller after each frame) nothing
+    /// runs ahead: the physics to k + 1 runs in step k, and frame k + 1 goes to its renderer
+    /// then, before frame k is tracked.
+    ///
+    /// Should frame k's tracking need more of the frame, its own renderer renders it (the
+    /// worker, or this process's, which is back from its thread by then). Each frame is
+    /// metered for the automatic gain control as soon as it is tracked, before any later
+    /// frame is captured. The order of all this is one renderer's, so the results are too.
     #[allow(clippy::type_complexity)]
     fn step_two_in_flight(
         &mut self,
@@ -1071,33 +1099,39 @@ impl ClosedLoop {
     ) -> Result<(Captured, Frame, TrackOutput, Vec<EdgeDiagnostic>, Driven), LoopError> {
         let [render_t, track_t, physics_t] = spent;
         if self.in_flight.is_empty() {
-            let first = self.submit(render_t)?;
+            let first = self.submit()?;
             self.in_flight.push_back(first);
         }
         let pending = self.in_flight.pop_front().expect("a frame in flight");
         let k = pending.captured.input.frame_index;
         let more = k + 1 < self.frames;
+        // The physics runs ahead of the outputs (not with diagnostics: the recording takes
+        // the chase controller as it stands after each frame).
+        let ahead = more && !self.diagnostics;
         let t_s = pending.captured.input.time_s;
         let ego = self.ego_motion(&pending.captured);
         let diagnostics = self.diagnostics;
         let step = |t: &mut Tracker, f: &Frame| track_frame(t, &f.image, t_s, ego, diagnostics);
         let input = &pending.captured.input;
-        if let Some(mut frame) = pending.image {
-            let driven = match self.advanced.take() {
-                Some(advanced) => advanced,
-                None => {
-                    // Nothing ran ahead (the first frame): the physics to k + 1, and frame
-                    // k + 1 to the worker.
-                    let advanced = timed(physics_t, || self.drive.advance_frame());
-                    if more {
-                        let next = self.submit(render_t)?;
-                        self.in_flight.push_back(next);
-                    }
-                    advanced
-                }
-            };
-            let renderer = &mut self.renderer;
-            let ((track, edges), again) = timed(track_t, || {
+        let driven = match self.advanced.take() {
+            Some(advanced) => advanced,
+            None => timed(physics_t, || self.drive.advance_frame()),
+        };
+        if more && self.in_flight.is_empty() {
+            // Nothing ran ahead (diagnostics, or the first frame): frame k + 1 now.
+            let next = self.submit()?;
+            self.in_flight.push_back(next);
+        }
+        let (frame, ((track, edges), again)) = if pending.here {
+            let thread = self
+                .render_thread
+                .as_mut()
+                .expect("a frame on the render thread");
+            let rendered = thread.wait();
+            *render_t += rendered.spent;
+            let renderer = self.renderer.insert(rendered.renderer);
+            let mut frame = rendered.frame?;
+            let seen = timed(track_t, || {
                 track_part(
                     &mut self.tracker,
                     &mut frame,
@@ -1105,120 +1139,46 @@ impl ClosedLoop {
                     step,
                 )
             })?;
-            self.tracked(&pending.captured, &track, again);
-            self.auto_gain.observe(k, input.auto_gain, &frame.image);
-            return Ok((pending.captured, frame, track, edges, driven));
-        }
-        let driven = timed(physics_t, || self.drive.advance_frame());
-        let next = more.then(|| {
-            Captured::of(
-                &self.drive,
-                &self.rig,
-                &self.lead_from_scene,
-                &self.auto_gain,
-            )
-        });
-        let needed = next.as_ref().and_then(|c| {
-            self.parts
-                .needed(c.input.frame_index, &c.world_from_camera.rotation)
-        });
-        let frames = self.frames;
-        let ClosedLoop {
-            drive,
-            renderer,
-            remote,
-            parts,
-            auto_gain,
-            rig,
-            lead_from_scene,
-            tracker,
-            ..
-        } = self;
-        let remote = remote.as_mut().expect("two frames in flight");
-        let mut rendering = Duration::ZERO;
-        let (rendered, seen) = std::thread::scope(|scope| {
-            let rendering = &mut rendering;
-            let ahead = next.map(|captured| {
-                scope.spawn(move || {
-                    timed(rendering, || renderer.render_part(&captured.input, needed)).map(
-                        |image| InFlight {
-                            captured,
-                            image: Some(image),
-                        },
-                    )
-                })
-            });
-            let seen = (|| -> Result<_, String> {
-                // The physics to k + 2 runs after frame k is tracked (below); its steps
-                // before the estimate of frame k can fall due run now, while frame k comes
-                // back.
-                let ahead_of_k = more && !diagnostics;
-                if ahead_of_k {
-                    let due = drive.earliest_due(k);
-                    timed(physics_t, || drive.advance_before(due));
-                }
-                let mut frame = timed(render_t, || remote.receive())?;
-                let (out, again) = timed(track_t, || {
-                    track_part(
-                        tracker,
-                        &mut frame,
-                        |part| {
-                            remote.submit(input, part)?;
-                            remote.receive()
-                        },
-                        step,
-                    )
-                })?;
-                record_tracked(drive, parts, tracker, &pending.captured, &out.0);
-                auto_gain.observe(k, input.auto_gain, &frame.image);
-                // The physics to k + 2 needs estimates up to k alone. (Not with diagnostics:
-                // the recording takes the chase controller as it stands after each frame.)
-                let ahead = if ahead_of_k {
-                    let advanced = timed(physics_t, || drive.advance_frame());
-                    let submitted = (k + 2 < frames)
-                        .then(|| {
-                            let captured = Captured::of(drive, rig, lead_from_scene, auto_gain);
-                            let needed = parts.needed(
-                                captured.input.frame_index,
-                                &captured.world_from_camera.rotation,
-                            );
-                            remote.submit(&captured.input, needed).map(|()| InFlight {
-                                captured,
-                                image: None,
-                            })
-                        })
-                        .transpose()?;
-                    if submitted.is_some() {
-                        // The physics to k + 3 (the next step's) needs frame k + 1 tracked
-                        // only from the step its estimate can fall due: the steps before
-                        // run now, while frame k + 1 finishes rendering here.
-                        let due = drive.earliest_due(k + 1);
-                        timed(physics_t, || drive.advance_before(due));
-                    }
-                    Some((advanced, submitted))
-                } else {
-                    None
-                };
-                Ok((frame, out, again, ahead))
-            })();
-            let rendered = ahead
-                .map(|thread| match thread.join() {
-                    Ok(rendered) => rendered,
-                    Err(panic) => std::panic::resume_unwind(panic),
-                })
-                .transpose();
-            (rendered, seen)
-        });
-        *render_t += rendering;
-        let (frame, (track, edges), again, ahead) = seen.map_err(LoopError::Worker)?;
-        if let Some(rendered) = rendered? {
-            self.in_flight.push_back(rendered);
-        }
-        if let Some((advanced, submitted)) = ahead {
+            (frame, seen)
+        } else {
+            if ahead {
+                let due = self.drive.earliest_due(k);
+                timed(physics_t, || self.drive.advance_before(due));
+            }
+            let remote = self.remote.as_mut().expect("two frames in flight");
+            let mut frame = timed(render_t, || remote.receive()).map_err(LoopError::Worker)?;
+            let seen = timed(track_t, || {
+                track_part(
+                    &mut self.tracker,
+                    &mut frame,
+                    |part| {
+                        remote.submit(input, part)?;
+                        remote.receive()
+                    },
+                    step,
+                )
+            })
+            .map_err(LoopError::Worker)?;
+            (frame, seen)
+        };
+        self.tracked(&pending.captured, &track, again);
+        self.auto_gain.observe(k, input.auto_gain, &frame.image);
+        if ahead {
+            // The physics to k + 2, and frame k + 2 to the renderer frame k came from.
+            let advanced = timed(physics_t, || self.drive.advance_frame());
             self.advanced = Some(advanced);
-            self.in_flight.extend(submitted);
+            if k + 2 < self.frames {
+                let next = self.submit()?;
+                self.in_flight.push_back(next);
+                if !pending.here {
+                    // The physics to k + 3 needs frame k + 1 tracked only from the step its
+                    // estimate can fall due: the steps before run now, while frame k + 1
+                    // finishes rendering here.
+                    let due = self.drive.earliest_due(k + 1);
+                    timed(physics_t, || self.drive.advance_before(due));
+                }
+            }
         }
-        self.parts.rerendered += u64::from(again);
         Ok((pending.captured, frame, track, edges, driven))
     }
 
@@ -1289,7 +1249,7 @@ impl ClosedLoop {
         } else if !truth.in_view {
             LossCause::OutOfView
         } else if target_occluded(
-            self.renderer.scene(),
+            &self.scene,
             &captured.input.world_from_chase,
             &captured.input.world_from_lead,
             &world_from_camera,

@@ -12,6 +12,7 @@ mod frame_parts;
 pub mod overlay;
 pub mod record;
 pub mod recording;
+mod render_thread;
 pub mod render_worker;
 pub mod report;
 pub mod scenario;

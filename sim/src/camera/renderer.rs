@@ -21,6 +21,7 @@ use bytemuck::{Pod, Zeroable};
 use image::GrayImage;
 use nalgebra::{Isometry3, Matrix4, Point3, Translation3, Vector3};
 use std::ops::Range;
+use std::sync::Arc;
 use thiserror::Error;
 use tracker::PixelRect;
 
@@ -147,7 +148,8 @@ enum Shading {
 
 /// Renders frames of one scene from the chase camera.
 pub struct Renderer {
-    scene: Scene,
+    /// Shared (read only) with whoever needs the scene while the renderer is busy.
+    scene: Arc<Scene>,
     rig: CameraRig,
     options: RenderOptions,
     adapter_name: String,
@@ -774,7 +776,7 @@ impl Renderer {
 
         let hood_row = hood_row(&rig, &scene.description().chase, 0.0);
         Ok(Renderer {
-            scene: scene.clone(),
+            scene: Arc::new(scene.clone()),
             rig,
             options: options.clone(),
             adapter_name,
@@ -840,6 +842,11 @@ impl Renderer {
     /// The scene.
     pub fn scene(&self) -> &Scene {
         &self.scene
+    }
+
+    /// The scene, to keep while the renderer is away (on a thread of its own).
+    pub fn shared_scene(&self) -> Arc<Scene> {
+        Arc::clone(&self.scene)
     }
 
     /// Renders one frame and reads it back.
