@@ -163,8 +163,7 @@ pub struct Renderer {
     foliage_pipeline: wgpu::RenderPipeline,
     foliage_shadow_pipeline: wgpu::RenderPipeline,
     foliage_board_shadow_pipeline: wgpu::RenderPipeline,
-    globals_buffer: wgpu::Buffer,
-    objects_buffer: wgpu::Buffer,
+    frame_uniforms: Uniforms,
     frame_bind_group: wgpu::BindGroup,
     shadow_bind_group: wgpu::BindGroup,
     vertex_buffer: wgpu::Buffer,
@@ -197,8 +196,7 @@ pub struct Renderer {
     tile_frame: TileFrame,
     tile_cache: TileCache,
     tile_views: Vec<wgpu::TextureView>,
-    tile_globals_buffer: wgpu::Buffer,
-    tile_objects_buffer: wgpu::Buffer,
+    tile_uniforms: Uniforms,
     tile_bind_group: wgpu::BindGroup,
     /// Per-frame scratch lists, kept to avoid allocating every frame.
     items: Vec<DrawItem>,
@@ -296,20 +294,8 @@ impl Renderer {
 
         // Uniforms: the per-frame globals and the object transforms, and the same for the
         // static shadow tiles' passes, which run in submissions of their own.
-        let uniform_buffer = |label, size| {
-            device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            })
-        };
-        let globals_size = std::mem::size_of::<Globals>() as u64;
-        let objects_size = 64 * u64::from(ObjectSlot::COUNT);
-        let globals_buffer = uniform_buffer("globals", globals_size);
-        let objects_buffer = uniform_buffer("objects", objects_size);
-        let tile_globals_buffer = uniform_buffer("tile globals", globals_size);
-        let tile_objects_buffer = uniform_buffer("tile objects", objects_size);
+        let frame_uniforms = Uniforms::new(&device, "frame uniforms");
+        let tile_uniforms = Uniforms::new(&device, "tile uniforms");
 
         // Textures: the shadow map, the grey target (and its multisampled twin), depth.
         let size = |w, h| wgpu::Extent3d {
@@ -572,24 +558,24 @@ impl Renderer {
             compare: Some(wgpu::CompareFunction::LessEqual),
             ..Default::default()
         });
-        let uniforms_group = |label, globals: &wgpu::Buffer, objects: &wgpu::Buffer| {
+        let uniforms_group = |label, uniforms: &Uniforms| {
             device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some(label),
                 layout: &frame_layout,
                 entries: &[
                     wgpu::BindGroupEntry {
                         binding: 0,
-                        resource: globals.as_entire_binding(),
+                        resource: uniforms.globals(),
                     },
                     wgpu::BindGroupEntry {
                         binding: 1,
-                        resource: objects.as_entire_binding(),
+                        resource: uniforms.objects(),
                     },
                 ],
             })
         };
-        let frame_bind_group = uniforms_group("frame", &globals_buffer, &objects_buffer);
-        let tile_bind_group = uniforms_group("tile", &tile_globals_buffer, &tile_objects_buffer);
+        let frame_bind_group = uniforms_group("frame", &frame_uniforms);
+        let tile_bind_group = uniforms_group("tile", &tile_uniforms);
         let shadow_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("shadow"),
             layout: &shadow_layout,
@@ -789,8 +775,7 @@ impl Renderer {
             foliage_pipeline,
             foliage_shadow_pipeline,
             foliage_board_shadow_pipeline,
-            globals_buffer,
-            objects_buffer,
+            frame_uniforms,
             frame_bind_group,
             shadow_bind_group,
             vertex_buffer,
@@ -812,8 +797,7 @@ impl Renderer {
             tile_frame,
             tile_cache: TileCache::new(tile_layers),
             tile_views,
-            tile_globals_buffer,
-            tile_objects_buffer,
+            tile_uniforms,
             tile_bind_group,
             items: Vec::new(),
             main_draws: Vec::new(),
@@ -1206,13 +1190,8 @@ impl Renderer {
             ],
             tile_layers,
         };
-        self.queue
-            .write_buffer(&self.globals_buffer, 0, bytemuck::bytes_of(&globals));
-        self.queue.write_buffer(
-            &self.objects_buffer,
-            0,
-            bytemuck::cast_slice(&world_from_object),
-        );
+        self.frame_uniforms
+            .write(&self.queue, &globals, &world_from_object);
 
         // One encoder: shadow pass, main pass, copy to the staging buffer.
         let mut encoder = self
@@ -1476,10 +1455,7 @@ impl Renderer {
         };
         let mut objects = [[[0f32; 4]; 4]; ObjectSlot::COUNT as usize];
         objects[ObjectSlot::WORLD as usize] = to_f32(&Translation3::from(-origin).to_homogeneous());
-        self.queue
-            .write_buffer(&self.tile_globals_buffer, 0, bytemuck::bytes_of(&globals));
-        self.queue
-            .write_buffer(&self.tile_objects_buffer, 0, bytemuck::cast_slice(&objects));
+        self.tile_uniforms.write(&self.queue, &globals, &objects);
         let (mut solid, mut leafy) = (Vec::new(), Vec::new());
         for chunk in self.scene.chunks() {
             if chunk.casts_shadow && frame.touches(cell, chunk.centre, chunk.radius) {
@@ -1660,6 +1636,65 @@ fn hood_row(rig: &CameraRig, chase: &crate::scene::ChaseVehicle, camera_pan_rad:
 /// shared scene lists race: test binaries that ran closed loops on two threads died of a
 /// segmentation fault inside `swrast_dri.so`, now and then, under load. Held while a frame is
 /// submitted and read back, and while a device is created.
+/// A pass's uniforms, the globals and the object transforms, in one buffer (the objects at
+/// the first offset a binding may start at after the globals), so that a frame writes them
+/// in one `write_buffer`: each write costs a staging buffer of its own.
+struct Uniforms {
+    buffer: wgpu::Buffer,
+    objects_offset: u64,
+}
+
+/// Bytes of [`Globals`].
+const GLOBALS_BYTES: u64 = std::mem::size_of::<Globals>() as u64;
+/// Bytes of the object transforms, one 4 × 4 matrix of `f32` per slot.
+const OBJECTS_BYTES: u64 = 64 * ObjectSlot::COUNT as u64;
+
+impl Uniforms {
+    fn new(device: &wgpu::Device, label: &str) -> Uniforms {
+        let align = u64::from(device.limits().min_uniform_buffer_offset_alignment);
+        let objects_offset = GLOBALS_BYTES.div_ceil(align) * align;
+        let size = objects_offset + OBJECTS_BYTES;
+        Uniforms {
+            buffer: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+            objects_offset,
+        }
+    }
+
+    fn globals(&self) -> wgpu::BindingResource<'_> {
+        wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+            buffer: &self.buffer,
+            offset: 0,
+            size: wgpu::BufferSize::new(GLOBALS_BYTES),
+        })
+    }
+
+    fn objects(&self) -> wgpu::BindingResource<'_> {
+        wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+            buffer: &self.buffer,
+            offset: self.objects_offset,
+            size: wgpu::BufferSize::new(OBJECTS_BYTES),
+        })
+    }
+
+    fn write(
+        &self,
+        queue: &wgpu::Queue,
+        globals: &Globals,
+        objects: &[[[f32; 4]; 4]; ObjectSlot::COUNT as usize],
+    ) {
+        let offset = self.objects_offset as usize;
+        let mut bytes = vec![0; offset + OBJECTS_BYTES as usize];
+        bytes[..GLOBALS_BYTES as usize].copy_from_slice(bytemuck::bytes_of(globals));
+        bytes[offset..].copy_from_slice(bytemuck::cast_slice(objects));
+        queue.write_buffer(&self.buffer, 0, &bytes);
+    }
+}
+
 fn gl_lock() -> std::sync::MutexGuard<'static, ()> {
     static LOCK: std::sync::Mutex<()> = std::sync::Mutex::new(());
     // A renderer that panicked holding it left nothing half-done that the lock protects.
