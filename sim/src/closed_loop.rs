@@ -544,24 +544,6 @@ struct InFlight {
 /// Why this process's renderer must be at hand: only frames in flight take it away.
 const HERE: &str = "this process's renderer is here when no frame of its is in flight";
 
-/// [`ClosedLoop::tracked`] on the loop's parts, but for the count of frames rendered again.
-fn record_tracked(
-    drive: &mut Drive,
-    parts: &mut FrameParts,
-    tracker: &Tracker,
-    captured: &Captured,
-    track: &TrackOutput,
-) {
-    drive.push_estimate(captured.now, track, captured.pan_reading_rad);
-    parts.observe(
-        captured.input.frame_index,
-        track.estimate,
-        track.next,
-        tracker.last_read(),
-        captured.world_from_camera.rotation,
-    );
-}
-
 /// Whether no estimate through `delay` reaches the controller sooner than a frame after
 /// its capture, so that the physics to the next frame needs none from this one.
 fn renders_ahead<T>(delay: &DelayLine<T>) -> bool {
@@ -1185,12 +1167,14 @@ impl ClosedLoop {
     /// After frame `captured` is tracked: its estimate into the delay line, and what it
     /// read for the part of the next frames to render.
     fn tracked(&mut self, captured: &Captured, track: &TrackOutput, rerendered: bool) {
-        record_tracked(
-            &mut self.drive,
-            &mut self.parts,
-            &self.tracker,
-            captured,
-            track,
+        self.drive
+            .push_estimate(captured.now, track, captured.pan_reading_rad);
+        self.parts.observe(
+            captured.input.frame_index,
+            track.estimate,
+            track.next,
+            self.tracker.last_read(),
+            captured.world_from_camera.rotation,
         );
         self.parts.rerendered += u64::from(rerendered);
     }

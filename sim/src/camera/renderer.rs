@@ -1687,11 +1687,19 @@ impl Uniforms {
         globals: &Globals,
         objects: &[[[f32; 4]; 4]; ObjectSlot::COUNT as usize],
     ) {
+        // Written straight into wgpu's staging memory.
         let offset = self.objects_offset as usize;
-        let mut bytes = vec![0; offset + OBJECTS_BYTES as usize];
-        bytes[..GLOBALS_BYTES as usize].copy_from_slice(bytemuck::bytes_of(globals));
-        bytes[offset..].copy_from_slice(bytemuck::cast_slice(objects));
-        queue.write_buffer(&self.buffer, 0, &bytes);
+        let size = wgpu::BufferSize::new(self.buffer.size()).expect("uniforms hold bytes");
+        let mut bytes = queue
+            .write_buffer_with(&self.buffer, 0, size)
+            .expect("the write lies within the buffer");
+        // (The padding between the two is never bound, so never read.)
+        bytes
+            .slice(..GLOBALS_BYTES as usize)
+            .copy_from_slice(bytemuck::bytes_of(globals));
+        bytes
+            .slice(offset..)
+            .copy_from_slice(bytemuck::cast_slice(objects));
     }
 }
 
