@@ -5,10 +5,13 @@
 //! one submission, map and read, then the sensor model and the ground truth.
 //!
 //! On llvmpipe the cost is mostly per rasterised 4×4 block, whether or not it survives the
-//! depth test, and hardly depends on the shader's arithmetic. So the main pass draws front
-//! to back (hood, lead, other vehicles, clutter, road, grass last) with back faces culled,
-//! scissors away the rows the hood covers, and passes face-constant lighting un-interpolated;
-//! the shadow map is 512² by default (1024² cost about 1 ms a frame on clearing alone).
+//! depth test. So the main pass draws front to back (hood, lead, other vehicles, clutter,
+//! road, grass last) with back faces culled, scissors away the rows the hood covers, and
+//! passes face-constant lighting un-interpolated; the shadow map is 512² by default (1024²
+//! cost about 1 ms a frame on clearing alone). llvmpipe runs both sides of a branch,
+//! masked, so a pipeline leaves out what its faces never need: the grass's hashes are only
+//! in the ground layer's pipelines (the `grass_faces` override). The two shadow lookups
+//! are about a quarter of a typical part's render.
 
 use super::backend::{Backend, BackendError};
 use super::frame::{Field, Frame, FrameInput, GroundTruth};
@@ -138,12 +141,16 @@ const PAINT_DETAIL: f64 = 0.3;
 /// Which pipeline of the main pass draws a piece of geometry.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Shading {
-    /// Flat albedo (and the grass's mottle): `fs_main`.
+    /// Flat albedo: `fs_main`.
     Plain,
+    /// The grass's mottle (the ground layer, untextured): `fs_main` with grass faces.
+    PlainGrass,
     /// Perforated canopies: `fs_foliage`, both faces.
     Foliage,
-    /// Textured ground surfaces: `fs_ground`.
+    /// Textured road surfaces: `fs_ground`.
     Ground,
+    /// Textured grass: `fs_ground` with grass faces.
+    GroundGrass,
 }
 
 /// Renders frames of one scene from the chase camera.
@@ -157,9 +164,12 @@ pub struct Renderer {
     queue: wgpu::Queue,
     shadow_pipeline: wgpu::RenderPipeline,
     board_shadow_pipeline: wgpu::RenderPipeline,
+    /// Everything but the ground and the canopies.
     main_pipeline: wgpu::RenderPipeline,
-    /// The textured ground's pipeline, when the scene's textures are on.
-    ground_pipeline: Option<wgpu::RenderPipeline>,
+    /// The grass, when the scene's textures are off.
+    grass_pipeline: Option<wgpu::RenderPipeline>,
+    /// The textured road surfaces' and grass's pipelines, when the scene's textures are on.
+    ground_pipelines: Option<[wgpu::RenderPipeline; 2]>,
     foliage_pipeline: wgpu::RenderPipeline,
     foliage_shadow_pipeline: wgpu::RenderPipeline,
     foliage_board_shadow_pipeline: wgpu::RenderPipeline,
@@ -707,7 +717,9 @@ impl Renderer {
         );
         // Soft shadows on the target: the board's fine map and the sun's disc.
         let soft = scene.description().sun.soft_shadows;
-        let shaded_pipeline = |label: &str, vertex: &str, fragment: &str, cull| {
+        // `grass`: whether it draws grass faces (the `grass_faces` override).
+        let shaded_pipeline = |label: &str, vertex: &str, fragment: &str, cull, grass: bool| {
+            let constants = [("grass_faces", f64::from(u8::from(grass)))];
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(label),
                 layout: Some(&main_pipeline_layout),
@@ -742,7 +754,10 @@ impl Renderer {
                     } else {
                         fragment.to_string()
                     }),
-                    compilation_options: Default::default(),
+                    compilation_options: wgpu::PipelineCompilationOptions {
+                        constants: &constants,
+                        ..Default::default()
+                    },
                     targets: &[Some(wgpu::ColorTargetState {
                         format: COLOR_FORMAT,
                         blend: None,
@@ -754,11 +769,14 @@ impl Renderer {
             })
         };
         let back = Some(wgpu::Face::Back);
-        let main_pipeline = shaded_pipeline("main", "vs_main", "fs_main", back);
-        let ground_pipeline = textures
-            .enabled
-            .then(|| shaded_pipeline("ground", "vs_ground", "fs_ground", back));
-        let foliage_pipeline = shaded_pipeline("foliage", "vs_foliage", "fs_foliage", None);
+        let main_pipeline = shaded_pipeline("main", "vs_main", "fs_main", back, false);
+        let grass_pipeline =
+            (!textures.enabled).then(|| shaded_pipeline("grass", "vs_main", "fs_main", back, true));
+        let ground_pipelines = textures.enabled.then(|| {
+            [false, true]
+                .map(|grass| shaded_pipeline("ground", "vs_ground", "fs_ground", back, grass))
+        });
+        let foliage_pipeline = shaded_pipeline("foliage", "vs_foliage", "fs_foliage", None, false);
 
         let hood_row = hood_row(&rig, &scene.description().chase, 0.0);
         Ok(Renderer {
@@ -771,7 +789,8 @@ impl Renderer {
             shadow_pipeline,
             board_shadow_pipeline,
             main_pipeline,
-            ground_pipeline,
+            grass_pipeline,
+            ground_pipelines,
             foliage_pipeline,
             foliage_shadow_pipeline,
             foliage_board_shadow_pipeline,
@@ -966,7 +985,7 @@ impl Renderer {
                 });
             }
         }
-        let textured = self.ground_pipeline.is_some();
+        let textured = self.ground_pipelines.is_some();
         for (index, chunk) in self.scene.chunks().iter().enumerate() {
             items.push(DrawItem {
                 chunk: Some(index),
@@ -976,9 +995,13 @@ impl Renderer {
                 casts_shadow: chunk.casts_shadow,
                 class: FIRST_STATIC_CLASS + chunk.layer as u8,
                 distance_m: (Vector3::from(chunk.centre) - eye).norm(),
-                shading: match chunk.layer {
-                    Layer::Foliage => Shading::Foliage,
-                    Layer::Surface | Layer::Ground if textured => Shading::Ground,
+                // Only the ground layer has grass faces (`Scene`'s invariant): the other
+                // pipelines leave the grass's hashes out.
+                shading: match (chunk.layer, textured) {
+                    (Layer::Foliage, _) => Shading::Foliage,
+                    (Layer::Surface, true) => Shading::Ground,
+                    (Layer::Ground, true) => Shading::GroundGrass,
+                    (Layer::Ground, false) => Shading::PlainGrass,
                     _ => Shading::Plain,
                 },
             });
@@ -1324,11 +1347,22 @@ impl Renderer {
                 if current != Some(*shading) {
                     pass.set_pipeline(match shading {
                         Shading::Plain => &self.main_pipeline,
-                        Shading::Foliage => &self.foliage_pipeline,
-                        Shading::Ground => self
-                            .ground_pipeline
+                        Shading::PlainGrass => self
+                            .grass_pipeline
                             .as_ref()
-                            .expect("ground draws only with the ground's pipeline"),
+                            .expect("untextured grass only without the ground's pipelines"),
+                        Shading::Foliage => &self.foliage_pipeline,
+                        Shading::Ground | Shading::GroundGrass => {
+                            let [road, grass] = self
+                                .ground_pipelines
+                                .as_ref()
+                                .expect("ground draws only with the ground's pipelines");
+                            if *shading == Shading::Ground {
+                                road
+                            } else {
+                                grass
+                            }
+                        }
                     });
                     current = Some(*shading);
                 }

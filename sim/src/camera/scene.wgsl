@@ -301,6 +301,11 @@ fn sunlight_board(p: vec3<f32>) -> f32 {
     return lit / 9.0;
 }
 
+// Whether the pipeline draws grass faces (albedo below 0): only the ground layer has
+// them, and the other pipelines set it false, so that their fragments skip the grass's
+// lattice hashes (llvmpipe runs both sides of a branch, masked).
+override grass_faces: bool = true;
+
 // MurmurHash3's finaliser: a well-mixed 32-bit value for each grass lattice corner.
 fn hash(i: vec2<i32>) -> f32 {
     var x = (bitcast<u32>(i.x) * 0x8da6b343u) ^ (bitcast<u32>(i.y) * 0xd8163841u) ^ u32(globals.ground.w);
@@ -326,7 +331,7 @@ fn grass(xz: vec2<f32>) -> f32 {
 @fragment
 fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     var albedo = in.light.x;
-    if (albedo < 0.0) {
+    if (grass_faces && albedo < 0.0) {
         albedo = grass(in.ground);
     }
     var light = in.light.y;
@@ -342,7 +347,7 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
 @fragment
 fn fs_main_soft(in: VertexOut) -> @location(0) vec4<f32> {
     var albedo = in.light.x;
-    if (albedo < 0.0) {
+    if (grass_faces && albedo < 0.0) {
         albedo = grass(in.ground);
     }
     var light = in.light.y;
@@ -398,7 +403,7 @@ fn lit_soft(light: vec3<f32>, shadow: vec3<f32>, tiles: vec3<f32>, b: vec3<f32>)
 fn ground_albedo(in: GroundOut) -> f32 {
     let d = detail(in.ground, in.texture);
     var albedo = in.light.x;
-    if (albedo < 0.0) {
+    if (grass_faces && albedo < 0.0) {
         albedo = grass(in.ground);
     }
     return albedo * d;

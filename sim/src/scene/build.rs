@@ -1168,6 +1168,46 @@ mod tests {
     use super::*;
     use crate::scene::{builtin_description, builtin_target};
 
+    /// Grass faces (albedo below 0, coloured per fragment) lie in the ground layer alone,
+    /// and no object has any: the renderer draws the other layers and the objects with
+    /// pipelines that leave the grass out. On flat ground and over bumps (the verges).
+    #[test]
+    fn grass_faces_lie_in_the_ground_layer_alone() {
+        for ground in [
+            vehicle::GroundConfig::default(),
+            crate::scene::terrain::tests::bumpy_ground(),
+        ] {
+            let mut d = builtin_description(builtin_target(), 3);
+            d.ground = ground;
+            let scene = Scene::build(d).expect("scene");
+            let mesh = scene.mesh();
+            let grass = |range: &std::ops::Range<u32>| {
+                mesh.indices[range.start as usize..range.end as usize]
+                    .iter()
+                    .filter(|&&i| mesh.vertices[i as usize].albedo < 0.0)
+                    .count()
+            };
+            let mut in_ground = 0;
+            for chunk in scene.chunks() {
+                let n = grass(&chunk.indices);
+                if chunk.layer == Layer::Ground {
+                    in_ground += n;
+                } else {
+                    assert_eq!(n, 0, "grass faces in a {:?} chunk", chunk.layer);
+                }
+            }
+            assert!(in_ground > 0, "the ground layer draws the grass");
+            for object in scene.objects() {
+                assert_eq!(
+                    grass(&object.indices),
+                    0,
+                    "grass faces on {:?}",
+                    object.slot
+                );
+            }
+        }
+    }
+
     /// The materials each surface carries: the road's as its surface says, the paint's, the
     /// grass's; canopies in their own layer, casting shadows; the slots unchanged.
     #[test]
