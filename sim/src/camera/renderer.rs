@@ -1664,12 +1664,6 @@ fn hood_row(rig: &CameraRig, chase: &crate::scene::ChaseVehicle, camera_pan_rad:
     row.min(rig.height)
 }
 
-/// One renderer of this process at a time. Mesa's llvmpipe rasterises every GL context of a
-/// process on one shared rasteriser, so two renderers on two threads only take turns anyway
-/// (which is why `run`'s second renderer is a process of its own); but unserialised, its
-/// shared scene lists race: test binaries that ran closed loops on two threads died of a
-/// segmentation fault inside `swrast_dri.so`, now and then, under load. Held while a frame is
-/// submitted and read back, and while a device is created.
 /// A pass's uniforms, the globals and the object transforms, in one buffer (the objects at
 /// the first offset a binding may start at after the globals), so that a frame writes them
 /// in one `write_buffer`: each write costs a staging buffer of its own.
@@ -1737,6 +1731,12 @@ impl Uniforms {
     }
 }
 
+/// One renderer of this process at a time. Mesa's llvmpipe rasterises every GL context of a
+/// process on one shared rasteriser, so two renderers on two threads only take turns anyway
+/// (which is why `run`'s second renderer is a process of its own); but unserialised, its
+/// shared scene lists race: test binaries that ran closed loops on two threads died of a
+/// segmentation fault inside `swrast_dri.so`, now and then, under load. Held while a frame is
+/// submitted and read back, and while a device is created.
 fn gl_lock() -> std::sync::MutexGuard<'static, ()> {
     static LOCK: std::sync::Mutex<()> = std::sync::Mutex::new(());
     // A renderer that panicked holding it left nothing half-done that the lock protects.
