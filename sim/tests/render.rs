@@ -833,7 +833,9 @@ fn golden_exact(name: &str, image: &GrayImage) {
 }
 
 /// Untextured frames (the scene without trees, whose canopies are perforated) without the
-/// static shadow cache are the frames the renderer drew before ground textures existed,
+/// static shadow cache are the frames the renderer drew before ground textures existed
+/// (and, with soft shadows, before only the draws that can lie within the board's fine map
+/// took the soft-shadow pipelines),
 /// bit for bit: the references
 /// were rendered by the renderer without textures, then again when the poles gained their
 /// insulators (the only pixels that changed: 366, all on the poles and their wires).
@@ -857,6 +859,16 @@ fn untextured_frames_are_the_untextured_renderers_bit_for_bit() {
             "untextured-t12"
         };
         golden_exact(name, &builtin_frame(&mut renderer, 12.0).image);
+        // With soft shadows, only what can lie within the board's fine map pays for it.
+        let stats = renderer.stats();
+        if soft {
+            assert!(
+                stats.soft_triangles > 0 && stats.soft_triangles < stats.main_triangles / 2,
+                "{stats:?}"
+            );
+        } else {
+            assert_eq!(stats.soft_triangles, 0);
+        }
     }
 }
 

@@ -10,8 +10,9 @@
 //! passes face-constant lighting un-interpolated; the shadow map is 512² by default (1024²
 //! cost about 1 ms a frame on clearing alone). llvmpipe runs both sides of a branch,
 //! masked, so a pipeline leaves out what its faces never need: the grass's hashes are only
-//! in the ground layer's pipelines (the `grass_faces` override). The two shadow lookups
-//! are about a quarter of a typical part's render.
+//! in the ground layer's pipelines (the `grass_faces` override), and with soft shadows on
+//! the target only the draws that can lie within the board's fine map take the soft-shadow
+//! pipelines. The two shadow lookups are about a quarter of a typical part's render.
 
 use super::backend::{Backend, BackendError};
 use super::frame::{Field, Frame, FrameInput, GroundTruth};
@@ -101,6 +102,10 @@ const BOARD_SHADOW_HALF_M: f64 = 2.0;
 /// How far towards the sun its casters may stand from the board, metres: a building's
 /// height at a low sun.
 const BOARD_CASTER_REACH_M: f64 = 40.0;
+/// How far beyond the board's receivers' box (`BOARD_SHADOW_HALF_M` about its centre) a
+/// draw's bounding sphere must stay to be drawn without the board's fine map: the normal
+/// offset of its lookup (1.5 of its 1.6 cm texels) and f32 rounding, with room to spare.
+const BOARD_RECEIVER_MARGIN_M: f64 = 0.1;
 /// The sun's angular diameter, degrees. A shadow's penumbra, seen across its edge, is as
 /// wide as the sun's disc seen from the receiver across the distance to the occluder:
 /// 2 tan(0.265°) ≈ 0.93 cm for every metre.
@@ -153,6 +158,47 @@ enum Shading {
     GroundGrass,
 }
 
+/// A draw of the main pass: an index range, its pipeline, and whether it may lie within
+/// the board's fine shadow map (then the soft-shadow pipelines draw it; see
+/// `BOARD_RECEIVER_MARGIN_M`).
+type MainDraw = (Range<u32>, Shading, bool);
+
+/// The main pass's pipelines, one for each [`Shading`] the scene uses.
+struct ShadedPipelines {
+    /// Everything but the ground and the canopies.
+    main: wgpu::RenderPipeline,
+    /// The grass, when the scene's textures are off.
+    grass: Option<wgpu::RenderPipeline>,
+    /// The textured road surfaces' and grass's pipelines, when the scene's textures are on.
+    ground: Option<[wgpu::RenderPipeline; 2]>,
+    foliage: wgpu::RenderPipeline,
+}
+
+impl ShadedPipelines {
+    /// The pipeline that draws `shading`.
+    fn of(&self, shading: Shading) -> &wgpu::RenderPipeline {
+        match shading {
+            Shading::Plain => &self.main,
+            Shading::PlainGrass => self
+                .grass
+                .as_ref()
+                .expect("untextured grass only without the ground's pipelines"),
+            Shading::Foliage => &self.foliage,
+            Shading::Ground | Shading::GroundGrass => {
+                let [road, grass] = self
+                    .ground
+                    .as_ref()
+                    .expect("ground draws only with the ground's pipelines");
+                if shading == Shading::Ground {
+                    road
+                } else {
+                    grass
+                }
+            }
+        }
+    }
+}
+
 /// Renders frames of one scene from the chase camera.
 pub struct Renderer {
     /// Shared (read only) with whoever needs the scene while the renderer is busy.
@@ -164,13 +210,11 @@ pub struct Renderer {
     queue: wgpu::Queue,
     shadow_pipeline: wgpu::RenderPipeline,
     board_shadow_pipeline: wgpu::RenderPipeline,
-    /// Everything but the ground and the canopies.
-    main_pipeline: wgpu::RenderPipeline,
-    /// The grass, when the scene's textures are off.
-    grass_pipeline: Option<wgpu::RenderPipeline>,
-    /// The textured road surfaces' and grass's pipelines, when the scene's textures are on.
-    ground_pipelines: Option<[wgpu::RenderPipeline; 2]>,
-    foliage_pipeline: wgpu::RenderPipeline,
+    /// The main pass's pipelines, with the frame's shadow map and tiles alone.
+    pipelines: ShadedPipelines,
+    /// With soft shadows on the target: the same with the board's fine map too, for what
+    /// can lie within it (see `BOARD_RECEIVER_MARGIN_M`).
+    soft_pipelines: Option<ShadedPipelines>,
     foliage_shadow_pipeline: wgpu::RenderPipeline,
     foliage_board_shadow_pipeline: wgpu::RenderPipeline,
     frame_uniforms: Uniforms,
@@ -210,7 +254,7 @@ pub struct Renderer {
     tile_bind_group: wgpu::BindGroup,
     /// Per-frame scratch lists, kept to avoid allocating every frame.
     items: Vec<DrawItem>,
-    main_draws: Vec<(Range<u32>, Shading)>,
+    main_draws: Vec<MainDraw>,
     shadow_draws: Vec<Range<u32>>,
     board_shadow_draws: Vec<Range<u32>>,
     foliage_shadow_draws: Vec<Range<u32>>,
@@ -222,6 +266,9 @@ pub struct Renderer {
 pub struct DrawStats {
     /// Triangles drawn from the camera.
     pub main_triangles: u32,
+    /// Of those, the triangles drawn with soft shadows on the target (the board's fine
+    /// map): what can lie within it.
+    pub soft_triangles: u32,
     /// Triangles drawn into the shadow map.
     pub shadow_triangles: u32,
     /// Draw calls in both passes.
@@ -715,68 +762,79 @@ impl Renderer {
             "vs_foliage_board_shadow",
             Some("fs_foliage_shadow"),
         );
-        // Soft shadows on the target: the board's fine map and the sun's disc.
-        let soft = scene.description().sun.soft_shadows;
-        // `grass`: whether it draws grass faces (the `grass_faces` override).
-        let shaded_pipeline = |label: &str, vertex: &str, fragment: &str, cull, grass: bool| {
-            let constants = [("grass_faces", f64::from(u8::from(grass)))];
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some(label),
-                layout: Some(&main_pipeline_layout),
-                vertex: wgpu::VertexState {
-                    module: &shader,
-                    entry_point: Some(vertex),
-                    compilation_options: Default::default(),
-                    buffers: &[Some(vertex_layout.clone())],
-                },
-                // Every closed mesh is wound counter-clockwise seen from outside
-                // (`Mesh::orient_faces`), open ones are two-sided: back faces never show
-                // (canopies' do, through their holes).
-                primitive: wgpu::PrimitiveState {
-                    cull_mode: cull,
-                    ..Default::default()
-                },
-                depth_stencil: Some(wgpu::DepthStencilState {
-                    format: DEPTH_FORMAT,
-                    depth_write_enabled: Some(true),
-                    depth_compare: Some(wgpu::CompareFunction::Less),
-                    stencil: wgpu::StencilState::default(),
-                    bias: wgpu::DepthBiasState::default(),
-                }),
-                multisample: wgpu::MultisampleState {
-                    count: samples,
-                    ..Default::default()
-                },
-                fragment: Some(wgpu::FragmentState {
-                    module: &shader,
-                    entry_point: Some(&if soft {
-                        format!("{fragment}_soft")
-                    } else {
-                        fragment.to_string()
-                    }),
-                    compilation_options: wgpu::PipelineCompilationOptions {
-                        constants: &constants,
+        // `grass`: whether it draws grass faces (the `grass_faces` override); `soft`:
+        // whether it takes soft shadows on the target from the board's fine map and the
+        // sun's disc (the fragment shader's `_soft` entry).
+        let shaded_pipeline =
+            |label: &str, vertex: &str, fragment: &str, cull, grass: bool, soft: bool| {
+                let constants = [("grass_faces", f64::from(u8::from(grass)))];
+                device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                    label: Some(label),
+                    layout: Some(&main_pipeline_layout),
+                    vertex: wgpu::VertexState {
+                        module: &shader,
+                        entry_point: Some(vertex),
+                        compilation_options: Default::default(),
+                        buffers: &[Some(vertex_layout.clone())],
+                    },
+                    // Every closed mesh is wound counter-clockwise seen from outside
+                    // (`Mesh::orient_faces`), open ones are two-sided: back faces never show
+                    // (canopies' do, through their holes).
+                    primitive: wgpu::PrimitiveState {
+                        cull_mode: cull,
                         ..Default::default()
                     },
-                    targets: &[Some(wgpu::ColorTargetState {
-                        format: COLOR_FORMAT,
-                        blend: None,
-                        write_mask: wgpu::ColorWrites::ALL,
-                    })],
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
-        };
+                    depth_stencil: Some(wgpu::DepthStencilState {
+                        format: DEPTH_FORMAT,
+                        depth_write_enabled: Some(true),
+                        depth_compare: Some(wgpu::CompareFunction::Less),
+                        stencil: wgpu::StencilState::default(),
+                        bias: wgpu::DepthBiasState::default(),
+                    }),
+                    multisample: wgpu::MultisampleState {
+                        count: samples,
+                        ..Default::default()
+                    },
+                    fragment: Some(wgpu::FragmentState {
+                        module: &shader,
+                        entry_point: Some(&if soft {
+                            format!("{fragment}_soft")
+                        } else {
+                            fragment.to_string()
+                        }),
+                        compilation_options: wgpu::PipelineCompilationOptions {
+                            constants: &constants,
+                            ..Default::default()
+                        },
+                        targets: &[Some(wgpu::ColorTargetState {
+                            format: COLOR_FORMAT,
+                            blend: None,
+                            write_mask: wgpu::ColorWrites::ALL,
+                        })],
+                    }),
+                    multiview_mask: None,
+                    cache: None,
+                })
+            };
         let back = Some(wgpu::Face::Back);
-        let main_pipeline = shaded_pipeline("main", "vs_main", "fs_main", back, false);
-        let grass_pipeline =
-            (!textures.enabled).then(|| shaded_pipeline("grass", "vs_main", "fs_main", back, true));
-        let ground_pipelines = textures.enabled.then(|| {
-            [false, true]
-                .map(|grass| shaded_pipeline("ground", "vs_ground", "fs_ground", back, grass))
-        });
-        let foliage_pipeline = shaded_pipeline("foliage", "vs_foliage", "fs_foliage", None, false);
+        let shaded_pipelines = |soft: bool| ShadedPipelines {
+            main: shaded_pipeline("main", "vs_main", "fs_main", back, false, soft),
+            grass: (!textures.enabled)
+                .then(|| shaded_pipeline("grass", "vs_main", "fs_main", back, true, soft)),
+            ground: textures.enabled.then(|| {
+                [false, true].map(|grass| {
+                    shaded_pipeline("ground", "vs_ground", "fs_ground", back, grass, soft)
+                })
+            }),
+            foliage: shaded_pipeline("foliage", "vs_foliage", "fs_foliage", None, false, soft),
+        };
+        let pipelines = shaded_pipelines(false);
+        // Soft shadows on the target: the board's fine map and the sun's disc.
+        let soft_pipelines = scene
+            .description()
+            .sun
+            .soft_shadows
+            .then(|| shaded_pipelines(true));
 
         let hood_row = hood_row(&rig, &scene.description().chase, 0.0);
         Ok(Renderer {
@@ -788,10 +846,8 @@ impl Renderer {
             queue,
             shadow_pipeline,
             board_shadow_pipeline,
-            main_pipeline,
-            grass_pipeline,
-            ground_pipelines,
-            foliage_pipeline,
+            pipelines,
+            soft_pipelines,
             foliage_shadow_pipeline,
             foliage_board_shadow_pipeline,
             frame_uniforms,
@@ -985,7 +1041,7 @@ impl Renderer {
                 });
             }
         }
-        let textured = self.ground_pipelines.is_some();
+        let textured = self.pipelines.ground.is_some();
         for (index, chunk) in self.scene.chunks().iter().enumerate() {
             items.push(DrawItem {
                 chunk: Some(index),
@@ -1007,6 +1063,25 @@ impl Renderer {
             });
         }
 
+        // With soft shadows on the target, only what can lie within the board's fine map
+        // takes the soft-shadow pipelines: the rest would run the board's lookups for
+        // nothing (llvmpipe runs both sides of a branch).
+        let sun = &description.sun;
+        let board_receivers = board_centre.filter(|_| sun.soft_shadows).map(|c| {
+            Light::around(
+                c.coords,
+                sun.direction(),
+                BOARD_SHADOW_HALF_M,
+                BOARD_SHADOW_HALF_M,
+                BOARD_SHADOW_SIZE,
+            )
+        });
+        let soft = |centre: [f64; 3], radius: f64| {
+            board_receivers
+                .as_ref()
+                .is_some_and(|l| l.holds(centre, radius + BOARD_RECEIVER_MARGIN_M))
+        };
+
         // Main pass: what the camera's frustum holds, front to back (by class, then by
         // distance), so early depth testing rejects hidden fragments before shading them.
         let frustum = Frustum::of_part(rig, &camera_from_world, scissor);
@@ -1021,20 +1096,25 @@ impl Renderer {
         let chunks = self.scene.chunks();
         for item in items.iter().filter(|d| frustum.sees(d.centre, d.radius)) {
             if item.class == HOOD_CLASS {
-                main_draws.push((item.indices.clone(), item.shading));
+                main_draws.push((
+                    item.indices.clone(),
+                    item.shading,
+                    soft(item.centre, item.radius),
+                ));
                 hood_draws = main_draws.len();
                 continue;
             }
             // A chunk's parts that the frustum holds, in order (the whole of the chunk's
             // range when it holds them all); an object's whole range.
             let parts = item.chunk.map_or(&[][..], |c| &chunks[c].parts[..]);
-            let whole = std::iter::once(item.indices.clone()).filter(|_| parts.is_empty());
+            let whole = std::iter::once((item.indices.clone(), item.centre, item.radius))
+                .filter(|_| parts.is_empty());
             let visible = parts
                 .iter()
                 .filter(|p| frustum.sees(p.centre, p.radius))
-                .map(|p| p.indices.clone());
-            for range in whole.chain(visible) {
-                let draw = (range, item.shading);
+                .map(|p| (p.indices.clone(), p.centre, p.radius));
+            for (range, centre, radius) in whole.chain(visible) {
+                let draw = (range, item.shading, soft(centre, radius));
                 if main_draws.len() == hood_draws {
                     // Never joined to the hood's draw: what follows is scissored.
                     main_draws.push(draw);
@@ -1042,7 +1122,9 @@ impl Renderer {
                 }
                 // Joined to the last draw when they touch and share a pipeline.
                 match main_draws.last_mut() {
-                    Some((last, shading)) if last.end == draw.0.start && *shading == draw.1 => {
+                    Some((last, shading, soft))
+                        if last.end == draw.0.start && (*shading, *soft) == (draw.1, draw.2) =>
+                    {
                         last.end = draw.0.end
                     }
                     _ => main_draws.push(draw),
@@ -1053,7 +1135,6 @@ impl Renderer {
         // The sun's frustum, fitted to the part of the camera's frustum within the shadow
         // distance; casters culled against it. Order does not matter here (depth only), so
         // ranges are sorted and joined into as few draws as possible.
-        let sun = &description.sun;
         let light = Light::fit(
             rig,
             &world_from_camera,
@@ -1147,7 +1228,12 @@ impl Renderer {
         let triangles =
             |draws: &[Range<u32>]| -> u32 { draws.iter().map(|r| (r.end - r.start) / 3).sum() };
         self.stats = DrawStats {
-            main_triangles: main_draws.iter().map(|(r, _)| (r.end - r.start) / 3).sum(),
+            main_triangles: main_draws.iter().map(|(r, ..)| (r.end - r.start) / 3).sum(),
+            soft_triangles: main_draws
+                .iter()
+                .filter(|(_, _, soft)| *soft)
+                .map(|(r, ..)| (r.end - r.start) / 3)
+                .sum(),
             shadow_triangles: triangles(&shadow_draws) + triangles(&foliage_shadow_draws),
             draw_calls: (main_draws.len() + shadow_draws.len() + foliage_shadow_draws.len()) as u32,
             shadow_tiles_drawn: tiles_drawn,
@@ -1340,31 +1426,17 @@ impl Renderer {
                 set_scissor(&mut pass, scissor);
             }
             let mut current = None;
-            for (k, (range, shading)) in main_draws.iter().enumerate() {
+            for (k, (range, shading, soft)) in main_draws.iter().enumerate() {
                 if scissor.is_empty() {
                     break;
                 }
-                if current != Some(*shading) {
-                    pass.set_pipeline(match shading {
-                        Shading::Plain => &self.main_pipeline,
-                        Shading::PlainGrass => self
-                            .grass_pipeline
-                            .as_ref()
-                            .expect("untextured grass only without the ground's pipelines"),
-                        Shading::Foliage => &self.foliage_pipeline,
-                        Shading::Ground | Shading::GroundGrass => {
-                            let [road, grass] = self
-                                .ground_pipelines
-                                .as_ref()
-                                .expect("ground draws only with the ground's pipelines");
-                            if *shading == Shading::Ground {
-                                road
-                            } else {
-                                grass
-                            }
-                        }
-                    });
-                    current = Some(*shading);
+                if current != Some((*shading, *soft)) {
+                    let pipelines = match &self.soft_pipelines {
+                        Some(soft_pipelines) if *soft => soft_pipelines,
+                        _ => &self.pipelines,
+                    };
+                    pass.set_pipeline(pipelines.of(*shading));
+                    current = Some((*shading, *soft));
                 }
                 if k == hood_draws && hood_rows < rig.height {
                     // The rows the hood covers from edge to edge hold nothing else.
