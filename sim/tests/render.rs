@@ -835,10 +835,9 @@ fn golden_exact(name: &str, image: &GrayImage) {
 /// Untextured frames (the scene without trees, whose canopies are perforated) without the
 /// static shadow cache are the frames the renderer drew before ground textures existed
 /// (and, with soft shadows, before only the draws that can lie within the board's fine map
-/// took the soft-shadow pipelines),
-/// bit for bit: the references
-/// were rendered by the renderer without textures, then again when the poles gained their
-/// insulators (the only pixels that changed: 366, all on the poles and their wires).
+/// took the soft-shadow pipelines), bit for bit: the references were rendered by the
+/// renderer without textures, then again when the poles gained their insulators (the only
+/// pixels that changed: 366, all on the poles and their wires).
 #[test]
 fn untextured_frames_are_the_untextured_renderers_bit_for_bit() {
     for soft in [false, true] {
