@@ -17,7 +17,7 @@ use crate::record::{FrameRecord, LossCause, TrackerStatus};
 use crate::render_thread::RenderThread;
 use crate::render_worker::{fingerprint, RemoteRenderer, StartedWorker};
 use crate::scenario::Scenario;
-use crate::scene::{self, ChaseVehicle, LeadVehicle, Scene, SceneDescription};
+use crate::scene::{self, ChaseVehicle, LeadVehicle, Scene, SceneDescription, SceneError};
 use image::GrayImage;
 use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion};
 use serde::Serialize;
@@ -407,17 +407,20 @@ fn start_pose(route: &Route, ground: &vehicle::Ground, s_m: f64) -> Pose {
 }
 
 /// The checks `ClosedLoop::new` makes of a validated scenario's scene and first view,
-/// made without a renderer, for scenario validation: the scene description is valid, and
-/// the whole target is in the camera's view at t = 0 (the renderer's ground truth, for the
-/// poses the vehicles start at). `Err` names the field to blame and says what is wrong.
+/// made without a renderer, for scenario validation: the scene builds (its description is
+/// valid, and its geometry fits the renderer's buffers), and the whole target is in the
+/// camera's view at t = 0 (the renderer's ground truth, for the poses the vehicles start
+/// at). `Err` names the field to blame and says what is wrong.
 pub(crate) fn check_start(
     s: &Scenario,
     route: &Route,
     ground: &vehicle::Ground,
 ) -> Result<(), (&'static str, String)> {
-    scene_description(s)
-        .validate()
-        .map_err(|e| ("environment", format!(": {e}")))?;
+    // Built and dropped: the geometry's size is known only once it is built.
+    Scene::build(scene_description(s)).map_err(|e| match e {
+        SceneError::TooLarge { .. } => ("route.segments", format!(": {e}")),
+        SceneError::Invalid { .. } => ("environment", format!(": {e}")),
+    })?;
     let (body, lead_from_scene) = lead_body();
     let world_from_chase = iso(&start_pose(route, ground, s.chase_start_m));
     let world_from_lead = iso(&start_pose(route, ground, s.lead_start_m)) * lead_from_scene;

@@ -194,6 +194,14 @@ fn bad_arguments_exit_2_with_one_line() {
         (&["--renderers", "3"][..], "--renderers"),
         (&["--set", "tracker.lamda=0.7"][..], "tracker.lamda"),
         (&["no-such-scenario.toml"][..], "no-such-scenario.toml"),
+        // Two scenarios of one name would write to one folder.
+        (
+            &[
+                &scenario("nist-grounds.toml")[..],
+                &scenario("nist-grounds.toml"),
+            ][..],
+            "are both named `nist-grounds`",
+        ),
     ] {
         let out = run(dir.path(), extra);
         assert_eq!(out.status.code(), Some(2), "{extra:?}");

@@ -80,7 +80,48 @@ fn a_negative_duration_is_refused_with_what_is_allowed() {
     let line = line_of(&t, "duration_s");
     assert_eq!(
         e,
-        format!("/bad.toml:{line}:1: `duration_s` = -5: must be > 0 and at most 86400 seconds")
+        format!("/bad.toml:{line}:1: `duration_s` = -5: must be at least one camera frame (1/15 s) and at most 86400 seconds")
+    );
+}
+
+#[test]
+fn a_duration_shorter_than_a_frame_is_refused() {
+    for short in ["0.01", "1e-300"] {
+        let t = text().replace("duration_s = 90.0", &format!("duration_s = {short}"));
+        let e = load(&t, &[]).unwrap_err();
+        assert!(
+            e.contains("`duration_s`") && e.contains("one camera frame"),
+            "{e}"
+        );
+    }
+    // One frame is enough.
+    let t = text().replace("duration_s = 90.0", "duration_s = 0.0667");
+    load(&t, &[]).unwrap();
+}
+
+/// `[chase]` may be left out: it means what an empty `[chase]` means.
+#[test]
+fn a_scenario_without_a_chase_table_takes_the_defaults() {
+    let without = text().replace("[chase]\ninitial_gap_m = 10.0\n", "");
+    assert!(!without.contains("[chase]"));
+    let s = load(&without, &[]).unwrap_or_else(|e| panic!("{e}"));
+    let empty = load(&text().replace("initial_gap_m = 10.0\n", ""), &[]).unwrap();
+    assert_eq!(format!("{:?}", s.chase), format!("{:?}", empty.chase));
+    assert_eq!(s.chase_start_m, empty.chase_start_m);
+}
+
+/// The controller's half field of view comes from the camera: when it is out of range,
+/// the error names the camera's field, not the controller's.
+#[test]
+fn a_field_of_view_out_of_range_names_the_camera() {
+    let t = text().replace(
+        "pixel_size_mm = [0.025, 0.025]",
+        "pixel_size_mm = [1e-7, 1e-7]",
+    );
+    let e = load(&t, &["camera.focal_length_mm=200"]).unwrap_err();
+    assert!(
+        e.contains("`camera.focal_length_mm`") && e.contains("half field of view"),
+        "{e}"
     );
 }
 

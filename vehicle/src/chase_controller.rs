@@ -76,6 +76,12 @@ pub enum SpeedMode {
     },
 }
 
+/// The narrowest half field of view the controller takes, degrees: a 200 mm lens with its
+/// principal point at the frame's edge gives 0.004°.
+pub const MIN_HALF_FOV_DEG: f64 = 1e-3;
+/// The widest, degrees.
+pub const MAX_HALF_FOV_DEG: f64 = 89.9;
+
 /// The chase controller's configuration.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -264,7 +270,12 @@ impl ChaseController {
         params.validate()?;
         config.camera_mount.validate()?;
         config.pan_head.validate()?;
-        check_range("half_fov_deg", f64::from(config.half_fov_deg), 1.0, 89.0)?;
+        check_range(
+            "half_fov_deg",
+            f64::from(config.half_fov_deg),
+            MIN_HALF_FOV_DEG,
+            MAX_HALF_FOV_DEG,
+        )?;
         check_range(
             "view_margin_deg",
             f64::from(config.view_margin_deg),

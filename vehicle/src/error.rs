@@ -34,6 +34,18 @@ pub enum VehicleError {
     /// A speed profile needs at least one knot.
     #[error("speed profile has no knots")]
     ProfileEmpty,
+    /// A profile by distance that comes to a stop and then speeds up again: the vehicle
+    /// never gets past the stop, so the knots after it are never reached.
+    #[error(
+        "speed profile by distance stops at knot {index} ({key} m) and speeds up after it: \
+         a vehicle that stops there never travels on (script stop-and-go by time)"
+    )]
+    ProfileStopsForGood {
+        /// Index of the knot with speed 0.
+        index: usize,
+        /// Its key, metres.
+        key: f64,
+    },
     /// A vehicle id that this world did not hand out.
     #[error("no vehicle with id {0}")]
     UnknownVehicle(usize),

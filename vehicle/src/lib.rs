@@ -83,6 +83,7 @@ pub use breadcrumb_trail::{Breadcrumb, BreadcrumbTrail};
 pub use camera_mount::CameraMount;
 pub use chase_controller::{
     ChaseController, ChaseControllerConfig, ChaseMode, ChaseTelemetry, Odometry, SpeedMode,
+    MAX_HALF_FOV_DEG, MIN_HALF_FOV_DEG,
 };
 pub use clock::{
     ms_from_steps, steps_from_ms, Step, CAMERA_HZ, PHYSICS_DT_S, PHYSICS_HZ, STEPS_PER_FRAME,

@@ -13,6 +13,11 @@ pub enum ProfileBasis {
     Distance,
 }
 
+/// The fastest a profile may ask for, m/s.
+pub const MAX_SPEED_MPS: f32 = 40.0;
+/// The largest key a profile may have, either way (seconds or metres).
+pub const MAX_KEY: f32 = 1e7;
+
 /// One knot of a speed profile.
 #[derive(Copy, Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -61,25 +66,45 @@ impl SpeedProfile {
         }
     }
 
-    /// Checks the knots: at least one, keys strictly increasing, speeds finite and ≥ 0.
+    /// Checks the knots: at least one, keys strictly increasing and within ±[`MAX_KEY`],
+    /// speeds 0–[`MAX_SPEED_MPS`]; by distance, no stop followed by more driving (the
+    /// vehicle would wait at the stop for good).
     pub fn validate(&self) -> Result<(), VehicleError> {
         if self.knots.is_empty() {
             return Err(VehicleError::ProfileEmpty);
         }
         for (i, k) in self.knots.iter().enumerate() {
-            if !(k.speed_mps.is_finite() && k.speed_mps >= 0.0) {
+            if !(k.speed_mps.is_finite() && (0.0..=MAX_SPEED_MPS).contains(&k.speed_mps)) {
                 return Err(VehicleError::InvalidParameter {
                     field: "speed_mps",
                     value: f64::from(k.speed_mps),
-                    reason: "speeds must be finite and not negative",
-                    allowed: None,
+                    reason: "speeds must be finite, not negative and at most 40 m/s",
+                    allowed: Some([0.0, f64::from(MAX_SPEED_MPS)]),
                 });
             }
-            if !k.key.is_finite() || (i > 0 && k.key <= self.knots[i - 1].key) {
+            if !(k.key.is_finite() && k.key.abs() <= MAX_KEY) {
+                return Err(VehicleError::InvalidParameter {
+                    field: "key",
+                    value: f64::from(k.key),
+                    reason: "keys must be finite and within ±1e7 (s or m)",
+                    allowed: Some([-f64::from(MAX_KEY), f64::from(MAX_KEY)]),
+                });
+            }
+            if i > 0 && k.key <= self.knots[i - 1].key {
                 return Err(VehicleError::ProfileNotIncreasing {
                     index: i,
                     key: f64::from(k.key),
                 });
+            }
+        }
+        if self.basis == ProfileBasis::Distance {
+            if let Some(index) = self.knots.iter().position(|k| k.speed_mps == 0.0) {
+                if self.knots[index..].iter().any(|k| k.speed_mps > 0.0) {
+                    return Err(VehicleError::ProfileStopsForGood {
+                        index,
+                        key: f64::from(self.knots[index].key),
+                    });
+                }
             }
         }
         Ok(())
@@ -122,5 +147,41 @@ mod tests {
     #[test]
     fn rejects_unordered_knots() {
         assert!(SpeedProfile::new(ProfileBasis::Time, &[(1.0, 0.0), (1.0, 2.0)]).is_err());
+    }
+
+    #[test]
+    fn rejects_speeds_and_keys_out_of_range() {
+        for knots in [
+            [(0.0, 41.0)],
+            [(0.0, -1.0)],
+            [(2e7, 5.0)],
+            [(0.0, f32::NAN)],
+        ] {
+            assert!(
+                matches!(
+                    SpeedProfile::new(ProfileBasis::Time, &knots),
+                    Err(VehicleError::InvalidParameter { .. })
+                ),
+                "{knots:?}"
+            );
+        }
+        assert!(SpeedProfile::new(ProfileBasis::Time, &[(0.0, 40.0)]).is_ok());
+    }
+
+    /// By distance, a stop before more driving strands the vehicle; by time it is
+    /// stop-and-go, and a stop at the end is a stop.
+    #[test]
+    fn a_stop_by_distance_must_be_the_last() {
+        let stop_and_go = [(0.0, 8.0), (100.0, 0.0), (105.0, 6.0)];
+        assert_eq!(
+            SpeedProfile::new(ProfileBasis::Distance, &stop_and_go),
+            Err(VehicleError::ProfileStopsForGood {
+                index: 1,
+                key: 100.0
+            })
+        );
+        assert!(SpeedProfile::new(ProfileBasis::Time, &stop_and_go).is_ok());
+        let stop = [(0.0, 8.0), (100.0, 0.0), (150.0, 0.0)];
+        assert!(SpeedProfile::new(ProfileBasis::Distance, &stop).is_ok());
     }
 }

@@ -103,6 +103,24 @@ pub fn run_run(args: RunArgs) -> anyhow::Result<ExitCode> {
             .map(|p| Scenario::load(p, &args.set))
             .collect::<Result<_, _>>()?
     };
+    // Each scenario writes to a folder named after it: two of one name would overwrite
+    // each other's outputs.
+    for (k, a) in scenarios.iter().enumerate() {
+        if let Some(b) = scenarios[..k].iter().find(|b| b.name == a.name) {
+            let file = |s: &Scenario| {
+                s.path
+                    .as_ref()
+                    .map_or("the built-in scenario".into(), |p| p.display().to_string())
+            };
+            anyhow::bail!(
+                "{} and {} are both named `{}`, so their outputs would share one folder: give \
+                 one another `name`",
+                file(b),
+                file(a),
+                a.name
+            );
+        }
+    }
     let backend = Backend::choose(args.backend.as_deref())?;
     if renderers(&args) == 2 && std::env::var_os(RASTER_THREADS_ENV).is_none() {
         // With two renderers, one per core, llvmpipe's own rasteriser threads only get in

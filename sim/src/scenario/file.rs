@@ -19,7 +19,7 @@ pub struct ScenarioFile {
     /// What the scenario is for.
     #[serde(default)]
     pub description: String,
-    /// Simulated time, seconds: (0, 86400].
+    /// Simulated time, seconds: one camera frame (1/15 s) to 86400.
     pub duration_s: f64,
     /// The one seed; every random stream derives from it.
     #[serde(default)]
@@ -110,7 +110,7 @@ fn default_basis() -> String {
 }
 
 /// `[chase]`.
-#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct ChaseFile {
     /// Camera-to-target distance at t = 0, metres (default 10): 3–60, with the target in
@@ -130,6 +130,19 @@ pub struct ChaseFile {
     /// mount comes from `[camera.mount]`.
     #[serde(default)]
     pub controller: ChaseControllerConfig,
+}
+
+/// A file without `[chase]` has the defaults of an empty `[chase]`: the same as serde's
+/// field defaults.
+impl Default for ChaseFile {
+    fn default() -> Self {
+        ChaseFile {
+            initial_gap_m: None,
+            speed_profile: None,
+            speed_basis: default_basis(),
+            controller: ChaseControllerConfig::default(),
+        }
+    }
 }
 
 /// `[camera]`.

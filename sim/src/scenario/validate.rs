@@ -196,8 +196,11 @@ pub(super) fn validate(
     at(
         "duration_s",
         check(
-            finite_pos(raw.duration_s) && raw.duration_s <= 86_400.0,
-            "must be > 0 and at most 86400 seconds",
+            // At least one camera frame: the run records round(duration × 15 Hz) frames.
+            raw.duration_s.is_finite()
+                && raw.duration_s >= 1.0 / f64::from(vehicle::CAMERA_HZ)
+                && raw.duration_s <= 86_400.0,
+            "must be at least one camera frame (1/15 s) and at most 86400 seconds",
             raw.duration_s,
         ),
     )?;
@@ -372,6 +375,12 @@ pub(super) fn validate(
         invalid(&field, message)
     })?;
     let mut chase = raw.chase.controller.clone();
+    if let vehicle::SpeedMode::Manual { profile } = &chase.speed_mode {
+        profile.validate().map_err(|e| {
+            let (field, message) = vehicle_error("chase.controller.speed_mode.profile.knots", &e);
+            invalid(&field, message)
+        })?;
+    }
     chase.camera_mount = raw.camera.mount;
     chase.pan_head = raw.camera.pan.clone();
     if let Some(rows) = &raw.chase.speed_profile {
@@ -430,7 +439,21 @@ pub(super) fn validate(
     // The narrower half of the field of view, for the curve-aware gap keeping.
     let [fx, _] = camera.focal_px();
     let [cx, _] = camera.image_center_px;
-    chase.half_fov_deg = ((cx + 0.5).min(255.5 - cx) / fx).atan().to_degrees() as f32;
+    let half_fov_deg = ((cx + 0.5).min(255.5 - cx) / fx).atan().to_degrees();
+    at(
+        "camera.focal_length_mm",
+        check(
+            (vehicle::MIN_HALF_FOV_DEG..=vehicle::MAX_HALF_FOV_DEG).contains(&half_fov_deg),
+            &format!(
+                "with the pixel size and principal point, must give a half field of view \
+                 (the narrower side) of {}–{}°",
+                vehicle::MIN_HALF_FOV_DEG,
+                vehicle::MAX_HALF_FOV_DEG
+            ),
+            format!("{} mm ({half_fov_deg:.4}°)", camera.focal_length_mm),
+        ),
+    )?;
+    chase.half_fov_deg = half_fov_deg as f32;
 
     // Tracker.
     let t = &raw.tracker;

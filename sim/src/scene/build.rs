@@ -29,7 +29,24 @@ pub enum SceneError {
         /// What is wrong with it.
         reason: String,
     },
+    /// The geometry would not fit the renderer's buffers.
+    #[error(
+        "the scene's geometry needs {bytes} bytes of {buffer}, more than a renderer's buffer \
+         holds ({limit}): shorten the route or lower the clutter's densities"
+    )]
+    TooLarge {
+        /// `"vertices"` or `"indices"`.
+        buffer: &'static str,
+        /// The bytes it needs.
+        bytes: u64,
+        /// The most a buffer holds ([`MAX_BUFFER_BYTES`]).
+        limit: u64,
+    },
 }
+
+/// The most bytes the renderer's vertex or index buffer may hold: the `max_buffer_size` of
+/// the limits it asks its device for (wgpu's WebGL2 downlevel defaults, 256 MiB).
+pub const MAX_BUFFER_BYTES: u64 = 1 << 28;
 
 /// Object slots: which transform places a vertex in the world. The renderer keeps one
 /// transform per slot.
@@ -297,6 +314,15 @@ impl Scene {
     /// Builds the world. Deterministic: the same description gives the same mesh, vertex for
     /// vertex.
     pub fn build(description: SceneDescription) -> Result<Scene, SceneError> {
+        Self::build_within(description, MAX_BUFFER_BYTES)
+    }
+
+    /// [`Scene::build`], refusing geometry whose vertices or indices take more than
+    /// `limit` bytes.
+    pub(crate) fn build_within(
+        description: SceneDescription,
+        limit: u64,
+    ) -> Result<Scene, SceneError> {
         description.validate()?;
         let route = Route::new(description.route.clone());
         let terrain = Terrain::new(&description.ground)?;
@@ -884,6 +910,18 @@ impl Scene {
         }
 
         mesh.orient_faces();
+        for (buffer, bytes) in [
+            ("vertices", std::mem::size_of_val(&mesh.vertices[..])),
+            ("indices", std::mem::size_of_val(&mesh.indices[..])),
+        ] {
+            if bytes as u64 > limit {
+                return Err(SceneError::TooLarge {
+                    buffer,
+                    bytes: bytes as u64,
+                    limit,
+                });
+            }
+        }
         Ok(Scene {
             description,
             route,
@@ -1167,6 +1205,26 @@ fn strip(
 mod tests {
     use super::*;
     use crate::scene::{builtin_description, builtin_target};
+
+    /// The limit is the one the renderer's device has, and a scene over it is refused
+    /// (not left for wgpu to panic on when the renderer uploads it).
+    #[test]
+    fn geometry_beyond_a_buffer_is_refused() {
+        assert_eq!(
+            MAX_BUFFER_BYTES,
+            wgpu::Limits::downlevel_webgl2_defaults().max_buffer_size
+        );
+        let d = builtin_description(builtin_target(), 3);
+        let scene = Scene::build(d.clone()).expect("the built-in scene fits");
+        let bytes = std::mem::size_of_val(&scene.mesh().vertices[..]) as u64;
+        assert!(Scene::build_within(d.clone(), bytes).is_ok());
+        match Scene::build_within(d, bytes - 1) {
+            Err(SceneError::TooLarge { buffer, limit, .. }) => {
+                assert_eq!((buffer, limit), ("vertices", bytes - 1))
+            }
+            other => panic!("{:?}", other.map(|_| ())),
+        }
+    }
 
     /// Grass faces (albedo below 0, coloured per fragment) lie in the ground layer alone,
     /// and no object has any: the renderer draws the other layers and the objects with

@@ -16,7 +16,7 @@ mod terrain;
 pub use build::{
     lead_from_target_of, Chunk, ChunkPart, DynamicObject, Layer, Material, Motion, ObjectSlot,
     Scene, SceneError, BOARD_ALBEDO, BOARD_MARGIN_M, GRASS_ALBEDO, GRASS_ALBEDO_RANGE,
-    GROUND_CELL_M, STRIPE_ALBEDO, STRIPE_OVERRUN_M, STRIPE_WIDTH_M,
+    GROUND_CELL_M, MAX_BUFFER_BYTES, STRIPE_ALBEDO, STRIPE_OVERRUN_M, STRIPE_WIDTH_M,
 };
 pub use builtin::{
     builtin_description, builtin_poses, builtin_target, BUILTIN_GAP_M, BUILTIN_SPEED_M_S,
