@@ -287,7 +287,7 @@ fn a_long_array_in_the_file_is_blamed_on_the_file_not_an_override() {
         let e = load(&t, overrides).unwrap_err();
         assert!(
             e.starts_with(&format!(
-                "/bad.toml:{line}:17: invalid length 4, expected an array of exactly 2 numbers"
+                "/bad.toml:{line}:17: `camera.pixel_size_mm`: invalid length 4, expected an array of exactly 2 numbers"
             )),
             "{overrides:?}: {e}"
         );

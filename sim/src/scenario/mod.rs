@@ -182,6 +182,20 @@ pub(crate) fn locate(text: &str, dotted: &str) -> usize {
     best
 }
 
+/// A field's dotted path from serde_path_to_error's segments: `a.b[2].c`.
+fn field_path(segments: &[String]) -> String {
+    let mut path = String::new();
+    for s in segments {
+        if s.starts_with('[') || path.is_empty() {
+            path.push_str(s);
+        } else {
+            path.push('.');
+            path.push_str(s);
+        }
+    }
+    path
+}
+
 impl Scenario {
     /// Reads a scenario file and applies `--set` overrides.
     pub fn load(path: &Path, overrides: &[String]) -> Result<Scenario, ScenarioError> {
@@ -228,8 +242,29 @@ impl Scenario {
                 message: e.message().trim().to_string(),
             }
         };
-        // The file alone first, so its own mistakes are reported at their line.
-        let mut raw: ScenarioFile = toml::from_str(text).map_err(parse_err)?;
+        // The file alone first, so its own mistakes are reported at their line, with the
+        // field they are about.
+        let de = toml::Deserializer::parse(text).map_err(parse_err)?;
+        let mut raw: ScenarioFile = serde_path_to_error::deserialize(de).map_err(|e| {
+            let mut segments: Vec<String> = e.path().iter().map(|s| s.to_string()).collect();
+            let e = e.into_inner();
+            let message = e.message().trim();
+            // An unknown field's message names it: the path is the table it stands in.
+            if message.starts_with("unknown field") {
+                segments.pop();
+            }
+            let (line, column) = line_column(text, e.span().map_or(0, |s| s.start));
+            ScenarioError::Parse {
+                path: path.to_owned(),
+                line,
+                column,
+                message: if segments.is_empty() {
+                    message.to_string()
+                } else {
+                    format!("`{}`: {message}", field_path(&segments))
+                },
+            }
+        })?;
         // The file alone again, as the overrides below will read it: whatever that refuses
         // is the file's fault, not an override's.
         let table: toml::Table = toml::from_str(text).map_err(parse_err)?;

@@ -604,7 +604,9 @@ impl Scene {
         let mut poles = stream(seed, "poles");
         let mut fittings = stream(seed, "pole-fittings");
         if d.poles_per_km > 0.0 {
-            let spacing = 1000.0 / d.poles_per_km;
+            // Capped, so that the first pole's draw below stays finite for any positive
+            // density (1000 / 1e-320 is infinite); a pole every 1e9 m is none on a route.
+            let spacing = (1000.0 / d.poles_per_km).min(1e9);
             let mut s = poles.random_range(-50.0..-50.0 + spacing);
             let mut previous: Option<[[f64; 3]; 2]> = None;
             while s < length + 100.0 {
