@@ -360,6 +360,32 @@ fn section4() -> String {
     std::fs::read_to_string(scenarios_dir().join("section4.toml")).unwrap()
 }
 
+/// An error in an item of a list of tables is reported at the item's own line, not at
+/// `[environment]`.
+#[test]
+fn an_error_in_a_list_item_is_located_at_its_line() {
+    let t = section4()
+        .replace("feature = 3", "feature = 99")
+        .replace("station_m = 200.0", "station_m = 1e6");
+    let e = load(&t, &[]).unwrap_err();
+    let line = line_of(&t, "feature = 99");
+    assert!(
+        e.starts_with(&format!(
+            "/bad.toml:{line}:1: `environment.distractors[0].feature`"
+        )),
+        "{e}"
+    );
+    let t = section4().replace("station_m = 200.0", "station_m = 1e6");
+    let e = load(&t, &[]).unwrap_err();
+    let line = line_of(&t, "station_m = 1e6");
+    assert!(
+        e.starts_with(&format!(
+            "/bad.toml:{line}:1: `environment.overpasses[0].station_m`"
+        )),
+        "{e}"
+    );
+}
+
 #[test]
 fn distractors_and_overpasses_are_checked_and_list_items_can_be_set() {
     let s = load(&section4(), &[]).unwrap();

@@ -170,10 +170,27 @@ pub(crate) fn locate(text: &str, dotted: &str) -> usize {
     let mut table: &DeTable = root.get_ref();
     let mut best = 0;
     for part in dotted.split('.') {
-        let Some((key, value)) = table.iter().find(|(k, _)| k.get_ref().as_ref() == part) else {
+        // `name[i]...`: the key, then an item of a list (of tables) for each index.
+        let (name, indices) = part.split_once('[').unwrap_or((part, ""));
+        let Some((key, value)) = table.iter().find(|(k, _)| k.get_ref().as_ref() == name) else {
             break;
         };
         best = key.span().start;
+        let mut value = value;
+        for index in indices.split('[').filter(|i| !i.is_empty()) {
+            let item = match (
+                value.get_ref(),
+                index.trim_end_matches(']').parse::<usize>(),
+            ) {
+                (DeValue::Array(items), Ok(i)) => items.get(i),
+                _ => None,
+            };
+            let Some(item) = item else {
+                return best;
+            };
+            best = item.span().start;
+            value = item;
+        }
         match value.get_ref() {
             DeValue::Table(t) => table = t,
             _ => break,
