@@ -1,8 +1,8 @@
 //! `carfollow track`: the tracker alone on a recorded image sequence.
 //!
-//! Frames are the PNG and PGM files of a folder, sorted by name, converted to grey. Each
-//! frame's result is written to the CSV as soon as it is known (and flushed), so a frame that
-//! fails mid-run loses none of the rows before it.
+//! Frames are the PNG and PGM files of a folder, in natural order of their names, converted
+//! to grey. Each frame's result is written to the CSV as soon as it is known (and flushed), so
+//! a frame that fails mid-run loses none of the rows before it.
 
 use crate::overlay;
 use anyhow::{bail, Context};
@@ -60,7 +60,8 @@ pub struct TrackSummary {
     pub median_step_us: f64,
 }
 
-/// The frame files of a folder: `.png` and `.pgm` (any case), sorted by file name.
+/// The frame files of a folder: `.png` and `.pgm` (any case), in natural order of their
+/// names (digits by number: `frame_2` before `frame_10`, as zero-padded names sort too).
 pub fn frame_files(dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
     let entries = std::fs::read_dir(dir)
         .with_context(|| format!("{}: cannot read the frames folder", dir.display()))?;
@@ -77,11 +78,48 @@ pub fn frame_files(dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
             files.push(path);
         }
     }
-    files.sort_by(|a, b| a.file_name().cmp(&b.file_name()));
+    files.sort_by(|a, b| {
+        let name = |p: &PathBuf| {
+            p.file_name()
+                .unwrap_or_default()
+                .to_string_lossy()
+                .to_string()
+        };
+        natural_key(&name(a))
+            .cmp(&natural_key(&name(b)))
+            .then_with(|| a.file_name().cmp(&b.file_name()))
+    });
     if files.is_empty() {
         bail!("{}: no PNG or PGM frames in this folder", dir.display());
     }
     Ok(files)
+}
+
+/// A file name's natural sort key: its runs of digits as numbers (leading zeros aside),
+/// the rest as text.
+fn natural_key(name: &str) -> Vec<(String, u128, usize)> {
+    let mut key = Vec::new();
+    let mut rest = name;
+    while !rest.is_empty() {
+        let text_len = rest
+            .find(|c: char| c.is_ascii_digit())
+            .unwrap_or(rest.len());
+        let (text, tail) = rest.split_at(text_len);
+        let digits_len = tail
+            .find(|c: char| !c.is_ascii_digit())
+            .unwrap_or(tail.len());
+        let (digits, tail) = tail.split_at(digits_len);
+        let trimmed = digits.trim_start_matches('0');
+        // Runs too long for a number sort by length, then as text.
+        let number = if trimmed.is_empty() {
+            0
+        } else {
+            trimmed.parse::<u128>().unwrap_or(u128::MAX)
+        };
+        key.push((text.to_string(), number, trimmed.len()));
+        rest = tail;
+    }
+    key
 }
 
 /// Reads one frame as 8-bit grey (colour is converted by luminance).
@@ -90,6 +128,9 @@ pub fn read_frame(path: &Path) -> anyhow::Result<GrayImage> {
         image::open(path).with_context(|| format!("{}: cannot read frame", path.display()))?;
     Ok(img.into_luma8())
 }
+
+/// The largest scale `--init` may give: the target 100 times its size at the nominal range.
+const MAX_INIT_SCALE: f64 = 100.0;
 
 /// The CSV header: frame, estimate and status first, then the rest.
 fn header(model: &TargetModel) -> String {
@@ -171,6 +212,27 @@ pub fn run(job: &TrackJob) -> anyhow::Result<TrackSummary> {
     let files = frame_files(&job.frames_dir)?;
     let first = read_frame(&files[0])?;
     let (width, height) = first.dimensions();
+    let inside = |[x, y]: [f64; 2]| {
+        (0.0..f64::from(width)).contains(&x) && (0.0..f64::from(height)).contains(&y)
+    };
+    if let Some(init) = &job.init {
+        if !inside([init.c_x, init.c_y]) || init.scale > MAX_INIT_SCALE {
+            bail!(
+                "--init {},{},{}: the centre must lie in the {width}×{height} frame and the \
+                 scale be at most {MAX_INIT_SCALE}",
+                init.c_x,
+                init.c_y,
+                init.scale
+            );
+        }
+    }
+    if let Some(c) = job.image_center_px.filter(|&c| !inside(c)) {
+        bail!(
+            "--center {},{}: the image centre must lie in the {width}×{height} frame",
+            c[0],
+            c[1]
+        );
+    }
     let camera = Camera {
         focal_length_mm: job.focal_px * job.pixel_size_mm,
         pixel_size_mm: [job.pixel_size_mm; 2],
@@ -278,5 +340,40 @@ pub fn parse_location(text: &str) -> anyhow::Result<Location> {
         _ => bail!(
             "expected CX,CY,SCALE (three comma-separated numbers, pixels and scale), got `{text}`"
         ),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn frames_sort_in_natural_order() {
+        let mut names = vec![
+            "frame_10",
+            "frame_2",
+            "frame_1",
+            "frame_0",
+            "a",
+            "frame_002b",
+        ];
+        names.sort_by_key(|n| natural_key(n));
+        assert_eq!(
+            names,
+            [
+                "a",
+                "frame_0",
+                "frame_1",
+                "frame_2",
+                "frame_002b",
+                "frame_10"
+            ]
+        );
+        // Zero-padded names keep their plain order.
+        let mut padded: Vec<String> = (0..120).map(|k| format!("frame_{k:04}.png")).collect();
+        let plain = padded.clone();
+        padded.reverse();
+        padded.sort_by_key(|n| natural_key(n));
+        assert_eq!(padded, plain);
     }
 }

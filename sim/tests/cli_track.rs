@@ -180,6 +180,98 @@ fn bad_input_is_one_line_naming_the_file_and_exit_2() {
     );
     // A missing target file.
     expect_input_error(&base(&frames, "nope.toml", "128,110,1"), "nope.toml");
+    // A start outside the frame.
+    expect_input_error(
+        &base(&frames, TARGET, "1000,1000,1"),
+        "must lie in the 256×242",
+    );
+}
+
+/// Outputs never overwrite the input: the CSV on a recording or a frame, the overlays on the
+/// frames' folder; synth never mixes new frames with old ones.
+#[test]
+fn outputs_that_would_overwrite_the_input_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let frames = dir.path().join("frames");
+    synth(&frames, 3, false);
+    let before = std::fs::read(frames.join("frame_0000.png")).unwrap();
+    let track = |out: &Path, overlay: Option<&Path>| {
+        let mut args = vec![
+            "track",
+            frames.to_str().unwrap(),
+            "--target",
+            TARGET,
+            "--focal-px",
+            "320",
+            "--init",
+            "128,110,1",
+            "--out",
+            out.to_str().unwrap(),
+            "--quiet",
+        ];
+        if let Some(o) = overlay {
+            args.extend(["--overlay", o.to_str().unwrap()]);
+        }
+        carfollow(&args)
+    };
+    expect_input_error(
+        &track(&frames.join("frame_0000.png"), None),
+        "that is the input",
+    );
+    let csv = dir.path().join("t.csv");
+    expect_input_error(&track(&csv, Some(&frames)), "that is the frames' folder");
+    assert_eq!(
+        std::fs::read(frames.join("frame_0000.png")).unwrap(),
+        before
+    );
+    assert!(track(&csv, Some(&dir.path().join("overlay")))
+        .status
+        .success());
+    // A recording as its own output.
+    let mcap = dir.path().join("run.mcap");
+    std::fs::write(&mcap, b"not yet a recording").unwrap();
+    let o = carfollow(&[
+        "track",
+        mcap.to_str().unwrap(),
+        "--out",
+        mcap.to_str().unwrap(),
+    ]);
+    expect_input_error(&o, "that is the input");
+    assert_eq!(std::fs::read(&mcap).unwrap(), b"not yet a recording");
+    // synth into a folder of frames, and a motion that is not a number of pixels.
+    let o = carfollow(&["synth", frames.to_str().unwrap(), "--target", TARGET]);
+    expect_input_error(&o, "already holds frames");
+    for bad in ["NaN", "-1", "inf"] {
+        let o = carfollow(&[
+            "synth",
+            dir.path().join("new").to_str().unwrap(),
+            "--px-per-frame",
+            bad,
+        ]);
+        expect_input_error(&o, "--px-per-frame");
+    }
+}
+
+/// Without --target, synth draws the built-in target and writes it beside the frames, so
+/// that it works from any folder.
+#[test]
+fn synth_without_a_target_writes_the_built_in_one() {
+    let dir = tempfile::tempdir().unwrap();
+    let frames = dir.path().join("frames");
+    let o = Command::new(env!("CARGO_BIN_EXE_carfollow"))
+        .args(["synth", frames.to_str().unwrap(), "--frames", "2"])
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(
+        std::fs::read_to_string(frames.join("target.toml")).unwrap(),
+        std::fs::read_to_string(root().join(TARGET)).unwrap()
+    );
+    assert!(
+        stderr(&o).contains("target.toml")
+            || String::from_utf8_lossy(&o.stdout).contains("target.toml")
+    );
 }
 
 #[test]

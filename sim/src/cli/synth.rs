@@ -23,17 +23,18 @@ use tracker::{Camera, Location};
 pub struct SynthArgs {
     /// Folder to write into (created if missing).
     pub out_dir: PathBuf,
-    /// Target model file (TOML).
-    #[arg(long, default_value = "scenarios/targets/nist-ten-segment.toml")]
-    pub target: PathBuf,
+    /// Target model file (TOML). Default: the built-in NIST target, written beside the
+    /// frames as target.toml for `track`.
+    #[arg(long)]
+    pub target: Option<PathBuf>,
     /// Number of frames.
     #[arg(long, default_value_t = 90)]
     pub frames: usize,
     /// First frame's location CX,CY,SCALE.
     #[arg(long, default_value = "128,110,1.0", allow_hyphen_values = true)]
     pub start: String,
-    /// Largest motion per frame, pixels.
-    #[arg(long, default_value_t = 1.5)]
+    /// Largest motion per frame, pixels: 0–50.
+    #[arg(long, default_value_t = 1.5, allow_hyphen_values = true)]
     pub px_per_frame: f64,
     /// Add noise, a pole, a wire and a moving shadow (the same as --kind clutter).
     #[arg(long)]
@@ -50,14 +51,40 @@ pub struct SynthArgs {
 
 /// Runs the subcommand.
 pub fn run_synth(args: SynthArgs) -> anyhow::Result<()> {
-    let model = sim::target::load(&args.target)?;
+    let builtin_path = args.out_dir.join("target.toml");
+    let model = match &args.target {
+        Some(path) => sim::target::load(path)?,
+        None => sim::target::parse(sim::scenario::BUILTIN_TARGET_TEXT, &builtin_path)?,
+    };
     let start: Location = sim::track::parse_location(&args.start).context("--start")?;
     if args.frames == 0 || args.frames > 100_000 {
         anyhow::bail!("--frames must be between 1 and 100000, got {}", args.frames);
     }
+    if !(args.px_per_frame.is_finite() && (0.0..=50.0).contains(&args.px_per_frame)) {
+        anyhow::bail!(
+            "--px-per-frame must be 0–50 pixels, got {}",
+            args.px_per_frame
+        );
+    }
+    // `track` reads every frame of a folder: old frames left beside new ones would join them.
+    if sim::track::frame_files(&args.out_dir).is_ok() {
+        anyhow::bail!(
+            "{}: already holds frames (PNG or PGM); synth into a new or empty folder",
+            args.out_dir.display()
+        );
+    }
     std::fs::create_dir_all(&args.out_dir)
         .with_context(|| format!("{}: cannot create", args.out_dir.display()))
         .map_err(incomplete)?;
+    let target = match &args.target {
+        Some(path) => path.clone(),
+        None => {
+            std::fs::write(&builtin_path, sim::scenario::BUILTIN_TARGET_TEXT)
+                .with_context(|| format!("{}: cannot write", builtin_path.display()))
+                .map_err(incomplete)?;
+            builtin_path
+        }
+    };
     let camera = Camera::default();
     let kind = match (args.kind.as_deref(), args.clutter) {
         (Some(k), _) => SequenceKind::parse(k).expect("clap allows only known kinds"),
@@ -109,7 +136,7 @@ pub fn run_synth(args: SynthArgs) -> anyhow::Result<()> {
         args.frames,
         kind.as_str(),
         args.out_dir.display(),
-        args.target.display(),
+        target.display(),
         camera.focal_px()[0],
         start.c_x,
         start.c_y,

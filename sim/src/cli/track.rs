@@ -75,8 +75,53 @@ pub struct TrackArgs {
     pub quiet: bool,
 }
 
+/// Whether two paths name one existing file or folder.
+fn same_path(a: &std::path::Path, b: &std::path::Path) -> bool {
+    matches!(
+        (std::fs::canonicalize(a), std::fs::canonicalize(b)),
+        (Ok(a), Ok(b)) if a == b
+    )
+}
+
+/// Refuses outputs that would overwrite the input: `--out` on the recording or on a frame,
+/// `--overlay` on the frames' folder (its files take the frames' names).
+fn check_outputs(args: &TrackArgs) -> anyhow::Result<()> {
+    let input = &args.frames_dir;
+    let out_is_input = same_path(&args.out, input)
+        || (input.is_dir()
+            && args.out.exists()
+            && args.out.parent().is_some_and(|p| {
+                same_path(
+                    if p.as_os_str().is_empty() {
+                        ".".as_ref()
+                    } else {
+                        p
+                    },
+                    input,
+                )
+            })
+            && sim::track::frame_files(input)
+                .is_ok_and(|files| files.iter().any(|f| same_path(f, &args.out))));
+    if out_is_input {
+        anyhow::bail!(
+            "--out {}: that is the input; the CSV would overwrite it",
+            args.out.display()
+        );
+    }
+    if let Some(overlay) = &args.overlay {
+        if same_path(overlay, input) {
+            anyhow::bail!(
+                "--overlay {}: that is the frames' folder; the overlays would overwrite the frames",
+                overlay.display()
+            );
+        }
+    }
+    Ok(())
+}
+
 /// Runs the subcommand.
 pub fn run_track(args: TrackArgs) -> anyhow::Result<()> {
+    check_outputs(&args)?;
     let mcap = args
         .frames_dir
         .extension()

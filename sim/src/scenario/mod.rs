@@ -29,7 +29,10 @@ use vehicle::{
 /// any folder.
 pub const BUILTIN_NAME: &str = "nist-grounds";
 const BUILTIN_TEXT: &str = include_str!("../../../scenarios/nist-grounds.toml");
-const BUILTIN_TARGET_TEXT: &str = include_str!("../../../scenarios/targets/nist-ten-segment.toml");
+/// The built-in scenario's target file (`scenarios/targets/nist-ten-segment.toml`), as
+/// shipped.
+pub const BUILTIN_TARGET_TEXT: &str =
+    include_str!("../../../scenarios/targets/nist-ten-segment.toml");
 
 /// A scenario file that cannot be used.
 #[derive(Debug, Error)]
