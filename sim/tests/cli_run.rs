@@ -210,6 +210,27 @@ fn bad_arguments_exit_2_with_one_line() {
     }
 }
 
+/// A run in a folder where an earlier run recorded leaves no recording, video or stills of
+/// that run behind.
+#[test]
+fn an_earlier_runs_recording_and_video_do_not_survive_a_run() {
+    let dir = tempfile::tempdir().unwrap();
+    for name in ["run.mcap", "video.gif", "still_last.png"] {
+        std::fs::write(dir.path().join(name), b"old").unwrap();
+    }
+    let out = run(dir.path(), &["--renderers", "1", "--set", "duration_s=1"]);
+    // Completed (a second is too short for every criterion to pass).
+    assert!(
+        matches!(out.status.code(), Some(0 | 1)),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    for name in ["run.mcap", "video.gif", "still_last.png"] {
+        assert!(!dir.path().join(name).exists(), "{name}");
+    }
+    assert!(dir.path().join("frames.csv").exists());
+}
+
 fn scenario(name: &str) -> String {
     Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../scenarios")

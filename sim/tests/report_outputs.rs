@@ -10,7 +10,9 @@ use std::path::Path;
 
 use image::{GenericImageView, Rgb, RgbImage};
 use sim::record::{Expect, FrameRecord, TrackerStatus};
-use sim::report::{write_junit, JunitScenario, OutputOptions, RunOutputs, PLOT_FILES};
+use sim::report::{
+    write_junit, JunitScenario, OutputOptions, RunOutputs, PLOT_FILES, VIDEO_OUTPUTS,
+};
 
 const FRAMES: u64 = 900;
 
@@ -239,6 +241,23 @@ fn identical_records_give_byte_identical_outputs() {
         let fb = std::fs::read(b.join(file)).unwrap();
         assert!(fa == fb, "{file} differs between two identical runs");
     }
+}
+
+/// A run without video in a folder where an earlier run wrote one leaves no video or stills
+/// that could pass for its own.
+#[test]
+fn an_earlier_runs_video_and_stills_are_removed() {
+    let tmp = tempfile::tempdir().unwrap();
+    for name in VIDEO_OUTPUTS {
+        std::fs::write(tmp.path().join(name), b"old").unwrap();
+    }
+    std::fs::write(tmp.path().join("notes.txt"), b"mine").unwrap();
+    let out = RunOutputs::create(tmp.path(), OutputOptions::default()).unwrap();
+    out.finish("x", 1, &expect(), 0.0, None).unwrap();
+    for name in VIDEO_OUTPUTS {
+        assert!(!tmp.path().join(name).exists(), "{name}");
+    }
+    assert!(tmp.path().join("notes.txt").exists());
 }
 
 #[test]

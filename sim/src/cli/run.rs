@@ -279,16 +279,18 @@ fn run_one(
         }
     }
     let frames = looped.frames();
-    if let Some(p) = &recording.mcap {
+    // A recording of an earlier run must not pass for this one's, whether or not this run
+    // records.
+    let old_recording = dir.join(MCAP_FILE);
+    if old_recording.is_file() {
+        std::fs::remove_file(&old_recording)
+            .with_context(|| format!("{}: cannot remove", old_recording.display()))
+            .map_err(incomplete)?;
+    }
+    if recording.mcap.is_some() {
         std::fs::create_dir_all(dir)
             .with_context(|| format!("{}: cannot create the output folder", dir.display()))
             .map_err(incomplete)?;
-        // A recording of an earlier run must not pass for this one's.
-        if p.exists() {
-            std::fs::remove_file(p)
-                .with_context(|| format!("{}: cannot replace", p.display()))
-                .map_err(incomplete)?;
-        }
     }
     let mut recorder = if record {
         let setup = ReplaySetup::of(scenario, &looped)

@@ -75,14 +75,38 @@ struct Stills {
     last: Option<(u64, RgbImage)>,
 }
 
+/// The files a run writes only with video on: a run removes them when it starts, whether
+/// or not it writes them again.
+pub const VIDEO_OUTPUTS: [&str; 7] = [
+    "video.gif",
+    "still_first.png",
+    "still_25pct.png",
+    "still_50pct.png",
+    "still_75pct.png",
+    "still_first_lost.png",
+    "still_last.png",
+];
+
 impl RunOutputs {
-    /// Creates `dir` (and its parents) and starts `frames.csv` in it.
+    /// Creates `dir` (and its parents) and starts `frames.csv` in it, removing the video and
+    /// stills an earlier run left there ([`VIDEO_OUTPUTS`]).
     pub fn create(
         dir: impl AsRef<Path>,
         options: OutputOptions,
     ) -> Result<RunOutputs, ReportError> {
         let dir = dir.as_ref().to_path_buf();
         std::fs::create_dir_all(&dir).map_err(ReportError::io(&dir))?;
+        // What an earlier run in this folder wrote and this one may not: the video and its
+        // stills must not pass for this run's.
+        for name in VIDEO_OUTPUTS {
+            let path = dir.join(name);
+            match std::fs::remove_file(&path) {
+                Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
+                    return Err(ReportError::io(&path)(e))
+                }
+                _ => {}
+            }
+        }
         let csv = FramesCsv::create(dir.join("frames.csv"), options.features)?;
         let at_fraction = match options.expected_frames {
             Some(n) if options.video && n > 0 => vec![
