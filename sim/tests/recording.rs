@@ -261,6 +261,18 @@ fn a_recording_reads_back_and_replays_to_the_run_s_estimates() {
         "{}",
         stderr(&o)
     );
+    // A flag and a --set of one setting: refused, not one silently beating the other.
+    let o = replay(
+        &path,
+        &other_csv,
+        &["--lambda", "0.6", "--set", "tracker.lambda=0.5"],
+    );
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("change the same setting"),
+        "{}",
+        stderr(&o)
+    );
 }
 
 #[test]

@@ -105,6 +105,38 @@ fn a_bad_axis_value_is_refused_naming_it() {
     assert!(err.contains("tracker.lambda=7.0"), "{err}");
 }
 
+/// A value listed twice would make two points of one id; a field both swept and set in
+/// `set` or `--set` would lose the setting without a word. A table set with the swept
+/// field inside it is fine.
+#[test]
+fn repeated_values_and_settings_an_axis_overrides_are_refused() {
+    let head = "scenarios = [\"SCENARIOS/weave.toml\"]\nseeds = [1]\n";
+    let (_dir, path) = sweep_file(&format!("{head}[axes]\ntracker.lambda = [0.5, 0.5]\n"));
+    let err = Sweep::load(&path, &[]).unwrap_err().to_string();
+    assert!(
+        err.contains("`axes.tracker.lambda`") && err.contains("lists 0.5 twice"),
+        "{err}"
+    );
+    let axis = "[axes]\ntracker.lambda = [0.5, 0.6]\n";
+    let (_dir, path) = sweep_file(&format!("{head}set = [\"tracker.lambda=0.7\"]\n{axis}"));
+    let err = Sweep::load(&path, &[]).unwrap_err().to_string();
+    assert!(err.contains("`set`") && err.contains("sweeps"), "{err}");
+    let (_dir, path) = sweep_file(&format!("{head}{axis}"));
+    let err = Sweep::load(&path, &["tracker.lambda=0.8".into()])
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("tracker.lambda=0.8"), "{err}");
+    let err = Sweep::load(&path, &["seed=4".into()])
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("list seeds in `seeds`"), "{err}");
+    // A table set, with the swept field inside it.
+    let (_dir, path) = sweep_file(&format!(
+        "{head}set = [\"environment.sun={{ elevation_deg = 30.0 }}\"]\n[axes]\nenvironment.sun.strength = [0.5, 1.0]\n"
+    ));
+    Sweep::load(&path, &[]).unwrap_or_else(|e| panic!("{e}"));
+}
+
 #[test]
 fn unknown_fields_and_bad_ranges_are_refused_with_position() {
     let (_dir, path) =

@@ -43,8 +43,8 @@ pub struct TrackArgs {
     /// replays in its run's mode) or robust.
     #[arg(long, value_parser = ["paper", "robust"])]
     pub mode: Option<String>,
-    /// Forgetting factor λ of the motion model (0 < λ ≤ 1).
-    #[arg(long)]
+    /// Forgetting factor λ of the motion model (0 < λ < 1).
+    #[arg(long, allow_hyphen_values = true)]
     pub lambda: Option<f64>,
     /// Frame rate, Hz: frame k is at k / rate seconds.
     #[arg(long, default_value_t = 15.0)]
@@ -237,6 +237,15 @@ fn replay_recording(args: TrackArgs) -> anyhow::Result<()> {
     }
     if args.rate_hz != 15.0 {
         overrides.push(format!("tracker.rate_hz={}", args.rate_hz));
+    }
+    // A flag and a --set of the same setting: one would override the other unseen.
+    let key = |a: &String| a.split_once('=').map(|(k, _)| k.trim().to_string());
+    for given in &args.set {
+        if let Some(flagged) = overrides.iter().find(|o| key(o) == key(given)) {
+            anyhow::bail!(
+                "--set {given} and the flag that sets `{flagged}` change the same setting; give one"
+            );
+        }
     }
     overrides.extend(args.set.iter().cloned());
     let job = ReplayJob {

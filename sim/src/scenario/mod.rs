@@ -20,7 +20,8 @@ use crate::scene::{Densities, RouteSpec, Sensor, Sun};
 use std::path::{Path, PathBuf};
 use thiserror::Error;
 use tracker::{Camera, TargetModel, TrackerConfig};
-use validate::{override_names, validate};
+use validate::override_names;
+use validate::validate;
 use vehicle::{
     ChaseControllerConfig, DelayLineConfig, LeadDriverConfig, SpeedProfile, WorldConfig,
 };

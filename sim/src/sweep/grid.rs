@@ -178,8 +178,54 @@ impl Sweep {
                 "is not an axis: list the seeds in `seeds`".into(),
             ));
         }
+        // Each value once: a repeated value would be two points of one id.
+        for a in &axes {
+            if let Some(v) = a
+                .values
+                .iter()
+                .enumerate()
+                .find_map(|(i, v)| a.values[..i].contains(v).then_some(v))
+            {
+                return Err(invalid(
+                    &format!("axes.{}", a.path),
+                    format!("lists {v} twice"),
+                ));
+            }
+        }
         let mut set = raw.set.clone();
         set.extend_from_slice(extra_set);
+        if let Some(s) = set
+            .iter()
+            .find(|s| s.split_once('=').is_some_and(|(k, _)| k.trim() == "seed"))
+        {
+            let field = if raw.set.contains(s) { "set" } else { "seeds" };
+            return Err(invalid(
+                field,
+                format!("`{s}` would be overridden by each point's seed: list seeds in `seeds`"),
+            ));
+        }
+        // An axis sets its field at every point, after `set` and `--set`: the same field, or
+        // one inside it, set there would be overridden without a word. (A table set there
+        // with the axis's field inside it is fine: the axis changes that field.)
+        for a in &axes {
+            if let Some(s) = set.iter().find(|s| {
+                s.split_once('=').is_some_and(|(k, _)| {
+                    let k = k.trim();
+                    k == a.path
+                        || k.strip_prefix(a.path.as_str())
+                            .is_some_and(|rest| rest.starts_with('.'))
+                })
+            }) {
+                let field = if raw.set.contains(s) { "set" } else { "axes" };
+                return Err(invalid(
+                    field,
+                    format!(
+                        "`{s}` sets what the axis `{}` sweeps; drop one of them",
+                        a.path
+                    ),
+                ));
+            }
+        }
 
         // The scenarios, each with the common overrides.
         let dir = path.parent().unwrap_or(Path::new("."));
