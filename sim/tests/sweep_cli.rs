@@ -116,6 +116,16 @@ fn a_merge_of_shards_equals_an_unsharded_run() {
         .output()
         .unwrap());
 
+    // Merging into a folder that holds other results would overwrite them: refused.
+    let before = std::fs::read(whole.join("results.jsonl")).unwrap();
+    let mut args = vec!["sweep", "merge"];
+    args.extend(shard_dirs.iter().map(|d| s(d)));
+    args.extend(["--out", s(&whole)]);
+    let o = carfollow(&args);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("already holds sweep results"));
+    assert_eq!(std::fs::read(whole.join("results.jsonl")).unwrap(), before);
+
     let a = rows(&whole.join("results.jsonl"));
     // The unsharded file is in finishing order; the merged one in grid order.
     let mut a_sorted = a.clone();

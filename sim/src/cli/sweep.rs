@@ -406,6 +406,28 @@ fn run_merge(args: MergeArgs) -> anyhow::Result<ExitCode> {
         );
     }
     let out = args.out.unwrap_or_else(|| args.dirs[0].clone());
+    // Another folder's results would be overwritten: merge into a new folder, or into one
+    // of those merged (whose rows are then among the merged).
+    let merged = |d: &PathBuf| {
+        matches!(
+            (std::fs::canonicalize(d), std::fs::canonicalize(&out)),
+            (Ok(a), Ok(b)) if a == b
+        )
+    };
+    if out.is_dir() && !args.dirs.iter().any(merged) {
+        let holds_results = out.join(MANIFEST_FILE).exists()
+            || std::fs::read_dir(&out)?.flatten().any(|e| {
+                let name = e.file_name().to_string_lossy().to_string();
+                name.starts_with("results") && name.ends_with(".jsonl")
+            });
+        if holds_results {
+            anyhow::bail!(
+                "--out {}: already holds sweep results; merge into a new folder, or list it \
+                 among the folders to merge",
+                out.display()
+            );
+        }
+    }
     std::fs::create_dir_all(&out).with_context(|| format!("{}: cannot create", out.display()))?;
     let results = out.join(RESULTS_FILE);
     let writer = ResultsWriter::open(&results, None)?;
