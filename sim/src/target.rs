@@ -29,7 +29,8 @@ struct TargetFile {
     name: String,
     nominal_range_m: Spanned<f64>,
     corners_m: Vec<Spanned<[f64; 2]>>,
-    segments: Vec<Spanned<[usize; 2]>>,
+    // Read as lists, so that a segment of more than two corners is refused, not cut short.
+    segments: Vec<Spanned<Vec<usize>>>,
     paint: Option<Spanned<String>>,
 }
 
@@ -168,7 +169,22 @@ pub fn parse(text: &str, path: &Path) -> Result<TargetModel, TargetFileError> {
         }
     }
     let corners: Vec<[f64; 2]> = raw.corners_m.iter().map(|c| *c.get_ref()).collect();
-    let segments: Vec<[usize; 2]> = raw.segments.iter().map(|s| *s.get_ref()).collect();
+    let mut segments: Vec<[usize; 2]> = Vec::with_capacity(raw.segments.len());
+    for (index, s) in raw.segments.iter().enumerate() {
+        match s.get_ref()[..] {
+            [a, b] => segments.push([a, b]),
+            ref other => {
+                return Err(out_of_bounds(
+                    "segments",
+                    s.span(),
+                    format!(
+                        "segment {index} = {other:?}: a segment joins exactly two corners \
+                         (their indices)"
+                    ),
+                ))
+            }
+        }
+    }
     let paint = match &raw.paint {
         None => Paint::Steps,
         Some(p) => Paint::parse(p.get_ref()).ok_or_else(|| {
@@ -189,6 +205,7 @@ pub fn parse(text: &str, path: &Path) -> Result<TargetModel, TargetFileError> {
                 }
                 TargetError::IndexOutOfRange { segment, .. }
                 | TargetError::Degenerate { segment, .. }
+                | TargetError::NoLength { segment, .. }
                 | TargetError::NotAxisAligned { segment, .. }
                 | TargetError::Duplicate { segment, .. } => {
                     ("segments", raw.segments[*segment].span())
@@ -288,6 +305,27 @@ segments = [
         let e = err(&GOOD.replace("[3, 0],", "[3, 9],"));
         assert!(
             e.starts_with("t.toml:8:5: `segments`: segment 3 refers to corner 9"),
+            "{e}"
+        );
+    }
+
+    /// A segment of three corners is refused, not cut to its first two; one whose corners
+    /// coincide has no length.
+    #[test]
+    fn a_segment_must_join_two_distinct_points() {
+        let e = err(&GOOD.replace("[1, 2],", "[1, 2, 3],"));
+        assert!(
+            e.starts_with("t.toml:6:5: `segments` segment 1 = [1, 2, 3]:")
+                && e.contains("exactly two corners"),
+            "{e}"
+        );
+        let e = err(&GOOD
+            .replace("[-0.8, -0.5]]", "[-0.8, -0.5], [0.8, 0.5]]")
+            .replace("[3, 0],", "[3, 0],\n    [1, 4],"));
+        assert!(
+            e.starts_with(
+                "t.toml:9:5: `segments`: segment 4 from corner 1 to corner 4 has no length"
+            ),
             "{e}"
         );
     }

@@ -90,6 +90,19 @@ pub enum TargetError {
         /// The corner.
         corner: usize,
     },
+    /// A segment's two corners lie at one point: it has no length, so no edge to find.
+    #[error(
+        "segment {segment} from corner {a} to corner {b} has no length (the corners are within \
+         {AXIS_TOLERANCE_M} m of each other)"
+    )]
+    NoLength {
+        /// Segment index.
+        segment: usize,
+        /// First corner.
+        a: usize,
+        /// Second corner.
+        b: usize,
+    },
     /// A segment is neither horizontal nor vertical.
     #[error("segment {segment} from corner {a} ({ax}, {ay}) to corner {b} ({bx}, {by}) is neither horizontal nor vertical")]
     NotAxisAligned {
@@ -176,6 +189,9 @@ impl TargetModel {
             }
             let [ax, ay] = corners_m[a];
             let [bx, by] = corners_m[b];
+            if (ax - bx).abs() <= AXIS_TOLERANCE_M && (ay - by).abs() <= AXIS_TOLERANCE_M {
+                return Err(TargetError::NoLength { segment, a, b });
+            }
             let feature = if (ay - by).abs() <= AXIS_TOLERANCE_M {
                 FeatureM {
                     orientation: Orientation::Horizontal,
