@@ -216,6 +216,15 @@ fn verdict(s: &Summary, dir: &Path) -> String {
         s.tracking_lost_s + 0.0,
         dir.display()
     );
+    // A collision is news even where no criterion asks about it (said once: not again
+    // when a failed criterion says it).
+    let said = s.failures.iter().any(|f| f.contains("collided"));
+    let head = match s.collisions {
+        _ if said => head,
+        0 => head,
+        1 => format!("{head}\n  the vehicles collided once"),
+        n => format!("{head}\n  the vehicles collided {n} times"),
+    };
     if s.failures.is_empty() {
         head
     } else {

@@ -157,6 +157,9 @@ struct Writer {
     path: Vec<[f64; 2]>,
     last_status: Option<TrackerStatus>,
     last_lost_truth: bool,
+    /// Whether the last frame's vehicles were in contact: a collision is logged when it
+    /// starts, not on every frame of contact.
+    last_collision: bool,
     last_log_time: u64,
     /// The sensor noise the images are recorded without, and the seed it comes from (see
     /// [`ReplaySetup::noise_removed_sigma`]).
@@ -498,6 +501,7 @@ impl Writer {
             path: Vec::new(),
             last_status: None,
             last_lost_truth: false,
+            last_collision: false,
             last_log_time: 0,
             noise: (setup.noise_removed_sigma, setup.seed),
             quiet: Vec::new(),
@@ -830,9 +834,10 @@ impl Writer {
             });
             self.last_lost_truth = r.lost_truth;
         }
-        if r.collision {
+        if r.collision && !self.last_collision {
             lines.push((Level::Error, "collision".into()));
         }
+        self.last_collision = r.collision;
         for e in &data.controller_events {
             lines.push((Level::Warning, e.clone()));
         }
