@@ -218,6 +218,14 @@ fn outputs_that_would_overwrite_the_input_are_refused() {
         &track(&frames.join("frame_0000.png"), None),
         "that is the input",
     );
+    // A single frame for a folder.
+    let o = carfollow(&[
+        "track",
+        frames.join("frame_0000.png").to_str().unwrap(),
+        "--target",
+        TARGET,
+    ]);
+    expect_input_error(&o, "a single frame; give the folder");
     let csv = dir.path().join("t.csv");
     expect_input_error(&track(&csv, Some(&frames)), "that is the frames' folder");
     assert_eq!(

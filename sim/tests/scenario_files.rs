@@ -125,6 +125,16 @@ fn a_field_of_view_out_of_range_names_the_camera() {
     );
 }
 
+/// A target given by `--set` that cannot be read is the override's fault.
+#[test]
+fn a_missing_target_given_by_set_names_the_override() {
+    let e = load(&text(), &["tracker.target=targets/missing.toml"]).unwrap_err();
+    assert!(
+        e.starts_with("--set tracker.target=targets/missing.toml:") && e.contains("missing.toml"),
+        "{e}"
+    );
+}
+
 #[test]
 fn a_missing_target_file_is_named() {
     let t = text().replace("targets/nist-ten-segment.toml", "targets/missing.toml");
@@ -403,6 +413,12 @@ fn distractors_and_overpasses_are_checked_and_list_items_can_be_set() {
     assert!((s.distractors[0].offset_m + 3.0 * 10.0 / 320.0).abs() < 1e-12);
     let e = load(&section4(), &["environment.distractors.1.offset_px=3"]).unwrap_err();
     assert!(e.contains("has 1 item(s), so no item 1"), "{e}");
+    // A list the file does not have.
+    let e = load(&text(), &["environment.overpasses.0.height_m=7"]).unwrap_err();
+    assert!(
+        e.contains("`environment.overpasses` has no items, so no item 0"),
+        "{e}"
+    );
     let e = load(&section4(), &["environment.distractors.x=3"]).unwrap_err();
     assert!(e.contains("is a list: name an item by its index"), "{e}");
     // A pole beside a horizontal feature (segment 0 is the outer top) is refused.

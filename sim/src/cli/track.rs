@@ -126,6 +126,17 @@ pub fn run_track(args: TrackArgs) -> anyhow::Result<()> {
         .frames_dir
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("mcap"));
+    let frame_file = args.frames_dir.is_file()
+        && args
+            .frames_dir
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("png") || e.eq_ignore_ascii_case("pgm"));
+    if frame_file {
+        anyhow::bail!(
+            "{}: a single frame; give the folder of frames (or a recording, run.mcap)",
+            args.frames_dir.display()
+        );
+    }
     if mcap || args.frames_dir.is_file() {
         return replay_recording(args);
     }

@@ -30,6 +30,16 @@ pub fn apply_override(root: &mut toml::Table, assignment: &str) -> Result<(), Sc
     let mut depth = 0;
     while depth < parents.len() {
         let key = parents[depth];
+        // An index into a list the file does not have: there is no item to change.
+        if !table.contains_key(key) {
+            if let Some(index) = keys.get(depth + 1).and_then(|k| k.parse::<usize>().ok()) {
+                return Err(err(format!(
+                    "`{}` has no items, so no item {index}: write the list in the file to \
+                     change its items",
+                    keys[..=depth].join(".")
+                )));
+            }
+        }
         let entry = table
             .entry(key.to_string())
             .or_insert_with(|| toml::Value::Table(toml::Table::new()));
