@@ -443,6 +443,11 @@ fn help_documents_exit_statuses() {
             "{args:?}: {text}"
         );
     }
+    // A sweep's failed criteria are its results: it exits 0 when every point ran.
+    let out = carfollow(&["sweep", "--help"]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    let text = text.split_whitespace().collect::<Vec<_>>().join(" ");
+    assert!(text.contains("0 when every point ran"), "{text}");
 }
 
 /// An output that cannot be written is a run that could not complete: exit status 3.

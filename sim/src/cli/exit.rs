@@ -25,6 +25,13 @@ pub const HELP: &str = "Exit status: 0 when everything ran and passed, 1 when a 
                         when a run could not complete (renderer, worker, I/O) or a sweep has \
                         points missing.";
 
+/// The exit statuses of `sweep`, whose points' failed criteria are results, not failures
+/// of the sweep.
+pub const SWEEP_HELP: &str = "Exit status: 0 when every point ran (whether or not its criteria \
+                              passed: they are results of the sweep), 2 on bad input (found \
+                              before anything runs), 3 when a point could not run or a merge \
+                              has points missing.";
+
 /// An error that stopped a run part-way (renderer, worker process, I/O): exit status 3,
 /// where other errors are bad input (2).
 #[derive(Debug, Error)]

@@ -29,7 +29,7 @@ const MISSING_FILE: &str = "missing.txt";
 /// Arguments of `carfollow sweep`.
 #[derive(Args, Debug)]
 #[command(
-    after_help = super::exit::HELP,
+    after_help = super::exit::SWEEP_HELP,
     args_conflicts_with_subcommands = true,
     subcommand_negates_reqs = true,
     about = "Run a sweep: scenarios × seeds × parameter axes, on all cores or one shard",
