@@ -133,6 +133,20 @@ fn a_merge_of_shards_equals_an_unsharded_run() {
     let b = rows(&merged.join("results.jsonl"));
     assert_eq!(a.len(), 4);
     assert_eq!(a_sorted, b);
+    // Each row says what its point changed of the scenario file.
+    for r in &a {
+        let overrides: Vec<&str> = r["summary"]["overrides"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|v| v.as_str().unwrap())
+            .collect();
+        assert!(
+            overrides.iter().any(|o| o.starts_with("seed="))
+                && overrides.iter().any(|o| o.starts_with("tracker.lambda=")),
+            "{overrides:?}"
+        );
+    }
     for f in ["table.csv", "summary.md", "sweep-tracker.lambda.png"] {
         assert!(merged.join(f).exists(), "{f}");
         assert!(whole.join(f).exists(), "{f}");

@@ -90,6 +90,10 @@ pub fn run_point(
         wall_s,
     );
     summary.timing = Some(looped.timing());
+    // What this point changed of its scenario file: the sweep's `set`, `--set`, its seed and
+    // its axes' values. (The resolved scenario follows from them and the file; a row does
+    // not repeat it.)
+    summary.overrides = scenario.overrides.clone();
     if let Some(r) = recorder {
         r.finish(Some(&summary), |s| s.is_some_and(|s| !s.passed))
             .map_err(|e| fail(e.to_string()))?;
