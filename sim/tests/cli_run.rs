@@ -358,6 +358,17 @@ fn summary_json_records_versions_overrides_and_the_resolved_scenario() {
     assert_eq!(s["resolved_scenario"]["tracker"]["lambda"], 0.7);
     assert_eq!(s["resolved_scenario"]["duration_s"], 4.0);
     assert_eq!(s["resolved_scenario"]["name"], "nist-grounds");
+    // The defaults the file left out, as the run used them; the controller's camera as the
+    // camera was mounted; f32 fields as written (2.2, not 2.200000047683716).
+    let r = &s["resolved_scenario"];
+    assert_eq!(r["environment"]["clutter"]["parked_vehicles_per_km"], 6.0);
+    assert_eq!(r["environment"]["textures"]["enabled"], true);
+    assert_eq!(
+        r["chase"]["controller"]["camera_mount"],
+        r["camera"]["mount"]
+    );
+    assert_eq!(r["camera"]["mount"]["forward_m"], 2.2);
+    assert!(r["chase"]["controller"]["half_fov_deg"].as_f64().unwrap() > 21.0);
     if let Some(commit) = s.get("git_commit") {
         assert_eq!(commit.as_str().unwrap().len(), 40, "{commit}");
     }

@@ -320,10 +320,7 @@ fn run_one(
         },
     )
     .map_err(incomplete)?;
-    outputs.set_provenance(
-        serde_json::to_value(&scenario.resolved).map_err(incomplete)?,
-        scenario.overrides.clone(),
-    );
+    outputs.set_provenance(scenario.resolved_json(), scenario.overrides.clone());
     // Off a terminal (CI, Slurm) the bar hides itself: a line every few seconds instead.
     let log_progress = !args.quiet && !std::io::stderr().is_terminal();
     let every = Duration::from_secs_f64(args.progress_every);

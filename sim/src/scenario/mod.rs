@@ -203,6 +203,45 @@ pub(crate) fn locate(text: &str, dotted: &str) -> usize {
     best
 }
 
+/// Sets `value[pointer]` to `fill` where it is absent or `null` (the parents exist: every
+/// table of the file has a default).
+fn fill_null(value: &mut serde_json::Value, pointer: &str, fill: serde_json::Value) {
+    let (parent, key) = pointer.rsplit_once('/').expect("a pointer below the root");
+    if let Some(serde_json::Value::Object(table)) = value.pointer_mut(parent) {
+        let slot = table.entry(key).or_insert(serde_json::Value::Null);
+        if slot.is_null() {
+            *slot = fill;
+        }
+    }
+}
+
+/// Numbers that came from `f32` fields as their `f32`'s shortest decimal (2.2, not
+/// 2.200000047683716); a number that is not exactly an `f32` stays as it is.
+fn shortest_f32(value: &mut serde_json::Value) {
+    match value {
+        serde_json::Value::Number(n) => {
+            if let Some(x) = n
+                .as_f64()
+                .filter(|x| !n.is_i64() && !n.is_u64() && x.is_finite())
+            {
+                let f = x as f32;
+                if f64::from(f) == x {
+                    if let Some(short) = format!("{f}")
+                        .parse::<f64>()
+                        .ok()
+                        .and_then(serde_json::Number::from_f64)
+                    {
+                        *n = short;
+                    }
+                }
+            }
+        }
+        serde_json::Value::Array(items) => items.iter_mut().for_each(shortest_f32),
+        serde_json::Value::Object(table) => table.values_mut().for_each(shortest_f32),
+        _ => {}
+    }
+}
+
 /// A field's dotted path from serde_path_to_error's segments: `a.b[2].c`.
 fn field_path(segments: &[String]) -> String {
     let mut path = String::new();
@@ -218,6 +257,73 @@ fn field_path(segments: &[String]) -> String {
 }
 
 impl Scenario {
+    /// The scenario as it ran, for `summary.json`: the file with its overrides applied
+    /// ([`Scenario::resolved`]), the defaults it left out filled in with the values the run
+    /// used, and the chase controller's settings as they ran (its camera mount and field of
+    /// view come from `[camera]`).
+    pub fn resolved_json(&self) -> serde_json::Value {
+        use serde_json::json;
+        let mut v = serde_json::to_value(&self.resolved).expect("a scenario file serialises");
+        let c = &self.camera;
+        fill_null(&mut v, "/camera/focal_length_mm", json!(c.focal_length_mm));
+        fill_null(&mut v, "/camera/pixel_size_mm", json!(c.pixel_size_mm));
+        fill_null(&mut v, "/camera/image_center_px", json!(c.image_center_px));
+        fill_null(&mut v, "/chase/initial_gap_m", json!(self.initial_gap_m));
+        fill_null(
+            &mut v,
+            "/lead/initial_speed_mps",
+            json!(self.lead_initial_speed_mps),
+        );
+        if let Some(chase) = v.pointer_mut("/chase/controller") {
+            *chase = serde_json::to_value(&self.chase).expect("a controller serialises");
+        }
+        let d = &self.densities;
+        for (name, value) in [
+            ("trees_per_km", d.trees_per_km),
+            ("poles_per_km", d.poles_per_km),
+            ("houses_per_km", d.houses_per_km),
+            ("buildings_per_km", d.buildings_per_km),
+            ("parked_vehicles_per_km", d.parked_vehicles_per_km),
+            ("oncoming_vehicles_per_km", d.oncoming_vehicles_per_km),
+            ("cracks_per_km", d.cracks_per_km),
+            ("patches_per_km", d.patches_per_km),
+            ("potholes_per_km", d.potholes_per_km),
+        ] {
+            fill_null(
+                &mut v,
+                &format!("/environment/clutter/{name}"),
+                json!(value),
+            );
+        }
+        let sun = &self.sun;
+        for (name, value) in [
+            ("azimuth_deg", json!(sun.azimuth_deg)),
+            ("elevation_deg", json!(sun.elevation_deg)),
+            ("strength", json!(sun.strength)),
+            ("ambient", json!(sun.ambient)),
+            ("soft_shadows", json!(sun.soft_shadows)),
+        ] {
+            fill_null(&mut v, &format!("/environment/sun/{name}"), value);
+        }
+        fill_null(
+            &mut v,
+            "/environment/textures/enabled",
+            json!(self.textures.enabled),
+        );
+        fill_null(
+            &mut v,
+            "/environment/textures/contrast",
+            json!(self.textures.contrast),
+        );
+        let surface = match self.road_surface {
+            crate::scene::RoadSurface::Asphalt => "asphalt",
+            crate::scene::RoadSurface::Gravel => "gravel",
+        };
+        fill_null(&mut v, "/environment/road/surface", json!(surface));
+        shortest_f32(&mut v);
+        v
+    }
+
     /// Reads a scenario file and applies `--set` overrides.
     pub fn load(path: &Path, overrides: &[String]) -> Result<Scenario, ScenarioError> {
         let text = std::fs::read_to_string(path).map_err(|source| ScenarioError::Io {
