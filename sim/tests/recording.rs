@@ -299,6 +299,44 @@ fn expect_input_error(o: &Output, needle: &str) {
     assert!(!e.contains("panicked"), "{e}");
 }
 
+/// MCAP lets metadata stand anywhere: a recording whose `carfollow` metadata comes after
+/// its frames (as another tool may write it) replays as the original does.
+#[test]
+fn a_recording_with_its_metadata_last_replays_alike() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("run");
+    run(&out, "1", &["--mcap"]);
+    let bytes = std::fs::read(out.join("run.mcap")).unwrap();
+    let summary = mcap::Summary::read(&bytes).unwrap().expect("a summary");
+    let index = summary
+        .metadata_indexes
+        .iter()
+        .find(|i| i.name == "carfollow")
+        .expect("a carfollow metadata record");
+    let meta = mcap::read::metadata(&bytes, index).unwrap();
+    let last = dir.path().join("last.mcap");
+    {
+        let mut w = mcap::Writer::new(std::io::BufWriter::new(
+            std::fs::File::create(&last).unwrap(),
+        ))
+        .unwrap();
+        for m in mcap::MessageStream::new(&bytes).unwrap() {
+            w.write(&m.unwrap()).unwrap();
+        }
+        w.write_metadata(&meta).unwrap();
+        w.finish().unwrap();
+    }
+    let csv = dir.path().join("last.csv");
+    let o = replay(&last, &csv, &[]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("every estimate equals the recorded one"),
+        "{}",
+        stderr(&o)
+    );
+    assert_replay_equals_frames(&csv, &out.join("frames.csv"));
+}
+
 #[test]
 fn bad_recordings_and_flags_exit_2_in_one_line() {
     let dir = tempfile::tempdir().unwrap();

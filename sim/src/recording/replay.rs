@@ -296,25 +296,93 @@ fn decode_image(schema: &str, data: &[u8]) -> Result<GrayImage, String> {
 }
 
 /// Replays the recording through the tracker, writing the CSV (and overlays) as it goes.
+/// `carfollow run` writes its metadata first; a recording whose metadata comes after its
+/// first frame (another tool may write it anywhere) is read twice: once for the metadata,
+/// then for the frames.
 pub fn replay(job: &ReplayJob) -> Result<ReplaySummary, ReplayError> {
-    let path = job.input.as_path();
+    match replay_pass(job, None)? {
+        Pass::Done(summary) => Ok(summary),
+        Pass::MetadataLater => {
+            let setup = metadata_pass(job.input.as_path())?;
+            match replay_pass(job, Some(setup))? {
+                Pass::Done(summary) => Ok(summary),
+                Pass::MetadataLater => unreachable!("the setup was given"),
+            }
+        }
+    }
+}
+
+/// How a pass over the recording ended.
+enum Pass {
+    Done(ReplaySummary),
+    /// A frame came before the metadata: read the metadata first.
+    MetadataLater,
+}
+
+/// Opens a recording to read it from the start, refusing one cut short.
+fn open_recording(path: &Path) -> Result<(File, LinearReader), ReplayError> {
     let mut file = File::open(path).map_err(|e| bad(path, format!("cannot read: {e}")))?;
     check_complete(path, &mut file)?;
+    file.seek(SeekFrom::Start(0))
+        .map_err(|e| bad(path, format!("cannot read: {e}")))?;
     // Every chunk's checksum is checked before any of its frames reaches the tracker: a
     // damaged tape is refused, not replayed to other estimates.
-    let mut reader = LinearReader::new_with_options(
+    let reader = LinearReader::new_with_options(
         LinearReaderOptions::default()
             .with_prevalidate_chunk_crcs(true)
             .with_validate_data_section_crc(true)
             .with_validate_summary_section_crc(true)
             .with_record_length_limit(MAX_RECORD_BYTES),
     );
+    Ok((file, reader))
+}
+
+/// The recording's setup, from its `carfollow` metadata wherever it stands.
+fn metadata_pass(path: &Path) -> Result<ReplaySetup, ReplayError> {
+    let (mut file, mut reader) = open_recording(path)?;
+    while let Some(event) = reader.next_event() {
+        let event = event.map_err(|e| bad(path, format!("not a readable MCAP file: {e}")))?;
+        match event {
+            LinearReadEvent::ReadRequest(need) => {
+                let read = file
+                    .read(reader.insert(need))
+                    .map_err(|e| bad(path, format!("cannot read: {e}")))?;
+                if read == 0 {
+                    return Err(bad(path, "the recording ends in the middle of a record"));
+                }
+                reader.notify_read(read);
+            }
+            LinearReadEvent::Record { opcode, data } => {
+                if let Record::Metadata(m) = mcap::parse_record(opcode, data)
+                    .map_err(|e| bad(path, format!("a record cannot be read: {e}")))?
+                {
+                    if m.name == METADATA_NAME {
+                        return ReplaySetup::from_metadata(&m.metadata).map_err(|e| bad(path, e));
+                    }
+                }
+            }
+        }
+    }
+    Err(bad(
+        path,
+        format!("not a carfollow recording: no `{METADATA_NAME}` metadata record"),
+    ))
+}
+
+/// One pass over the recording; with `setup`, the metadata is already known.
+fn replay_pass(job: &ReplayJob, setup: Option<ReplaySetup>) -> Result<Pass, ReplayError> {
+    let path = job.input.as_path();
+    let (mut file, mut reader) = open_recording(path)?;
     let mut topics_by_channel: HashMap<u16, String> = HashMap::new();
     let mut schema_names: HashMap<u16, String> = HashMap::new();
     // The image schema of each image channel: raw mono8, or PNG in older recordings.
     let mut image_schemas: HashMap<u16, String> = HashMap::new();
     let mut pending: BTreeMap<u64, Pending> = BTreeMap::new();
-    let mut run: Option<Run> = None;
+    let known = setup.is_some();
+    let mut run: Option<Run> = match setup {
+        Some(setup) => Some(Run::start(job, Tape::new(path, setup, &job.overrides)?)?),
+        None => None,
+    };
     let mut next_frame = 0u64;
     while let Some(event) = reader.next_event() {
         let event = event.map_err(|e| bad(path, format!("not a readable MCAP file: {e}")))?;
@@ -334,7 +402,7 @@ pub fn replay(job: &ReplayJob) -> Result<ReplaySummary, ReplayError> {
         let record = mcap::parse_record(opcode, data)
             .map_err(|e| bad(path, format!("a record cannot be read: {e}")))?;
         match record {
-            Record::Metadata(m) if m.name == METADATA_NAME && run.is_none() => {
+            Record::Metadata(m) if m.name == METADATA_NAME && !known && run.is_none() => {
                 let setup = ReplaySetup::from_metadata(&m.metadata).map_err(|e| bad(path, e))?;
                 let tape = Tape::new(path, setup, &job.overrides)?;
                 run = Some(Run::start(job, tape)?);
@@ -383,12 +451,7 @@ pub fn replay(job: &ReplayJob) -> Result<ReplaySummary, ReplayError> {
                             )
                         })?;
                         let Some(run) = run.as_mut() else {
-                            return Err(bad(
-                                path,
-                                format!(
-                                    "not a carfollow recording: frames before its `{METADATA_NAME}` metadata"
-                                ),
-                            ));
+                            return Ok(Pass::MetadataLater);
                         };
                         let frame = pending.remove(&t).unwrap_or_default();
                         if input.frame != next_frame {
@@ -427,7 +490,7 @@ pub fn replay(job: &ReplayJob) -> Result<ReplaySummary, ReplayError> {
     if next_frame == 0 {
         return Err(bad(path, "the recording has no frames"));
     }
-    run.finish()
+    run.finish().map(Pass::Done)
 }
 
 /// The tracker on its way through the tape.
