@@ -314,18 +314,29 @@ fn a_recording_with_its_metadata_last_replays_alike() {
         .find(|i| i.name == "carfollow")
         .expect("a carfollow metadata record");
     let meta = mcap::read::metadata(&bytes, index).unwrap();
-    let last = dir.path().join("last.mcap");
-    {
+    let remux = |path: &Path, meta: &mcap::records::Metadata| {
         let mut w = mcap::Writer::new(std::io::BufWriter::new(
-            std::fs::File::create(&last).unwrap(),
+            std::fs::File::create(path).unwrap(),
         ))
         .unwrap();
         for m in mcap::MessageStream::new(&bytes).unwrap() {
             w.write(&m.unwrap()).unwrap();
         }
-        w.write_metadata(&meta).unwrap();
+        w.write_metadata(meta).unwrap();
         w.finish().unwrap();
-    }
+    };
+    // Metadata that says fewer frames than the recording holds: not one run's.
+    let mut fewer = meta.clone();
+    fewer.metadata.insert("frames".into(), "5".into());
+    let short = dir.path().join("short.mcap");
+    remux(&short, &fewer);
+    let csv = dir.path().join("short.csv");
+    expect_input_error(
+        &replay(&short, &csv, &[]),
+        "holds more frames than its metadata's 5",
+    );
+    let last = dir.path().join("last.mcap");
+    remux(&last, &meta);
     let csv = dir.path().join("last.csv");
     let o = replay(&last, &csv, &[]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));

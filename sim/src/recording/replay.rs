@@ -466,6 +466,16 @@ fn replay_pass(job: &ReplayJob, setup: Option<ReplaySetup>) -> Result<Pass, Repl
                         let Some(image) = frame.image else {
                             return Err(bad(path, format!("frame {} has no image", input.frame)));
                         };
+                        if input.frame >= run.summary.frames_recorded {
+                            return Err(bad(
+                                path,
+                                format!(
+                                    "holds more frames than its metadata's {}: not one run's \
+                                     recording",
+                                    run.summary.frames_recorded
+                                ),
+                            ));
+                        }
                         run.step(path, &image, &input, frame.state.as_ref())?;
                         next_frame += 1;
                     }

@@ -174,13 +174,45 @@ pub fn merge_dirs(dirs: &[PathBuf]) -> Result<Vec<ResultRow>, SweepError> {
     Ok(dedupe_sorted(rows))
 }
 
-/// Dedupes by id (first wins) and sorts by grid order, then id.
+/// Dedupes by sweep and id (first wins) and sorts by grid order, then id. Rows of two
+/// sweeps are both kept, so that whoever merges them sees two sweeps (and refuses them).
 pub fn dedupe_sorted(rows: Vec<ResultRow>) -> Vec<ResultRow> {
     let mut seen = std::collections::BTreeSet::new();
     let mut out: Vec<ResultRow> = rows
         .into_iter()
-        .filter(|r| seen.insert(r.id.clone()))
+        .filter(|r| seen.insert((r.sweep_hash.clone(), r.id.clone())))
         .collect();
     out.sort_by(|a, b| a.index.cmp(&b.index).then_with(|| a.id.cmp(&b.id)));
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn row(hash: &str, id: &str, index: usize) -> ResultRow {
+        ResultRow {
+            id: id.into(),
+            index,
+            point: String::new(),
+            scenario: "s".into(),
+            seed: 1,
+            params: serde_json::Map::new(),
+            summary: serde_json::Value::Null,
+            sweep_hash: hash.into(),
+        }
+    }
+
+    /// A point of one sweep seen twice is one row; a row of another sweep with the same id
+    /// stays, so that a merge sees two sweeps.
+    #[test]
+    fn dedupe_keeps_rows_of_other_sweeps() {
+        let rows = dedupe_sorted(vec![
+            row("a", "p1", 1),
+            row("a", "p1", 1),
+            row("b", "p1", 1),
+        ]);
+        let hashes: Vec<&str> = rows.iter().map(|r| r.sweep_hash.as_str()).collect();
+        assert_eq!(hashes, ["a", "b"]);
+    }
 }
