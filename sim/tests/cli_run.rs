@@ -461,6 +461,30 @@ fn help_documents_exit_statuses() {
     assert!(text.contains("0 when every point ran"), "{text}");
 }
 
+/// A bad argument of `target` is refused before the target is listed: one line, nothing
+/// else said.
+#[test]
+fn target_refuses_a_bad_width_before_saying_anything() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = carfollow(&[
+        "target",
+        &scenario("targets/nist-ten-segment.toml"),
+        "--width",
+        "0",
+        "--out",
+        dir.path().join("t.png").to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        out.stdout.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&out.stdout)
+    );
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(err.contains("--width"), "{err}");
+}
+
 /// An output that cannot be written is a run that could not complete: exit status 3.
 #[test]
 fn an_unwritable_output_exits_3() {

@@ -23,6 +23,13 @@ pub struct TargetArgs {
 
 /// Runs the subcommand.
 pub fn run_target(args: TargetArgs) -> anyhow::Result<()> {
+    // Arguments first: bad input is refused before anything is said.
+    if args.out.is_some() && !(64..=4096).contains(&args.width) {
+        anyhow::bail!(
+            "--width must be between 64 and 4096 pixels, got {}",
+            args.width
+        );
+    }
     let model = sim::target::load(&args.target)?;
     let [w_m, h_m] = model.size_m();
     say!(
@@ -49,12 +56,6 @@ pub fn run_target(args: TargetArgs) -> anyhow::Result<()> {
         );
     }
     if let Some(out) = &args.out {
-        if !(64..=4096).contains(&args.width) {
-            anyhow::bail!(
-                "--width must be between 64 and 4096 pixels, got {}",
-                args.width
-            );
-        }
         let width = args.width as usize;
         // Scale the drawing so the board (with its margin) fills 90 % of the width.
         let board_w = w_m + 2.0 * tracker::paint::BOARD_MARGIN_M;
