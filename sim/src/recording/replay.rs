@@ -337,21 +337,30 @@ fn open_recording(path: &Path) -> Result<(File, LinearReader), ReplayError> {
     Ok((file, reader))
 }
 
+/// Reads the next `need` bytes of the recording into the reader.
+fn feed(
+    path: &Path,
+    file: &mut File,
+    reader: &mut LinearReader,
+    need: usize,
+) -> Result<(), ReplayError> {
+    let read = file
+        .read(reader.insert(need))
+        .map_err(|e| bad(path, format!("cannot read: {e}")))?;
+    if read == 0 {
+        return Err(bad(path, "the recording ends in the middle of a record"));
+    }
+    reader.notify_read(read);
+    Ok(())
+}
+
 /// The recording's setup, from its `carfollow` metadata wherever it stands.
 fn metadata_pass(path: &Path) -> Result<ReplaySetup, ReplayError> {
     let (mut file, mut reader) = open_recording(path)?;
     while let Some(event) = reader.next_event() {
         let event = event.map_err(|e| bad(path, format!("not a readable MCAP file: {e}")))?;
         match event {
-            LinearReadEvent::ReadRequest(need) => {
-                let read = file
-                    .read(reader.insert(need))
-                    .map_err(|e| bad(path, format!("cannot read: {e}")))?;
-                if read == 0 {
-                    return Err(bad(path, "the recording ends in the middle of a record"));
-                }
-                reader.notify_read(read);
-            }
+            LinearReadEvent::ReadRequest(need) => feed(path, &mut file, &mut reader, need)?,
             LinearReadEvent::Record { opcode, data } => {
                 if let Record::Metadata(m) = mcap::parse_record(opcode, data)
                     .map_err(|e| bad(path, format!("a record cannot be read: {e}")))?
@@ -388,13 +397,7 @@ fn replay_pass(job: &ReplayJob, setup: Option<ReplaySetup>) -> Result<Pass, Repl
         let event = event.map_err(|e| bad(path, format!("not a readable MCAP file: {e}")))?;
         let (opcode, data) = match event {
             LinearReadEvent::ReadRequest(need) => {
-                let read = file
-                    .read(reader.insert(need))
-                    .map_err(|e| bad(path, format!("cannot read: {e}")))?;
-                if read == 0 {
-                    return Err(bad(path, "the recording ends in the middle of a record"));
-                }
-                reader.notify_read(read);
+                feed(path, &mut file, &mut reader, need)?;
                 continue;
             }
             LinearReadEvent::Record { opcode, data } => (opcode, data),
