@@ -16,6 +16,7 @@ macro_rules! say {
 mod cli {
     pub mod check;
     pub mod exit;
+    pub mod paths;
     pub mod render;
     pub mod render_worker;
     pub mod run;

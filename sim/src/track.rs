@@ -78,16 +78,9 @@ pub fn frame_files(dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
             files.push(path);
         }
     }
-    files.sort_by(|a, b| {
-        let name = |p: &PathBuf| {
-            p.file_name()
-                .unwrap_or_default()
-                .to_string_lossy()
-                .to_string()
-        };
-        natural_key(&name(a))
-            .cmp(&natural_key(&name(b)))
-            .then_with(|| a.file_name().cmp(&b.file_name()))
+    files.sort_by_cached_key(|p| {
+        let name = p.file_name().unwrap_or_default();
+        (natural_key(&name.to_string_lossy()), name.to_owned())
     });
     if files.is_empty() {
         bail!("{}: no PNG or PGM frames in this folder", dir.display());

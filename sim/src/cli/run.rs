@@ -217,11 +217,13 @@ fn verdict(s: &Summary, dir: &Path) -> String {
         dir.display()
     );
     // A collision is news even where no criterion asks about it (said once: not again
-    // when a failed criterion says it).
-    let said = s.failures.iter().any(|f| f.contains("collided"));
+    // when the failed `no_collision` criterion says it).
+    let said = s
+        .criteria
+        .iter()
+        .any(|c| c.name == "no_collision" && !c.passed);
     let head = match s.collisions {
-        _ if said => head,
-        0 => head,
+        n if n == 0 || said => head,
         1 => format!("{head}\n  the vehicles collided once"),
         n => format!("{head}\n  the vehicles collided {n} times"),
     };

@@ -18,6 +18,7 @@ use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
 use super::exit::{self, incomplete};
+use super::paths::same_path;
 
 /// The default `--progress-every`, seconds: how often a sweep writes a progress line to
 /// stderr off a terminal (CI, Slurm logs), where the bar stays hidden.
@@ -408,13 +409,7 @@ fn run_merge(args: MergeArgs) -> anyhow::Result<ExitCode> {
     let out = args.out.unwrap_or_else(|| args.dirs[0].clone());
     // Another folder's results would be overwritten: merge into a new folder, or into one
     // of those merged (whose rows are then among the merged).
-    let merged = |d: &PathBuf| {
-        matches!(
-            (std::fs::canonicalize(d), std::fs::canonicalize(&out)),
-            (Ok(a), Ok(b)) if a == b
-        )
-    };
-    if out.is_dir() && !args.dirs.iter().any(merged) {
+    if out.is_dir() && !args.dirs.iter().any(|d| same_path(d, &out)) {
         let holds_results = out.join(MANIFEST_FILE).exists()
             || std::fs::read_dir(&out)?.flatten().any(|e| {
                 let name = e.file_name().to_string_lossy().to_string();

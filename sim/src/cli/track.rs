@@ -1,6 +1,7 @@
 //! `carfollow track`: the tracker alone on a folder of recorded frames.
 
 use super::exit::incomplete;
+use super::paths::same_path;
 use anyhow::Context;
 use clap::Args;
 use sim::recording::{replay, ReplayError, ReplayJob};
@@ -75,31 +76,12 @@ pub struct TrackArgs {
     pub quiet: bool,
 }
 
-/// Whether two paths name one existing file or folder.
-fn same_path(a: &std::path::Path, b: &std::path::Path) -> bool {
-    matches!(
-        (std::fs::canonicalize(a), std::fs::canonicalize(b)),
-        (Ok(a), Ok(b)) if a == b
-    )
-}
-
 /// Refuses outputs that would overwrite the input: `--out` on the recording or on a frame,
 /// `--overlay` on the frames' folder (its files take the frames' names).
 fn check_outputs(args: &TrackArgs) -> anyhow::Result<()> {
     let input = &args.frames_dir;
     let out_is_input = same_path(&args.out, input)
         || (input.is_dir()
-            && args.out.exists()
-            && args.out.parent().is_some_and(|p| {
-                same_path(
-                    if p.as_os_str().is_empty() {
-                        ".".as_ref()
-                    } else {
-                        p
-                    },
-                    input,
-                )
-            })
             && sim::track::frame_files(input)
                 .is_ok_and(|files| files.iter().any(|f| same_path(f, &args.out))));
     if out_is_input {

@@ -20,8 +20,7 @@ use crate::scene::{Densities, RouteSpec, Sensor, Sun};
 use std::path::{Path, PathBuf};
 use thiserror::Error;
 use tracker::{Camera, TargetModel, TrackerConfig};
-use validate::override_names;
-use validate::validate;
+use validate::{override_names, validate};
 use vehicle::{
     ChaseControllerConfig, DelayLineConfig, LeadDriverConfig, SpeedProfile, WorldConfig,
 };
@@ -315,11 +314,11 @@ impl Scenario {
             "/environment/textures/contrast",
             json!(self.textures.contrast),
         );
-        let surface = match self.road_surface {
-            crate::scene::RoadSurface::Asphalt => "asphalt",
-            crate::scene::RoadSurface::Gravel => "gravel",
-        };
-        fill_null(&mut v, "/environment/road/surface", json!(surface));
+        fill_null(
+            &mut v,
+            "/environment/road/surface",
+            json!(self.road_surface.as_str()),
+        );
         shortest_f32(&mut v);
         v
     }

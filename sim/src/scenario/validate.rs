@@ -887,14 +887,13 @@ pub(super) fn validate(
     }
 
     let road_surface = match e.road.surface.as_deref() {
-        None | Some("asphalt") => RoadSurface::Asphalt,
-        Some("gravel") => RoadSurface::Gravel,
-        Some(other) => {
-            return Err(invalid(
+        None => RoadSurface::default(),
+        Some(name) => RoadSurface::parse(name).ok_or_else(|| {
+            invalid(
                 "environment.road.surface",
-                format!("= {other:?}: must be \"asphalt\" or \"gravel\""),
-            ))
-        }
+                format!("= {name:?}: must be \"asphalt\" or \"gravel\""),
+            )
+        })?,
     };
     let mut textures = Textures::default();
     if let Some(v) = e.textures.enabled {

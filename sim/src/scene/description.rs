@@ -358,6 +358,23 @@ pub enum RoadSurface {
     Gravel,
 }
 
+impl RoadSurface {
+    /// The name a scenario file gives it: `"asphalt"` or `"gravel"`.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            RoadSurface::Asphalt => "asphalt",
+            RoadSurface::Gravel => "gravel",
+        }
+    }
+
+    /// The surface of that name.
+    pub fn parse(name: &str) -> Option<RoadSurface> {
+        [RoadSurface::Asphalt, RoadSurface::Gravel]
+            .into_iter()
+            .find(|s| s.as_str() == name)
+    }
+}
+
 /// Procedural textures on the ground's surfaces (asphalt, grass, gravel): detail that
 /// multiplies each surface's albedo by a factor of mean 1, sampled trilinearly from
 /// seeded, mipmapped textures at the surface's world position.
