@@ -690,21 +690,16 @@ impl ClosedLoop {
             lead_from_scene,
         } = CameraSetup::new(s)?;
         let options = render_options(backend);
-        let mut renderer = Renderer::new(&scene, rig.clone(), &options)?;
+        let renderer = Renderer::new(&scene, rig.clone(), &options)?;
         let fingerprint = fingerprint(scene.description(), &rig, &options);
 
         // The teleoperator places the model on the first frame (2.2), with the scenario's
-        // placement error.
+        // placement error: where the first frame's truth puts it (the frame itself is
+        // rendered by the loop's first step, so it is not rendered here too).
         let world_from_chase = iso(&world.vehicle_state(chase_id).world_from_vehicle);
         let world_from_lead =
             iso(&world.vehicle_state(lead_id).world_from_vehicle) * lead_from_scene;
-        let first = renderer.render(&FrameInput::fixed_camera(
-            0,
-            0.0,
-            world_from_chase,
-            world_from_lead,
-        ))?;
-        let t = first.truth;
+        let t = renderer.ground_truth(&world_from_chase, &world_from_lead, 0.0);
         if !t.in_view {
             return Err(setup(
                 "the target is not in the camera's view at t = 0".into(),
@@ -837,15 +832,44 @@ impl ClosedLoop {
     /// [`ClosedLoop::add_render_worker`] with a worker already started (before this loop
     /// set up, so that both set up at once: see [`ClosedLoop::renders_ahead`]). A worker
     /// this loop cannot use is dropped, which ends it.
+    ///
+    /// The first frame starts rendering on this process's render thread before the worker
+    /// is waited for, so that it renders (its shaders compiling, its first shadow tiles
+    /// drawing) while the worker finishes setting up. Should the worker fail, the loop
+    /// takes its renderer back and renders that frame again on one renderer's path: a
+    /// capture changes nothing, and a frame's pixels never depend on what its renderer drew
+    /// before.
     pub fn add_started_render_worker(&mut self, worker: StartedWorker) -> Result<bool, LoopError> {
         if !self.pipelined || self.frame > 0 {
             return Ok(false);
         }
-        let remote = worker
-            .ready(self.fingerprint, &self.rig)
-            .map_err(LoopError::Worker)?;
-        self.remote = Some(remote);
-        Ok(true)
+        if self.in_flight.is_empty() {
+            let first = self.submit()?;
+            self.in_flight.push_back(first);
+        }
+        match worker.ready(self.fingerprint, &self.rig) {
+            Ok(remote) => {
+                self.remote = Some(remote);
+                Ok(true)
+            }
+            Err(e) => {
+                self.take_back_first_frame();
+                Err(LoopError::Worker(e))
+            }
+        }
+    }
+
+    /// Before the first step: drops the first frame from the render thread, if it is on
+    /// it, and takes its renderer back, for one renderer's path to render it again.
+    fn take_back_first_frame(&mut self) {
+        if self.frame == 0 && self.in_flight.len() == 1 && self.in_flight[0].here {
+            self.in_flight.clear();
+            let thread = self
+                .render_thread
+                .as_mut()
+                .expect("the first frame's thread");
+            self.renderer = Some(thread.wait().renderer);
+        }
     }
 
     /// Whether the loop of scenario `s` renders frames ahead (see `set_pipelined`), so that
@@ -896,6 +920,7 @@ impl ClosedLoop {
     /// whether the loop is now pipelined.
     pub fn set_pipelined(&mut self, on: bool) -> bool {
         if !on && self.remote.is_some() {
+            self.take_back_first_frame();
             if !self.in_flight.is_empty() {
                 // A frame is rendering in the worker: too late to change.
                 return self.pipelined;

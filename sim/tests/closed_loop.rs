@@ -144,11 +144,34 @@ fn a_render_worker_with_another_scene_is_refused() {
         .to_string();
     assert!(err.contains("another scene"), "{err}");
     assert_eq!(l.frames_in_flight(), 1);
+    // The first frame had started rendering before the worker was refused: the loop takes
+    // its renderer back and runs on one, with one renderer's records.
+    let mut records = Vec::new();
+    while let Some(out) = l.step().unwrap() {
+        records.push(out.record);
+    }
+    assert_eq!(records, run(&["duration_s=1"]));
     // A loop that cannot overlap does not start one.
     let mut l = builtin_loop(&["duration_s=1", "loop.latency_ms=50"]);
     assert!(!l
         .add_render_worker(render_worker(&["duration_s=1"]))
         .unwrap());
+}
+
+#[test]
+fn a_loop_made_sequential_after_its_worker_was_added_runs_on_one_renderer() {
+    let set = ["duration_s=1"];
+    let mut l = builtin_loop(&set);
+    assert!(l.add_render_worker(render_worker(&set)).unwrap());
+    // The first frame is on the render thread already: it comes back, and is rendered
+    // again on the sequential path.
+    assert!(!l.set_pipelined(false));
+    assert_eq!(l.frames_in_flight(), 1);
+    let mut records = Vec::new();
+    while let Some(out) = l.step().unwrap() {
+        records.push(out.record);
+    }
+    assert_eq!(records, run_with(&set, false));
 }
 
 /// The records and the metered mean grey of each frame, with whole frames or not, and with

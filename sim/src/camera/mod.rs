@@ -12,6 +12,7 @@ mod renderer;
 mod rig;
 mod sensor;
 mod shadow_tiles;
+mod texture_cache;
 mod textures;
 
 pub use backend::{Backend, BackendError};

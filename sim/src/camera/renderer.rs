@@ -19,7 +19,8 @@ use super::frame::{Field, Frame, FrameInput, GroundTruth};
 use super::rig::CameraRig;
 use super::sensor::{apply_sensor_to_rows, blur_reach_px};
 use super::shadow_tiles::{self, TileCache, TileFrame, Window, NO_TILE};
-use super::textures::{GroundTextures, LAYERS, TEXTURE_SIZE, TILE_M};
+use super::texture_cache::ground_texels;
+use super::textures::{LAYERS, TEXTURE_SIZE, TILE_M};
 use crate::scene::{AutoGain, Layer, ObjectSlot, Scene, Vertex, GRASS_ALBEDO_RANGE, GROUND_CELL_M};
 use bytemuck::{Pod, Zeroable};
 use image::GrayImage;
@@ -459,14 +460,15 @@ impl Renderer {
         )
         .create_view(&wgpu::TextureViewDescriptor::default());
 
-        // Ground textures: generated from the scene's seed, every mip level uploaded (a
-        // 1×1 stand-in when they are off: the layout binds a texture either way).
+        // Ground textures: generated from the scene's seed (or read from the cache of an
+        // earlier run), every mip level uploaded (a 1×1 stand-in when they are off: the
+        // layout binds a texture either way).
         let textures = &scene.description().textures;
         let generated = textures
             .enabled
-            .then(|| GroundTextures::generate(scene.description().seed));
+            .then(|| ground_texels(scene.description().seed));
         let (side, levels) = match &generated {
-            Some(g) => (TEXTURE_SIZE as u32, g.level_count()),
+            Some(g) => (TEXTURE_SIZE as u32, g.len() as u32),
             None => (1, 1),
         };
         let ground_texture = device.create_texture(&wgpu::TextureDescriptor {
@@ -485,9 +487,10 @@ impl Renderer {
         });
         for level in 0..levels {
             let s = side >> level;
+            let stand_in = [128; LAYERS];
             let texels = match &generated {
-                Some(g) => g.texels(level as usize),
-                None => vec![128; LAYERS],
+                Some(g) => &g[level as usize][..],
+                None => &stand_in[..],
             };
             queue.write_texture(
                 wgpu::TexelCopyTextureInfo {
@@ -496,7 +499,7 @@ impl Renderer {
                     origin: wgpu::Origin3d::ZERO,
                     aspect: wgpu::TextureAspect::All,
                 },
-                &texels,
+                texels,
                 wgpu::TexelCopyBufferLayout {
                     offset: 0,
                     bytes_per_row: Some(s),

@@ -3,7 +3,7 @@
 
 use anyhow::Context;
 use clap::Args;
-use sim::camera::{Backend, FrameInput, Renderer};
+use sim::camera::{Backend, Renderer};
 use sim::closed_loop::{render_options, CameraSetup};
 use sim::render_worker::{fingerprint, serve_frames};
 use sim::scenario::Scenario;
@@ -33,7 +33,6 @@ pub fn run_render_worker(args: RenderWorkerArgs) -> anyhow::Result<ExitCode> {
     let setup = CameraSetup::new(&scenario)?;
     let options = render_options(backend);
     let mut renderer = Renderer::new(&setup.scene, setup.rig.clone(), &options)?;
-    warm_up(&mut renderer, &scenario, &setup)?;
     let print = fingerprint(setup.scene.description(), &setup.rig, &options);
     serve_frames(
         &mut renderer,
@@ -43,28 +42,4 @@ pub fn run_render_worker(args: RenderWorkerArgs) -> anyhow::Result<ExitCode> {
     )
     .context("cannot serve frames")?;
     Ok(ExitCode::SUCCESS)
-}
-
-/// Renders (and drops) a whole frame of the vehicles where the scenario starts them, before
-/// the worker says it is ready: its shaders compile and the first shadow tiles draw now,
-/// while the loop renders its own first frame, and not when the loop waits for the worker's
-/// first frame. A frame's pixels never depend on what the renderer drew before it.
-fn warm_up(
-    renderer: &mut Renderer,
-    scenario: &Scenario,
-    setup: &CameraSetup,
-) -> anyhow::Result<()> {
-    let lateral = 0.5 * scenario.route.lane_width_m;
-    let route = setup.scene.route();
-    let world_from_chase = route.pose_at(scenario.chase_start_m, lateral);
-    let world_from_lead = route.pose_at(scenario.lead_start_m, lateral) * setup.lead_from_scene;
-    renderer
-        .render(&FrameInput::fixed_camera(
-            0,
-            0.0,
-            world_from_chase,
-            world_from_lead,
-        ))
-        .context("cannot render a first frame")?;
-    Ok(())
 }
