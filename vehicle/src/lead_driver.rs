@@ -152,12 +152,14 @@ impl LeadDriver {
         let end = self.route.length_m() - END_MARGIN_M;
         let mut limit = f32::INFINITY;
         let mut d = 0.0;
+        // The preview's arc lengths only grow.
+        let mut curvature = self.route.curvature_walk();
         while d <= preview {
             let s = self.progress_m + d;
             let at_s = if s >= end {
                 0.0
             } else {
-                let k = self.route.curvature_at(s).abs();
+                let k = curvature.at(s).abs();
                 if k > 1e-4 {
                     (a_lat / k).sqrt()
                 } else {

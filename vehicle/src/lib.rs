@@ -105,7 +105,9 @@ pub use pure_pursuit::{
 pub use range_filter::{Gains, RangeFilter, RangeGate, RangeState};
 pub use ray_cast_vehicle::{Vehicle, VehicleState};
 pub use rng_stream::{fnv1a64, named_stream};
-pub use route::{direction_heading, heading_direction, Route, RouteBuilder, RouteProjection};
+pub use route::{
+    direction_heading, heading_direction, CurvatureWalk, Route, RouteBuilder, RouteProjection,
+};
 pub use speed_controller::{Pedals, SpeedController, SpeedGains};
 pub use speed_profile::{ProfileBasis, SpeedKnot, SpeedProfile};
 pub use vehicle_params::{VehicleParams, AIR_DENSITY_KGPM3, GRAVITY_MPS2};

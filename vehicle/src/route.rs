@@ -93,8 +93,7 @@ impl Route {
     }
 
     fn segment_at(&self, s_m: f32) -> usize {
-        let i = self.arc_m.partition_point(|&a| a <= s_m);
-        i.clamp(1, self.points.len() - 1) - 1
+        self.segment_of_count(self.arc_m.partition_point(|&a| a <= s_m))
     }
 
     /// The point at arc length `s_m`, extrapolated along the end segments beyond the ends.
@@ -119,13 +118,43 @@ impl Route {
     /// Signed curvature at `s_m`, 1/m (positive turning left), from the heading change over
     /// a few metres.
     pub fn curvature_at(&self, s_m: f32) -> f32 {
-        let a = (s_m - CURVATURE_HALF_WINDOW_M).max(0.0);
-        let b = (s_m + CURVATURE_HALF_WINDOW_M).min(self.length_m());
+        let (a, b) = self.curvature_window(s_m);
         if b - a < 1e-3 {
             return 0.0;
         }
-        let ha = self.headings[self.segment_at(a)];
-        let hb = self.headings[self.segment_at(b)];
+        self.curvature_between(a, self.segment_at(a), b, self.segment_at(b))
+    }
+
+    /// [`Route::curvature_at`] for arc lengths asked in an order that never decreases (a
+    /// preview of the road ahead), finding the segments by walking on from the last ones
+    /// instead of searching: the same values.
+    pub fn curvature_walk(&self) -> CurvatureWalk<'_> {
+        CurvatureWalk {
+            route: self,
+            up_to_a: 0,
+            up_to_b: 0,
+        }
+    }
+
+    /// The window `curvature_at(s_m)` measures the heading change over.
+    fn curvature_window(&self, s_m: f32) -> (f32, f32) {
+        (
+            (s_m - CURVATURE_HALF_WINDOW_M).max(0.0),
+            (s_m + CURVATURE_HALF_WINDOW_M).min(self.length_m()),
+        )
+    }
+
+    /// The segment holding arc length `s_m` given `up_to`, how many points lie at or before
+    /// it along the route: what [`Route::segment_at`]'s search finds.
+    fn segment_of_count(&self, up_to: usize) -> usize {
+        up_to.clamp(1, self.points.len() - 1) - 1
+    }
+
+    /// The heading change from arc length `a` (in segment `ia`) to `b` (in `ib`) over the
+    /// distance between them.
+    fn curvature_between(&self, a: f32, ia: usize, b: f32, ib: usize) -> f32 {
+        let ha = self.headings[ia];
+        let hb = self.headings[ib];
         let mut d = hb - ha;
         while d > std::f32::consts::PI {
             d -= std::f32::consts::TAU;
@@ -221,9 +250,88 @@ impl RouteBuilder {
     }
 }
 
+/// [`Route::curvature_at`] along arc lengths that never decrease (see
+/// [`Route::curvature_walk`]).
+pub struct CurvatureWalk<'a> {
+    route: &'a Route,
+    /// How many of the route's points lie at or before the window's start, and its end, of
+    /// the last arc length asked.
+    up_to_a: usize,
+    up_to_b: usize,
+}
+
+impl CurvatureWalk<'_> {
+    /// The route's curvature at `s_m`, no less than the last arc length asked: exactly
+    /// [`Route::curvature_at`]`(s_m)`.
+    pub fn at(&mut self, s_m: f32) -> f32 {
+        let route = self.route;
+        let (a, b) = route.curvature_window(s_m);
+        // The window's ends never move back, so neither do the counts.
+        let count = |up_to: &mut usize, at: f32| {
+            while *up_to < route.arc_m.len() && route.arc_m[*up_to] <= at {
+                *up_to += 1;
+            }
+            *up_to
+        };
+        let (up_to_a, up_to_b) = (count(&mut self.up_to_a, a), count(&mut self.up_to_b, b));
+        if b - a < 1e-3 {
+            return 0.0;
+        }
+        route.curvature_between(
+            a,
+            route.segment_of_count(up_to_a),
+            b,
+            route.segment_of_count(up_to_b),
+        )
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The walk gives `curvature_at`'s values to the bit, from before the start to past the
+    /// end of a route of turns both ways and straights, in steps of several sizes.
+    #[test]
+    fn the_curvature_walk_gives_curvature_at() {
+        let r = RouteBuilder::new(Vector::new(3.0, 0.0, -2.0), 0.4)
+            .straight(12.0)
+            .arc(15.0, 1.2)
+            .arc(-9.0, 2.0)
+            .straight(0.7)
+            .arc(30.0, -0.5)
+            .straight(20.0)
+            .build()
+            .unwrap();
+        for step in [0.01, 0.25, 1.0, 1.7, 4.0] {
+            let mut walk = r.curvature_walk();
+            let mut s = -3.0f32;
+            while s < r.length_m() + 3.0 {
+                assert_eq!(walk.at(s).to_bits(), r.curvature_at(s).to_bits(), "s {s}");
+                s += step;
+            }
+        }
+        // Windows that start or end exactly on a point of the route, where the segment
+        // changes.
+        let mut exact: Vec<f32> = r
+            .arc_m
+            .iter()
+            .flat_map(|&v| [v + CURVATURE_HALF_WINDOW_M, v - CURVATURE_HALF_WINDOW_M])
+            .filter(|&s| {
+                r.arc_m.contains(&(s - CURVATURE_HALF_WINDOW_M))
+                    || r.arc_m.contains(&(s + CURVATURE_HALF_WINDOW_M))
+            })
+            .collect();
+        exact.sort_by(f32::total_cmp);
+        assert!(exact.len() > 20, "{}", exact.len());
+        let mut walk = r.curvature_walk();
+        for &s in &exact {
+            assert_eq!(walk.at(s).to_bits(), r.curvature_at(s).to_bits(), "s {s}");
+        }
+        // Asked twice at one arc length: the same.
+        let mut walk = r.curvature_walk();
+        assert_eq!(walk.at(20.0).to_bits(), walk.at(20.0).to_bits());
+    }
 
     #[test]
     fn arc_has_the_right_length_and_curvature() {
