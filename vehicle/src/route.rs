@@ -93,7 +93,12 @@ impl Route {
     }
 
     fn segment_at(&self, s_m: f32) -> usize {
-        self.segment_of_count(self.arc_m.partition_point(|&a| a <= s_m))
+        self.segment_of_count(self.points_up_to(s_m))
+    }
+
+    /// How many of the route's points lie at or before arc length `s_m`.
+    fn points_up_to(&self, s_m: f32) -> usize {
+        self.arc_m.partition_point(|&a| a <= s_m)
     }
 
     /// The point at arc length `s_m`, extrapolated along the end segments beyond the ends.
@@ -131,8 +136,7 @@ impl Route {
     pub fn curvature_walk(&self) -> CurvatureWalk<'_> {
         CurvatureWalk {
             route: self,
-            up_to_a: 0,
-            up_to_b: 0,
+            up_to: None,
         }
     }
 
@@ -255,9 +259,8 @@ impl RouteBuilder {
 pub struct CurvatureWalk<'a> {
     route: &'a Route,
     /// How many of the route's points lie at or before the window's start, and its end, of
-    /// the last arc length asked.
-    up_to_a: usize,
-    up_to_b: usize,
+    /// the last arc length asked; searched for at the first.
+    up_to: Option<(usize, usize)>,
 }
 
 impl CurvatureWalk<'_> {
@@ -266,14 +269,19 @@ impl CurvatureWalk<'_> {
     pub fn at(&mut self, s_m: f32) -> f32 {
         let route = self.route;
         let (a, b) = route.curvature_window(s_m);
-        // The window's ends never move back, so neither do the counts.
-        let count = |up_to: &mut usize, at: f32| {
-            while *up_to < route.arc_m.len() && route.arc_m[*up_to] <= at {
-                *up_to += 1;
+        // The window's ends never move back, so neither do the counts: after the first
+        // search, a few steps on each time.
+        let walk = |mut up_to: usize, at: f32| {
+            while up_to < route.arc_m.len() && route.arc_m[up_to] <= at {
+                up_to += 1;
             }
-            *up_to
+            up_to
         };
-        let (up_to_a, up_to_b) = (count(&mut self.up_to_a, a), count(&mut self.up_to_b, b));
+        let (up_to_a, up_to_b) = match self.up_to {
+            None => (route.points_up_to(a), route.points_up_to(b)),
+            Some((up_to_a, up_to_b)) => (walk(up_to_a, a), walk(up_to_b, b)),
+        };
+        self.up_to = Some((up_to_a, up_to_b));
         if b - a < 1e-3 {
             return 0.0;
         }

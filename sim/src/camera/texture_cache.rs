@@ -16,6 +16,7 @@
 
 use super::textures::{GroundTextures, LAYERS, TEXTURE_SIZE};
 use std::path::{Path, PathBuf};
+use vehicle::fnv1a64;
 
 /// The environment variable that names the cache's parent folder (empty: no cache).
 pub const CACHE_DIR_ENV: &str = "CARFOLLOW_CACHE_DIR";
@@ -84,7 +85,7 @@ fn program_key() -> Option<u64> {
     let mut bytes = exe.as_os_str().as_encoded_bytes().to_vec();
     bytes.extend(meta.len().to_le_bytes());
     bytes.extend(modified.as_nanos().to_le_bytes());
-    Some(fnv1a(&bytes))
+    Some(fnv1a64(&bytes))
 }
 
 /// How many texels level `level` holds, over every layer.
@@ -107,7 +108,7 @@ fn encode(levels: &[Vec<u8>], key: u64, seed: u64) -> Vec<u8> {
     for level in levels {
         out.extend_from_slice(level);
     }
-    let hash = fnv1a(&out);
+    let hash = fnv1a64(&out);
     out.extend(hash.to_le_bytes());
     out
 }
@@ -123,7 +124,7 @@ fn parse(bytes: &[u8], key: u64, seed: u64) -> Option<Vec<Vec<u8>>> {
     if &body[..8] != MAGIC
         || body[8..16] != key.to_le_bytes()
         || body[16..24] != seed.to_le_bytes()
-        || hash != fnv1a(body).to_le_bytes()
+        || hash != fnv1a64(body).to_le_bytes()
     {
         return None;
     }
@@ -166,13 +167,6 @@ fn store(dir: &Path, path: &Path, bytes: &[u8]) -> std::io::Result<()> {
         }
     }
     Ok(())
-}
-
-/// The 64-bit FNV-1a hash.
-fn fnv1a(bytes: &[u8]) -> u64 {
-    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| {
-        (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
-    })
 }
 
 #[cfg(test)]
