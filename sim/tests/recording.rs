@@ -122,6 +122,14 @@ fn frame_ns(k: u64) -> u64 {
     (k * 2_000_000_000 + 15) / 30
 }
 
+/// `/tracker/state`'s `coverage_gain` (the 20th field of `TrackerState`, as the SDK's derive
+/// numbers them).
+#[derive(Clone, PartialEq, prost::Message)]
+struct StateGain {
+    #[prost(double, tag = "20")]
+    coverage_gain: f64,
+}
+
 #[test]
 fn a_recording_reads_back_and_replays_to_the_run_s_estimates() {
     let dir = tempfile::tempdir().unwrap();
@@ -180,6 +188,7 @@ fn a_recording_reads_back_and_replays_to_the_run_s_estimates() {
     // Log times on the simulation clock, frame k at k/15 s; images are 256×242 raw mono8.
     let mut image_times = Vec::new();
     let mut events = Vec::new();
+    let mut gains = Vec::new();
     for m in mcap::MessageStream::new(&bytes).unwrap() {
         let m = m.unwrap();
         match m.channel.topic.as_str() {
@@ -196,9 +205,20 @@ fn a_recording_reads_back_and_replays_to_the_run_s_estimates() {
                 let log = foxglove::messages::Log::decode(&m.data[..]).unwrap();
                 events.push((m.log_time, log.message));
             }
+            "/tracker/state" => {
+                gains.push(
+                    <StateGain as prost::Message>::decode(&m.data[..])
+                        .unwrap()
+                        .coverage_gain,
+                );
+            }
             _ => {}
         }
     }
+    // Every number plots: where the gain was not computed it is NaN, never an infinity.
+    assert_eq!(gains.len() as u64, frames);
+    assert!(gains.iter().all(|g| !g.is_infinite()), "{gains:?}");
+    assert!(gains.iter().any(|g| g.is_nan()), "{gains:?}");
     let expected: Vec<u64> = (0..frames).map(frame_ns).collect();
     assert_eq!(image_times, expected);
     // A 4 s run cannot drive the scenario's distance: the failure is logged at the end.

@@ -46,7 +46,9 @@ pub struct TrackerState {
     pub coverage_h: f64,
     /// The same for vertical features.
     pub coverage_v: f64,
-    /// How much more a small move would cover (−∞ where not computed).
+    /// How much more a small move would cover (NaN where not computed, or where the fit
+    /// jumped too far to be trusted: the tracker's −∞ and +∞, which would upset a plot's
+    /// axis).
     pub coverage_gain: f64,
     /// The edge threshold used, grey levels.
     pub edge_threshold: f64,

@@ -246,6 +246,16 @@ fn finite_or_nan(v: Option<f32>) -> f64 {
     v.map_or(f64::NAN, f64::from)
 }
 
+/// `v`, or NaN where it is not finite: a plot leaves a gap at NaN, where an infinity would
+/// stretch its axis to nothing (`frames.csv` leaves these cells empty).
+fn plottable(v: f64) -> f64 {
+    if v.is_finite() {
+        v
+    } else {
+        f64::NAN
+    }
+}
+
 impl Recorder {
     /// Starts recording the run that `setup` describes: creates the MCAP file and writes its
     /// metadata record, and starts the live view's server (waiting for a client when asked).
@@ -597,7 +607,7 @@ impl Writer {
                 confidence_scale: confidence[2],
                 coverage_h: t.coverage[0],
                 coverage_v: t.coverage[1],
-                coverage_gain: t.coverage_gain,
+                coverage_gain: plottable(t.coverage_gain),
                 edge_threshold: t.edge_threshold,
                 searched: t.searched,
                 event: r.tracker_event.clone(),
