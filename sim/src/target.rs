@@ -207,7 +207,8 @@ pub fn parse(text: &str, path: &Path) -> Result<TargetModel, TargetFileError> {
                 | TargetError::Degenerate { segment, .. }
                 | TargetError::NoLength { segment, .. }
                 | TargetError::NotAxisAligned { segment, .. }
-                | TargetError::Duplicate { segment, .. } => {
+                | TargetError::Duplicate { segment, .. }
+                | TargetError::Overlap { segment, .. } => {
                     ("segments", raw.segments[*segment].span())
                 }
                 TargetError::Underdetermined { .. } => {
@@ -337,6 +338,29 @@ segments = [
             e.contains("t.toml:9:5") && e.contains("segment 4 duplicates segment 0"),
             "{e}"
         );
+    }
+
+    #[test]
+    fn a_segment_along_another_is_named() {
+        // Corner 4 halfway along the top edge, and a segment from it to the top right
+        // corner: it runs along segment 0.
+        let text = GOOD
+            .replace("[-0.8, -0.5]]", "[-0.8, -0.5], [0.0, 0.5]]")
+            .replace("[3, 0],", "[3, 0],\n    [4, 1],");
+        let e = err(&text);
+        assert!(
+            e.contains("t.toml:9:5")
+                && e.contains("segment 4 overlaps segment 0")
+                && e.contains("from 0 m to 0.8 m"),
+            "{e}"
+        );
+        // Meeting end to end at a corner, on one line, is allowed (painted as stripes: a
+        // segment that sticks out bounds no region of steps).
+        let text = GOOD
+            .replace("[-0.8, -0.5]]", "[-0.8, -0.5], [1.2, 0.5]]")
+            .replace("[3, 0],", "[3, 0],\n    [1, 4],")
+            + "paint = \"stripes\"\n";
+        parse(&text, Path::new("t.toml")).unwrap();
     }
 
     #[test]

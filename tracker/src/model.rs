@@ -133,6 +133,27 @@ pub enum TargetError {
         /// Corner b.
         b: usize,
     },
+    /// Two segments lie on one line and share a stretch of it: one boundary would be two
+    /// features (2.1.1: each feature is a strong edge of its own), measured twice over.
+    #[error(
+        "segment {segment} overlaps segment {first}: both lie on the {orientation} line at \
+         {offset_m} m and share it from {from_m} m to {to_m} m (segments may meet at a \
+         corner, not run along each other)"
+    )]
+    Overlap {
+        /// The later segment.
+        segment: usize,
+        /// The earlier one it overlaps.
+        first: usize,
+        /// `horizontal` or `vertical`.
+        orientation: &'static str,
+        /// The line's offset from the centre, metres (y for horizontal, x for vertical).
+        offset_m: f64,
+        /// Where the shared stretch starts along the line, metres.
+        from_m: f64,
+        /// Where it ends.
+        to_m: f64,
+    },
     /// The model cannot determine (c_x, c_y, scale).
     #[error("the model needs at least one horizontal and one vertical segment, and two parallel segments at distinct offsets so that scale can be measured (eq. 16 must have rank 3); it has {horizontal} horizontal and {vertical} vertical segments{detail}")]
     Underdetermined {
@@ -215,6 +236,28 @@ impl TargetModel {
                     by,
                 });
             };
+            if let Some((first, from_m, to_m)) =
+                features
+                    .iter()
+                    .enumerate()
+                    .find_map(|(first, f): (usize, &FeatureM)| {
+                        let from_m = f.extent_m[0].max(feature.extent_m[0]);
+                        let to_m = f.extent_m[1].min(feature.extent_m[1]);
+                        (f.orientation == feature.orientation
+                            && (f.offset_m - feature.offset_m).abs() <= AXIS_TOLERANCE_M
+                            && to_m - from_m > AXIS_TOLERANCE_M)
+                            .then_some((first, from_m, to_m))
+                    })
+            {
+                return Err(TargetError::Overlap {
+                    segment,
+                    first,
+                    orientation: feature.orientation.as_str(),
+                    offset_m: feature.offset_m,
+                    from_m,
+                    to_m,
+                });
+            }
             features.push(feature);
         }
         check_rank(&features)?;

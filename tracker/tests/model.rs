@@ -107,3 +107,37 @@ fn stage8_inverts_the_pinhole_projection() {
         assert!((p[k] - q[k]).abs() < 1e-9, "axis {k}: {} vs {}", p[k], q[k]);
     }
 }
+
+#[test]
+fn segments_along_one_another_are_refused_and_meeting_at_a_corner_is_not() {
+    let c = vec![
+        [-1.0, 0.5],
+        [1.0, 0.5],
+        [1.0, -0.5],
+        [-1.0, -0.5],
+        [0.0, -0.5],
+        [2.0, -0.5],
+    ];
+    // Segment 4 (corner 4 to corner 2) lies on the bottom edge, segment 2.
+    let e = TargetModel::new(
+        "r",
+        10.0,
+        c.clone(),
+        vec![[0, 1], [1, 2], [2, 3], [3, 0], [4, 2]],
+    )
+    .unwrap_err();
+    assert!(
+        matches!(
+            e,
+            TargetError::Overlap {
+                segment: 4,
+                first: 2,
+                orientation: "horizontal",
+                ..
+            }
+        ),
+        "{e}"
+    );
+    // Corner 2 to corner 5 continues the bottom edge beyond corner 2: allowed.
+    TargetModel::new("r", 10.0, c, vec![[0, 1], [1, 2], [2, 3], [3, 0], [2, 5]]).unwrap();
+}
