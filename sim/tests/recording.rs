@@ -443,6 +443,10 @@ fn bad_recordings_and_flags_exit_2_in_one_line() {
         &replay(&rec, &csv, &["--set", "tracker.lambda=7"]),
         "tracker.lambda",
     );
+    // A flag's bad value is named as the flag was given.
+    let o = replay(&rec, &csv, &["--lambda", "1"]);
+    expect_input_error(&o, "--lambda 1: `tracker.lambda` = 1: must be in (0, 1)");
+    assert!(!stderr(&o).contains("--set"), "{}", stderr(&o));
 }
 
 #[test]

@@ -218,19 +218,30 @@ fn replay_recording(args: TrackArgs) -> anyhow::Result<()> {
             );
         }
     }
-    let mut overrides = Vec::new();
+    // Each flag as the setting it changes, and as it was given (errors name the latter).
+    let mut flagged: Vec<(String, String)> = Vec::new();
     if let Some(mode) = &args.mode {
-        overrides.push(format!("tracker.mode={mode}"));
+        flagged.push((format!("tracker.mode={mode}"), format!("--mode {mode}")));
     }
     if let Some(lambda) = args.lambda {
-        overrides.push(format!("tracker.lambda={lambda}"));
+        flagged.push((
+            format!("tracker.lambda={lambda}"),
+            format!("--lambda {lambda}"),
+        ));
     }
     if args.subpixel_edges {
-        overrides.push("tracker.subpixel_edges=true".to_string());
+        flagged.push((
+            "tracker.subpixel_edges=true".to_string(),
+            "--subpixel-edges".to_string(),
+        ));
     }
     if args.rate_hz != 15.0 {
-        overrides.push(format!("tracker.rate_hz={}", args.rate_hz));
+        flagged.push((
+            format!("tracker.rate_hz={}", args.rate_hz),
+            format!("--rate-hz {}", args.rate_hz),
+        ));
     }
+    let mut overrides: Vec<String> = flagged.iter().map(|(o, _)| o.clone()).collect();
     // A flag and a --set of the same setting: one would override the other unseen.
     let key = |a: &String| a.split_once('=').map(|(k, _)| k.trim().to_string());
     for given in &args.set {
@@ -251,7 +262,14 @@ fn replay_recording(args: TrackArgs) -> anyhow::Result<()> {
     let s = match replay(&job) {
         Ok(s) => s,
         Err(e @ ReplayError::Output(_)) => return Err(incomplete(e)),
-        Err(e) => return Err(e.into()),
+        Err(e) => {
+            // A setting a flag changed is named as the flag was given, not as `--set`.
+            let mut message = e.to_string();
+            for (setting, flag) in &flagged {
+                message = message.replace(&format!("--set {setting}:"), &format!("{flag}:"));
+            }
+            return Err(anyhow::anyhow!(message));
+        }
     };
     let agreement = match s.first_difference {
         None => "every estimate equals the recorded one".to_string(),
