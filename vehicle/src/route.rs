@@ -124,9 +124,6 @@ impl Route {
     /// a few metres.
     pub fn curvature_at(&self, s_m: f32) -> f32 {
         let (a, b) = self.curvature_window(s_m);
-        if b - a < 1e-3 {
-            return 0.0;
-        }
         self.curvature_between(a, self.segment_at(a), b, self.segment_at(b))
     }
 
@@ -155,8 +152,11 @@ impl Route {
     }
 
     /// The heading change from arc length `a` (in segment `ia`) to `b` (in `ib`) over the
-    /// distance between them.
+    /// distance between them (0 over a window too short to measure).
     fn curvature_between(&self, a: f32, ia: usize, b: f32, ib: usize) -> f32 {
+        if b - a < 1e-3 {
+            return 0.0;
+        }
         let ha = self.headings[ia];
         let hb = self.headings[ib];
         let mut d = hb - ha;
@@ -282,9 +282,6 @@ impl CurvatureWalk<'_> {
             Some((up_to_a, up_to_b)) => (walk(up_to_a, a), walk(up_to_b, b)),
         };
         self.up_to = Some((up_to_a, up_to_b));
-        if b - a < 1e-3 {
-            return 0.0;
-        }
         route.curvature_between(
             a,
             route.segment_of_count(up_to_a),

@@ -14,7 +14,7 @@
 //! `$HOME/.cache/carfollow/ground-textures`. It keeps the newest [`KEEP`] entries, about
 //! 1 MB each.
 
-use super::textures::{GroundTextures, LAYERS, TEXTURE_SIZE};
+use super::textures::{GroundTextures, LAYERS, LEVEL_COUNT, TEXTURE_SIZE};
 use std::path::{Path, PathBuf};
 use vehicle::fnv1a64;
 
@@ -93,11 +93,6 @@ fn level_len(level: usize) -> usize {
     LAYERS * (TEXTURE_SIZE >> level).pow(2)
 }
 
-/// How many mip levels a layer has.
-fn level_count() -> usize {
-    TEXTURE_SIZE.trailing_zeros() as usize + 1
-}
-
 /// A cache file: the magic, the key, the seed, every level's texels, then the FNV-1a hash
 /// of all that.
 fn encode(levels: &[Vec<u8>], key: u64, seed: u64) -> Vec<u8> {
@@ -115,7 +110,7 @@ fn encode(levels: &[Vec<u8>], key: u64, seed: u64) -> Vec<u8> {
 
 /// The levels a cache file holds, if it is whole and was written for `key` and `seed`.
 fn parse(bytes: &[u8], key: u64, seed: u64) -> Option<Vec<Vec<u8>>> {
-    let lens: Vec<usize> = (0..level_count()).map(level_len).collect();
+    let lens: Vec<usize> = (0..LEVEL_COUNT).map(level_len).collect();
     let body_len = 24 + lens.iter().sum::<usize>();
     if bytes.len() != body_len + 8 {
         return None;
@@ -186,7 +181,7 @@ mod tests {
     fn the_cache_gives_the_generated_texels_written_or_read() {
         let dir = temp_dir("roundtrip");
         let generated = generated_texels(5);
-        assert_eq!(generated.len(), level_count());
+        assert_eq!(generated.len(), LEVEL_COUNT);
         // Written on the first call, read on the second: the same texels both times.
         assert_eq!(texels_cached_in(&dir, 11, 5), generated);
         let files: Vec<_> = std::fs::read_dir(&dir).unwrap().collect();

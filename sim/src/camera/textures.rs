@@ -14,6 +14,8 @@ use rand_chacha::ChaCha8Rng;
 
 /// Side of every layer's finest level, texels.
 pub const TEXTURE_SIZE: usize = 512;
+/// Mip levels of each layer, down to 1×1.
+pub const LEVEL_COUNT: usize = TEXTURE_SIZE.trailing_zeros() as usize + 1;
 
 /// The layers of the texture array, in order.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

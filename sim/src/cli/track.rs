@@ -4,7 +4,7 @@ use super::exit::incomplete;
 use super::paths::same_path;
 use anyhow::Context;
 use clap::Args;
-use sim::recording::{replay, ReplayError, ReplayJob};
+use sim::recording::{replay, ReplayError, ReplayJob, SettingChange};
 use sim::track::{parse_location, run, TrackJob};
 use std::path::PathBuf;
 use tracker::{TrackerConfig, TrackerMode};
@@ -219,39 +219,46 @@ fn replay_recording(args: TrackArgs) -> anyhow::Result<()> {
         }
     }
     // Each flag as the setting it changes, and as it was given (errors name the latter).
-    let mut flagged: Vec<(String, String)> = Vec::new();
+    let flag = |assignment: String, given_as: String| SettingChange {
+        assignment,
+        given_as,
+    };
+    let mut overrides = Vec::new();
     if let Some(mode) = &args.mode {
-        flagged.push((format!("tracker.mode={mode}"), format!("--mode {mode}")));
+        overrides.push(flag(
+            format!("tracker.mode={mode}"),
+            format!("--mode {mode}"),
+        ));
     }
     if let Some(lambda) = args.lambda {
-        flagged.push((
+        overrides.push(flag(
             format!("tracker.lambda={lambda}"),
             format!("--lambda {lambda}"),
         ));
     }
     if args.subpixel_edges {
-        flagged.push((
+        overrides.push(flag(
             "tracker.subpixel_edges=true".to_string(),
             "--subpixel-edges".to_string(),
         ));
     }
     if args.rate_hz != 15.0 {
-        flagged.push((
+        overrides.push(flag(
             format!("tracker.rate_hz={}", args.rate_hz),
             format!("--rate-hz {}", args.rate_hz),
         ));
     }
-    let mut overrides: Vec<String> = flagged.iter().map(|(o, _)| o.clone()).collect();
     // A flag and a --set of the same setting: one would override the other unseen.
-    let key = |a: &String| a.split_once('=').map(|(k, _)| k.trim().to_string());
+    let key = |a: &str| a.split_once('=').map(|(k, _)| k.trim().to_string());
     for given in &args.set {
-        if let Some(flagged) = overrides.iter().find(|o| key(o) == key(given)) {
+        if let Some(flagged) = overrides.iter().find(|o| key(&o.assignment) == key(given)) {
             anyhow::bail!(
-                "--set {given} and the flag that sets `{flagged}` change the same setting; give one"
+                "--set {given} and the flag that sets `{}` change the same setting; give one",
+                flagged.assignment
             );
         }
     }
-    overrides.extend(args.set.iter().cloned());
+    overrides.extend(args.set.iter().map(|s| SettingChange::set(s)));
     let job = ReplayJob {
         input: args.frames_dir.clone(),
         overrides,
@@ -262,14 +269,7 @@ fn replay_recording(args: TrackArgs) -> anyhow::Result<()> {
     let s = match replay(&job) {
         Ok(s) => s,
         Err(e @ ReplayError::Output(_)) => return Err(incomplete(e)),
-        Err(e) => {
-            // A setting a flag changed is named as the flag was given, not as `--set`.
-            let mut message = e.to_string();
-            for (setting, flag) in &flagged {
-                message = message.replace(&format!("--set {setting}:"), &format!("{flag}:"));
-            }
-            return Err(anyhow::anyhow!(message));
-        }
+        Err(e) => return Err(e.into()),
     };
     let agreement = match s.first_difference {
         None => "every estimate equals the recorded one".to_string(),

@@ -31,7 +31,9 @@ pub use messages::{
     ControllerState, GroundTruth, TrackerInput, TrackerInputDecoded, TrackerState,
     TrackerStateDecoded,
 };
-pub use replay::{replay, ReplayError, ReplayJob, ReplaySummary, Tape, REPLAY_CSV_COLUMNS};
+pub use replay::{
+    replay, ReplayError, ReplayJob, ReplaySummary, SettingChange, Tape, REPLAY_CSV_COLUMNS,
+};
 pub use writer::{LiveOptions, RecordError, Recorder, RecorderOptions};
 
 use crate::closed_loop::ClosedLoop;

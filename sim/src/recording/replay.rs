@@ -11,7 +11,7 @@ use super::messages::{TrackerInputDecoded, TrackerStateDecoded};
 use super::{topics, ReplaySetup, METADATA_NAME};
 use crate::camera::shift_noise;
 use crate::overlay;
-use crate::scenario::Scenario;
+use crate::scenario::{Scenario, ScenarioError};
 use foxglove::messages::{CompressedImage, RawImage};
 use foxglove::Decode;
 use image::GrayImage;
@@ -74,15 +74,36 @@ pub enum ReplayError {
 pub struct ReplayJob {
     /// The recording.
     pub input: PathBuf,
-    /// Changes to the tracker's settings, as `--set` takes them (`tracker.lambda=0.7`);
-    /// only `tracker.*` fields, and not `tracker.target`.
-    pub overrides: Vec<String>,
+    /// Changes to the tracker's settings; only `tracker.*` fields, and not
+    /// `tracker.target`.
+    pub overrides: Vec<SettingChange>,
     /// The CSV to write.
     pub out_csv: PathBuf,
     /// Where to write each frame with the overlay, if anywhere.
     pub overlay_dir: Option<PathBuf>,
     /// Show a progress bar (on a terminal).
     pub progress: bool,
+}
+
+/// A change to a recording's tracker settings: the assignment, as `--set` takes it
+/// (`tracker.lambda=0.7`), and how the user gave it (a flag as typed, e.g. `--lambda 0.7`,
+/// or the `--set` itself), which is what errors about it name.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SettingChange {
+    /// `key=value`.
+    pub assignment: String,
+    /// As given on the command line.
+    pub given_as: String,
+}
+
+impl SettingChange {
+    /// A change given as `--set assignment`.
+    pub fn set(assignment: &str) -> SettingChange {
+        SettingChange {
+            assignment: assignment.to_string(),
+            given_as: format!("--set {assignment}"),
+        }
+    }
 }
 
 /// What a replay did.
@@ -126,23 +147,40 @@ fn bad(path: &Path, message: impl std::fmt::Display) -> ReplayError {
 impl Tape {
     /// Rebuilds the run's scenario from the recording's `setup`, with `overrides` (tracker
     /// settings only).
-    pub fn new(path: &Path, setup: ReplaySetup, overrides: &[String]) -> Result<Tape, ReplayError> {
-        for o in overrides {
-            let key = o.split('=').next().unwrap_or("").trim();
+    pub fn new(
+        path: &Path,
+        setup: ReplaySetup,
+        changes: &[SettingChange],
+    ) -> Result<Tape, ReplayError> {
+        for c in changes {
+            let key = c.assignment.split('=').next().unwrap_or("").trim();
             if !key.starts_with("tracker.") || key == "tracker.target" {
                 return Err(ReplayError::BadInput(format!(
-                    "--set {o}: replay changes tracker settings only (tracker.*, not \
-                     tracker.target): the rest of the run is on the tape"
+                    "{}: replay changes tracker settings only (tracker.*, not \
+                     tracker.target): the rest of the run is on the tape",
+                    c.given_as
                 )));
             }
         }
+        let overrides: Vec<String> = changes.iter().map(|c| c.assignment.clone()).collect();
         let where_ = PathBuf::from(format!("{}#resolved_scenario", path.display()));
         let target_text = setup.target_toml.clone();
         let target_path = PathBuf::from(format!("{}#target", path.display()));
-        let scenario = Scenario::parse(&setup.resolved_toml, &where_, overrides, |_| {
+        let scenario = Scenario::parse(&setup.resolved_toml, &where_, &overrides, |_| {
             crate::target::parse(&target_text, &target_path)
         })
-        .map_err(|e| ReplayError::BadInput(e.to_string()))?;
+        .map_err(|e| match e {
+            // Named as the user gave it.
+            ScenarioError::Override {
+                assignment,
+                message,
+            } => {
+                let given = changes.iter().find(|c| c.assignment == assignment);
+                let given_as = given.map_or(format!("--set {assignment}"), |c| c.given_as.clone());
+                ReplayError::BadInput(format!("{given_as}: {message}"))
+            }
+            e => ReplayError::BadInput(e.to_string()),
+        })?;
         // Run as recorded, the tracker starts where it did; a changed placement error moves
         // that start by the change.
         let recorded = Scenario::parse(&setup.resolved_toml, &where_, &[], |_| {
