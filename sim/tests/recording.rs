@@ -436,6 +436,10 @@ fn bad_recordings_and_flags_exit_2_in_one_line() {
         "--target is for folders of frames",
     );
     expect_input_error(
+        &replay(&rec, &csv, &["--rate-hz", "30"]),
+        "--rate-hz is for folders of frames",
+    );
+    expect_input_error(
         &replay(&rec, &csv, &["--set", "duration_s=3"]),
         "tracker settings only",
     );

@@ -47,9 +47,10 @@ pub struct TrackArgs {
     /// Forgetting factor λ of the motion model (0 < λ < 1).
     #[arg(long, allow_hyphen_values = true)]
     pub lambda: Option<f64>,
-    /// Frame rate, Hz: frame k is at k / rate seconds.
-    #[arg(long, default_value_t = 15.0)]
-    pub rate_hz: f64,
+    /// Frame rate, Hz: frame k is at k / rate seconds (default 15; frames only: a recording
+    /// carries its frames' times).
+    #[arg(long)]
+    pub rate_hz: Option<f64>,
     /// Image centre CX,CY in pixels (default: the middle of the frame).
     #[arg(long, allow_hyphen_values = true)]
     pub center: Option<String>,
@@ -167,7 +168,7 @@ pub fn run_track(args: TrackArgs) -> anyhow::Result<()> {
         }
     };
     let mut config = TrackerConfig {
-        rate_hz: args.rate_hz,
+        rate_hz: args.rate_hz.unwrap_or(15.0),
         subpixel_edges: args.subpixel_edges,
         mode,
         ..TrackerConfig::default()
@@ -210,10 +211,12 @@ fn replay_recording(args: TrackArgs) -> anyhow::Result<()> {
         ("--focal-px", args.focal_px.is_some()),
         ("--init", args.init.is_some()),
         ("--center", args.center.is_some()),
+        ("--rate-hz", args.rate_hz.is_some()),
     ] {
         if given {
             anyhow::bail!(
-                "{}: {flag} is for folders of frames: a recording carries its target, camera and start",
+                "{}: {flag} is for folders of frames: a recording carries its target, camera, \
+                 start and frame times",
                 args.frames_dir.display()
             );
         }
@@ -240,12 +243,6 @@ fn replay_recording(args: TrackArgs) -> anyhow::Result<()> {
         overrides.push(flag(
             "tracker.subpixel_edges=true".to_string(),
             "--subpixel-edges".to_string(),
-        ));
-    }
-    if args.rate_hz != 15.0 {
-        overrides.push(flag(
-            format!("tracker.rate_hz={}", args.rate_hz),
-            format!("--rate-hz {}", args.rate_hz),
         ));
     }
     // A flag and a --set of the same setting: one would override the other unseen.
