@@ -57,8 +57,9 @@ pub enum LoopError {
     /// The renderer failed.
     #[error(transparent)]
     Render(#[from] RenderError),
-    /// The render worker process failed.
-    #[error("the render worker process: {0}")]
+    /// The second renderer (a thread with a llvmpipe of its own, or a worker process)
+    /// failed.
+    #[error("the second renderer: {0}")]
     Worker(String),
 }
 

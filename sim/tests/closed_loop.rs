@@ -8,6 +8,7 @@
 use sim::camera::Backend;
 use sim::closed_loop::ClosedLoop;
 use sim::record::FrameRecord;
+use sim::render_worker::RemoteRenderer;
 use sim::scenario::Scenario;
 
 fn run(overrides: &[&str]) -> Vec<FrameRecord> {
@@ -133,6 +134,57 @@ fn two_frames_in_flight_change_nothing() {
     }
     assert_eq!(two.len(), 75);
     assert_eq!(two, run_with(&set, false));
+}
+
+/// Every frame's record and whole image, on one renderer or with the second renderer on a
+/// thread of this process (its own llvmpipe, on Mesa's software EGL device).
+fn frames_with(set: &[&str], second_on_thread: bool) -> Vec<(FrameRecord, Vec<u8>)> {
+    let overrides: Vec<String> = set.iter().map(|s| s.to_string()).collect();
+    let scenario = Scenario::builtin(&overrides).unwrap();
+    let mut l = ClosedLoop::new(&scenario, Backend::Gl, false).unwrap();
+    l.set_whole_frames(true);
+    if second_on_thread {
+        let started = RemoteRenderer::spawn_thread(scenario.clone(), Backend::Gl).unwrap();
+        assert!(l.add_started_render_worker(started).unwrap());
+        assert_eq!(l.frames_in_flight(), 2);
+    }
+    let mut frames = Vec::new();
+    while let Some(out) = l.step().unwrap() {
+        frames.push((out.record, out.image.into_raw()));
+    }
+    frames
+}
+
+#[test]
+fn a_second_renderer_on_a_thread_draws_the_same_frames() {
+    let set = ["duration_s=3", "environment.sensor.noise_sigma_grey=4"];
+    let one = frames_with(&set, false);
+    let two = frames_with(&set, true);
+    assert_eq!(one.len(), 45);
+    assert_eq!(two.len(), one.len());
+    for (k, (a, b)) in one.iter().zip(&two).enumerate() {
+        assert_eq!(a.0, b.0, "frame {k}'s record");
+        assert!(a.1 == b.1, "frame {k}'s pixels differ");
+    }
+}
+
+#[test]
+fn a_second_renderer_on_a_thread_is_gl_only() {
+    let scenario = Scenario::builtin(&["duration_s=1".to_string()]).unwrap();
+    let mut l = builtin_loop(&["duration_s=1"]);
+    let started = RemoteRenderer::spawn_thread(scenario, Backend::Vulkan).unwrap();
+    let err = l
+        .add_started_render_worker(started)
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("gl only"), "{err}");
+    // The loop runs on its one renderer, as it would have.
+    assert_eq!(l.frames_in_flight(), 1);
+    let mut records = Vec::new();
+    while let Some(out) = l.step().unwrap() {
+        records.push(out.record);
+    }
+    assert_eq!(records, run(&["duration_s=1"]));
 }
 
 #[test]

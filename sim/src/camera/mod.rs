@@ -12,6 +12,7 @@ mod renderer;
 mod rig;
 mod sensor;
 mod shadow_tiles;
+mod software_device;
 mod texture_cache;
 mod textures;
 
@@ -21,4 +22,5 @@ pub use occlusion::target_occluded;
 pub use renderer::{ground_truth_of, DrawStats, RenderError, RenderOptions, Renderer};
 pub use rig::{CameraRig, FAR_M, NEAR_M};
 pub use sensor::{apply_sensor, blur_reach_px, shift_noise};
+pub(crate) use software_device::SoftwareContext;
 pub use textures::{GroundTextures, TextureLayer, LAYERS, TEXTURE_SIZE, TILE_M};

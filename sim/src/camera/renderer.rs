@@ -207,6 +207,9 @@ pub struct Renderer {
     rig: CameraRig,
     options: RenderOptions,
     adapter_name: String,
+    /// Whether it renders on wgpu's own display, whose one rasteriser every such renderer
+    /// of the process shares (see [`gl_lock`]), rather than on a display of its own.
+    shares_display: bool,
     device: wgpu::Device,
     queue: wgpu::Queue,
     shadow_pipeline: wgpu::RenderPipeline,
@@ -285,6 +288,29 @@ impl Renderer {
         rig: CameraRig,
         options: &RenderOptions,
     ) -> Result<Renderer, RenderError> {
+        Self::open(scene, rig, options, None)
+    }
+
+    /// A renderer on an OpenGL context of the caller's that is current on this thread (wgpu's
+    /// external adapter; `proc_address` gives its entry points): for a second llvmpipe in
+    /// this process on a display of its own (see `software_device`), which renders
+    /// alongside renderers on wgpu's display. The renderer must be used and dropped on this
+    /// thread, with the context still current. `options.backend` must be GL.
+    pub(crate) fn on_current_gl(
+        scene: &Scene,
+        rig: CameraRig,
+        options: &RenderOptions,
+        proc_address: &dyn Fn(&str) -> *const std::ffi::c_void,
+    ) -> Result<Renderer, RenderError> {
+        Self::open(scene, rig, options, Some(proc_address))
+    }
+
+    fn open(
+        scene: &Scene,
+        rig: CameraRig,
+        options: &RenderOptions,
+        external_gl: Option<&dyn Fn(&str) -> *const std::ffi::c_void>,
+    ) -> Result<Renderer, RenderError> {
         if ![1, 4].contains(&options.msaa_samples) {
             return Err(RenderError::Options(format!(
                 "msaa_samples must be 1 or 4, got {}",
@@ -298,23 +324,43 @@ impl Renderer {
             )));
         }
         let backend = options.backend;
-        let _one_at_a_time = gl_lock();
+        if external_gl.is_some() && backend != Backend::Gl {
+            return Err(RenderError::Options(format!(
+                "an external OpenGL context needs the gl backend, not {backend}"
+            )));
+        }
+        // A renderer on a display of its own shares no rasteriser with the others.
+        let shares_display = external_gl.is_none();
+        let _one_at_a_time = shares_display.then(gl_lock);
 
         // Instance, adapter and device on exactly the chosen backend.
         let mut instance_descriptor = wgpu::InstanceDescriptor::new_without_display_handle();
         instance_descriptor.backends = backend.wgpu_backends();
         instance_descriptor.flags = wgpu::InstanceFlags::from_build_config().with_env();
         let instance = wgpu::Instance::new(instance_descriptor);
-        let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
-            power_preference: wgpu::PowerPreference::HighPerformance,
-            force_fallback_adapter: false,
-            compatible_surface: None,
-            apply_limit_buckets: false,
-        }))
-        .map_err(|_| BackendError::NoAdapter {
+        let no_adapter = || BackendError::NoAdapter {
             backend,
             hint: backend.install_hint(),
-        })?;
+        };
+        let adapter = match external_gl {
+            None => pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
+                power_preference: wgpu::PowerPreference::HighPerformance,
+                force_fallback_adapter: false,
+                compatible_surface: None,
+                apply_limit_buckets: false,
+            }))
+            .map_err(|_| no_adapter())?,
+            Some(proc_address) => {
+                // SAFETY: the caller's context is current on this thread, and stays so for
+                // as long as this renderer lives (see `on_current_gl`).
+                let exposed = unsafe {
+                    wgpu::hal::gles::Adapter::new_external(proc_address, Default::default())
+                }
+                .ok_or_else(no_adapter)?;
+                // SAFETY: a GLES adapter belongs to no instance's handle.
+                unsafe { instance.create_adapter_from_hal(exposed) }
+            }
+        };
         let adapter_name = format!(
             "{} ({:?})",
             adapter.get_info().name,
@@ -845,6 +891,7 @@ impl Renderer {
             rig,
             options: options.clone(),
             adapter_name,
+            shares_display,
             device,
             queue,
             shadow_pipeline,
@@ -927,7 +974,7 @@ impl Renderer {
         input: &FrameInput,
         needed: Option<PixelRect>,
     ) -> Result<Frame, RenderError> {
-        let _one_at_a_time = gl_lock();
+        let _one_at_a_time = self.shares_display.then(gl_lock);
         self.render_part_locked(input, needed)
     }
 

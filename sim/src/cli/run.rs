@@ -266,12 +266,13 @@ fn run_one(
     // The scenario is validated: from here on, whatever stops the run is not bad input.
     let recording = recorder_options(dir, args);
     let record = recording.mcap.is_some() || recording.live.is_some();
-    // The render worker starts first, so that it sets up while this process does.
-    let worker = if renderers(args) == 2 && ClosedLoop::renders_ahead(scenario) {
+    // The second renderer starts first, so that it sets up while the loop does: on a thread
+    // of this process with a llvmpipe of its own (Mesa's software EGL device), or, where
+    // that cannot be had (another backend, no such device), in a worker process.
+    let two = renderers(args) == 2 && ClosedLoop::renders_ahead(scenario);
+    let worker_process = || -> anyhow::Result<Command> {
         let mut command = Command::new(
-            std::env::current_exe()
-                .context("cannot find this program to start a renderer")
-                .map_err(incomplete)?,
+            std::env::current_exe().context("cannot find this program to start a renderer")?,
         );
         command.arg("render-worker");
         if let Some(path) = &scenario.path {
@@ -281,9 +282,14 @@ fn run_one(
             command.arg("--set").arg(set);
         }
         command.arg("--backend").arg(backend.to_string());
-        Some(RemoteRenderer::spawn(command))
-    } else {
+        Ok(command)
+    };
+    let second = if !two {
         None
+    } else if backend == Backend::Gl {
+        Some(RemoteRenderer::spawn_thread(scenario.clone(), backend))
+    } else {
+        Some(RemoteRenderer::spawn(worker_process().map_err(incomplete)?))
     };
     // The recording draws the overlay too, so it needs the edges' fates.
     let mut looped =
@@ -291,10 +297,17 @@ fn run_one(
     // Only the video and the recording look at the frames: otherwise only the part the
     // tracker reads is rendered.
     looped.set_whole_frames(args.video || record);
-    if let Some(worker) = worker {
-        let added = worker
+    if let Some(second) = second {
+        let on_thread = backend == Backend::Gl;
+        let mut added = second
             .map_err(LoopError::Worker)
             .and_then(|w| looped.add_started_render_worker(w));
+        if on_thread && added.is_err() {
+            // No second llvmpipe here: a worker process instead.
+            added = worker_process()
+                .map_err(|e| LoopError::Worker(e.to_string()))
+                .and_then(|command| looped.add_render_worker(command));
+        }
         if let Err(e) = added {
             eprintln!("warning: {e}; rendering one frame at a time");
         }
