@@ -6,7 +6,8 @@
 //! only take turns with the first. On the GL backend the second renderer is a thread with an
 //! OpenGL context on Mesa's software EGL device, a display (and a llvmpipe) of its own
 //! ([`RemoteRenderer::spawn_thread`]; see `camera::software_device`). Where that cannot be
-//! had (another backend, an EGL without that device), it is a worker process
+//! had (another backend, an EGL without that device, or a loop whose own renderer is not
+//! llvmpipe, whose frames a llvmpipe's would not match), it is a worker process
 //! ([`RemoteRenderer::spawn`], `carfollow render-worker`), which renders alongside as well.
 //! The thread is the faster: its frames come and go over channels, not pipes
 //! (`nist-grounds` ran 1.06× as fast, 8 alternating pairs), and the run is one process.
@@ -216,7 +217,10 @@ enum Link {
 struct ThreadLink {
     jobs: Option<Sender<(FrameInput, PixelRect)>>,
     done: Receiver<Result<Frame, String>>,
-    hello: Receiver<Result<u64, String>>,
+    /// The renderer's fingerprint and its adapter, once it is set up.
+    hello: Receiver<Result<(u64, String), String>>,
+    /// Its adapter, once [`StartedWorker::ready`] has it.
+    adapter: Option<String>,
     thread: Option<JoinHandle<()>>,
 }
 
@@ -285,11 +289,12 @@ impl RemoteRenderer {
                         )
                         .map_err(|e| e.to_string())?;
                         let print = fingerprint(setup.scene.description(), &setup.rig, &options);
-                        Ok((renderer, print))
+                        let adapter = renderer.adapter_name().to_string();
+                        Ok((renderer, (print, adapter)))
                     });
                 let mut renderer = match opened {
-                    Ok((renderer, print)) => {
-                        let _ = greet.send(Ok(print));
+                    Ok((renderer, hello)) => {
+                        let _ = greet.send(Ok(hello));
                         renderer
                     }
                     Err(e) => {
@@ -315,6 +320,7 @@ impl RemoteRenderer {
                 jobs: Some(jobs),
                 done,
                 hello,
+                adapter: None,
                 thread: Some(thread),
             }),
         })
@@ -335,10 +341,14 @@ impl StartedWorker {
                     .map_err(|e| format!("it did not start: {e}"))?;
                 u64::from_le_bytes(hello)
             }
-            Link::Thread(thread) => thread
-                .hello
-                .recv()
-                .map_err(|_| "its thread stopped".to_string())??,
+            Link::Thread(thread) => {
+                let (print, adapter) = thread
+                    .hello
+                    .recv()
+                    .map_err(|_| "its thread stopped".to_string())??;
+                thread.adapter = Some(adapter);
+                print
+            }
         };
         if got != expected {
             return Err(format!(
@@ -354,6 +364,16 @@ impl StartedWorker {
 }
 
 impl RemoteRenderer {
+    /// The adapter the second renderer renders on, when it is a thread of this process
+    /// (always Mesa's llvmpipe); `None` for a worker process, which chooses its adapter as
+    /// the loop does.
+    pub fn adapter_name(&self) -> Option<&str> {
+        match &self.link {
+            Link::Process(_) => None,
+            Link::Thread(thread) => thread.adapter.as_deref(),
+        }
+    }
+
     /// Sends a frame to render, only the part `needed` of it if given (see
     /// [`Renderer::render_part`]); its answer comes from [`RemoteRenderer::receive`].
     pub fn submit(&mut self, input: &FrameInput, needed: Option<PixelRect>) -> Result<(), String> {
