@@ -10,7 +10,10 @@
 //! llvmpipe, whose frames a llvmpipe's would not match), it is a worker process
 //! ([`RemoteRenderer::spawn`], `carfollow render-worker`), which renders alongside as well.
 //! The thread is the faster: its frames come and go over channels, not pipes
-//! (`nist-grounds` ran 1.06× as fast, 8 alternating pairs), and the run is one process.
+//! (`nist-grounds` ran 1.06× as fast, 8 alternating pairs), and the run is one process. What
+//! it gives up is isolation: a crash inside the driver on the thread ends the run (its
+//! `frames.csv` rows are flushed as they are written), where a worker process's crash ended
+//! only the worker, and the run with a one-line error.
 //!
 //! **Why two frames can be in flight.** The physics from frame k to k + 1 needs only the
 //! estimates of frames up to k − 1 (none arrives sooner than one frame after its capture:
