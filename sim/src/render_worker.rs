@@ -445,6 +445,58 @@ impl RemoteRenderer {
 mod tests {
     use super::*;
 
+    /// Two second renderers on threads share the software device's one display (they take
+    /// turns), draw the frames a renderer on wgpu's display draws, and one's end leaves the
+    /// other working.
+    #[test]
+    fn second_renderers_on_threads_draw_the_frames_drawn_here() {
+        use crate::scene::builtin_poses;
+        let scenario = Scenario::builtin(&["seed=4".to_string()]).expect("scenario");
+        let setup = CameraSetup::new(&scenario).expect("setup");
+        let options = render_options(Backend::Gl);
+        let print = fingerprint(setup.scene.description(), &setup.rig, &options);
+        let start = || {
+            RemoteRenderer::spawn_thread(scenario.clone(), Backend::Gl)
+                .and_then(|started| started.ready(print, &setup.rig))
+                .expect("a second renderer on a thread")
+        };
+        let (mut one, mut two) = (start(), start());
+        assert_eq!(one.adapter_name(), two.adapter_name());
+        let mut here = Renderer::new(&setup.scene, setup.rig.clone(), &options).expect("here");
+        let part = PixelRect {
+            x0: 90,
+            y0: 80,
+            x1: 170,
+            y1: 150,
+        };
+        let input = |k: u64| {
+            let time_s = k as f64 / 15.0;
+            let (chase, lead) = builtin_poses(
+                setup.scene.description(),
+                setup.scene.route(),
+                &setup.rig.mount,
+                time_s,
+            );
+            FrameInput::fixed_camera(k, time_s, chase, lead)
+        };
+        for (k, part) in [(20, None), (21, Some(part)), (22, Some(part))] {
+            let input = input(k);
+            // Both in flight at once, on their two threads.
+            one.submit(&input, part).expect("sent");
+            two.submit(&input, part).expect("sent");
+            let expected = here.render_part(&input, part).expect("frame here");
+            assert_eq!(one.receive().expect("frame"), expected, "frame {k}, first");
+            assert_eq!(two.receive().expect("frame"), expected, "frame {k}, second");
+        }
+        drop(one);
+        let input = input(23);
+        two.submit(&input, None).expect("sent");
+        assert_eq!(
+            two.receive().expect("frame after the other ended"),
+            here.render(&input).expect("frame here")
+        );
+    }
+
     #[test]
     fn requests_round_trip_bit_for_bit() {
         let pose = |a: f64, t: [f64; 3]| {

@@ -207,9 +207,9 @@ pub struct Renderer {
     rig: CameraRig,
     options: RenderOptions,
     adapter_name: String,
-    /// Whether it renders on wgpu's own display, whose one rasteriser every such renderer
-    /// of the process shares (see [`gl_lock`]), rather than on a display of its own.
-    shares_display: bool,
+    /// Whether it renders on a context of the caller's (Mesa's software device) rather than
+    /// on wgpu's own display: which renderers it takes turns with (see [`display_lock`]).
+    external: bool,
     device: wgpu::Device,
     queue: wgpu::Queue,
     shadow_pipeline: wgpu::RenderPipeline,
@@ -329,9 +329,8 @@ impl Renderer {
                 "an external OpenGL context needs the gl backend, not {backend}"
             )));
         }
-        // A renderer on a display of its own shares no rasteriser with the others.
-        let shares_display = external_gl.is_none();
-        let _one_at_a_time = shares_display.then(gl_lock);
+        let external = external_gl.is_some();
+        let _one_at_a_time = display_lock(external);
 
         // Instance, adapter and device on exactly the chosen backend.
         let mut instance_descriptor = wgpu::InstanceDescriptor::new_without_display_handle();
@@ -891,7 +890,7 @@ impl Renderer {
             rig,
             options: options.clone(),
             adapter_name,
-            shares_display,
+            external,
             device,
             queue,
             shadow_pipeline,
@@ -974,11 +973,11 @@ impl Renderer {
         input: &FrameInput,
         needed: Option<PixelRect>,
     ) -> Result<Frame, RenderError> {
-        let _one_at_a_time = self.shares_display.then(gl_lock);
+        let _one_at_a_time = display_lock(self.external);
         self.render_part_locked(input, needed)
     }
 
-    /// [`Renderer::render_part`], with [`gl_lock`] held.
+    /// [`Renderer::render_part`], with [`display_lock`] held.
     fn render_part_locked(
         &mut self,
         input: &FrameInput,
@@ -1853,16 +1852,25 @@ impl Uniforms {
     }
 }
 
-/// One renderer of this process at a time. Mesa's llvmpipe rasterises every GL context of a
-/// process on one shared rasteriser, so two renderers on two threads only take turns anyway
-/// (which is why `run`'s second renderer is a process of its own); but unserialised, its
-/// shared scene lists race: test binaries that ran closed loops on two threads died of a
-/// segmentation fault inside `swrast_dri.so`, now and then, under load. Held while a frame is
-/// submitted and read back, and while a device is created.
-fn gl_lock() -> std::sync::MutexGuard<'static, ()> {
-    static LOCK: std::sync::Mutex<()> = std::sync::Mutex::new(());
+/// One renderer of a display at a time. Mesa's llvmpipe rasterises every GL context of an
+/// EGL display on one shared rasteriser, so two renderers of one display on two threads
+/// only take turns anyway; but unserialised, its shared scene lists race: test binaries that
+/// ran closed loops on two threads died of a segmentation fault inside `swrast_dri.so`, now
+/// and then, under load. Renderers on wgpu's own display (`external` false) take one lock,
+/// those on contexts of the caller's (Mesa's software EGL device, one display too: see
+/// `software_device`) the other, so one of each renders alongside the other, as `run`'s
+/// two renderers do. Held while a frame is submitted and read back, and while a device is
+/// created.
+fn display_lock(external: bool) -> std::sync::MutexGuard<'static, ()> {
+    static WGPU_DISPLAY: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    static SOFTWARE_DEVICE: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    let lock = if external {
+        &SOFTWARE_DEVICE
+    } else {
+        &WGPU_DISPLAY
+    };
     // A renderer that panicked holding it left nothing half-done that the lock protects.
-    LOCK.lock()
+    lock.lock()
         .unwrap_or_else(std::sync::PoisonError::into_inner)
 }
 

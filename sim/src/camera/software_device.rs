@@ -7,7 +7,8 @@
 //! one on wgpu's display, on another thread of the same process. wgpu takes such a context
 //! as an external adapter, which must be current whenever wgpu calls GL for it, so a
 //! [`SoftwareContext`] is made current on the thread that opens it, and everything made
-//! from it stays on that thread.
+//! from it stays on that thread. The device has one display, so two such contexts in a
+//! process share its rasteriser: their renderers take turns (`renderer::display_lock`).
 //!
 //! The context is the one wgpu makes for itself on Mesa's surfaceless display (desktop
 //! OpenGL 3.3 with robust access), on the same driver, so its frames are the same bit for
@@ -86,19 +87,13 @@ impl SoftwareContext {
                 .map_err(|e| format!("the software device's display: {e}"))?;
         egl.initialize(display)
             .map_err(|e| format!("the software device's display: {e}"))?;
-        let opened = Self::context_on(&egl, display);
-        match opened {
-            Ok(context) => Ok(SoftwareContext {
-                egl,
-                display,
-                context,
-                _not_send: std::marker::PhantomData,
-            }),
-            Err(e) => {
-                let _ = egl.terminate(display);
-                Err(e)
-            }
-        }
+        let context = Self::context_on(&egl, display)?;
+        Ok(SoftwareContext {
+            egl,
+            display,
+            context,
+            _not_send: std::marker::PhantomData,
+        })
     }
 
     /// wgpu's own context on Mesa: desktop OpenGL 3.3, robust access; made current.
@@ -151,9 +146,10 @@ impl SoftwareContext {
 }
 
 impl Drop for SoftwareContext {
+    /// Releases and destroys the context. The display stays initialised: EGL gives every
+    /// caller the one display of the device, so another context of this process may be on it.
     fn drop(&mut self) {
         let _ = self.egl.make_current(self.display, None, None, None);
         let _ = self.egl.destroy_context(self.display, self.context);
-        let _ = self.egl.terminate(self.display);
     }
 }
