@@ -848,21 +848,7 @@ impl ClosedLoop {
             let first = self.submit()?;
             self.in_flight.push_back(first);
         }
-        match worker.ready(self.fingerprint, &self.rig) {
-            // A thread's renderer is llvmpipe: a loop rendering on another GL driver (a GPU)
-            // would get frames of two drivers.
-            Ok(remote)
-                if remote
-                    .adapter_name()
-                    .is_some_and(|a| a != self.adapter_name) =>
-            {
-                let other = remote.adapter_name().unwrap_or_default().to_string();
-                self.take_back_first_frame();
-                Err(LoopError::Worker(format!(
-                    "it renders on {other}, the loop on {}",
-                    self.adapter_name
-                )))
-            }
+        match worker.ready(self.fingerprint, &self.adapter_name, &self.rig) {
             Ok(remote) => {
                 self.remote = Some(remote);
                 Ok(true)

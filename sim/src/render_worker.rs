@@ -246,7 +246,7 @@ impl RemoteRenderer {
         expected: u64,
         rig: &CameraRig,
     ) -> Result<RemoteRenderer, String> {
-        Self::spawn(command)?.ready(expected, rig)
+        Self::spawn(command)?.ready(expected, "", rig)
     }
 
     /// Starts `command` (see [`RemoteRenderer::start`]) without waiting for it to set up.
@@ -332,8 +332,15 @@ impl RemoteRenderer {
 
 impl StartedWorker {
     /// Waits for the second renderer to set up, and checks that it renders the scene of
-    /// `expected` fingerprint at `rig`'s size.
-    pub fn ready(self, expected: u64, rig: &CameraRig) -> Result<RemoteRenderer, String> {
+    /// `expected` fingerprint at `rig`'s size, and, on a thread (always llvmpipe), on the
+    /// loop's adapter `adapter`: a loop on another GL driver (a GPU) would get frames of two
+    /// drivers. A worker process chooses its adapter as the loop does.
+    pub fn ready(
+        self,
+        expected: u64,
+        adapter: &str,
+        rig: &CameraRig,
+    ) -> Result<RemoteRenderer, String> {
         let mut link = self.link;
         let got = match &mut link {
             Link::Process(child) => {
@@ -345,11 +352,14 @@ impl StartedWorker {
                 u64::from_le_bytes(hello)
             }
             Link::Thread(thread) => {
-                let (print, adapter) = thread
+                let (print, its) = thread
                     .hello
                     .recv()
                     .map_err(|_| "its thread stopped".to_string())??;
-                thread.adapter = Some(adapter);
+                if its != adapter {
+                    return Err(format!("it renders on {its}, the loop on {adapter}"));
+                }
+                thread.adapter = Some(its);
                 print
             }
         };
@@ -455,14 +465,15 @@ mod tests {
         let setup = CameraSetup::new(&scenario).expect("setup");
         let options = render_options(Backend::Gl);
         let print = fingerprint(setup.scene.description(), &setup.rig, &options);
+        let mut here = Renderer::new(&setup.scene, setup.rig.clone(), &options).expect("here");
+        let adapter = here.adapter_name().to_string();
         let start = || {
             RemoteRenderer::spawn_thread(scenario.clone(), Backend::Gl)
-                .and_then(|started| started.ready(print, &setup.rig))
+                .and_then(|started| started.ready(print, &adapter, &setup.rig))
                 .expect("a second renderer on a thread")
         };
         let (mut one, mut two) = (start(), start());
         assert_eq!(one.adapter_name(), two.adapter_name());
-        let mut here = Renderer::new(&setup.scene, setup.rig.clone(), &options).expect("here");
         let part = PixelRect {
             x0: 90,
             y0: 80,

@@ -270,6 +270,7 @@ fn run_one(
     // of this process with a llvmpipe of its own (Mesa's software EGL device), or, where
     // that cannot be had (another backend, no such device), in a worker process.
     let two = renderers(args) == 2 && ClosedLoop::renders_ahead(scenario);
+    let on_thread = backend == Backend::Gl;
     let worker_process = || -> anyhow::Result<Command> {
         let mut command = Command::new(
             std::env::current_exe().context("cannot find this program to start a renderer")?,
@@ -286,7 +287,7 @@ fn run_one(
     };
     let second = if !two {
         None
-    } else if backend == Backend::Gl {
+    } else if on_thread {
         Some(RemoteRenderer::spawn_thread(scenario.clone(), backend))
     } else {
         Some(RemoteRenderer::spawn(worker_process().map_err(incomplete)?))
@@ -298,7 +299,6 @@ fn run_one(
     // tracker reads is rendered.
     looped.set_whole_frames(args.video || record);
     if let Some(second) = second {
-        let on_thread = backend == Backend::Gl;
         let mut added = second
             .map_err(LoopError::Worker)
             .and_then(|w| looped.add_started_render_worker(w));
