@@ -210,6 +210,28 @@ fn bad_arguments_exit_2_with_one_line() {
     }
 }
 
+/// `check` without files checks what `run` without files runs, the built-in scenario with
+/// its overrides: it accepts what `run` runs and refuses, with the same one line and exit
+/// status, what `run` refuses.
+#[test]
+fn check_without_files_checks_the_built_in_scenario() {
+    let out = carfollow(&["check"]);
+    assert_eq!(out.status.code(), Some(0));
+    let said = String::from_utf8_lossy(&out.stdout);
+    assert!(said.contains("ok: `nist-grounds`"), "{said}");
+    let dir = tempfile::tempdir().unwrap();
+    let bad = "camera.focal_length_mm=200";
+    let checked = carfollow(&["check", "--set", bad]);
+    let ran = run(dir.path(), &["--set", bad]);
+    for out in [&checked, &ran] {
+        assert_eq!(out.status.code(), Some(2));
+    }
+    let err = String::from_utf8_lossy(&checked.stderr);
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(err.contains("out of the camera's view"), "{err}");
+    assert_eq!(err, String::from_utf8_lossy(&ran.stderr));
+}
+
 /// A run in a folder where an earlier run recorded leaves no recording, video or stills of
 /// that run behind.
 #[test]
