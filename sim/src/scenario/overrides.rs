@@ -24,7 +24,18 @@ pub fn apply_override(root: &mut toml::Table, assignment: &str) -> Result<(), Sc
             "`{path}` is not a dotted field path like tracker.lambda"
         )));
     }
-    let value = parse_value(value_text.trim());
+    let value_text = value_text.trim();
+    let digits = value_text.strip_prefix(['+', '-']).unwrap_or(value_text);
+    let integer = !digits.is_empty() && digits.bytes().all(|c| c.is_ascii_digit());
+    if integer && !digits.starts_with('0') && value_text.parse::<i64>().is_err() {
+        // Not taken for a string: an integer beyond TOML's.
+        return Err(err(format!(
+            "{value_text} is beyond TOML's integers ({} to {})",
+            i64::MIN,
+            i64::MAX
+        )));
+    }
+    let value = parse_value(value_text);
     let (last, parents) = keys.split_last().expect("split gives at least one key");
     let mut table = root;
     let mut depth = 0;
@@ -92,5 +103,24 @@ fn parse_value(text: &str) -> toml::Value {
     match toml::from_str::<toml::Table>(&wrapped) {
         Ok(mut t) => t.remove("v").expect("key v"),
         Err(_) => toml::Value::String(text.to_string()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_integer_beyond_tomls_is_refused_not_taken_for_a_string() {
+        let mut root = toml::Table::new();
+        apply_override(&mut root, "seed=9223372036854775807").unwrap();
+        assert_eq!(root["seed"], toml::Value::Integer(i64::MAX));
+        for text in ["18446744073709551615", "-9223372036854775809"] {
+            let e = apply_override(&mut root, &format!("seed={text}")).unwrap_err();
+            assert!(e.to_string().contains("beyond TOML's integers"), "{e}");
+        }
+        // Still a string: a word that only starts with digits.
+        apply_override(&mut root, "name=2fast").unwrap();
+        assert_eq!(root["name"], toml::Value::String("2fast".into()));
     }
 }
