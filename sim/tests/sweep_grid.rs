@@ -96,6 +96,26 @@ fn a_bad_axis_path_is_refused_naming_it() {
     assert!(err.contains("unknown field `lamda`"), "{err}");
 }
 
+/// A field of the wrong type is named, with its line, as a scenario's would be.
+#[test]
+fn a_field_of_the_wrong_type_is_refused_naming_it() {
+    let head = "scenarios = [\"SCENARIOS/weave.toml\"]\n";
+    for (body, needle) in [
+        (
+            "seeds = [1]\n[set]\nduration_s = 6\n[axes]\ntracker.lambda = [0.5]\n",
+            "sweep.toml:3:1: `set`: invalid type: map, expected a sequence",
+        ),
+        (
+            "seeds = [1, \"a\"]\n[axes]\ntracker.lambda = [0.5]\n",
+            "sweep.toml:2:13: `seeds[1]`: invalid type: string \"a\"",
+        ),
+    ] {
+        let (_dir, path) = sweep_file(&format!("{head}{body}"));
+        let err = Sweep::load(&path, &[]).unwrap_err().to_string();
+        assert!(err.contains(needle), "{err}");
+    }
+}
+
 #[test]
 fn a_bad_axis_value_is_refused_naming_it() {
     let (_dir, path) = sweep_file(

@@ -242,7 +242,7 @@ fn shortest_f32(value: &mut serde_json::Value) {
 }
 
 /// A field's dotted path from serde_path_to_error's segments: `a.b[2].c`.
-fn field_path(segments: &[String]) -> String {
+pub(crate) fn field_path(segments: &[String]) -> String {
     let mut path = String::new();
     for s in segments {
         if s.starts_with('[') || path.is_empty() {
