@@ -46,7 +46,7 @@ enum Commands {
     Sweep(cli::sweep::SweepArgs),
     /// Validate scenario files without running them.
     Check(cli::check::CheckArgs),
-    /// Render one camera frame at time T (built-in scene until scenario files exist).
+    /// Render one camera frame at time T, of a scenario's run or of the built-in scene.
     Render(cli::render::RenderArgs),
     /// Run the tracker on a folder of recorded frames.
     Track(cli::track::TrackArgs),

@@ -507,6 +507,30 @@ fn target_refuses_a_bad_width_before_saying_anything() {
     assert!(err.contains("--width"), "{err}");
 }
 
+/// `render` and `target` write PNGs: another format is bad input, refused before anything
+/// is drawn or said, with exit status 2 and one line.
+#[test]
+fn image_outputs_that_are_not_png_are_refused_before_anything_is_drawn() {
+    let dir = tempfile::tempdir().unwrap();
+    let target = scenario("targets/nist-ten-segment.toml");
+    for name in ["f.jpg", "f"] {
+        let path = dir.path().join(name);
+        let path = path.to_str().unwrap();
+        for args in [
+            vec!["render", "--out", path],
+            vec!["target", &target, "--out", path],
+        ] {
+            let out = carfollow(&args);
+            let err = String::from_utf8_lossy(&out.stderr);
+            assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+            assert!(out.stdout.is_empty(), "{args:?}");
+            assert_eq!(err.lines().count(), 1, "{err}");
+            assert!(err.contains("ending in .png"), "{err}");
+            assert!(!dir.path().join(name).exists());
+        }
+    }
+}
+
 /// An output that cannot be written is a run that could not complete: exit status 3.
 #[test]
 fn an_unwritable_output_exits_3() {

@@ -1,6 +1,7 @@
 //! `carfollow render`: one camera frame, of a scenario's closed-loop run or of the built-in scene, to a PNG.
 
 use super::exit::incomplete;
+use super::paths::png_path;
 use anyhow::{bail, Context};
 use clap::Args;
 use sim::camera::{Backend, CameraRig, FrameInput, RenderOptions, Renderer};
@@ -57,6 +58,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
             args.time
         );
     }
+    png_path("--out", &args.out)?;
     if let Some(path) = &args.scenario {
         return render_scenario(path, &args);
     }

@@ -1,6 +1,7 @@
 //! `carfollow target`: check a target file, list its features, and draw it.
 
 use super::exit::incomplete;
+use super::paths::png_path;
 use anyhow::Context;
 use clap::Args;
 use std::path::PathBuf;
@@ -29,6 +30,9 @@ pub fn run_target(args: TargetArgs) -> anyhow::Result<()> {
             "--width must be between 64 and 4096 pixels, got {}",
             args.width
         );
+    }
+    if let Some(out) = &args.out {
+        png_path("--out", out)?;
     }
     let model = sim::target::load(&args.target)?;
     let [w_m, h_m] = model.size_m();
