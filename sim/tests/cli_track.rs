@@ -282,6 +282,30 @@ fn synth_without_a_target_writes_the_built_in_one() {
     );
 }
 
+/// synth checks every argument before it makes its folder or writes anything: a target
+/// that starts outside the frame or wider than it shows nothing to track.
+#[test]
+fn synth_refuses_bad_arguments_before_writing_anything() {
+    let dir = tempfile::tempdir().unwrap();
+    let frames = dir.path().join("frames");
+    for (args, needle) in [
+        (
+            &["--start", "1e9,0,1"][..],
+            "must start within the 256 × 242 frame",
+        ),
+        (&["--start", "128,110,6"][..], "wider than the 256 px frame"),
+        (&["--clutter", "--kind", "swerve"][..], "cannot be combined"),
+    ] {
+        let mut all = vec!["synth", frames.to_str().unwrap()];
+        all.extend(args);
+        let o = carfollow(&all);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
+        assert_eq!(stderr(&o).lines().count(), 1, "{}", stderr(&o));
+        assert!(stderr(&o).contains(needle), "{}", stderr(&o));
+        assert!(!frames.exists(), "{args:?} made the folder");
+    }
+}
+
 #[test]
 fn a_bad_frame_mid_run_keeps_the_rows_before_it() {
     let dir = tempfile::tempdir().unwrap();

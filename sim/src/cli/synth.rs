@@ -6,7 +6,7 @@ use anyhow::Context;
 use clap::Args;
 use std::io::Write;
 use std::path::PathBuf;
-use tracker::synth::{draw, sequence, sequence_with_truth, wander, SequenceKind};
+use tracker::synth::{draw, sequence, sequence_with_truth, wander, SequenceKind, SynthScene};
 use tracker::{Camera, Location};
 
 /// Arguments of `carfollow synth`.
@@ -66,6 +66,43 @@ pub fn run_synth(args: SynthArgs) -> anyhow::Result<()> {
             args.px_per_frame
         );
     }
+    // Every argument is checked before the folder is made or anything written.
+    let camera = Camera::default();
+    let kind = match (args.kind.as_deref(), args.clutter) {
+        (Some(k), _) => SequenceKind::parse(k).expect("clap allows only known kinds"),
+        (None, true) => SequenceKind::Clutter,
+        (None, false) => SequenceKind::Plain,
+    };
+    if args.clutter && kind != SequenceKind::Clutter {
+        anyhow::bail!(
+            "--clutter is --kind clutter; it cannot be combined with --kind {}",
+            kind.as_str()
+        );
+    }
+    let half = model
+        .size_m()
+        .map(|m| 0.5 * m * camera.focal_px()[0] / model.nominal_range_m());
+    // A sequence whose target starts outside the frame, or wider than it, shows nothing
+    // to track.
+    let (width, height) = {
+        let frame = SynthScene::default();
+        (frame.width as u32, frame.height as u32)
+    };
+    let inside = |at: f64, size: u32| (0.0..f64::from(size)).contains(&at);
+    if !(inside(start.c_x, width) && inside(start.c_y, height)) {
+        anyhow::bail!(
+            "--start {}: the target's centre must start within the {width} × {height} frame",
+            args.start
+        );
+    }
+    if 2.0 * half[0] * start.scale > f64::from(width) {
+        anyhow::bail!(
+            "--start {}: at scale {} the target is {:.0} px wide, wider than the {width} px frame",
+            args.start,
+            start.scale,
+            2.0 * half[0] * start.scale
+        );
+    }
     // `track` reads every frame of a folder: old frames left beside new ones would join them.
     if sim::track::frame_files(&args.out_dir).is_ok() {
         anyhow::bail!(
@@ -85,21 +122,6 @@ pub fn run_synth(args: SynthArgs) -> anyhow::Result<()> {
             builtin_path
         }
     };
-    let camera = Camera::default();
-    let kind = match (args.kind.as_deref(), args.clutter) {
-        (Some(k), _) => SequenceKind::parse(k).expect("clap allows only known kinds"),
-        (None, true) => SequenceKind::Clutter,
-        (None, false) => SequenceKind::Plain,
-    };
-    if args.clutter && kind != SequenceKind::Clutter {
-        anyhow::bail!(
-            "--clutter is --kind clutter; it cannot be combined with --kind {}",
-            kind.as_str()
-        );
-    }
-    let half = model
-        .size_m()
-        .map(|m| 0.5 * m * camera.focal_px()[0] / model.nominal_range_m());
     let seq = match kind {
         // The plain and cluttered wanders keep their --px-per-frame.
         SequenceKind::Plain | SequenceKind::Clutter => {
@@ -122,7 +144,7 @@ pub fn run_synth(args: SynthArgs) -> anyhow::Result<()> {
             args.seed.wrapping_mul(1_000_003) + k as u64,
         );
         let path = args.out_dir.join(format!("frame_{k:04}.png"));
-        image::GrayImage::from_raw(256, 242, pixels)
+        image::GrayImage::from_raw(width, height, pixels)
             .expect("buffer matches its size")
             .save(&path)
             .with_context(|| format!("{}: cannot write", path.display()))
