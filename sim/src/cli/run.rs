@@ -68,8 +68,9 @@ pub struct RunArgs {
     /// wgpu backend: gl (default; Mesa llvmpipe), vulkan or primary. Overrides WGPU_BACKEND.
     #[arg(long)]
     pub backend: Option<String>,
-    /// Camera frames rendered at once: 1, or 2 (the second in a worker process; the
-    /// results are the same). Default: 2 on a machine with two cores or more.
+    /// Camera frames rendered at once: 1, or 2 (the second on a thread with a llvmpipe of
+    /// its own, else in a worker process; the results are the same). Default: 2 on a
+    /// machine with two cores or more.
     #[arg(long, value_parser = clap::value_parser!(u8).range(1..=2))]
     pub renderers: Option<u8>,
     /// Also record the run for Foxglove: run.mcap beside frames.csv (camera images with the
