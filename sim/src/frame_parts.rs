@@ -408,17 +408,19 @@ mod tests {
         let mut reference = new_tracker();
         let (expected, _) = step(&mut reference, &whole);
 
-        // A corner far from the target: the step reads beyond it.
-        let corner = PixelRect {
-            x0: 0,
-            y0: 0,
-            x1: 12,
-            y1: 12,
+        // A part a few pixels short of what the step reads on every side, as a part
+        // predicted from a smaller read falls short: the step reads beyond it.
+        let read = reference.last_read();
+        let short = PixelRect {
+            x0: read.x0 + 6,
+            y0: read.y0 + 6,
+            x1: read.x1 - 6,
+            y1: read.y1 - 6,
         };
-        // Tracks the corner's part; `narrow`: a renderer that draws the corner again
+        // Tracks the short part; `narrow`: a renderer that draws the short part again
         // whatever part it is asked for. The parts asked for come back too.
-        let mut track_corner = |narrow: bool| {
-            let mut partial = renderer.render_part(&input, Some(corner)).expect("frame");
+        let mut track_short = |narrow: bool| {
+            let mut partial = renderer.render_part(&input, Some(short)).expect("frame");
             assert_ne!(partial.image, whole.image);
             let mut tracker = new_tracker();
             let mut asked = Vec::new();
@@ -427,20 +429,20 @@ mod tests {
                 &mut partial,
                 |p| {
                     asked.push(p);
-                    renderer.render_part(&input, if narrow { p.map(|_| corner) } else { p })
+                    renderer.render_part(&input, if narrow { p.map(|_| short) } else { p })
                 },
                 step,
             )
             .expect("track");
             (out, again, asked, partial)
         };
-        let (out, again, asked, partial) = track_corner(false);
+        let (out, again, asked, partial) = track_short(false);
         assert!(again, "rendered again and stepped again");
         assert_eq!(out, expected);
         // Once: a part holding what the step read, not the whole frame.
         assert_eq!(asked.len(), 1, "{asked:?}");
         let larger = asked[0].expect("a part");
-        assert!(larger.contains(&corner) && larger.contains(&reference.last_read()));
+        assert!(larger.contains(&short) && larger.contains(&read));
         assert_eq!(partial.exact, larger);
         let (w, _) = whole.image.dimensions();
         for y in larger.y0..larger.y1 {
@@ -449,7 +451,7 @@ mod tests {
         }
 
         // Should the larger part fall short too, the whole frame.
-        let (out, again, asked, partial) = track_corner(true);
+        let (out, again, asked, partial) = track_short(true);
         assert!(again);
         assert_eq!(asked.len(), 2, "{asked:?}");
         assert_eq!(asked[1], None);
@@ -457,7 +459,6 @@ mod tests {
         assert_eq!(partial, whole);
 
         // A part holding what the step reads: no second render.
-        let read = reference.last_read();
         let mut enough = renderer.render_part(&input, Some(read)).expect("frame");
         let mut tracker = new_tracker();
         let ((out, _), again) = track_part(
