@@ -258,6 +258,8 @@ pub struct Renderer {
     tile_bind_group: wgpu::BindGroup,
     /// Per-frame scratch lists, kept to avoid allocating every frame.
     items: Vec<DrawItem>,
+    /// The indices of the items the main pass's frustum holds.
+    seen_items: Vec<usize>,
     main_draws: Vec<MainDraw>,
     shadow_draws: Vec<Range<u32>>,
     board_shadow_draws: Vec<Range<u32>>,
@@ -929,6 +931,7 @@ impl Renderer {
             tile_uniforms,
             tile_bind_group,
             items: Vec::new(),
+            seen_items: Vec::new(),
             main_draws: Vec::new(),
             shadow_draws: Vec::new(),
             board_shadow_draws: Vec::new(),
@@ -1141,14 +1144,21 @@ impl Renderer {
         let frustum = Frustum::of_part(rig, &camera_from_world, scissor);
         let mut main_draws = std::mem::take(&mut self.main_draws);
         main_draws.clear();
-        items.sort_by(|a, b| {
+        // Only what the frustum holds is sorted (a tenth of the items, typically); the
+        // sort is stable, so the order is the whole list's, sorted and then filtered.
+        let mut in_view = std::mem::take(&mut self.seen_items);
+        in_view.clear();
+        in_view
+            .extend((0..items.len()).filter(|&i| frustum.sees(items[i].centre, items[i].radius)));
+        in_view.sort_by(|&a, &b| {
+            let (a, b) = (&items[a], &items[b]);
             (a.class, a.distance_m)
                 .partial_cmp(&(b.class, b.distance_m))
                 .expect("finite distances")
         });
         let mut hood_draws = 0;
         let chunks = self.scene.chunks();
-        for item in items.iter().filter(|d| frustum.sees(d.centre, d.radius)) {
+        for item in in_view.iter().map(|&i| &items[i]) {
             if item.class == HOOD_CLASS {
                 main_draws.push((
                     item.indices.clone(),
@@ -1278,6 +1288,7 @@ impl Renderer {
             );
         }
         self.items = items;
+        self.seen_items = in_view;
 
         let triangles =
             |draws: &[Range<u32>]| -> u32 { draws.iter().map(|r| (r.end - r.start) / 3).sum() };
