@@ -185,6 +185,26 @@ fn bad_input_is_one_line_naming_the_file_and_exit_2() {
         &base(&frames, TARGET, "1000,1000,1"),
         "must lie in the 256×242",
     );
+    // A tracker setting out of its range, named by its flag.
+    for (flag, value) in [("--lambda", "1.5"), ("--rate-hz", "0")] {
+        let frames = frames.to_str().unwrap();
+        let o = carfollow(&[
+            "track",
+            frames,
+            "--target",
+            TARGET,
+            "--focal-px",
+            "320",
+            "--init",
+            "128,110,1",
+            flag,
+            value,
+            "--out",
+            csv.to_str().unwrap(),
+            "--quiet",
+        ]);
+        expect_input_error(&o, &format!("{flag} {value}: "));
+    }
 }
 
 /// Outputs never overwrite the input: the CSV on a recording or a frame, the overlays on the

@@ -176,7 +176,15 @@ pub fn run_track(args: TrackArgs) -> anyhow::Result<()> {
     if let Some(lambda) = args.lambda {
         config.lambda = lambda;
     }
-    config.validate().context("bad tracker setting")?;
+    // Only the flags above set values here: the error names the flag.
+    config.validate().map_err(|e| {
+        let flag = match e.field {
+            "lambda" => "--lambda",
+            "rate_hz" => "--rate-hz",
+            other => other,
+        };
+        anyhow::anyhow!("{flag} {}: {}", e.value, e.allowed)
+    })?;
     let job = TrackJob {
         frames_dir: args.frames_dir,
         model,
