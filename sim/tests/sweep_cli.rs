@@ -4,7 +4,8 @@
 //! bad axis path; a worker process that dies costs only its point; Ctrl-C keeps every
 //! finished row and `--resume` finishes the rest; `--jobs 0` and a merge of an empty folder
 //! are refused; a merge lists the grid's missing points and exits 3; `--resume` refuses
-//! results of a changed sweep file or other overrides. Run with
+//! results of a changed sweep file or other overrides; an output folder that cannot be made
+//! exits 3. Run with
 //! `cargo test --release -p sim --test sweep_cli`.
 
 use serde_json::Value;
@@ -378,6 +379,38 @@ fn jobs_0_and_an_empty_merge_are_refused() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("no sweep results to merge"), "{err}");
     assert!(!empty.join("results.jsonl").exists());
+}
+
+/// An output folder that cannot be made (a file stands where it or a parent would be) is an
+/// output that cannot be written: exit 3 and one line saying so, from a sweep and from a
+/// merge, before any point runs.
+#[test]
+fn an_output_folder_that_cannot_be_made_exits_3() {
+    let dir = tempfile::tempdir().unwrap();
+    let sweep = sweep_file(dir.path(), TINY);
+    let blocker = dir.path().join("file");
+    std::fs::write(&blocker, "").unwrap();
+    for out in [blocker.clone(), blocker.join("out")] {
+        let o = carfollow(&["sweep", s(&sweep), "--out", s(&out)]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(3), "{err}");
+        assert_eq!(err.lines().count(), 1, "{err}");
+        assert!(err.contains("cannot create the output folder"), "{err}");
+        assert!(!err.contains("cannot read results"), "{err}");
+    }
+    let done = dir.path().join("done");
+    ok(carfollow(&[
+        "sweep",
+        s(&sweep),
+        "--out",
+        s(&done),
+        "--shard",
+        "0/2",
+    ]));
+    let o = carfollow(&["sweep", "merge", s(&done), "--out", s(&blocker.join("m"))]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(3), "{err}");
+    assert!(err.contains("cannot create"), "{err}");
 }
 
 /// The merge knows the grid (from `sweep.json`): with one shard of two, it lists the

@@ -171,6 +171,18 @@ pub fn run_sweep(args: SweepArgs) -> anyhow::Result<ExitCode> {
         format!("failed-shard-{}-of-{}.txt", s.index, s.count)
     }));
 
+    // A folder that cannot be made is an output that cannot be written (exit 3), said as
+    // such rather than as results that cannot be read.
+    let nearest = out
+        .ancestors()
+        .find(|a| !a.as_os_str().is_empty() && a.exists());
+    if let Some(blocked) = nearest.filter(|a| !a.is_dir()) {
+        return Err(incomplete(anyhow::anyhow!(
+            "{}: cannot create the output folder: {} is not a folder",
+            out.display(),
+            blocked.display()
+        )));
+    }
     let (done_rows, complete) = read_rows(&results)?;
     let exists = std::fs::metadata(&results).is_ok_and(|m| m.len() > 0);
     if exists && !args.resume {
@@ -209,7 +221,9 @@ pub fn run_sweep(args: SweepArgs) -> anyhow::Result<ExitCode> {
         ),
         _ => {}
     }
-    std::fs::create_dir_all(&out).with_context(|| format!("{}: cannot create", out.display()))?;
+    std::fs::create_dir_all(&out)
+        .with_context(|| format!("{}: cannot create", out.display()))
+        .map_err(incomplete)?;
     Manifest::of(&sweep, &args.set).write(&out)?;
     let points = sweep.shard(args.shard);
     let todo: Vec<_> = points
@@ -423,7 +437,9 @@ fn run_merge(args: MergeArgs) -> anyhow::Result<ExitCode> {
             );
         }
     }
-    std::fs::create_dir_all(&out).with_context(|| format!("{}: cannot create", out.display()))?;
+    std::fs::create_dir_all(&out)
+        .with_context(|| format!("{}: cannot create", out.display()))
+        .map_err(incomplete)?;
     let results = out.join(RESULTS_FILE);
     let writer = ResultsWriter::open(&results, None)?;
     for row in &rows {
