@@ -1,6 +1,6 @@
 //! `carfollow render` end to end: with a scenario, `--seed` replaces the scenario's seed
 //! exactly as `--set seed=N` does (and is not silently ignored), and `--set` without a
-//! scenario is refused with exit status 2. Run with
+//! scenario and a time past the run's last frame are refused with exit status 2. Run with
 //! `cargo test --release -p sim --test cli_render`.
 
 use std::path::Path;
@@ -55,6 +55,31 @@ fn set_without_a_scenario_exits_2() {
     let err = String::from_utf8_lossy(&done.stderr);
     assert!(err.contains("--set seed=3"), "{err}");
     assert_eq!(err.trim().lines().count(), 1, "{err}");
+}
+
+/// A time whose nearest frame is past the run's last is refused before the run, with exit
+/// status 2: `--time 59.99` of the 60 s `weave` (frames at k / 15 s, the last at 59.933 s)
+/// as `--time 200`; the last frame itself renders.
+#[test]
+fn a_time_past_the_last_frame_is_refused_before_the_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("f.png");
+    for time in ["59.99", "60", "200"] {
+        let done = render(&out, &[&weave(), "--time", time]);
+        let err = String::from_utf8_lossy(&done.stderr);
+        assert_eq!(done.status.code(), Some(2), "{time}: {err}");
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+        assert!(err.contains("past the last frame"), "{err}");
+        assert!(err.contains("59.933 s"), "{err}");
+        assert!(!out.exists());
+    }
+    let done = render(&out, &[&weave(), "--time", "59.94"]);
+    assert!(
+        done.status.success(),
+        "{}",
+        String::from_utf8_lossy(&done.stderr)
+    );
+    assert!(String::from_utf8_lossy(&done.stdout).contains("t = 59.933 s"));
 }
 
 /// A shadow distractor puts a shadow's edge on the board at its offset from the feature: 3 px

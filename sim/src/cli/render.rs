@@ -46,9 +46,9 @@ pub struct RenderArgs {
 /// The built-in scene's seed when `--seed` is not given.
 const BUILTIN_SEED: u64 = 1;
 
-/// Frame period used to turn `--time` into a frame index for the noise stream: the camera's
-/// 15 Hz (paper section 3).
-const FRAME_RATE_HZ: f64 = 15.0;
+/// Frame period used to turn `--time` into a frame index: the camera's 15 Hz (paper
+/// section 3), the loop's rate.
+const FRAME_RATE_HZ: f64 = vehicle::CAMERA_HZ as f64;
 
 /// Runs the subcommand.
 pub fn run(args: RenderArgs) -> anyhow::Result<()> {
@@ -113,18 +113,22 @@ fn render_scenario(path: &std::path::Path, args: &RenderArgs) -> anyhow::Result<
         overrides.push(format!("seed={seed}"));
     }
     let scenario = sim::scenario::Scenario::load(path, &overrides)?;
-    if args.time > scenario.duration_s {
+    // The frames of the run, as the loop counts them: the frame nearest --time must be one.
+    let frames = (scenario.duration_s * FRAME_RATE_HZ).round() as u64;
+    let wanted = (args.time * FRAME_RATE_HZ).round() as u64;
+    if wanted >= frames {
         bail!(
-            "--time {} is past the end of `{}` ({} s)",
+            "--time {} is past the last frame of `{}` (t = {:.3} s of its {} s)",
             args.time,
             scenario.name,
+            frames.saturating_sub(1) as f64 / FRAME_RATE_HZ,
             scenario.duration_s
         );
     }
     let backend = Backend::choose(args.backend.as_deref())?;
     let mut looped =
         sim::closed_loop::ClosedLoop::new(&scenario, backend, false).map_err(incomplete)?;
-    let wanted = (args.time * FRAME_RATE_HZ).round() as u64;
+    debug_assert_eq!(looped.frames(), frames);
     loop {
         let out = looped.step().map_err(incomplete)?.with_context(|| {
             format!(
