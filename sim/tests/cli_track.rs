@@ -145,8 +145,8 @@ fn bad_input_is_one_line_naming_the_file_and_exit_2() {
     let empty = d.join("empty");
     std::fs::create_dir(&empty).unwrap();
     let csv = d.join("t.csv");
-    let base = |frames: &Path, target: &str, init: &str| {
-        carfollow(&[
+    let with = |frames: &Path, target: &str, init: &str, extra: &[&str]| {
+        let mut args = vec![
             "track",
             frames.to_str().unwrap(),
             "--target",
@@ -158,8 +158,11 @@ fn bad_input_is_one_line_naming_the_file_and_exit_2() {
             "--out",
             csv.to_str().unwrap(),
             "--quiet",
-        ])
+        ];
+        args.extend(extra);
+        carfollow(&args)
     };
+    let base = |frames: &Path, target: &str, init: &str| with(frames, target, init, &[]);
     // An empty folder.
     expect_input_error(&base(&empty, TARGET, "128,110,1"), "no PNG or PGM frames");
     // A bad --init.
@@ -187,22 +190,7 @@ fn bad_input_is_one_line_naming_the_file_and_exit_2() {
     );
     // A tracker setting out of its range, named by its flag.
     for (flag, value) in [("--lambda", "1.5"), ("--rate-hz", "0")] {
-        let frames = frames.to_str().unwrap();
-        let o = carfollow(&[
-            "track",
-            frames,
-            "--target",
-            TARGET,
-            "--focal-px",
-            "320",
-            "--init",
-            "128,110,1",
-            flag,
-            value,
-            "--out",
-            csv.to_str().unwrap(),
-            "--quiet",
-        ]);
+        let o = with(&frames, TARGET, "128,110,1", &[flag, value]);
         expect_input_error(&o, &format!("{flag} {value}: "));
     }
 }
