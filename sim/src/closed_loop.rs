@@ -723,7 +723,7 @@ impl ClosedLoop {
         let last_chase_xz = xz(&world.vehicle_state(chase_id).world_from_vehicle);
         Ok(ClosedLoop {
             name: s.name.clone(),
-            frames: (s.duration_s * f64::from(vehicle::CAMERA_HZ)).round() as u64,
+            frames: s.frames(),
             frame: 0,
             pipelined: renders_ahead(&delay),
             drive: Drive {

@@ -20,6 +20,11 @@ fn run_with(overrides: &[&str], pipelined: bool) -> Vec<FrameRecord> {
     let scenario = Scenario::builtin(&overrides).unwrap();
     let mut l = ClosedLoop::new(&scenario, Backend::choose(None).unwrap(), false).unwrap();
     assert_eq!(l.set_pipelined(pipelined), pipelined);
+    records_of(&mut l)
+}
+
+/// Runs `l` to its end: every frame's record.
+fn records_of(l: &mut ClosedLoop) -> Vec<FrameRecord> {
     let mut records = Vec::new();
     while let Some(out) = l.step().unwrap() {
         records.push(out.record);
@@ -180,11 +185,7 @@ fn a_second_renderer_on_a_thread_is_gl_only() {
     assert!(err.contains("gl only"), "{err}");
     // The loop runs on its one renderer, as it would have.
     assert_eq!(l.frames_in_flight(), 1);
-    let mut records = Vec::new();
-    while let Some(out) = l.step().unwrap() {
-        records.push(out.record);
-    }
-    assert_eq!(records, run(&["duration_s=1"]));
+    assert_eq!(records_of(&mut l), run(&["duration_s=1"]));
 }
 
 #[test]
@@ -198,11 +199,7 @@ fn a_render_worker_with_another_scene_is_refused() {
     assert_eq!(l.frames_in_flight(), 1);
     // The first frame had started rendering before the worker was refused: the loop takes
     // its renderer back and runs on one, with one renderer's records.
-    let mut records = Vec::new();
-    while let Some(out) = l.step().unwrap() {
-        records.push(out.record);
-    }
-    assert_eq!(records, run(&["duration_s=1"]));
+    assert_eq!(records_of(&mut l), run(&["duration_s=1"]));
     // A loop that cannot overlap does not start one.
     let mut l = builtin_loop(&["duration_s=1", "loop.latency_ms=50"]);
     assert!(!l
@@ -219,11 +216,7 @@ fn a_loop_made_sequential_after_its_worker_was_added_runs_on_one_renderer() {
     // again on the sequential path.
     assert!(!l.set_pipelined(false));
     assert_eq!(l.frames_in_flight(), 1);
-    let mut records = Vec::new();
-    while let Some(out) = l.step().unwrap() {
-        records.push(out.record);
-    }
-    assert_eq!(records, run_with(&set, false));
+    assert_eq!(records_of(&mut l), run_with(&set, false));
 }
 
 /// The records and the metered mean grey of each frame, with whole frames or not, and with

@@ -241,8 +241,35 @@ fn shortest_f32(value: &mut serde_json::Value) {
     }
 }
 
+/// Deserializes TOML `text` into a `T`. A mistake comes back as its error (for its place)
+/// and its message, which names the field it is about when it is about one
+/// (`` `a.b[2].c`: invalid type… ``), as scenario and sweep files report them.
+pub(crate) fn from_toml_naming_field<T: serde::de::DeserializeOwned>(
+    text: &str,
+) -> Result<T, (toml::de::Error, String)> {
+    let de = toml::Deserializer::parse(text).map_err(|e| {
+        let message = e.message().trim().to_string();
+        (e, message)
+    })?;
+    serde_path_to_error::deserialize(de).map_err(|e| {
+        let mut segments: Vec<String> = e.path().iter().map(|s| s.to_string()).collect();
+        let e = e.into_inner();
+        let message = e.message().trim().to_string();
+        // An unknown field's message names it: the path is the table it stands in.
+        if message.starts_with("unknown field") {
+            segments.pop();
+        }
+        let message = if segments.is_empty() {
+            message
+        } else {
+            format!("`{}`: {message}", field_path(&segments))
+        };
+        (e, message)
+    })
+}
+
 /// A field's dotted path from serde_path_to_error's segments: `a.b[2].c`.
-pub(crate) fn field_path(segments: &[String]) -> String {
+fn field_path(segments: &[String]) -> String {
     let mut path = String::new();
     for s in segments {
         if s.starts_with('[') || path.is_empty() {
@@ -339,6 +366,11 @@ impl Scenario {
         })
     }
 
+    /// The camera frames of its run: its duration at the camera's rate, frame k at k / 15 s.
+    pub fn frames(&self) -> u64 {
+        (self.duration_s * f64::from(vehicle::CAMERA_HZ)).round() as u64
+    }
+
     /// The built-in `nist-grounds`, with `--set` overrides.
     pub fn builtin(overrides: &[String]) -> Result<Scenario, ScenarioError> {
         Self::parse(
@@ -370,25 +402,13 @@ impl Scenario {
         };
         // The file alone first, so its own mistakes are reported at their line, with the
         // field they are about.
-        let de = toml::Deserializer::parse(text).map_err(parse_err)?;
-        let mut raw: ScenarioFile = serde_path_to_error::deserialize(de).map_err(|e| {
-            let mut segments: Vec<String> = e.path().iter().map(|s| s.to_string()).collect();
-            let e = e.into_inner();
-            let message = e.message().trim();
-            // An unknown field's message names it: the path is the table it stands in.
-            if message.starts_with("unknown field") {
-                segments.pop();
-            }
+        let mut raw: ScenarioFile = from_toml_naming_field(text).map_err(|(e, message)| {
             let (line, column) = line_column(text, e.span().map_or(0, |s| s.start));
             ScenarioError::Parse {
                 path: path.to_owned(),
                 line,
                 column,
-                message: if segments.is_empty() {
-                    message.to_string()
-                } else {
-                    format!("`{}`: {message}", field_path(&segments))
-                },
+                message,
             }
         })?;
         // The file alone again, as the overrides below will read it: whatever that refuses

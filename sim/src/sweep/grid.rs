@@ -10,7 +10,7 @@
 
 use super::file::{flatten_axes, SweepFile, SweepScenario};
 use super::SweepError;
-use crate::scenario::{field_path, locate, Scenario};
+use crate::scenario::{from_toml_naming_field, locate, Scenario};
 use crate::target::line_column;
 use std::path::{Path, PathBuf};
 
@@ -140,30 +140,15 @@ impl Sweep {
                 message,
             }
         };
-        let parse_err = |e: toml::de::Error, field: Option<String>| {
+        // The field a mistake is about is named, as a scenario's errors name it.
+        let raw: SweepFile = from_toml_naming_field(&text).map_err(|(e, message)| {
             let (line, column) = line_column(&text, e.span().map_or(0, |s| s.start));
-            let message = e.message().trim();
             SweepError::Parse {
                 path: path.to_owned(),
                 line,
                 column,
-                message: match field {
-                    Some(field) => format!("`{field}`: {message}"),
-                    None => message.to_string(),
-                },
+                message,
             }
-        };
-        // The field a mistake is about, as a scenario's errors name it.
-        let de = toml::Deserializer::parse(&text).map_err(|e| parse_err(e, None))?;
-        let raw: SweepFile = serde_path_to_error::deserialize(de).map_err(|e| {
-            let mut segments: Vec<String> = e.path().iter().map(|s| s.to_string()).collect();
-            let e = e.into_inner();
-            // An unknown field's message names it: the path is the table it stands in.
-            if e.message().starts_with("unknown field") {
-                segments.pop();
-            }
-            let field = (!segments.is_empty()).then(|| field_path(&segments));
-            parse_err(e, field)
         })?;
 
         if raw.scenarios.is_empty() {
