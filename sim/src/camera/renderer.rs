@@ -12,13 +12,14 @@
 //! masked, so a pipeline leaves out what its faces never need: the grass's hashes are only
 //! in the ground layer's pipelines (the `grass_faces` override), and with soft shadows on
 //! the target only the draws that can lie within the board's fine map take the soft-shadow
-//! pipelines. The two shadow lookups are about a quarter of a typical part's render.
+//! pipelines. A fragment makes one shadow lookup, in the static tiles' slots, which hold the
+//! vehicles too (`shadow_tiles`).
 
 use super::backend::{Backend, BackendError};
 use super::frame::{Field, Frame, FrameInput, GroundTruth};
 use super::rig::CameraRig;
 use super::sensor::{apply_sensor_to_rows, blur_reach_px};
-use super::shadow_tiles::{self, TileCache, TileFrame, Window, NO_TILE};
+use super::shadow_tiles::{self, Cell, SlotWork, Slots, TexelRect, TileFrame};
 use super::texture_cache::ground_texels;
 use super::textures::{LAYERS, TEXTURE_SIZE, TILE_M};
 use crate::scene::{AutoGain, Layer, ObjectSlot, Scene, Vertex, GRASS_ALBEDO_RANGE, GROUND_CELL_M};
@@ -135,9 +136,9 @@ struct Globals {
     board: [f32; 4],
     textures: [f32; 4],
     strength: [f32; 4],
-    tiles_view_proj: [[f32; 4]; 4],
-    tile_params: [f32; 4],
-    tile_layers: [[u32; 4]; shadow_tiles::WINDOW],
+    lookup_view_proj: [[f32; 4]; 4],
+    lookup_scale: [f32; 4],
+    lookup_bounds: [f32; 4],
 }
 
 /// The strength of the paint's texture relative to the other materials': paint fills the
@@ -223,21 +224,22 @@ pub struct Renderer {
     foliage_board_shadow_pipeline: wgpu::RenderPipeline,
     frame_uniforms: Uniforms,
     frame_bind_group: wgpu::BindGroup,
+    /// The main pass's textures, its shadow lookups reading the slots' texture of the
+    /// static tiles and the vehicles (`shadow_tiles`)...
     shadow_bind_group: wgpu::BindGroup,
+    /// ...or the frame's own map, which then holds every caster.
+    own_map_bind_group: wgpu::BindGroup,
     vertex_buffer: wgpu::Buffer,
     index_buffer: wgpu::Buffer,
     shadow_view: wgpu::TextureView,
-    /// The texels of the frame's shadow map the last frame may have written, when it drew
-    /// the moving vehicles alone (else `None`: the next frame clears the whole map). A
-    /// frame sets them back to the cleared depth instead of clearing all 512² texels.
-    shadow_dirty: Option<PixelRect>,
-    /// Writes the cleared depth (1) wherever it is scissored to: `vs_far`.
-    far_pipeline: wgpu::RenderPipeline,
     board_shadow_view: wgpu::TextureView,
     color_texture: wgpu::Texture,
     color_view: wgpu::TextureView,
     msaa_view: Option<wgpu::TextureView>,
     depth_view: wgpu::TextureView,
+    /// Sets the main pass's depth back to the cleared depth under the scissor, its colour
+    /// left alone (`vs_far`, `fs_far`): instead of clearing the whole depth target.
+    main_far_pipeline: wgpu::RenderPipeline,
     staging: wgpu::Buffer,
     padded_row: u32,
     stats: DrawStats,
@@ -249,13 +251,17 @@ pub struct Renderer {
     hood_row: u32,
     /// The same for the last panned angle seen, as (angle's bits, row).
     panned_hood_row: Option<(u64, u32)>,
-    /// The static shadow tiles' frame, which tile each layer of their texture holds, the
-    /// layers as render targets, and the uniforms their passes read.
+    /// The static shadow tiles' frame, which tile each slot of their texture holds and
+    /// where the vehicles were drawn, the texture as a render target, the uniforms of its
+    /// draws (one entry a tile or the vehicles over a tile, picked by dynamic offset), and
+    /// its pipelines: `vs_far` (writes the cleared depth wherever it is scissored to),
+    /// the casters and the canopies.
     tile_frame: TileFrame,
-    tile_cache: TileCache,
-    tile_views: Vec<wgpu::TextureView>,
-    tile_uniforms: Uniforms,
-    tile_bind_group: wgpu::BindGroup,
+    slots: Slots,
+    slots_view: wgpu::TextureView,
+    slot_uniforms: SlotUniforms,
+    slot_bind_group: wgpu::BindGroup,
+    slot_pipelines: [wgpu::RenderPipeline; 3],
     /// Per-frame scratch lists, kept to avoid allocating every frame.
     items: Vec<DrawItem>,
     /// The indices of the items the main pass's frustum holds.
@@ -279,7 +285,7 @@ pub struct DrawStats {
     pub shadow_triangles: u32,
     /// Draw calls in both passes.
     pub draw_calls: u32,
-    /// Static shadow tiles drawn for the frame (not held by the cache yet).
+    /// Static shadow tiles drawn whole for the frame (their slot held another).
     pub shadow_tiles_drawn: u32,
 }
 
@@ -402,10 +408,10 @@ impl Renderer {
             wgpu::BufferUsages::INDEX,
         );
 
-        // Uniforms: the per-frame globals and the object transforms, and the same for the
-        // static shadow tiles' passes, which run in submissions of their own.
+        // Uniforms: the per-frame globals and the object transforms, and the same for each
+        // of the draws into the static shadow tiles' slots.
         let frame_uniforms = Uniforms::new(&device, "frame uniforms");
-        let tile_uniforms = Uniforms::new(&device, "tile uniforms");
+        let slot_uniforms = SlotUniforms::new(&device);
 
         // Textures: the shadow map, the grey target (and its multisampled twin), depth.
         let size = |w, h| wgpu::Extent3d {
@@ -443,42 +449,21 @@ impl Renderer {
         );
         let board_shadow_view =
             board_shadow_texture.create_view(&wgpu::TextureViewDescriptor::default());
-        // The static shadow tiles: one layer a tile (two small stand-ins when the cache is
-        // off: the layout binds an array either way, and GL makes one layer a plain 2-D
-        // texture).
-        let (tile_side, tile_layers) = if options.cached_shadows {
-            (shadow_tiles::TILE_TEXELS, shadow_tiles::LAYERS)
+        // The static shadow tiles' slots (a small stand-in when the cache is off: the
+        // layout binds a texture either way).
+        let slots_side = if options.cached_shadows {
+            shadow_tiles::SLOTS_TEXELS
         } else {
-            (1, 2)
+            1
         };
-        let tile_texture = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("shadow tiles"),
-            size: wgpu::Extent3d {
-                width: tile_side,
-                height: tile_side,
-                depth_or_array_layers: tile_layers,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: DEPTH_FORMAT,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
-            view_formats: &[],
-        });
-        let tile_array_view = tile_texture.create_view(&wgpu::TextureViewDescriptor {
-            dimension: Some(wgpu::TextureViewDimension::D2Array),
-            ..Default::default()
-        });
-        let tile_views = (0..tile_layers)
-            .map(|layer| {
-                tile_texture.create_view(&wgpu::TextureViewDescriptor {
-                    dimension: Some(wgpu::TextureViewDimension::D2),
-                    base_array_layer: layer,
-                    array_layer_count: Some(1),
-                    ..Default::default()
-                })
-            })
-            .collect();
+        let slots_view = texture(
+            "shadow tiles",
+            size(slots_side, slots_side),
+            DEPTH_FORMAT,
+            1,
+            wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+        )
+        .create_view(&wgpu::TextureViewDescriptor::default());
         let tile_frame = TileFrame::new(
             Light::axes(scene.description().sun.direction()),
             scene.chunks().iter().map(|c| (c.centre, c.radius)),
@@ -652,11 +637,7 @@ impl Renderer {
                 wgpu::BindGroupLayoutEntry {
                     binding: 5,
                     visibility: wgpu::ShaderStages::FRAGMENT,
-                    ty: wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Depth,
-                        view_dimension: wgpu::TextureViewDimension::D2Array,
-                        multisampled: false,
-                    },
+                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
                     count: None,
                 },
             ],
@@ -665,6 +646,16 @@ impl Renderer {
             label: Some("shadow"),
             address_mode_u: wgpu::AddressMode::ClampToEdge,
             address_mode_v: wgpu::AddressMode::ClampToEdge,
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            compare: Some(wgpu::CompareFunction::LessEqual),
+            ..Default::default()
+        });
+        // The slots' texture wraps around (see `shadow_tiles`).
+        let slots_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("shadow tiles"),
+            address_mode_u: wgpu::AddressMode::Repeat,
+            address_mode_v: wgpu::AddressMode::Repeat,
             mag_filter: wgpu::FilterMode::Linear,
             min_filter: wgpu::FilterMode::Linear,
             compare: Some(wgpu::CompareFunction::LessEqual),
@@ -687,37 +678,69 @@ impl Renderer {
             })
         };
         let frame_bind_group = uniforms_group("frame", &frame_uniforms);
-        let tile_bind_group = uniforms_group("tile", &tile_uniforms);
-        let shadow_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("shadow"),
-            layout: &shadow_layout,
+        // The draws into the slots: the same uniforms, an entry a draw.
+        let slot_entry = |binding| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Uniform,
+                has_dynamic_offset: true,
+                min_binding_size: None,
+            },
+            count: None,
+        };
+        let slot_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("slot"),
+            entries: &[slot_entry(0), slot_entry(1)],
+        });
+        let slot_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("slot"),
+            layout: &slot_layout,
             entries: &[
                 wgpu::BindGroupEntry {
                     binding: 0,
-                    resource: wgpu::BindingResource::TextureView(&shadow_view),
+                    resource: slot_uniforms.0.globals(),
                 },
                 wgpu::BindGroupEntry {
                     binding: 1,
-                    resource: wgpu::BindingResource::Sampler(&shadow_sampler),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: wgpu::BindingResource::TextureView(&board_shadow_view),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 3,
-                    resource: wgpu::BindingResource::TextureView(&ground_view),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 4,
-                    resource: wgpu::BindingResource::Sampler(&ground_sampler),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 5,
-                    resource: wgpu::BindingResource::TextureView(&tile_array_view),
+                    resource: slot_uniforms.0.objects(),
                 },
             ],
         });
+        let lookup_group = |label, view, sampler| {
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some(label),
+                layout: &shadow_layout,
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: wgpu::BindingResource::TextureView(view),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: wgpu::BindingResource::Sampler(sampler),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 2,
+                        resource: wgpu::BindingResource::TextureView(&board_shadow_view),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 3,
+                        resource: wgpu::BindingResource::TextureView(&ground_view),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 4,
+                        resource: wgpu::BindingResource::Sampler(&ground_sampler),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 5,
+                        resource: wgpu::BindingResource::Sampler(&shadow_sampler),
+                    },
+                ],
+            })
+        };
+        let shadow_bind_group = lookup_group("shadow tiles", &slots_view, &slots_sampler);
+        let own_map_bind_group = lookup_group("shadow map", &shadow_view, &shadow_sampler);
 
         // Pipelines: depth-only from the sun; shaded grey from the camera.
         let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
@@ -735,6 +758,11 @@ impl Renderer {
                 bind_group_layouts: &[Some(&frame_layout)],
                 immediate_size: 0,
             });
+        let slot_pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("slot"),
+            bind_group_layouts: &[Some(&slot_layout)],
+            immediate_size: 0,
+        });
         let main_pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("main"),
             bind_group_layouts: &[Some(&frame_layout), Some(&shadow_layout)],
@@ -742,51 +770,102 @@ impl Renderer {
         });
         // Depth only, from the sun: the main shadow map (`vs_shadow`) and the board's
         // (`vs_board_shadow`); canopies with a fragment stage that discards their holes.
-        let depth_only_pipeline = |label: &str, entry: &str, fragment: Option<&str>| {
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some(label),
-                layout: Some(&shadow_pipeline_layout),
-                vertex: wgpu::VertexState {
-                    module: &shader,
-                    entry_point: Some(entry),
-                    compilation_options: Default::default(),
-                    buffers: &[Some(vertex_layout.clone())],
-                },
-                // Every closed mesh is wound counter-clockwise seen from outside
-                // (`Mesh::orient_faces`), open ones are two-sided: back faces never show.
-                // A canopy's clumps cast from their sunlit side alone (as the outer leaves
-                // of a real clump do most of its shading).
-                primitive: wgpu::PrimitiveState {
-                    cull_mode: Some(wgpu::Face::Back),
-                    ..Default::default()
-                },
-                depth_stencil: Some(wgpu::DepthStencilState {
-                    format: DEPTH_FORMAT,
-                    depth_write_enabled: Some(true),
-                    depth_compare: Some(wgpu::CompareFunction::LessEqual),
-                    stencil: wgpu::StencilState::default(),
-                    // A little slope-scaled bias on top of the normal offset, for grazing light.
-                    bias: wgpu::DepthBiasState {
-                        constant: 2,
-                        slope_scale: 1.5,
-                        clamp: 0.0,
+        let depth_only_pipeline =
+            |label: &str, layout: &wgpu::PipelineLayout, entry: &str, fragment: Option<&str>| {
+                device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                    label: Some(label),
+                    layout: Some(layout),
+                    vertex: wgpu::VertexState {
+                        module: &shader,
+                        entry_point: Some(entry),
+                        compilation_options: Default::default(),
+                        buffers: &[Some(vertex_layout.clone())],
                     },
-                }),
-                multisample: wgpu::MultisampleState::default(),
-                fragment: fragment.map(|entry| wgpu::FragmentState {
-                    module: &shader,
-                    entry_point: Some(entry),
-                    compilation_options: Default::default(),
-                    targets: &[],
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
-        };
-        let shadow_pipeline = depth_only_pipeline("shadow", "vs_shadow", None);
-        let far_pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                    // Every closed mesh is wound counter-clockwise seen from outside
+                    // (`Mesh::orient_faces`), open ones are two-sided: back faces never show.
+                    // A canopy's clumps cast from their sunlit side alone (as the outer leaves
+                    // of a real clump do most of its shading).
+                    primitive: wgpu::PrimitiveState {
+                        cull_mode: Some(wgpu::Face::Back),
+                        ..Default::default()
+                    },
+                    depth_stencil: Some(wgpu::DepthStencilState {
+                        format: DEPTH_FORMAT,
+                        depth_write_enabled: Some(true),
+                        depth_compare: Some(wgpu::CompareFunction::LessEqual),
+                        stencil: wgpu::StencilState::default(),
+                        // A little slope-scaled bias on top of the normal offset, for grazing light.
+                        bias: wgpu::DepthBiasState {
+                            constant: 2,
+                            slope_scale: 1.5,
+                            clamp: 0.0,
+                        },
+                    }),
+                    multisample: wgpu::MultisampleState::default(),
+                    fragment: fragment.map(|entry| wgpu::FragmentState {
+                        module: &shader,
+                        entry_point: Some(entry),
+                        compilation_options: Default::default(),
+                        targets: &[],
+                    }),
+                    multiview_mask: None,
+                    cache: None,
+                })
+            };
+        let shadow = &shadow_pipeline_layout;
+        let shadow_pipeline = depth_only_pipeline("shadow", shadow, "vs_shadow", None);
+        let board_shadow_pipeline =
+            depth_only_pipeline("board shadow", shadow, "vs_board_shadow", None);
+        let foliage_shadow_pipeline = depth_only_pipeline(
+            "foliage shadow",
+            shadow,
+            "vs_foliage_shadow",
+            Some("fs_foliage_shadow"),
+        );
+        let foliage_board_shadow_pipeline = depth_only_pipeline(
+            "foliage board shadow",
+            shadow,
+            "vs_foliage_board_shadow",
+            Some("fs_foliage_shadow"),
+        );
+        let main_far_pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("main far"),
+            layout: Some(&main_pipeline_layout),
+            vertex: wgpu::VertexState {
+                module: &shader,
+                entry_point: Some("vs_far"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            primitive: wgpu::PrimitiveState::default(),
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: DEPTH_FORMAT,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Always),
+                stencil: wgpu::StencilState::default(),
+                bias: wgpu::DepthBiasState::default(),
+            }),
+            multisample: wgpu::MultisampleState {
+                count: samples,
+                ..Default::default()
+            },
+            fragment: Some(wgpu::FragmentState {
+                module: &shader,
+                entry_point: Some("fs_far"),
+                compilation_options: Default::default(),
+                targets: &[Some(wgpu::ColorTargetState {
+                    format: COLOR_FORMAT,
+                    blend: None,
+                    write_mask: wgpu::ColorWrites::empty(),
+                })],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        // Writes the cleared depth (1) wherever it is scissored to, whatever was there.
+        let far = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some("far"),
-            layout: Some(&shadow_pipeline_layout),
+            layout: Some(&slot_pipeline_layout),
             vertex: wgpu::VertexState {
                 module: &shader,
                 entry_point: Some("vs_far"),
@@ -806,17 +885,17 @@ impl Renderer {
             multiview_mask: None,
             cache: None,
         });
-        let board_shadow_pipeline = depth_only_pipeline("board shadow", "vs_board_shadow", None);
-        let foliage_shadow_pipeline = depth_only_pipeline(
-            "foliage shadow",
-            "vs_foliage_shadow",
-            Some("fs_foliage_shadow"),
-        );
-        let foliage_board_shadow_pipeline = depth_only_pipeline(
-            "foliage board shadow",
-            "vs_foliage_board_shadow",
-            Some("fs_foliage_shadow"),
-        );
+        let slot = &slot_pipeline_layout;
+        let slot_pipelines = [
+            far,
+            depth_only_pipeline("tile shadow", slot, "vs_shadow", None),
+            depth_only_pipeline(
+                "tile foliage shadow",
+                slot,
+                "vs_foliage_shadow",
+                Some("fs_foliage_shadow"),
+            ),
+        ];
         // `grass`: whether it draws grass faces (the `grass_faces` override); `soft`:
         // whether it takes soft shadows on the target from the board's fine map and the
         // sun's disc (the fragment shader's `_soft` entry).
@@ -909,16 +988,16 @@ impl Renderer {
             frame_uniforms,
             frame_bind_group,
             shadow_bind_group,
+            own_map_bind_group,
             vertex_buffer,
             index_buffer,
             shadow_view,
-            shadow_dirty: None,
-            far_pipeline,
             board_shadow_view,
             color_texture,
             color_view,
             msaa_view,
             depth_view,
+            main_far_pipeline,
             staging,
             padded_row,
             stats: DrawStats::default(),
@@ -926,10 +1005,11 @@ impl Renderer {
             hood_row,
             panned_hood_row: None,
             tile_frame,
-            tile_cache: TileCache::new(tile_layers),
-            tile_views,
-            tile_uniforms,
-            tile_bind_group,
+            slots: Slots::default(),
+            slots_view,
+            slot_uniforms,
+            slot_bind_group,
+            slot_pipelines,
             items: Vec::new(),
             seen_items: Vec::new(),
             main_draws: Vec::new(),
@@ -1206,40 +1286,35 @@ impl Renderer {
             self.options.shadow_distance_m,
             self.options.shadow_map_size,
         );
-        // Static shadows from the cached tiles under the fitted map (see `shadow_tiles`): this
-        // frame's map then holds the moving vehicles alone.
+        // Static shadows from the cached tiles under the fitted map, and the vehicles drawn
+        // into them (see `shadow_tiles`); else every caster into the frame's own map.
         let window = if self.options.cached_shadows {
             shadow_tiles::window([light.min[0], light.min[1]], [light.max[0], light.max[1]])
         } else {
             None
         };
-        let mut tile_layers = [[NO_TILE; 4]; shadow_tiles::WINDOW];
-        let mut tiles_drawn = 0;
-        if let Some(w) = &window {
-            self.tile_cache.begin_frame();
-            for (a, b, cell) in w.cells() {
-                let (layer, fresh) = self.tile_cache.layer(cell);
-                if fresh {
-                    self.draw_tile(cell, layer);
-                    tiles_drawn += 1;
-                }
-                tile_layers[b][a] = layer;
-            }
-        }
         let with_static = window.is_none();
         let mut shadow_draws = std::mem::take(&mut self.shadow_draws);
-        // Only the texels the part of the frame asked for can sample.
-        let size = self.options.shadow_map_size;
+        let mut foliage_shadow_draws = std::mem::take(&mut self.foliage_shadow_draws);
+        // Only the texels the part of the frame asked for can sample: of the frame's map,
+        // or of the window's square of tiles (`window_light`).
+        let window_light = window.as_ref().map(|w| {
+            let (min, max) = self.tile_frame.window_box(w.corner);
+            Light::of_box(self.tile_frame.axes, min, max, shadow_tiles::SLOTS_TEXELS)
+        });
+        let (lookup, size) = match &window_light {
+            Some(l) => (l, shadow_tiles::SLOTS_TEXELS),
+            None => (&light, self.options.shadow_map_size),
+        };
         let seen = if scissor == whole {
             PixelRect::whole(size as usize, size as usize)
         } else {
-            light.texels_seen(rig, &world_from_camera, scissor, size)
+            lookup.texels_seen(rig, &world_from_camera, scissor, size)
         };
-        let mut foliage_shadow_draws = std::mem::take(&mut self.foliage_shadow_draws);
         let texels = Some((seen, size));
         caster_draws(
             &items,
-            &light,
+            lookup,
             texels,
             false,
             with_static,
@@ -1247,20 +1322,34 @@ impl Renderer {
         );
         caster_draws(
             &items,
-            &light,
+            lookup,
             texels,
             true,
             with_static,
             &mut foliage_shadow_draws,
         );
-        // What this frame writes into its map: with the static casters cached, the moving
-        // vehicles' texels within `seen`; the next frame resets just those.
-        let (reset, dirty) = match (&window, self.shadow_dirty) {
-            (Some(_), previous) => (
-                previous,
-                Some(light.casters_texels(&items, size).intersection(&seen)),
-            ),
-            (None, _) => (None, None),
+        let slot_work = match (&window, &window_light) {
+            (Some(w), Some(l)) => {
+                // Each moving caster's texels, as far as the fitted map reaches (the static
+                // tiles reach further; the vehicles' shadows, as far as they always did).
+                let rects: Vec<TexelRect> = items
+                    .iter()
+                    .filter(|d| {
+                        d.casts_shadow
+                            && d.class < FIRST_STATIC_CLASS
+                            && light.holds(d.centre, d.radius)
+                    })
+                    .map(|d| {
+                        let one = l
+                            .casters_texels(std::slice::from_ref(d), size)
+                            .intersection(&seen);
+                        TexelRect::of_window_texels(w.corner, one)
+                    })
+                    .filter(|r| !r.is_empty())
+                    .collect();
+                self.slots.frame(w, &rects)
+            }
+            _ => SlotWork::default(),
         };
         // The board's shadow map: a fine one around the target board, with its casters.
         let board_light = board_centre.filter(|_| sun.soft_shadows).map(|c| {
@@ -1292,7 +1381,7 @@ impl Renderer {
 
         let triangles =
             |draws: &[Range<u32>]| -> u32 { draws.iter().map(|r| (r.end - r.start) / 3).sum() };
-        self.stats = DrawStats {
+        let mut stats = DrawStats {
             main_triangles: main_draws.iter().map(|(r, ..)| (r.end - r.start) / 3).sum(),
             soft_triangles: main_draws
                 .iter()
@@ -1301,14 +1390,28 @@ impl Renderer {
                 .sum(),
             shadow_triangles: triangles(&shadow_draws) + triangles(&foliage_shadow_draws),
             draw_calls: (main_draws.len() + shadow_draws.len() + foliage_shadow_draws.len()) as u32,
-            shadow_tiles_drawn: tiles_drawn,
+            shadow_tiles_drawn: slot_work.tiles.len() as u32,
         };
 
-        // Uniforms.
+        // Uniforms. A fragment looks its sunlight up in the slots' texture (texture
+        // coordinates straight from the lookup) or in the frame's own map (from its clip
+        // space, as the shadow pass drew it).
+        let own_map = light.clip_from_world * world_from_relative;
+        let (lookup_view_proj, lookup_scale, lookup_bounds) = match &window {
+            Some(w) => {
+                let (m, bounds) = w.slots_lookup(&self.tile_frame.lookup(w.corner, &eye));
+                (to_f32(&m), [1.0, 1.0, 0.0, 0.0], bounds.map(|b| b as f32))
+            }
+            None => (
+                to_f32(&own_map),
+                [0.5, -0.5, 0.5, 0.5],
+                [0.0, 0.0, 1.0, 1.0],
+            ),
+        };
         let brightness = description.sensor.brightness() * auto_gain;
         let globals = Globals {
             view_proj: to_f32(&view_proj),
-            light_view_proj: to_f32(&(light.clip_from_world * world_from_relative)),
+            light_view_proj: to_f32(&own_map),
             sun: [
                 sun.direction()[0] as f32,
                 sun.direction()[1] as f32,
@@ -1318,7 +1421,7 @@ impl Renderer {
             params: [
                 sun.ambient as f32,
                 brightness as f32,
-                (NORMAL_OFFSET_TEXELS * light.texel_m) as f32,
+                (NORMAL_OFFSET_TEXELS * lookup.texel_m) as f32,
                 1.0 / self.options.shadow_map_size as f32,
             ],
             ground: self.ground_params(),
@@ -1351,18 +1454,9 @@ impl Renderer {
                 let c = description.textures.contrast;
                 [c as f32, c as f32, c as f32, (c * PAINT_DETAIL) as f32]
             },
-            tiles_view_proj: window.as_ref().map_or([[0.0; 4]; 4], |w: &Window| {
-                to_f32(&self.tile_frame.lookup(w.corner, &eye))
-            }),
-            tile_params: [
-                (NORMAL_OFFSET_TEXELS * shadow_tiles::TEXEL_M) as f32,
-                (f64::from(shadow_tiles::INNER_TEXELS) / f64::from(shadow_tiles::TILE_TEXELS))
-                    as f32,
-                (f64::from(shadow_tiles::GUARD_TEXELS) / f64::from(shadow_tiles::TILE_TEXELS))
-                    as f32,
-                0.0,
-            ],
-            tile_layers,
+            lookup_view_proj,
+            lookup_scale,
+            lookup_bounds,
         };
         self.frame_uniforms
             .write(&self.queue, &globals, &world_from_object);
@@ -1373,28 +1467,22 @@ impl Renderer {
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("frame"),
             });
-        {
+        if window.is_some() {
+            stats.shadow_triangles = self.encode_slots(
+                &mut encoder,
+                &slot_work,
+                [&shadow_draws, &foliage_shadow_draws],
+                &world_from_object,
+                &eye,
+            );
+        } else {
             let mut pass = depth_pass(
                 &mut encoder,
                 "shadow",
                 &self.shadow_view,
-                if reset.is_some() {
-                    wgpu::LoadOp::Load
-                } else {
-                    wgpu::LoadOp::Clear(1.0)
-                },
+                wgpu::LoadOp::Clear(1.0),
             );
             pass.set_bind_group(0, &self.frame_bind_group, &[]);
-            if let Some(r) = reset.filter(|r| !r.is_empty()) {
-                pass.set_pipeline(&self.far_pipeline);
-                pass.set_scissor_rect(
-                    r.x0 as u32,
-                    r.y0 as u32,
-                    r.width() as u32,
-                    r.height() as u32,
-                );
-                pass.draw(0..3, 0..1);
-            }
             pass.set_pipeline(&self.shadow_pipeline);
             pass.set_vertex_buffer(0, self.vertex_buffer.slice(..));
             pass.set_index_buffer(self.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
@@ -1416,6 +1504,7 @@ impl Renderer {
                 }
             }
         }
+        self.stats = stats;
         // The board's pass only with soft shadows: without them nothing samples its map.
         if board_light.is_some() {
             let mut pass = depth_pass(
@@ -1444,8 +1533,11 @@ impl Renderer {
                 Some(msaa) => (msaa, Some(&self.color_view)),
                 None => (&self.color_view, None),
             };
-            // Cleared whole: drawing the sky under the scissor instead shades every pixel of
-            // the part, which costs a 110 × 90 px part more than the clears save.
+            // The colour is cleared whole (drawing the sky under the scissor instead shades
+            // every pixel of the part, which costs more than the clear saves); the depth is
+            // set back under the scissor alone, by the first draw (llvmpipe's whole-target
+            // clear is a fill of every 64² tile), and stored, since a discarded target would
+            // be cleared whole again before it is next loaded.
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("main"),
                 color_attachments: &[Some(wgpu::RenderPassColorAttachment {
@@ -1465,8 +1557,8 @@ impl Renderer {
                 depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                     view: &self.depth_view,
                     depth_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(1.0),
-                        store: wgpu::StoreOp::Discard,
+                        load: wgpu::LoadOp::Load,
+                        store: wgpu::StoreOp::Store,
                     }),
                     stencil_ops: None,
                 }),
@@ -1475,7 +1567,15 @@ impl Renderer {
                 multiview_mask: None,
             });
             pass.set_bind_group(0, &self.frame_bind_group, &[]);
-            pass.set_bind_group(1, &self.shadow_bind_group, &[]);
+            pass.set_bind_group(
+                1,
+                if window.is_some() {
+                    &self.shadow_bind_group
+                } else {
+                    &self.own_map_bind_group
+                },
+                &[],
+            );
             pass.set_vertex_buffer(0, self.vertex_buffer.slice(..));
             pass.set_index_buffer(self.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
             // Only the part of the frame asked for is shaded.
@@ -1489,6 +1589,10 @@ impl Renderer {
             };
             if scissor != whole && !scissor.is_empty() {
                 set_scissor(&mut pass, scissor);
+            }
+            if !scissor.is_empty() {
+                pass.set_pipeline(&self.main_far_pipeline);
+                pass.draw(0..3, 0..1);
             }
             let mut current = None;
             for (k, (range, shading, soft)) in main_draws.iter().enumerate() {
@@ -1518,7 +1622,6 @@ impl Renderer {
             }
         }
         self.main_draws = main_draws;
-        self.shadow_dirty = dirty;
         self.shadow_draws = shadow_draws;
         self.board_shadow_draws = board_shadow_draws;
         self.foliage_shadow_draws = foliage_shadow_draws;
@@ -1607,65 +1710,168 @@ impl Renderer {
         ]
     }
 
-    /// Draws static shadow tile `cell` into layer `layer` of the tiles' texture: every
-    /// static caster over it, in a submission of its own (its uniforms are not the frame's).
-    fn draw_tile(&self, cell: shadow_tiles::Cell, layer: u32) {
+    /// Encodes a frame's draws into the slots' texture (`work`): the tiles drawn whole, the
+    /// texels set back (the cleared depth, and the static casters there drawn again: the
+    /// same draws as the tile's, so the same texels), then the vehicles (`vehicles`: the
+    /// solid casters' and the canopies' draws, placed by the frame's `world_from_object`,
+    /// the camera at `eye`). Returns the vehicles' triangles drawn.
+    fn encode_slots(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        work: &SlotWork,
+        vehicles: [&Vec<Range<u32>>; 2],
+        world_from_object: &ObjectTransforms,
+        eye: &Vector3<f64>,
+    ) -> u32 {
         let frame = &self.tile_frame;
-        let (min, max) = frame.tile_box(cell);
-        let light = Light::of_box(frame.axes, min, max, shadow_tiles::TILE_TEXELS);
-        // Vertices reach the GPU relative to a point of the tile, as the frame's do relative
-        // to the camera.
-        let origin = frame.tile_origin(cell);
-        let globals = Globals {
-            light_view_proj: to_f32(
-                &(light.clip_from_world * Translation3::from(origin).to_homogeneous()),
-            ),
-            origin: [origin.x as f32, origin.y as f32, origin.z as f32, 0.0],
-            ground: self.ground_params(),
-            ..Globals::zeroed()
-        };
-        let mut objects = [[[0f32; 4]; 4]; ObjectSlot::COUNT as usize];
-        objects[ObjectSlot::WORLD as usize] = to_f32(&Translation3::from(-origin).to_homogeneous());
-        self.tile_uniforms.write(&self.queue, &globals, &objects);
-        let (mut solid, mut leafy) = (Vec::new(), Vec::new());
-        for chunk in self.scene.chunks() {
-            if chunk.casts_shadow && frame.touches(cell, chunk.centre, chunk.radius) {
+        // A tile's static casters within `rect` (all of them when `whole`), solid and
+        // canopies: whole chunks for a whole tile, else the chunks' parts that reach it.
+        let statics = |rect: TexelRect, whole: bool| {
+            let (mut solid, mut leafy) = (Vec::new(), Vec::new());
+            for chunk in self.scene.chunks().iter().filter(|c| c.casts_shadow) {
                 let draws = if chunk.layer == Layer::Foliage {
                     &mut leafy
                 } else {
                     &mut solid
                 };
-                push_merged(draws, chunk.indices.clone());
+                if whole || chunk.parts.is_empty() {
+                    if frame.reaches(rect, chunk.centre, chunk.radius) {
+                        push_merged(draws, chunk.indices.clone());
+                    }
+                } else {
+                    for part in &chunk.parts {
+                        if frame.reaches(rect, part.centre, part.radius) {
+                            push_merged(draws, part.indices.clone());
+                        }
+                    }
+                }
             }
+            [solid, leafy]
+        };
+        // A tile's uniforms: the sun's projection onto its square, its vertices relative to
+        // a point of the tile (as the frame's are to the camera), the same every time.
+        let static_entry = |cell: Cell| {
+            let (min, max) = frame.tile_box(cell);
+            let light = Light::of_box(frame.axes, min, max, shadow_tiles::TILE_TEXELS);
+            let origin = frame.tile_origin(cell);
+            let globals = Globals {
+                light_view_proj: to_f32(
+                    &(light.clip_from_world * Translation3::from(origin).to_homogeneous()),
+                ),
+                origin: [origin.x as f32, origin.y as f32, origin.z as f32, 0.0],
+                ground: self.ground_params(),
+                ..Globals::zeroed()
+            };
+            let mut objects = [[[0f32; 4]; 4]; ObjectSlot::COUNT as usize];
+            objects[ObjectSlot::WORLD as usize] =
+                to_f32(&Translation3::from(-origin).to_homogeneous());
+            (globals, objects)
+        };
+        // The vehicles' over texels `rect`: the sun's projection onto just those texels.
+        let vehicle_entry = |rect: TexelRect| {
+            let (min, max) = frame.texels_box(rect);
+            let size = (rect.x1 - rect.x0).max(rect.r1 - rect.r0) as u32;
+            let light = Light::of_box(frame.axes, min, max, size);
+            let globals = Globals {
+                light_view_proj: to_f32(
+                    &(light.clip_from_world * Translation3::from(*eye).to_homogeneous()),
+                ),
+                origin: [eye.x as f32, eye.y as f32, eye.z as f32, 0.0],
+                ground: self.ground_params(),
+                ..Globals::zeroed()
+            };
+            (globals, *world_from_object)
+        };
+        // Every draw: its uniforms, its viewport and scissor (x, y, width, height in the
+        // texture), whether it clears them first, and its casters.
+        let side = shadow_tiles::TILE_TEXELS;
+        let in_tile = |cell: Cell, rect: TexelRect| {
+            let (a, b) = shadow_tiles::slot(cell);
+            (
+                [a as u32 * side, b as u32 * side, side, side],
+                rect.in_slots(),
+            )
+        };
+        let mut entries = Vec::new();
+        let mut draws = Vec::new();
+        for &cell in &work.tiles {
+            entries.push(static_entry(cell));
+            let rect = TexelRect::of_cell(cell);
+            draws.push((in_tile(cell, rect), true, statics(rect, true)));
         }
-        let mut encoder = self
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("shadow tile"),
-            });
+        for &(cell, rect) in &work.restore {
+            entries.push(static_entry(cell));
+            draws.push((in_tile(cell, rect), true, statics(rect, false)));
+        }
+        for &rect in &work.vehicles {
+            entries.push(vehicle_entry(rect));
+            let texels = rect.in_slots();
+            // The moving casters that reach these texels, of those the frame draws.
+            let mut casters = [Vec::new(), Vec::new()];
+            for item in self.items.iter().filter(|d| {
+                d.casts_shadow
+                    && d.class < FIRST_STATIC_CLASS
+                    && frame.reaches(rect, d.centre, d.radius)
+            }) {
+                let foliage = usize::from(item.shading == Shading::Foliage);
+                if vehicles[foliage]
+                    .iter()
+                    .any(|r| r.start <= item.indices.start && item.indices.end <= r.end)
+                {
+                    casters[foliage].push(item.indices.clone());
+                }
+            }
+            for list in &mut casters {
+                list.sort_by_key(|r| r.start);
+                let ranges = std::mem::take(list);
+                for range in ranges {
+                    push_merged(list, range);
+                }
+            }
+            draws.push(((texels, texels), false, casters));
+        }
+        if draws.is_empty() {
+            return 0;
+        }
+        self.slot_uniforms.write(&self.queue, &entries);
+        let [far, solid, leafy] = &self.slot_pipelines;
+        let mut pass = depth_pass(
+            encoder,
+            "shadow tiles",
+            &self.slots_view,
+            wgpu::LoadOp::Load,
+        );
+        pass.set_vertex_buffer(0, self.vertex_buffer.slice(..));
+        pass.set_index_buffer(self.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
+        let mut triangles = 0;
+        for (k, ((viewport, [x, y, w, h]), clear, [solid_draws, leafy_draws])) in
+            draws.iter().enumerate()
         {
-            let mut pass = depth_pass(
-                &mut encoder,
-                "shadow tile",
-                &self.tile_views[layer as usize],
-                wgpu::LoadOp::Clear(1.0),
-            );
-            pass.set_bind_group(0, &self.tile_bind_group, &[]);
-            pass.set_vertex_buffer(0, self.vertex_buffer.slice(..));
-            pass.set_index_buffer(self.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
-            for (pipeline, draws) in [
-                (&self.shadow_pipeline, &solid),
-                (&self.foliage_shadow_pipeline, &leafy),
-            ] {
-                if !draws.is_empty() {
+            pass.set_bind_group(0, &self.slot_bind_group, &self.slot_uniforms.offsets(k));
+            let [vx, vy, vw, vh] = viewport.map(|v| v as f32);
+            pass.set_viewport(vx, vy, vw, vh, 0.0, 1.0);
+            pass.set_scissor_rect(*x, *y, *w, *h);
+            if *clear {
+                pass.set_pipeline(far);
+                pass.draw(0..3, 0..1);
+            }
+            for (pipeline, list) in [(solid, solid_draws), (leafy, leafy_draws)] {
+                if !list.is_empty() {
                     pass.set_pipeline(pipeline);
-                    for range in draws {
+                    for range in list {
                         pass.draw_indexed(range.clone(), 0, 0..1);
                     }
                 }
             }
+            if !*clear {
+                triangles += solid_draws
+                    .iter()
+                    .chain(leafy_draws)
+                    .map(|r| (r.end - r.start) / 3)
+                    .sum::<u32>();
+            }
         }
-        self.queue.submit([encoder.finish()]);
+        triangles
     }
 
     /// The first row the hood covers from edge to edge, for the camera panned by `pan_rad`.
@@ -1808,6 +2014,69 @@ struct Uniforms {
     buffer: wgpu::Buffer,
     objects_offset: u64,
 }
+
+/// Draws into the slots' texture a frame may make: every slot's tile drawn whole or set
+/// back, and the moving objects' texels (cut in up to four where the texture wraps).
+const SLOT_ENTRIES: usize =
+    shadow_tiles::WINDOW * shadow_tiles::WINDOW + 4 * ObjectSlot::COUNT as usize;
+
+/// The uniforms of the draws into the slots' texture: [`Uniforms`]' layout once a draw,
+/// `stride` bytes apart, each bound at its dynamic offset. All a frame's are written in
+/// one `write_buffer`.
+struct SlotUniforms(Uniforms, u64);
+
+impl SlotUniforms {
+    fn new(device: &wgpu::Device) -> SlotUniforms {
+        let align = u64::from(device.limits().min_uniform_buffer_offset_alignment);
+        let objects_offset = GLOBALS_BYTES.div_ceil(align) * align;
+        let stride = (objects_offset + OBJECTS_BYTES).div_ceil(align) * align;
+        let buffer = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("slot uniforms"),
+            size: stride * SLOT_ENTRIES as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        SlotUniforms(
+            Uniforms {
+                buffer,
+                objects_offset,
+            },
+            stride,
+        )
+    }
+
+    /// Writes the entries `entries`, from the first.
+    fn write(&self, queue: &wgpu::Queue, entries: &[(Globals, ObjectTransforms)]) {
+        if entries.is_empty() {
+            return;
+        }
+        assert!(entries.len() <= SLOT_ENTRIES, "a window's draws at most");
+        let stride = self.1 as usize;
+        let size = wgpu::BufferSize::new((stride * entries.len()) as u64).expect("entries");
+        let mut bytes = queue
+            .write_buffer_with(&self.0.buffer, 0, size)
+            .expect("the write lies within the buffer");
+        let offset = self.0.objects_offset as usize;
+        for (k, (globals, objects)) in entries.iter().enumerate() {
+            let entry = k * stride;
+            bytes
+                .slice(entry..entry + GLOBALS_BYTES as usize)
+                .copy_from_slice(bytemuck::bytes_of(globals));
+            bytes
+                .slice(entry + offset..entry + offset + OBJECTS_BYTES as usize)
+                .copy_from_slice(bytemuck::cast_slice(objects));
+        }
+    }
+
+    /// The dynamic offsets of entry `k`.
+    fn offsets(&self, k: usize) -> [u32; 2] {
+        let at = (k as u64 * self.1) as u32;
+        [at, at]
+    }
+}
+
+/// Every object slot's transform (see `Objects` in `scene.wgsl`).
+type ObjectTransforms = [[[f32; 4]; 4]; ObjectSlot::COUNT as usize];
 
 /// Bytes of [`Globals`].
 const GLOBALS_BYTES: u64 = std::mem::size_of::<Globals>() as u64;

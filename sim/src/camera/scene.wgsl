@@ -6,13 +6,13 @@
 struct Globals {
     // Camera-relative world (world minus `origin`) to clip space of the chase camera.
     view_proj: mat4x4<f32>,
-    // Camera-relative world to the sun's orthographic clip space (fitted to what the
-    // camera sees).
+    // Camera-relative world to the sun's orthographic clip space: of the map the shadow
+    // pass draws (fitted to what the camera sees, or a static shadow tile's square).
     light_view_proj: mat4x4<f32>,
     // xyz: unit vector towards the sun (world); w: sun strength.
     sun: vec4<f32>,
     // x: ambient; y: sensor brightness (gain × exposure); z: normal offset for shadow
-    // lookups (metres, ~1.5 shadow texels); w: 1 / shadow map size.
+    // lookups (metres, 1.5 texels of the map looked up); w: 1 / shadow map size.
     params: vec4<f32>,
     // Grass: x: 1 / lattice pitch (1/m); y: lowest albedo; z: albedo range; w: hash key
     // (an integer below 2^23).
@@ -33,16 +33,16 @@ struct Globals {
     // Strength of the texture's detail for materials 1–4 (asphalt, grass, gravel, paint):
     // the factor's departure from 1 is scaled by it.
     strength: vec4<f32>,
-    // Camera-relative world to the static shadow tiles' window: x, y in tiles from the
-    // window's corner, z the tiles' depth (0 nearest the sun). Zero when the frame has no
-    // window (its own map then holds every caster).
-    tiles_view_proj: mat4x4<f32>,
-    // x: normal offset for tile lookups (m); y: a tile's own square, as a share of its
-    // texture's side; z: its guard band, the same; w: unused.
-    tile_params: vec4<f32>,
-    // The layer of `shadow_tiles` holding each of the window's 4 × 4 tiles (rows of
-    // increasing y), 0xffffffff for none.
-    tile_layers: array<vec4<u32>, 4>,
+    // Camera-relative world to where a receiver looks its sunlight up in `shadow_map`:
+    // (x, y) × `lookup_scale.xy` + `lookup_scale.zw` are its texture coordinates, z its
+    // depth. The slots' texture of the static shadow tiles and the vehicles (its texture
+    // coordinates straight, from 0 to 2: the sampler repeats), or the frame's own map (its
+    // clip space).
+    lookup_view_proj: mat4x4<f32>,
+    lookup_scale: vec4<f32>,
+    // The texture coordinates (u0, v0, u1, v1) the map answers for; outside, the sun
+    // shines.
+    lookup_bounds: vec4<f32>,
 };
 
 struct Objects {
@@ -53,14 +53,16 @@ struct Objects {
 
 @group(0) @binding(0) var<uniform> globals: Globals;
 @group(0) @binding(1) var<uniform> objects: Objects;
+// The sun's depth where receivers look it up: the slots' texture of the static shadow
+// tiles and the vehicles, or the frame's own map.
 @group(1) @binding(0) var shadow_map: texture_depth_2d;
 @group(1) @binding(1) var shadow_sampler: sampler_comparison;
 @group(1) @binding(2) var board_map: texture_depth_2d;
 // Detail factors (half of them: 0–1 holds 0–2, mean 1), one layer per texture, mipmapped.
 @group(1) @binding(3) var ground_textures: texture_2d_array<f32>;
 @group(1) @binding(4) var ground_sampler: sampler;
-// The static scenery's shadows, one tile a layer (see `tile_layers`).
-@group(1) @binding(5) var shadow_tiles: texture_depth_2d_array;
+// The board's fine map's sampler (it clamps).
+@group(1) @binding(5) var board_sampler: sampler_comparison;
 
 struct VertexIn {
     @location(0) position: vec3<f32>,
@@ -76,7 +78,7 @@ struct VertexOut {
     // x: albedo (negative: grass, computed per fragment); y: ambient light; z: direct
     // sunlight before shadowing (both scaled by the sensor's brightness).
     @location(0) @interpolate(flat) light: vec3<f32>,
-    // Where the (normal-offset) point falls in the shadow map: x, y in 0..1, depth.
+    // Where the (normal-offset) point falls in `shadow_map`: texture coordinates, depth.
     // The sun's projection is orthographic, so this is affine in the world position and
     // interpolating it across a triangle is exact.
     @location(1) shadow: vec3<f32>,
@@ -84,8 +86,6 @@ struct VertexOut {
     @location(2) ground: vec2<f32>,
     // Where the (normal-offset) point falls in the board's shadow map.
     @location(3) board: vec3<f32>,
-    // Where the (normal-offset) point falls in the static shadow tiles' window.
-    @location(5) tiles: vec3<f32>,
 };
 
 // A ground surface's vertex: `VertexOut`'s fields, and its texture.
@@ -97,7 +97,6 @@ struct GroundOut {
     @location(3) board: vec3<f32>,
     // x: the texture's layer; y: its strength; z: 1 / its tile's side (1/m).
     @location(4) @interpolate(flat) texture: vec3<f32>,
-    @location(5) tiles: vec3<f32>,
 };
 
 // A canopy's vertex: `VertexOut`'s fields, and the world height (with `ground`, the
@@ -109,7 +108,6 @@ struct FoliageOut {
     @location(2) ground: vec2<f32>,
     @location(3) board: vec3<f32>,
     @location(4) height: f32,
-    @location(5) tiles: vec3<f32>,
 };
 
 // A canopy's vertex in the shadow passes: its world position, for the leaf pattern.
@@ -130,6 +128,13 @@ fn vs_shadow(v: VertexIn) -> @builtin(position) vec4<f32> {
 fn vs_far(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
     let p = vec2<f32>(f32((i << 1u) & 2u), f32(i & 2u)) * 2.0 - 1.0;
     return vec4<f32>(p, 1.0, 1.0);
+}
+
+// With `vs_far` in the main pass, under the scissor: sets the depth there back to the
+// cleared depth, and leaves the colour as it is (the pipeline writes no channel).
+@fragment
+fn fs_far() -> @location(0) vec4<f32> {
+    return vec4<f32>(0.0);
 }
 
 @vertex
@@ -174,12 +179,12 @@ fn vs_main_of(v: VertexIn) -> VertexOut {
     let facing = max(dot(normal, globals.sun.xyz), 0.0);
     let brightness = globals.params.y;
     out.light = vec3<f32>(v.albedo, globals.params.x * brightness, globals.sun.w * facing * brightness);
-    let p = globals.light_view_proj * vec4<f32>(world.xyz + normal * globals.params.z, 1.0);
-    out.shadow = vec3<f32>(p.x * 0.5 + 0.5, 0.5 - p.y * 0.5, p.z);
+    let p = globals.lookup_view_proj * vec4<f32>(world.xyz + normal * globals.params.z, 1.0);
+    let s = globals.lookup_scale;
+    out.shadow = vec3<f32>(p.x * s.x + s.z, p.y * s.y + s.w, p.z);
     out.ground = world.xz + globals.origin.xz;
     let b = globals.board_view_proj * vec4<f32>(world.xyz + normal * (1.5 * globals.board.z), 1.0);
     out.board = vec3<f32>(b.x * 0.5 + 0.5, 0.5 - b.y * 0.5, b.z);
-    out.tiles = (globals.tiles_view_proj * vec4<f32>(world.xyz + normal * globals.tile_params.x, 1.0)).xyz;
     return out;
 }
 
@@ -192,7 +197,6 @@ fn vs_ground(v: VertexIn) -> GroundOut {
     out.shadow = o.shadow;
     out.ground = o.ground;
     out.board = o.board;
-    out.tiles = o.tiles;
     // Material → layer and strength: asphalt, grass, gravel, and paint (asphalt, faint).
     var layer = 0u;
     var strength = 0.0;
@@ -216,45 +220,21 @@ fn vs_foliage(v: VertexIn) -> FoliageOut {
     out.shadow = o.shadow;
     out.ground = o.ground;
     out.board = o.board;
-    out.tiles = o.tiles;
     let world = objects.world_from_object[v.object & 0xffu] * vec4<f32>(v.position, 1.0);
     out.height = world.y + globals.origin.y;
     return out;
 }
 
-// Fraction of sunlight reaching shadow-map point `p` (0 = full shadow): one bilinear
+// Fraction of sunlight reaching point `p` of `shadow_map` (0 = full shadow): one bilinear
 // comparison tap, a 2×2-texel percentage-closer filter, so shadow edges ramp over about a
-// texel (~11 cm at 512²).
+// texel (10 cm in the static tiles' slots, ~11 cm in a frame's own 512² map).
 // More taps cost llvmpipe more than the whole rest of the frame.
-fn sunlight_map(p: vec3<f32>) -> f32 {
-    if (p.x < 0.0 || p.x > 1.0 || p.y < 0.0 || p.y > 1.0 || p.z > 1.0) {
+fn sunlight(p: vec3<f32>) -> f32 {
+    let b = globals.lookup_bounds;
+    if (p.x < b.x || p.x > b.z || p.y < b.y || p.y > b.w || p.z > 1.0) {
         return 1.0;
     }
     return textureSampleCompareLevel(shadow_map, shadow_sampler, p.xy, p.z);
-}
-
-// The same from the static shadow tiles, at point `q` of their window (`tiles_view_proj`):
-// one bilinear comparison tap in the tile under it; the guard band around each tile holds
-// its neighbours' texels, so the tap never needs two tiles.
-fn sunlight_tiles(q: vec3<f32>) -> f32 {
-    if (q.x < 0.0 || q.y < 0.0 || q.x >= 4.0 || q.y >= 4.0 || q.z > 1.0) {
-        return 1.0;
-    }
-    let cell = vec2<u32>(floor(q.xy));
-    let layer = globals.tile_layers[cell.y][cell.x];
-    if (layer == 0xffffffffu) {
-        return 1.0;
-    }
-    // Texture rows run down from the tile's greatest y.
-    let f = fract(q.xy);
-    let uv = globals.tile_params.z + vec2<f32>(f.x, 1.0 - f.y) * globals.tile_params.y;
-    return textureSampleCompareLevel(shadow_tiles, shadow_sampler, uv, i32(layer), q.z);
-}
-
-// Fraction of sunlight at a receiver: the frame's map (`p`) and the static tiles (`q`);
-// whichever shades it more.
-fn sunlight(p: vec3<f32>, q: vec3<f32>) -> f32 {
-    return min(sunlight_map(p), sunlight_tiles(q));
 }
 
 // Fraction of sunlight at point `p` of the board's fine shadow map, with the sun's disc
@@ -277,25 +257,25 @@ fn sunlight_board(p: vec3<f32>) -> f32 {
         let z = p.z - step / depth_m;
         let reach = max(0.5 * step * per_m / texel_m, 1.0) * texel;
         var blocked = 0.0;
-        blocked = blocked + (1.0 - textureSampleCompareLevel(board_map, shadow_sampler, p.xy, z));
-        blocked = blocked + (1.0 - textureSampleCompareLevel(board_map, shadow_sampler, p.xy + vec2<f32>(reach.x, reach.y), z));
-        blocked = blocked + (1.0 - textureSampleCompareLevel(board_map, shadow_sampler, p.xy + vec2<f32>(-reach.x, reach.y), z));
-        blocked = blocked + (1.0 - textureSampleCompareLevel(board_map, shadow_sampler, p.xy + vec2<f32>(reach.x, -reach.y), z));
-        blocked = blocked + (1.0 - textureSampleCompareLevel(board_map, shadow_sampler, p.xy - vec2<f32>(reach.x, reach.y), z));
+        blocked = blocked + (1.0 - textureSampleCompareLevel(board_map, board_sampler, p.xy, z));
+        blocked = blocked + (1.0 - textureSampleCompareLevel(board_map, board_sampler, p.xy + vec2<f32>(reach.x, reach.y), z));
+        blocked = blocked + (1.0 - textureSampleCompareLevel(board_map, board_sampler, p.xy + vec2<f32>(-reach.x, reach.y), z));
+        blocked = blocked + (1.0 - textureSampleCompareLevel(board_map, board_sampler, p.xy + vec2<f32>(reach.x, -reach.y), z));
+        blocked = blocked + (1.0 - textureSampleCompareLevel(board_map, board_sampler, p.xy - vec2<f32>(reach.x, reach.y), z));
         if (blocked > 0.0) {
             far = step;
         }
         step = step * 4.0;
     }
     if (far == 0.0) {
-        return textureSampleCompareLevel(board_map, shadow_sampler, p.xy, p.z);
+        return textureSampleCompareLevel(board_map, board_sampler, p.xy, p.z);
     }
     let width = max(2.0 * far * per_m / texel_m, 1.0);
     var lit = 0.0;
     for (var j = 0; j < 3; j = j + 1) {
         for (var i = 0; i < 3; i = i + 1) {
             let o = (vec2<f32>(f32(i), f32(j)) - 1.0) * (width / 3.0) * texel;
-            lit = lit + textureSampleCompareLevel(board_map, shadow_sampler, p.xy + o, p.z);
+            lit = lit + textureSampleCompareLevel(board_map, board_sampler, p.xy + o, p.z);
         }
     }
     return lit / 9.0;
@@ -336,7 +316,7 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     }
     var light = in.light.y;
     if (in.light.z > 0.0) {
-        light += in.light.z * sunlight(in.shadow, in.tiles);
+        light += in.light.z * sunlight(in.shadow);
     }
     let grey = albedo * light;
     return vec4<f32>(grey, grey, grey, 1.0);
@@ -357,7 +337,7 @@ fn fs_main_soft(in: VertexOut) -> @location(0) vec4<f32> {
         if (b.x >= 0.0 && b.x <= 1.0 && b.y >= 0.0 && b.y <= 1.0 && b.z >= globals.board.w && b.z <= 1.0) {
             sun = sunlight_board(b);
         } else {
-            sun = sunlight(in.shadow, in.tiles);
+            sun = sunlight(in.shadow);
         }
         light += in.light.z * sun;
     }
@@ -375,23 +355,23 @@ fn detail(ground: vec2<f32>, texture: vec3<f32>) -> f32 {
 
 // Light reaching a surface of face light `light` (see `VertexOut`) at shadow-map point
 // `shadow`: ambient, and sunlight as the main map lets it through.
-fn lit(light: vec3<f32>, shadow: vec3<f32>, tiles: vec3<f32>) -> f32 {
+fn lit(light: vec3<f32>, shadow: vec3<f32>) -> f32 {
     var l = light.y;
     if (light.z > 0.0) {
-        l += light.z * sunlight(shadow, tiles);
+        l += light.z * sunlight(shadow);
     }
     return l;
 }
 
 // As `lit`, with soft shadows on the target (see `fs_main_soft`).
-fn lit_soft(light: vec3<f32>, shadow: vec3<f32>, tiles: vec3<f32>, b: vec3<f32>) -> f32 {
+fn lit_soft(light: vec3<f32>, shadow: vec3<f32>, b: vec3<f32>) -> f32 {
     var l = light.y;
     if (light.z > 0.0) {
         var sun = 0.0;
         if (b.x >= 0.0 && b.x <= 1.0 && b.y >= 0.0 && b.y <= 1.0 && b.z >= globals.board.w && b.z <= 1.0) {
             sun = sunlight_board(b);
         } else {
-            sun = sunlight(shadow, tiles);
+            sun = sunlight(shadow);
         }
         l += light.z * sun;
     }
@@ -412,14 +392,14 @@ fn ground_albedo(in: GroundOut) -> f32 {
 // Textured ground: `fs_main` with the albedo modulated by the surface's texture.
 @fragment
 fn fs_ground(in: GroundOut) -> @location(0) vec4<f32> {
-    let grey = ground_albedo(in) * lit(in.light, in.shadow, in.tiles);
+    let grey = ground_albedo(in) * lit(in.light, in.shadow);
     return vec4<f32>(grey, grey, grey, 1.0);
 }
 
 // `fs_ground` with soft shadows on the target.
 @fragment
 fn fs_ground_soft(in: GroundOut) -> @location(0) vec4<f32> {
-    let grey = ground_albedo(in) * lit_soft(in.light, in.shadow, in.tiles, in.board);
+    let grey = ground_albedo(in) * lit_soft(in.light, in.shadow, in.board);
     return vec4<f32>(grey, grey, grey, 1.0);
 }
 
@@ -472,14 +452,14 @@ fn leaf_albedo(in: FoliageOut) -> f32 {
 // A canopy from the camera: holes discarded, leaves shaded as `fs_main`.
 @fragment
 fn fs_foliage(in: FoliageOut) -> @location(0) vec4<f32> {
-    let grey = leaf_albedo(in) * lit(in.light, in.shadow, in.tiles);
+    let grey = leaf_albedo(in) * lit(in.light, in.shadow);
     return vec4<f32>(grey, grey, grey, 1.0);
 }
 
 // `fs_foliage` with soft shadows on the target.
 @fragment
 fn fs_foliage_soft(in: FoliageOut) -> @location(0) vec4<f32> {
-    let grey = leaf_albedo(in) * lit_soft(in.light, in.shadow, in.tiles, in.board);
+    let grey = leaf_albedo(in) * lit_soft(in.light, in.shadow, in.board);
     return vec4<f32>(grey, grey, grey, 1.0);
 }
 
