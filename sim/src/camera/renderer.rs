@@ -575,19 +575,19 @@ impl Renderer {
         });
 
         // Bind groups: per-frame uniforms (both passes), the shadow map (main pass only).
-        let uniform_entry = |binding| wgpu::BindGroupLayoutEntry {
+        let uniform_entry = |binding, has_dynamic_offset| wgpu::BindGroupLayoutEntry {
             binding,
             visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
             ty: wgpu::BindingType::Buffer {
                 ty: wgpu::BufferBindingType::Uniform,
-                has_dynamic_offset: false,
+                has_dynamic_offset,
                 min_binding_size: None,
             },
             count: None,
         };
         let frame_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("frame"),
-            entries: &[uniform_entry(0), uniform_entry(1)],
+            entries: &[uniform_entry(0, false), uniform_entry(1, false)],
         });
         let shadow_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("shadow"),
@@ -642,25 +642,21 @@ impl Renderer {
                 },
             ],
         });
-        let shadow_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
-            label: Some("shadow"),
-            address_mode_u: wgpu::AddressMode::ClampToEdge,
-            address_mode_v: wgpu::AddressMode::ClampToEdge,
-            mag_filter: wgpu::FilterMode::Linear,
-            min_filter: wgpu::FilterMode::Linear,
-            compare: Some(wgpu::CompareFunction::LessEqual),
-            ..Default::default()
-        });
+        // A bilinear comparison sampler (a 2 × 2-texel percentage-closer filter).
+        let comparison_sampler = |label, address_mode| {
+            device.create_sampler(&wgpu::SamplerDescriptor {
+                label: Some(label),
+                address_mode_u: address_mode,
+                address_mode_v: address_mode,
+                mag_filter: wgpu::FilterMode::Linear,
+                min_filter: wgpu::FilterMode::Linear,
+                compare: Some(wgpu::CompareFunction::LessEqual),
+                ..Default::default()
+            })
+        };
+        let shadow_sampler = comparison_sampler("shadow", wgpu::AddressMode::ClampToEdge);
         // The slots' texture wraps around (see `shadow_tiles`).
-        let slots_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
-            label: Some("shadow tiles"),
-            address_mode_u: wgpu::AddressMode::Repeat,
-            address_mode_v: wgpu::AddressMode::Repeat,
-            mag_filter: wgpu::FilterMode::Linear,
-            min_filter: wgpu::FilterMode::Linear,
-            compare: Some(wgpu::CompareFunction::LessEqual),
-            ..Default::default()
-        });
+        let slots_sampler = comparison_sampler("shadow tiles", wgpu::AddressMode::Repeat);
         let uniforms_group = |label, uniforms: &Uniforms| {
             device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some(label),
@@ -679,19 +675,9 @@ impl Renderer {
         };
         let frame_bind_group = uniforms_group("frame", &frame_uniforms);
         // The draws into the slots: the same uniforms, an entry a draw.
-        let slot_entry = |binding| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
-            ty: wgpu::BindingType::Buffer {
-                ty: wgpu::BufferBindingType::Uniform,
-                has_dynamic_offset: true,
-                min_binding_size: None,
-            },
-            count: None,
-        };
         let slot_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("slot"),
-            entries: &[slot_entry(0), slot_entry(1)],
+            entries: &[uniform_entry(0, true), uniform_entry(1, true)],
         });
         let slot_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("slot"),
@@ -828,28 +814,43 @@ impl Renderer {
             "vs_foliage_board_shadow",
             Some("fs_foliage_shadow"),
         );
-        let main_far_pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("main far"),
-            layout: Some(&main_pipeline_layout),
-            vertex: wgpu::VertexState {
-                module: &shader,
-                entry_point: Some("vs_far"),
-                compilation_options: Default::default(),
-                buffers: &[],
-            },
-            primitive: wgpu::PrimitiveState::default(),
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: DEPTH_FORMAT,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Always),
-                stencil: wgpu::StencilState::default(),
-                bias: wgpu::DepthBiasState::default(),
-            }),
-            multisample: wgpu::MultisampleState {
+        // Writes the cleared depth (1) wherever it is scissored to, whatever was there (the
+        // main pass's depth set back under the scissor, a slot's vehicles' texels set back).
+        let far_pipeline = |label,
+                            layout: &wgpu::PipelineLayout,
+                            multisample,
+                            fragment: Option<wgpu::FragmentState>| {
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(label),
+                layout: Some(layout),
+                vertex: wgpu::VertexState {
+                    module: &shader,
+                    entry_point: Some("vs_far"),
+                    compilation_options: Default::default(),
+                    buffers: &[],
+                },
+                primitive: wgpu::PrimitiveState::default(),
+                depth_stencil: Some(wgpu::DepthStencilState {
+                    format: DEPTH_FORMAT,
+                    depth_write_enabled: Some(true),
+                    depth_compare: Some(wgpu::CompareFunction::Always),
+                    stencil: wgpu::StencilState::default(),
+                    bias: wgpu::DepthBiasState::default(),
+                }),
+                multisample,
+                fragment,
+                multiview_mask: None,
+                cache: None,
+            })
+        };
+        let main_far_pipeline = far_pipeline(
+            "main far",
+            &main_pipeline_layout,
+            wgpu::MultisampleState {
                 count: samples,
                 ..Default::default()
             },
-            fragment: Some(wgpu::FragmentState {
+            Some(wgpu::FragmentState {
                 module: &shader,
                 entry_point: Some("fs_far"),
                 compilation_options: Default::default(),
@@ -859,32 +860,13 @@ impl Renderer {
                     write_mask: wgpu::ColorWrites::empty(),
                 })],
             }),
-            multiview_mask: None,
-            cache: None,
-        });
-        // Writes the cleared depth (1) wherever it is scissored to, whatever was there.
-        let far = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("far"),
-            layout: Some(&slot_pipeline_layout),
-            vertex: wgpu::VertexState {
-                module: &shader,
-                entry_point: Some("vs_far"),
-                compilation_options: Default::default(),
-                buffers: &[],
-            },
-            primitive: wgpu::PrimitiveState::default(),
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: DEPTH_FORMAT,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Always),
-                stencil: wgpu::StencilState::default(),
-                bias: wgpu::DepthBiasState::default(),
-            }),
-            multisample: wgpu::MultisampleState::default(),
-            fragment: None,
-            multiview_mask: None,
-            cache: None,
-        });
+        );
+        let far = far_pipeline(
+            "far",
+            &slot_pipeline_layout,
+            wgpu::MultisampleState::default(),
+            None,
+        );
         let slot = &slot_pipeline_layout;
         let slot_pipelines = [
             far,
