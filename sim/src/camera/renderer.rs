@@ -1317,14 +1317,12 @@ impl Renderer {
                 let rects: Vec<TexelRect> = items
                     .iter()
                     .filter(|d| {
-                        d.casts_shadow
-                            && d.class < FIRST_STATIC_CLASS
+                        d.moving_caster()
                             && light.holds(d.centre, d.radius)
+                            && l.holds(d.centre, d.radius)
                     })
                     .map(|d| {
-                        let one = l
-                            .casters_texels(std::slice::from_ref(d), size)
-                            .intersection(&seen);
+                        let one = l.caster_texels(d, size).intersection(&seen);
                         TexelRect::of_window_texels(w.corner, one)
                     })
                     .filter(|r| !r.is_empty())
@@ -1790,11 +1788,11 @@ impl Renderer {
             let texels = rect.in_slots();
             // The moving casters that reach these texels, of those the frame draws.
             let mut casters = [Vec::new(), Vec::new()];
-            for item in self.items.iter().filter(|d| {
-                d.casts_shadow
-                    && d.class < FIRST_STATIC_CLASS
-                    && frame.reaches(rect, d.centre, d.radius)
-            }) {
+            for item in self
+                .items
+                .iter()
+                .filter(|d| d.moving_caster() && frame.reaches(rect, d.centre, d.radius))
+            {
                 let foliage = usize::from(item.shading == Shading::Foliage);
                 if vehicles[foliage]
                     .iter()
@@ -2213,7 +2211,7 @@ fn caster_draws(
         .iter()
         .filter(|d| {
             d.casts_shadow
-                && (with_static || d.class < FIRST_STATIC_CLASS)
+                && (with_static || d.moving_caster())
                 && (d.shading == Shading::Foliage) == foliage
                 && light.holds(d.centre, d.radius)
                 && texels.is_none_or(|(t, size)| light.reaches(t, size, d.centre, d.radius))
@@ -2252,6 +2250,14 @@ struct DrawItem {
     /// The static chunk it is (its index in [`Scene::chunks`]), whose parts the main pass
     /// culls one by one.
     chunk: Option<usize>,
+}
+
+impl DrawItem {
+    /// Whether it is a moving object that casts a shadow: what a frame draws from the sun
+    /// on top of the static casters' cached tiles.
+    fn moving_caster(&self) -> bool {
+        self.casts_shadow && self.class < FIRST_STATIC_CLASS
+    }
 }
 
 /// The camera's view frustum as planes through the optical centre plus near and far, in the
@@ -2474,37 +2480,22 @@ impl Light {
         }
     }
 
-    /// The texels of this map (`size` a side) that the moving casters among `items` within
-    /// its box can cover, grown by two texels (the rasteriser's rounding, with room to
-    /// spare).
-    fn casters_texels(&self, items: &[DrawItem], size: u32) -> PixelRect {
+    /// The texels of this map (`size` a side) that draw item `d` can cover, grown by two
+    /// texels (the rasteriser's rounding, with room to spare).
+    fn caster_texels(&self, d: &DrawItem, size: u32) -> PixelRect {
         let n = f64::from(size);
         let (sx, sy) = (self.max[0] - self.min[0], self.max[1] - self.min[1]);
         let clip = |t: f64| t.clamp(0.0, n) as usize;
-        items
-            .iter()
-            .filter(|d| {
-                d.casts_shadow && d.class < FIRST_STATIC_CLASS && self.holds(d.centre, d.radius)
-            })
-            .map(|d| {
-                let c = Vector3::from(d.centre);
-                let tx = (self.axes[0].dot(&c) - self.min[0]) / sx * n;
-                let ty = (self.max[1] - self.axes[1].dot(&c)) / sy * n;
-                let (rx, ry) = (d.radius / sx * n + 2.0, d.radius / sy * n + 2.0);
-                PixelRect {
-                    x0: clip((tx - rx).floor()),
-                    x1: clip((tx + rx).ceil()),
-                    y0: clip((ty - ry).floor()),
-                    y1: clip((ty + ry).ceil()),
-                }
-            })
-            .fold(PixelRect::whole(0, 0), |a, b| {
-                if a.is_empty() {
-                    b
-                } else {
-                    a.union(&b)
-                }
-            })
+        let c = Vector3::from(d.centre);
+        let tx = (self.axes[0].dot(&c) - self.min[0]) / sx * n;
+        let ty = (self.max[1] - self.axes[1].dot(&c)) / sy * n;
+        let (rx, ry) = (d.radius / sx * n + 2.0, d.radius / sy * n + 2.0);
+        PixelRect {
+            x0: clip((tx - rx).floor()),
+            x1: clip((tx + rx).ceil()),
+            y0: clip((ty - ry).floor()),
+            y1: clip((ty + ry).ceil()),
+        }
     }
 
     /// Whether a sphere can cover any of the texels `texels` of this map (`size` a side).
