@@ -4,20 +4,28 @@
 use image::{GrayImage, Rgb, RgbImage};
 use tracker::{EdgeDiagnostic, EdgeFate, Orientation, TrackOutput};
 
-/// Window of interest: yellow.
-pub const WINDOW: Rgb<u8> = Rgb([255, 220, 0]);
-/// Predicted model features: green.
-pub const PREDICTED: Rgb<u8> = Rgb([0, 230, 0]);
-/// Edge points associated with a feature: red.
-pub const ASSOCIATED: Rgb<u8> = Rgb([255, 40, 40]);
-/// Classified edge points too far from every feature: blue.
-pub const TOO_FAR: Rgb<u8> = Rgb([60, 120, 255]);
-/// The measured object centre: magenta.
-pub const CENTRE: Rgb<u8> = Rgb([255, 0, 255]);
+/// The overlay's colours, by what they mark.
+#[derive(Clone, Copy, Debug)]
+pub struct OverlayColour;
+
+impl OverlayColour {
+    /// Window of interest: yellow.
+    pub const WINDOW: Rgb<u8> = Rgb([255, 220, 0]);
+    /// Predicted model features: green.
+    pub const PREDICTED: Rgb<u8> = Rgb([0, 230, 0]);
+    /// Edge points associated with a feature: red.
+    pub const ASSOCIATED: Rgb<u8> = Rgb([255, 40, 40]);
+    /// Classified edge points too far from every feature: blue.
+    pub const TOO_FAR: Rgb<u8> = Rgb([60, 120, 255]);
+    /// The measured object centre: magenta.
+    pub const CENTRE: Rgb<u8> = Rgb([255, 0, 255]);
+}
+
+use OverlayColour as C;
 
 /// The frame in colour with the tracker's overlay. Weak and wrongly oriented points are not
 /// drawn (there are many and they hide the image).
-pub fn draw(frame: &GrayImage, out: &TrackOutput, edges: &[EdgeDiagnostic]) -> RgbImage {
+pub fn draw_overlay(frame: &GrayImage, out: &TrackOutput, edges: &[EdgeDiagnostic]) -> RgbImage {
     let mut img = RgbImage::from_fn(frame.width(), frame.height(), |x, y| {
         let g = frame.get_pixel(x, y)[0];
         Rgb([g, g, g])
@@ -36,7 +44,7 @@ pub fn draw(frame: &GrayImage, out: &TrackOutput, edges: &[EdgeDiagnostic]) -> R
             ((x1, y1), (x0, y1)),
             ((x0, y1), (x0, y0)),
         ] {
-            line(&mut img, a, b, WINDOW);
+            line(&mut img, a, b, C::WINDOW);
         }
     }
     for f in &out.features {
@@ -45,20 +53,20 @@ pub fn draw(frame: &GrayImage, out: &TrackOutput, edges: &[EdgeDiagnostic]) -> R
             Orientation::Horizontal => ((p.extent[0], p.intercept), (p.extent[1], p.intercept)),
             Orientation::Vertical => ((p.intercept, p.extent[0]), (p.intercept, p.extent[1])),
         };
-        line(&mut img, a, b, PREDICTED);
+        line(&mut img, a, b, C::PREDICTED);
     }
     for e in edges {
         let colour = match e.fate {
-            EdgeFate::Associated(_) => ASSOCIATED,
-            EdgeFate::TooFar => TOO_FAR,
+            EdgeFate::Associated(_) => C::ASSOCIATED,
+            EdgeFate::TooFar => C::TOO_FAR,
             EdgeFate::Weak | EdgeFate::WrongOrientation => continue,
         };
         put(&mut img, e.x.round() as i64, e.y.round() as i64, colour);
     }
     if let Some(m) = out.measurement {
         let (cx, cy) = (m.location.c_x, m.location.c_y);
-        line(&mut img, (cx - 3.0, cy), (cx + 3.0, cy), CENTRE);
-        line(&mut img, (cx, cy - 3.0), (cx, cy + 3.0), CENTRE);
+        line(&mut img, (cx - 3.0, cy), (cx + 3.0, cy), C::CENTRE);
+        line(&mut img, (cx, cy - 3.0), (cx, cy + 3.0), C::CENTRE);
     }
     img
 }

@@ -4,12 +4,13 @@
 //! to grey. Each frame's result is written to the CSV as soon as it is known (and flushed), so
 //! a frame that fails mid-run loses none of the rows before it.
 
-use crate::overlay;
+use crate::overlay::draw_overlay;
+use crate::report::csv_writer;
 use anyhow::{bail, Context};
 use image::GrayImage;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::fs::File;
-use std::io::{BufWriter, Write};
+
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use tracker::{
@@ -126,76 +127,112 @@ pub fn read_frame(path: &Path) -> anyhow::Result<GrayImage> {
 const MAX_INIT_SCALE: f64 = 100.0;
 
 /// The CSV header: frame, estimate and status first, then the rest.
-fn header(model: &TargetModel) -> String {
-    let mut h = String::from(
-        "frame,cx,cy,scale,status,t_s,measured,w_x,w_y,w_scale,fit_residual,features_used,\
-         pred_cx,pred_cy,pred_scale,next_cx,next_cy,next_scale,x_m,y_m,z_m,window_x0,window_y0,window_x1,window_y1,window_size,\
-         coverage_h,coverage_v,edge_threshold,searched,event",
-    );
+fn header(model: &TargetModel) -> Vec<String> {
+    let mut h: Vec<String> = [
+        "frame",
+        "cx",
+        "cy",
+        "scale",
+        "status",
+        "t_s",
+        "measured",
+        "w_x",
+        "w_y",
+        "w_scale",
+        "fit_residual",
+        "features_used",
+        "pred_cx",
+        "pred_cy",
+        "pred_scale",
+        "next_cx",
+        "next_cy",
+        "next_scale",
+        "x_m",
+        "y_m",
+        "z_m",
+        "window_x0",
+        "window_y0",
+        "window_x1",
+        "window_y1",
+        "window_size",
+        "coverage_h",
+        "coverage_v",
+        "edge_threshold",
+        "searched",
+        "event",
+    ]
+    .map(String::from)
+    .to_vec();
     for j in 0..model.segments().len() {
-        h.push_str(&format!(",f{j}_points,f{j}_confidence"));
+        h.push(format!("f{j}_points"));
+        h.push(format!("f{j}_confidence"));
     }
     // Each feature's σ² of eq. 13 (empty where no point was associated).
     for j in 0..model.segments().len() {
-        h.push_str(&format!(",f{j}_sigma2"));
+        h.push(format!("f{j}_sigma2"));
     }
     h
 }
 
 /// One row; `features` is the model's segment count (a frame without a measurement, in a
 /// search, has fewer located features: their columns are left empty).
-fn row(out: &TrackOutput, features: usize) -> String {
+fn row(out: &TrackOutput, features: usize) -> Vec<String> {
     let e = out.estimate;
     let (measured, w, residual, used) = match out.measurement {
         Some(m) => (1, m.confidence, m.residual, m.features_used),
         None => (0, [0.0; 3], f64::NAN, 0),
     };
     let [x, y, z] = out.position_3d;
-    let mut r = format!(
-        "{},{:.4},{:.4},{:.6},{},{:.6},{},{:.5},{:.5},{:.5},{:.5},{},{:.4},{:.4},{:.6},{:.4},{:.4},{:.6},{:.4},{:.4},{:.4},{},{},{},{},{},{:.3},{:.3},{:.2},{},{}",
-        out.frame,
-        e.c_x,
-        e.c_y,
-        e.scale,
-        out.status.as_str(),
-        out.t_s,
-        measured,
-        w[0],
-        w[1],
-        w[2],
-        residual,
-        used,
-        out.predicted.c_x,
-        out.predicted.c_y,
-        out.predicted.scale,
-        out.next.c_x,
-        out.next.c_y,
-        out.next.scale,
-        x,
-        y,
-        z,
-        out.window.x0,
-        out.window.y0,
-        out.window.x1,
-        out.window.y1,
-        out.window.size_index,
-        out.coverage[0],
-        out.coverage[1],
-        out.edge_threshold,
-        u8::from(out.searched),
-        out.event.map_or("", |e| e.as_str()),
-    );
+    let (p, n, win) = (out.predicted, out.next, out.window);
+    let mut r = vec![
+        out.frame.to_string(),
+        format!("{:.4}", e.c_x),
+        format!("{:.4}", e.c_y),
+        format!("{:.6}", e.scale),
+        out.status.as_str().to_string(),
+        format!("{:.6}", out.t_s),
+        measured.to_string(),
+        format!("{:.5}", w[0]),
+        format!("{:.5}", w[1]),
+        format!("{:.5}", w[2]),
+        format!("{residual:.5}"),
+        used.to_string(),
+        format!("{:.4}", p.c_x),
+        format!("{:.4}", p.c_y),
+        format!("{:.6}", p.scale),
+        format!("{:.4}", n.c_x),
+        format!("{:.4}", n.c_y),
+        format!("{:.6}", n.scale),
+        format!("{x:.4}"),
+        format!("{y:.4}"),
+        format!("{z:.4}"),
+        win.x0.to_string(),
+        win.y0.to_string(),
+        win.x1.to_string(),
+        win.y1.to_string(),
+        win.size_index.to_string(),
+        format!("{:.3}", out.coverage[0]),
+        format!("{:.3}", out.coverage[1]),
+        format!("{:.2}", out.edge_threshold),
+        u8::from(out.searched).to_string(),
+        out.event.map_or("", |e| e.as_str()).to_string(),
+    ];
     for j in 0..features {
         match out.features.get(j) {
-            Some(f) => r.push_str(&format!(",{},{:.5}", f.points, f.confidence)),
-            None => r.push_str(",,"),
+            Some(f) => {
+                r.push(f.points.to_string());
+                r.push(format!("{:.5}", f.confidence));
+            }
+            None => r.extend([String::new(), String::new()]),
         }
     }
     for j in 0..features {
-        match out.features.get(j).and_then(|f| f.variance) {
-            Some(v) => r.push_str(&format!(",{v:.6}")),
-            None => r.push(','),
-        }
+        r.push(
+            out.features
+                .get(j)
+                .and_then(|f| f.variance)
+                .map_or(String::new(), |v| format!("{v:.6}")),
+        );
     }
     r
 }
@@ -245,10 +282,13 @@ pub fn run(job: &TrackJob) -> anyhow::Result<TrackSummary> {
     }
     let file = File::create(&job.out_csv)
         .with_context(|| format!("{}: cannot create the CSV", job.out_csv.display()))?;
-    let mut csv = BufWriter::new(file);
-    let write_err =
-        |e| anyhow::Error::new(e).context(format!("{}: cannot write", job.out_csv.display()));
-    writeln!(csv, "{}", header(&job.model)).map_err(write_err)?;
+    let mut csv = csv_writer(file);
+    let write_err = |e: std::io::Error| {
+        anyhow::Error::new(e).context(format!("{}: cannot write", job.out_csv.display()))
+    };
+    csv.write_record(header(&job.model))
+        .map_err(|e| write_err(e.into()))?;
+    csv.flush().map_err(write_err)?;
 
     let bar = if job.progress {
         ProgressBar::new(files.len() as u64)
@@ -289,7 +329,8 @@ pub fn run(job: &TrackJob) -> anyhow::Result<TrackSummary> {
             (tracker.step(view, t_s), Vec::new())
         };
         step_us.push(started.elapsed().as_secs_f64() * 1e6);
-        writeln!(csv, "{}", row(&out, job.model.segments().len())).map_err(write_err)?;
+        csv.write_record(row(&out, job.model.segments().len()))
+            .map_err(|e| write_err(e.into()))?;
         csv.flush().map_err(write_err)?;
         if let Some(dir) = &job.overlay_dir {
             let name = path
@@ -297,7 +338,7 @@ pub fn run(job: &TrackJob) -> anyhow::Result<TrackSummary> {
                 .map(|s| s.to_string_lossy().into_owned())
                 .unwrap_or_default();
             let target = dir.join(format!("{name}.png"));
-            overlay::draw(&image, &out, &edges)
+            draw_overlay(&image, &out, &edges)
                 .save(&target)
                 .with_context(|| format!("{}: cannot write overlay", target.display()))?;
         }

@@ -5,11 +5,8 @@
 //! the same records as one thing at a time.
 //! Run with `cargo test -p sim --release --test closed_loop`.
 
-use sim::camera::Backend;
-use sim::closed_loop::ClosedLoop;
-use sim::record::FrameRecord;
-use sim::render_worker::RemoteRenderer;
-use sim::scenario::Scenario;
+use sim_core::{ClosedLoop, FrameRecord, LoopOptions, Plan};
+use sim_render::Backend;
 
 fn run(overrides: &[&str]) -> Vec<FrameRecord> {
     run_with(overrides, true)
@@ -17,8 +14,8 @@ fn run(overrides: &[&str]) -> Vec<FrameRecord> {
 
 fn run_with(overrides: &[&str], pipelined: bool) -> Vec<FrameRecord> {
     let overrides: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
-    let scenario = Scenario::builtin(&overrides).unwrap();
-    let mut l = ClosedLoop::new(&scenario, Backend::choose(None).unwrap(), false).unwrap();
+    let plan = Plan::builtin(&overrides).unwrap();
+    let mut l = ClosedLoop::new(plan, Backend::choose(None).unwrap(), false).unwrap();
     assert_eq!(l.set_pipelined(pipelined), pipelined);
     records_of(&mut l)
 }
@@ -100,8 +97,8 @@ fn overlapping_physics_with_rendering_changes_nothing() {
 #[test]
 fn a_latency_under_one_frame_keeps_the_loop_sequential() {
     let overrides = ["duration_s=1".to_string(), "loop.latency_ms=50".to_string()];
-    let scenario = Scenario::builtin(&overrides).unwrap();
-    let mut l = ClosedLoop::new(&scenario, Backend::choose(None).unwrap(), false).unwrap();
+    let plan = Plan::builtin(&overrides).unwrap();
+    let mut l = ClosedLoop::new(plan, Backend::choose(None).unwrap(), false).unwrap();
     assert!(!l.pipelined());
     assert!(!l.set_pipelined(true));
     while l.step().unwrap().is_some() {}
@@ -113,8 +110,8 @@ fn a_latency_under_one_frame_keeps_the_loop_sequential() {
 
 fn builtin_loop(overrides: &[&str]) -> ClosedLoop {
     let overrides: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
-    let scenario = Scenario::builtin(&overrides).unwrap();
-    ClosedLoop::new(&scenario, Backend::choose(None).unwrap(), false).unwrap()
+    let plan = Plan::builtin(&overrides).unwrap();
+    ClosedLoop::new(plan, Backend::choose(None).unwrap(), false).unwrap()
 }
 
 /// `carfollow render-worker` for the built-in scenario with `overrides`.
@@ -145,14 +142,19 @@ fn two_frames_in_flight_change_nothing() {
 /// thread of this process (its own llvmpipe, on Mesa's software EGL device).
 fn frames_with(set: &[&str], second_on_thread: bool) -> Vec<(FrameRecord, Vec<u8>)> {
     let overrides: Vec<String> = set.iter().map(|s| s.to_string()).collect();
-    let scenario = Scenario::builtin(&overrides).unwrap();
-    let mut l = ClosedLoop::new(&scenario, Backend::Gl, false).unwrap();
-    l.set_whole_frames(true);
-    if second_on_thread {
-        let started = RemoteRenderer::spawn_thread(scenario.clone(), Backend::Gl).unwrap();
-        assert!(l.add_started_render_worker(started).unwrap());
-        assert_eq!(l.frames_in_flight(), 2);
-    }
+    let plan = Plan::builtin(&overrides).unwrap();
+    let l = ClosedLoop::start(
+        plan,
+        LoopOptions {
+            renderers: if second_on_thread { 2 } else { 1 },
+            whole_frames: true,
+            // No process to fall back on: the second renderer is the thread or nothing.
+            ..LoopOptions::new(Backend::Gl)
+        },
+    );
+    let mut l = l.unwrap();
+    assert!(l.notes().is_empty(), "{:?}", l.notes());
+    assert_eq!(l.frames_in_flight(), if second_on_thread { 2 } else { 1 });
     let mut frames = Vec::new();
     while let Some(out) = l.step().unwrap() {
         frames.push((out.record, out.image.into_raw()));
@@ -174,17 +176,33 @@ fn a_second_renderer_on_a_thread_draws_the_same_frames() {
 }
 
 #[test]
-fn a_second_renderer_on_a_thread_is_gl_only() {
-    let scenario = Scenario::builtin(&["duration_s=1".to_string()]).unwrap();
-    let mut l = builtin_loop(&["duration_s=1"]);
-    let started = RemoteRenderer::spawn_thread(scenario, Backend::Vulkan).unwrap();
-    let err = l
-        .add_started_render_worker(started)
-        .unwrap_err()
-        .to_string();
-    assert!(err.contains("gl only"), "{err}");
-    // The loop runs on its one renderer, as it would have.
+fn the_builder_says_why_it_renders_one_frame_at_a_time() {
+    // Two renderers asked for, but a latency under one frame: the loop cannot run ahead,
+    // so it takes no second renderer and needs to say nothing.
+    let set = ["duration_s=1".to_string(), "loop.latency_ms=50".to_string()];
+    let options = || LoopOptions {
+        renderers: 2,
+        ..LoopOptions::new(Backend::choose(None).unwrap())
+    };
+    let l = ClosedLoop::start(Plan::builtin(&set).unwrap(), options()).unwrap();
     assert_eq!(l.frames_in_flight(), 1);
+    assert!(l.notes().is_empty(), "{:?}", l.notes());
+    // A worker process that is not a renderer: refused, said in a note, one renderer.
+    let set = ["duration_s=1".to_string()];
+    let mut l = ClosedLoop::start(
+        Plan::builtin(&set).unwrap(),
+        LoopOptions {
+            backend: Backend::Gl,
+            renderers: 2,
+            worker_process: Some(std::process::Command::new("true")),
+            ..options()
+        },
+    )
+    .unwrap();
+    if l.frames_in_flight() == 1 {
+        assert_eq!(l.notes().len(), 1, "{:?}", l.notes());
+        assert!(l.notes()[0].ends_with("rendering one frame at a time"));
+    }
     assert_eq!(records_of(&mut l), run(&["duration_s=1"]));
 }
 
@@ -227,7 +245,7 @@ fn run_metered(set: &[&str], whole: bool, worker: bool) -> (Vec<FrameRecord>, Ve
     if worker {
         assert!(l.add_render_worker(render_worker(set)).unwrap());
     }
-    let window = sim::scene::AutoGain::metering_window(256, 242);
+    let window = sim_render::AutoGain::metering_window(256, 242);
     let (mut records, mut means) = (Vec::new(), Vec::new());
     while let Some(out) = l.step().unwrap() {
         let mut sum = 0u64;

@@ -9,10 +9,8 @@
 use std::path::Path;
 
 use image::{GenericImageView, Rgb, RgbImage};
-use sim::record::{Expect, FrameRecord, TrackerStatus};
-use sim::report::{
-    write_junit, JunitScenario, OutputOptions, RunOutputs, PLOT_FILES, VIDEO_OUTPUTS,
-};
+use sim::{write_junit, JunitScenario, OutputOptions, RunOutputs, PLOT_FILES, VIDEO_OUTPUTS};
+use sim_core::{Expect, FrameRecord, TrackerStatus};
 
 const FRAMES: u64 = 900;
 
@@ -76,7 +74,7 @@ fn record(i: u64) -> FrameRecord {
         tracker_event: String::new(),
         fit_residual: 0.8,
         feature_sigma2: vec![0.1; 10],
-        loss_cause: sim::record::LossCause::None,
+        loss_cause: sim_core::LossCause::None,
         camera_pan_deg: 0.0,
         desired_gap_m: 10.0,
     }
@@ -100,9 +98,9 @@ fn image(i: u64) -> RgbImage {
             img.put_pixel((cx + dx) as u32, y as u32, c);
         }
     };
-    line(&mut img, sim::overlay::WINDOW, cy - 25);
-    line(&mut img, sim::overlay::WINDOW, cy + 25);
-    line(&mut img, sim::overlay::PREDICTED, cy - 15);
+    line(&mut img, sim::OverlayColour::WINDOW, cy - 25);
+    line(&mut img, sim::OverlayColour::WINDOW, cy + 25);
+    line(&mut img, sim::OverlayColour::PREDICTED, cy - 15);
     img
 }
 
@@ -119,7 +117,7 @@ fn expect() -> Expect {
     }
 }
 
-fn run(dir: &Path) -> sim::report::Summary {
+fn run(dir: &Path) -> sim::Summary {
     let options = OutputOptions {
         video: true,
         video_stride: 3,

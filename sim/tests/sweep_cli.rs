@@ -262,7 +262,7 @@ fn shell_worker(script: String) -> impl Fn() -> Command + Sync {
 
 #[test]
 fn a_worker_that_dies_costs_only_its_point() {
-    use sim::sweep::{read_rows, run_points, ResultsWriter, Sweep};
+    use sim::{read_rows, run_points, ResultsWriter, Sweep};
     let dir = tempfile::tempdir().unwrap();
     let file = sweep_file(dir.path(), TINY);
     let sweep = Sweep::load(&file, &[]).unwrap();

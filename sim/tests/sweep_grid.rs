@@ -3,7 +3,7 @@
 //! path or an unknown field is refused, naming the path and where it is.
 //! Run with `cargo test -p sim --test sweep_grid`.
 
-use sim::sweep::{Shard, Sweep};
+use sim::{Shard, Sweep};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 

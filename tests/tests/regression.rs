@@ -8,10 +8,10 @@
 //! which must pass the same `[expect]`, and every run checks that no loss went unreported
 //! for more than 15 frames.
 
-use sim::camera::Backend;
-use sim::closed_loop::ClosedLoop;
-use sim::report::Summary;
-use sim::scenario::Scenario;
+use sim::Summary;
+use sim_core::ClosedLoop;
+use sim_core::Plan;
+use sim_render::Backend;
 use std::path::{Path, PathBuf};
 
 fn scenario_path(name: &str) -> PathBuf {
@@ -28,8 +28,8 @@ fn run(name: &str) -> Summary {
 fn run_with(name: &str, extra: &[&str]) -> Summary {
     let path = scenario_path(name);
     let overrides: Vec<String> = extra.iter().map(|s| s.to_string()).collect();
-    let scenario = Scenario::load(&path, &overrides).unwrap_or_else(|e| panic!("{e}"));
-    let summary = run_scenario(&scenario);
+    let plan = Plan::load(&path, &overrides).unwrap_or_else(|e| panic!("{e}"));
+    let summary = run_scenario(plan);
     // In every mode and scenario, a loss is never silent for long: the tracker's own status
     // leaves `tracking` within 15 frames of the truth's loss.
     if let Some(delay) = summary.max_loss_report_delay_frames {
@@ -41,8 +41,9 @@ fn run_with(name: &str, extra: &[&str]) -> Summary {
     summary
 }
 
-fn run_scenario(scenario: &Scenario) -> Summary {
-    let mut looped = ClosedLoop::new(scenario, Backend::choose(None).unwrap(), false).unwrap();
+fn run_scenario(plan: Plan) -> Summary {
+    let scenario = plan.scenario().clone();
+    let mut looped = ClosedLoop::new(plan, Backend::choose(None).unwrap(), false).unwrap();
     let mut records = Vec::new();
     while let Some(out) = looped.step().unwrap() {
         records.push(out.record);
@@ -140,9 +141,9 @@ fn a_fixed_camera_loses_the_right_angle_turn_out_of_view() {
         "camera.pan.enabled=false".to_string(),
         "duration_s=40".into(),
     ];
-    let scenario = Scenario::load(&scenario_path("intersections"), &overrides)
-        .unwrap_or_else(|e| panic!("{e}"));
-    let s = run_scenario(&scenario);
+    let plan =
+        Plan::load(&scenario_path("intersections"), &overrides).unwrap_or_else(|e| panic!("{e}"));
+    let s = run_scenario(plan);
     assert!(
         s.lost_by_cause_s.out_of_view > 5.0,
         "out of view only {:?}",
@@ -151,7 +152,7 @@ fn a_fixed_camera_loses_the_right_angle_turn_out_of_view() {
     assert!(
         s.loss_events
             .iter()
-            .any(|e| e.cause == sim::record::LossCause::OutOfView),
+            .any(|e| e.cause == sim_core::LossCause::OutOfView),
         "{:?}",
         s.loss_events
     );

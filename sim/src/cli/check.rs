@@ -1,7 +1,7 @@
 //! `carfollow check`: validate scenario files without running them.
 
 use clap::Args;
-use sim::scenario::Scenario;
+use sim_core::{Plan, Scenario};
 use std::path::PathBuf;
 
 /// Arguments of `carfollow check`.
@@ -16,7 +16,8 @@ pub struct CheckArgs {
 }
 
 /// Runs the subcommand: every file is checked, every error printed (one line each).
-/// Without files, the built-in scenario with the overrides: what `run` would run.
+/// Without files, the built-in scenario with the overrides: what `run` would run. A file
+/// checks when its run can be planned (see [`Plan`]): `run` plans it alike.
 pub fn run_check(args: CheckArgs) -> anyhow::Result<()> {
     let ok = |what: &str, s: &Scenario| {
         say!(
@@ -29,14 +30,14 @@ pub fn run_check(args: CheckArgs) -> anyhow::Result<()> {
     };
     if args.scenarios.is_empty() {
         // One error, said once by `main` (exit 2), as `run` says it.
-        let s = Scenario::builtin(&args.set)?;
-        ok("the built-in scenario", &s);
+        let plan = Plan::builtin(&args.set)?;
+        ok("the built-in scenario", plan.scenario());
         return Ok(());
     }
     let mut bad = 0;
     for path in &args.scenarios {
-        match Scenario::load(path, &args.set) {
-            Ok(s) => ok(&path.display().to_string(), &s),
+        match Plan::load(path, &args.set) {
+            Ok(plan) => ok(&path.display().to_string(), plan.scenario()),
             Err(e) => {
                 eprintln!("error: {e}");
                 bad += 1;

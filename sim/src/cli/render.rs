@@ -4,8 +4,8 @@ use super::exit::incomplete;
 use super::paths::png_path;
 use anyhow::{bail, Context};
 use clap::Args;
-use sim::camera::{Backend, CameraRig, FrameInput, RenderOptions, Renderer};
-use sim::scene::{builtin_description, builtin_poses, builtin_target, Scene};
+use sim_render::{builtin_description, builtin_poses, builtin_target, Scene};
+use sim_render::{Backend, CameraRig, FrameInput, RenderOptions, Renderer};
 use std::path::PathBuf;
 
 /// Arguments of `carfollow render`.
@@ -112,7 +112,8 @@ fn render_scenario(path: &std::path::Path, args: &RenderArgs) -> anyhow::Result<
     if let Some(seed) = args.seed {
         overrides.push(format!("seed={seed}"));
     }
-    let scenario = sim::scenario::Scenario::load(path, &overrides)?;
+    let plan = sim_core::Plan::load(path, &overrides)?;
+    let scenario = plan.scenario().clone();
     // The frame nearest --time must be one of the run's.
     let frames = scenario.frames();
     let wanted = (args.time * FRAME_RATE_HZ).round() as u64;
@@ -126,8 +127,7 @@ fn render_scenario(path: &std::path::Path, args: &RenderArgs) -> anyhow::Result<
         );
     }
     let backend = Backend::choose(args.backend.as_deref())?;
-    let mut looped =
-        sim::closed_loop::ClosedLoop::new(&scenario, backend, false).map_err(incomplete)?;
+    let mut looped = sim_core::ClosedLoop::new(plan, backend, false).map_err(incomplete)?;
     loop {
         let out = looped.step().map_err(incomplete)?.with_context(|| {
             format!(

@@ -1,12 +1,10 @@
 //! `carfollow render-worker`: a second renderer for `carfollow run`, in its own process
-//! (see `sim::render_worker`). Started by `run`, not by people.
+//! (see `sim_core::ClosedLoop::start`). Started by `run`, not by people.
 
 use anyhow::Context;
 use clap::Args;
-use sim::camera::{Backend, Renderer};
-use sim::closed_loop::{render_options, CameraSetup};
-use sim::render_worker::{fingerprint, serve_frames};
-use sim::scenario::Scenario;
+use sim_core::{fingerprint, render_options, serve_frames, Plan};
+use sim_render::{Backend, Renderer};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -25,15 +23,15 @@ pub struct RenderWorkerArgs {
 
 /// Builds the scenario's scene and serves frames on stdin and stdout until stdin ends.
 pub fn run_render_worker(args: RenderWorkerArgs) -> anyhow::Result<ExitCode> {
-    let scenario = match &args.scenario {
-        Some(path) => Scenario::load(path, &args.set)?,
-        None => Scenario::builtin(&args.set)?,
+    let plan = match &args.scenario {
+        Some(path) => Plan::load(path, &args.set)?,
+        None => Plan::builtin(&args.set)?,
     };
     let backend = Backend::choose(args.backend.as_deref())?;
-    let setup = CameraSetup::new(&scenario)?;
     let options = render_options(backend);
-    let mut renderer = Renderer::new(&setup.scene, setup.rig.clone(), &options)?;
-    let print = fingerprint(setup.scene.description(), &setup.rig, &options);
+    let (scene, rig) = (plan.scene(), plan.rig());
+    let mut renderer = Renderer::new(scene, rig.clone(), &options)?;
+    let print = fingerprint(scene.description(), rig, &options);
     serve_frames(
         &mut renderer,
         print,

@@ -4,13 +4,10 @@ use super::exit::{self, incomplete, one_line};
 use anyhow::Context;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
-use sim::camera::Backend;
-use sim::child::RASTER_THREADS_ENV;
-use sim::closed_loop::{ClosedLoop, LoopError, LoopTiming};
-use sim::recording::{LiveOptions, Recorder, RecorderOptions, ReplaySetup, MCAP_FILE};
-use sim::render_worker::RemoteRenderer;
-use sim::report::{write_junit, JunitScenario, OutputOptions, RunOutputs, Summary};
-use sim::scenario::Scenario;
+use sim::{write_junit, JunitScenario, OutputOptions, RunOutputs, Summary};
+use sim::{LiveOptions, Recorder, RecorderOptions, ReplaySetup, MCAP_FILE};
+use sim_core::{ClosedLoop, LoopOptions, LoopTiming, Plan, Scenario, RASTER_THREADS_ENV};
+use sim_render::Backend;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
@@ -95,15 +92,16 @@ pub struct RunArgs {
 /// failed, 3 when one could not complete; bad input is an error (exit status 2) before
 /// anything runs.
 pub fn run_run(args: RunArgs) -> anyhow::Result<ExitCode> {
-    // Every scenario is validated before any runs: bad input never wastes a long run.
-    let scenarios: Vec<Scenario> = if args.scenarios.is_empty() {
-        vec![Scenario::builtin(&args.set)?]
+    // Every scenario is planned before any runs: bad input never wastes a long run.
+    let plans: Vec<Plan> = if args.scenarios.is_empty() {
+        vec![Plan::builtin(&args.set)?]
     } else {
         args.scenarios
             .iter()
-            .map(|p| Scenario::load(p, &args.set))
+            .map(|p| Plan::load(p, &args.set))
             .collect::<Result<_, _>>()?
     };
+    let scenarios: Vec<Scenario> = plans.iter().map(|p| p.scenario().clone()).collect();
     // Each scenario writes to a folder named after it: two of one name would overwrite
     // each other's outputs.
     for (k, a) in scenarios.iter().enumerate() {
@@ -132,14 +130,14 @@ pub fn run_run(args: RunArgs) -> anyhow::Result<ExitCode> {
     let single_out = args.out.is_some() && scenarios.len() == 1;
     // Each scenario's outcome: its summary, or why it could not complete.
     let mut outcomes: Vec<(&Scenario, f64, Result<Summary, String>)> = Vec::new();
-    for scenario in &scenarios {
+    for (scenario, plan) in scenarios.iter().zip(plans) {
         let dir = if single_out {
             root.clone()
         } else {
             root.join(&scenario.name)
         };
         let started = Instant::now();
-        let outcome = run_one(scenario, backend, &dir, &args).map_err(|e| one_line(&e));
+        let outcome = run_one(plan, backend, &dir, &args).map_err(|e| one_line(&e));
         let wall_s = started.elapsed().as_secs_f64();
         match &outcome {
             Ok(summary) => say!("{}", verdict(summary, &dir)),
@@ -257,25 +255,17 @@ fn rasterise_on_own_thread(args: &RunArgs) -> bool {
     renderers(args) == 2 || !whole_frames
 }
 
-fn run_one(
-    scenario: &Scenario,
-    backend: Backend,
-    dir: &Path,
-    args: &RunArgs,
-) -> anyhow::Result<Summary> {
+fn run_one(plan: Plan, backend: Backend, dir: &Path, args: &RunArgs) -> anyhow::Result<Summary> {
     let started = Instant::now();
-    // The scenario is validated: from here on, whatever stops the run is not bad input.
+    let scenario = plan.scenario().clone();
+    let scenario = &scenario;
+    // The scenario is planned: from here on, whatever stops the run is not bad input.
     let recording = recorder_options(dir, args);
     let record = recording.mcap.is_some() || recording.live.is_some();
-    // The second renderer starts first, so that it sets up while the loop does: on a thread
-    // of this process with a llvmpipe of its own (Mesa's software EGL device), or, where
-    // that cannot be had (another backend, no such device), in a worker process.
-    let two = renderers(args) == 2 && ClosedLoop::renders_ahead(scenario);
-    let on_thread = backend == Backend::Gl;
-    let worker_process = || -> anyhow::Result<Command> {
-        let mut command = Command::new(
-            std::env::current_exe().context("cannot find this program to start a renderer")?,
-        );
+    // The second renderer's process, where it cannot be a thread of this one (see
+    // `ClosedLoop::start`): `carfollow render-worker` with this scenario.
+    let worker_process = std::env::current_exe().ok().map(|exe| {
+        let mut command = Command::new(exe);
         command.arg("render-worker");
         if let Some(path) = &scenario.path {
             command.arg(path);
@@ -284,34 +274,24 @@ fn run_one(
             command.arg("--set").arg(set);
         }
         command.arg("--backend").arg(backend.to_string());
-        Ok(command)
-    };
-    let second = if !two {
-        None
-    } else if on_thread {
-        Some(RemoteRenderer::spawn_thread(scenario.clone(), backend))
-    } else {
-        Some(RemoteRenderer::spawn(worker_process().map_err(incomplete)?))
-    };
-    // The recording draws the overlay too, so it needs the edges' fates.
-    let mut looped =
-        ClosedLoop::new(scenario, backend, args.video || record).map_err(incomplete)?;
-    // Only the video and the recording look at the frames: otherwise only the part the
-    // tracker reads is rendered.
-    looped.set_whole_frames(args.video || record);
-    if let Some(second) = second {
-        let mut added = second
-            .map_err(LoopError::Worker)
-            .and_then(|w| looped.add_started_render_worker(w));
-        if on_thread && added.is_err() {
-            // No second llvmpipe here: a worker process instead.
-            added = worker_process()
-                .map_err(|e| LoopError::Worker(e.to_string()))
-                .and_then(|command| looped.add_render_worker(command));
-        }
-        if let Err(e) = added {
-            eprintln!("warning: {e}; rendering one frame at a time");
-        }
+        command
+    });
+    let looped = ClosedLoop::start(
+        plan,
+        LoopOptions {
+            backend,
+            renderers: renderers(args),
+            // The overlay of the video and the recording needs the edges' fates.
+            diagnostics: args.video || record,
+            // Only the video and the recording look at the frames: otherwise only the part
+            // the tracker reads is rendered.
+            whole_frames: args.video || record,
+            worker_process,
+        },
+    );
+    let mut looped = looped.map_err(incomplete)?;
+    for note in looped.notes() {
+        eprintln!("warning: {note}");
     }
     let frames = looped.frames();
     // A recording of an earlier run must not pass for this one's, whether or not this run
@@ -370,7 +350,7 @@ fn run_one(
             r.frame(&out, looped.chase());
         }
         if args.video {
-            let img = sim::overlay::draw(&out.image, &out.track, &out.edges);
+            let img = sim::draw_overlay(&out.image, &out.track, &out.edges);
             outputs
                 .frame_image(out.record.frame, &img)
                 .map_err(incomplete)?;

@@ -4,12 +4,12 @@
 use anyhow::Context;
 use clap::{Args, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
-use sim::camera::Backend;
-use sim::sweep::{
+use sim::{
     dedupe_sorted, merge_dirs, read_failed, read_rows, run_points, serve_points, write_failed,
-    write_report, FailedPoint, Manifest, ResultsWriter, Shard, Sweep, SweepError, MANIFEST_FILE,
-    RESULTS_FILE,
+    write_report, FailedPoint, Manifest, Point, ResultRow, ResultsWriter, Shard, Sweep, SweepError,
+    MANIFEST_FILE, RESULTS_FILE,
 };
+use sim_render::Backend;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
@@ -106,7 +106,7 @@ pub struct SweepWorkerArgs {
 }
 
 /// Runs a sweep worker: point requests on stdin, one JSON answer per line on stdout (see
-/// `sim::sweep::serve_points`).
+/// `sim::serve_points`).
 pub fn run_sweep_worker(args: SweepWorkerArgs) -> anyhow::Result<ExitCode> {
     let sweep = Sweep::load(&args.sweep, &args.set)?;
     let backend = Backend::choose(args.backend.as_deref())?;
@@ -171,56 +171,7 @@ pub fn run_sweep(args: SweepArgs) -> anyhow::Result<ExitCode> {
         format!("failed-shard-{}-of-{}.txt", s.index, s.count)
     }));
 
-    // A folder that cannot be made is an output that cannot be written (exit 3), said as
-    // such rather than as results that cannot be read.
-    let nearest = out
-        .ancestors()
-        .find(|a| !a.as_os_str().is_empty() && a.exists());
-    if let Some(blocked) = nearest.filter(|a| !a.is_dir()) {
-        return Err(incomplete(anyhow::anyhow!(
-            "{}: cannot create the output folder: {} is not a folder",
-            out.display(),
-            blocked.display()
-        )));
-    }
-    let (done_rows, complete) = read_rows(&results)?;
-    let exists = std::fs::metadata(&results).is_ok_and(|m| m.len() > 0);
-    if exists && !args.resume {
-        anyhow::bail!(
-            "{} already has results: pass --resume to continue it, or remove it",
-            results.display()
-        );
-    }
-    // The folder's results must be of this sweep: the same file and overrides.
-    if let Some(row) = done_rows
-        .iter()
-        .find(|r| !r.sweep_hash.is_empty() && r.sweep_hash != sweep.hash)
-    {
-        anyhow::bail!(
-            "{}: its rows are of another sweep (hash {}; now {}): the sweep file or the \
-             overrides changed since; use another --out, or remove the results",
-            results.display(),
-            row.sweep_hash,
-            sweep.hash
-        );
-    }
-    match Manifest::read(&out)? {
-        Some(m) if m.hash != sweep.hash => anyhow::bail!(
-            "{}: the results in {} are of another sweep (hash {}; now {}): the sweep file or \
-             the overrides changed since; use another --out, or remove the folder",
-            file.display(),
-            out.display(),
-            m.hash,
-            sweep.hash
-        ),
-        None if exists => anyhow::bail!(
-            "{}: cannot tell which sweep these results are of ({} is missing); use another \
-             --out, or remove the results",
-            results.display(),
-            MANIFEST_FILE
-        ),
-        _ => {}
-    }
+    let (done_rows, complete) = resumable(&file, &out, &results, &sweep, args.resume)?;
     std::fs::create_dir_all(&out)
         .with_context(|| format!("{}: cannot create", out.display()))
         .map_err(incomplete)?;
@@ -249,92 +200,9 @@ pub fn run_sweep(args: SweepArgs) -> anyhow::Result<ExitCode> {
         );
     }
 
-    let bar = if args.quiet {
-        ProgressBar::hidden()
-    } else {
-        ProgressBar::new(points.len() as u64)
-    };
-    bar.set_style(
-        ProgressStyle::with_template(
-            "sweep [{bar:30}] {pos}/{len} {msg} ({elapsed_precise}, eta {eta})",
-        )
-        .expect("valid template")
-        .progress_chars("=> "),
-    );
-    bar.set_position((points.len() - todo.len()) as u64);
-    let failed = AtomicUsize::new(0);
-    let finished = AtomicUsize::new(points.len() - todo.len());
-    let log_progress = !args.quiet && !std::io::stderr().is_terminal();
-    let every = Duration::from_secs_f64(args.progress_every);
-    let next_log = Mutex::new(Instant::now() + every);
-    let exe = std::env::current_exe().context("cannot find this program to start workers")?;
-    // Overlapping a point's physics with its rendering pays only with a core to spare.
-    let overlap = jobs < cores();
-    let spawn_worker = || {
-        let mut command = Command::new(&exe);
-        command.arg("sweep-worker").arg(&file);
-        for set in &args.set {
-            command.arg("--set").arg(set);
-        }
-        command.arg("--backend").arg(backend.to_string());
-        if overlap {
-            command.arg("--overlap");
-        }
-        if args.mcap_failed {
-            command.arg("--mcap-failed").arg(out.join(RECORDINGS_DIR));
-        }
-        command
-    };
-    let errors = run_points(&todo, jobs, &spawn_worker, &writer, |r| {
-        match r {
-            Ok(row) => bar.set_message(format!(
-                "{}: lost {:.1} s",
-                row.point,
-                row.figure("/tracking_lost_s").unwrap_or(f64::NAN) + 0.0
-            )),
-            Err(e) => {
-                failed.fetch_add(1, Ordering::Relaxed);
-                // Said once: on the bar's terminal, or straight to stderr without one.
-                if bar.is_hidden() {
-                    eprintln!("error: {e}");
-                } else {
-                    bar.println(format!("error: {e}"));
-                }
-            }
-        }
-        bar.inc(1);
-        let n = finished.fetch_add(1, Ordering::Relaxed) + 1;
-        if log_progress {
-            let mut next = next_log.lock().unwrap_or_else(|e| e.into_inner());
-            if Instant::now() >= *next {
-                *next = Instant::now() + every;
-                eprintln!(
-                    "sweep: {n}/{} points done, {} could not run",
-                    points.len(),
-                    failed.load(Ordering::Relaxed)
-                );
-            }
-        }
-    })
-    .map_err(incomplete)?;
-    bar.finish_and_clear();
+    let errors = run_with_progress(&args, &file, &out, backend, &points, &todo, jobs, &writer)?;
 
-    let failed_points: Vec<FailedPoint> = errors
-        .iter()
-        .map(|e| {
-            let (point, error) = match e {
-                SweepError::Run { point, message } => (point.clone(), message.clone()),
-                other => (String::new(), other.to_string()),
-            };
-            let p = todo.iter().find(|p| p.describe() == point);
-            FailedPoint {
-                index: p.map_or(usize::MAX, |p| p.index),
-                id: p.map_or(String::new(), |p| p.id.clone()),
-                point,
-                error,
-            }
-        })
-        .collect();
+    let failed_points = failed_points(&errors, &todo);
     write_failed(&failed_file, &failed_points).map_err(incomplete)?;
 
     let (rows, _) = read_rows(&results)?;
@@ -380,6 +248,175 @@ pub fn run_sweep(args: SweepArgs) -> anyhow::Result<ExitCode> {
         );
         Ok(ExitCode::from(exit::INCOMPLETE))
     }
+}
+
+/// The rows already in `results` (and the length of their complete lines), when the
+/// folder `out` may take this sweep's results: a new folder, or, with `resume`, one holding
+/// this sweep's own (its manifest and every row of the same hash). Says why not otherwise.
+fn resumable(
+    file: &Path,
+    out: &Path,
+    results: &Path,
+    sweep: &Sweep,
+    resume: bool,
+) -> anyhow::Result<(Vec<ResultRow>, u64)> {
+    // A folder that cannot be made is an output that cannot be written (exit 3), said as
+    // such rather than as results that cannot be read.
+    let nearest = out
+        .ancestors()
+        .find(|a| !a.as_os_str().is_empty() && a.exists());
+    if let Some(blocked) = nearest.filter(|a| !a.is_dir()) {
+        return Err(incomplete(anyhow::anyhow!(
+            "{}: cannot create the output folder: {} is not a folder",
+            out.display(),
+            blocked.display()
+        )));
+    }
+    let (done_rows, complete) = read_rows(&results)?;
+    let exists = std::fs::metadata(&results).is_ok_and(|m| m.len() > 0);
+    if exists && !resume {
+        anyhow::bail!(
+            "{} already has results: pass --resume to continue it, or remove it",
+            results.display()
+        );
+    }
+    // The folder's results must be of this sweep: the same file and overrides.
+    if let Some(row) = done_rows
+        .iter()
+        .find(|r| !r.sweep_hash.is_empty() && r.sweep_hash != sweep.hash)
+    {
+        anyhow::bail!(
+            "{}: its rows are of another sweep (hash {}; now {}): the sweep file or the \
+             overrides changed since; use another --out, or remove the results",
+            results.display(),
+            row.sweep_hash,
+            sweep.hash
+        );
+    }
+    match Manifest::read(out)? {
+        Some(m) if m.hash != sweep.hash => anyhow::bail!(
+            "{}: the results in {} are of another sweep (hash {}; now {}): the sweep file or \
+             the overrides changed since; use another --out, or remove the folder",
+            file.display(),
+            out.display(),
+            m.hash,
+            sweep.hash
+        ),
+        None if exists => anyhow::bail!(
+            "{}: cannot tell which sweep these results are of ({} is missing); use another \
+             --out, or remove the results",
+            results.display(),
+            MANIFEST_FILE
+        ),
+        _ => {}
+    }
+    Ok((done_rows, complete))
+}
+
+/// Runs the points `todo` of `points` on `jobs` worker processes, appending their rows with
+/// `writer`, with a progress bar on a terminal (or a line every `--progress-every` seconds
+/// off one); the points that could not run, with why.
+#[allow(clippy::too_many_arguments)]
+fn run_with_progress(
+    args: &SweepArgs,
+    file: &Path,
+    out: &Path,
+    backend: Backend,
+    points: &[&Point],
+    todo: &[&Point],
+    jobs: usize,
+    writer: &ResultsWriter,
+) -> anyhow::Result<Vec<SweepError>> {
+    let bar = if args.quiet {
+        ProgressBar::hidden()
+    } else {
+        ProgressBar::new(points.len() as u64)
+    };
+    bar.set_style(
+        ProgressStyle::with_template(
+            "sweep [{bar:30}] {pos}/{len} {msg} ({elapsed_precise}, eta {eta})",
+        )
+        .expect("valid template")
+        .progress_chars("=> "),
+    );
+    bar.set_position((points.len() - todo.len()) as u64);
+    let failed = AtomicUsize::new(0);
+    let finished = AtomicUsize::new(points.len() - todo.len());
+    let log_progress = !args.quiet && !std::io::stderr().is_terminal();
+    let every = Duration::from_secs_f64(args.progress_every);
+    let next_log = Mutex::new(Instant::now() + every);
+    let exe = std::env::current_exe().context("cannot find this program to start workers")?;
+    // Overlapping a point's physics with its rendering pays only with a core to spare.
+    let overlap = jobs < cores();
+    let spawn_worker = || {
+        let mut command = Command::new(&exe);
+        command.arg("sweep-worker").arg(file);
+        for set in &args.set {
+            command.arg("--set").arg(set);
+        }
+        command.arg("--backend").arg(backend.to_string());
+        if overlap {
+            command.arg("--overlap");
+        }
+        if args.mcap_failed {
+            command.arg("--mcap-failed").arg(out.join(RECORDINGS_DIR));
+        }
+        command
+    };
+    let errors = run_points(todo, jobs, &spawn_worker, writer, |r| {
+        match r {
+            Ok(row) => bar.set_message(format!(
+                "{}: lost {:.1} s",
+                row.point,
+                row.figure("/tracking_lost_s").unwrap_or(f64::NAN) + 0.0
+            )),
+            Err(e) => {
+                failed.fetch_add(1, Ordering::Relaxed);
+                // Said once: on the bar's terminal, or straight to stderr without one.
+                if bar.is_hidden() {
+                    eprintln!("error: {e}");
+                } else {
+                    bar.println(format!("error: {e}"));
+                }
+            }
+        }
+        bar.inc(1);
+        let n = finished.fetch_add(1, Ordering::Relaxed) + 1;
+        if log_progress {
+            let mut next = next_log.lock().unwrap_or_else(|e| e.into_inner());
+            if Instant::now() >= *next {
+                *next = Instant::now() + every;
+                eprintln!(
+                    "sweep: {n}/{} points done, {} could not run",
+                    points.len(),
+                    failed.load(Ordering::Relaxed)
+                );
+            }
+        }
+    })
+    .map_err(incomplete)?;
+    bar.finish_and_clear();
+    Ok(errors)
+}
+
+/// The points of `todo` that `errors` say could not run, for `failed.txt`.
+fn failed_points(errors: &[SweepError], todo: &[&Point]) -> Vec<FailedPoint> {
+    errors
+        .iter()
+        .map(|e| {
+            let (point, error) = match e {
+                SweepError::Run { point, message } => (point.clone(), message.clone()),
+                other => (String::new(), other.to_string()),
+            };
+            let p = todo.iter().find(|p| p.describe() == point);
+            FailedPoint {
+                index: p.map_or(usize::MAX, |p| p.index),
+                id: p.map_or(String::new(), |p| p.id.clone()),
+                point,
+                error,
+            }
+        })
+        .collect()
 }
 
 /// The machine's cores (1 if it cannot tell).

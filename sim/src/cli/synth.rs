@@ -53,10 +53,10 @@ pub struct SynthArgs {
 pub fn run_synth(args: SynthArgs) -> anyhow::Result<()> {
     let builtin_path = args.out_dir.join("target.toml");
     let model = match &args.target {
-        Some(path) => sim::target::load(path)?,
-        None => sim::target::parse(sim::scenario::BUILTIN_TARGET_TEXT, &builtin_path)?,
+        Some(path) => sim_core::load_target(path)?,
+        None => sim_core::parse_target(sim_core::BUILTIN_TARGET_TEXT, &builtin_path)?,
     };
-    let start: Location = sim::track::parse_location(&args.start).context("--start")?;
+    let start: Location = sim::parse_location(&args.start).context("--start")?;
     if args.frames == 0 || args.frames > 100_000 {
         anyhow::bail!("--frames must be between 1 and 100000, got {}", args.frames);
     }
@@ -104,7 +104,7 @@ pub fn run_synth(args: SynthArgs) -> anyhow::Result<()> {
         );
     }
     // `track` reads every frame of a folder: old frames left beside new ones would join them.
-    if sim::track::frame_files(&args.out_dir).is_ok() {
+    if sim::frame_files(&args.out_dir).is_ok() {
         anyhow::bail!(
             "{}: already holds frames (PNG or PGM); synth into a new or empty folder",
             args.out_dir.display()
@@ -116,7 +116,7 @@ pub fn run_synth(args: SynthArgs) -> anyhow::Result<()> {
     let target = match &args.target {
         Some(path) => path.clone(),
         None => {
-            std::fs::write(&builtin_path, sim::scenario::BUILTIN_TARGET_TEXT)
+            std::fs::write(&builtin_path, sim_core::BUILTIN_TARGET_TEXT)
                 .with_context(|| format!("{}: cannot write", builtin_path.display()))
                 .map_err(incomplete)?;
             builtin_path

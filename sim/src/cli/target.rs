@@ -34,7 +34,7 @@ pub fn run_target(args: TargetArgs) -> anyhow::Result<()> {
     if let Some(out) = &args.out {
         png_path("--out", out)?;
     }
-    let model = sim::target::load(&args.target)?;
+    let model = sim_core::load_target(&args.target)?;
     let [w_m, h_m] = model.size_m();
     say!(
         "{}: `{}`, {:.2} m × {:.2} m, nominal range {} m, {} segments",

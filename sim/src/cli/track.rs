@@ -4,8 +4,8 @@ use super::exit::incomplete;
 use super::paths::same_path;
 use anyhow::Context;
 use clap::Args;
-use sim::recording::{replay, ReplayError, ReplayJob, SettingChange};
-use sim::track::{parse_location, run, TrackJob};
+use sim::{parse_location, track, TrackJob};
+use sim::{replay, ReplayError, ReplayJob, SettingChange};
 use std::path::PathBuf;
 use tracker::{TrackerConfig, TrackerMode};
 
@@ -83,7 +83,7 @@ fn check_outputs(args: &TrackArgs) -> anyhow::Result<()> {
     let input = &args.frames_dir;
     let out_is_input = same_path(&args.out, input)
         || (input.is_dir()
-            && sim::track::frame_files(input)
+            && sim::frame_files(input)
                 .is_ok_and(|files| files.iter().any(|f| same_path(f, &args.out))));
     if out_is_input {
         anyhow::bail!(
@@ -134,7 +134,7 @@ pub fn run_track(args: TrackArgs) -> anyhow::Result<()> {
             args.frames_dir.display()
         );
     };
-    let model = sim::target::load(target)?;
+    let model = sim_core::load_target(target)?;
     let mode = TrackerMode::parse(args.mode.as_deref().unwrap_or("paper"))
         .expect("clap allows only known modes");
     let init = match &args.init {
@@ -197,7 +197,7 @@ pub fn run_track(args: TrackArgs) -> anyhow::Result<()> {
         overlay_dir: args.overlay,
         progress: !args.quiet,
     };
-    let s = run(&job)?;
+    let s = track(&job)?;
     eprintln!(
         "{}: {} frames: {} tracking, {} coasting, {} lost, {} (re)acquired; median step {:.1} µs",
         args.out.display(),

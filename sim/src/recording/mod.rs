@@ -36,8 +36,8 @@ pub use replay::{
 };
 pub use writer::{LiveOptions, RecordError, Recorder, RecorderOptions};
 
-use crate::closed_loop::ClosedLoop;
-use crate::scenario::Scenario;
+use sim_core::ClosedLoop;
+use sim_core::Scenario;
 use std::collections::BTreeMap;
 use tracker::{Camera, Location, TargetModel};
 
@@ -168,7 +168,7 @@ impl ReplaySetup {
             width: rig.width,
             height: rig.height,
             frames: looped.frames(),
-            lead_box_m: crate::closed_loop::lead_body_size_m(),
+            lead_box_m: sim_core::lead_body_size_m(),
             noise_removed_sigma: scenario.sensor.noise_sigma_grey,
         })
     }
@@ -298,12 +298,12 @@ mod tests {
     fn the_target_reads_back_as_written() {
         let s = Scenario::builtin(&[]).unwrap();
         let text = target_toml(&s.target);
-        let back = crate::target::parse(&text, std::path::Path::new("run.mcap")).unwrap();
+        let back = sim_core::parse_target(&text, std::path::Path::new("run.mcap")).unwrap();
         assert_eq!(back, s.target);
         // Its paint rule too.
         let stripes = s.target.clone().with_paint(tracker::paint::Paint::Stripes);
-        let back =
-            crate::target::parse(&target_toml(&stripes), std::path::Path::new("run.mcap")).unwrap();
+        let back = sim_core::parse_target(&target_toml(&stripes), std::path::Path::new("run.mcap"))
+            .unwrap();
         assert_eq!(back.paint(), tracker::paint::Paint::Stripes);
     }
 
@@ -313,7 +313,7 @@ mod tests {
         let text = toml::to_string(&s.resolved).unwrap();
         let target = target_toml(&s.target);
         let back = Scenario::parse(&text, std::path::Path::new("run.mcap"), &[], |_| {
-            crate::target::parse(&target, std::path::Path::new("run.mcap"))
+            sim_core::parse_target(&target, std::path::Path::new("run.mcap"))
         })
         .unwrap();
         assert_eq!(back.tracker.lambda, 0.7);

@@ -9,9 +9,8 @@
 
 use super::messages::{TrackerInputDecoded, TrackerStateDecoded};
 use super::{topics, ReplaySetup, METADATA_NAME};
-use crate::camera::shift_noise;
-use crate::overlay;
-use crate::scenario::{Scenario, ScenarioError};
+use crate::overlay::draw_overlay;
+use crate::report::csv_writer;
 use foxglove::messages::{CompressedImage, RawImage};
 use foxglove::Decode;
 use image::GrayImage;
@@ -19,10 +18,11 @@ use indicatif::{ProgressBar, ProgressStyle};
 use mcap::records::Record;
 use mcap::sans_io::linear_reader::{LinearReadEvent, LinearReader, LinearReaderOptions};
 use prost::Message;
+use sim_core::{Scenario, ScenarioError};
+use sim_render::shift_noise;
 use std::collections::{BTreeMap, HashMap};
-use std::fmt::Write as _;
 use std::fs::File;
-use std::io::{BufWriter, Read, Seek, SeekFrom, Write};
+use std::io::{Read, Seek, SeekFrom};
 use std::path::{Path, PathBuf};
 use thiserror::Error;
 use tracker::{EgoMotion, GrayView, Location, Status, TrackOutput, Tracker};
@@ -167,7 +167,7 @@ impl Tape {
         let target_text = setup.target_toml.clone();
         let target_path = PathBuf::from(format!("{}#target", path.display()));
         let scenario = Scenario::parse(&setup.resolved_toml, &where_, &overrides, |_| {
-            crate::target::parse(&target_text, &target_path)
+            sim_core::parse_target(&target_text, &target_path)
         })
         .map_err(|e| match e {
             // Named as the user gave it.
@@ -184,7 +184,7 @@ impl Tape {
         // Run as recorded, the tracker starts where it did; a changed placement error moves
         // that start by the change.
         let recorded = Scenario::parse(&setup.resolved_toml, &where_, &[], |_| {
-            crate::target::parse(&target_text, &target_path)
+            sim_core::parse_target(&target_text, &target_path)
         })
         .map_err(|e| ReplayError::BadInput(e.to_string()))?;
         let mut start = setup.start;
@@ -208,42 +208,40 @@ struct Pending {
     state: Option<TrackerStateDecoded>,
 }
 
-/// `frames.csv`'s number format.
-fn num(s: &mut String, v: f64) {
+/// A number in `frames.csv`'s format: the shortest round-trip decimal, empty when not
+/// finite, never `-0`.
+fn num(v: f64) -> String {
     if v.is_finite() {
         let v = if v == 0.0 { 0.0 } else { v };
-        let _ = write!(s, "{v}");
+        format!("{v}")
+    } else {
+        String::new()
     }
 }
 
-fn row(out: &TrackOutput, frame: u64, same: bool) -> String {
-    let mut s = String::with_capacity(256);
-    let _ = write!(s, "{frame}");
+/// One row of [`REPLAY_CSV_COLUMNS`].
+fn row(out: &TrackOutput, frame: u64, same: bool) -> Vec<String> {
     let confidence = out.measurement.map_or([0.0; 3], |m| m.confidence);
-    for v in [
-        out.t_s,
-        out.position_3d[2],
-        out.position_3d[0],
-        out.estimate.c_x,
-        out.estimate.c_y,
-        out.estimate.scale,
-        confidence[0],
-        confidence[1],
-        confidence[2],
-    ] {
-        s.push(',');
-        num(&mut s, v);
-    }
-    s.push(',');
-    s.push_str(out.status.as_str());
-    for v in [out.coverage[0], out.coverage[1], out.coverage_gain] {
-        s.push(',');
-        num(&mut s, v);
-    }
-    s.push(',');
-    s.push_str(out.event.map_or("", |e| e.as_str()));
-    s.push_str(if same { ",1" } else { ",0" });
-    s
+    let mut r = vec![frame.to_string()];
+    r.extend(
+        [
+            out.t_s,
+            out.position_3d[2],
+            out.position_3d[0],
+            out.estimate.c_x,
+            out.estimate.c_y,
+            out.estimate.scale,
+            confidence[0],
+            confidence[1],
+            confidence[2],
+        ]
+        .map(num),
+    );
+    r.push(out.status.as_str().to_string());
+    r.extend([out.coverage[0], out.coverage[1], out.coverage_gain].map(num));
+    r.push(out.event.map_or("", |e| e.as_str()).to_string());
+    r.push(if same { "1" } else { "0" }.to_string());
+    r
 }
 
 /// Whether the replayed output equals the recorded state, bit for bit.
@@ -547,7 +545,7 @@ fn replay_pass(job: &ReplayJob, setup: Option<ReplaySetup>) -> Result<Pass, Repl
 /// The tracker on its way through the tape.
 struct Run {
     tracker: Tracker,
-    csv: BufWriter<File>,
+    csv: csv::Writer<File>,
     csv_path: PathBuf,
     overlay_dir: Option<PathBuf>,
     bar: ProgressBar,
@@ -572,8 +570,9 @@ impl Run {
             std::fs::create_dir_all(dir).map_err(|e| out_err(dir, e))?;
         }
         let file = File::create(&job.out_csv).map_err(|e| out_err(&job.out_csv, e))?;
-        let mut csv = BufWriter::new(file);
-        writeln!(csv, "{}", REPLAY_CSV_COLUMNS.join(",")).map_err(|e| out_err(&job.out_csv, e))?;
+        let mut csv = csv_writer(file);
+        csv.write_record(REPLAY_CSV_COLUMNS)
+            .map_err(|e| out_err(&job.out_csv, e.into()))?;
         let bar = if job.progress {
             ProgressBar::new(tape.setup.frames)
         } else {
@@ -673,10 +672,12 @@ impl Run {
         let out_err = |e: std::io::Error| {
             ReplayError::Output(format!("{}: cannot write: {e}", csv_path.display()))
         };
-        writeln!(self.csv, "{}", row(&out, k, same)).map_err(out_err)?;
+        self.csv
+            .write_record(row(&out, k, same))
+            .map_err(|e| out_err(e.into()))?;
         if let Some(dir) = &self.overlay_dir {
             let target = dir.join(format!("frame-{k:06}.png"));
-            overlay::draw(image, &out, &edges)
+            draw_overlay(image, &out, &edges)
                 .save(&target)
                 .map_err(|e| {
                     ReplayError::Output(format!("{}: cannot write overlay: {e}", target.display()))

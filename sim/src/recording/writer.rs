@@ -3,10 +3,7 @@
 
 use super::messages::{ControllerState, GroundTruth, TrackerInput, TrackerState};
 use super::{log_time_ns, topics, ReplaySetup, METADATA_NAME};
-use crate::camera::shift_noise;
-use crate::closed_loop::FrameOutput;
-use crate::overlay;
-use crate::record::TrackerStatus;
+use crate::overlay::OverlayColour;
 use crate::report::Summary;
 use foxglove::bytes::Bytes;
 use foxglove::messages::{
@@ -21,6 +18,9 @@ use foxglove::{
 };
 use image::Rgb;
 use nalgebra::{Isometry3, UnitQuaternion, Vector3 as NaVector3};
+use sim_core::FrameOutput;
+use sim_core::TrackerStatus;
+use sim_render::shift_noise;
 use std::fs::File;
 use std::io::BufWriter;
 use std::path::{Path, PathBuf};
@@ -929,7 +929,7 @@ fn annotations(out: &FrameOutput, ts: Timestamp) -> ImageAnnotations {
         list.push(points(
             Type::LineLoop,
             vec![pixel(x0, y0), pixel(x1, y0), pixel(x1, y1), pixel(x0, y1)],
-            overlay::WINDOW,
+            OverlayColour::WINDOW,
             ts,
         ));
     }
@@ -944,7 +944,7 @@ fn annotations(out: &FrameOutput, ts: Timestamp) -> ImageAnnotations {
         model.push(pixel(b.0, b.1));
     }
     if !model.is_empty() {
-        list.push(points(Type::LineList, model, overlay::PREDICTED, ts));
+        list.push(points(Type::LineList, model, OverlayColour::PREDICTED, ts));
     }
     let (mut associated, mut rejected) = (Vec::new(), Vec::new());
     for e in &out.edges {
@@ -956,8 +956,8 @@ fn annotations(out: &FrameOutput, ts: Timestamp) -> ImageAnnotations {
         }
     }
     for (pts, c) in [
-        (associated, overlay::ASSOCIATED),
-        (rejected, overlay::TOO_FAR),
+        (associated, OverlayColour::ASSOCIATED),
+        (rejected, OverlayColour::TOO_FAR),
     ] {
         if !pts.is_empty() {
             let mut a = points(Type::Points, pts, c, ts);
@@ -975,7 +975,7 @@ fn annotations(out: &FrameOutput, ts: Timestamp) -> ImageAnnotations {
                 pixel(cx, cy - 3.0),
                 pixel(cx, cy + 3.0),
             ],
-            overlay::CENTRE,
+            OverlayColour::CENTRE,
             ts,
         ));
     }

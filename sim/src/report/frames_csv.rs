@@ -9,11 +9,10 @@
 
 use std::fmt::Write as _;
 use std::fs::File;
-use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
 use super::ReportError;
-use crate::record::FrameRecord;
+use sim_core::FrameRecord;
 
 /// The columns of `frames.csv`, in order. The order is stable: new columns go at the end.
 pub const FRAMES_CSV_COLUMNS: [&str; 40] = [
@@ -65,13 +64,15 @@ pub fn sigma2_column(j: usize) -> String {
     format!("sigma2_f{j}")
 }
 
-/// A streaming writer of `frames.csv`.
+/// A streaming writer of `frames.csv`, on the `csv` crate's writer (RFC 4180 quoting, `\n`
+/// line ends).
 #[derive(Debug)]
 pub struct FramesCsv {
     path: PathBuf,
-    out: BufWriter<File>,
-    line: String,
+    out: csv::Writer<File>,
     features: usize,
+    /// The row being written, one field at a time, reused.
+    row: Row,
 }
 
 impl FramesCsv {
@@ -82,16 +83,19 @@ impl FramesCsv {
         let file = File::create(&path).map_err(ReportError::io(&path))?;
         let mut csv = FramesCsv {
             path,
-            out: BufWriter::new(file),
-            line: String::with_capacity(512),
+            out: csv_writer(file),
             features,
+            row: Row::default(),
         };
-        let mut header = FRAMES_CSV_COLUMNS.join(",");
-        for j in 0..features {
-            header.push(',');
-            header.push_str(&sigma2_column(j));
-        }
-        csv.write_line(header)?;
+        let header: Vec<String> = FRAMES_CSV_COLUMNS
+            .iter()
+            .map(|c| c.to_string())
+            .chain((0..features).map(sigma2_column))
+            .collect();
+        csv.out
+            .write_record(&header)
+            .map_err(|e| csv_error(&csv.path, e))?;
+        csv.flush()?;
         Ok(csv)
     }
 
@@ -102,119 +106,135 @@ impl FramesCsv {
 
     /// Writes one row for `r` and flushes it to the file.
     pub fn write(&mut self, r: &FrameRecord) -> Result<(), ReportError> {
-        let line = format_row(r, self.features, std::mem::take(&mut self.line));
-        self.write_line(line)
+        self.row.fill(r, self.features);
+        self.out
+            .write_record(&self.row.fields)
+            .map_err(|e| csv_error(&self.path, e))?;
+        self.flush()
     }
 
-    fn write_line(&mut self, mut line: String) -> Result<(), ReportError> {
-        line.push('\n');
-        let result = self
-            .out
-            .write_all(line.as_bytes())
-            .and_then(|()| self.out.flush())
-            .map_err(ReportError::io(&self.path));
-        line.clear();
-        self.line = line;
-        result
+    fn flush(&mut self) -> Result<(), ReportError> {
+        self.out.flush().map_err(ReportError::io(&self.path))
     }
 }
 
-/// One row, without its line end, in [`FRAMES_CSV_COLUMNS`] order, then `features` σ²
-/// columns (empty where the record has none).
-fn format_row(r: &FrameRecord, features: usize, mut s: String) -> String {
-    s.clear();
-    let _ = write!(s, "{}", r.frame);
-    for v in [
-        r.t_s,
-        r.true_range_m,
-        r.est_range_m,
-        r.true_lateral_m,
-        r.est_lateral_m,
-        r.true_cx,
-        r.est_cx,
-        r.true_cy,
-        r.est_cy,
-        r.true_scale,
-        r.est_scale,
-    ] {
-        s.push(',');
-        num(&mut s, v);
-    }
-    flag(&mut s, r.target_in_view);
-    for v in r.confidence {
-        s.push(',');
-        num(&mut s, v);
-    }
-    s.push(',');
-    s.push_str(r.status.as_str());
-    flag(&mut s, r.lost_truth);
-    for v in [
-        r.gap_m,
-        r.chase_speed_mps,
-        r.lead_speed_mps,
-        r.steering_rad,
-        r.throttle,
-        r.brake,
-        r.lateral_deviation_m,
-        r.chase_distance_m,
-        r.chase_xz[0],
-        r.chase_xz[1],
-        r.lead_xz[0],
-        r.lead_xz[1],
-    ] {
-        s.push(',');
-        num(&mut s, v);
-    }
-    flag(&mut s, r.collision);
-    s.push(',');
-    text(&mut s, &r.chase_mode);
-    for v in [r.coverage[0], r.coverage[1], r.coverage_gain] {
-        s.push(',');
-        num(&mut s, v);
-    }
-    s.push(',');
-    text(&mut s, &r.tracker_event);
-    s.push(',');
-    num(&mut s, r.fit_residual);
-    s.push(',');
-    s.push_str(r.loss_cause.as_str());
-    for v in [r.camera_pan_deg, r.desired_gap_m] {
-        s.push(',');
-        num(&mut s, v);
-    }
-    for j in 0..features {
-        s.push(',');
-        num(&mut s, r.feature_sigma2.get(j).copied().unwrap_or(f64::NAN));
-    }
-    s
+/// A CSV writer as carfollow's CSV files are written: comma-separated, `\n` line ends,
+/// quoted only where needed (RFC 4180).
+pub fn csv_writer<W: std::io::Write>(out: W) -> csv::Writer<W> {
+    csv::WriterBuilder::new()
+        .terminator(csv::Terminator::Any(b'\n'))
+        .from_writer(out)
 }
 
-fn num(s: &mut String, v: f64) {
-    if v.is_finite() {
-        // Normalise -0 so that a sign bit never changes the file.
-        let v = if v == 0.0 { 0.0 } else { v };
-        let _ = write!(s, "{v}");
+/// A `csv` error as the report's: what it is, on the file.
+fn csv_error(path: &Path, e: csv::Error) -> ReportError {
+    match e.into_kind() {
+        csv::ErrorKind::Io(e) => ReportError::io(path)(e),
+        other => ReportError::io(path)(std::io::Error::other(format!("{other:?}"))),
     }
 }
 
-fn flag(s: &mut String, b: bool) {
-    s.push_str(if b { ",1" } else { ",0" });
+/// One row's fields as text, their buffers kept from row to row.
+#[derive(Debug, Default)]
+struct Row {
+    fields: Vec<String>,
+    next: usize,
 }
 
-fn text(s: &mut String, t: &str) {
-    if t.contains([',', '"', '\n', '\r']) || t.starts_with(' ') || t.ends_with(' ') {
-        s.push('"');
-        s.push_str(&t.replace('"', "\"\""));
-        s.push('"');
-    } else {
-        s.push_str(t);
+impl Row {
+    /// The fields of `r`, in [`FRAMES_CSV_COLUMNS`] order, then `features` σ² columns
+    /// (empty where the record has none).
+    fn fill(&mut self, r: &FrameRecord, features: usize) {
+        self.next = 0;
+        self.text(&r.frame.to_string());
+        for v in [
+            r.t_s,
+            r.true_range_m,
+            r.est_range_m,
+            r.true_lateral_m,
+            r.est_lateral_m,
+            r.true_cx,
+            r.est_cx,
+            r.true_cy,
+            r.est_cy,
+            r.true_scale,
+            r.est_scale,
+        ] {
+            self.num(v);
+        }
+        self.flag(r.target_in_view);
+        for v in r.confidence {
+            self.num(v);
+        }
+        self.text(r.status.as_str());
+        self.flag(r.lost_truth);
+        for v in [
+            r.gap_m,
+            r.chase_speed_mps,
+            r.lead_speed_mps,
+            r.steering_rad,
+            r.throttle,
+            r.brake,
+            r.lateral_deviation_m,
+            r.chase_distance_m,
+            r.chase_xz[0],
+            r.chase_xz[1],
+            r.lead_xz[0],
+            r.lead_xz[1],
+        ] {
+            self.num(v);
+        }
+        self.flag(r.collision);
+        self.text(&r.chase_mode);
+        for v in [r.coverage[0], r.coverage[1], r.coverage_gain] {
+            self.num(v);
+        }
+        self.text(&r.tracker_event);
+        self.num(r.fit_residual);
+        self.text(r.loss_cause.as_str());
+        for v in [r.camera_pan_deg, r.desired_gap_m] {
+            self.num(v);
+        }
+        for j in 0..features {
+            self.num(r.feature_sigma2.get(j).copied().unwrap_or(f64::NAN));
+        }
+        self.fields.truncate(self.next);
+    }
+
+    /// The next field, cleared.
+    fn field(&mut self) -> &mut String {
+        if self.next == self.fields.len() {
+            self.fields.push(String::new());
+        }
+        self.next += 1;
+        let field = &mut self.fields[self.next - 1];
+        field.clear();
+        field
+    }
+
+    fn text(&mut self, t: &str) {
+        self.field().push_str(t);
+    }
+
+    /// A number as a plain decimal (Rust's shortest round-trip form); empty when not finite.
+    fn num(&mut self, v: f64) {
+        let field = self.field();
+        if v.is_finite() {
+            // Normalise -0 so that a sign bit never changes the file.
+            let v = if v == 0.0 { 0.0 } else { v };
+            let _ = write!(field, "{v}");
+        }
+    }
+
+    fn flag(&mut self, b: bool) {
+        self.field().push(if b { '1' } else { '0' });
     }
 }
 
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
-    use crate::record::TrackerStatus;
+    use sim_core::TrackerStatus;
 
     /// A plausible record at frame `i` (15 Hz): 10 m gap, tracking, on the path.
     pub(crate) fn record(i: u64) -> FrameRecord {
@@ -253,7 +273,7 @@ pub(crate) mod tests {
             tracker_event: String::new(),
             fit_residual: 0.5,
             feature_sigma2: vec![0.1, f64::NAN, 0.25],
-            loss_cause: crate::record::LossCause::None,
+            loss_cause: sim_core::LossCause::None,
             camera_pan_deg: 0.0,
             desired_gap_m: 10.0,
         }
@@ -320,7 +340,12 @@ pub(crate) mod tests {
         r.throttle = -0.0;
         r.brake = 1e21;
         r.chase_mode = "stop, \"now\"".into();
-        let row = format_row(&r, 0, String::new());
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("frames.csv");
+        let mut csv = FramesCsv::create(&path, 0).unwrap();
+        csv.write(&r).unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        let row = text.lines().nth(1).unwrap();
         assert!(row.contains(",0.0000001,"), "{row}");
         assert!(row.contains(",1000000000000000000000,"), "{row}");
         assert!(!row.contains("-0"), "{row}");

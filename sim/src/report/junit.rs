@@ -10,9 +10,10 @@
 //! schema that Jenkins, GitLab and GitHub reporters read (`sim/tests/data/junit.xsd`
 //! checks it).
 
+use quick_junit::{NonSuccessKind, Property, Report, TestCase, TestCaseStatus, TestSuite};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-use std::time::SystemTime;
+use std::time::{Duration, SystemTime};
 
 use super::{ReportError, Summary};
 
@@ -48,18 +49,6 @@ impl JunitScenario<'_> {
             JunitScenario::Incomplete { wall_s, .. } => *wall_s,
         }
         .max(0.0)
-    }
-
-    /// (tests, failures, errors).
-    fn counts(&self) -> (usize, usize, usize) {
-        match self {
-            JunitScenario::Ran(s) => (
-                1 + s.criteria.len(),
-                s.criteria.iter().filter(|c| !c.passed).count(),
-                0,
-            ),
-            JunitScenario::Incomplete { .. } => (1, 0, 1),
-        }
     }
 }
 
@@ -97,105 +86,100 @@ fn figure(v: f64) -> String {
     }
 }
 
-/// The JUnit XML text for these scenarios, written at `timestamp`.
+/// Seconds as a JUnit `time`: never negative, never not finite.
+fn seconds(s: f64) -> Duration {
+    Duration::try_from_secs_f64(s).unwrap_or(Duration::ZERO)
+}
+
+/// The JUnit XML text for these scenarios, written at `timestamp`, by `quick-junit` (the
+/// serializer cargo-nextest writes its reports with). The suites' timestamps are written
+/// as Ant writes them, in UTC without a zone (`iso8601_utc`), which every reader takes.
 pub fn junit_xml(scenarios: &[JunitScenario], timestamp: SystemTime) -> String {
     let stamp = iso8601_utc(timestamp);
-    let (mut tests, mut failures, mut errors) = (0, 0, 0);
-    for s in scenarios {
-        let (t, f, e) = s.counts();
-        tests += t;
-        failures += f;
-        errors += e;
-    }
-    let time: f64 = scenarios.iter().map(|s| s.wall_s()).sum();
-    let mut x = String::new();
-    x.push_str("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
-    let _ = writeln!(
-        x,
-        "<testsuites name=\"carfollow\" tests=\"{tests}\" failures=\"{failures}\" errors=\"{errors}\" time=\"{time:.3}\">"
-    );
+    let mut report = Report::new("carfollow");
+    report.set_time(seconds(scenarios.iter().map(|s| s.wall_s()).sum()));
     for (id, s) in scenarios.iter().enumerate() {
-        let (tests, failures, errors) = s.counts();
-        let name = escape(s.name());
-        let _ = writeln!(
-            x,
-            "  <testsuite name=\"{name}\" id=\"{id}\" package=\"carfollow\" hostname=\"localhost\" \
-             timestamp=\"{stamp}\" tests=\"{tests}\" failures=\"{failures}\" errors=\"{errors}\" \
-             skipped=\"0\" time=\"{:.3}\">",
-            s.wall_s()
-        );
-        let seed = match s {
-            JunitScenario::Ran(r) => r.seed,
-            JunitScenario::Incomplete { seed, .. } => *seed,
-        };
-        x.push_str("    <properties>\n");
-        let _ = writeln!(x, "      <property name=\"seed\" value=\"{seed}\"/>");
-        x.push_str("    </properties>\n");
-        let classname = format!("carfollow.{name}");
-        let mut out = String::new();
-        match s {
-            JunitScenario::Incomplete { error, .. } => {
-                let _ = writeln!(
-                    x,
-                    "    <testcase classname=\"{classname}\" name=\"completed\" time=\"{:.3}\">",
-                    s.wall_s()
-                );
-                let _ = writeln!(
-                    x,
-                    "      <error type=\"incomplete\" message=\"the run could not complete\">{}</error>",
-                    escape(error)
-                );
-                x.push_str("    </testcase>\n");
-                let _ = writeln!(out, "{}: could not complete: {error}", s.name());
+        report.add_test_suite(suite(s, id, &stamp));
+    }
+    report
+        .to_string()
+        .expect("a report of valid UTF-8 text serialises")
+}
+
+/// One scenario's `<testsuite>`: `completed`, then a case per criterion.
+fn suite(s: &JunitScenario, id: usize, stamp: &str) -> TestSuite {
+    let mut suite = TestSuite::new(s.name());
+    for (key, value) in [
+        ("timestamp", stamp.to_string()),
+        ("id", id.to_string()),
+        ("package", "carfollow".into()),
+        ("hostname", "localhost".into()),
+    ] {
+        suite.extra.insert(key.into(), value.into());
+    }
+    suite.set_time(seconds(s.wall_s()));
+    let seed = match s {
+        JunitScenario::Ran(r) => r.seed,
+        JunitScenario::Incomplete { seed, .. } => *seed,
+    };
+    suite.add_property(Property::new("seed", seed.to_string()));
+    let classname = format!("carfollow.{}", s.name());
+    let case = |name: &str, status: TestCaseStatus, time: f64| {
+        let mut case = TestCase::new(name, status);
+        case.set_classname(classname.as_str())
+            .set_time(seconds(time));
+        case
+    };
+    let mut out = String::new();
+    match s {
+        JunitScenario::Incomplete { error, .. } => {
+            let mut status = TestCaseStatus::non_success(NonSuccessKind::Error);
+            status
+                .set_type("incomplete")
+                .set_message("the run could not complete")
+                .set_description(*error);
+            suite.add_test_case(case("completed", status, s.wall_s()));
+            let _ = writeln!(out, "{}: could not complete: {error}", s.name());
+        }
+        JunitScenario::Ran(r) => {
+            suite.add_test_case(case("completed", TestCaseStatus::success(), s.wall_s()));
+            let _ = writeln!(
+                out,
+                "{}: {} frames, {:.2} s simulated, seed {}",
+                r.scenario, r.frames, r.duration_s, r.seed
+            );
+            if r.criteria.is_empty() {
+                out.push_str("no criteria checked\n");
             }
-            JunitScenario::Ran(r) => {
-                let _ = writeln!(
-                    x,
-                    "    <testcase classname=\"{classname}\" name=\"completed\" time=\"{:.3}\"/>",
-                    s.wall_s()
-                );
+            for c in &r.criteria {
                 let _ = writeln!(
                     out,
-                    "{}: {} frames, {:.2} s simulated, seed {}",
-                    r.scenario, r.frames, r.duration_s, r.seed
+                    "{} {}: {}",
+                    if c.passed { "PASS" } else { "FAIL" },
+                    c.name,
+                    c.message
                 );
-                if r.criteria.is_empty() {
-                    out.push_str("no criteria checked\n");
-                }
-                for c in &r.criteria {
-                    let _ = writeln!(
-                        out,
-                        "{} {}: {}",
-                        if c.passed { "PASS" } else { "FAIL" },
-                        c.name,
-                        c.message
-                    );
-                    let open = format!(
-                        "    <testcase classname=\"{classname}\" name=\"{}\" time=\"0.000\"",
-                        escape(&c.name)
-                    );
-                    if c.passed {
-                        let _ = writeln!(x, "{open}/>");
-                    } else {
-                        let _ = writeln!(x, "{open}>");
-                        let _ = writeln!(
-                            x,
-                            "      <failure type=\"expect\" message=\"measured {}, limit {}\">{}</failure>",
+                let status = if c.passed {
+                    TestCaseStatus::success()
+                } else {
+                    let mut failed = TestCaseStatus::non_success(NonSuccessKind::Failure);
+                    failed
+                        .set_type("expect")
+                        .set_message(format!(
+                            "measured {}, limit {}",
                             figure(c.value),
-                            figure(c.limit),
-                            escape(&c.message)
-                        );
-                        x.push_str("    </testcase>\n");
-                    }
-                }
+                            figure(c.limit)
+                        ))
+                        .set_description(c.message.as_str());
+                    failed
+                };
+                suite.add_test_case(case(&c.name, status, 0.0));
             }
         }
-        let _ = writeln!(x, "    <system-out>{}</system-out>", escape(&out));
-        x.push_str("    <system-err/>\n");
-        x.push_str("  </testsuite>\n");
     }
-    x.push_str("</testsuites>\n");
-    x
+    suite.set_system_out(out);
+    suite.set_system_err("");
+    suite
 }
 
 /// Writes [`junit_xml`] to `path`, stamped now; a directory gets `junit.xml` inside it.
@@ -212,31 +196,11 @@ pub fn write_junit(
     Ok(path)
 }
 
-/// Escapes text for XML 1.0 content and attributes. Control characters XML 1.0 cannot hold
-/// at all become U+FFFD.
-fn escape(s: &str) -> String {
-    let mut out = String::with_capacity(s.len());
-    for c in s.chars() {
-        match c {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
-            '\'' => out.push_str("&apos;"),
-            '\t' | '\n' | '\r' => out.push(c),
-            c if (c as u32) < 0x20 || c == '\u{FFFE}' || c == '\u{FFFF}' => out.push('\u{FFFD}'),
-            c => out.push(c),
-        }
-    }
-    out
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::record::Expect;
     use crate::report::frames_csv::tests::record;
-    use std::time::Duration;
+    use sim_core::Expect;
 
     fn summaries() -> Vec<Summary> {
         let rs: Vec<_> = (0..30).map(record).collect();
@@ -291,42 +255,109 @@ mod tests {
         assert_eq!(iso8601_utc(t), "2000-02-29T00:00:00");
     }
 
-    #[test]
-    fn escapes_markup_quotes_and_control_characters() {
-        assert_eq!(
-            escape("a <b> & \"c\" 'd'\u{1}\n"),
-            "a &lt;b&gt; &amp; &quot;c&quot; &apos;d&apos;\u{FFFD}\n"
-        );
+    /// Every element of `xml` in document order: its name, attributes and text.
+    fn elements(xml: &str) -> Vec<(String, Vec<(String, String)>, String)> {
+        use quick_xml::events::Event;
+        let mut reader = quick_xml::Reader::from_str(xml);
+        let mut all: Vec<(String, Vec<(String, String)>, String)> = Vec::new();
+        let mut open: Vec<usize> = Vec::new();
+        loop {
+            let event = reader.read_event().expect("well-formed XML");
+            let start = |e: &quick_xml::events::BytesStart| {
+                let attributes = e
+                    .attributes()
+                    .map(|a| {
+                        let a = a.expect("an attribute");
+                        let key = String::from_utf8(a.key.as_ref().to_vec()).unwrap();
+                        (key, a.unescape_value().unwrap().into_owned())
+                    })
+                    .collect();
+                let name = String::from_utf8(e.name().as_ref().to_vec()).unwrap();
+                (name, attributes, String::new())
+            };
+            match event {
+                Event::Start(e) => {
+                    all.push(start(&e));
+                    open.push(all.len() - 1);
+                }
+                Event::Empty(e) => all.push(start(&e)),
+                Event::Text(text) => {
+                    if let Some(&k) = open.last() {
+                        all[k].2.push_str(&text.unescape().unwrap());
+                    }
+                }
+                Event::End(_) => {
+                    open.pop();
+                }
+                Event::Eof => break,
+                _ => {}
+            }
+        }
+        assert!(open.is_empty());
+        all
+    }
+
+    fn attribute<'a>(e: &'a (String, Vec<(String, String)>, String), key: &str) -> &'a str {
+        e.1.iter()
+            .find(|(k, _)| k == key)
+            .map_or("", |(_, v)| v.as_str())
     }
 
     #[test]
     fn one_suite_per_scenario_one_case_per_criterion() {
         let x = xml();
-        assert!(x.starts_with("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"));
-        assert_eq!(x.matches("<testsuite ").count(), 3);
+        assert!(
+            x.starts_with("<?xml version=\"1.0\" encoding=\"UTF-8\"?>"),
+            "{x}"
+        );
+        let all = elements(&x);
+        let named = |name: &'static str| all.iter().filter(move |e| e.0 == name);
+        let root = named("testsuites").next().expect("testsuites");
         // completed + 2 criteria, three times over, less the incomplete run's criteria.
+        for (key, value) in [
+            ("name", "carfollow"),
+            ("tests", "7"),
+            ("failures", "2"),
+            ("errors", "1"),
+        ] {
+            assert_eq!(attribute(root, key), value, "{key}: {x}");
+        }
+        assert_eq!(named("testsuite").count(), 3);
+        for suite in named("testsuite") {
+            assert_eq!(attribute(suite, "timestamp"), "2026-11-23T12:34:56", "{x}");
+            assert_eq!(attribute(suite, "package"), "carfollow");
+        }
+        assert_eq!(named("testcase").count(), 7);
+        assert!(named("testcase").all(|c| !attribute(c, "time").is_empty()));
         assert!(
-            x.contains("<testsuites name=\"carfollow\" tests=\"7\" failures=\"2\" errors=\"1\""),
+            named("testcase").any(|c| attribute(c, "classname") == "carfollow.nist-grounds"
+                && attribute(c, "name") == "no_collision")
+        );
+        let failures: Vec<_> = named("failure").collect();
+        assert_eq!(failures.len(), 2);
+        assert!(failures.iter().all(|f| attribute(f, "type") == "expect"));
+        assert_eq!(
+            attribute(failures[0], "message"),
+            "measured 2.000, limit 0.000"
+        );
+        assert!(
+            failures[0].2.starts_with("gap left the band [11, 15] m"),
             "{x}"
         );
-        assert_eq!(x.matches("<testcase ").count(), 7);
-        assert!(x.contains("timestamp=\"2026-11-23T12:34:56\""), "{x}");
-        assert!(x.contains(
-            "<testcase classname=\"carfollow.nist-grounds\" name=\"no_collision\" time=\"0.000\"/>"
-        ));
-        assert_eq!(x.matches("<failure ").count(), 2);
-        assert!(
-            x.contains("<failure type=\"expect\" message=\"measured 2.000, limit 0.000\">gap left the band [11, 15] m"),
-            "{x}"
+        assert_eq!(
+            attribute(failures[1], "message"),
+            "measured 9.667, limit 1000.000"
         );
-        assert!(
-            x.contains("message=\"measured 9.667, limit 1000.000\">the chase vehicle drove"),
-            "{x}"
-        );
-        assert!(x.contains(
-            "<error type=\"incomplete\" message=\"the run could not complete\">the renderer &lt;failed&gt;</error>"
-        ));
-        assert!(x.contains("PASS no_collision: the vehicles collided 0 time(s) (allowed 0)"));
+        assert!(failures[1].2.starts_with("the chase vehicle drove"), "{x}");
+        let error = named("error").next().expect("the incomplete run's error");
+        assert_eq!(attribute(error, "type"), "incomplete");
+        assert_eq!(attribute(error, "message"), "the run could not complete");
+        assert_eq!(error.2, "the renderer <failed>");
+        assert!(named("system-out").any(|o| o
+            .2
+            .contains("PASS no_collision: the vehicles collided 0 time(s) (allowed 0)")));
+        let seeds: Vec<&str> = named("property").map(|p| attribute(p, "value")).collect();
+        assert_eq!(seeds, ["1", "2", "3"]);
     }
 
     #[test]
@@ -351,10 +382,8 @@ mod tests {
             }
         }
         assert_eq!(depth, 0);
-        assert_eq!(
-            suites,
-            ["nist-grounds", "a <b> & \"c\" 'd'\u{FFFD}", "weave"]
-        );
+        // Markup escaped, and the control character XML cannot hold left out.
+        assert_eq!(suites, ["nist-grounds", "a <b> & \"c\" 'd'", "weave"]);
     }
 
     #[test]

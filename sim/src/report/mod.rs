@@ -1,4 +1,4 @@
-//! The outputs of a closed-loop run, written from its [`FrameRecord`](crate::record::FrameRecord)s:
+//! The outputs of a closed-loop run, written from its [`FrameRecord`](sim_core::FrameRecord)s:
 //! `frames.csv` (streamed), `summary.json`, PNG plots, an optional GIF video with PNG stills,
 //! and `junit.xml` for CI systems. [`RunOutputs`] is the one entry point the loop calls.
 //!
@@ -14,7 +14,7 @@ mod summary;
 mod video;
 
 pub use error::ReportError;
-pub use frames_csv::{sigma2_column, FramesCsv, FRAMES_CSV_COLUMNS};
+pub use frames_csv::{csv_writer, sigma2_column, FramesCsv, FRAMES_CSV_COLUMNS};
 pub use junit::{iso8601_utc, junit_xml, write_junit, JunitScenario};
 pub use outputs::{OutputOptions, RunOutputs, VIDEO_OUTPUTS};
 pub use plots::{write_plots, PLOT_FILES};

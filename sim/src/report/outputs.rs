@@ -20,8 +20,8 @@ use std::path::{Path, PathBuf};
 use image::RgbImage;
 
 use super::{write_plots, FramesCsv, ReportError, Summary, VideoWriter};
-use crate::closed_loop::LoopTiming;
-use crate::record::{Expect, FrameRecord};
+use sim_core::LoopTiming;
+use sim_core::{Expect, FrameRecord};
 
 /// What a run writes besides `frames.csv` and `summary.json`.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -162,7 +162,7 @@ impl RunOutputs {
     }
 
     /// The camera image with the tracker's overlay for `frame` (see
-    /// [`crate::overlay::draw`]). Ignored unless video is on. The frame's record may come
+    /// [`crate::draw_overlay`]). Ignored unless video is on. The frame's record may come
     /// before or after its image.
     pub fn frame_image(&mut self, frame: u64, img: &RgbImage) -> Result<(), ReportError> {
         if !self.options.video {

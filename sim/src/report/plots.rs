@@ -21,7 +21,7 @@ use plotters::prelude::*;
 
 use super::summary::frame_period;
 use super::ReportError;
-use crate::record::{Expect, FrameRecord, TrackerStatus};
+use sim_core::{Expect, FrameRecord, TrackerStatus};
 
 /// The plot files written by [`write_plots`], in order.
 pub const PLOT_FILES: [&str; 5] = [

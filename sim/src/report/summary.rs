@@ -24,8 +24,8 @@
 
 use serde::Serialize;
 
-use crate::closed_loop::LoopTiming;
-use crate::record::{Expect, FrameRecord, LossCause, TrackerStatus};
+use sim_core::LoopTiming;
+use sim_core::{Expect, FrameRecord, LossCause, TrackerStatus};
 
 /// The frame period used when the records cannot tell it: the loop's 15 Hz.
 pub const DEFAULT_FRAME_PERIOD_S: f64 = 1.0 / 15.0;

@@ -18,7 +18,7 @@ use std::path::{Path, PathBuf};
 use image::{Rgb, RgbImage};
 
 use super::ReportError;
-use crate::overlay;
+use crate::overlay::OverlayColour;
 
 /// The GIF delays of consecutive frames at 15 fps, centiseconds; the pattern repeats.
 pub const GIF_DELAYS_CS: [u16; 3] = [7, 6, 7];
@@ -27,11 +27,11 @@ pub const GIF_DELAYS_CS: [u16; 3] = [7, 6, 7];
 const GREYS: usize = 224;
 /// The overlay's colours, matched exactly.
 const OVERLAY: [Rgb<u8>; 5] = [
-    overlay::WINDOW,
-    overlay::PREDICTED,
-    overlay::ASSOCIATED,
-    overlay::TOO_FAR,
-    overlay::CENTRE,
+    OverlayColour::WINDOW,
+    OverlayColour::PREDICTED,
+    OverlayColour::ASSOCIATED,
+    OverlayColour::TOO_FAR,
+    OverlayColour::CENTRE,
 ];
 /// Levels of the colour cube for other colours.
 const CUBE: [u8; 3] = [0, 128, 255];
@@ -103,13 +103,9 @@ impl VideoWriter {
         })
     }
 
-    /// The file being written.
-    pub fn path(&self) -> &Path {
-        &self.path
-    }
-
     /// Video frames written so far.
-    pub fn frames(&self) -> u64 {
+    #[cfg(test)]
+    fn frames(&self) -> u64 {
         self.frames
     }
 
@@ -230,9 +226,9 @@ mod tests {
             Rgb([g, g, g])
         });
         for x in 0..64 {
-            img.put_pixel(x, 10 + k, overlay::WINDOW);
+            img.put_pixel(x, 10 + k, OverlayColour::WINDOW);
         }
-        img.put_pixel(5, 5, overlay::CENTRE);
+        img.put_pixel(5, 5, OverlayColour::CENTRE);
         img.put_pixel(6, 5, Rgb([10, 200, 100]));
         img
     }

@@ -57,7 +57,7 @@ pub enum SweepError {
         point: String,
         /// The scenario's own error (boxed: it is large and rare; in the message, not the
         /// chain).
-        error: Box<crate::scenario::ScenarioError>,
+        error: Box<sim_core::ScenarioError>,
     },
     /// A malformed line in a results file.
     #[error("{}:{line}: not a result row: {message}", path.display())]

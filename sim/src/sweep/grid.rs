@@ -10,8 +10,8 @@
 
 use super::file::{flatten_axes, SweepFile, SweepScenario};
 use super::SweepError;
-use crate::scenario::{from_toml_naming_field, locate, Scenario};
-use crate::target::line_column;
+use sim_core::line_column;
+use sim_core::{from_toml_naming_field, locate_field, Plan};
 use std::path::{Path, PathBuf};
 
 /// The most points a sweep may have.
@@ -129,7 +129,7 @@ impl Sweep {
             action: "cannot read the sweep",
             error,
         })?;
-        let at = |field: &str| line_column(&text, locate(&text, field));
+        let at = |field: &str| line_column(&text, locate_field(&text, field));
         let invalid = |field: &str, message: String| {
             let (line, column) = at(field);
             SweepError::Invalid {
@@ -233,8 +233,8 @@ impl Sweep {
         let mut scenarios: Vec<SweepScenario> = Vec::new();
         for file in &raw.scenarios {
             let scenario_path = dir.join(file);
-            let base = Scenario::load(&scenario_path, &set).map_err(|e| {
-                let field = if matches!(e, crate::scenario::ScenarioError::Override { .. }) {
+            let base = Plan::load(&scenario_path, &set).map_err(|e| {
+                let field = if matches!(e, sim_core::ScenarioError::Override { .. }) {
                     "set"
                 } else {
                     "scenarios"
@@ -249,15 +249,16 @@ impl Sweep {
                     error: Box::new(e),
                 }
             })?;
-            if scenarios.iter().any(|s| s.name == base.name) {
+            let name = &base.scenario().name;
+            if scenarios.iter().any(|s| &s.name == name) {
                 return Err(invalid(
                     "scenarios",
-                    format!("names scenario `{}` twice", base.name),
+                    format!("names scenario `{name}` twice"),
                 ));
             }
             scenarios.push(SweepScenario {
                 path: scenario_path,
-                name: base.name,
+                name: name.clone(),
             });
         }
 
@@ -275,9 +276,9 @@ impl Sweep {
         // Every point's overrides, before anything runs.
         for point in &points {
             let overrides = point.overrides(&set);
-            if let Err(e) = Scenario::load(&scenarios[point.scenario].path, &overrides) {
+            if let Err(e) = Plan::load(&scenarios[point.scenario].path, &overrides) {
                 let field = match &e {
-                    crate::scenario::ScenarioError::Override { assignment, .. } => axes
+                    sim_core::ScenarioError::Override { assignment, .. } => axes
                         .iter()
                         .find(|a| {
                             assignment
@@ -313,9 +314,9 @@ impl Sweep {
         })
     }
 
-    /// The scenario of a point, with all its overrides applied.
-    pub fn scenario(&self, point: &Point) -> Result<Scenario, SweepError> {
-        Scenario::load(
+    /// The plan of a point's scenario, with all its overrides applied.
+    pub fn plan(&self, point: &Point) -> Result<Plan, SweepError> {
+        Plan::load(
             &self.scenarios[point.scenario].path,
             &point.overrides(&self.set),
         )

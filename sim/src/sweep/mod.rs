@@ -27,6 +27,8 @@ pub use grid::{Axis, Point, Shard, Sweep};
 pub use manifest::{
     read_failed, write_failed, FailedPoint, Manifest, ManifestPoint, MANIFEST_FILE,
 };
-pub use report::{best_values, write_report, Best, BEST_RULE, FIGURES};
-pub use results::{dedupe_sorted, merge_dirs, read_rows, ResultRow, ResultsWriter, RESULTS_FILE};
+pub use report::{best_values, write_report, Best, BEST_RULE};
+pub use results::{
+    dedupe_sorted, merge_dirs, read_rows, ResultRow, ResultsWriter, FIGURES, RESULTS_FILE,
+};
 pub use run::{recording_path, run_point, run_points, serve_points};

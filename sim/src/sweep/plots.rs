@@ -5,7 +5,7 @@
 //!
 //! The font and the bitmap-to-PNG step are the run plots' (`report::plots`).
 
-use super::report::{axis_paths, scenario_order, FIGURES};
+use super::results::{axis_paths, scenario_order, FIGURES};
 use super::{ResultRow, SweepError};
 use crate::report::plots::{draw_axes, font, register_font, render, Area, DrawResult};
 use plotters::prelude::*;

@@ -2,40 +2,11 @@
 //! axis (see `plots`), and `summary.md` naming the best value of each axis per scenario and
 //! overall by [`BEST_RULE`].
 
+use super::results::{axis_paths, scenario_order, FIGURES};
 use super::{ResultRow, SweepError};
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-
-/// A figure of a point's summary the report compares: `(short name, JSON pointer into the
-/// summary, axis label)`.
-pub const FIGURES: [(&str, &str, &str); 5] = [
-    (
-        "tracking_lost_s",
-        "/tracking_lost_s",
-        "tracking lost (s, ground truth)",
-    ),
-    (
-        "range_error_m",
-        "/range_error_m/mean_abs",
-        "range error, mean |err| while tracked (m)",
-    ),
-    (
-        "gap_outside_band_s",
-        "/time_outside_gap_band_s",
-        "time outside the gap band (s)",
-    ),
-    (
-        "path_deviation_m",
-        "/lateral_path_error_m/mean_abs",
-        "path deviation, mean |lateral| (m)",
-    ),
-    (
-        "imprecise_share",
-        "/imprecise_share",
-        "share of frames off by > 2 px or > 5 % in scale",
-    ),
-];
 
 /// How [`best_values`] chooses, as `summary.md` states it.
 pub const BEST_RULE: &str = "the value with the least mean tracking-loss time (ground truth) \
@@ -147,28 +118,9 @@ pub fn best_values(rows: &[ResultRow], axis: &str) -> (Vec<(String, Best)>, Opti
     (per_scenario, pick(overall))
 }
 
-/// Scenario names in the order they first appear.
-pub(crate) fn scenario_order(rows: &[ResultRow]) -> Vec<String> {
-    let mut names: Vec<String> = Vec::new();
-    for r in rows {
-        if !names.contains(&r.scenario) {
-            names.push(r.scenario.clone());
-        }
-    }
-    names
-}
-
-/// Axis paths in the rows (sorted).
-pub(crate) fn axis_paths(rows: &[ResultRow]) -> Vec<String> {
-    let mut paths: Vec<String> = rows.iter().flat_map(|r| r.params.keys().cloned()).collect();
-    paths.sort();
-    paths.dedup();
-    paths
-}
-
 /// Writes `table.csv`, the plots and `summary.md` into `dir`; returns the paths written.
 pub fn write_report(dir: &Path, rows: &[ResultRow]) -> Result<Vec<PathBuf>, SweepError> {
-    let write = |name: &str, text: String| -> Result<PathBuf, SweepError> {
+    let write = |name: &str, text: Vec<u8>| -> Result<PathBuf, SweepError> {
         let path = dir.join(name);
         std::fs::write(&path, text).map_err(|error| SweepError::Io {
             path: path.clone(),
@@ -184,7 +136,7 @@ pub fn write_report(dir: &Path, rows: &[ResultRow]) -> Result<Vec<PathBuf>, Swee
     })?;
     let mut written = vec![write("table.csv", table_csv(rows))?];
     written.extend(super::plots::write_plots(dir, rows)?);
-    written.push(write("summary.md", summary_md(rows))?);
+    written.push(write("summary.md", summary_md(rows).into_bytes())?);
     Ok(written)
 }
 
@@ -209,58 +161,45 @@ const CSV_FIGURES: [(&str, &str); 17] = [
     ("wall_s", "/wall_s"),
 ];
 
-fn csv_field(s: &str) -> String {
-    if s.contains([',', '"', '\n']) {
-        format!("\"{}\"", s.replace('"', "\"\""))
-    } else {
-        s.to_string()
-    }
-}
-
+/// A JSON value as a cell: strings as they are, numbers as plain decimals (never `-0`),
+/// nothing for `null` or a missing value.
 fn json_cell(v: Option<&serde_json::Value>) -> String {
     match v {
         None | Some(serde_json::Value::Null) => String::new(),
-        Some(serde_json::Value::String(s)) => csv_field(s),
+        Some(serde_json::Value::String(s)) => s.clone(),
         // Adding 0.0 turns a −0.0 (a sum of no time) into 0.0.
         Some(serde_json::Value::Number(n)) if n.is_f64() => {
             format!("{}", n.as_f64().unwrap_or(f64::NAN) + 0.0)
         }
-        Some(v) => csv_field(&v.to_string()),
+        Some(v) => v.to_string(),
     }
 }
 
-fn table_csv(rows: &[ResultRow]) -> String {
+/// `table.csv`: a row per point, the axes' values, then [`CSV_FIGURES`].
+fn table_csv(rows: &[ResultRow]) -> Vec<u8> {
     let axes = axis_paths(rows);
-    let mut out = String::from("index,id,scenario,seed");
-    for a in &axes {
-        out.push(',');
-        out.push_str(&csv_field(a));
-    }
-    for (h, _) in CSV_FIGURES {
-        out.push(',');
-        out.push_str(h);
-    }
-    out.push('\n');
+    let mut out = crate::report::csv_writer(Vec::new());
+    let header = ["index", "id", "scenario", "seed"]
+        .into_iter()
+        .chain(axes.iter().map(String::as_str))
+        .chain(CSV_FIGURES.iter().map(|(h, _)| *h));
+    out.write_record(header).expect("writing to memory");
     for r in rows {
-        let _ = write!(
-            out,
-            "{},{},{},{}",
-            r.index,
-            r.id,
-            csv_field(&r.scenario),
-            r.seed
+        let mut cells = vec![
+            r.index.to_string(),
+            r.id.clone(),
+            r.scenario.clone(),
+            r.seed.to_string(),
+        ];
+        cells.extend(axes.iter().map(|a| json_cell(r.params.get(a))));
+        cells.extend(
+            CSV_FIGURES
+                .iter()
+                .map(|(_, pointer)| json_cell(r.summary.pointer(pointer))),
         );
-        for a in &axes {
-            out.push(',');
-            out.push_str(&json_cell(r.params.get(a)));
-        }
-        for (_, pointer) in CSV_FIGURES {
-            out.push(',');
-            out.push_str(&json_cell(r.summary.pointer(pointer)));
-        }
-        out.push('\n');
+        out.write_record(&cells).expect("writing to memory");
     }
-    out
+    out.into_inner().expect("writing to memory")
 }
 
 fn fmt(v: Option<f64>) -> String {

@@ -186,6 +186,55 @@ pub fn dedupe_sorted(rows: Vec<ResultRow>) -> Vec<ResultRow> {
     out
 }
 
+/// A figure of a point's summary the report compares: `(short name, JSON pointer into the
+/// summary, axis label)`.
+pub const FIGURES: [(&str, &str, &str); 5] = [
+    (
+        "tracking_lost_s",
+        "/tracking_lost_s",
+        "tracking lost (s, ground truth)",
+    ),
+    (
+        "range_error_m",
+        "/range_error_m/mean_abs",
+        "range error, mean |err| while tracked (m)",
+    ),
+    (
+        "gap_outside_band_s",
+        "/time_outside_gap_band_s",
+        "time outside the gap band (s)",
+    ),
+    (
+        "path_deviation_m",
+        "/lateral_path_error_m/mean_abs",
+        "path deviation, mean |lateral| (m)",
+    ),
+    (
+        "imprecise_share",
+        "/imprecise_share",
+        "share of frames off by > 2 px or > 5 % in scale",
+    ),
+];
+
+/// Scenario names in the order they first appear.
+pub(super) fn scenario_order(rows: &[ResultRow]) -> Vec<String> {
+    let mut names: Vec<String> = Vec::new();
+    for r in rows {
+        if !names.contains(&r.scenario) {
+            names.push(r.scenario.clone());
+        }
+    }
+    names
+}
+
+/// Axis paths in the rows (sorted).
+pub(super) fn axis_paths(rows: &[ResultRow]) -> Vec<String> {
+    let mut paths: Vec<String> = rows.iter().flat_map(|r| r.params.keys().cloned()).collect();
+    paths.sort();
+    paths.dedup();
+    paths
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

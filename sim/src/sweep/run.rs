@@ -19,12 +19,12 @@
 //! soon as it arrives, so an interrupted sweep keeps every finished point.
 
 use super::{Point, ResultRow, ResultsWriter, Sweep, SweepError};
-use crate::camera::Backend;
-use crate::child::Child;
-use crate::closed_loop::ClosedLoop;
 use crate::recording::{Recorder, RecorderOptions, ReplaySetup};
 use crate::report::Summary;
 use serde::{Deserialize, Serialize};
+use sim_core::Child;
+use sim_core::ClosedLoop;
+use sim_render::Backend;
 use std::collections::VecDeque;
 use std::io::{BufRead, BufWriter, Write};
 use std::path::{Path, PathBuf};
@@ -49,10 +49,11 @@ pub fn run_point(
         point: point.describe(),
         message,
     };
-    let scenario = sweep.scenario(point)?;
+    let plan = sweep.plan(point)?;
+    let scenario = plan.scenario().clone();
     let started = Instant::now();
-    let mut looped = ClosedLoop::new(&scenario, backend, recordings.is_some())
-        .map_err(|e| fail(e.to_string()))?;
+    let mut looped =
+        ClosedLoop::new(plan, backend, recordings.is_some()).map_err(|e| fail(e.to_string()))?;
     looped.set_pipelined(overlap);
     // Only a recording looks at the frames.
     looped.set_whole_frames(recordings.is_some());

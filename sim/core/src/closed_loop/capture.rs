@@ -1,0 +1,117 @@
+//! A frame's capture (the world at its start, and the camera's input for it), and the
+//! small helpers each step uses.
+
+use super::drive::Drive;
+use super::iso;
+use crate::auto_gain::AutoGainControl;
+use image::GrayImage;
+use nalgebra::Isometry3;
+use sim_render::{CameraRig, Field, FrameInput};
+use std::time::{Duration, Instant};
+use tracker::{EdgeDiagnostic, EgoMotion, GrayView, TrackOutput, Tracker};
+use vehicle::{DelayLine, Pose, Step, VehicleState, STEPS_PER_FRAME};
+
+/// The world at the start of a frame, and the camera's input for it.
+pub(super) struct Captured {
+    pub(super) now: Step,
+    pub(super) chase: VehicleState,
+    pub(super) lead: VehicleState,
+    pub(super) input: FrameInput,
+    /// The pan head's encoder reading at capture, radians (0 without one).
+    pub(super) pan_reading_rad: f64,
+    /// The camera in the world (panned by the head's true angle).
+    pub(super) world_from_camera: Isometry3<f64>,
+}
+
+impl Captured {
+    /// The world of `drive` at the start of a frame, seen from `rig`.
+    pub(super) fn of(
+        drive: &Drive,
+        rig: &CameraRig,
+        lead_from_scene: &Isometry3<f64>,
+        auto_gain: &AutoGainControl,
+    ) -> Captured {
+        let now = drive.world.now();
+        debug_assert!(now.is_frame_start());
+        let chase = drive.world.vehicle_state(drive.chase_id);
+        let lead = drive.world.vehicle_state(drive.lead_id);
+        let frame_index = now.0 / u64::from(STEPS_PER_FRAME);
+        let input = FrameInput {
+            frame_index,
+            time_s: now.seconds(),
+            world_from_chase: iso(&chase.world_from_vehicle),
+            world_from_lead: iso(&lead.world_from_vehicle) * lead_from_scene,
+            camera_pan_rad: drive.pan_angle_rad(),
+            auto_gain: auto_gain.gain_for(frame_index),
+            // Before the first frame the world stood still.
+            earlier_field: drive.interlaced.then(|| {
+                let f = drive.earlier_field.unwrap_or_else(|| drive.field_now());
+                Field {
+                    world_from_lead: f.world_from_lead * lead_from_scene,
+                    ..f
+                }
+            }),
+        };
+        let world_from_camera =
+            rig.world_from_camera_panned(&input.world_from_chase, input.camera_pan_rad);
+        Captured {
+            now,
+            chase,
+            lead,
+            input,
+            pan_reading_rad: drive.pan_reading_rad(),
+            world_from_camera,
+        }
+    }
+}
+
+/// A frame submitted but not yet tracked: rendering on this process's render thread
+/// (`here`) or in the worker.
+pub(super) struct InFlight {
+    pub(super) captured: Captured,
+    pub(super) here: bool,
+}
+
+/// Why this process's renderer must be at hand: only frames in flight take it away.
+pub(super) const HERE: &str = "this process's renderer is here when no frame of its is in flight";
+
+/// Whether no estimate through `delay` reaches the controller sooner than a frame after
+/// its capture, so that the physics to the next frame needs none from this one.
+pub(super) fn renders_ahead<T>(delay: &DelayLine<T>) -> bool {
+    delay.min_latency_steps() >= u64::from(STEPS_PER_FRAME)
+}
+
+/// Runs `f`, adding its wall-clock time to `spent`.
+pub(super) fn timed<T>(spent: &mut Duration, f: impl FnOnce() -> T) -> T {
+    let started = Instant::now();
+    let out = f();
+    *spent += started.elapsed();
+    out
+}
+
+/// The tracker's step on one frame: the image only, and in robust mode the gyro's reading
+/// of the camera's rotation since the last frame.
+pub(super) fn track_frame(
+    tracker: &mut Tracker,
+    image: &GrayImage,
+    t_s: f64,
+    ego: Option<EgoMotion>,
+    diagnostics: bool,
+) -> (TrackOutput, Vec<EdgeDiagnostic>) {
+    let view = GrayView::new(
+        image.width() as usize,
+        image.height() as usize,
+        image.as_raw(),
+    )
+    .expect("the renderer's frame matches its size");
+    match (ego, diagnostics) {
+        (Some(ego), true) => tracker.step_aided_with_diagnostics(view, t_s, ego),
+        (Some(ego), false) => (tracker.step_aided(view, t_s, ego), Vec::new()),
+        (None, true) => tracker.step_with_diagnostics(view, t_s),
+        (None, false) => (tracker.step(view, t_s), Vec::new()),
+    }
+}
+
+pub(super) fn xz(p: &Pose) -> [f64; 2] {
+    [f64::from(p.translation.x), f64::from(p.translation.z)]
+}

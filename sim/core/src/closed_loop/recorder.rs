@@ -1,0 +1,148 @@
+//! After a frame is tracked: its estimate into the delay line, the gyro's reading for
+//! robust mode, and the recorder's row, the truth against the estimate.
+
+use super::capture::{xz, Captured};
+use super::drive::Driven;
+use super::ClosedLoop;
+use crate::frame_parts::camera_turn;
+use crate::record::{FrameRecord, LossCause, TrackerStatus};
+use sim_render::{target_occluded, Frame};
+use tracker::{EgoMotion, TrackOutput};
+
+impl ClosedLoop {
+    /// After frame `captured` is tracked: its estimate into the delay line, and what it
+    /// read for the part of the next frames to render.
+    pub(super) fn tracked(&mut self, captured: &Captured, track: &TrackOutput, rerendered: bool) {
+        self.drive
+            .push_estimate(captured.now, track, captured.pan_reading_rad);
+        self.parts.observe(
+            captured.input.frame_index,
+            track.estimate,
+            track.next,
+            self.tracker.last_read(),
+            captured.world_from_camera.rotation,
+        );
+        self.parts.rerendered += u64::from(rerendered);
+    }
+
+    /// The gyro's reading of the camera's rotation since the last tracked frame, for the
+    /// frame `captured` (robust mode only), kept for the frame's output. Frames are tracked
+    /// in order, so this is called once per frame, in order.
+    pub(super) fn ego_motion(&mut self, captured: &Captured) -> Option<EgoMotion> {
+        let ego = self.gyro_reading(captured);
+        self.last_ego = ego;
+        ego
+    }
+
+    /// See [`ClosedLoop::ego_motion`].
+    pub(super) fn gyro_reading(&mut self, captured: &Captured) -> Option<EgoMotion> {
+        let gyro = self.gyro.as_mut()?;
+        let now = captured.world_from_camera.rotation;
+        let previous = self.last_camera.replace(now)?;
+        // The rotation from the last camera orientation to this one, in the last camera's
+        // frame; the gyro rides on the camera (on the pan head when there is one), so its
+        // axes are the camera's up to a constant rotation.
+        let measured = gyro.measure(
+            camera_turn(&previous, &now),
+            1.0 / f64::from(vehicle::CAMERA_HZ),
+        );
+        Some(EgoMotion {
+            rotation_rad: measured,
+        })
+    }
+
+    /// The recorder: truth against estimate, at the frame's capture time.
+    pub(super) fn record(
+        &mut self,
+        captured: &Captured,
+        frame: &Frame,
+        track: &TrackOutput,
+        driven: Driven,
+    ) -> FrameRecord {
+        let Driven {
+            controls,
+            collision,
+            chase_mode,
+            desired_gap_m,
+        } = driven;
+        let (chase_state, lead_state) = (&captured.chase, &captured.lead);
+        let truth = frame.truth;
+        let est = track.estimate;
+        let [x, _, z] = track.position_3d;
+        let width_px = truth.scale * self.target_width_px;
+        let lost_truth = !truth.in_view
+            || (est.c_x - truth.c_x).hypot(est.c_y - truth.c_y) > 0.25 * width_px
+            || (est.scale / truth.scale - 1.0).abs() > 0.25;
+        let world_from_camera = captured.world_from_camera;
+        let loss_cause = if !lost_truth {
+            LossCause::None
+        } else if !truth.in_view {
+            LossCause::OutOfView
+        } else if target_occluded(
+            &self.scene,
+            &captured.input.world_from_chase,
+            &captured.input.world_from_lead,
+            &world_from_camera,
+            captured.input.time_s,
+        ) {
+            LossCause::Occluded
+        } else {
+            LossCause::Tracker
+        };
+        let cam = world_from_camera.translation.vector;
+        let [tx, ty, tz] = truth.target_cam_m;
+        let target_world = world_from_camera * nalgebra::Point3::new(tx, ty, tz);
+        let gap_m = (target_world.x - cam.x).hypot(target_world.z - cam.z);
+        let chase_xz = xz(&chase_state.world_from_vehicle);
+        let lead_xz = xz(&lead_state.world_from_vehicle);
+        self.chase_distance_m +=
+            (chase_xz[0] - self.last_chase_xz[0]).hypot(chase_xz[1] - self.last_chase_xz[1]);
+        self.last_chase_xz = chase_xz;
+        self.lead_path.push(lead_xz);
+        let lateral_deviation_m = self.lead_path.distance(chase_xz);
+        FrameRecord {
+            frame: self.frame,
+            t_s: captured.input.time_s,
+            true_cx: truth.c_x,
+            true_cy: truth.c_y,
+            true_scale: truth.scale,
+            true_range_m: tz,
+            true_lateral_m: tx,
+            target_in_view: truth.in_view,
+            est_cx: est.c_x,
+            est_cy: est.c_y,
+            est_scale: est.scale,
+            est_range_m: z,
+            est_lateral_m: x,
+            confidence: track.measurement.map_or([0.0; 3], |m| m.confidence),
+            status: TrackerStatus::from(track.status),
+            lost_truth,
+            gap_m,
+            chase_speed_mps: f64::from(chase_state.forward_speed_mps),
+            lead_speed_mps: f64::from(lead_state.forward_speed_mps),
+            steering_rad: f64::from(controls.steer_rad),
+            throttle: f64::from(controls.throttle),
+            brake: f64::from(controls.brake),
+            lateral_deviation_m,
+            chase_distance_m: self.chase_distance_m,
+            chase_xz,
+            lead_xz,
+            collision,
+            chase_mode: format!("{chase_mode:?}").to_lowercase(),
+            coverage: track.coverage,
+            coverage_gain: track.coverage_gain,
+            tracker_event: track
+                .event
+                .map_or_else(String::new, |e| e.as_str().to_string()),
+            fit_residual: track.measurement.map_or(f64::NAN, |m| m.residual),
+            feature_sigma2: track
+                .features
+                .iter()
+                .map(|f| f.variance.unwrap_or(f64::NAN))
+                .collect(),
+            loss_cause,
+            camera_pan_deg: captured.input.camera_pan_rad.to_degrees(),
+            desired_gap_m: f64::from(desired_gap_m),
+        }
+    }
+}

@@ -1,0 +1,404 @@
+//! The plan of a run: everything a validated [`Scenario`] decides before the first frame,
+//! built once. The drivers' route, the physics world with both vehicles on the ground at
+//! their start, the controllers and the delay line, the scene and the camera rig, and the
+//! first view of the target (the renderer's ground truth for the start poses, with the
+//! teleoperator's placement of section 2.2).
+//!
+//! `carfollow check`, a sweep's pre-flight and `run` all build the plan, so a scenario that
+//! checks, runs: the closed loop starts from the plan and builds none of it again. What
+//! goes wrong in planning is the scenario's fault, and is said as a [`ScenarioError`]
+//! naming the field to blame.
+
+use crate::scenario::{Scenario, ScenarioError};
+use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion};
+use sim_render::{
+    ground_truth_of, Backend, CameraRig, ChaseVehicle, GroundTruth, LeadVehicle, RenderOptions,
+    Route as SceneRoute, Scene, SceneDescription, SceneError,
+};
+use std::sync::Arc;
+use tracker::Location;
+use vehicle::{
+    ChaseController, DelayLine, LeadDriver, LeadEstimate, PanHead, Pose, Route, Vector, VehicleId,
+    VehicleParams, World, WorldConfig,
+};
+
+/// Spacing of the points that turn the route's lane centre into the drivers' polyline,
+/// metres: fine enough that a 35 m radius bend is within 4 mm of its arc.
+pub(crate) const ROUTE_SAMPLE_M: f64 = 1.0;
+/// How far the physics ground reaches beyond the route's farthest point, metres: room for
+/// a vehicle that overruns the route's end while braking.
+const GROUND_BEYOND_ROUTE_M: f32 = 200.0;
+/// Height of the lead's box body, metres (a small box truck: the board needs its back door).
+const LEAD_BODY_HEIGHT_M: f64 = 2.7;
+/// Height of the board's centre above the ground, metres.
+const BOARD_CENTRE_HEIGHT_M: f64 = 1.6;
+
+/// The lead's body as the scene draws it, and where its scene origin (the body's centre)
+/// lies in its physics frame (the rear axle).
+fn lead_body() -> (LeadVehicle, Isometry3<f64>) {
+    let lead_params = VehicleParams::pickup();
+    let body = LeadVehicle {
+        length_m: f64::from(lead_params.length_m),
+        width_m: f64::from(lead_params.width_m),
+        height_m: LEAD_BODY_HEIGHT_M,
+        board_centre_height_m: BOARD_CENTRE_HEIGHT_M,
+        distractors: Vec::new(),
+    };
+    let lead_from_scene = Isometry3::translation(
+        0.5 * f64::from(lead_params.length_m) - f64::from(lead_params.rear_overhang_m),
+        0.0,
+        0.0,
+    );
+    (body, lead_from_scene)
+}
+
+/// The lead's body as the scene draws it, metres: length, height, width.
+pub fn lead_body_size_m() -> [f64; 3] {
+    let (body, _) = lead_body();
+    [body.length_m, body.height_m, body.width_m]
+}
+
+/// The camera rig of a scenario: its intrinsics on its mount, 256 × 242 pixels.
+fn camera_rig(s: &Scenario) -> CameraRig {
+    let mount = s.chase.camera_mount;
+    CameraRig {
+        intrinsics: s.camera,
+        width: 256,
+        height: 242,
+        mount: sim_render::CameraMount {
+            height_m: f64::from(mount.height_m),
+            forward_offset_m: f64::from(mount.forward_m),
+            pitch_deg: f64::from(mount.pitch_down_deg),
+        },
+    }
+}
+
+/// The scene description of a scenario.
+fn scene_description(s: &Scenario, world: &WorldConfig) -> SceneDescription {
+    let chase_params = VehicleParams::hmmwv_m998();
+    let mount = s.chase.camera_mount;
+    // The scene: its vehicle origins are the body centres; physics' are the rear axles.
+    let (lead_body, _) = lead_body();
+    // The chase's scene origin is its rear axle, so the camera mount is the same number
+    // in both; the hood runs from the windscreen to the front bumper.
+    let front = f64::from(chase_params.front_bumper_x_m());
+    let hood = ChaseVehicle {
+        hood_front_m: front - 0.1,
+        hood_back_m: f64::from(mount.forward_m) - 0.2,
+        hood_height_m: 1.3,
+        hood_width_m: f64::from(chase_params.width_m) - 0.2,
+    };
+    SceneDescription {
+        seed: s.seed,
+        route: s.route.clone(),
+        densities: s.densities.clone(),
+        placements: s.placements.clone(),
+        sun: s.sun.clone(),
+        sensor: s.sensor.clone(),
+        target: s.target.clone(),
+        lead: LeadVehicle {
+            distractors: s.distractors.clone(),
+            ..lead_body
+        },
+        chase: hood,
+        ground: world.ground.clone(),
+        road_surface: s.road_surface,
+        textures: s.textures,
+    }
+}
+
+/// The render options the loop uses with `backend` (a render worker uses the same).
+pub fn render_options(backend: Backend) -> RenderOptions {
+    RenderOptions {
+        backend,
+        ..RenderOptions::default()
+    }
+}
+
+/// rapier's pose (f32, glam) as a nalgebra isometry (f64).
+pub(crate) fn iso(p: &Pose) -> Isometry3<f64> {
+    let t = p.translation;
+    let q = p.rotation;
+    Isometry3::from_parts(
+        Translation3::new(f64::from(t.x), f64::from(t.y), f64::from(t.z)),
+        UnitQuaternion::from_quaternion(Quaternion::new(
+            f64::from(q.w),
+            f64::from(q.x),
+            f64::from(q.y),
+            f64::from(q.z),
+        )),
+    )
+}
+
+/// The lane centre of the right lane as the drivers' polyline, one point every
+/// [`ROUTE_SAMPLE_M`], and how far it reaches from the origin along x or z, metres.
+fn lane_polyline(route: &SceneRoute, lateral_m: f64) -> (Vec<Vector>, f32) {
+    let n = (route.length_m() / ROUTE_SAMPLE_M).ceil() as usize;
+    let points: Vec<Vector> = (0..=n)
+        .map(|k| {
+            let [x, z] = route.point((k as f64 * ROUTE_SAMPLE_M).min(route.length_m()), lateral_m);
+            Vector::new(x as f32, 0.0, z as f32)
+        })
+        .collect();
+    let reach = points
+        .iter()
+        .fold(0.0f32, |m, p| m.max(p.x.abs()).max(p.z.abs()));
+    (points, reach)
+}
+
+/// Where the chase's rear axle starts, metres along the route: `initial_gap_m` from its
+/// camera to the lead's rear bumper, the lead's rear axle at `lead_start_m`.
+fn chase_start_m(lead_start_m: f64, initial_gap_m: f64, camera_forward_m: f32) -> f64 {
+    let lead_params = VehicleParams::pickup();
+    lead_start_m + f64::from(lead_params.rear_bumper_x_m())
+        - initial_gap_m
+        - f64::from(camera_forward_m)
+}
+
+/// The physics world of a scenario: its ground reaches [`GROUND_BEYOND_ROUTE_M`] past
+/// every point of the route (`reach_m`, from [`lane_polyline`]), or a vehicle drives off it.
+fn world_config(base: &vehicle::WorldConfig, reach_m: f32) -> vehicle::WorldConfig {
+    let mut world = base.clone();
+    world.ground.half_extent_m = world
+        .ground
+        .half_extent_m
+        .max(reach_m + GROUND_BEYOND_ROUTE_M);
+    world
+}
+
+/// A scenario's run, planned: built from a validated [`Scenario`] by [`Plan::new`], and
+/// consumed by the closed loop.
+pub struct Plan {
+    pub(crate) scenario: Scenario,
+    /// The lane centre of the scene's route, for the lead's driven path before t = 0.
+    pub(crate) scene_route: SceneRoute,
+    /// Where the chase's rear axle starts, metres along the route.
+    pub(crate) chase_start_m: f64,
+    /// The physics at step 0, both vehicles on the ground at their start.
+    pub(crate) world: World,
+    pub(crate) chase_id: VehicleId,
+    pub(crate) lead_id: VehicleId,
+    pub(crate) chase: ChaseController,
+    pub(crate) lead: LeadDriver,
+    pub(crate) delay: DelayLine<LeadEstimate>,
+    /// The camera's pan head, when the scenario has one (`[camera.pan]`).
+    pub(crate) pan: Option<PanHead>,
+    pub(crate) scene: Arc<Scene>,
+    pub(crate) rig: CameraRig,
+    /// Scene origin (body centre) in the lead's vehicle frame (rear axle).
+    pub(crate) lead_from_scene: Isometry3<f64>,
+    /// The renderer's ground truth of the first frame.
+    pub(crate) first_view: GroundTruth,
+    /// The teleoperator's placement of the model on the first frame (section 2.2): the
+    /// first view with the scenario's `tracker.init_offset`.
+    pub(crate) tracker_start: Location,
+    /// Wall-clock seconds the plan took to build (for speed reports only).
+    pub(crate) built_s: f64,
+}
+
+impl Plan {
+    /// Plans scenario `s`. `Err` names the field to blame: the chase starting before the
+    /// route, a ground the physics cannot build, a controller refused, a scene too large
+    /// for the renderer's buffers, or the target out of the camera's view at t = 0.
+    pub fn new(s: &Scenario) -> Result<Plan, ScenarioError> {
+        let started = std::time::Instant::now();
+        let src = &s.source;
+        let invalid = |field: &str, message: String| src.invalid(field, message);
+        let vehicle_error = |prefix: &str, e: &vehicle::VehicleError| {
+            let (field, message) = crate::scenario::vehicle_error(prefix, e);
+            invalid(&field, message)
+        };
+        let scene_route = SceneRoute::new(s.route.clone());
+        let (points, reach_m) = lane_polyline(&scene_route, 0.5 * s.route.lane_width_m);
+        let route = Route::new(points).map_err(|e| invalid("route.segments", format!(": {e}")))?;
+        let chase_start_m = chase_start_m(
+            s.lead_start_m,
+            s.initial_gap_m,
+            s.chase.camera_mount.forward_m,
+        );
+        if chase_start_m < 0.0 {
+            // Three fields decide it; blame an override among them if there is one.
+            let field = src.blame(
+                &["chase.initial_gap_m", "camera.mount.forward_m"],
+                "lead.start_m",
+            );
+            return Err(invalid(
+                field,
+                format!(
+                    "puts the chase vehicle {:.1} m before the route's start; raise lead.start_m \
+                     to at least {:.1}",
+                    -chase_start_m,
+                    s.lead_start_m - chase_start_m
+                ),
+            ));
+        }
+        let world_config = world_config(&s.world, reach_m);
+        let (world, chase_id, lead_id) = start_world(s, &world_config, &route, chase_start_m)
+            .map_err(|e| match e {
+                vehicle::VehicleError::InvalidParameter { field, .. }
+                    if field.starts_with("bumps.") =>
+                {
+                    vehicle_error("environment", &e)
+                }
+                other => invalid("route.segments", format!(": the physics ground: {other}")),
+            })?;
+        let v0 = s.lead_initial_speed_mps as f32;
+        let chase = ChaseController::new(s.chase.clone(), &VehicleParams::hmmwv_m998(), v0)
+            .map_err(|e| vehicle_error("chase.controller", &e))?;
+        let lead = LeadDriver::new(
+            route,
+            s.lead_profile.clone(),
+            s.lead_driver.clone(),
+            &VehicleParams::pickup(),
+        )
+        .map_err(|e| vehicle_error("lead.driver", &e))?;
+        let delay = DelayLine::new(&s.delay).map_err(|e| vehicle_error("loop", &e))?;
+        let pan = s
+            .chase
+            .pan_head
+            .enabled
+            .then(|| PanHead::new(s.chase.pan_head.clone(), s.seed))
+            .transpose()
+            .map_err(|e| vehicle_error("camera.pan", &e))?;
+        // Built once, here: only the built geometry says whether it fits the renderer's
+        // buffers.
+        let scene = Scene::build(scene_description(s, &world_config)).map_err(|e| match e {
+            SceneError::TooLarge { .. } => invalid("route.segments", format!(": {e}")),
+            SceneError::Invalid { .. } => invalid("environment", format!(": {e}")),
+        })?;
+        let rig = camera_rig(s);
+        let (_, lead_from_scene) = lead_body();
+        // The first view: the renderer's ground truth for the poses the vehicles start at.
+        let world_from_chase = iso(&world.vehicle_state(chase_id).world_from_vehicle);
+        let world_from_lead =
+            iso(&world.vehicle_state(lead_id).world_from_vehicle) * lead_from_scene;
+        let first_view = ground_truth_of(
+            &rig,
+            &scene.lead_from_target(),
+            &s.target,
+            &world_from_chase,
+            &world_from_lead,
+            0.0,
+        );
+        if !first_view.in_view {
+            // What decides the first view; blame an override among them if there is one.
+            let field = src.blame(
+                &[
+                    "camera.mount",
+                    "camera.focal_length_mm",
+                    "camera.pixel_size_mm",
+                    "camera.image_center_px",
+                    "chase.initial_gap_m",
+                    "lead.start_m",
+                    "route.segments",
+                    "environment",
+                ],
+                "camera.mount",
+            );
+            return Err(invalid(
+                field,
+                format!(
+                    "puts the target out of the camera's view at t = 0 (its centre at ({:.0}, \
+                     {:.0}) px of 256 × 242, range {:.1} m): check the mount's pitch and \
+                     height, the focal length, chase.initial_gap_m and the route at the start",
+                    first_view.c_x, first_view.c_y, first_view.target_cam_m[2]
+                ),
+            ));
+        }
+        let [dx, dy, ds] = s.init_offset;
+        let tracker_start = Location::new(
+            first_view.c_x + dx,
+            first_view.c_y + dy,
+            first_view.scale + ds,
+        );
+        Ok(Plan {
+            scenario: s.clone(),
+            scene_route,
+            chase_start_m,
+            world,
+            chase_id,
+            lead_id,
+            chase,
+            lead,
+            delay,
+            pan,
+            scene: Arc::new(scene),
+            rig,
+            lead_from_scene,
+            first_view,
+            tracker_start,
+            built_s: started.elapsed().as_secs_f64(),
+        })
+    }
+
+    /// Loads and plans a scenario file, with `--set` overrides.
+    pub fn load(path: &std::path::Path, overrides: &[String]) -> Result<Plan, ScenarioError> {
+        Plan::new(&Scenario::load(path, overrides)?)
+    }
+
+    /// Plans the built-in `nist-grounds`, with `--set` overrides.
+    pub fn builtin(overrides: &[String]) -> Result<Plan, ScenarioError> {
+        Plan::new(&Scenario::builtin(overrides)?)
+    }
+
+    /// The scenario planned.
+    pub fn scenario(&self) -> &Scenario {
+        &self.scenario
+    }
+
+    /// Where the chase's rear axle starts, metres along the route (from the lead's start,
+    /// the initial gap and the camera mount; at least 0).
+    pub fn chase_start_m(&self) -> f64 {
+        self.chase_start_m
+    }
+
+    /// The scene's geometry.
+    pub fn scene(&self) -> &Arc<Scene> {
+        &self.scene
+    }
+
+    /// The camera rig: the intrinsics on their mount, 256 × 242 pixels.
+    pub fn rig(&self) -> &CameraRig {
+        &self.rig
+    }
+
+    /// The renderer's ground truth of the first frame.
+    pub fn first_view(&self) -> &GroundTruth {
+        &self.first_view
+    }
+
+    /// The teleoperator's placement the tracker starts from (section 2.2): the first
+    /// view with the scenario's `tracker.init_offset`.
+    pub fn tracker_start(&self) -> Location {
+        self.tracker_start
+    }
+
+    /// Where the chase and the lead stand at t = 0: the rear axles, on the ground
+    /// (vehicle frame: x forward, y up, z right).
+    pub fn start_poses(&self) -> [Pose; 2] {
+        [self.chase_id, self.lead_id].map(|id| self.world.vehicle_state(id).world_from_vehicle)
+    }
+}
+
+/// The physics world of scenario `s` at step 0: the ground of `config`, and both vehicles
+/// on it, the lead at `lead.start_m`, the chase at `chase_start_m`, facing along `route`
+/// at the lead's initial speed. Returns the world and the chase's and lead's ids.
+fn start_world(
+    s: &Scenario,
+    config: &WorldConfig,
+    route: &Route,
+    chase_start_m: f64,
+) -> Result<(World, VehicleId, VehicleId), vehicle::VehicleError> {
+    let pose_at = |s_m: f64| {
+        let s = s_m as f32;
+        Pose::from_parts(
+            route.point_at(s),
+            vehicle::Rotation::from_rotation_y(vehicle::direction_heading(route.tangent_at(s))),
+        )
+    };
+    let mut world = World::new(config)?;
+    let v0 = s.lead_initial_speed_mps as f32;
+    let lead_id = world.add_vehicle(&VehicleParams::pickup(), pose_at(s.lead_start_m), v0)?;
+    let chase_id = world.add_vehicle(&VehicleParams::hmmwv_m998(), pose_at(chase_start_m), v0)?;
+    Ok((world, chase_id, lead_id))
+}

@@ -1,0 +1,161 @@
+//! What the closed loop records: one [`FrameRecord`] per camera frame, holding the truth,
+//! the tracker's estimate and status, the gap and the controls. Only the recorder sees
+//! everything, and it only reads.
+
+use serde::{Deserialize, Serialize};
+
+/// The tracker's own view of its state, as recorded.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum TrackerStatus {
+    /// A usable measurement this frame.
+    Tracking,
+    /// No measurement; the prediction carries on.
+    Coasting,
+    /// The tracker says it has lost the target.
+    Lost,
+}
+
+impl TrackerStatus {
+    /// Lower-case name.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            TrackerStatus::Tracking => "tracking",
+            TrackerStatus::Coasting => "coasting",
+            TrackerStatus::Lost => "lost",
+        }
+    }
+}
+
+impl From<tracker::Status> for TrackerStatus {
+    fn from(s: tracker::Status) -> Self {
+        match s {
+            tracker::Status::Tracking => TrackerStatus::Tracking,
+            tracker::Status::Coasting => TrackerStatus::Coasting,
+            tracker::Status::Lost => TrackerStatus::Lost,
+        }
+    }
+}
+
+/// Why ground truth judges a frame lost (see [`FrameRecord::lost_truth`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum LossCause {
+    /// Not lost.
+    #[default]
+    None,
+    /// The target is (partly) outside the image: no tracker could measure it.
+    OutOfView,
+    /// The target is in the image, but scenery stands between it and the camera
+    /// (`camera::target_occluded`).
+    Occluded,
+    /// The target is in view and not hidden: the tracker lost it.
+    Tracker,
+}
+
+impl LossCause {
+    /// The name written in `frames.csv` and `summary.json` (empty for [`LossCause::None`]).
+    pub fn as_str(self) -> &'static str {
+        match self {
+            LossCause::None => "",
+            LossCause::OutOfView => "out_of_view",
+            LossCause::Occluded => "occluded",
+            LossCause::Tracker => "tracker",
+        }
+    }
+
+    /// The causes of a loss, in the order reports list them.
+    pub const ALL: [LossCause; 3] = [
+        LossCause::OutOfView,
+        LossCause::Occluded,
+        LossCause::Tracker,
+    ];
+}
+
+/// One camera frame of a closed-loop run.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FrameRecord {
+    /// Frame index from 0.
+    pub frame: u64,
+    /// Capture time, seconds (from the physics step count).
+    pub t_s: f64,
+
+    /// True target centre in the image, pixels.
+    pub true_cx: f64,
+    /// True target centre in the image, pixels.
+    pub true_cy: f64,
+    /// True scale (nominal range / true range).
+    pub true_scale: f64,
+    /// True range, camera to target along the optical axis, metres.
+    pub true_range_m: f64,
+    /// True lateral offset of the target in the camera frame (x right), metres.
+    pub true_lateral_m: f64,
+    /// Whether the target is in the camera's view at all.
+    pub target_in_view: bool,
+
+    /// Tracker's estimate of the centre, pixels (measurement, else prediction).
+    pub est_cx: f64,
+    /// Tracker's estimate of the centre, pixels.
+    pub est_cy: f64,
+    /// Tracker's estimated scale.
+    pub est_scale: f64,
+    /// Stage-8 range, metres.
+    pub est_range_m: f64,
+    /// Stage-8 lateral offset, metres.
+    pub est_lateral_m: f64,
+    /// Eq. 17 confidences (w_x, w_y, w_scale); zero without a measurement.
+    pub confidence: [f64; 3],
+    /// The tracker's own status.
+    pub status: TrackerStatus,
+    /// Ground truth's judgement: the estimate is off by more than a quarter of the target's
+    /// width in position, or by more than 25 % in scale (or the target is out of view).
+    pub lost_truth: bool,
+
+    /// Following distance, metres: the true horizontal distance from the chase camera to the
+    /// lead's target board.
+    pub gap_m: f64,
+    /// Chase vehicle's forward speed, m/s.
+    pub chase_speed_mps: f64,
+    /// Lead vehicle's forward speed, m/s.
+    pub lead_speed_mps: f64,
+    /// Chase steering angle (front wheels), radians, positive left.
+    pub steering_rad: f64,
+    /// Chase throttle, 0–1.
+    pub throttle: f64,
+    /// Chase brake, 0–1.
+    pub brake: f64,
+    /// Distance of the chase vehicle from the path the lead actually drove, metres.
+    pub lateral_deviation_m: f64,
+    /// Distance the chase vehicle has driven since the start, metres.
+    pub chase_distance_m: f64,
+    /// Chase position on the ground (world x, z), metres.
+    pub chase_xz: [f64; 2],
+    /// Lead position on the ground (world x, z), metres.
+    pub lead_xz: [f64; 2],
+    /// The vehicles touched during this frame.
+    pub collision: bool,
+    /// The chase controller's mode ("following", "stopping", ...).
+    pub chase_mode: String,
+    /// The share of the measured outline covered by edges, `[horizontal, vertical]`: the
+    /// tracker's own check of its measurement (0 without one).
+    pub coverage: [f64; 2],
+    /// How much more of the outline a move of a few pixels would cover: the tracker's check
+    /// that its fit sits on the target's edges.
+    pub coverage_gain: f64,
+    /// `acquired` or `reacquired` on a frame where robust mode found the target by search;
+    /// empty otherwise.
+    pub tracker_event: String,
+    /// J_l of eq. 15 at the stage-4 fit (before any floor); NaN without a measurement.
+    pub fit_residual: f64,
+    /// σ² of eq. 13 for each feature, in the model's segment order, pixels²; NaN where no
+    /// point was associated.
+    pub feature_sigma2: Vec<f64>,
+    /// Why the frame is lost by the ground truth ([`LossCause::None`] when it is not).
+    pub loss_cause: LossCause,
+    /// The camera's pan, degrees, positive to the right (0 for a fixed camera): the pan
+    /// head's true angle.
+    pub camera_pan_deg: f64,
+    /// The gap the chase controller aimed for, metres (its policy, the view limit in bends
+    /// and the safe gap; see `vehicle::GapKeeper`).
+    pub desired_gap_m: f64,
+}

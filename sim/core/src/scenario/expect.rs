@@ -1,0 +1,30 @@
+//! A scenario's pass/fail criteria (`[expect]`), which the reports judge a run by.
+
+use serde::{Deserialize, Serialize};
+
+/// The pass/fail criteria of a scenario (`[expect]`). A criterion left out is not checked.
+/// Every limit must be finite and at least 0; a gap band's minimum below its maximum.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Expect {
+    /// The following distance must stay within this band, metres `[min, max]`, except for
+    /// at most `max_time_outside_gap_band_s`.
+    #[serde(default, deserialize_with = "super::file::exact::optional")]
+    pub gap_band_m: Option<[f64; 2]>,
+    /// Time allowed outside the gap band, seconds (default 0 when a band is given).
+    pub max_time_outside_gap_band_s: Option<f64>,
+    /// Longest total time the tracker may be lost by the ground-truth judgement, seconds.
+    pub max_lost_s: Option<f64>,
+    /// Largest lateral deviation from the lead's path, metres.
+    pub max_lateral_deviation_m: Option<f64>,
+    /// The vehicles must never touch.
+    #[serde(default)]
+    pub no_collision: bool,
+    /// The chase vehicle must drive at least this far, metres.
+    pub min_distance_m: Option<f64>,
+    /// Largest 95th percentile of the range estimate's absolute error over the tracked
+    /// frames, metres.
+    pub max_range_error_p95_m: Option<f64>,
+    /// Most ground-truth tracking-loss events (maximal runs of lost frames) allowed.
+    pub max_loss_events: Option<u64>,
+}

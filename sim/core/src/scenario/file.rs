@@ -1,0 +1,414 @@
+//! The scenario file as written: serde structs with `deny_unknown_fields`, every field
+//! optional where a default exists. [`super::Scenario::load`] validates it. Each field's doc
+//! gives its unit and its allowed range (every number must also be finite); validation
+//! refuses anything outside, naming the field. The vehicle crate's configurations
+//! (`chase.controller`, `lead.driver`, `environment.bumps`) carry their own ranges, checked
+//! by their constructors during validation.
+
+use serde::{Deserialize, Serialize};
+use vehicle::{BumpsConfig, ChaseControllerConfig, LeadDriverConfig};
+
+use super::Expect;
+
+/// The whole file.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ScenarioFile {
+    /// Short name: names the output folder.
+    pub name: String,
+    /// What the scenario is for.
+    #[serde(default)]
+    pub description: String,
+    /// Simulated time, seconds: one camera frame (1/15 s) to 86400.
+    pub duration_s: f64,
+    /// The one seed; every random stream derives from it.
+    #[serde(default)]
+    pub seed: u64,
+    /// The road.
+    pub route: RouteFile,
+    /// The lead vehicle.
+    pub lead: LeadFile,
+    /// The chase vehicle.
+    #[serde(default)]
+    pub chase: ChaseFile,
+    /// The camera.
+    #[serde(default)]
+    pub camera: CameraFile,
+    /// The tracker.
+    pub tracker: TrackerFile,
+    /// The loop's timing.
+    #[serde(default, rename = "loop")]
+    pub loop_: LoopFile,
+    /// Light, clutter and sensor.
+    #[serde(default)]
+    pub environment: EnvironmentFile,
+    /// Pass/fail criteria.
+    #[serde(default)]
+    pub expect: Expect,
+}
+
+/// `[route]`.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RouteFile {
+    /// Width of one lane, metres (default 3.5): 2–6.
+    #[serde(default = "default_lane_width")]
+    pub lane_width_m: f64,
+    /// Stations (metres along the centreline) where a road crosses: on the route.
+    #[serde(default)]
+    pub intersections_m: Vec<f64>,
+    /// The centreline, in driving order: at least one segment, at most
+    /// [`super::MAX_ROUTE_M`] in all.
+    pub segments: Vec<SegmentFile>,
+}
+
+fn default_lane_width() -> f64 {
+    3.5
+}
+
+/// One piece of the route: `{ straight_m = L }` or `{ arc_radius_m = R, arc_angle_deg = A }`
+/// (A positive turns left).
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct SegmentFile {
+    /// Length of a straight, metres: (0, [`super::MAX_ROUTE_M`]].
+    pub straight_m: Option<f64>,
+    /// Radius of an arc, metres: [`super::MIN_ARC_RADIUS_M`]–[`super::MAX_ARC_RADIUS_M`].
+    pub arc_radius_m: Option<f64>,
+    /// Turn of an arc, degrees (positive left): non-zero, at most 360 either way.
+    pub arc_angle_deg: Option<f64>,
+}
+
+/// `[lead]`.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct LeadFile {
+    /// Where the lead's rear axle starts, metres along the route (default 30): on the
+    /// route, and far enough along that the chase vehicle, `initial_gap_m` behind, starts
+    /// on it too.
+    #[serde(default = "default_lead_start")]
+    pub start_m: f64,
+    /// Speed at t = 0, m/s (default: the profile's first speed): 0–40.
+    pub initial_speed_mps: Option<f64>,
+    /// What the profile's keys are: `"time"` (seconds) or `"distance"` (metres).
+    #[serde(default = "default_basis")]
+    pub speed_basis: String,
+    /// `[[key, speed_mps], ...]`, keys increasing; linear between, held beyond. Keys within
+    /// ±1e7 (s or m), speeds 0–40 m/s.
+    #[serde(deserialize_with = "exact::rows")]
+    pub speed_profile: Vec<[f64; 2]>,
+    /// The driver's tuning (weaving, lateral acceleration in turns, ...).
+    #[serde(default)]
+    pub driver: LeadDriverConfig,
+}
+
+fn default_lead_start() -> f64 {
+    30.0
+}
+fn default_basis() -> String {
+    "time".into()
+}
+
+/// `[chase]`.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ChaseFile {
+    /// Camera-to-target distance at t = 0, metres (default 10): 3–60, with the target in
+    /// the camera's view.
+    pub initial_gap_m: Option<f64>,
+    /// The paper's manual throttle ("throttle was controlled manually"): with a profile, the
+    /// chase's speed follows this scripted driver, as `[lead] speed_profile` is written
+    /// (`[[key, speed_mps], ...]`), and only steering is closed-loop; the emergency brake
+    /// still guards the gap. Without one, the gap keeper sets the speed.
+    #[serde(default, deserialize_with = "exact::optional_rows")]
+    pub speed_profile: Option<Vec<[f64; 2]>>,
+    /// What `speed_profile`'s keys are: `"time"` (seconds, the default) or `"distance"`
+    /// (metres driven).
+    #[serde(default = "default_basis")]
+    pub speed_basis: String,
+    /// The controller (gap keeper or manual speed, look-ahead, loss handling). Its camera
+    /// mount comes from `[camera.mount]`.
+    #[serde(default)]
+    pub controller: ChaseControllerConfig,
+}
+
+/// A file without `[chase]` has the defaults of an empty `[chase]`: the same as serde's
+/// field defaults.
+impl Default for ChaseFile {
+    fn default() -> Self {
+        ChaseFile {
+            initial_gap_m: None,
+            speed_profile: None,
+            speed_basis: default_basis(),
+            controller: ChaseControllerConfig::default(),
+        }
+    }
+}
+
+/// `[camera]`.
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct CameraFile {
+    /// Focal length, millimetres (default 8): [`super::FOCAL_LENGTH_MM`].
+    pub focal_length_mm: Option<f64>,
+    /// Pixel size, millimetres `[w, h]` (default 0.025 × 0.025): each in (0, 1).
+    #[serde(default, deserialize_with = "exact::optional")]
+    pub pixel_size_mm: Option<[f64; 2]>,
+    /// Principal point, pixels (default the frame's centre): in the 256 × 242 frame.
+    #[serde(default, deserialize_with = "exact::optional")]
+    pub image_center_px: Option<[f64; 2]>,
+    /// Where the camera sits on the chase vehicle (`right_m` must be 0: the renderer
+    /// mounts it on the centreline).
+    #[serde(default)]
+    pub mount: vehicle::CameraMount,
+    /// The pan head (default: none, the paper's fixed camera): `enabled = true` turns the
+    /// camera to keep the lead centred, within `max_rate_deg_s`, `max_accel_deg_s2` and
+    /// `limit_deg`; its encoder reads the angle `encoder_latency_ms` late with
+    /// `encoder_noise_deg` of noise (see `vehicle::PanHeadConfig` for the defaults and
+    /// ranges).
+    #[serde(default)]
+    pub pan: vehicle::PanHeadConfig,
+}
+
+/// `[tracker]`.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct TrackerFile {
+    /// Target model file, relative to the scenario file (see [`crate::target`] for its
+    /// bounds).
+    pub target: String,
+    /// λ of eq. 18. This and the tracker settings below are checked by
+    /// `tracker::TrackerConfig::validate`, which states their ranges (λ in (0, 1), as eq. 18 requires).
+    pub lambda: Option<f64>,
+    /// δ of eq. 7, degrees.
+    pub delta_deg: Option<f64>,
+    /// ζ of 2.4, pixels.
+    pub zeta_px: Option<f64>,
+    /// Edge threshold, grey levels.
+    pub edge_threshold: Option<f64>,
+    /// Coasting time before `lost`, seconds.
+    pub lost_after_s: Option<f64>,
+    /// Sub-pixel edges (an improvement over the paper).
+    pub subpixel_edges: Option<bool>,
+    /// `"paper"` (the default) or `"robust"`, the mode that goes beyond the paper.
+    pub mode: Option<String>,
+    /// The teleoperator's placement error at start: `[dx_px, dy_px, dscale]` added to the
+    /// true location (default none): |dx|, |dy| at most [`super::MAX_INIT_OFFSET_PX`],
+    /// dscale in (-0.5, 1].
+    #[serde(default, deserialize_with = "exact::optional")]
+    pub init_offset: Option<[f64; 3]>,
+}
+
+/// `[loop]`.
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct LoopFile {
+    /// Camera and tracker rate, Hz: 15 only, the paper's (the physics clock is built on it).
+    pub rate_hz: Option<f64>,
+    /// Tracker-to-controller latency, ms (default 128): 0–2000.
+    pub latency_ms: Option<f64>,
+    /// Latency jitter, ± ms (default 0): 0 to `latency_ms`.
+    pub jitter_ms: Option<f64>,
+    /// Probability that an estimate is dropped (default 0): [0, 1).
+    pub drop_probability: Option<f64>,
+}
+
+/// `[environment]`.
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct EnvironmentFile {
+    /// The sun.
+    #[serde(default)]
+    pub sun: SunFile,
+    /// Clutter along the route, per km.
+    #[serde(default)]
+    pub clutter: ClutterFile,
+    /// The camera's sensor.
+    #[serde(default)]
+    pub sensor: SensorFile,
+    /// Gentle bumps under the road, so the chassis pitches and rolls.
+    pub bumps: Option<BumpsConfig>,
+    /// Controlled distractors moving with the lead (`[[environment.distractors]]`).
+    #[serde(default)]
+    pub distractors: Vec<DistractorFile>,
+    /// Overpasses across the route (`[[environment.overpasses]]`).
+    #[serde(default)]
+    pub overpasses: Vec<OverpassFile>,
+    /// The road's surface.
+    #[serde(default)]
+    pub road: RoadFile,
+    /// Procedural textures on the ground (`[environment.textures]`).
+    #[serde(default)]
+    pub textures: TexturesFile,
+}
+
+/// `[environment.road]`.
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RoadFile {
+    /// What the road is paved with: `"asphalt"` (the default) or `"gravel"`. It chooses the
+    /// road's texture; the road's grey is the same.
+    pub surface: Option<String>,
+}
+
+/// `[environment.textures]`: seeded, mipmapped detail on the road and the grass (asphalt
+/// grain, patches and sealed cracks; grass blades; gravel stones), multiplying each
+/// surface's albedo by a factor of mean 1.
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct TexturesFile {
+    /// On or off (default on, [`sim_render::Textures::default`]).
+    pub enabled: Option<bool>,
+    /// Scale of the texture's departures from its mean: 0–2 (default 1).
+    pub contrast: Option<f64>,
+}
+
+/// `[[environment.distractors]]`: a pole or a wire that moves with the lead beside one of
+/// the target's features (section 4's "close and parallel" clutter).
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct DistractorFile {
+    /// `"pole"` (vertical, beside a vertical feature) or `"wire"` (horizontal, beside a
+    /// horizontal feature).
+    pub kind: String,
+    /// The target segment it runs beside (its index in the target file).
+    pub feature: usize,
+    /// Gap from the feature's line to its near side, pixels at the nominal range (scale 1),
+    /// positive away from the target's centre: ±60. Give this or `offset_m`.
+    pub offset_px: Option<f64>,
+    /// The same gap in metres on the board: ±2. Give this or `offset_px`.
+    pub offset_m: Option<f64>,
+    /// Its width, metres: 0.005–0.5 (default 0.05 for a pole, 0.02 for a wire).
+    pub width_m: Option<f64>,
+    /// Its albedo: 0–1 (default 0.1, dark; the board's light paint is 0.85).
+    pub albedo: Option<f64>,
+}
+
+/// `[[environment.overpasses]]`: a bridge over the route, whose shadow lies across the
+/// road as a band.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct OverpassFile {
+    /// Where it crosses the route, metres along it: on the route.
+    pub station_m: f64,
+    /// The deck's width along the route, metres: 2–60 (default 10).
+    pub deck_m: Option<f64>,
+    /// The deck's underside above the road, metres: 4.5–20 (default 5.5).
+    pub height_m: Option<f64>,
+}
+
+/// `[environment.sun]`.
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct SunFile {
+    /// Compass direction the sunlight comes from, degrees: -360–360.
+    pub azimuth_deg: Option<f64>,
+    /// Height above the horizon, degrees: (0, 90].
+    pub elevation_deg: Option<f64>,
+    /// Direct light, 0–2 (1 is full sun).
+    pub strength: Option<f64>,
+    /// Ambient light, 0–2.
+    pub ambient: Option<f64>,
+    /// Soft shadows on the target (default false): a fine shadow map around the board and
+    /// penumbrae sized by the sun's 0.53° disc; about half the renderer's speed.
+    pub soft_shadows: Option<bool>,
+}
+
+/// `[environment.clutter]`: every density 0–1000 per km.
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ClutterFile {
+    /// Trees per km.
+    pub trees_per_km: Option<f64>,
+    /// Telephone poles per km.
+    pub poles_per_km: Option<f64>,
+    /// Houses per km.
+    pub houses_per_km: Option<f64>,
+    /// Buildings per km.
+    pub buildings_per_km: Option<f64>,
+    /// Parked vehicles per km.
+    pub parked_vehicles_per_km: Option<f64>,
+    /// Oncoming vehicles per km.
+    pub oncoming_vehicles_per_km: Option<f64>,
+    /// Cracks per km.
+    pub cracks_per_km: Option<f64>,
+    /// Patches per km.
+    pub patches_per_km: Option<f64>,
+    /// Pot holes per km.
+    pub potholes_per_km: Option<f64>,
+}
+
+/// `[environment.sensor]`.
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct SensorFile {
+    /// Gain: 0.05–20.
+    pub gain: Option<f64>,
+    /// Gaussian noise, grey levels: 0–64.
+    pub noise_sigma_grey: Option<f64>,
+    /// Optional Gaussian blur, pixels: 0–[`super::MAX_BLUR_SIGMA_PX`].
+    pub blur_sigma_px: Option<f64>,
+    /// Strength of the lens's cos⁴ vignetting: 0 (off, the default)–1.
+    pub vignetting: Option<f64>,
+    /// Shot noise: the full-well capacity, electrons, at grey 255: 100–10⁷ (absent: off).
+    pub shot_noise_full_well_e: Option<f64>,
+    /// Automatic gain control (absent: off).
+    pub auto_gain: Option<AutoGainFile>,
+    /// An interlaced video camera: each frame's odd rows exposed one field (1/60 s)
+    /// before its even rows (default false: progressive).
+    pub interlaced: Option<bool>,
+}
+
+/// `[environment.sensor.auto_gain]`: every field optional, with
+/// [`sim_render::AutoGain::default`]'s values.
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct AutoGainFile {
+    /// The mean grey the control aims at: 10–245.
+    pub target_grey: Option<f64>,
+    /// Its time constant, seconds: 0.1–60.
+    pub time_constant_s: Option<f64>,
+    /// Its largest gain (the smallest is the reciprocal): 1–64.
+    pub max_gain: Option<f64>,
+}
+
+/// Fixed-length arrays of numbers read strictly: the toml parser lets `[f64; 2]` take the
+/// first two of four numbers from a file (and refuses the same array in a `--set`), so
+/// these read a list and insist on its length, with the list's position in the error.
+pub(crate) mod exact {
+    use serde::de::{Deserializer, Error};
+    use serde::Deserialize;
+
+    fn sized<E: Error, const N: usize>(v: Vec<f64>) -> Result<[f64; N], E> {
+        let len = v.len();
+        <[f64; N]>::try_from(v).map_err(|_| {
+            E::invalid_length(len, &format!("an array of exactly {N} numbers").as_str())
+        })
+    }
+
+    /// `Option<[f64; N]>`: absent, or exactly `N` numbers (use with `#[serde(default)]`).
+    pub fn optional<'de, D: Deserializer<'de>, const N: usize>(
+        d: D,
+    ) -> Result<Option<[f64; N]>, D::Error> {
+        Option::<Vec<f64>>::deserialize(d)?.map(sized).transpose()
+    }
+
+    /// `Vec<[f64; N]>`: rows of exactly `N` numbers each.
+    pub fn rows<'de, D: Deserializer<'de>, const N: usize>(
+        d: D,
+    ) -> Result<Vec<[f64; N]>, D::Error> {
+        Vec::<Vec<f64>>::deserialize(d)?
+            .into_iter()
+            .map(sized)
+            .collect()
+    }
+
+    /// `Option<Vec<[f64; N]>>`: absent, or rows of exactly `N` numbers each.
+    pub fn optional_rows<'de, D: Deserializer<'de>, const N: usize>(
+        d: D,
+    ) -> Result<Option<Vec<[f64; N]>>, D::Error> {
+        Option::<Vec<Vec<f64>>>::deserialize(d)?
+            .map(|rows| rows.into_iter().map(sized).collect())
+            .transpose()
+    }
+}

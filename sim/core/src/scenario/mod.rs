@@ -1,0 +1,519 @@
+//! Scenario files (`scenarios/*.toml`): parsed into a raw [`ScenarioFile`], overridden by
+//! `--set key.path=value`, then validated into a [`Scenario`]. This is the only place that
+//! reads scenario TOML. Errors name the file, line, column and field, and say what is
+//! allowed.
+
+mod expect;
+mod file;
+mod overrides;
+mod validate;
+
+pub use expect::Expect;
+pub use file::*;
+pub use overrides::apply_override;
+pub use validate::{
+    FOCAL_LENGTH_MM, MAX_ARC_RADIUS_M, MAX_BLUR_SIGMA_PX, MAX_BREADCRUMBS, MAX_INIT_OFFSET_PX,
+    MAX_ROUTE_M, MIN_ARC_RADIUS_M,
+};
+
+use sim_render::{Densities, RouteSpec, Sensor, Sun};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use thiserror::Error;
+use tracker::{Camera, TargetModel, TrackerConfig};
+pub(crate) use validate::vehicle_error;
+use validate::{override_names, validate, Blame};
+use vehicle::{
+    ChaseControllerConfig, DelayLineConfig, LeadDriverConfig, SpeedProfile, WorldConfig,
+};
+
+/// The built-in default scenario, `nist-grounds`, compiled in so `carfollow run` works from
+/// any folder.
+pub const BUILTIN_NAME: &str = "nist-grounds";
+const BUILTIN_TEXT: &str = include_str!("../../../../scenarios/nist-grounds.toml");
+/// The built-in scenario's target file (`scenarios/targets/nist-ten-segment.toml`), as
+/// shipped.
+pub const BUILTIN_TARGET_TEXT: &str =
+    include_str!("../../../../scenarios/targets/nist-ten-segment.toml");
+
+/// A scenario file that cannot be used.
+#[derive(Debug, Error)]
+pub enum ScenarioError {
+    /// Unreadable file.
+    #[error("{path}: cannot read scenario: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// Bad TOML, unknown field, wrong type.
+    #[error("{path}:{line}:{column}: {message}")]
+    Parse {
+        /// The file.
+        path: PathBuf,
+        /// 1-based line.
+        line: usize,
+        /// 1-based column.
+        column: usize,
+        /// What is wrong, naming the field.
+        message: String,
+    },
+    /// A value out of its allowed range.
+    #[error("{path}:{line}:{column}: `{field}` {message}")]
+    Invalid {
+        /// The file.
+        path: PathBuf,
+        /// 1-based line (of the field, or of its table when the field was left out).
+        line: usize,
+        /// 1-based column.
+        column: usize,
+        /// Dotted field path.
+        field: String,
+        /// What is wrong and what is allowed.
+        message: String,
+    },
+    /// A `--set` that cannot be applied.
+    #[error("--set {assignment}: {message}")]
+    Override {
+        /// The `key=value` as given.
+        assignment: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// The target file named by `tracker.target`.
+    #[error("{path}:{line}:{column}: `tracker.target`: {source}")]
+    Target {
+        /// The scenario file.
+        path: PathBuf,
+        /// 1-based line of `tracker.target`.
+        line: usize,
+        /// 1-based column.
+        column: usize,
+        /// The target file's own error (boxed: it is large and rare).
+        source: Box<crate::target::TargetFileError>,
+    },
+}
+
+/// A validated scenario: everything the closed loop needs, with defaults filled in.
+#[derive(Clone, Debug)]
+pub struct Scenario {
+    /// Name (the output folder).
+    pub name: String,
+    /// What it is for.
+    pub description: String,
+    /// Where it was read from (`None` for the built-in one).
+    pub path: Option<PathBuf>,
+    /// Simulated time, seconds.
+    pub duration_s: f64,
+    /// The seed.
+    pub seed: u64,
+    /// The route.
+    pub route: RouteSpec,
+    /// Lead: rear-axle station at t = 0, metres.
+    pub lead_start_m: f64,
+    /// Lead: speed at t = 0, m/s.
+    pub lead_initial_speed_mps: f64,
+    /// Lead: the scripted speed.
+    pub lead_profile: SpeedProfile,
+    /// Lead: the driver's tuning.
+    pub lead_driver: LeadDriverConfig,
+    /// Chase: camera-to-target distance at t = 0, metres.
+    pub initial_gap_m: f64,
+    /// Chase: the controller (its camera mount is the camera's).
+    pub chase: ChaseControllerConfig,
+    /// Camera intrinsics, shared with the tracker's stage 8.
+    pub camera: Camera,
+    /// Tracker settings.
+    pub tracker: TrackerConfig,
+    /// The target model.
+    pub target: TargetModel,
+    /// The teleoperator's placement error `[dx_px, dy_px, dscale]`.
+    pub init_offset: [f64; 3],
+    /// The delay line.
+    pub delay: DelayLineConfig,
+    /// Physics world (ground, bumps).
+    pub world: WorldConfig,
+    /// Light.
+    pub sun: Sun,
+    /// Clutter.
+    pub densities: Densities,
+    /// Hand-placed scenery (overpasses).
+    pub placements: Vec<sim_render::Placement>,
+    /// Controlled distractors moving with the lead.
+    pub distractors: Vec<sim_render::Distractor>,
+    /// Sensor.
+    pub sensor: Sensor,
+    /// What the road is paved with.
+    pub road_surface: sim_render::RoadSurface,
+    /// Textures on the ground.
+    pub textures: sim_render::Textures,
+    /// Pass/fail criteria.
+    pub expect: Expect,
+    /// The scenario as resolved: the file with the `--set` overrides applied and every
+    /// default filled in (written to `summary.json`).
+    pub resolved: ScenarioFile,
+    /// The `--set` overrides applied, in order.
+    pub overrides: Vec<String>,
+    /// Where it came from, to place the errors found in planning it.
+    pub(crate) source: Source,
+}
+
+/// Where a scenario came from, to place an error in it: its text, the path errors name,
+/// and the `--set` overrides applied to it.
+#[derive(Clone, Debug)]
+pub(crate) struct Source {
+    text: Arc<str>,
+    path: PathBuf,
+    overrides: Vec<String>,
+}
+
+impl Source {
+    /// The error of `field`, saying `message`: at the field's line in the file (or its
+    /// table's, when the file leaves it out), or as the `--set` that gave its value.
+    pub(crate) fn invalid(&self, field: &str, message: String) -> ScenarioError {
+        // `field` then the message: "`x` = 3: ..." or, for a nested error, "`x` is refused: ...".
+        let message = match message.strip_prefix(": ") {
+            Some(rest) => format!("is refused: {rest}"),
+            None => message,
+        };
+        // A value that came from `--set` is reported as such, not at the file's line.
+        if let Some(assignment) = self
+            .overrides
+            .iter()
+            .rev()
+            .find(|a| override_names(a, field))
+        {
+            return ScenarioError::Override {
+                assignment: assignment.clone(),
+                message: format!("`{field}` {message}"),
+            };
+        }
+        let (line, column) = line_column(&self.text, locate(&self.text, field));
+        ScenarioError::Invalid {
+            path: self.path.clone(),
+            line,
+            column,
+            field: field.to_string(),
+            message,
+        }
+    }
+
+    /// The first of `fields` (which together decide something found wrong) that an
+    /// override set, else `otherwise`: an error is blamed on what the user changed.
+    pub(crate) fn blame<'a>(&self, fields: &[&'a str], otherwise: &'a str) -> &'a str {
+        fields
+            .iter()
+            .copied()
+            .find(|f| self.overrides.iter().any(|a| override_names(a, f)))
+            .unwrap_or(otherwise)
+    }
+}
+
+/// 1-based (line, column) of a byte offset.
+fn line_column(text: &str, offset: usize) -> (usize, usize) {
+    crate::target::line_column(text, offset)
+}
+
+/// The byte offset of a dotted path in the TOML text: the key when present, else the
+/// nearest enclosing table that is, else the start.
+pub fn locate(text: &str, dotted: &str) -> usize {
+    use toml::de::{DeTable, DeValue};
+    let Ok(root) = DeTable::parse(text) else {
+        return 0;
+    };
+    let mut table: &DeTable = root.get_ref();
+    let mut best = 0;
+    for part in dotted.split('.') {
+        // `name[i]...`: the key, then an item of a list (of tables) for each index.
+        let (name, indices) = part.split_once('[').unwrap_or((part, ""));
+        let Some((key, value)) = table.iter().find(|(k, _)| k.get_ref().as_ref() == name) else {
+            break;
+        };
+        best = key.span().start;
+        let mut value = value;
+        for index in indices.split('[').filter(|i| !i.is_empty()) {
+            let item = match (
+                value.get_ref(),
+                index.trim_end_matches(']').parse::<usize>(),
+            ) {
+                (DeValue::Array(items), Ok(i)) => items.get(i),
+                _ => None,
+            };
+            let Some(item) = item else {
+                return best;
+            };
+            best = item.span().start;
+            value = item;
+        }
+        match value.get_ref() {
+            DeValue::Table(t) => table = t,
+            _ => break,
+        }
+    }
+    best
+}
+
+/// Sets `value[pointer]` to `fill` where it is absent or `null` (the parents exist: every
+/// table of the file has a default).
+fn fill_null(value: &mut serde_json::Value, pointer: &str, fill: serde_json::Value) {
+    let (parent, key) = pointer.rsplit_once('/').expect("a pointer below the root");
+    if let Some(serde_json::Value::Object(table)) = value.pointer_mut(parent) {
+        let slot = table.entry(key).or_insert(serde_json::Value::Null);
+        if slot.is_null() {
+            *slot = fill;
+        }
+    }
+}
+
+/// Numbers that came from `f32` fields as their `f32`'s shortest decimal (2.2, not
+/// 2.200000047683716); a number that is not exactly an `f32` stays as it is.
+fn shortest_f32(value: &mut serde_json::Value) {
+    match value {
+        serde_json::Value::Number(n) => {
+            if let Some(x) = n
+                .as_f64()
+                .filter(|x| !n.is_i64() && !n.is_u64() && x.is_finite())
+            {
+                let f = x as f32;
+                if f64::from(f) == x {
+                    if let Some(short) = format!("{f}")
+                        .parse::<f64>()
+                        .ok()
+                        .and_then(serde_json::Number::from_f64)
+                    {
+                        *n = short;
+                    }
+                }
+            }
+        }
+        serde_json::Value::Array(items) => items.iter_mut().for_each(shortest_f32),
+        serde_json::Value::Object(table) => table.values_mut().for_each(shortest_f32),
+        _ => {}
+    }
+}
+
+/// Deserializes TOML `text` into a `T`. A mistake comes back as its error (for its place)
+/// and its message, which names the field it is about when it is about one
+/// (`` `a.b[2].c`: invalid type… ``), as scenario and sweep files report them.
+pub fn from_toml_naming_field<T: serde::de::DeserializeOwned>(
+    text: &str,
+) -> Result<T, (toml::de::Error, String)> {
+    let de = toml::Deserializer::parse(text).map_err(|e| {
+        let message = e.message().trim().to_string();
+        (e, message)
+    })?;
+    serde_path_to_error::deserialize(de).map_err(|e| {
+        let mut segments: Vec<String> = e.path().iter().map(|s| s.to_string()).collect();
+        let e = e.into_inner();
+        let message = e.message().trim().to_string();
+        // An unknown field's message names it: the path is the table it stands in.
+        if message.starts_with("unknown field") {
+            segments.pop();
+        }
+        let message = if segments.is_empty() {
+            message
+        } else {
+            format!("`{}`: {message}", field_path(&segments))
+        };
+        (e, message)
+    })
+}
+
+/// A field's dotted path from serde_path_to_error's segments: `a.b[2].c`.
+fn field_path(segments: &[String]) -> String {
+    let mut path = String::new();
+    for s in segments {
+        if s.starts_with('[') || path.is_empty() {
+            path.push_str(s);
+        } else {
+            path.push('.');
+            path.push_str(s);
+        }
+    }
+    path
+}
+
+impl Scenario {
+    /// The scenario as it ran, for `summary.json`: the file with its overrides applied
+    /// ([`Scenario::resolved`]), the defaults it left out filled in with the values the run
+    /// used, and the chase controller's settings as they ran (its camera mount and field of
+    /// view come from `[camera]`).
+    pub fn resolved_json(&self) -> serde_json::Value {
+        use serde_json::json;
+        let mut v = serde_json::to_value(&self.resolved).expect("a scenario file serialises");
+        let c = &self.camera;
+        fill_null(&mut v, "/camera/focal_length_mm", json!(c.focal_length_mm));
+        fill_null(&mut v, "/camera/pixel_size_mm", json!(c.pixel_size_mm));
+        fill_null(&mut v, "/camera/image_center_px", json!(c.image_center_px));
+        fill_null(&mut v, "/chase/initial_gap_m", json!(self.initial_gap_m));
+        fill_null(
+            &mut v,
+            "/lead/initial_speed_mps",
+            json!(self.lead_initial_speed_mps),
+        );
+        if let Some(chase) = v.pointer_mut("/chase/controller") {
+            *chase = serde_json::to_value(&self.chase).expect("a controller serialises");
+        }
+        let d = &self.densities;
+        for (name, value) in [
+            ("trees_per_km", d.trees_per_km),
+            ("poles_per_km", d.poles_per_km),
+            ("houses_per_km", d.houses_per_km),
+            ("buildings_per_km", d.buildings_per_km),
+            ("parked_vehicles_per_km", d.parked_vehicles_per_km),
+            ("oncoming_vehicles_per_km", d.oncoming_vehicles_per_km),
+            ("cracks_per_km", d.cracks_per_km),
+            ("patches_per_km", d.patches_per_km),
+            ("potholes_per_km", d.potholes_per_km),
+        ] {
+            fill_null(
+                &mut v,
+                &format!("/environment/clutter/{name}"),
+                json!(value),
+            );
+        }
+        let sun = &self.sun;
+        for (name, value) in [
+            ("azimuth_deg", json!(sun.azimuth_deg)),
+            ("elevation_deg", json!(sun.elevation_deg)),
+            ("strength", json!(sun.strength)),
+            ("ambient", json!(sun.ambient)),
+            ("soft_shadows", json!(sun.soft_shadows)),
+        ] {
+            fill_null(&mut v, &format!("/environment/sun/{name}"), value);
+        }
+        fill_null(
+            &mut v,
+            "/environment/textures/enabled",
+            json!(self.textures.enabled),
+        );
+        fill_null(
+            &mut v,
+            "/environment/textures/contrast",
+            json!(self.textures.contrast),
+        );
+        fill_null(
+            &mut v,
+            "/environment/road/surface",
+            json!(self.road_surface.as_str()),
+        );
+        shortest_f32(&mut v);
+        v
+    }
+
+    /// Reads a scenario file and applies `--set` overrides.
+    pub fn load(path: &Path, overrides: &[String]) -> Result<Scenario, ScenarioError> {
+        let text = std::fs::read_to_string(path).map_err(|source| ScenarioError::Io {
+            path: path.to_owned(),
+            source,
+        })?;
+        let dir = path.parent().unwrap_or(Path::new("."));
+        Self::parse(&text, path, overrides, |target| {
+            crate::target::load(&dir.join(target))
+        })
+        .map(|mut s| {
+            s.path = Some(path.to_owned());
+            s
+        })
+    }
+
+    /// The camera frames of its run: its duration at the camera's rate, frame k at k / 15 s.
+    pub fn frames(&self) -> u64 {
+        (self.duration_s * f64::from(vehicle::CAMERA_HZ)).round() as u64
+    }
+
+    /// The built-in `nist-grounds`, with `--set` overrides.
+    pub fn builtin(overrides: &[String]) -> Result<Scenario, ScenarioError> {
+        Self::parse(
+            BUILTIN_TEXT,
+            Path::new("scenarios/nist-grounds.toml"),
+            overrides,
+            |target| {
+                crate::target::parse(BUILTIN_TARGET_TEXT, &Path::new("scenarios").join(target))
+            },
+        )
+    }
+
+    /// Parses and validates scenario text; `path` is only used in errors, `load_target`
+    /// reads `tracker.target`.
+    pub fn parse(
+        text: &str,
+        path: &Path,
+        overrides: &[String],
+        load_target: impl Fn(&str) -> Result<TargetModel, crate::target::TargetFileError>,
+    ) -> Result<Scenario, ScenarioError> {
+        let parse_err = |e: toml::de::Error| {
+            let (line, column) = line_column(text, e.span().map_or(0, |s| s.start));
+            ScenarioError::Parse {
+                path: path.to_owned(),
+                line,
+                column,
+                message: e.message().trim().to_string(),
+            }
+        };
+        // The file alone first, so its own mistakes are reported at their line, with the
+        // field they are about.
+        let mut raw: ScenarioFile = from_toml_naming_field(text).map_err(|(e, message)| {
+            let (line, column) = line_column(text, e.span().map_or(0, |s| s.start));
+            ScenarioError::Parse {
+                path: path.to_owned(),
+                line,
+                column,
+                message,
+            }
+        })?;
+        // The file alone again, as the overrides below will read it: whatever that refuses
+        // is the file's fault, not an override's.
+        let table: toml::Table = toml::from_str(text).map_err(parse_err)?;
+        if let Err(e) = toml::Value::Table(table).try_into::<ScenarioFile>() {
+            return Err(ScenarioError::Parse {
+                path: path.to_owned(),
+                line: 1,
+                column: 1,
+                message: e.message().trim().to_string(),
+            });
+        }
+        if !overrides.is_empty() {
+            let mut value: toml::Table = toml::from_str(text).map_err(parse_err)?;
+            // One at a time, so an error names the override that caused it.
+            for assignment in overrides {
+                apply_override(&mut value, assignment)?;
+                raw = toml::Value::Table(value.clone()).try_into().map_err(
+                    |e: toml::de::Error| ScenarioError::Override {
+                        assignment: assignment.clone(),
+                        message: e.message().trim().to_string(),
+                    },
+                )?;
+            }
+        }
+        let source = Source {
+            text: text.into(),
+            path: path.to_owned(),
+            overrides: overrides.to_vec(),
+        };
+        let invalid = |field: &str, message: String| source.invalid(field, message);
+        validate(raw, overrides, source.clone(), &Blame(&invalid), |target| {
+            load_target(target).map_err(|source| {
+                // A target given by `--set` is the override's fault, not the file's.
+                if let Some(assignment) = overrides
+                    .iter()
+                    .rev()
+                    .find(|a| override_names(a, "tracker.target"))
+                {
+                    return ScenarioError::Override {
+                        assignment: assignment.clone(),
+                        message: format!("`tracker.target`: {source}"),
+                    };
+                }
+                let (line, column) = line_column(text, locate(text, "tracker.target"));
+                ScenarioError::Target {
+                    path: path.to_owned(),
+                    line,
+                    column,
+                    source: Box::new(source),
+                }
+            })
+        })
+    }
+}

@@ -1,0 +1,306 @@
+//! `[environment]`: the sun, the clutter's densities, the overpasses, the sensor, the road's
+//! surface and the ground's textures.
+
+use super::{check, Blame, MAX_BLUR_SIGMA_PX};
+use crate::scenario::{EnvironmentFile, ScenarioError};
+use sim_render::{AutoGain, Densities, Placement, RoadSurface, Sensor, Sun, Textures};
+
+/// The environment as validated (the distractors and overpasses are checked on their own).
+pub(super) struct Environment {
+    pub(super) sun: Sun,
+    pub(super) densities: Densities,
+    pub(super) sensor: Sensor,
+    pub(super) road_surface: RoadSurface,
+    pub(super) textures: Textures,
+}
+
+/// The environment of a route `length` metres long.
+pub(super) fn environment(
+    e: &EnvironmentFile,
+    length: f64,
+    f: &Blame,
+) -> Result<Environment, ScenarioError> {
+    let sun = sun(e, f)?;
+    let mut densities = Densities::default();
+    let cl = &e.clutter;
+    for (field, src, dst) in [
+        ("trees_per_km", cl.trees_per_km, &mut densities.trees_per_km),
+        ("poles_per_km", cl.poles_per_km, &mut densities.poles_per_km),
+        (
+            "houses_per_km",
+            cl.houses_per_km,
+            &mut densities.houses_per_km,
+        ),
+        (
+            "buildings_per_km",
+            cl.buildings_per_km,
+            &mut densities.buildings_per_km,
+        ),
+        (
+            "parked_vehicles_per_km",
+            cl.parked_vehicles_per_km,
+            &mut densities.parked_vehicles_per_km,
+        ),
+        (
+            "oncoming_vehicles_per_km",
+            cl.oncoming_vehicles_per_km,
+            &mut densities.oncoming_vehicles_per_km,
+        ),
+        (
+            "cracks_per_km",
+            cl.cracks_per_km,
+            &mut densities.cracks_per_km,
+        ),
+        (
+            "patches_per_km",
+            cl.patches_per_km,
+            &mut densities.patches_per_km,
+        ),
+        (
+            "potholes_per_km",
+            cl.potholes_per_km,
+            &mut densities.potholes_per_km,
+        ),
+    ] {
+        if let Some(v) = src {
+            f.at(
+                &format!("environment.clutter.{field}"),
+                check(
+                    v.is_finite() && (0.0..=1000.0).contains(&v),
+                    "must be 0–1000 per km",
+                    v,
+                ),
+            )?;
+            *dst = v;
+        }
+    }
+    let sensor = sensor(e, f)?;
+    let road_surface = match e.road.surface.as_deref() {
+        None => RoadSurface::default(),
+        Some(name) => RoadSurface::parse(name).ok_or_else(|| {
+            f.invalid(
+                "environment.road.surface",
+                format!("= {name:?}: must be \"asphalt\" or \"gravel\""),
+            )
+        })?,
+    };
+    let mut textures = Textures::default();
+    if let Some(v) = e.textures.enabled {
+        textures.enabled = v;
+    }
+    if let Some(v) = e.textures.contrast {
+        textures.contrast = v;
+    }
+    f.at(
+        "environment.textures.contrast",
+        check(
+            (0.0..=2.0).contains(&textures.contrast),
+            "must be 0–2",
+            textures.contrast,
+        ),
+    )?;
+
+    Ok(Environment {
+        sun,
+        densities,
+        sensor,
+        road_surface,
+        textures,
+    })
+}
+
+/// `[[environment.overpasses]]` on a route `length` metres long.
+pub(super) fn overpasses(
+    e: &EnvironmentFile,
+    length: f64,
+    f: &Blame,
+) -> Result<Vec<Placement>, ScenarioError> {
+    let mut placements = Vec::new();
+    for (i, o) in e.overpasses.iter().enumerate() {
+        let field = |name: &str| format!("environment.overpasses[{i}].{name}");
+        f.at(
+            &field("station_m"),
+            check(
+                o.station_m.is_finite() && (0.0..=length).contains(&o.station_m),
+                &format!("must lie on the route, 0–{length:.0} m"),
+                o.station_m,
+            ),
+        )?;
+        let deck_m = o.deck_m.unwrap_or(10.0);
+        f.at(
+            &field("deck_m"),
+            check((2.0..=60.0).contains(&deck_m), "must be 2–60 m", deck_m),
+        )?;
+        let height_m = o.height_m.unwrap_or(5.5);
+        f.at(
+            &field("height_m"),
+            check(
+                (4.5..=20.0).contains(&height_m),
+                "must be 4.5–20 m",
+                height_m,
+            ),
+        )?;
+        placements.push(Placement::Overpass {
+            station_m: o.station_m,
+            deck_m,
+            height_m,
+        });
+    }
+    Ok(placements)
+}
+
+/// `[environment.sun]`.
+fn sun(e: &EnvironmentFile, f: &Blame) -> Result<Sun, ScenarioError> {
+    let mut sun = Sun::default();
+    if let Some(v) = e.sun.azimuth_deg {
+        sun.azimuth_deg = v;
+    }
+    if let Some(v) = e.sun.elevation_deg {
+        sun.elevation_deg = v;
+    }
+    if let Some(v) = e.sun.strength {
+        sun.strength = v;
+    }
+    if let Some(v) = e.sun.ambient {
+        sun.ambient = v;
+    }
+    sun.soft_shadows = e.sun.soft_shadows.unwrap_or(false);
+    f.at(
+        "environment.sun.azimuth_deg",
+        check(
+            (-360.0..=360.0).contains(&sun.azimuth_deg),
+            "must be -360–360 degrees",
+            sun.azimuth_deg,
+        ),
+    )?;
+    f.at(
+        "environment.sun.elevation_deg",
+        check(
+            sun.elevation_deg > 0.0 && sun.elevation_deg <= 90.0,
+            "must be in (0, 90] degrees",
+            sun.elevation_deg,
+        ),
+    )?;
+    f.at(
+        "environment.sun.strength",
+        check(
+            (0.0..=2.0).contains(&sun.strength),
+            "must be 0–2",
+            sun.strength,
+        ),
+    )?;
+    f.at(
+        "environment.sun.ambient",
+        check(
+            (0.0..=2.0).contains(&sun.ambient),
+            "must be 0–2",
+            sun.ambient,
+        ),
+    )?;
+    Ok(sun)
+}
+
+/// `[environment.sensor]`.
+fn sensor(e: &EnvironmentFile, f: &Blame) -> Result<Sensor, ScenarioError> {
+    let mut sensor = Sensor::default();
+    if let Some(v) = e.sensor.gain {
+        sensor.gain = v;
+    }
+    if let Some(v) = e.sensor.noise_sigma_grey {
+        sensor.noise_sigma_grey = v;
+    }
+    sensor.blur_sigma_px = e.sensor.blur_sigma_px;
+    f.at(
+        "environment.sensor.gain",
+        check(
+            sensor.gain.is_finite() && (0.05..=20.0).contains(&sensor.gain),
+            "must be 0.05–20",
+            sensor.gain,
+        ),
+    )?;
+    f.at(
+        "environment.sensor.noise_sigma_grey",
+        check(
+            sensor.noise_sigma_grey.is_finite() && (0.0..=64.0).contains(&sensor.noise_sigma_grey),
+            "must be 0–64 grey levels",
+            sensor.noise_sigma_grey,
+        ),
+    )?;
+    if let Some(sigma) = sensor.blur_sigma_px {
+        f.at(
+            "environment.sensor.blur_sigma_px",
+            check(
+                (0.0..=MAX_BLUR_SIGMA_PX).contains(&sigma),
+                &format!("must be 0–{MAX_BLUR_SIGMA_PX} px"),
+                sigma,
+            ),
+        )?;
+    }
+    if let Some(v) = e.sensor.vignetting {
+        sensor.vignetting = v;
+    }
+    f.at(
+        "environment.sensor.vignetting",
+        check(
+            (0.0..=1.0).contains(&sensor.vignetting),
+            "must be 0–1",
+            sensor.vignetting,
+        ),
+    )?;
+    sensor.shot_noise_full_well_e = e.sensor.shot_noise_full_well_e;
+    sensor.interlaced = e.sensor.interlaced.unwrap_or(false);
+    if let Some(full_well_e) = sensor.shot_noise_full_well_e {
+        f.at(
+            "environment.sensor.shot_noise_full_well_e",
+            check(
+                (100.0..=1e7).contains(&full_well_e),
+                "must be 100–1e7 electrons",
+                full_well_e,
+            ),
+        )?;
+    }
+    if let Some(a) = &e.sensor.auto_gain {
+        let mut auto_gain = AutoGain::default();
+        for (field, value, into, lo, hi, unit) in [
+            (
+                "target_grey",
+                a.target_grey,
+                &mut auto_gain.target_grey,
+                10.0,
+                245.0,
+                " grey levels",
+            ),
+            (
+                "time_constant_s",
+                a.time_constant_s,
+                &mut auto_gain.time_constant_s,
+                0.1,
+                60.0,
+                " s",
+            ),
+            (
+                "max_gain",
+                a.max_gain,
+                &mut auto_gain.max_gain,
+                1.0,
+                64.0,
+                "",
+            ),
+        ] {
+            if let Some(v) = value {
+                *into = v;
+            }
+            f.at(
+                &format!("environment.sensor.auto_gain.{field}"),
+                check(
+                    (lo..=hi).contains(&*into),
+                    &format!("must be {lo}–{hi}{unit}"),
+                    *into,
+                ),
+            )?;
+        }
+        sensor.auto_gain = Some(auto_gain);
+    }
+
+    Ok(sensor)
+}

@@ -1,0 +1,599 @@
+//! Scenario files: every shipped scenario validates; bad files are refused with the file,
+//! line, column and field, and what is allowed; `--set` overrides any field by its dotted path.
+//! Run with `cargo test -p sim --test scenario_files`.
+
+use sim_core::{Plan, Scenario};
+use std::path::{Path, PathBuf};
+
+fn scenarios_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios")
+}
+
+fn text() -> String {
+    std::fs::read_to_string(scenarios_dir().join("nist-grounds.toml")).unwrap()
+}
+
+/// Loads and plans `text` as if it were `scenarios/bad.toml` (as `carfollow check` does):
+/// the scenario planned.
+fn load(text: &str, overrides: &[&str]) -> Result<Scenario, String> {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("bad.toml");
+    std::fs::write(&path, text).unwrap();
+    std::fs::create_dir(dir.path().join("targets")).unwrap();
+    std::fs::copy(
+        scenarios_dir().join("targets/nist-ten-segment.toml"),
+        dir.path().join("targets/nist-ten-segment.toml"),
+    )
+    .unwrap();
+    let overrides: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
+    Plan::load(&path, &overrides)
+        .map(|plan| plan.scenario().clone())
+        .map_err(|e| {
+            // Errors are reported relative to the file name for the assertions below.
+            e.to_string().replace(&dir.path().display().to_string(), "")
+        })
+}
+
+/// 1-based line of the first occurrence of `needle` in the shipped text.
+fn line_of(text: &str, needle: &str) -> usize {
+    text.lines()
+        .position(|l| l.contains(needle))
+        .expect("needle in text")
+        + 1
+}
+
+#[test]
+fn every_shipped_scenario_validates() {
+    let mut n = 0;
+    for entry in std::fs::read_dir(scenarios_dir()).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|e| e == "toml") {
+            Plan::load(&path, &[]).unwrap_or_else(|e| panic!("{e}"));
+            n += 1;
+        }
+    }
+    assert!(n >= 1);
+    Plan::builtin(&[]).unwrap();
+}
+
+#[test]
+fn a_mistyped_field_is_named_with_its_line() {
+    let t = text().replace("duration_s = 90.0", "duraton_s = 90.0");
+    let e = load(&t, &[]).unwrap_err();
+    let line = line_of(&t, "duraton_s");
+    assert!(
+        e.starts_with(&format!("/bad.toml:{line}:1: unknown field `duraton_s`")),
+        "{e}"
+    );
+}
+
+#[test]
+fn a_wrong_type_is_named_with_its_line() {
+    let t = text().replace("lambda = 0.8", "lambda = \"high\"");
+    let e = load(&t, &[]).unwrap_err();
+    let line = line_of(&t, "lambda =");
+    assert!(e.starts_with(&format!("/bad.toml:{line}:")), "{e}");
+    assert!(e.contains("invalid type") && e.contains("f64"), "{e}");
+}
+
+#[test]
+fn a_negative_duration_is_refused_with_what_is_allowed() {
+    let t = text().replace("duration_s = 90.0", "duration_s = -5.0");
+    let e = load(&t, &[]).unwrap_err();
+    let line = line_of(&t, "duration_s");
+    assert_eq!(
+        e,
+        format!("/bad.toml:{line}:1: `duration_s` = -5: must be at least one camera frame (1/15 s) and at most 86400 seconds")
+    );
+}
+
+#[test]
+fn a_duration_shorter_than_a_frame_is_refused() {
+    for short in ["0.01", "1e-300"] {
+        let t = text().replace("duration_s = 90.0", &format!("duration_s = {short}"));
+        let e = load(&t, &[]).unwrap_err();
+        assert!(
+            e.contains("`duration_s`") && e.contains("one camera frame"),
+            "{e}"
+        );
+    }
+    // One frame is enough.
+    let t = text().replace("duration_s = 90.0", "duration_s = 0.0667");
+    load(&t, &[]).unwrap();
+}
+
+/// `[chase]` may be left out: it means what an empty `[chase]` means.
+#[test]
+fn a_scenario_without_a_chase_table_takes_the_defaults() {
+    let without = text().replace("[chase]\ninitial_gap_m = 10.0\n", "");
+    assert!(!without.contains("[chase]"));
+    let s = load(&without, &[]).unwrap_or_else(|e| panic!("{e}"));
+    let empty = load(&text().replace("initial_gap_m = 10.0\n", ""), &[]).unwrap();
+    assert_eq!(format!("{:?}", s.chase), format!("{:?}", empty.chase));
+    let start = |s: &Scenario| Plan::new(s).unwrap().chase_start_m();
+    assert_eq!(start(&s), start(&empty));
+}
+
+/// The controller's half field of view comes from the camera: when it is out of range,
+/// the error names the camera's field, not the controller's.
+#[test]
+fn a_field_of_view_out_of_range_names_the_camera() {
+    let t = text().replace(
+        "pixel_size_mm = [0.025, 0.025]",
+        "pixel_size_mm = [1e-7, 1e-7]",
+    );
+    let e = load(&t, &["camera.focal_length_mm=200"]).unwrap_err();
+    assert!(
+        e.contains("`camera.focal_length_mm`") && e.contains("half field of view"),
+        "{e}"
+    );
+}
+
+/// A target given by `--set` that cannot be read is the override's fault.
+#[test]
+fn a_missing_target_given_by_set_names_the_override() {
+    let e = load(&text(), &["tracker.target=targets/missing.toml"]).unwrap_err();
+    assert!(
+        e.starts_with("--set tracker.target=targets/missing.toml:") && e.contains("missing.toml"),
+        "{e}"
+    );
+}
+
+#[test]
+fn a_missing_target_file_is_named() {
+    let t = text().replace("targets/nist-ten-segment.toml", "targets/missing.toml");
+    let e = load(&t, &[]).unwrap_err();
+    let line = line_of(&t, "targets/missing.toml");
+    assert!(
+        e.starts_with(&format!("/bad.toml:{line}:1: `tracker.target`:")),
+        "{e}"
+    );
+    assert!(
+        e.contains("missing.toml") && e.contains("cannot read"),
+        "{e}"
+    );
+}
+
+#[test]
+fn out_of_range_values_deep_in_a_table_are_located() {
+    let t = text().replace("latency_ms = 128.0", "latency_ms = -1.0");
+    let e = load(&t, &[]).unwrap_err();
+    assert!(
+        e.starts_with(&format!(
+            "/bad.toml:{}:1: `loop.latency_ms` = -1: must be 0–2000 ms",
+            line_of(&t, "latency_ms")
+        )),
+        "{e}"
+    );
+    let e = load(&text(), &["tracker.lambda=1.5"]).unwrap_err();
+    assert_eq!(
+        e,
+        "--set tracker.lambda=1.5: `tracker.lambda` = 1.5: must be in (0, 1) (eq. 18: 0 < λ < 1)"
+    );
+}
+
+#[test]
+fn set_overrides_any_field_by_its_dotted_path() {
+    let s = load(
+        &text(),
+        &[
+            "tracker.lambda=0.7",
+            "environment.sun.strength=0.5",
+            "expect.gap_band_m=[4, 16]",
+            "duration_s=12",
+        ],
+    )
+    .unwrap();
+    assert_eq!(s.tracker.lambda, 0.7);
+    assert_eq!(s.sun.strength, 0.5);
+    assert_eq!(s.expect.gap_band_m, Some([4.0, 16.0]));
+    assert_eq!(s.duration_s, 12.0);
+    // A new nested field (the lead driver's weave) is created on the way.
+    let s = load(&text(), &["lead.driver.weave_amplitude_m=0.6"]).unwrap();
+    assert_eq!(s.lead_driver.weave_amplitude_m, 0.6);
+}
+
+#[test]
+fn a_bad_set_path_is_refused_and_named() {
+    let e = load(&text(), &["tracker.lamda=0.7"]).unwrap_err();
+    assert!(
+        e.starts_with("--set tracker.lamda=0.7:") && e.contains("unknown field `lamda`"),
+        "{e}"
+    );
+    let e = load(&text(), &["duration_s.x=1"]).unwrap_err();
+    assert!(e.contains("`duration_s` is a value, not a table"), "{e}");
+    let e = load(&text(), &["novalue"]).unwrap_err();
+    assert!(e.contains("expected KEY.PATH=VALUE"), "{e}");
+}
+
+/// What the closed loop used to refuse only when it started (so `check` and a sweep's
+/// pre-flight passed it) is refused by validation, naming the field or the override.
+#[test]
+fn what_the_loop_would_refuse_is_refused_by_validation() {
+    for (set, needle) in [
+        (
+            "lead.start_m=0",
+            "--set lead.start_m=0: `lead.start_m` puts the chase vehicle 13.4 m before the route's start",
+        ),
+        (
+            "chase.controller.gap_keeper.min_gap_m=0",
+            "--set chase.controller.gap_keeper.min_gap_m=0: `chase.controller.gap_keeper.min_gap_m` = 0:",
+        ),
+        (
+            "lead.driver.weave_amplitude_m=-inf",
+            "`lead.driver.weave_amplitude_m` = -inf:",
+        ),
+        (
+            "camera.mount.pitch_down_deg=60",
+            "--set camera.mount.pitch_down_deg=60: `camera.mount.pitch_down_deg` = 60:",
+        ),
+        (
+            "camera.mount.right_m=0.5",
+            "`camera.mount.right_m` = 0.5: must be 0",
+        ),
+        (
+            "route.segments=[{straight_m = 40000}, {straight_m = 40000}]",
+            "`route.segments` = 80000 m in all: the route must be at most 50000 m long",
+        ),
+        (
+            "route.segments=[{arc_radius_m = 1e308, arc_angle_deg = 30}]",
+            "`route.segments` = 1e308: segment 0: arc_radius_m must be 8–10000 m",
+        ),
+        (
+            "environment.sensor.blur_sigma_px=1e300",
+            "`environment.sensor.blur_sigma_px` = 1e300: must be 0–10 px",
+        ),
+        (
+            "camera.focal_length_mm=1e300",
+            "`camera.focal_length_mm` = 1e300: must be 1–200 mm",
+        ),
+        ("tracker.init_offset=[1e300, 0, 0]", "`tracker.init_offset`"),
+        (
+            "camera.mount.pitch_down_deg=30",
+            "puts the target out of the camera's view at t = 0",
+        ),
+        (
+            "camera.focal_length_mm=50",
+            "`camera.focal_length_mm` puts the target out of the camera's view at t = 0",
+        ),
+        ("environment.sun.azimuth_deg=nan", "`environment.sun.azimuth_deg` = NaN"),
+        (
+            "camera.pan.max_rate_deg_s=0",
+            "`camera.pan.max_rate_deg_s` = 0: must be finite and within 0.1–2000",
+        ),
+        (
+            "camera.pan.encoder_noise_deg=-1",
+            "`camera.pan.encoder_noise_deg` = -1:",
+        ),
+        (
+            "chase.controller.pan_head.enabled=true",
+            "`chase.controller.pan_head` is set by `[camera.pan]`",
+        ),
+        (
+            "chase.controller.gap_keeper.policy={policy=\"idm\",standstill_gap_m=5,headway_s=1,comfortable_decel_mps2=9}",
+            "`chase.controller.gap_keeper.policy.comfortable_decel_mps2` = 9:",
+        ),
+    ] {
+        let e = load(&text(), &[set]).unwrap_err();
+        assert!(e.contains(needle), "{set}: {e}");
+        assert!(e.starts_with(&format!("--set {set}: ")), "{set}: {e}");
+    }
+    // The same in the file is blamed on its line.
+    let t = text().replace("start_m = 30.0", "start_m = 0.0");
+    assert_ne!(t, text());
+    let e = load(&t, &[]).unwrap_err();
+    let line = line_of(&t, "start_m = 0.0");
+    assert!(e.starts_with(&format!("/bad.toml:{line}:")), "{e}");
+    assert!(e.contains("`lead.start_m` puts the chase vehicle"), "{e}");
+}
+
+/// An array with too many numbers is the file's fault at its line, whether or not an
+/// unrelated override is given.
+#[test]
+fn a_long_array_in_the_file_is_blamed_on_the_file_not_an_override() {
+    let t = text().replace(
+        "pixel_size_mm = [0.025, 0.025]",
+        "pixel_size_mm = [0.025, 0.025, 0.1, 0.1]",
+    );
+    assert_ne!(t, text());
+    let line = line_of(&t, "pixel_size_mm");
+    for overrides in [&[][..], &["duration_s=2"][..]] {
+        let e = load(&t, overrides).unwrap_err();
+        assert!(
+            e.starts_with(&format!(
+                "/bad.toml:{line}:17: `camera.pixel_size_mm`: invalid length 4, expected an array of exactly 2 numbers"
+            )),
+            "{overrides:?}: {e}"
+        );
+    }
+}
+
+/// `summary.json` gets the scenario as resolved: the overrides applied, defaults filled in.
+#[test]
+fn the_resolved_scenario_holds_the_overrides() {
+    let s = load(&text(), &["tracker.lambda=0.7", "duration_s=3"]).unwrap();
+    assert_eq!(s.overrides, ["tracker.lambda=0.7", "duration_s=3"]);
+    assert_eq!(s.resolved.tracker.lambda, Some(0.7));
+    assert_eq!(s.resolved.duration_s, 3.0);
+    let json = serde_json::to_value(&s.resolved).unwrap();
+    assert_eq!(json["tracker"]["lambda"], 0.7);
+    assert_eq!(json["route"]["lane_width_m"], 3.5);
+}
+
+/// The controllers' look-ahead and speed gains are bounded too (a look-ahead whose
+/// minimum exceeds its maximum used to panic when the run started).
+#[test]
+fn look_ahead_and_gains_are_bounded() {
+    let e = load(
+        &text(),
+        &["chase.controller.lookahead={ base_m = 3, gain_s = 0.5, min_m = 40, max_m = 1 }"],
+    )
+    .unwrap_err();
+    assert!(
+        e.contains("`chase.controller.lookahead.max_m` = 1: must be from min_m to 200 m"),
+        "{e}"
+    );
+    let e = load(
+        &text(),
+        &["lead.driver.speed_gains={ kp_per_s = nan, ki_per_s2 = 1, integral_limit_mps2 = 1 }"],
+    )
+    .unwrap_err();
+    assert!(
+        e.contains("`lead.driver.speed_gains.kp_per_s` = NaN"),
+        "{e}"
+    );
+    let e = load(&text(), &["chase.controller.max_breadcrumbs=0"]).unwrap_err();
+    assert!(
+        e.contains("`chase.controller.max_breadcrumbs` = 0: must be 2–1000000"),
+        "{e}"
+    );
+}
+
+#[test]
+fn a_chase_speed_profile_scripts_the_throttle_and_is_checked() {
+    let t = text().replace(
+        "initial_gap_m = 10.0",
+        "initial_gap_m = 10.0\nspeed_profile = [[0.0, 6.0], [10.0, 9.0]]",
+    );
+    let s = load(&t, &[]).unwrap();
+    assert!(
+        matches!(&s.chase.speed_mode, vehicle::SpeedMode::Manual { profile } if profile.knots.len() == 2),
+        "{:?}",
+        s.chase.speed_mode
+    );
+    // Refused: a speed out of range, a bad basis, a basis without a profile.
+    let e = load(&t.replace("[10.0, 9.0]", "[10.0, 90.0]"), &[]).unwrap_err();
+    assert!(e.contains("`chase.speed_profile` = [10, 90]"), "{e}");
+    let e = load(&t, &["chase.speed_basis=\"lap\""]).unwrap_err();
+    assert!(e.contains("`chase.speed_basis` = \"lap\""), "{e}");
+    let e = load(&text(), &["chase.speed_basis=\"distance\""]).unwrap_err();
+    assert!(e.contains("applies only with chase.speed_profile"), "{e}");
+}
+
+fn section4() -> String {
+    std::fs::read_to_string(scenarios_dir().join("section4.toml")).unwrap()
+}
+
+/// An error in an item of a list of tables is reported at the item's own line, not at
+/// `[environment]`.
+#[test]
+fn an_error_in_a_list_item_is_located_at_its_line() {
+    let t = section4()
+        .replace("feature = 3", "feature = 99")
+        .replace("station_m = 200.0", "station_m = 1e6");
+    let e = load(&t, &[]).unwrap_err();
+    let line = line_of(&t, "feature = 99");
+    assert!(
+        e.starts_with(&format!(
+            "/bad.toml:{line}:1: `environment.distractors[0].feature`"
+        )),
+        "{e}"
+    );
+    let t = section4().replace("station_m = 200.0", "station_m = 1e6");
+    let e = load(&t, &[]).unwrap_err();
+    let line = line_of(&t, "station_m = 1e6");
+    assert!(
+        e.starts_with(&format!(
+            "/bad.toml:{line}:1: `environment.overpasses[0].station_m`"
+        )),
+        "{e}"
+    );
+}
+
+#[test]
+fn distractors_and_overpasses_are_checked_and_list_items_can_be_set() {
+    let s = load(&section4(), &[]).unwrap();
+    assert_eq!(s.distractors.len(), 1);
+    // 2 px at the nominal 10 m with a 320 px focal length: 2 × 10 / 320 m.
+    assert!((s.distractors[0].offset_m - 2.0 * 10.0 / 320.0).abs() < 1e-12);
+    assert_eq!(s.placements.len(), 1);
+    // A list item's field by its index, as a sweep axis sets it.
+    let s = load(&section4(), &["environment.distractors.0.offset_m=0.1"]).unwrap_err();
+    assert!(
+        s.contains("give exactly one of offset_px and offset_m"),
+        "{s}"
+    );
+    let s = load(&section4(), &["environment.distractors.0.offset_px=-3"]).unwrap();
+    assert!((s.distractors[0].offset_m + 3.0 * 10.0 / 320.0).abs() < 1e-12);
+    let e = load(&section4(), &["environment.distractors.1.offset_px=3"]).unwrap_err();
+    assert!(e.contains("has 1 item(s), so no item 1"), "{e}");
+    // A list the file does not have.
+    let e = load(&text(), &["environment.overpasses.0.height_m=7"]).unwrap_err();
+    assert!(
+        e.contains("`environment.overpasses` has no items, so no item 0"),
+        "{e}"
+    );
+    let e = load(&section4(), &["environment.distractors.x=3"]).unwrap_err();
+    assert!(e.contains("is a list: name an item by its index"), "{e}");
+    // A pole beside a horizontal feature (segment 0 is the outer top) is refused.
+    let e = load(&section4(), &["environment.distractors.0.feature=0"]).unwrap_err();
+    assert!(
+        e.contains("`environment.distractors[0].feature` = 0: segment 0 is horizontal"),
+        "{e}"
+    );
+    let e = load(&section4(), &["environment.distractors.0.feature=10"]).unwrap_err();
+    assert!(e.contains("must be a segment of the target, 0–9"), "{e}");
+    let e = load(&section4(), &["environment.distractors.0.kind=\"tree\""]).unwrap_err();
+    assert!(
+        e.contains("must be \"pole\", \"wire\" or \"shadow\""),
+        "{e}"
+    );
+    // A shadow edge beside any feature, while the sun lights the board; not with the sun
+    // behind it.
+    let s = load(&section4(), &["environment.distractors.0.kind=\"shadow\""]).unwrap();
+    assert!(matches!(
+        s.distractors[0].kind,
+        sim_render::DistractorKind::Shadow { root_m, depth_m } if root_m.is_finite() && depth_m > 0.0
+    ));
+    let e = load(
+        &section4(),
+        &[
+            "environment.distractors.0.kind=\"shadow\"",
+            "environment.sun.azimuth_deg=-30",
+        ],
+    )
+    .unwrap_err();
+    assert!(e.contains("needs the sun in front of it"), "{e}");
+    let e = load(&section4(), &["environment.distractors.0.albedo=1.5"]).unwrap_err();
+    assert!(
+        e.contains("`environment.distractors[0].albedo` = 1.5: must be 0–1"),
+        "{e}"
+    );
+    let e = load(&section4(), &["environment.overpasses.0.height_m=2"]).unwrap_err();
+    assert!(
+        e.contains("`environment.overpasses[0].height_m` = 2: must be 4.5–20 m"),
+        "{e}"
+    );
+    let e = load(&section4(), &["environment.overpasses.0.station_m=9000"]).unwrap_err();
+    assert!(e.contains("must lie on the route"), "{e}");
+}
+
+/// The camera effects' fields: bad values are refused naming the field and what is
+/// allowed, from a `--set` and from the file at its line; good ones are taken.
+#[test]
+fn camera_effects_are_validated_with_the_field_named() {
+    for (set, needle) in [
+        (
+            "environment.sensor.vignetting=1.5",
+            "`environment.sensor.vignetting` = 1.5: must be 0–1",
+        ),
+        (
+            "environment.sensor.vignetting=nan",
+            "`environment.sensor.vignetting` = NaN: must be 0–1",
+        ),
+        (
+            "environment.sensor.shot_noise_full_well_e=10",
+            "`environment.sensor.shot_noise_full_well_e` = 10: must be 100–1e7 electrons",
+        ),
+        (
+            "environment.sensor.auto_gain={time_constant_s=0}",
+            "`environment.sensor.auto_gain.time_constant_s` = 0: must be 0.1–60 s",
+        ),
+        (
+            "environment.sensor.auto_gain={target_grey=250}",
+            "`environment.sensor.auto_gain.target_grey` = 250: must be 10–245 grey levels",
+        ),
+        (
+            "environment.sensor.auto_gain={max_gain=inf}",
+            "`environment.sensor.auto_gain.max_gain` = inf: must be 1–64",
+        ),
+        (
+            "environment.sensor.auto_gain={gain=2}",
+            "unknown field `gain`",
+        ),
+    ] {
+        let e = load(&text(), &[set]).unwrap_err();
+        assert!(e.contains(needle), "{set}: {e}");
+    }
+    let t = text().replace(
+        "sensor = { noise_sigma_grey = 2.0 }",
+        "sensor = { noise_sigma_grey = 2.0, vignetting = -0.1 }",
+    );
+    assert_ne!(t, text());
+    let e = load(&t, &[]).unwrap_err();
+    let line = line_of(&t, "vignetting = -0.1");
+    assert!(e.starts_with(&format!("/bad.toml:{line}:")), "{e}");
+    assert!(
+        e.contains("`environment.sensor.vignetting` = -0.1: must be 0–1"),
+        "{e}"
+    );
+    let t = text().replace(
+        "sensor = { noise_sigma_grey = 2.0 }",
+        "sensor = { noise_sigma_grey = 2.0, auto_gain = { max_gain = 0.5 } }",
+    );
+    let e = load(&t, &[]).unwrap_err();
+    let line = line_of(&t, "max_gain = 0.5");
+    assert!(e.starts_with(&format!("/bad.toml:{line}:")), "{e}");
+    assert!(
+        e.contains("`environment.sensor.auto_gain.max_gain` = 0.5"),
+        "{e}"
+    );
+
+    let s = load(
+        &text(),
+        &[
+            "environment.sensor.vignetting=0.6",
+            "environment.sensor.shot_noise_full_well_e=20000",
+            "environment.sensor.auto_gain={time_constant_s=0.3}",
+        ],
+    )
+    .unwrap();
+    assert_eq!(s.sensor.vignetting, 0.6);
+    assert_eq!(s.sensor.shot_noise_full_well_e, Some(20000.0));
+    let a = s.sensor.auto_gain.unwrap();
+    assert_eq!((a.time_constant_s, a.target_grey), (0.3, 110.0));
+    // Off by default.
+    let s = load(&text(), &[]).unwrap();
+    assert_eq!(s.sensor, sim_render::Sensor::default());
+}
+
+/// Ground textures and the road's surface: bad values are refused naming the field, from a
+/// `--set` and from the file; good ones are taken.
+#[test]
+fn textures_and_the_road_surface_are_validated_with_the_field_named() {
+    for (set, needle) in [
+        (
+            "environment.textures.contrast=3",
+            "`environment.textures.contrast` = 3: must be 0–2",
+        ),
+        (
+            "environment.textures.contrast=nan",
+            "`environment.textures.contrast` = NaN: must be 0–2",
+        ),
+        (
+            "environment.road.surface=\"mud\"",
+            "`environment.road.surface` = \"mud\": must be \"asphalt\" or \"gravel\"",
+        ),
+        (
+            "environment.textures={enable=true}",
+            "unknown field `enable`",
+        ),
+    ] {
+        let e = load(&text(), &[set]).unwrap_err();
+        assert!(e.contains(needle), "{set}: {e}");
+    }
+    let t = text().replace(
+        "sensor = { noise_sigma_grey = 2.0 }",
+        "sensor = { noise_sigma_grey = 2.0 }\nroad = { surface = \"tarmac\" }",
+    );
+    assert_ne!(t, text());
+    let e = load(&t, &[]).unwrap_err();
+    let line = line_of(&t, "surface = \"tarmac\"");
+    assert!(e.starts_with(&format!("/bad.toml:{line}:")), "{e}");
+    assert!(e.contains("`environment.road.surface`"), "{e}");
+
+    let s = load(
+        &text(),
+        &[
+            "environment.textures={enabled=true, contrast=0.5}",
+            "environment.road.surface=\"gravel\"",
+        ],
+    )
+    .unwrap();
+    assert!(s.textures.enabled);
+    assert_eq!(s.textures.contrast, 0.5);
+    assert_eq!(s.road_surface, sim_render::RoadSurface::Gravel);
+    let s = load(&text(), &[]).unwrap();
+    assert_eq!(s.textures, sim_render::Textures::default());
+    assert_eq!(s.road_surface, sim_render::RoadSurface::Asphalt);
+}

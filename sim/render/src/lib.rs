@@ -1,0 +1,37 @@
+//! carfollow's camera world: the seeded, deterministic scene the chase camera sees (road,
+//! roadside clutter, the lead vehicle with its target board, the chase vehicle's hood, the
+//! physics' own ground under it all) and the wgpu off-screen camera that renders it into
+//! 256×242 8-bit grey frames with sun shadows, textures and a sensor model.
+//!
+//! It depends on `tracker` (the camera's intrinsics *are* a [`tracker::Camera`], so the
+//! renderer and the tracker's stage 8 agree) and on `vehicle` (the physics ground, so the
+//! road is drawn on the height field the wheels roll over), and on nothing of the loop:
+//! no scenario files, no controllers, no records.
+//!
+//! - The scene: a [`SceneDescription`] (seed, route, densities, sun, sensor, target,
+//!   vehicles, ground) built into a [`Scene`] of static chunks and moving objects.
+//! - The camera: a [`Renderer`] for a [`CameraRig`] draws a [`Frame`] (the image with its
+//!   [`GroundTruth`]) for each [`FrameInput`] (the poses at capture), whole or in part.
+//!
+//! Image convention (shared with the tracker): origin at the top-left corner, **pixel
+//! centres at integer coordinates** (pixel (i, j) is centred at x = i, y = j).
+#![warn(missing_docs)]
+
+mod camera;
+mod scene;
+
+pub use camera::{
+    apply_sensor, blur_reach_px, ground_truth_of, shift_noise, target_occluded, Backend,
+    BackendError, CameraRig, DrawStats, Field, Frame, FrameInput, GroundTextures, GroundTruth,
+    RenderError, RenderOptions, Renderer, SoftwareContext, TextureLayer, FAR_M, LAYERS, NEAR_M,
+    TEXTURE_SIZE, TILE_M,
+};
+pub use scene::{
+    builtin_description, builtin_poses, builtin_target, distractor_near_side, lead_from_target_of,
+    stream, AutoGain, CameraMount, ChaseVehicle, Chunk, ChunkPart, Densities, Distractor,
+    DistractorKind, DynamicObject, Layer, LeadVehicle, Material, Mesh, Motion, ObjectSlot,
+    Placement, RoadSurface, Route, RouteSegment, RouteSpec, Scene, SceneDescription, SceneError,
+    Sensor, Sun, Terrain, Textures, Vertex, BOARD_ALBEDO, BOARD_MARGIN_M, BUILTIN_GAP_M,
+    BUILTIN_SPEED_M_S, FIELD_PERIOD_STEPS, GRASS_ALBEDO, GRASS_ALBEDO_RANGE, GROUND_CELL_M,
+    MAX_BUFFER_BYTES, STRIPE_ALBEDO, STRIPE_OVERRUN_M, STRIPE_WIDTH_M,
+};
