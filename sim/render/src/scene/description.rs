@@ -1,8 +1,8 @@
 //! The scene description: everything the scenario code fills in, in SI units. Building a
 //! [`crate::scene::Scene`] from it is deterministic for a given `seed`.
 
+use super::error::SceneError;
 use super::route::{RouteSegment, RouteSpec};
-use super::SceneError;
 use tracker::TargetModel;
 
 /// How much clutter to place along the route, per kilometre of route (both sides together

@@ -2,7 +2,7 @@
 //! on the same grid and cut into the same triangles as the rapier heightfield the wheels
 //! roll on, so that the rendered road rises and falls exactly where the vehicles pitch.
 
-use super::build::SceneError;
+use super::error::SceneError;
 use super::mesh::{Mesh, Vertex};
 use vehicle::{Ground, GroundConfig};
 

@@ -1,0 +1,83 @@
+//! The moving objects, each in its own frame and slot: the chase vehicle's hood, the lead
+//! with its board, and the oncoming traffic.
+
+use super::car::{car, CarBody};
+use super::description::ChaseVehicle;
+use super::dynamic_object::{DynamicObject, Motion};
+use super::lead::lead_vehicle;
+use super::mesh::Mesh;
+use super::object_slot::ObjectSlot;
+use super::site::Site;
+use rand::Rng;
+
+/// Appends the moving objects to `mesh`, in this order: the chase hood, the lead with its
+/// board, and the oncoming vehicles (as many as the description's density puts on the
+/// route and the next minute's driving, and the renderer has slots for).
+pub(super) fn lay_objects(site: &Site<'_>, mesh: &mut Mesh) -> Vec<DynamicObject> {
+    let description = site.description;
+    let mut objects = vec![
+        DynamicObject::appended(
+            mesh,
+            hood(&description.chase),
+            ObjectSlot::CHASE,
+            false,
+            Motion::Chase,
+        ),
+        DynamicObject::appended(
+            mesh,
+            lead_vehicle(description),
+            ObjectSlot::LEAD,
+            true,
+            Motion::Lead,
+        ),
+    ];
+    lay_oncoming(site, mesh, &mut objects);
+    objects
+}
+
+/// The chase vehicle's hood, in the chase's frame.
+fn hood(chase: &ChaseVehicle) -> Mesh {
+    let mut hood = Mesh::default();
+    hood.aabb(
+        [
+            chase.hood_back_m,
+            chase.hood_height_m - 0.6,
+            -0.5 * chase.hood_width_m,
+        ],
+        [
+            chase.hood_front_m,
+            chase.hood_height_m,
+            0.5 * chase.hood_width_m,
+        ],
+        0.45,
+        ObjectSlot::CHASE,
+    );
+    hood
+}
+
+/// Appends the oncoming cars, each in a slot of its own, drawn from the scene's
+/// `"oncoming-vehicles"` stream, their bodies from `"oncoming-vehicle-bodies"`.
+fn lay_oncoming(site: &Site<'_>, mesh: &mut Mesh, objects: &mut Vec<DynamicObject>) {
+    let d = &site.description.densities;
+    let mut oncoming = site.stream("oncoming-vehicles");
+    let mut oncoming_bodies = site.stream("oncoming-vehicle-bodies");
+    let span = site.length + d.oncoming_speed_m_s * 60.0;
+    let n = Site::count(d.oncoming_vehicles_per_km, span)
+        .min((ObjectSlot::COUNT - ObjectSlot::FIRST_ONCOMING) as usize);
+    for k in 0..n {
+        let slot = ObjectSlot::FIRST_ONCOMING + k as u32;
+        let mut part = Mesh::default();
+        car(
+            &mut part,
+            slot,
+            oncoming.random_range(0.1..0.8),
+            CarBody::pick(oncoming_bodies.random_range(0.0..1.0)),
+        );
+        let start_m = oncoming.random_range(0.0..span);
+        let motion = Motion::Oncoming {
+            start_m,
+            speed_m_s: d.oncoming_speed_m_s,
+        };
+        objects.push(DynamicObject::appended(mesh, part, slot, true, motion));
+    }
+}
