@@ -11,10 +11,11 @@
 mod overlay;
 mod recording;
 mod report;
+mod simulation;
 mod sweep;
 mod track;
 
-pub use overlay::{draw_overlay, line, OverlayColour};
+pub use overlay::{draw_frame_overlay, draw_overlay, line, OverlayColour};
 pub use recording::{
     replay, topics, ControllerState, GroundTruth, LiveOptions, RecordError, Recorder,
     RecorderOptions, ReplayError, ReplayJob, ReplaySetup, ReplaySummary, SettingChange, Tape,
@@ -26,6 +27,7 @@ pub use report::{
     GapStats, JunitScenario, LateralError, OutputOptions, RangeError, ReportError, RunOutputs,
     Summary, FRAMES_CSV_COLUMNS, GIF_DELAYS_CS, PLOT_FILES, SCHEMA_VERSION, VIDEO_OUTPUTS,
 };
+pub use simulation::{RunError, Simulation, SimulationOptions};
 pub use sweep::{
     best_values, dedupe_sorted, merge_dirs, read_failed, read_rows, recording_path, run_point,
     run_points, serve_points, write_failed, write_report, Axis, Best, FailedPoint, Manifest,

@@ -2,6 +2,7 @@
 //! model, and each edge point coloured by its fate.
 
 use image::{GrayImage, Rgb, RgbImage};
+use sim_core::FrameOutput;
 use tracker::{EdgeDiagnostic, EdgeFate, Orientation, TrackOutput};
 
 /// The overlay's colours, by what they mark.
@@ -65,6 +66,38 @@ pub fn draw_overlay(frame: &GrayImage, out: &TrackOutput, edges: &[EdgeDiagnosti
     }
     if let Some(m) = out.measurement {
         let (cx, cy) = (m.location.c_x, m.location.c_y);
+        line(&mut img, (cx - 3.0, cy), (cx + 3.0, cy), C::CENTRE);
+        line(&mut img, (cx, cy - 3.0), (cx, cy + 3.0), C::CENTRE);
+    }
+    img
+}
+
+/// A frame of the loop with its tracker's overlay: the paper's tracker's whole overlay
+/// ([`draw_overlay`]), or, for a plug-in, a cross on the centre its estimate gives and a box
+/// of the target's size at its scale, where it gives them.
+pub fn draw_frame_overlay(out: &FrameOutput, target_size_px: [f64; 2]) -> RgbImage {
+    if let Some(track) = &out.track {
+        return draw_overlay(&out.image, track, &out.edges);
+    }
+    let frame = &out.image;
+    let mut img = RgbImage::from_fn(frame.width(), frame.height(), |x, y| {
+        let g = frame.get_pixel(x, y)[0];
+        Rgb([g, g, g])
+    });
+    let e = out.estimate.as_ref();
+    if let (Some(cx), Some(cy)) = (e.and_then(|e| e.cx), e.and_then(|e| e.cy)) {
+        if let Some(scale) = e.and_then(|e| e.scale) {
+            let [hw, hh] = target_size_px.map(|s| 0.5 * s * scale);
+            let (x0, y0, x1, y1) = (cx - hw, cy - hh, cx + hw, cy + hh);
+            for (a, b) in [
+                ((x0, y0), (x1, y0)),
+                ((x1, y0), (x1, y1)),
+                ((x1, y1), (x0, y1)),
+                ((x0, y1), (x0, y0)),
+            ] {
+                line(&mut img, a, b, C::PREDICTED);
+            }
+        }
         line(&mut img, (cx - 3.0, cy), (cx + 3.0, cy), C::CENTRE);
         line(&mut img, (cx, cy - 3.0), (cx, cy + 3.0), C::CENTRE);
     }

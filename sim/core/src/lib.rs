@@ -20,9 +20,11 @@
 mod auto_gain;
 mod child;
 mod closed_loop;
+mod delayed;
 mod driven_path;
 mod frame_parts;
 mod plan;
+mod plugin;
 mod record;
 mod render_thread;
 mod render_worker;
@@ -33,13 +35,18 @@ pub use child::{Child, RASTER_THREADS_ENV};
 pub use closed_loop::{ClosedLoop, FrameOutput, FramePoses, LoopError, LoopOptions, LoopTiming};
 pub use driven_path::DrivenPath;
 pub use plan::{lead_body_size_m, render_options, Plan};
+pub use plugin::{
+    BuiltinController, BuiltinTracker, CameraModel, Command, ControlInput, Controller,
+    ControllerChoice, Estimate, EstimateStatus, FrameTracker, PluginError, TrackerChoice,
+    TrackerInput,
+};
 pub use record::{FrameRecord, LossCause, TrackerStatus};
 pub use render_worker::{fingerprint, serve_frames};
 pub use scenario::{
-    apply_override, from_toml_naming_field, locate as locate_field, AutoGainFile, CameraFile,
-    ChaseFile, ClutterFile, DistractorFile, EnvironmentFile, Expect, LeadFile, LoopFile,
-    OverpassFile, RoadFile, RouteFile, Scenario, ScenarioError, ScenarioFile, SegmentFile,
-    SensorFile, SunFile, TexturesFile, TrackerFile, BUILTIN_NAME, BUILTIN_TARGET_TEXT,
+    apply_override, from_toml_naming_field, locate as locate_field, shipped_scenarios,
+    AutoGainFile, CameraFile, ChaseFile, ClutterFile, DistractorFile, EnvironmentFile, Expect,
+    LeadFile, LoopFile, OverpassFile, RoadFile, RouteFile, Scenario, ScenarioError, ScenarioFile,
+    SegmentFile, SensorFile, SunFile, TexturesFile, TrackerFile, BUILTIN_NAME, BUILTIN_TARGET_TEXT,
     FOCAL_LENGTH_MM, MAX_ARC_RADIUS_M, MAX_BLUR_SIGMA_PX, MAX_BREADCRUMBS, MAX_INIT_OFFSET_PX,
     MAX_ROUTE_M, MIN_ARC_RADIUS_M,
 };

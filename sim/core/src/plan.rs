@@ -9,6 +9,7 @@
 //! goes wrong in planning is the scenario's fault, and is said as a [`ScenarioError`]
 //! naming the field to blame.
 
+use crate::delayed::Delayed;
 use crate::scenario::{Scenario, ScenarioError};
 use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion};
 use sim_render::{
@@ -18,8 +19,8 @@ use sim_render::{
 use std::sync::Arc;
 use tracker::Location;
 use vehicle::{
-    ChaseController, DelayLine, LeadDriver, LeadEstimate, PanHead, Pose, Route, Vector, VehicleId,
-    VehicleParams, World, WorldConfig,
+    ChaseController, DelayLine, LeadDriver, PanHead, Pose, Route, Vector, VehicleId, VehicleParams,
+    World, WorldConfig,
 };
 
 /// Spacing of the points that turn the route's lane centre into the drivers' polyline,
@@ -180,7 +181,7 @@ pub struct Plan {
     pub(crate) lead_id: VehicleId,
     pub(crate) chase: ChaseController,
     pub(crate) lead: LeadDriver,
-    pub(crate) delay: DelayLine<LeadEstimate>,
+    pub(crate) delay: DelayLine<Delayed>,
     /// The camera's pan head, when the scenario has one (`[camera.pan]`).
     pub(crate) pan: Option<PanHead>,
     pub(crate) scene: Arc<Scene>,
@@ -371,6 +372,27 @@ impl Plan {
     /// view with the scenario's `tracker.init_offset`.
     pub fn tracker_start(&self) -> Location {
         self.tracker_start
+    }
+
+    /// The teleoperator's placement as an estimate (stage 8's position of it, eq. 36), for
+    /// a plug-in tracker's start.
+    pub fn start_estimate(&self) -> crate::plugin::Estimate {
+        let s = &self.scenario;
+        let at = self.tracker_start;
+        let width_px = tracker::Tracker::new(s.target.clone(), s.camera, s.tracker.clone(), at)
+            .map_or(f64::NAN, |t| t.target_width_px());
+        let [x, y, z] =
+            s.camera
+                .position_3d(at.c_x, at.c_y, at.scale * width_px, s.target.size_m()[0]);
+        crate::plugin::Estimate {
+            range_m: z,
+            lateral_m: x,
+            vertical_m: Some(y),
+            cx: Some(at.c_x),
+            cy: Some(at.c_y),
+            scale: Some(at.scale),
+            status: crate::plugin::EstimateStatus::Tracking,
+        }
     }
 
     /// Where the chase and the lead stand at t = 0: the rear axles, on the ground

@@ -1,12 +1,10 @@
 //! `carfollow run`: scenarios through the closed loop, with their outputs and verdicts.
 
 use super::exit::{self, incomplete, one_line};
-use anyhow::Context;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
-use sim::{write_junit, JunitScenario, OutputOptions, RunOutputs, Summary};
-use sim::{LiveOptions, Recorder, RecorderOptions, ReplaySetup, MCAP_FILE};
-use sim_core::{ClosedLoop, LoopOptions, LoopTiming, Plan, Scenario, RASTER_THREADS_ENV};
+use sim::{write_junit, JunitScenario, LiveOptions, Simulation, SimulationOptions, Summary};
+use sim_core::{Plan, Scenario, RASTER_THREADS_ENV};
 use sim_render::Backend;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -143,9 +141,10 @@ pub fn run_run(args: RunArgs) -> anyhow::Result<ExitCode> {
             Ok(summary) => say!("{}", verdict(summary, &dir)),
             Err(e) => eprintln!("error: {}: could not complete: {e}", scenario.name),
         }
-        // The scenario's own junit.xml, whatever happened.
-        let entry = junit_entry(scenario, wall_s, &outcome);
-        if std::fs::create_dir_all(&dir).is_ok() {
+        // The scenario's own junit.xml: a completed run's simulation wrote it; one that
+        // could not complete says so in it.
+        if outcome.is_err() && std::fs::create_dir_all(&dir).is_ok() {
+            let entry = junit_entry(scenario, wall_s, &outcome);
             if let Err(e) = write_junit(dir.join("junit.xml"), &[entry]) {
                 eprintln!("error: {e}");
             }
@@ -256,12 +255,8 @@ fn rasterise_on_own_thread(args: &RunArgs) -> bool {
 }
 
 fn run_one(plan: Plan, backend: Backend, dir: &Path, args: &RunArgs) -> anyhow::Result<Summary> {
-    let started = Instant::now();
     let scenario = plan.scenario().clone();
-    let scenario = &scenario;
     // The scenario is planned: from here on, whatever stops the run is not bad input.
-    let recording = recorder_options(dir, args);
-    let record = recording.mcap.is_some() || recording.live.is_some();
     // The second renderer's process, where it cannot be a thread of this one (see
     // `ClosedLoop::start`): `carfollow render-worker` with this scenario.
     let worker_process = std::env::current_exe().ok().map(|exe| {
@@ -276,152 +271,110 @@ fn run_one(plan: Plan, backend: Backend, dir: &Path, args: &RunArgs) -> anyhow::
         command.arg("--backend").arg(backend.to_string());
         command
     });
-    let looped = ClosedLoop::start(
+    let mut sim = Simulation::new(
         plan,
-        LoopOptions {
-            backend,
+        SimulationOptions {
             renderers: renderers(args),
-            // The overlay of the video and the recording needs the edges' fates.
-            diagnostics: args.video || record,
-            // Only the video and the recording look at the frames: otherwise only the part
-            // the tracker reads is rendered.
-            whole_frames: args.video || record,
             worker_process,
-        },
-    );
-    let mut looped = looped.map_err(incomplete)?;
-    for note in looped.notes() {
-        eprintln!("warning: {note}");
-    }
-    let frames = looped.frames();
-    // A recording of an earlier run must not pass for this one's, whether or not this run
-    // records.
-    let old_recording = dir.join(MCAP_FILE);
-    if old_recording.is_file() {
-        std::fs::remove_file(&old_recording)
-            .with_context(|| format!("{}: cannot remove", old_recording.display()))
-            .map_err(incomplete)?;
-    }
-    if recording.mcap.is_some() {
-        std::fs::create_dir_all(dir)
-            .with_context(|| format!("{}: cannot create the output folder", dir.display()))
-            .map_err(incomplete)?;
-    }
-    let mut recorder = if record {
-        let setup = ReplaySetup::of(scenario, &looped)
-            .map_err(anyhow::Error::msg)
-            .map_err(incomplete)?;
-        Some(Recorder::start(&setup, &recording).map_err(incomplete)?)
-    } else {
-        None
-    };
-    let mut outputs = RunOutputs::create(
-        dir,
-        OutputOptions {
+            out: Some(dir.to_path_buf()),
             video: args.video,
             video_stride: args.video_stride,
-            expected_frames: Some(frames),
-            features: scenario.target.segments().len(),
-            ..OutputOptions::default()
+            mcap: args.mcap,
+            mcap_failed: args.mcap_failed,
+            live: args.live.then_some(LiveOptions {
+                port: args.live_port,
+                wait_for_client: args.live_wait,
+            }),
+            ..SimulationOptions::new(backend)
         },
     )
     .map_err(incomplete)?;
-    outputs.set_provenance(scenario.resolved_json(), scenario.overrides.clone());
-    // Off a terminal (CI, Slurm) the bar hides itself: a line every few seconds instead.
-    let log_progress = !args.quiet && !std::io::stderr().is_terminal();
-    let every = Duration::from_secs_f64(args.progress_every);
-    let mut next_log = Instant::now() + every;
-    let bar = if args.quiet {
-        ProgressBar::hidden()
-    } else {
-        ProgressBar::new(frames)
-    };
-    bar.set_style(
-        ProgressStyle::with_template("{prefix} [{bar:30}] {msg} ({elapsed_precise}, eta {eta})")
-            .expect("valid template")
-            .progress_chars("=> "),
-    );
-    bar.set_prefix(scenario.name.clone());
-    let mut outputs_s = 0.0;
-    while let Some(out) = looped.step().map_err(incomplete)? {
-        let written = Instant::now();
-        outputs.record(&out.record).map_err(incomplete)?;
-        if let Some(r) = &mut recorder {
-            r.frame(&out, looped.chase());
-        }
-        if args.video {
-            let img = sim::draw_overlay(&out.image, &out.track, &out.edges);
-            outputs
-                .frame_image(out.record.frame, &img)
-                .map_err(incomplete)?;
-        }
-        bar.inc(1);
-        if log_progress && written >= next_log {
-            next_log = written + every;
-            eprintln!(
-                "{}: t {:.1}/{:.0} s ({:.0} %), {:.1}× real time, gap {:.2} m, {}",
-                scenario.name,
-                out.record.t_s,
-                scenario.duration_s,
-                100.0 * (out.record.frame + 1) as f64 / frames.max(1) as f64,
-                out.record.t_s / started.elapsed().as_secs_f64().max(1e-9),
-                out.record.gap_m,
-                out.record.status.as_str()
-            );
-        }
-        if out.record.frame % 15 == 0 {
-            let wall = started.elapsed().as_secs_f64();
-            let fps = (out.record.frame + 1) as f64 / wall.max(1e-9);
-            bar.set_message(format!(
-                "t {:6.1}/{:.0} s, {:5.1} frames/s, {:4.1}× real time, gap {:5.2} m, {}",
-                out.record.t_s,
-                scenario.duration_s,
-                fps,
-                fps / 15.0,
-                out.record.gap_m,
-                out.record.status.as_str()
-            ));
-        }
-        outputs_s += written.elapsed().as_secs_f64();
+    for note in sim.notes() {
+        eprintln!("warning: {note}");
     }
-    bar.finish_and_clear();
-    let wall_s = started.elapsed().as_secs_f64();
-    let timing = LoopTiming {
-        outputs_s,
-        ..looped.timing()
-    };
-    let summary = outputs
-        .finish(
-            &scenario.name,
-            scenario.seed,
-            &scenario.expect,
-            wall_s,
-            Some(timing),
-        )
-        .map_err(incomplete)?;
-    if let Some(r) = recorder {
-        let keep_failed_only = args.mcap_failed;
-        if let Some(path) = r
-            .finish(Some(&summary), |s| {
-                !keep_failed_only || s.is_some_and(|s| !s.passed)
-            })
-            .map_err(incomplete)?
-        {
-            say!("{}: recording", path.display());
-        }
+    let progress = Progress::new(&scenario, sim.looped().frames(), args);
+    let started = Instant::now();
+    while let Some(out) = sim.step().map_err(incomplete)? {
+        progress.frame(&out.record, started.elapsed().as_secs_f64());
+    }
+    progress.done();
+    let (summary, recording) = sim.finish().map_err(incomplete)?;
+    if let Some(path) = recording {
+        say!("{}: recording", path.display());
     }
     Ok(summary)
 }
 
-/// Where the run is recorded: `DIR/run.mcap` with `--mcap` or `--mcap-failed`, and the
-/// live view with `--live`.
-fn recorder_options(dir: &Path, args: &RunArgs) -> RecorderOptions {
-    RecorderOptions {
-        mcap: (args.mcap || args.mcap_failed).then(|| dir.join(MCAP_FILE)),
-        live: args.live.then_some(LiveOptions {
-            port: args.live_port,
-            wait_for_client: args.live_wait,
-        }),
+/// A run's progress: a bar on a terminal; off one (a CI or Slurm log, where the bar hides
+/// itself), a line every `--progress-every` seconds; nothing with `--quiet`.
+struct Progress {
+    bar: ProgressBar,
+    log_every: Option<Duration>,
+    next_log: std::cell::Cell<Instant>,
+    name: String,
+    duration_s: f64,
+    frames: u64,
+}
+
+impl Progress {
+    fn new(scenario: &Scenario, frames: u64, args: &RunArgs) -> Progress {
+        let bar = if args.quiet {
+            ProgressBar::hidden()
+        } else {
+            ProgressBar::new(frames)
+        };
+        bar.set_style(
+            ProgressStyle::with_template(
+                "{prefix} [{bar:30}] {msg} ({elapsed_precise}, eta {eta})",
+            )
+            .expect("valid template")
+            .progress_chars("=> "),
+        );
+        bar.set_prefix(scenario.name.clone());
+        let every = Duration::from_secs_f64(args.progress_every);
+        Progress {
+            bar,
+            log_every: (!args.quiet && !std::io::stderr().is_terminal()).then_some(every),
+            next_log: std::cell::Cell::new(Instant::now() + every),
+            name: scenario.name.clone(),
+            duration_s: scenario.duration_s,
+            frames,
+        }
+    }
+
+    /// After frame `r`, `wall_s` seconds into the run.
+    fn frame(&self, r: &sim_core::FrameRecord, wall_s: f64) {
+        self.bar.inc(1);
+        let now = Instant::now();
+        if let Some(every) = self.log_every.filter(|_| now >= self.next_log.get()) {
+            self.next_log.set(now + every);
+            eprintln!(
+                "{}: t {:.1}/{:.0} s ({:.0} %), {:.1}× real time, gap {:.2} m, {}",
+                self.name,
+                r.t_s,
+                self.duration_s,
+                100.0 * (r.frame + 1) as f64 / self.frames.max(1) as f64,
+                r.t_s / wall_s.max(1e-9),
+                r.gap_m,
+                r.status.as_str()
+            );
+        }
+        if r.frame.is_multiple_of(15) {
+            let fps = (r.frame + 1) as f64 / wall_s.max(1e-9);
+            self.bar.set_message(format!(
+                "t {:6.1}/{:.0} s, {:5.1} frames/s, {:4.1}× real time, gap {:5.2} m, {}",
+                r.t_s,
+                self.duration_s,
+                fps,
+                fps / 15.0,
+                r.gap_m,
+                r.status.as_str()
+            ));
+        }
+    }
+
+    fn done(&self) {
+        self.bar.finish_and_clear();
     }
 }
 

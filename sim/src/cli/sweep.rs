@@ -272,8 +272,8 @@ fn resumable(
             blocked.display()
         )));
     }
-    let (done_rows, complete) = read_rows(&results)?;
-    let exists = std::fs::metadata(&results).is_ok_and(|m| m.len() > 0);
+    let (done_rows, complete) = read_rows(results)?;
+    let exists = std::fs::metadata(results).is_ok_and(|m| m.len() > 0);
     if exists && !resume {
         anyhow::bail!(
             "{} already has results: pass --resume to continue it, or remove it",

@@ -114,7 +114,8 @@ struct Channels {
 /// after it.
 struct FrameData {
     out: FrameOutput,
-    telemetry: ChaseTelemetry,
+    /// The built-in controller's telemetry (`None` for a plug-in controller).
+    telemetry: Option<ChaseTelemetry>,
     trail: Vec<vehicle::Vector>,
     /// The chase controller's events since the last frame.
     controller_events: Vec<String>,
@@ -282,9 +283,10 @@ impl Recorder {
         self.mcap.as_deref()
     }
 
-    /// Records one frame of the loop, with the chase controller as it stands after it.
-    pub fn frame(&mut self, out: &FrameOutput, chase: &ChaseController) {
-        let events = chase.events();
+    /// Records one frame of the loop, with the chase controller as it stands after it
+    /// (`None` for a plug-in controller, whose inner state the recording cannot know).
+    pub fn frame(&mut self, out: &FrameOutput, chase: Option<&ChaseController>) {
+        let events = chase.map_or(&[][..], |c| c.events());
         let controller_events = events[self.controller_events.min(events.len())..]
             .iter()
             .map(|e| {
@@ -310,9 +312,10 @@ impl Recorder {
                     .collect(),
                 poses: out.poses,
                 ego: out.ego,
+                estimate: out.estimate,
             },
-            telemetry: *chase.telemetry(),
-            trail: chase.trail().positions(),
+            telemetry: chase.map(|c| *c.telemetry()),
+            trail: chase.map_or_else(Vec::new, |c| c.trail().positions()),
             controller_events,
         };
         if let Some(to) = &self.to_writer {
@@ -583,44 +586,13 @@ impl Writer {
         let ch = &self.channels;
         ch.scene.log_with_time(&scene, ns);
 
-        let t = &out.track;
-        let m = t.measurement;
-        let confidence = m.map_or([0.0; 3], |m| m.confidence);
-        ch.tracker.log_with_time(
-            &TrackerState {
-                frame: r.frame,
-                t_s: t.t_s,
-                status: r.status.as_str().into(),
-                status_code: status_code(r.status),
-                measured: m.is_some(),
-                est_cx_px: t.estimate.c_x,
-                est_cy_px: t.estimate.c_y,
-                est_scale: t.estimate.scale,
-                pred_cx_px: t.predicted.c_x,
-                pred_cy_px: t.predicted.c_y,
-                pred_scale: t.predicted.scale,
-                x_m: t.position_3d[0],
-                y_m: t.position_3d[1],
-                z_m: t.position_3d[2],
-                confidence_x: confidence[0],
-                confidence_y: confidence[1],
-                confidence_scale: confidence[2],
-                coverage_h: t.coverage[0],
-                coverage_v: t.coverage[1],
-                coverage_gain: plottable(t.coverage_gain),
-                edge_threshold: t.edge_threshold,
-                searched: t.searched,
-                event: r.tracker_event.clone(),
-                window_size: t.window.size_index as u32,
-            },
-            ns,
-        );
+        ch.tracker.log_with_time(&tracker_state(out), ns);
         let ego = out.ego.map(|e| e.rotation_rad);
         let [ego_x_rad, ego_y_rad, ego_z_rad] = ego.unwrap_or([0.0; 3]);
         ch.input.log_with_time(
             &TrackerInput {
                 frame: r.frame,
-                t_s: t.t_s,
+                t_s: r.t_s,
                 aided: ego.is_some(),
                 ego_x_rad,
                 ego_y_rad,
@@ -628,7 +600,8 @@ impl Writer {
             },
             ns,
         );
-        let telemetry = &data.telemetry;
+        let none = |v: Option<f32>| v.map_or(f64::NAN, f64::from);
+        let telemetry = data.telemetry.as_ref();
         ch.controller.log_with_time(
             &ControllerState {
                 frame: r.frame,
@@ -637,15 +610,15 @@ impl Writer {
                 throttle: r.throttle,
                 brake: r.brake,
                 chase_speed_mps: r.chase_speed_mps,
-                gap_estimate_m: finite_or_nan(telemetry.gap_m),
-                desired_gap_m: f64::from(telemetry.desired_gap_m),
-                speed_ref_mps: f64::from(telemetry.speed_ref_mps),
-                curvature: f64::from(telemetry.curvature),
-                emergency: telemetry.emergency,
+                gap_estimate_m: telemetry.map_or(f64::NAN, |t| finite_or_nan(t.gap_m)),
+                desired_gap_m: none(telemetry.map(|t| t.desired_gap_m)),
+                speed_ref_mps: none(telemetry.map(|t| t.speed_ref_mps)),
+                curvature: none(telemetry.map(|t| t.curvature)),
+                emergency: telemetry.is_some_and(|t| t.emergency),
                 breadcrumbs: data.trail.len() as u32,
-                curvature_ahead: f64::from(telemetry.curvature_ahead),
-                pan_aim_deg: f64::from(telemetry.pan_aim_rad).to_degrees(),
-                pan_rate_cmd_deg_s: f64::from(telemetry.pan_rate_cmd_rad_s).to_degrees(),
+                curvature_ahead: none(telemetry.map(|t| t.curvature_ahead)),
+                pan_aim_deg: none(telemetry.map(|t| t.pan_aim_rad)).to_degrees(),
+                pan_rate_cmd_deg_s: none(telemetry.map(|t| t.pan_rate_cmd_rad_s)).to_degrees(),
             },
             ns,
         );
@@ -912,12 +885,100 @@ impl Writer {
     }
 }
 
+/// The tracker's state for a frame: the paper's tracker's whole output, or what a plug-in's
+/// estimate says (the rest not a number).
+fn tracker_state(out: &FrameOutput) -> TrackerState {
+    let r = &out.record;
+    let Some(t) = &out.track else {
+        return TrackerState {
+            frame: r.frame,
+            t_s: r.t_s,
+            status: r.status.as_str().into(),
+            status_code: status_code(r.status),
+            measured: out.estimate.is_some(),
+            est_cx_px: r.est_cx,
+            est_cy_px: r.est_cy,
+            est_scale: r.est_scale,
+            pred_cx_px: f64::NAN,
+            pred_cy_px: f64::NAN,
+            pred_scale: f64::NAN,
+            x_m: r.est_lateral_m,
+            y_m: out.estimate.and_then(|e| e.vertical_m).unwrap_or(f64::NAN),
+            z_m: r.est_range_m,
+            confidence_x: f64::NAN,
+            confidence_y: f64::NAN,
+            confidence_scale: f64::NAN,
+            coverage_h: f64::NAN,
+            coverage_v: f64::NAN,
+            coverage_gain: f64::NAN,
+            edge_threshold: f64::NAN,
+            searched: false,
+            event: String::new(),
+            window_size: 0,
+        };
+    };
+    let m = t.measurement;
+    let confidence = m.map_or([0.0; 3], |m| m.confidence);
+    TrackerState {
+        frame: r.frame,
+        t_s: t.t_s,
+        status: r.status.as_str().into(),
+        status_code: status_code(r.status),
+        measured: m.is_some(),
+        est_cx_px: t.estimate.c_x,
+        est_cy_px: t.estimate.c_y,
+        est_scale: t.estimate.scale,
+        pred_cx_px: t.predicted.c_x,
+        pred_cy_px: t.predicted.c_y,
+        pred_scale: t.predicted.scale,
+        x_m: t.position_3d[0],
+        y_m: t.position_3d[1],
+        z_m: t.position_3d[2],
+        confidence_x: confidence[0],
+        confidence_y: confidence[1],
+        confidence_scale: confidence[2],
+        coverage_h: t.coverage[0],
+        coverage_v: t.coverage[1],
+        coverage_gain: plottable(t.coverage_gain),
+        edge_threshold: t.edge_threshold,
+        searched: t.searched,
+        event: r.tracker_event.clone(),
+        window_size: t.window.size_index as u32,
+    }
+}
+
+/// A cross on the measured centre.
+fn centre(cx: f64, cy: f64, ts: Timestamp) -> PointsAnnotation {
+    points(
+        points_annotation::Type::LineList,
+        vec![
+            pixel(cx - 3.0, cy),
+            pixel(cx + 3.0, cy),
+            pixel(cx, cy - 3.0),
+            pixel(cx, cy + 3.0),
+        ],
+        OverlayColour::CENTRE,
+        ts,
+    )
+}
+
 /// What the overlay draws, as image annotations: the window of interest, the predicted
-/// model, associated and rejected edge points, and the measured centre.
+/// model, associated and rejected edge points, and the measured centre (for a plug-in,
+/// the centre its estimate gives, if any).
 fn annotations(out: &FrameOutput, ts: Timestamp) -> ImageAnnotations {
     use points_annotation::Type;
-    let t = &out.track;
     let mut list = Vec::new();
+    let Some(t) = &out.track else {
+        let e = out.estimate.as_ref();
+        if let (Some(cx), Some(cy)) = (e.and_then(|e| e.cx), e.and_then(|e| e.cy)) {
+            list.push(centre(cx, cy, ts));
+        }
+        return ImageAnnotations {
+            timestamp: Some(ts),
+            points: list,
+            ..ImageAnnotations::default()
+        };
+    };
     let w = t.window;
     if !w.is_empty() {
         let (x0, y0, x1, y1) = (
@@ -966,18 +1027,7 @@ fn annotations(out: &FrameOutput, ts: Timestamp) -> ImageAnnotations {
         }
     }
     if let Some(m) = t.measurement {
-        let (cx, cy) = (m.location.c_x, m.location.c_y);
-        list.push(points(
-            Type::LineList,
-            vec![
-                pixel(cx - 3.0, cy),
-                pixel(cx + 3.0, cy),
-                pixel(cx, cy - 3.0),
-                pixel(cx, cy + 3.0),
-            ],
-            OverlayColour::CENTRE,
-            ts,
-        ));
+        list.push(centre(m.location.c_x, m.location.c_y, ts));
     }
     ImageAnnotations {
         timestamp: Some(ts),

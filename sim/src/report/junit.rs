@@ -255,11 +255,14 @@ mod tests {
         assert_eq!(iso8601_utc(t), "2000-02-29T00:00:00");
     }
 
-    /// Every element of `xml` in document order: its name, attributes and text.
-    fn elements(xml: &str) -> Vec<(String, Vec<(String, String)>, String)> {
+    /// An element: its name, attributes and text.
+    type Element = (String, Vec<(String, String)>, String);
+
+    /// Every element of `xml` in document order.
+    fn elements(xml: &str) -> Vec<Element> {
         use quick_xml::events::Event;
         let mut reader = quick_xml::Reader::from_str(xml);
-        let mut all: Vec<(String, Vec<(String, String)>, String)> = Vec::new();
+        let mut all: Vec<Element> = Vec::new();
         let mut open: Vec<usize> = Vec::new();
         loop {
             let event = reader.read_event().expect("well-formed XML");

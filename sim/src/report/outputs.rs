@@ -62,6 +62,8 @@ pub struct RunOutputs {
     stills: Stills,
     /// The resolved scenario and the overrides, for `summary.json`.
     provenance: Option<(serde_json::Value, Vec<String>)>,
+    /// The tracker's and the controller's names, for `summary.json`.
+    components: Option<(String, String)>,
 }
 
 /// Which stills are still to be written.
@@ -127,6 +129,7 @@ impl RunOutputs {
                 ..Stills::default()
             },
             provenance: None,
+            components: None,
         })
     }
 
@@ -134,6 +137,11 @@ impl RunOutputs {
     /// overrides applied and defaults filled in) and the `--set` overrides, in order.
     pub fn set_provenance(&mut self, resolved: serde_json::Value, overrides: Vec<String>) {
         self.provenance = Some((resolved, overrides));
+    }
+
+    /// Names the tracker and the controller that ran, for `summary.json`.
+    pub fn set_components(&mut self, tracker: String, controller: String) {
+        self.components = Some((tracker, controller));
     }
 
     /// The output directory.
@@ -221,6 +229,10 @@ impl RunOutputs {
         if let Some((resolved, overrides)) = &self.provenance {
             summary.resolved_scenario = Some(resolved.clone());
             summary.overrides = overrides.clone();
+        }
+        if let Some((tracker, controller)) = &self.components {
+            summary.tracker = Some(tracker.clone());
+            summary.controller = Some(controller.clone());
         }
         summary.write_json(self.dir.join("summary.json"))?;
         if self.options.plots {

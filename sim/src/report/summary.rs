@@ -55,6 +55,14 @@ pub struct Summary {
     pub scenario: String,
     /// The scenario's seed.
     pub seed: u64,
+    /// The tracker that ran: the paper's, with its mode, or a plug-in's own name (left out
+    /// when the caller did not say).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tracker: Option<String>,
+    /// The controller that ran: the built-in, or a plug-in's own name (left out when the
+    /// caller did not say).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub controller: Option<String>,
     /// Simulated time covered by the records, seconds.
     pub duration_s: f64,
     /// Number of frames recorded.
@@ -346,6 +354,8 @@ impl Summary {
             resolved_scenario: None,
             scenario: scenario.to_owned(),
             seed,
+            tracker: None,
+            controller: None,
             duration_s,
             frames: records.len() as u64,
             passed: false,

@@ -91,6 +91,8 @@ pub fn run_point(
         wall_s,
     );
     summary.timing = Some(looped.timing());
+    summary.tracker = Some(looped.tracker_name());
+    summary.controller = Some(looped.controller_name());
     // What this point changed of its scenario file: the sweep's `set`, `--set`, its seed and
     // its axes' values. (The resolved scenario follows from them and the file; a row does
     // not repeat it.)

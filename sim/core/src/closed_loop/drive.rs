@@ -2,12 +2,85 @@
 //! the tracker and the chase controller, stepped eight 120 Hz steps to each camera frame.
 
 use super::iso;
+use crate::delayed::Delayed;
+use crate::plugin::{ControlInput, Controller, Estimate, EstimateStatus, PluginError};
 use sim_render::Field;
-use tracker::TrackOutput;
 use vehicle::{
-    ChaseController, DelayLine, LeadDriver, LeadEstimate, Odometry, PanHead, Step, TrackStatus,
-    Vector, VehicleId, World, STEPS_PER_FRAME,
+    ChaseController, Controls, DelayLine, LeadDriver, LeadEstimate, Odometry, PanHead, Step,
+    TrackStatus, Vector, VehicleId, World, STEPS_PER_FRAME,
 };
+
+/// The chase's controller: the built-in, or a plug-in.
+// One per loop, made once and never moved in the loop's steps: the built-in's size costs
+// nothing, and a box would cost an indirection at 120 Hz.
+#[allow(clippy::large_enum_variant)]
+pub(super) enum Chase {
+    /// The built-in controller, fed every estimate that falls due.
+    Builtin(ChaseController),
+    /// A plug-in, fed the latest estimate delivered.
+    Plugin(PluginChase),
+}
+
+/// A plug-in controller and what it has heard.
+pub(super) struct PluginChase {
+    pub(super) controller: Box<dyn Controller>,
+    /// The latest estimate delivered, by capture time.
+    latest: Option<Delayed>,
+    /// Why it failed, and at which step; the physics stops there.
+    pub(super) failed: Option<(Step, PluginError)>,
+}
+
+impl PluginChase {
+    pub(super) fn new(controller: Box<dyn Controller>) -> PluginChase {
+        PluginChase {
+            controller,
+            latest: None,
+            failed: None,
+        }
+    }
+}
+
+/// A physics step's commands from a plug-in: the vehicle's controls and the pan head's rate.
+fn plugin_commands(
+    p: &mut PluginChase,
+    delivered: Vec<Delayed>,
+    step: Step,
+    chase: &vehicle::VehicleState,
+    pan_reading_rad: f64,
+) -> Result<(Controls, f64), PluginError> {
+    let fresh = !delivered.is_empty();
+    for d in delivered {
+        if p.latest
+            .is_none_or(|l| l.lead.capture_step <= d.lead.capture_step)
+        {
+            p.latest = Some(d);
+        }
+    }
+    let input = ControlInput {
+        estimate: p.latest.map(|d| d.estimate),
+        fresh,
+        captured_t_s: p.latest.map(|d| d.lead.capture_step.seconds()),
+        captured_pan_rad: p.latest.map(|d| f64::from(d.lead.camera_pan_rad)),
+        t_s: step.seconds(),
+        world_from_chase: chase.world_from_vehicle,
+        speed_mps: f64::from(chase.forward_speed_mps),
+        // The vehicle's angles turn positive to the left (ISO 8855); the plug-ins' to the
+        // right, as the estimate's lateral offset and the pan head's angle do.
+        yaw_rate_rad_s: -f64::from(chase.yaw_rate_radps),
+        steering_rad: -f64::from(chase.steer_rad),
+        pan_rad: pan_reading_rad,
+    };
+    let command = p.controller.control(&input)?;
+    command.validate()?;
+    Ok((
+        Controls {
+            steer_rad: -command.steering_rad as f32,
+            throttle: command.throttle as f32,
+            brake: command.brake as f32,
+        },
+        command.pan_rate_rad_s,
+    ))
+}
 
 /// The physics side of the loop: both vehicles, their drivers and the delay line between
 /// the tracker and the chase controller.
@@ -15,9 +88,9 @@ pub(super) struct Drive {
     pub(super) world: World,
     pub(super) chase_id: VehicleId,
     pub(super) lead_id: VehicleId,
-    pub(super) chase: ChaseController,
+    pub(super) chase: Chase,
     pub(super) lead: LeadDriver,
-    pub(super) delay: DelayLine<LeadEstimate>,
+    pub(super) delay: DelayLine<Delayed>,
     /// The camera's pan head, when the scenario has one (`[camera.pan]`).
     pub(super) pan: Option<PanHead>,
     /// With an interlaced camera, the world one field period before the next frame
@@ -45,11 +118,15 @@ impl Drive {
     pub(super) fn advance_frame(&mut self) -> Driven {
         self.advance_steps(None);
         let ahead = self.ahead.take().expect("the frame's steps have run");
+        let (chase_mode, desired_gap_m) = match &self.chase {
+            Chase::Builtin(c) => (Some(c.mode()), c.telemetry().desired_gap_m),
+            Chase::Plugin(_) => (None, f32::NAN),
+        };
         Driven {
             controls: ahead.controls,
             collision: ahead.collision,
-            chase_mode: self.chase.mode(),
-            desired_gap_m: self.chase.telemetry().desired_gap_m,
+            chase_mode,
+            desired_gap_m,
         }
     }
 
@@ -75,19 +152,40 @@ impl Drive {
             {
                 self.earlier_field = Some(self.field_now());
             }
-            for estimate in self.delay.pop_due(step_now) {
-                self.chase.receive(estimate);
-            }
+            let delivered = self.delay.pop_due(step_now);
             let chase = self.world.vehicle_state(self.chase_id);
             let lead = self.world.vehicle_state(self.lead_id);
-            ahead.controls = self.chase.update(&Odometry {
-                step: step_now,
-                world_from_chase: chase.world_from_vehicle,
-                forward_speed_mps: chase.forward_speed_mps,
-                camera_pan_rad: self.pan_reading_rad() as f32,
-            });
+            let pan_reading_rad = self.pan_reading_rad();
+            let pan_rate_rad_s = match &mut self.chase {
+                Chase::Builtin(c) => {
+                    for d in delivered {
+                        c.receive(d.lead);
+                    }
+                    ahead.controls = c.update(&Odometry {
+                        step: step_now,
+                        world_from_chase: chase.world_from_vehicle,
+                        forward_speed_mps: chase.forward_speed_mps,
+                        camera_pan_rad: pan_reading_rad as f32,
+                    });
+                    f64::from(c.telemetry().pan_rate_cmd_rad_s)
+                }
+                Chase::Plugin(p) if p.failed.is_some() => break,
+                Chase::Plugin(p) => {
+                    match plugin_commands(p, delivered, step_now, &chase, pan_reading_rad) {
+                        Ok((controls, pan_rate)) => {
+                            ahead.controls = controls;
+                            pan_rate
+                        }
+                        Err(e) => {
+                            // The run ends here: nothing more is stepped.
+                            p.failed = Some((step_now, e));
+                            break;
+                        }
+                    }
+                }
+            };
             if let Some(pan) = &mut self.pan {
-                pan.step(f64::from(self.chase.telemetry().pan_rate_cmd_rad_s));
+                pan.step(pan_rate_rad_s);
             }
             let lead_controls = self.lead.update(step_now, &lead);
             self.world.set_controls(self.chase_id, ahead.controls);
@@ -125,29 +223,45 @@ impl Drive {
         self.pan.as_ref().map_or(0.0, PanHead::reading_rad)
     }
 
-    /// Queues the tracker's output for a frame captured at `captured`, when the pan head's
-    /// encoder read `pan_reading_rad`.
+    /// Queues the tracker's estimate of a frame captured at `captured`, when the pan head's
+    /// encoder read `pan_reading_rad`; `position_m` is where it puts the target in the
+    /// camera frame.
     pub(super) fn push_estimate(
         &mut self,
         captured: Step,
-        track: &TrackOutput,
+        estimate: Estimate,
+        position_m: [f64; 3],
         pan_reading_rad: f64,
     ) {
-        let [x, y, z] = track.position_3d;
-        let status = match track.status {
-            tracker::Status::Tracking => TrackStatus::Tracking,
-            tracker::Status::Coasting => TrackStatus::Coasting,
-            tracker::Status::Lost => TrackStatus::Lost,
+        let [x, y, z] = position_m;
+        let status = match estimate.status {
+            EstimateStatus::Tracking => TrackStatus::Tracking,
+            EstimateStatus::Coasting => TrackStatus::Coasting,
+            EstimateStatus::Lost => TrackStatus::Lost,
         };
-        self.delay.push(
-            captured,
-            LeadEstimate {
-                capture_step: captured,
-                target_in_camera_m: Vector::new(x as f32, y as f32, z as f32),
-                status,
-                camera_pan_rad: pan_reading_rad as f32,
-            },
-        );
+        let lead = LeadEstimate {
+            capture_step: captured,
+            target_in_camera_m: Vector::new(x as f32, y as f32, z as f32),
+            status,
+            camera_pan_rad: pan_reading_rad as f32,
+        };
+        self.delay.push(captured, Delayed { lead, estimate });
+    }
+
+    /// The built-in controller, when it drives.
+    pub(super) fn builtin(&self) -> Option<&ChaseController> {
+        match &self.chase {
+            Chase::Builtin(c) => Some(c),
+            Chase::Plugin(_) => None,
+        }
+    }
+
+    /// A plug-in controller's failure, which ends the run.
+    pub(super) fn take_failure(&mut self) -> Option<(Step, PluginError)> {
+        match &mut self.chase {
+            Chase::Plugin(p) => p.failed.take(),
+            Chase::Builtin(_) => None,
+        }
     }
 }
 
@@ -159,6 +273,8 @@ impl Drive {
 pub(super) struct Driven {
     pub(super) controls: vehicle::Controls,
     pub(super) collision: bool,
-    pub(super) chase_mode: vehicle::ChaseMode,
+    /// The built-in controller's mode (`None` for a plug-in).
+    pub(super) chase_mode: Option<vehicle::ChaseMode>,
+    /// The built-in controller's desired gap (NaN for a plug-in).
     pub(super) desired_gap_m: f32,
 }

@@ -10,17 +10,21 @@ mod capture;
 mod drive;
 mod recorder;
 mod renderers;
+mod step;
+mod tracking;
 mod two_in_flight;
 
 pub use renderers::LoopOptions;
 
-use capture::{renders_ahead, timed, track_frame, xz, Captured, InFlight, HERE};
-use drive::{Drive, Driven};
+use capture::{renders_ahead, xz, Captured, InFlight};
+use drive::{Chase, Drive, Driven, PluginChase};
+use tracking::{PluginTracking, Tracking};
 
 use crate::auto_gain::AutoGainControl;
 use crate::driven_path::DrivenPath;
-use crate::frame_parts::{track_part, FrameParts};
+use crate::frame_parts::FrameParts;
 use crate::plan::{iso, render_options, Plan};
+use crate::plugin::{CameraModel, ControllerChoice, Estimate, PluginError, TrackerChoice};
 use crate::record::FrameRecord;
 use crate::render_thread::RenderThread;
 use crate::render_worker::{fingerprint, RemoteRenderer};
@@ -32,7 +36,7 @@ use sim_render::Scene;
 use sim_render::{Backend, CameraRig, RenderError, Renderer};
 use std::collections::VecDeque;
 use std::sync::Arc;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 use thiserror::Error;
 use tracker::{EdgeDiagnostic, EgoMotion, Location, TrackOutput, Tracker, TrackerMode};
 use vehicle::{ChaseController, DelayLine, Gyro, GyroConfig};
@@ -55,6 +59,27 @@ pub enum LoopError {
     /// failed.
     #[error("the second renderer: {0}")]
     Worker(String),
+    /// A plug-in tracker or controller failed, which ends the run.
+    #[error("the {what}{}: {error}", at(*frame, *t_s))]
+    Plugin {
+        /// `tracker` or `controller`.
+        what: &'static str,
+        /// The camera frame it failed at (`None` before the first).
+        frame: Option<u64>,
+        /// The time it failed at, seconds.
+        t_s: Option<f64>,
+        /// What it said.
+        error: PluginError,
+    },
+}
+
+/// " at frame k (t = s s)", or " before the first frame".
+fn at(frame: Option<u64>, t_s: Option<f64>) -> String {
+    match (frame, t_s) {
+        (Some(k), Some(t)) => format!(" failed at frame {k} (t = {t:.3} s)"),
+        (Some(k), None) => format!(" failed at frame {k}"),
+        _ => " failed before the first frame".into(),
+    }
 }
 
 /// Everything one frame of the loop produced.
@@ -63,9 +88,11 @@ pub struct FrameOutput {
     pub record: FrameRecord,
     /// The camera frame.
     pub image: GrayImage,
-    /// The tracker's output.
-    pub track: TrackOutput,
-    /// Edge fates, when diagnostics were asked for.
+    /// The tracker's estimate (`None`: a plug-in had none this frame).
+    pub estimate: Option<Estimate>,
+    /// The paper's tracker's whole output (stages 1–8), when it is the tracker.
+    pub track: Option<TrackOutput>,
+    /// Edge fates, when diagnostics were asked for (the paper's tracker only).
     pub edges: Vec<EdgeDiagnostic>,
     /// Where the vehicles and the camera were at the frame's capture.
     pub poses: FramePoses,
@@ -123,6 +150,8 @@ pub struct ClosedLoop {
     /// Whether the physics to the next frame runs on a second thread while this frame is
     /// rendered and tracked (see [`ClosedLoop::set_pipelined`]).
     pipelined: bool,
+    /// Whether anything may run beside the tracker at all (not with two plug-ins).
+    overlap: bool,
     /// This process's renderer: `None` while it renders a frame on `render_thread`.
     renderer: Option<Box<Renderer>>,
     /// The thread this process's frames render on with two in flight, once started.
@@ -146,17 +175,20 @@ pub struct ClosedLoop {
     /// The camera's automatic gain control (gain 1 when off).
     auto_gain: AutoGainControl,
     rig: CameraRig,
-    tracker: Tracker,
+    tracking: Tracking,
     /// Scene origin (body centre) in the lead's vehicle frame (rear axle).
     lead_from_scene: Isometry3<f64>,
     target_width_px: f64,
+    /// The target's width, metres.
+    target_width_m: f64,
     /// The lead's driven path, for the chase's lateral deviation.
     lead_path: DrivenPath,
     chase_distance_m: f64,
     last_chase_xz: [f64; 2],
     diagnostics: bool,
     /// The chase's rate gyro, read between tracked frames for robust mode's ego-motion
-    /// aided prediction (`None` in the paper's mode, which has no use for it).
+    /// aided prediction and for plug-in trackers (`None` for the paper's mode, which has no
+    /// use for it).
     gyro: Option<Gyro>,
     /// The camera's orientation at the last tracked frame.
     last_camera: Option<UnitQuaternion<f64>>,
@@ -170,13 +202,34 @@ pub struct ClosedLoop {
 
 impl ClosedLoop {
     /// The loop of `plan` on one renderer of `backend` (see [`ClosedLoop::start`] for
-    /// two): the plan's world, controllers and scene, this process's renderer, and the
-    /// tracker, which the teleoperator places on the first frame as the plan says (the
-    /// frame itself is rendered by the loop's first step). With `diagnostics`, each frame's
-    /// output carries its edge points' fates (for the overlay and recordings).
+    /// two), with the built-in tracker and controller: the plan's world, controllers and
+    /// scene, this process's renderer, and the paper's tracker, which the teleoperator
+    /// places on the first frame as the plan says (the frame itself is rendered by the
+    /// loop's first step). With `diagnostics`, each frame's output carries its edge points'
+    /// fates (for the overlay and recordings).
     pub fn new(plan: Plan, backend: Backend, diagnostics: bool) -> Result<ClosedLoop, LoopError> {
+        ClosedLoop::with(
+            plan,
+            backend,
+            diagnostics,
+            TrackerChoice::Builtin,
+            ControllerChoice::Builtin,
+        )
+    }
+
+    /// [`ClosedLoop::new`] with the tracker and the controller chosen. A plug-in tracker is
+    /// reset with the camera and the teleoperator's placement (the plan's start); a
+    /// plug-in controller takes the built-in's place from the first physics step.
+    pub fn with(
+        plan: Plan,
+        backend: Backend,
+        diagnostics: bool,
+        tracker: TrackerChoice,
+        controller: ControllerChoice,
+    ) -> Result<ClosedLoop, LoopError> {
         let started = Instant::now();
         let planned_s = plan.built_s;
+        let start_estimate = plan.start_estimate();
         let Plan {
             scenario: s,
             scene_route,
@@ -197,14 +250,53 @@ impl ClosedLoop {
         let options = render_options(backend);
         let renderer = Renderer::new(&scene, rig.clone(), &options)?;
         let fingerprint = fingerprint(scene.description(), &rig, &options);
-        let mut tracker = Tracker::new(s.target.clone(), s.camera, s.tracker.clone(), init)
-            .map_err(|e| LoopError::Setup {
-                scenario: s.name.clone(),
-                message: format!("tracker: {e}"),
+        let mut paper =
+            Tracker::new(s.target.clone(), s.camera, s.tracker.clone(), init).map_err(|e| {
+                LoopError::Setup {
+                    scenario: s.name.clone(),
+                    message: format!("tracker: {e}"),
+                }
             })?;
         // The overlay and the recording draw associated and rejected points only.
-        tracker.set_association_fates_only(true);
-        let target_width_px = tracker.target_width_px();
+        paper.set_association_fates_only(true);
+        let target_width_px = paper.target_width_px();
+        let tracking = match tracker {
+            TrackerChoice::Builtin => Tracking::Builtin(paper),
+            TrackerChoice::Plugin(mut plugin) => {
+                let camera = CameraModel {
+                    intrinsics: rig.intrinsics,
+                    width: rig.width,
+                    height: rig.height,
+                    mount_height_m: rig.mount.height_m,
+                    mount_forward_m: rig.mount.forward_offset_m,
+                    mount_pitch_down_deg: rig.mount.pitch_deg,
+                    pan_rad: pan.as_ref().map_or(0.0, vehicle::PanHead::reading_rad),
+                    target: s.target.clone(),
+                };
+                plugin
+                    .reset(&camera, Some(&start_estimate))
+                    .map_err(|error| LoopError::Plugin {
+                        what: "tracker",
+                        frame: None,
+                        t_s: None,
+                        error,
+                    })?;
+                let next_read = plugin.will_read();
+                Tracking::Plugin(PluginTracking {
+                    tracker: plugin,
+                    camera,
+                    next_read,
+                })
+            }
+        };
+        let chase = match controller {
+            ControllerChoice::Builtin => Chase::Builtin(chase),
+            ControllerChoice::Plugin(plugin) => Chase::Plugin(PluginChase::new(plugin)),
+        };
+        // Two plug-ins may share state (one object behind both, say): then nothing runs
+        // beside anything else, so that their calls come in one order, run after run.
+        let overlap =
+            !(matches!(tracking, Tracking::Plugin(_)) && matches!(chase, Chase::Plugin(_)));
 
         // The lead's path so far: the lane behind its start, so the chase has a path from t = 0.
         let lateral = 0.5 * s.route.lane_width_m;
@@ -214,11 +306,14 @@ impl ClosedLoop {
             lead_path.push(scene_route.point(st, lateral));
         }
         let last_chase_xz = xz(&world.vehicle_state(chase_id).world_from_vehicle);
+        let robust = s.tracker.mode == TrackerMode::Robust;
+        let plugin_tracker = matches!(tracking, Tracking::Plugin(_));
         Ok(ClosedLoop {
             name: s.name.clone(),
             frames: s.frames(),
             frame: 0,
-            pipelined: renders_ahead(&delay),
+            pipelined: overlap && renders_ahead(&delay),
+            overlap,
             drive: Drive {
                 world,
                 chase_id,
@@ -247,7 +342,7 @@ impl ClosedLoop {
                 rig.width,
                 rig.height,
                 // Robust mode turns its prediction with the gyro's reading.
-                (s.tracker.mode == TrackerMode::Robust).then_some(rig.intrinsics),
+                (robust && !plugin_tracker).then_some(rig.intrinsics),
             ),
             auto_gain: AutoGainControl::new(
                 s.sensor.auto_gain,
@@ -256,15 +351,15 @@ impl ClosedLoop {
                 f64::from(vehicle::CAMERA_HZ),
             ),
             rig,
-            tracker,
+            tracking,
             lead_from_scene,
             target_width_px,
+            target_width_m: s.target.size_m()[0],
             lead_path,
             chase_distance_m: 0.0,
             last_chase_xz,
             diagnostics,
-            gyro: (s.tracker.mode == TrackerMode::Robust)
-                .then(|| Gyro::new(&GyroConfig::default(), s.seed)),
+            gyro: (robust || plugin_tracker).then(|| Gyro::new(&GyroConfig::default(), s.seed)),
             last_camera: None,
             last_ego: None,
             start: init,
@@ -298,9 +393,36 @@ impl ClosedLoop {
         self.frame
     }
 
-    /// The chase controller (its events log says when and why it stopped).
-    pub fn chase(&self) -> &ChaseController {
-        &self.drive.chase
+    /// The built-in chase controller, when it drives (its events log says when and why it
+    /// stopped).
+    pub fn chase(&self) -> Option<&ChaseController> {
+        self.drive.builtin()
+    }
+
+    /// The tracker's name, for reports: the paper's with its mode, or the plug-in's own.
+    pub fn tracker_name(&self) -> String {
+        self.tracking.name()
+    }
+
+    /// The controller's name, for reports.
+    pub fn controller_name(&self) -> String {
+        match &self.drive.chase {
+            Chase::Builtin(_) => "pure pursuit and gap keeper".into(),
+            Chase::Plugin(p) => p.controller.name(),
+        }
+    }
+
+    /// The part of the frame `captured` to render: what the tracker will read, or the
+    /// whole frame (`None`).
+    fn needed(&self, captured: &Captured) -> Option<tracker::PixelRect> {
+        match &self.tracking {
+            _ if self.parts.whole_frames => None,
+            Tracking::Builtin(_) => self.parts.needed(
+                captured.input.frame_index,
+                &captured.world_from_camera.rotation,
+            ),
+            Tracking::Plugin(p) => p.next_read,
+        }
     }
 
     /// Whether the loop of scenario `s` renders frames ahead (see `set_pipelined`), so that
@@ -365,7 +487,7 @@ impl ClosedLoop {
             // Two frames in flight overlap by nature.
             self.remote = None;
         }
-        self.pipelined = on && renders_ahead(&self.drive.delay);
+        self.pipelined = on && self.overlap && renders_ahead(&self.drive.delay);
         self.pipelined
     }
 
@@ -383,111 +505,5 @@ impl ClosedLoop {
             &self.lead_from_scene,
             &self.auto_gain,
         )
-    }
-
-    /// Runs one camera frame and the physics up to the next one. `None` when the scenario's
-    /// duration is over.
-    pub fn step(&mut self) -> Result<Option<FrameOutput>, LoopError> {
-        if self.frame >= self.frames {
-            return Ok(None);
-        }
-        let step_started = Instant::now();
-        let mut spent = [Duration::ZERO; 3];
-        // 1. The camera; 2. the tracker, on the image only; 3. the delay line; 4. the
-        // controllers and the physics to the next frame.
-        let (captured, frame, track, edges, driven) = if self.remote.is_some() {
-            self.step_two_in_flight(&mut spent)?
-        } else if self.pipelined {
-            // 4 needs no estimate from this frame (see `set_pipelined`), so it runs on a
-            // second thread while this one renders and tracks; 3 waits for both.
-            let captured = self.capture();
-            let t_s = captured.input.time_s;
-            let ego = self.ego_motion(&captured);
-            let needed = self.parts.needed(
-                captured.input.frame_index,
-                &captured.world_from_camera.rotation,
-            );
-            let (renderer, tracker, drive) = (
-                self.renderer.as_deref_mut().expect(HERE),
-                &mut self.tracker,
-                &mut self.drive,
-            );
-            let diagnostics = self.diagnostics;
-            let [render_t, track_t, physics_t] = &mut spent;
-            let input = &captured.input;
-            let (seen, driven) = std::thread::scope(|scope| {
-                let physics = scope.spawn(|| timed(physics_t, || drive.advance_frame()));
-                let seen = timed(render_t, || renderer.render_part(input, needed)).and_then(
-                    |mut frame| {
-                        let ((track, edges), again) = timed(track_t, || {
-                            track_part(
-                                tracker,
-                                &mut frame,
-                                |part| renderer.render_part(input, part),
-                                |t, f| track_frame(t, &f.image, t_s, ego, diagnostics),
-                            )
-                        })?;
-                        Ok((frame, track, edges, again))
-                    },
-                );
-                let driven = match physics.join() {
-                    Ok(driven) => driven,
-                    Err(panic) => std::panic::resume_unwind(panic),
-                };
-                (seen, driven)
-            });
-            let (frame, track, edges, again) = seen?;
-            self.tracked(&captured, &track, again);
-            (captured, frame, track, edges, driven)
-        } else {
-            let captured = self.capture();
-            let ego = self.ego_motion(&captured);
-            let needed = self.parts.needed(
-                captured.input.frame_index,
-                &captured.world_from_camera.rotation,
-            );
-            let [render_t, track_t, physics_t] = &mut spent;
-            let renderer = self.renderer.as_deref_mut().expect(HERE);
-            let mut frame = timed(render_t, || renderer.render_part(&captured.input, needed))?;
-            let (t_s, diagnostics) = (captured.input.time_s, self.diagnostics);
-            let ((track, edges), again) = timed(track_t, || {
-                track_part(
-                    &mut self.tracker,
-                    &mut frame,
-                    |part| renderer.render_part(&captured.input, part),
-                    |t, f| track_frame(t, &f.image, t_s, ego, diagnostics),
-                )
-            })?;
-            self.tracked(&captured, &track, again);
-            let driven = timed(physics_t, || self.drive.advance_frame());
-            (captured, frame, track, edges, driven)
-        };
-        debug_assert_eq!(captured.input.frame_index, self.frame);
-        if self.remote.is_none() {
-            // (With two in flight the step has metered the frame already.)
-            self.auto_gain
-                .observe(self.frame, captured.input.auto_gain, &frame.image);
-        }
-        let record = self.record(&captured, &frame, &track, driven);
-        let poses = FramePoses {
-            world_from_chase: captured.input.world_from_chase,
-            world_from_lead: captured.input.world_from_lead,
-            world_from_camera: captured.world_from_camera,
-        };
-        self.frame += 1;
-        let [render_t, track_t, physics_t] = spent;
-        self.timing.frames += 1;
-        self.timing.render_s += render_t.as_secs_f64();
-        self.timing.track_s += track_t.as_secs_f64();
-        self.timing.physics_s += physics_t.as_secs_f64();
-        self.timing.step_s += step_started.elapsed().as_secs_f64();
-        Ok(Some(FrameOutput {
-            record,
-            image: frame.image,
-            track,
-            edges,
-            poses,
-            ego: self.last_ego,
-        }))
     }
 }

@@ -3,25 +3,56 @@
 
 use super::capture::{xz, Captured};
 use super::drive::Driven;
+use super::tracking::{Tracked, Tracking};
 use super::ClosedLoop;
 use crate::frame_parts::camera_turn;
+use crate::plugin::{Estimate, EstimateStatus};
 use crate::record::{FrameRecord, LossCause, TrackerStatus};
-use sim_render::{target_occluded, Frame};
-use tracker::{EgoMotion, TrackOutput};
+use sim_render::{target_occluded, Frame, GroundTruth};
+use tracker::EgoMotion;
+
+/// Whether `estimate` is wrong by the loss tolerance against `truth`, or missing: off by
+/// more than a quarter of the target's width in the image (`width_px`) or by more than a
+/// quarter of its scale; for an estimate without an image location, the same in metres
+/// (a quarter of the target's width `width_m` beside it, a quarter of its range).
+fn wrong(estimate: Option<&Estimate>, truth: &GroundTruth, width_px: f64, width_m: f64) -> bool {
+    let Some(e) = estimate else {
+        return true;
+    };
+    match (e.cx, e.cy, e.scale) {
+        (Some(cx), Some(cy), Some(scale)) => {
+            (cx - truth.c_x).hypot(cy - truth.c_y) > 0.25 * width_px
+                || (scale / truth.scale - 1.0).abs() > 0.25
+        }
+        _ => {
+            let [tx, ty, tz] = truth.target_cam_m;
+            let dy = e.vertical_m.map_or(0.0, |y| y - ty);
+            (e.lateral_m - tx).hypot(dy) > 0.25 * width_m || (e.range_m / tz - 1.0).abs() > 0.25
+        }
+    }
+}
 
 impl ClosedLoop {
     /// After frame `captured` is tracked: its estimate into the delay line, and what it
     /// read for the part of the next frames to render.
-    pub(super) fn tracked(&mut self, captured: &Captured, track: &TrackOutput, rerendered: bool) {
-        self.drive
-            .push_estimate(captured.now, track, captured.pan_reading_rad);
-        self.parts.observe(
-            captured.input.frame_index,
-            track.estimate,
-            track.next,
-            self.tracker.last_read(),
-            captured.world_from_camera.rotation,
-        );
+    pub(super) fn tracked(&mut self, captured: &Captured, tracked: &Tracked, rerendered: bool) {
+        if let Some(estimate) = tracked.estimate {
+            self.drive.push_estimate(
+                captured.now,
+                estimate,
+                tracked.position_m,
+                captured.pan_reading_rad,
+            );
+        }
+        if let (Tracking::Builtin(t), Some(out)) = (&self.tracking, &tracked.out) {
+            self.parts.observe(
+                captured.input.frame_index,
+                out.estimate,
+                out.next,
+                t.last_read(),
+                captured.world_from_camera.rotation,
+            );
+        }
         self.parts.rerendered += u64::from(rerendered);
     }
 
@@ -56,7 +87,7 @@ impl ClosedLoop {
         &mut self,
         captured: &Captured,
         frame: &Frame,
-        track: &TrackOutput,
+        tracked: &Tracked,
         driven: Driven,
     ) -> FrameRecord {
         let Driven {
@@ -67,12 +98,9 @@ impl ClosedLoop {
         } = driven;
         let (chase_state, lead_state) = (&captured.chase, &captured.lead);
         let truth = frame.truth;
-        let est = track.estimate;
-        let [x, _, z] = track.position_3d;
+        let estimate = tracked.estimate.as_ref();
         let width_px = truth.scale * self.target_width_px;
-        let lost_truth = !truth.in_view
-            || (est.c_x - truth.c_x).hypot(est.c_y - truth.c_y) > 0.25 * width_px
-            || (est.scale / truth.scale - 1.0).abs() > 0.25;
+        let lost_truth = !truth.in_view || wrong(estimate, &truth, width_px, self.target_width_m);
         let world_from_camera = captured.world_from_camera;
         let loss_cause = if !lost_truth {
             LossCause::None
@@ -100,6 +128,8 @@ impl ClosedLoop {
         self.last_chase_xz = chase_xz;
         self.lead_path.push(lead_xz);
         let lateral_deviation_m = self.lead_path.distance(chase_xz);
+        let track = tracked.out.as_ref();
+        let known = |v: Option<f64>| v.unwrap_or(f64::NAN);
         FrameRecord {
             frame: self.frame,
             t_s: captured.input.time_s,
@@ -109,13 +139,19 @@ impl ClosedLoop {
             true_range_m: tz,
             true_lateral_m: tx,
             target_in_view: truth.in_view,
-            est_cx: est.c_x,
-            est_cy: est.c_y,
-            est_scale: est.scale,
-            est_range_m: z,
-            est_lateral_m: x,
-            confidence: track.measurement.map_or([0.0; 3], |m| m.confidence),
-            status: TrackerStatus::from(track.status),
+            est_cx: known(estimate.and_then(|e| e.cx)),
+            est_cy: known(estimate.and_then(|e| e.cy)),
+            est_scale: known(estimate.and_then(|e| e.scale)),
+            est_range_m: known(estimate.map(|e| e.range_m)),
+            est_lateral_m: known(estimate.map(|e| e.lateral_m)),
+            confidence: track.map_or([f64::NAN; 3], |t| {
+                t.measurement.map_or([0.0; 3], |m| m.confidence)
+            }),
+            status: estimate.map_or(TrackerStatus::Coasting, |e| match e.status {
+                EstimateStatus::Tracking => TrackerStatus::Tracking,
+                EstimateStatus::Coasting => TrackerStatus::Coasting,
+                EstimateStatus::Lost => TrackerStatus::Lost,
+            }),
             lost_truth,
             gap_m,
             chase_speed_mps: f64::from(chase_state.forward_speed_mps),
@@ -128,18 +164,21 @@ impl ClosedLoop {
             chase_xz,
             lead_xz,
             collision,
-            chase_mode: format!("{chase_mode:?}").to_lowercase(),
-            coverage: track.coverage,
-            coverage_gain: track.coverage_gain,
+            chase_mode: chase_mode.map_or_else(String::new, |m| format!("{m:?}").to_lowercase()),
+            coverage: track.map_or([f64::NAN; 2], |t| t.coverage),
+            coverage_gain: track.map_or(f64::NAN, |t| t.coverage_gain),
             tracker_event: track
-                .event
+                .and_then(|t| t.event)
                 .map_or_else(String::new, |e| e.as_str().to_string()),
-            fit_residual: track.measurement.map_or(f64::NAN, |m| m.residual),
-            feature_sigma2: track
-                .features
-                .iter()
-                .map(|f| f.variance.unwrap_or(f64::NAN))
-                .collect(),
+            fit_residual: track
+                .and_then(|t| t.measurement)
+                .map_or(f64::NAN, |m| m.residual),
+            feature_sigma2: track.map_or_else(Vec::new, |t| {
+                t.features
+                    .iter()
+                    .map(|f| f.variance.unwrap_or(f64::NAN))
+                    .collect()
+            }),
             loss_cause,
             camera_pan_deg: captured.input.camera_pan_rad.to_degrees(),
             desired_gap_m: f64::from(desired_gap_m),

@@ -5,6 +5,7 @@
 
 use super::{renders_ahead, ClosedLoop, LoopError};
 use crate::plan::Plan;
+use crate::plugin::{ControllerChoice, TrackerChoice};
 use crate::render_worker::{RemoteRenderer, StartedWorker};
 use sim_render::Backend;
 
@@ -25,6 +26,10 @@ pub struct LoopOptions {
     /// file and overrides) where the second renderer cannot be a thread of this process;
     /// `None` renders one frame at a time there instead.
     pub worker_process: Option<std::process::Command>,
+    /// The tracker: the built-in, as the scenario sets it up, or a plug-in.
+    pub tracker: TrackerChoice,
+    /// The controller: the built-in, as the scenario sets it up, or a plug-in.
+    pub controller: ControllerChoice,
 }
 
 impl LoopOptions {
@@ -37,6 +42,8 @@ impl LoopOptions {
             diagnostics: false,
             whole_frames: false,
             worker_process: None,
+            tracker: TrackerChoice::Builtin,
+            controller: ControllerChoice::Builtin,
         }
     }
 }
@@ -55,8 +62,13 @@ impl ClosedLoop {
             diagnostics,
             whole_frames,
             mut worker_process,
+            tracker,
+            controller,
         } = options;
-        let two = renderers >= 2 && renders_ahead(&plan.delay);
+        // Two plug-ins may share state: then nothing overlaps (see `ClosedLoop::with`).
+        let both = matches!(tracker, TrackerChoice::Plugin(_))
+            && matches!(controller, ControllerChoice::Plugin(_));
+        let two = renderers >= 2 && !both && renders_ahead(&plan.delay);
         let on_thread = backend == Backend::Gl;
         let second = match (two, on_thread, &worker_process) {
             (false, _, _) => None,
@@ -70,7 +82,7 @@ impl ClosedLoop {
                 "no render worker process to start on {backend}"
             ))),
         };
-        let mut looped = ClosedLoop::new(plan, backend, diagnostics)?;
+        let mut looped = ClosedLoop::with(plan, backend, diagnostics, tracker, controller)?;
         looped.set_whole_frames(whole_frames);
         if let Some(second) = second {
             let mut added = second

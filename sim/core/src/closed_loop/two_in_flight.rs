@@ -2,14 +2,13 @@
 //! the second renderer, and each renderer starts its next frame as soon as that frame can
 //! be captured (see [`ClosedLoop::add_render_worker`]).
 
-use super::capture::{timed, track_frame, Captured, InFlight, HERE};
+use super::capture::{timed, Captured, InFlight, HERE};
 use super::drive::Driven;
+use super::tracking::{TrackFailure, Tracked};
 use super::{ClosedLoop, LoopError};
-use crate::frame_parts::track_part;
 use crate::render_thread::RenderThread;
-use sim_render::Frame;
+use sim_render::{Frame, RenderError};
 use std::time::Duration;
-use tracker::{EdgeDiagnostic, TrackOutput, Tracker};
 
 impl ClosedLoop {
     /// Starts rendering the frame of the world as it is now: even frames on this process's
@@ -60,11 +59,10 @@ impl ClosedLoop {
     /// worker, or this process's, which is back from its thread by then). Each frame is
     /// metered for the automatic gain control as soon as it is tracked, before any later
     /// frame is captured. The order of all this is one renderer's, so the results are too.
-    #[allow(clippy::type_complexity)]
     pub(super) fn step_two_in_flight(
         &mut self,
         spent: &mut [Duration; 3],
-    ) -> Result<(Captured, Frame, TrackOutput, Vec<EdgeDiagnostic>, Driven), LoopError> {
+    ) -> Result<(Captured, Frame, Tracked, Driven), LoopError> {
         let [render_t, track_t, physics_t] = spent;
         if self.in_flight.is_empty() {
             let first = self.submit()?;
@@ -78,8 +76,7 @@ impl ClosedLoop {
         let ahead = more && !self.diagnostics;
         let t_s = pending.captured.input.time_s;
         let ego = self.ego_motion(&pending.captured);
-        let diagnostics = self.diagnostics;
-        let step = |t: &mut Tracker, f: &Frame| track_frame(t, &f.image, t_s, ego, diagnostics);
+        let (diagnostics, pan) = (self.diagnostics, pending.captured.pan_reading_rad);
         let input = &pending.captured.input;
         let driven = match self.advanced.take() {
             Some(advanced) => advanced,
@@ -90,7 +87,7 @@ impl ClosedLoop {
             let next = self.submit()?;
             self.in_flight.push_back(next);
         }
-        let (frame, ((track, edges), again)) = if pending.here {
+        let (frame, (tracked, again)) = if pending.here {
             let thread = self
                 .render_thread
                 .as_mut()
@@ -99,13 +96,10 @@ impl ClosedLoop {
             *render_t += rendered.spent;
             let renderer = self.renderer.insert(rendered.renderer);
             let mut frame = rendered.frame?;
+            let render = |part| renderer.render_part(input, part);
             let seen = timed(track_t, || {
-                track_part(
-                    &mut self.tracker,
-                    &mut frame,
-                    |part| renderer.render_part(input, part),
-                    step,
-                )
+                self.tracking
+                    .track::<RenderError>(&mut frame, render, t_s, ego, diagnostics, pan)
             })?;
             (frame, seen)
         } else {
@@ -115,21 +109,21 @@ impl ClosedLoop {
             }
             let remote = self.remote.as_mut().expect("two frames in flight");
             let mut frame = timed(render_t, || remote.receive()).map_err(LoopError::Worker)?;
+            let render = |part| {
+                remote.submit(input, part)?;
+                remote.receive()
+            };
             let seen = timed(track_t, || {
-                track_part(
-                    &mut self.tracker,
-                    &mut frame,
-                    |part| {
-                        remote.submit(input, part)?;
-                        remote.receive()
-                    },
-                    step,
-                )
+                self.tracking
+                    .track::<String>(&mut frame, render, t_s, ego, diagnostics, pan)
             })
-            .map_err(LoopError::Worker)?;
+            .map_err(|f| match f {
+                TrackFailure::Render(e) => LoopError::Worker(e),
+                TrackFailure::Plugin(e) => LoopError::from(TrackFailure::<RenderError>::Plugin(e)),
+            })?;
             (frame, seen)
         };
-        self.tracked(&pending.captured, &track, again);
+        self.tracked(&pending.captured, &tracked, again);
         self.auto_gain.observe(k, input.auto_gain, &frame.image);
         if ahead {
             // The physics to k + 2, and frame k + 2 to the renderer frame k came from.
@@ -147,6 +141,6 @@ impl ClosedLoop {
                 }
             }
         }
-        Ok((pending.captured, frame, track, edges, driven))
+        Ok((pending.captured, frame, tracked, driven))
     }
 }

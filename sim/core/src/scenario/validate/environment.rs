@@ -14,12 +14,8 @@ pub(super) struct Environment {
     pub(super) textures: Textures,
 }
 
-/// The environment of a route `length` metres long.
-pub(super) fn environment(
-    e: &EnvironmentFile,
-    length: f64,
-    f: &Blame,
-) -> Result<Environment, ScenarioError> {
+/// The environment's sun, clutter, sensor, road and textures.
+pub(super) fn environment(e: &EnvironmentFile, f: &Blame) -> Result<Environment, ScenarioError> {
     let sun = sun(e, f)?;
     let mut densities = Densities::default();
     let cl = &e.clutter;

@@ -149,7 +149,7 @@ pub(super) fn validate(
     let (chase, camera, initial_gap_m) = chase::chase_and_camera(&raw, f)?;
     let (tracker, init_offset, target) = tracking::tracker(&raw, f, load_target)?;
     let delay = tracking::delay(&raw, f)?;
-    let e = environment::environment(&raw.environment, length, f)?;
+    let e = environment::environment(&raw.environment, f)?;
     let distractors = distractors::distractors(
         &raw.environment.distractors,
         &target,

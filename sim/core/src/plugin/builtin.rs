@@ -1,0 +1,165 @@
+//! The built-in tracker and controller behind the plug-in traits: the paper's tracker
+//! (either mode) as a [`FrameTracker`], the built-in chase controller as a [`Controller`].
+//! The loop runs the built-ins directly (see [`super::TrackerChoice`]); these are for
+//! whoever wants them as plug-ins: a comparison, a wrapper in Python, a controller of one's
+//! own over the paper's tracker.
+
+use super::{
+    CameraModel, Command, ControlInput, Controller, Estimate, EstimateStatus, FrameTracker,
+    PluginError, TrackerInput,
+};
+use tracker::{EgoMotion, Location, TrackOutput, Tracker, TrackerConfig, TrackerMode};
+use vehicle::{
+    ChaseController, ChaseControllerConfig, LeadEstimate, Odometry, Step, TrackStatus, Vector,
+    VehicleParams,
+};
+
+/// The paper's tracker (stages 1–8), in the mode its settings give, as a plug-in.
+pub struct BuiltinTracker {
+    config: TrackerConfig,
+    tracker: Option<Tracker>,
+    last: Option<TrackOutput>,
+}
+
+impl BuiltinTracker {
+    /// The tracker with these settings; it starts at [`FrameTracker::reset`].
+    pub fn new(config: TrackerConfig) -> BuiltinTracker {
+        BuiltinTracker {
+            config,
+            tracker: None,
+            last: None,
+        }
+    }
+
+    /// The tracker itself, once reset.
+    pub fn tracker(&self) -> Option<&Tracker> {
+        self.tracker.as_ref()
+    }
+
+    /// Everything the last frame's step made (stages 1–8), with its diagnostics.
+    pub fn last_output(&self) -> Option<&TrackOutput> {
+        self.last.as_ref()
+    }
+}
+
+/// The estimate of a tracker's output: stage 8's position, the located target, the status.
+pub(crate) fn estimate_of(out: &TrackOutput) -> Estimate {
+    let [x, y, z] = out.position_3d;
+    Estimate {
+        range_m: z,
+        lateral_m: x,
+        vertical_m: Some(y),
+        cx: Some(out.estimate.c_x),
+        cy: Some(out.estimate.c_y),
+        scale: Some(out.estimate.scale),
+        status: out.status.into(),
+    }
+}
+
+impl FrameTracker for BuiltinTracker {
+    fn name(&self) -> String {
+        format!("paper tracker ({} mode)", self.config.mode.as_str())
+    }
+
+    fn reset(&mut self, camera: &CameraModel, start: Option<&Estimate>) -> Result<(), PluginError> {
+        let (model, config) = (camera.target.clone(), self.config.clone());
+        let placed = start.map(|s| match (s.cx, s.cy, s.scale) {
+            (Some(cx), Some(cy), Some(scale)) => Ok(Location::new(cx, cy, scale)),
+            _ => Err(PluginError::Failed(
+                "the paper's tracker starts from an image location: the start needs cx, cy \
+                 and scale"
+                    .into(),
+            )),
+        });
+        let tracker = match placed.transpose()? {
+            Some(init) => Tracker::new(model, camera.intrinsics, config, init),
+            None => Tracker::new_searching(model, camera.intrinsics, config),
+        };
+        self.tracker = Some(tracker.map_err(|e| PluginError::Failed(e.to_string()))?);
+        self.last = None;
+        Ok(())
+    }
+
+    fn track(&mut self, input: &TrackerInput<'_>) -> Result<Option<Estimate>, PluginError> {
+        let tracker = self
+            .tracker
+            .as_mut()
+            .ok_or_else(|| PluginError::Failed("track before reset".into()))?;
+        // Robust mode's prediction turns with the camera, by the gyro (the paper's ignores it).
+        let ego = (self.config.mode == TrackerMode::Robust)
+            .then_some(input.gyro_rad)
+            .flatten()
+            .map(|rotation_rad| EgoMotion { rotation_rad });
+        let out = match ego {
+            Some(ego) => tracker.step_aided(input.frame, input.t_s, ego),
+            None => tracker.step(input.frame, input.t_s),
+        };
+        let estimate = estimate_of(&out);
+        self.last = Some(out);
+        Ok(Some(estimate))
+    }
+}
+
+/// The built-in chase controller (pure pursuit on breadcrumbs from the delayed estimates,
+/// the gap keeper, loss handling and the pan head's aim) as a plug-in.
+///
+/// Run through the trait it hears one estimate a step, the latest delivered; the loop's own
+/// path gives it every estimate that falls due at a step, which differs only when jitter
+/// delivers two at once.
+pub struct BuiltinController {
+    controller: ChaseController,
+}
+
+impl BuiltinController {
+    /// The controller with these settings, for an HMMWV moving at `speed_mps`.
+    pub fn new(
+        config: ChaseControllerConfig,
+        speed_mps: f64,
+    ) -> Result<BuiltinController, PluginError> {
+        ChaseController::new(config, &VehicleParams::hmmwv_m998(), speed_mps as f32)
+            .map(|controller| BuiltinController { controller })
+            .map_err(|e| PluginError::Failed(e.to_string()))
+    }
+
+    /// The controller itself (its mode, telemetry and events).
+    pub fn controller(&self) -> &ChaseController {
+        &self.controller
+    }
+}
+
+impl Controller for BuiltinController {
+    fn name(&self) -> String {
+        "pure pursuit and gap keeper".into()
+    }
+
+    fn control(&mut self, input: &ControlInput) -> Result<Command, PluginError> {
+        if let (true, Some(e), Some(captured_t_s)) =
+            (input.fresh, input.estimate, input.captured_t_s)
+        {
+            let [x, y, z] = [e.lateral_m, e.vertical_m.unwrap_or(0.0), e.range_m];
+            self.controller.receive(LeadEstimate {
+                capture_step: Step::from_seconds(captured_t_s),
+                target_in_camera_m: Vector::new(x as f32, y as f32, z as f32),
+                status: match e.status {
+                    EstimateStatus::Tracking => TrackStatus::Tracking,
+                    EstimateStatus::Coasting => TrackStatus::Coasting,
+                    EstimateStatus::Lost => TrackStatus::Lost,
+                },
+                camera_pan_rad: input.captured_pan_rad.unwrap_or(0.0) as f32,
+            });
+        }
+        let controls = self.controller.update(&Odometry {
+            step: Step::from_seconds(input.t_s),
+            world_from_chase: input.world_from_chase,
+            forward_speed_mps: input.speed_mps as f32,
+            camera_pan_rad: input.pan_rad as f32,
+        });
+        Ok(Command {
+            // The vehicle's steering turns positive to the left, the plug-ins' to the right.
+            steering_rad: -f64::from(controls.steer_rad),
+            throttle: f64::from(controls.throttle),
+            brake: f64::from(controls.brake),
+            pan_rate_rad_s: f64::from(self.controller.telemetry().pan_rate_cmd_rad_s),
+        })
+    }
+}
