@@ -1,0 +1,153 @@
+//! The shadow pass: the casters drawn depth only from the sun into a map of the frame's
+//! own, and the board's fine map (with soft shadows on the target).
+
+use super::culling::{CameraView, CasterDraws, Placed};
+use super::light::Sunlight;
+use super::pipelines::{Builder, CasterPipelines, Pass};
+use super::resources::Geometry;
+use super::slots_pass::Vehicles;
+use super::Renderer;
+use crate::camera::shadow_tiles::SlotWork;
+use std::ops::Range;
+use tracker::PixelRect;
+
+impl Renderer {
+    /// Encodes the passes from the sun: with the `sun`'s window of cached tiles, the slots
+    /// pass (`work`, and the vehicles as `placed`, seen from `view`), else every caster
+    /// into the frame's own map; then the board's pass, only with soft shadows: without
+    /// them nothing samples its map.
+    pub(super) fn encode_sun_passes(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        sun: &Sunlight,
+        work: &SlotWork,
+        view: &CameraView,
+        placed: &Placed,
+    ) {
+        let geometry = &self.geometry;
+        if sun.window.is_some() {
+            let vehicles = Vehicles {
+                items: &self.items,
+                draws: &self.shadow.draws,
+                world_from_object: &placed.world_from_object,
+                eye: &view.eye,
+            };
+            let (queue, chunks) = (&self.gpu.queue, self.scene.chunks());
+            self.stats.shadow_triangles = self
+                .slots
+                .encode(encoder, queue, geometry, chunks, work, &vehicles);
+        } else {
+            self.shadow.encode(encoder, geometry, Some(sun.seen));
+        }
+        if sun.board.is_some() {
+            self.board_shadow.encode(encoder, geometry, None);
+        }
+    }
+}
+
+/// Which map a pass from the sun draws.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum SunMap {
+    /// The frame's own map (`vs_shadow`).
+    Own,
+    /// The board's fine map (`vs_board_shadow`).
+    Board,
+}
+
+/// A pass from the sun into a map of its own: its pipelines, with the frame's bind group,
+/// its target, and what it draws this frame.
+pub(super) struct ShadowPass {
+    label: &'static str,
+    pass: Pass<CasterPipelines, ()>,
+    view: wgpu::TextureView,
+    /// The casters it draws, culled for the frame. With the static shadows cached, those of
+    /// the frame's own map are the vehicles alone, drawn into the slots instead.
+    pub draws: CasterDraws,
+}
+
+impl ShadowPass {
+    /// The pass into `map`, whose target is `view`, drawing with the frame's group 0.
+    pub fn new(
+        builder: &Builder,
+        frame_group: wgpu::BindGroup,
+        map: SunMap,
+        view: wgpu::TextureView,
+    ) -> ShadowPass {
+        ShadowPass {
+            label: match map {
+                SunMap::Own => "shadow",
+                SunMap::Board => "board shadow",
+            },
+            pass: builder.sun_pass(frame_group, map),
+            view,
+            draws: CasterDraws::default(),
+        }
+    }
+
+    /// Encodes the pass: the map cleared, and its casters drawn, scissored to `texels` when
+    /// given (nothing drawn when they are empty).
+    pub fn encode(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        geometry: &Geometry,
+        texels: Option<PixelRect>,
+    ) {
+        let mut pass = depth_pass(encoder, self.label, &self.view, wgpu::LoadOp::Clear(1.0));
+        pass.set_bind_group(0, &self.pass.bind_group, &[]);
+        geometry.bind(&mut pass);
+        if let Some(texels) = texels {
+            if texels.is_empty() {
+                return;
+            }
+            pass.set_scissor_rect(
+                texels.x0 as u32,
+                texels.y0 as u32,
+                texels.width() as u32,
+                texels.height() as u32,
+            );
+        }
+        draw_casters(&mut pass, &self.pass.pipelines, self.draws.lists());
+    }
+}
+
+/// A depth-only render pass into `view`, loading (or clearing) it as `load` says and
+/// storing it: the passes from the sun.
+pub(super) fn depth_pass<'e>(
+    encoder: &'e mut wgpu::CommandEncoder,
+    label: &str,
+    view: &wgpu::TextureView,
+    load: wgpu::LoadOp<f32>,
+) -> wgpu::RenderPass<'e> {
+    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some(label),
+        color_attachments: &[],
+        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+            view,
+            depth_ops: Some(wgpu::Operations {
+                load,
+                store: wgpu::StoreOp::Store,
+            }),
+            stencil_ops: None,
+        }),
+        timestamp_writes: None,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    })
+}
+
+/// Draws the solid casters and the canopies of `draws`, each list with its pipeline of
+/// `pipelines` (an empty list sets none).
+pub(super) fn draw_casters(
+    pass: &mut wgpu::RenderPass,
+    pipelines: &[wgpu::RenderPipeline],
+    draws: [&[Range<u32>]; 2],
+) {
+    for (pipeline, list) in pipelines.iter().zip(draws) {
+        if !list.is_empty() {
+            pass.set_pipeline(pipeline);
+            for range in list {
+                pass.draw_indexed(range.clone(), 0, 0..1);
+            }
+        }
+    }
+}
