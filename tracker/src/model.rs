@@ -7,7 +7,6 @@
 //! vertical and horizontal lines"); each becomes one [`Feature`].
 
 use crate::camera::Camera;
-use crate::paint::Paint;
 use thiserror::Error;
 
 /// How far (metres) two corner coordinates may differ and still count as equal when deciding
@@ -272,7 +271,7 @@ impl TargetModel {
     }
 
     /// The model with another paint rule ([`Paint::Steps`] by default). Whether a model can
-    /// be painted with steps is checked by [`crate::paint::layout`].
+    /// be painted with steps is checked by `paint::layout`.
     pub fn with_paint(mut self, paint: Paint) -> Self {
         self.paint = paint;
         self
@@ -408,4 +407,35 @@ fn check_rank(features: &[FeatureM]) -> Result<(), TargetError> {
         });
     }
     Ok(())
+}
+
+/// How the segments of a target are painted (see the `paint` module for what each rule
+/// puts on the board).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Paint {
+    /// Each segment is one step edge between filled regions of different tone (the paper's
+    /// physical features).
+    #[default]
+    Steps,
+    /// Each segment is a thin dark stripe with two edges (not the paper's).
+    Stripes,
+}
+
+impl Paint {
+    /// Lower-case name, as written in target files.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Paint::Steps => "steps",
+            Paint::Stripes => "stripes",
+        }
+    }
+
+    /// Parses `steps` or `stripes`.
+    pub fn parse(text: &str) -> Option<Paint> {
+        match text {
+            "steps" => Some(Paint::Steps),
+            "stripes" => Some(Paint::Stripes),
+            _ => None,
+        }
+    }
 }

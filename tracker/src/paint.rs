@@ -18,6 +18,7 @@
 //!   weighting cannot tell a clean feature from one with a shadow on it; kept for comparison
 //!   and for models whose segments do not bound regions.
 
+pub use crate::model::Paint;
 use crate::model::{TargetModel, AXIS_TOLERANCE_M};
 use thiserror::Error;
 
@@ -36,36 +37,6 @@ pub const STRIPE_WIDTH_M: f64 = 0.06;
 /// How far each stripe runs past its segment's end points, metres, so that stripes meeting
 /// at a corner close it.
 pub const STRIPE_EXTENSION_M: f64 = 0.03;
-
-/// How the segments of a target are painted.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub enum Paint {
-    /// Each segment is one step edge between filled regions of different tone (the paper's
-    /// physical features).
-    #[default]
-    Steps,
-    /// Each segment is a thin dark stripe with two edges (not the paper's).
-    Stripes,
-}
-
-impl Paint {
-    /// Lower-case name, as written in target files.
-    pub fn as_str(self) -> &'static str {
-        match self {
-            Paint::Steps => "steps",
-            Paint::Stripes => "stripes",
-        }
-    }
-
-    /// Parses `steps` or `stripes`.
-    pub fn parse(text: &str) -> Option<Paint> {
-        match text {
-            "steps" => Some(Paint::Steps),
-            "stripes" => Some(Paint::Stripes),
-            _ => None,
-        }
-    }
-}
 
 /// One painted rectangle in the target's frame: metres from the target centre, x right and
 /// y up, `[x0, y0, x1, y1]`, with its tone: 1 is the board's light paint, 0 the darkest.

@@ -66,8 +66,8 @@ impl SpeedProfile {
         }
     }
 
-    /// Checks the knots: at least one, keys strictly increasing and within ±[`MAX_KEY`],
-    /// speeds 0–[`MAX_SPEED_MPS`]; by distance, no stop followed by more driving (the
+    /// Checks the knots: at least one, keys strictly increasing and within ±`MAX_KEY`,
+    /// speeds 0–`MAX_SPEED_MPS`; by distance, no stop followed by more driving (the
     /// vehicle would wait at the stop for good).
     pub fn validate(&self) -> Result<(), VehicleError> {
         if self.knots.is_empty() {

@@ -38,7 +38,7 @@ const DEFAULT_VIDEO_STRIDE: u32 = 3;
 pub struct RunArgs {
     /// Scenario files; none runs the built-in nist-grounds.
     pub scenarios: Vec<PathBuf>,
-    /// Output folder (default renders/<scenario>; with several scenarios, DIR/<scenario>).
+    /// Output folder (default renders/SCENARIO; with several scenarios, DIR/SCENARIO).
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// Override a field by its dotted path, e.g. --set tracker.lambda=0.7 (repeatable).

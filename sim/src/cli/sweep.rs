@@ -78,7 +78,7 @@ pub struct SweepArgs {
     #[arg(long)]
     pub backend: Option<String>,
     /// Record every point, and keep the recordings (for Foxglove and `carfollow track`) of
-    /// the points whose criteria failed, in DIR/recordings/<scenario>-seed<seed>-<id>.mcap.
+    /// the points whose criteria failed, in DIR/recordings/SCENARIO-seedSEED-ID.mcap.
     #[arg(long)]
     pub mcap_failed: bool,
 }

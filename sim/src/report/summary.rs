@@ -88,7 +88,7 @@ pub struct Summary {
     pub lost_by_cause_s: LostByCause,
     /// A tighter measure beside the 25 % of `tracking_lost_s`: the share (0–1) of the frames
     /// with the target in view whose estimate is off by more than
-    /// [`IMPRECISE_CENTRE_PX`] in centre or [`IMPRECISE_SCALE`] in scale (or is no
+    /// `IMPRECISE_CENTRE_PX` (2 px) in centre or `IMPRECISE_SCALE` (0.05) in scale (or is no
     /// estimate); `null` when the target is never in view.
     pub imprecise_share: Option<f64>,
     /// Time the tracker itself said `lost`, seconds.

@@ -36,7 +36,7 @@ use std::time::Instant;
 /// loop overlaps each frame's physics with its rendering (see
 /// [`ClosedLoop::set_pipelined`]); worth it only when a core would otherwise be idle, that
 /// is, with fewer workers than cores. The row is the same either way. With `recordings`, the
-/// point is recorded (see [`crate::recording`]) to [`recording_path`] in that folder, and
+/// point is recorded (see [`crate::Recorder`]) to [`recording_path`] in that folder, and
 /// the recording is kept only when a criterion failed.
 pub fn run_point(
     sweep: &Sweep,

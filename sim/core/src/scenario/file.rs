@@ -174,8 +174,8 @@ pub struct CameraFile {
 #[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct TrackerFile {
-    /// Target model file, relative to the scenario file (see [`crate::target`] for its
-    /// bounds).
+    /// Target model file, relative to the scenario file (see [`crate::load_target`] for
+    /// its bounds).
     pub target: String,
     /// λ of eq. 18. This and the tracker settings below are checked by
     /// `tracker::TrackerConfig::validate`, which states their ranges (λ in (0, 1), as eq. 18 requires).
