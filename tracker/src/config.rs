@@ -79,12 +79,14 @@ pub struct TrackerConfig {
     /// Camera frame rate, Hz: one motion-model cycle (t = 1) lasts 1/rate_hz seconds.
     /// Default 15 Hz (the paper's update rate).
     pub rate_hz: f64,
-    /// How long (seconds) the tracker coasts on its prediction without a usable measurement
-    /// before it reports `Lost`. Not given by the paper, which has no loss state (a
-    /// teleoperator watched). Default 1 s (15 frames): at 35 km/h the lead moves about 10 m
-    /// in that time; a quadratic extrapolation over longer is a guess, not a track. In the
-    /// paper's mode `Lost` is a status only: the tracker goes on measuring, and reports
-    /// `tracking` again as soon as the features return.
+    /// How long (seconds) the tracker goes without a trusted measurement (one that passes
+    /// the coverage check) before it reports `Lost`. Not given by the paper, which has no
+    /// loss state (a teleoperator watched). Default 1 s (15 frames): at 35 km/h the lead
+    /// moves about 10 m in that time; a quadratic extrapolation over longer is a guess, not
+    /// a track, and so is a fit that has stayed off the target's edges that long. In the
+    /// paper's mode `Lost` is a status only: the tracker goes on measuring, its estimates are
+    /// the same whatever the status, and it reports `tracking` again as soon as the features
+    /// return.
     pub lost_after_s: f64,
     /// Floor on J_l (eq. 15) for a fit with no degrees of freedom: with exactly three
     /// features the fit is exact, J_l = 0, and eq. 17, which divides by J_l, has no value.
