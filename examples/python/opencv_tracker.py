@@ -28,6 +28,7 @@ class OpenCvTracker:
 
     def __init__(self, kind: str = "csrt") -> None:
         self.kind = kind
+        self.name = f"OpenCV {kind.upper()}"  # in summary.json and the table
         self.tracker = None
         self.camera = None
         self.box = None  # (x, y, w, h), from reset until the first frame

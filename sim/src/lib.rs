@@ -34,4 +34,6 @@ pub use sweep::{
     ManifestPoint, Point, ResultRow, ResultsWriter, Shard, Sweep, SweepError, SweepFile,
     SweepScenario, BEST_RULE, FIGURES, MANIFEST_FILE, RESULTS_FILE,
 };
-pub use track::{frame_files, parse_location, read_frame, run as track, TrackJob, TrackSummary};
+pub use track::{
+    frame_files, parse_location, read_frame, run as track, TrackJob, TrackOutputError, TrackSummary,
+};

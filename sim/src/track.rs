@@ -237,7 +237,19 @@ fn row(out: &TrackOutput, features: usize) -> Vec<String> {
     r
 }
 
-/// Runs the tracker over the folder, writing the CSV (and overlays) as it goes.
+/// An output of `track` that could not be written (the CSV, the overlay folder or an
+/// overlay): the run could not complete, where every other error is bad input.
+#[derive(Debug, thiserror::Error)]
+#[error(transparent)]
+pub struct TrackOutputError(pub anyhow::Error);
+
+/// `e` as a [`TrackOutputError`].
+fn output(e: anyhow::Error) -> anyhow::Error {
+    anyhow::Error::new(TrackOutputError(e))
+}
+
+/// Runs the tracker over the folder, writing the CSV (and overlays) as it goes. An error
+/// writing them is a [`TrackOutputError`].
 pub fn run(job: &TrackJob) -> anyhow::Result<TrackSummary> {
     let files = frame_files(&job.frames_dir)?;
     let first = read_frame(&files[0])?;
@@ -278,13 +290,15 @@ pub fn run(job: &TrackJob) -> anyhow::Result<TrackSummary> {
     .context("cannot start the tracker")?;
     if let Some(dir) = &job.overlay_dir {
         std::fs::create_dir_all(dir)
-            .with_context(|| format!("{}: cannot create the overlay folder", dir.display()))?;
+            .with_context(|| format!("{}: cannot create the overlay folder", dir.display()))
+            .map_err(output)?;
     }
     let file = File::create(&job.out_csv)
-        .with_context(|| format!("{}: cannot create the CSV", job.out_csv.display()))?;
+        .with_context(|| format!("{}: cannot create the CSV", job.out_csv.display()))
+        .map_err(output)?;
     let mut csv = csv_writer(file);
     let write_err = |e: std::io::Error| {
-        anyhow::Error::new(e).context(format!("{}: cannot write", job.out_csv.display()))
+        output(anyhow::Error::new(e).context(format!("{}: cannot write", job.out_csv.display())))
     };
     csv.write_record(header(&job.model))
         .map_err(|e| write_err(e.into()))?;
@@ -340,7 +354,8 @@ pub fn run(job: &TrackJob) -> anyhow::Result<TrackSummary> {
             let target = dir.join(format!("{name}.png"));
             draw_overlay(&image, &out, &edges)
                 .save(&target)
-                .with_context(|| format!("{}: cannot write overlay", target.display()))?;
+                .with_context(|| format!("{}: cannot write overlay", target.display()))
+                .map_err(output)?;
         }
         summary.frames += 1;
         match out.status {

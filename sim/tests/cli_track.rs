@@ -410,3 +410,53 @@ fn robust_mode_finds_a_swerving_target_without_a_start_and_the_paper_mode_needs_
     assert!(stderr(&o).contains("--init"), "{}", stderr(&o));
     assert_eq!(stderr(&o).trim().lines().count(), 1, "{}", stderr(&o));
 }
+
+/// An output that cannot be written (a CSV in a missing folder, on a full disk, an overlay
+/// folder that is a file) is a run that could not complete: exit status 3, in one line
+/// naming the file; the input was good.
+#[test]
+fn an_output_that_cannot_be_written_exits_3() {
+    let dir = tempfile::tempdir().unwrap();
+    let frames = dir.path().join("frames");
+    synth(&frames, 3, false);
+    let in_the_way = dir.path().join("a-file");
+    std::fs::write(&in_the_way, "in the way").unwrap();
+    let missing = dir.path().join("no/such/folder/t.csv");
+    let csv = dir.path().join("t.csv");
+    let cases: Vec<(Vec<&str>, String)> = vec![
+        (
+            vec!["--out", missing.to_str().unwrap()],
+            "cannot create the CSV".into(),
+        ),
+        (
+            vec![
+                "--out",
+                csv.to_str().unwrap(),
+                "--overlay",
+                in_the_way.to_str().unwrap(),
+            ],
+            "cannot create the overlay folder".into(),
+        ),
+        #[cfg(target_os = "linux")]
+        (vec!["--out", "/dev/full"], "/dev/full: cannot write".into()),
+    ];
+    for (extra, needle) in cases {
+        let mut args = vec![
+            "track",
+            frames.to_str().unwrap(),
+            "--target",
+            TARGET,
+            "--focal-px",
+            "320",
+            "--init",
+            "128,110,1",
+            "--quiet",
+        ];
+        args.extend(extra.iter());
+        let o = carfollow(&args);
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(3), "{extra:?}: {err}");
+        assert!(err.contains(&needle), "{extra:?}: {err}");
+        assert_eq!(err.trim().lines().count(), 1, "one line: {err}");
+    }
+}

@@ -197,7 +197,11 @@ pub fn run_track(args: TrackArgs) -> anyhow::Result<()> {
         overlay_dir: args.overlay,
         progress: !args.quiet,
     };
-    let s = track(&job)?;
+    // An output that cannot be written leaves the run incomplete (3); the rest is bad input.
+    let s = track(&job).map_err(|e| match e.downcast_ref::<sim::TrackOutputError>() {
+        Some(_) => incomplete(e),
+        None => e,
+    })?;
     eprintln!(
         "{}: {} frames: {} tracking, {} coasting, {} lost, {} (re)acquired; median step {:.1} µs",
         args.out.display(),
