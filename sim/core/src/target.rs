@@ -28,8 +28,9 @@ use tracker::{TargetError, TargetModel};
 struct TargetFile {
     name: String,
     nominal_range_m: Spanned<f64>,
-    corners_m: Vec<Spanned<[f64; 2]>>,
-    // Read as lists, so that a segment of more than two corners is refused, not cut short.
+    // Read as lists, so that a corner of more than two numbers, or a segment of more than
+    // two corners, is refused, not cut short.
+    corners_m: Vec<Spanned<Vec<f64>>>,
     segments: Vec<Spanned<Vec<usize>>>,
     paint: Option<Spanned<String>>,
 }
@@ -155,8 +156,22 @@ pub fn parse(text: &str, path: &Path) -> Result<TargetModel, TargetFileError> {
             ),
         ));
     }
+    let mut corners: Vec<[f64; 2]> = Vec::with_capacity(raw.corners_m.len());
     for (index, c) in raw.corners_m.iter().enumerate() {
-        let [x, y] = *c.get_ref();
+        let [x, y] = match c.get_ref()[..] {
+            [x, y] => [x, y],
+            ref other => {
+                return Err(out_of_bounds(
+                    "corners_m",
+                    c.span(),
+                    format!(
+                        "corner {index} = {other:?}: a corner is exactly two numbers, [x, y] \
+                         in metres"
+                    ),
+                ))
+            }
+        };
+        corners.push([x, y]);
         if !(x.abs() <= MAX_CORNER_M && y.abs() <= MAX_CORNER_M) {
             return Err(out_of_bounds(
                 "corners_m",
@@ -168,7 +183,6 @@ pub fn parse(text: &str, path: &Path) -> Result<TargetModel, TargetFileError> {
             ));
         }
     }
-    let corners: Vec<[f64; 2]> = raw.corners_m.iter().map(|c| *c.get_ref()).collect();
     let mut segments: Vec<[usize; 2]> = Vec::with_capacity(raw.segments.len());
     for (index, s) in raw.segments.iter().enumerate() {
         match s.get_ref()[..] {
@@ -386,6 +400,22 @@ segments = [
             e.starts_with("t.toml:2:19: `nominal_range_m` = 1e300"),
             "{e}"
         );
+    }
+
+    #[test]
+    fn a_corner_of_more_or_fewer_than_two_numbers_is_named() {
+        for (corner, shown) in [
+            ("[-0.8, 0.5, 9.0]", "[-0.8, 0.5, 9.0]"),
+            ("[-0.8]", "[-0.8]"),
+        ] {
+            let e = err(&GOOD.replace("[-0.8, 0.5], [0.8, 0.5]", &format!("{corner}, [0.8, 0.5]")));
+            assert!(
+                e.starts_with(&format!(
+                    "t.toml:3:14: `corners_m` corner 0 = {shown}: a corner is exactly two numbers"
+                )),
+                "{e}"
+            );
+        }
     }
 
     #[test]
