@@ -597,3 +597,24 @@ fn textures_and_the_road_surface_are_validated_with_the_field_named() {
     assert_eq!(s.textures, sim_render::Textures::default());
     assert_eq!(s.road_surface, sim_render::RoadSurface::Asphalt);
 }
+
+/// `--set` on one key of a table the file does not have, whose other fields have no
+/// defaults: the error says to give the table whole, with the defaults and the value asked
+/// for, and what it says to write is accepted.
+#[test]
+fn a_set_on_a_table_without_defaults_says_what_to_write() {
+    let e = load(&text(), &["chase.controller.lookahead.min_m=3"]).unwrap_err();
+    assert!(
+        e.contains("`chase.controller.lookahead` is not in the file")
+            && e.contains("missing field `base_m`"),
+        "{e}"
+    );
+    let suggested = e
+        .split("--set '")
+        .nth(1)
+        .and_then(|rest| rest.split('\'').next())
+        .unwrap_or_else(|| panic!("no suggestion in: {e}"));
+    assert!(suggested.contains("min_m = 3"), "{suggested}");
+    let s = load(&text(), &[suggested]).unwrap_or_else(|e| panic!("{suggested}: {e}"));
+    assert_eq!(s.chase.lookahead.min_m, 3.0);
+}

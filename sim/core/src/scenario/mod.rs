@@ -480,11 +480,20 @@ impl Scenario {
             let mut value: toml::Table = toml::from_str(text).map_err(parse_err)?;
             // One at a time, so an error names the override that caused it.
             for assignment in overrides {
+                let created = created_table(&value, assignment);
                 apply_override(&mut value, assignment)?;
                 raw = toml::Value::Table(value.clone()).try_into().map_err(
-                    |e: toml::de::Error| ScenarioError::Override {
-                        assignment: assignment.clone(),
-                        message: e.message().trim().to_string(),
+                    |e: toml::de::Error| {
+                        let message = e.message().trim().to_string();
+                        ScenarioError::Override {
+                            assignment: assignment.clone(),
+                            message: match &created {
+                                Some(table) if message.starts_with("missing field") => {
+                                    whole_table_hint(table, assignment, &message)
+                                }
+                                _ => message,
+                            },
+                        }
                     },
                 )?;
             }
@@ -518,4 +527,49 @@ impl Scenario {
             })
         })
     }
+}
+
+/// The table `assignment` sets a field of, as a dotted path, when `root` does not have it
+/// (the override creates it): `chase.controller.lookahead` for
+/// `chase.controller.lookahead.min_m=3` in a file without `[chase.controller.lookahead]`.
+fn created_table(root: &toml::Table, assignment: &str) -> Option<String> {
+    let path = assignment.split_once('=')?.0.trim();
+    let keys: Vec<&str> = path.split('.').collect();
+    let (_, parents) = keys.split_last()?;
+    let mut table = root;
+    for key in parents {
+        match table.get(*key) {
+            Some(toml::Value::Table(t)) => table = t,
+            Some(_) => return None,
+            None => return Some(parents.join(".")),
+        }
+    }
+    None
+}
+
+/// The error of an override that created `table` without the fields it cannot do without:
+/// what to write instead, the whole table with the defaults of the built-in scenario and
+/// the override's own value.
+fn whole_table_hint(table: &str, assignment: &str, message: &str) -> String {
+    let mut hint = format!(
+        "`{table}` is not in the file, and a table given by --set needs all its fields \
+         ({message})"
+    );
+    let pointer = format!("/{}", table.replace('.', "/"));
+    let defaults = Scenario::builtin(&[])
+        .ok()
+        .and_then(|s| s.resolved_json().pointer(&pointer).cloned())
+        .and_then(|v| toml::Value::try_from(v).ok());
+    if let Some(toml::Value::Table(mut whole)) = defaults {
+        let (path, value) = assignment.split_once('=').unwrap_or((assignment, ""));
+        let field = path.trim()[table.len()..].trim_start_matches('.');
+        if !field.contains('.') {
+            whole.insert(field.to_string(), overrides::parse_value(value.trim()));
+        }
+        hint.push_str(&format!(
+            ": give it whole, e.g. --set '{table}={}'",
+            toml::Value::Table(whole)
+        ));
+    }
+    hint
 }

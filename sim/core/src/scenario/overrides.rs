@@ -98,7 +98,7 @@ pub fn apply_override(root: &mut toml::Table, assignment: &str) -> Result<(), Sc
     Ok(())
 }
 
-fn parse_value(text: &str) -> toml::Value {
+pub(super) fn parse_value(text: &str) -> toml::Value {
     let wrapped = format!("v = {text}");
     match toml::from_str::<toml::Table>(&wrapped) {
         Ok(mut t) => t.remove("v").expect("key v"),
