@@ -618,3 +618,30 @@ fn a_set_on_a_table_without_defaults_says_what_to_write() {
     let s = load(&text(), &[suggested]).unwrap_or_else(|e| panic!("{suggested}: {e}"));
     assert_eq!(s.chase.lookahead.min_m, 3.0);
 }
+
+/// A lead faster than the chase's gap keeper will drive is valid, and warned of, naming
+/// both fields; no shipped scenario is.
+#[test]
+fn a_lead_faster_than_the_gap_keeper_is_warned_of() {
+    let s = load(&text(), &["lead.speed_profile=[[0.0, 8.0], [20.0, 25.0]]"]).unwrap();
+    let w = s.warnings();
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert!(
+        w[0].contains("`lead.speed_profile` reaches 25 m/s")
+            && w[0].contains("`chase.controller.gap_keeper.max_speed_mps` (20 m/s"),
+        "{w:?}"
+    );
+    let s = load(
+        &text(),
+        &[
+            "lead.speed_profile=[[0.0, 8.0], [20.0, 25.0]]",
+            "chase.controller.gap_keeper.max_speed_mps=30",
+        ],
+    )
+    .unwrap();
+    assert!(s.warnings().is_empty(), "{:?}", s.warnings());
+    for name in sim_core::shipped_scenarios() {
+        let s = Scenario::shipped(name, &[]).unwrap().unwrap();
+        assert!(s.warnings().is_empty(), "{name}: {:?}", s.warnings());
+    }
+}

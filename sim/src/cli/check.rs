@@ -20,6 +20,9 @@ pub struct CheckArgs {
 /// checks when its run can be planned (see [`Plan`]): `run` plans it alike.
 pub fn run_check(args: CheckArgs) -> anyhow::Result<()> {
     let ok = |what: &str, s: &Scenario| {
+        for warning in s.warnings() {
+            eprintln!("warning: {what}: {warning}");
+        }
         say!(
             "{what}: ok: `{}`, {} s, seed {}, target `{}`",
             s.name,

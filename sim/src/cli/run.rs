@@ -289,6 +289,9 @@ fn run_one(plan: Plan, backend: Backend, dir: &Path, args: &RunArgs) -> anyhow::
         },
     )
     .map_err(incomplete)?;
+    for warning in scenario.warnings() {
+        eprintln!("warning: {}: {warning}", scenario.name);
+    }
     for note in sim.notes() {
         eprintln!("warning: {note}");
     }

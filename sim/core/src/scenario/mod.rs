@@ -425,6 +425,30 @@ impl Scenario {
         (self.duration_s * f64::from(vehicle::CAMERA_HZ)).round() as u64
     }
 
+    /// What is valid but doubtful in the scenario, a line each naming the fields: `check`
+    /// and `run` say these as warnings. Today: a lead faster than the chase's gap keeper
+    /// will drive (`chase.controller.gap_keeper.max_speed_mps`), so that the gap can only
+    /// open.
+    pub fn warnings(&self) -> Vec<String> {
+        let mut out = Vec::new();
+        let lead_max = self
+            .lead_profile
+            .knots
+            .iter()
+            .map(|k| f64::from(k.speed_mps))
+            .fold(self.lead_initial_speed_mps, f64::max);
+        let keeper_max = f64::from(self.chase.gap_keeper.max_speed_mps);
+        if matches!(self.chase.speed_mode, vehicle::SpeedMode::GapKeeping) && lead_max > keeper_max
+        {
+            out.push(format!(
+                "`lead.speed_profile` reaches {lead_max} m/s, faster than \
+                 `chase.controller.gap_keeper.max_speed_mps` ({keeper_max} m/s, the fastest \
+                 the chase will drive): the gap can only open while the lead is faster"
+            ));
+        }
+        out
+    }
+
     /// The built-in `nist-grounds`, with `--set` overrides.
     pub fn builtin(overrides: &[String]) -> Result<Scenario, ScenarioError> {
         Self::parse(
