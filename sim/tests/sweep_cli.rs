@@ -575,3 +575,44 @@ fn progress_lines_off_a_terminal() {
         );
     }
 }
+
+/// `--resume` refuses results made with another version of a scenario file the sweep names,
+/// or of the target file a scenario reads: old and new results would mix.
+#[test]
+fn resume_refuses_a_changed_scenario_or_target_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenarios");
+    let scenarios = dir.path().join("scenarios");
+    std::fs::create_dir_all(scenarios.join("targets")).unwrap();
+    let scenario = scenarios.join("weave.toml");
+    let target = scenarios.join("targets/nist-ten-segment.toml");
+    std::fs::copy(root.join("weave.toml"), &scenario).unwrap();
+    std::fs::copy(root.join("targets/nist-ten-segment.toml"), &target).unwrap();
+    let sweep = dir.path().join("sweep.toml");
+    std::fs::write(
+        &sweep,
+        TINY.replace("SCENARIOS", &scenarios.display().to_string()),
+    )
+    .unwrap();
+    let out = dir.path().join("out");
+    let shard = |extra: &[&str]| {
+        let mut args = vec!["sweep", s(&sweep), "--out", s(&out)];
+        args.extend(extra);
+        carfollow(&args)
+    };
+    ok(shard(&["--shard", "0/2"]));
+    for file in [&target, &scenario] {
+        let before = std::fs::read_to_string(file).unwrap();
+        std::fs::write(file, format!("{before}\n# edited\n")).unwrap();
+        let changed = shard(&["--resume"]);
+        assert_eq!(changed.status.code(), Some(2), "{}", file.display());
+        let err = String::from_utf8_lossy(&changed.stderr);
+        assert!(
+            err.contains("are of another sweep") && err.contains("scenario or target file"),
+            "{err}"
+        );
+        std::fs::write(file, before).unwrap();
+    }
+    // As they were, the resume finishes the sweep.
+    ok(shard(&["--resume"]));
+}

@@ -286,8 +286,9 @@ fn resumable(
         .find(|r| !r.sweep_hash.is_empty() && r.sweep_hash != sweep.hash)
     {
         anyhow::bail!(
-            "{}: its rows are of another sweep (hash {}; now {}): the sweep file or the \
-             overrides changed since; use another --out, or remove the results",
+            "{}: its rows are of another sweep (hash {}; now {}): the sweep file, a \
+             scenario or target file it uses, or the overrides changed since; use another \
+             --out, or remove the results",
             results.display(),
             row.sweep_hash,
             sweep.hash
@@ -295,8 +296,9 @@ fn resumable(
     }
     match Manifest::read(out)? {
         Some(m) if m.hash != sweep.hash => anyhow::bail!(
-            "{}: the results in {} are of another sweep (hash {}; now {}): the sweep file or \
-             the overrides changed since; use another --out, or remove the folder",
+            "{}: the results in {} are of another sweep (hash {}; now {}): the sweep file, \
+             a scenario or target file it uses, or the overrides changed since; use another \
+             --out, or remove the folder",
             file.display(),
             out.display(),
             m.hash,

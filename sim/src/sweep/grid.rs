@@ -114,8 +114,8 @@ pub struct Sweep {
     /// Every point, in grid order.
     pub points: Vec<Point>,
     /// What the results are results of: the 64-bit FNV-1a hash, in hex, of the sweep file's
-    /// text and the command line's overrides. `--resume` refuses a folder whose results
-    /// have another.
+    /// text, the command line's overrides, and the text of every scenario and target file
+    /// its points read. `--resume` refuses a folder whose results have another.
     pub hash: String,
 }
 
@@ -273,10 +273,24 @@ impl Sweep {
         }
         let points = grid(&scenarios, &raw.seeds, &axes, &set);
 
-        // Every point's overrides, before anything runs.
+        // Every point's overrides, before anything runs; and every file the points read (the
+        // scenarios and their targets), which the hash covers.
+        let mut inputs: std::collections::BTreeSet<std::path::PathBuf> =
+            scenarios.iter().map(|s| s.path.clone()).collect();
         for point in &points {
             let overrides = point.overrides(&set);
-            if let Err(e) = Plan::load(&scenarios[point.scenario].path, &overrides) {
+            let scenario_path = &scenarios[point.scenario].path;
+            let planned = Plan::load(scenario_path, &overrides);
+            if let Ok(plan) = &planned {
+                let target = &plan.scenario().resolved.tracker.target;
+                inputs.insert(
+                    scenario_path
+                        .parent()
+                        .unwrap_or(Path::new("."))
+                        .join(target),
+                );
+            }
+            if let Err(e) = planned {
                 let field = match &e {
                     sim_core::ScenarioError::Override { assignment, .. } => axes
                         .iter()
@@ -302,6 +316,13 @@ impl Sweep {
         let mut hashed = text.clone();
         for s in extra_set {
             hashed.push_str(&format!("\n--set {s}"));
+        }
+        // A shipped target that is not on disk is compiled in, and changes only with the
+        // program, like everything else the hash leaves to the version.
+        for file in &inputs {
+            if let Ok(content) = std::fs::read_to_string(file) {
+                hashed.push_str(&format!("\n--file {}\n{content}", file.display()));
+            }
         }
         Ok(Sweep {
             hash: format!("{:016x}", vehicle::fnv1a64(hashed.as_bytes())),
