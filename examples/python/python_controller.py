@@ -26,6 +26,8 @@ WHEELBASE_M = 3.3
 class BearingController:
     """Pure pursuit on the target, and a constant time-gap PD law."""
 
+    name = "bearing pursuit and time gap (Python)"  # in summary.json and the table
+
     def __init__(self, standstill_m: float = 5.5, time_gap_s: float = 0.5) -> None:
         self.standstill_m = standstill_m
         self.time_gap_s = time_gap_s
