@@ -33,6 +33,7 @@ pub mod paint;
 pub mod pixel_rect;
 pub mod prediction;
 pub mod robust;
+mod step_io;
 pub mod tracker;
 pub mod window;
 

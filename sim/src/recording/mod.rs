@@ -23,6 +23,7 @@
 //! (resolved, as TOML), its target model, seed and overrides, the program's version, and the
 //! tracker's start. That is everything replay needs besides the frames.
 
+mod convert;
 mod messages;
 mod replay;
 mod writer;

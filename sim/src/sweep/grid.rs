@@ -313,19 +313,8 @@ impl Sweep {
                 });
             }
         }
-        let mut hashed = text.clone();
-        for s in extra_set {
-            hashed.push_str(&format!("\n--set {s}"));
-        }
-        // A shipped target that is not on disk is compiled in, and changes only with the
-        // program, like everything else the hash leaves to the version.
-        for file in &inputs {
-            if let Ok(content) = std::fs::read_to_string(file) {
-                hashed.push_str(&format!("\n--file {}\n{content}", file.display()));
-            }
-        }
         Ok(Sweep {
-            hash: format!("{:016x}", vehicle::fnv1a64(hashed.as_bytes())),
+            hash: sweep_hash(&text, extra_set, &inputs),
             path: path.to_owned(),
             scenarios,
             seeds: raw.seeds,
@@ -389,6 +378,26 @@ fn grid(scenarios: &[SweepScenario], seeds: &[u64], axes: &[Axis], set: &[String
         }
     }
     points
+}
+
+/// [`Sweep::hash`]: of the sweep file's `text`, the command line's overrides, and the text of
+/// every file in `inputs`. A shipped target that is not on disk is compiled in, and changes
+/// only with the program, like everything else the hash leaves to the version.
+fn sweep_hash(
+    text: &str,
+    extra_set: &[String],
+    inputs: &std::collections::BTreeSet<std::path::PathBuf>,
+) -> String {
+    let mut hashed = text.to_string();
+    for s in extra_set {
+        hashed.push_str(&format!("\n--set {s}"));
+    }
+    for file in inputs {
+        if let Ok(content) = std::fs::read_to_string(file) {
+            hashed.push_str(&format!("\n--file {}\n{content}", file.display()));
+        }
+    }
+    format!("{:016x}", vehicle::fnv1a64(hashed.as_bytes()))
 }
 
 #[cfg(test)]
