@@ -5,11 +5,12 @@
 
 use super::capture::{timed, Captured, InFlight, HERE};
 use super::drive::Driven;
-use super::tracking::{TrackFailure, Tracked};
+use super::tracking::{TrackFailure, Tracked, Tracking};
 use super::{ClosedLoop, FrameOutput, FramePoses, LoopError};
 use crate::render_thread::RenderThread;
-use sim_render::{Frame, RenderError};
+use sim_render::{Frame, RenderError, Renderer};
 use std::time::{Duration, Instant};
+use tracker::EgoMotion;
 
 impl<E: Into<LoopError>> From<TrackFailure<E>> for LoopError {
     fn from(f: TrackFailure<E>) -> LoopError {
@@ -110,7 +111,6 @@ impl ClosedLoop {
         spent: &mut [Duration; 3],
     ) -> Result<(Captured, Frame, Tracked, Driven), LoopError> {
         let captured = self.capture();
-        let t_s = captured.input.time_s;
         let ego = self.ego_motion(&captured);
         let needed = self.needed(&captured);
         let (renderer, tracking, drive) = (
@@ -118,27 +118,20 @@ impl ClosedLoop {
             &mut self.tracking,
             &mut self.drive,
         );
-        let (diagnostics, pan) = (self.diagnostics, captured.pan_reading_rad);
+        let diagnostics = self.diagnostics;
         let [render_t, track_t, physics_t] = spent;
-        let input = &captured.input;
         let (seen, driven) = std::thread::scope(|scope| {
             let physics = scope.spawn(|| timed(physics_t, || drive.advance_frame()));
-            let seen = timed(render_t, || renderer.render_part(input, needed))
-                .map_err(LoopError::from)
-                .and_then(|mut frame| {
-                    let render = |part| renderer.render_part(input, part);
-                    let (tracked, again) = timed(track_t, || {
-                        tracking.track::<RenderError>(
-                            &mut frame,
-                            render,
-                            t_s,
-                            ego,
-                            diagnostics,
-                            pan,
-                        )
-                    })?;
-                    Ok((frame, tracked, again))
-                });
+            let rendered = timed(render_t, || renderer.render_part(&captured.input, needed));
+            let seen = track_rendered(
+                tracking,
+                renderer,
+                &captured,
+                rendered,
+                track_t,
+                ego,
+                diagnostics,
+            );
             let driven = match physics.join() {
                 Ok(driven) => driven,
                 Err(panic) => std::panic::resume_unwind(panic),
@@ -187,17 +180,11 @@ impl ClosedLoop {
         let pending = self.in_flight.pop_front().expect("a prefetched frame");
         let captured = pending.captured;
         let ego = self.ego_motion(&captured);
-        let (t_s, diagnostics, pan) = (
-            captured.input.time_s,
-            self.diagnostics,
-            captured.pan_reading_rad,
-        );
-        let pipelined = self.pipelined;
+        let (diagnostics, pipelined) = (self.diagnostics, self.pipelined);
         let thread = self.render_thread.as_mut().expect("the prefetch's thread");
         let (tracking, drive, renderer_slot) =
             (&mut self.tracking, &mut self.drive, &mut self.renderer);
         let [render_t, track_t, physics_t] = spent;
-        let input = &captured.input;
         let mut driven = None;
         let seen = std::thread::scope(|scope| {
             let physics =
@@ -205,23 +192,15 @@ impl ClosedLoop {
             let rendered = thread.wait();
             *render_t += rendered.spent;
             let renderer = renderer_slot.insert(rendered.renderer);
-            let seen = rendered
-                .frame
-                .map_err(LoopError::from)
-                .and_then(|mut frame| {
-                    let render = |part| renderer.render_part(input, part);
-                    let (tracked, again) = timed(track_t, || {
-                        tracking.track::<RenderError>(
-                            &mut frame,
-                            render,
-                            t_s,
-                            ego,
-                            diagnostics,
-                            pan,
-                        )
-                    })?;
-                    Ok((frame, tracked, again))
-                });
+            let seen = track_rendered(
+                tracking,
+                renderer,
+                &captured,
+                rendered.frame,
+                track_t,
+                ego,
+                diagnostics,
+            );
             if let Some(physics) = physics {
                 driven = Some(match physics.join() {
                     Ok(driven) => driven,
@@ -249,16 +228,45 @@ impl ClosedLoop {
         let needed = self.needed(&captured);
         let [render_t, track_t, physics_t] = spent;
         let renderer = self.renderer.as_deref_mut().expect(HERE);
-        let mut frame = timed(render_t, || renderer.render_part(&captured.input, needed))?;
-        let (t_s, diagnostics) = (captured.input.time_s, self.diagnostics);
-        let pan = captured.pan_reading_rad;
-        let render = |part| renderer.render_part(&captured.input, part);
-        let (tracked, again) = timed(track_t, || {
-            self.tracking
-                .track::<RenderError>(&mut frame, render, t_s, ego, diagnostics, pan)
-        })?;
+        let rendered = timed(render_t, || renderer.render_part(&captured.input, needed));
+        let (frame, tracked, again) = track_rendered(
+            &mut self.tracking,
+            renderer,
+            &captured,
+            rendered,
+            track_t,
+            ego,
+            self.diagnostics,
+        )?;
         self.tracked(&captured, &tracked, again);
         let driven = timed(physics_t, || self.drive.advance_frame());
         Ok((captured, frame, tracked, driven))
     }
+}
+
+/// Tracks a frame this process rendered (`rendered`), rendering again the parts the tracker
+/// asks for: the frame, what the tracker made of it, and whether it asked.
+fn track_rendered(
+    tracking: &mut Tracking,
+    renderer: &mut Renderer,
+    captured: &Captured,
+    rendered: Result<Frame, RenderError>,
+    track_t: &mut Duration,
+    ego: Option<EgoMotion>,
+    diagnostics: bool,
+) -> Result<(Frame, Tracked, bool), LoopError> {
+    let mut frame = rendered?;
+    let input = &captured.input;
+    let render = |part| renderer.render_part(input, part);
+    let (tracked, again) = timed(track_t, || {
+        tracking.track::<RenderError>(
+            &mut frame,
+            render,
+            input.time_s,
+            ego,
+            diagnostics,
+            captured.pan_reading_rad,
+        )
+    })?;
+    Ok((frame, tracked, again))
 }
