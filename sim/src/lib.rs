@@ -24,8 +24,9 @@ pub use recording::{
 };
 pub use report::{
     iso8601_utc, junit_xml, sigma2_column, write_junit, write_plots, Criterion, FramesCsv,
-    GapStats, JunitScenario, LateralError, OutputOptions, RangeError, ReportError, RunOutputs,
-    Summary, FRAMES_CSV_COLUMNS, GIF_DELAYS_CS, PLOT_FILES, SCHEMA_VERSION, VIDEO_OUTPUTS,
+    GapStats, JunitScenario, LateralError, OutputOptions, PlotTrace, RangeError, ReportError,
+    RunOutputs, Summary, SummaryBuilder, FRAMES_CSV_COLUMNS, GIF_DELAYS_CS, PLOT_FILES,
+    SCHEMA_VERSION, VIDEO_OUTPUTS,
 };
 pub use simulation::{RunError, Simulation, SimulationOptions};
 pub use sweep::{

@@ -200,6 +200,7 @@ impl Simulation {
                 features: s.target.segments().len(),
                 ..OutputOptions::default()
             },
+            &s.expect,
         )?;
         outputs.set_provenance(s.resolved_json(), s.overrides.clone());
         outputs.set_components(self.looped.tracker_name(), self.looped.controller_name());
@@ -292,7 +293,7 @@ impl Simulation {
         let summary = match self.outputs.take() {
             Some(outputs) => {
                 let dir = outputs.dir().to_path_buf();
-                let summary = outputs.finish(&s.name, s.seed, &s.expect, wall_s, timing)?;
+                let summary = outputs.finish(&s.name, s.seed, wall_s, timing)?;
                 write_junit(dir.join("junit.xml"), &[JunitScenario::Ran(&summary)])?;
                 summary
             }
@@ -323,13 +324,7 @@ impl Simulation {
         for r in &self.kept {
             outputs.record(r)?;
         }
-        let summary = outputs.finish(
-            &s.name,
-            s.seed,
-            &s.expect,
-            self.wall_s(),
-            Some(self.timing()),
-        )?;
+        let summary = outputs.finish(&s.name, s.seed, self.wall_s(), Some(self.timing()))?;
         write_junit(dir.join("junit.xml"), &[JunitScenario::Ran(&summary)])?;
         Ok(summary)
     }

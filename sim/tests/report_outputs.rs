@@ -45,6 +45,7 @@ fn record(i: u64) -> FrameRecord {
         true_range_m: gap,
         true_lateral_m: 0.5 * (t / 4.0).sin(),
         target_in_view: !(22.0..23.0).contains(&t),
+        target_partly_out_of_view: false,
         est_cx: 161.0,
         est_cy: 121.0,
         est_scale: 10.0 / gap,
@@ -125,7 +126,7 @@ fn run(dir: &Path) -> sim::Summary {
         plots: true,
         features: 10,
     };
-    let mut out = RunOutputs::create(dir, options).unwrap();
+    let mut out = RunOutputs::create(dir, options, &expect()).unwrap();
     for i in 0..FRAMES {
         // Image before record on even frames, after on odd ones: both orders must work.
         if i % 2 == 0 {
@@ -136,8 +137,7 @@ fn run(dir: &Path) -> sim::Summary {
             out.frame_image(i, &image(i)).unwrap();
         }
     }
-    out.finish("synthetic-s-curve", 42, &expect(), 2.5, None)
-        .unwrap()
+    out.finish("synthetic-s-curve", 42, 2.5, None).unwrap()
 }
 
 /// Every file a run with video writes besides the plots.
@@ -244,8 +244,8 @@ fn an_earlier_runs_video_and_stills_are_removed() {
         std::fs::write(tmp.path().join(name), b"old").unwrap();
     }
     std::fs::write(tmp.path().join("notes.txt"), b"mine").unwrap();
-    let out = RunOutputs::create(tmp.path(), OutputOptions::default()).unwrap();
-    out.finish("x", 1, &expect(), 0.0, None).unwrap();
+    let out = RunOutputs::create(tmp.path(), OutputOptions::default(), &expect()).unwrap();
+    out.finish("x", 1, 0.0, None).unwrap();
     for name in VIDEO_OUTPUTS {
         assert!(!tmp.path().join(name).exists(), "{name}");
     }
@@ -257,8 +257,8 @@ fn empty_and_one_frame_runs_still_write_their_outputs() {
     let tmp = tempfile::tempdir().unwrap();
     // No frame at all: the summary fails with a reason, the plots are empty but drawn.
     let dir = tmp.path().join("empty");
-    let out = RunOutputs::create(&dir, OutputOptions::default()).unwrap();
-    let s = out.finish("empty", 1, &expect(), 0.0, None).unwrap();
+    let out = RunOutputs::create(&dir, OutputOptions::default(), &expect()).unwrap();
+    let s = out.finish("empty", 1, 0.0, None).unwrap();
     assert!(!s.passed);
     assert_eq!(
         s.failures[0],
@@ -278,10 +278,10 @@ fn empty_and_one_frame_runs_still_write_their_outputs() {
         expected_frames: Some(1),
         ..OutputOptions::default()
     };
-    let mut out = RunOutputs::create(&dir, options).unwrap();
+    let mut out = RunOutputs::create(&dir, options, &Expect::default()).unwrap();
     out.record(&record(0)).unwrap();
     out.frame_image(0, &image(0)).unwrap();
-    let s = out.finish("one", 1, &Expect::default(), 0.1, None).unwrap();
+    let s = out.finish("one", 1, 0.1, None).unwrap();
     assert!(s.passed, "{:?}", s.failures);
     assert!((s.duration_s - 1.0 / 15.0).abs() < 1e-12);
     for file in files().filter(|f| *f != "still_first_lost.png") {

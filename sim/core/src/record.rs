@@ -44,7 +44,7 @@ pub enum LossCause {
     /// Not lost.
     #[default]
     None,
-    /// The target is (partly) outside the image: no tracker could measure it.
+    /// The target is wholly or partly outside the image, and the estimate is off.
     OutOfView,
     /// The target is in the image, but scenery stands between it and the camera
     /// (`camera::target_occluded`).
@@ -90,8 +90,12 @@ pub struct FrameRecord {
     pub true_range_m: f64,
     /// True lateral offset of the target in the camera frame (x right), metres.
     pub true_lateral_m: f64,
-    /// Whether the target is in the camera's view at all.
+    /// Whether the whole target is in the camera's view (every corner inside the image).
     pub target_in_view: bool,
+    /// Whether the target is partly out of view: some of it inside the image, not all. A
+    /// frame partly out of view is judged like any other (lost only when the estimate is
+    /// off); its loss, if any, is put down to [`LossCause::OutOfView`].
+    pub target_partly_out_of_view: bool,
 
     /// Tracker's estimate of the centre, pixels (measurement, else prediction).
     pub est_cx: f64,
@@ -107,8 +111,10 @@ pub struct FrameRecord {
     pub confidence: [f64; 3],
     /// The tracker's own status.
     pub status: TrackerStatus,
-    /// Ground truth's judgement: the estimate is off by more than a quarter of the target's
-    /// width in position, or by more than 25 % in scale (or the target is out of view).
+    /// Ground truth's judgement: there is no estimate, or it is off by more than a quarter
+    /// of the target's width in position, or by more than 25 % in scale. Where the target
+    /// is wholly or partly out of view the same holds: a target partly outside the image but
+    /// tracked within that tolerance is not lost.
     pub lost_truth: bool,
 
     /// Following distance, metres: the true horizontal distance from the chase camera to the

@@ -184,7 +184,8 @@ pub fn serve_frames(
         for v in [t.c_x, t.c_y, t.scale, x, y, z] {
             output.write_all(&v.to_le_bytes())?;
         }
-        output.write_all(&[u8::from(t.in_view)])?;
+        // 1: wholly in view, 2: partly, 0: out.
+        output.write_all(&[u8::from(t.in_view) + 2 * u8::from(t.partly_in_view)])?;
         let mut exact = Vec::with_capacity(32);
         put_rect(&mut exact, frame.exact);
         output.write_all(&exact)?;
@@ -443,7 +444,8 @@ impl RemoteRenderer {
                 c_y: f(1),
                 scale: f(2),
                 target_cam_m: [f(3), f(4), f(5)],
-                in_view: truth[48] != 0,
+                in_view: truth[48] == 1,
+                partly_in_view: truth[48] == 2,
             },
             exact,
         })

@@ -49,6 +49,7 @@ pub(crate) fn truth_dict<'py>(py: Python<'py>, r: &FrameRecord) -> PyResult<Boun
     d.set_item("range_m", r.true_range_m)?;
     d.set_item("lateral_m", r.true_lateral_m)?;
     d.set_item("in_view", r.target_in_view)?;
+    d.set_item("partly_out_of_view", r.target_partly_out_of_view)?;
     d.set_item("gap_m", r.gap_m)?;
     d.set_item("lead_speed_mps", r.lead_speed_mps)?;
     d.set_item("chase_speed_mps", r.chase_speed_mps)?;

@@ -21,6 +21,7 @@ def test_steps_one_frame_at_a_time_and_exposes_it():
     assert frame.std() > 5, "a rendered frame, not a blank one"
     truth, estimate = sim.truth, sim.estimate
     assert truth["in_view"] and abs(truth["range_m"] - estimate["range_m"]) < 1.0
+    assert truth["partly_out_of_view"] is False
     assert estimate["status"] in ("tracking", "coasting", "lost")
     assert sim.step() and abs(sim.t - 1 / 15) < 1e-12
     assert sim.record["frame"] == 1

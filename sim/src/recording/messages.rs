@@ -114,8 +114,10 @@ pub struct GroundTruth {
     pub range_error_m: f64,
     /// The estimate's image error, pixels.
     pub image_error_px: f64,
-    /// Whether the target is in view.
+    /// Whether the whole target is in view.
     pub in_view: bool,
+    /// Whether the target is partly out of view (some of it in the image, not all).
+    pub partly_out_of_view: bool,
     /// The ground truth's judgement that tracking is lost.
     pub lost_truth: bool,
     /// The following distance, metres.

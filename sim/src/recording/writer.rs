@@ -543,6 +543,7 @@ impl Writer {
                 range_error_m: r.est_range_m - r.true_range_m,
                 image_error_px: (r.est_cx - r.true_cx).hypot(r.est_cy - r.true_cy),
                 in_view: r.target_in_view,
+                partly_out_of_view: r.target_partly_out_of_view,
                 lost_truth: r.lost_truth,
                 gap_m: r.gap_m,
                 lead_speed_mps: r.lead_speed_mps,

@@ -15,7 +15,7 @@ use super::ReportError;
 use sim_core::FrameRecord;
 
 /// The columns of `frames.csv`, in order. The order is stable: new columns go at the end.
-pub const FRAMES_CSV_COLUMNS: [&str; 40] = [
+pub const FRAMES_CSV_COLUMNS: [&str; 41] = [
     "frame",
     "t_s",
     "true_range_m",
@@ -56,6 +56,7 @@ pub const FRAMES_CSV_COLUMNS: [&str; 40] = [
     "loss_cause",
     "camera_pan_deg",
     "desired_gap_m",
+    "target_partly_out_of_view",
 ];
 
 /// The name of the column after [`FRAMES_CSV_COLUMNS`] holding feature `j`'s σ² (eq. 13),
@@ -195,6 +196,7 @@ impl Row {
         for v in [r.camera_pan_deg, r.desired_gap_m] {
             self.num(v);
         }
+        self.flag(r.target_partly_out_of_view);
         for j in 0..features {
             self.num(r.feature_sigma2.get(j).copied().unwrap_or(f64::NAN));
         }
@@ -248,6 +250,7 @@ pub(crate) mod tests {
             true_range_m: 10.0,
             true_lateral_m: 0.0,
             target_in_view: true,
+            target_partly_out_of_view: false,
             est_cx: 321.0,
             est_cy: 239.5,
             est_scale: 1.01,

@@ -17,6 +17,8 @@ pub use error::ReportError;
 pub use frames_csv::{csv_writer, sigma2_column, FramesCsv, FRAMES_CSV_COLUMNS};
 pub use junit::{iso8601_utc, junit_xml, write_junit, JunitScenario};
 pub use outputs::{OutputOptions, RunOutputs, VIDEO_OUTPUTS};
-pub use plots::{write_plots, PLOT_FILES};
-pub use summary::{Criterion, GapStats, LateralError, RangeError, Summary, SCHEMA_VERSION};
+pub use plots::{write_plots, PlotTrace, PLOT_FILES};
+pub use summary::{
+    Criterion, GapStats, LateralError, RangeError, Summary, SummaryBuilder, SCHEMA_VERSION,
+};
 pub use video::{VideoWriter, GIF_DELAYS_CS};

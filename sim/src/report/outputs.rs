@@ -1,6 +1,8 @@
 //! [`RunOutputs`]: the one thing the closed loop talks to. It streams `frames.csv` and the
-//! video while the run goes, keeps the records (a few hundred bytes a frame: about 4 MB for
-//! the 17-minute tape), and at the end writes `summary.json` and the plots.
+//! video while the run goes and keeps no record: the summary is built as the records come
+//! ([`SummaryBuilder`]), and the plots keep what they draw of each frame (88 bytes, about
+//! 2.4 MB for 30 minutes; none with plots off). At the end it writes `summary.json` and the
+//! plots.
 //!
 //! Files in the output directory:
 //! - `frames.csv` (see [`FramesCsv`]), `summary.json` (see [`Summary`]), the plots of
@@ -19,7 +21,8 @@ use std::path::{Path, PathBuf};
 
 use image::RgbImage;
 
-use super::{write_plots, FramesCsv, ReportError, Summary, VideoWriter};
+use super::plots::PlotTrace;
+use super::{write_plots, FramesCsv, ReportError, Summary, SummaryBuilder, VideoWriter};
 use sim_core::LoopTiming;
 use sim_core::{Expect, FrameRecord};
 
@@ -57,7 +60,12 @@ pub struct RunOutputs {
     dir: PathBuf,
     options: OutputOptions,
     csv: FramesCsv,
-    records: Vec<FrameRecord>,
+    expect: Expect,
+    summary: SummaryBuilder,
+    /// What the plots draw, when they are on.
+    plot_trace: Option<PlotTrace>,
+    /// The last record's frame and whether it was lost, for the first lost frame's still.
+    last_record: Option<(u64, bool)>,
     video: Option<VideoWriter>,
     stills: Stills,
     /// The resolved scenario and the overrides, for `summary.json`.
@@ -91,10 +99,12 @@ pub const VIDEO_OUTPUTS: [&str; 7] = [
 
 impl RunOutputs {
     /// Creates `dir` (and its parents) and starts `frames.csv` in it, removing the video and
-    /// stills an earlier run left there ([`VIDEO_OUTPUTS`]).
+    /// stills an earlier run left there ([`VIDEO_OUTPUTS`]). The run is judged against
+    /// `expect`.
     pub fn create(
         dir: impl AsRef<Path>,
         options: OutputOptions,
+        expect: &Expect,
     ) -> Result<RunOutputs, ReportError> {
         let dir = dir.as_ref().to_path_buf();
         std::fs::create_dir_all(&dir).map_err(ReportError::io(&dir))?;
@@ -118,11 +128,15 @@ impl RunOutputs {
             ],
             _ => Vec::new(),
         };
+        let plot_trace = options.plots.then(PlotTrace::new);
         Ok(RunOutputs {
             dir,
             options,
             csv,
-            records: Vec::new(),
+            expect: expect.clone(),
+            summary: SummaryBuilder::new(expect.gap_band_m),
+            plot_trace,
+            last_record: None,
             video: None,
             stills: Stills {
                 at_fraction,
@@ -149,15 +163,14 @@ impl RunOutputs {
         &self.dir
     }
 
-    /// The records so far.
-    pub fn records(&self) -> &[FrameRecord] {
-        &self.records
-    }
-
     /// Records one frame: appends (and flushes) its `frames.csv` row.
     pub fn record(&mut self, r: &FrameRecord) -> Result<(), ReportError> {
         self.csv.write(r)?;
-        self.records.push(r.clone());
+        self.summary.push(r);
+        if let Some(trace) = &mut self.plot_trace {
+            trace.push(r);
+        }
+        self.last_record = Some((r.frame, r.lost_truth));
         if r.lost_truth && !self.stills.first_lost_done {
             if let Some((frame, img)) = &self.stills.last {
                 if *frame == r.frame {
@@ -201,10 +214,7 @@ impl RunOutputs {
             save_png(&self.dir.join(file), img)?;
             self.stills.at_fraction.remove(0);
         }
-        let lost_now = self
-            .records
-            .last()
-            .is_some_and(|r| r.frame == frame && r.lost_truth);
+        let lost_now = self.last_record == Some((frame, true));
         if lost_now && !self.stills.first_lost_done {
             save_png(&self.dir.join("still_first_lost.png"), img)?;
             self.stills.first_lost_done = true;
@@ -220,11 +230,11 @@ impl RunOutputs {
         self,
         scenario: &str,
         seed: u64,
-        expect: &Expect,
         wall_s: f64,
         timing: Option<LoopTiming>,
     ) -> Result<Summary, ReportError> {
-        let mut summary = Summary::compute(scenario, seed, &self.records, expect, wall_s);
+        let expect = &self.expect;
+        let mut summary = Summary::of(self.summary, scenario, seed, expect, wall_s);
         summary.timing = timing;
         if let Some((resolved, overrides)) = &self.provenance {
             summary.resolved_scenario = Some(resolved.clone());
@@ -235,8 +245,8 @@ impl RunOutputs {
             summary.controller = Some(controller.clone());
         }
         summary.write_json(self.dir.join("summary.json"))?;
-        if self.options.plots {
-            write_plots(&self.dir, scenario, &self.records, expect)?;
+        if let Some(trace) = &self.plot_trace {
+            write_plots(&self.dir, scenario, trace, expect)?;
         }
         if let Some(v) = self.video {
             v.finish()?;

@@ -3,7 +3,8 @@
 //! - `gap.png`: the following distance over time, with the `[expect]` band shaded;
 //! - `range.png`: the estimated range against the true range, lost frames shaded;
 //! - `status.png`: a timeline with two lanes, the tracker's own status and the ground-truth
-//!   judgement;
+//!   judgement (on target, lost, lost out of view, on target with the target partly out of
+//!   view);
 //! - `trajectories.png`: top-down paths of both vehicles, one metre the same length on both axes;
 //! - `lateral_deviation.png`: the chase vehicle's distance from the lead's path, with its limit.
 //!
@@ -19,9 +20,9 @@ use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::summary::frame_period;
+use super::summary::FramePeriod;
 use super::ReportError;
-use sim_core::{Expect, FrameRecord, TrackerStatus};
+use sim_core::{Expect, FrameRecord, LossCause, TrackerStatus};
 
 /// The plot files written by [`write_plots`], in order.
 pub const PLOT_FILES: [&str; 5] = [
@@ -64,6 +65,8 @@ const OUT_OF_VIEW: RGBColor = RGBColor(150, 150, 150);
 const CHASE: RGBColor = RGBColor(31, 100, 200);
 const LEAD: RGBColor = RGBColor(210, 60, 30);
 
+const PARTLY_OUT: RGBColor = RGBColor(120, 200, 190);
+
 pub(crate) type Area<'a> = DrawingArea<BitMapBackend<'a>, Shift>;
 pub(crate) type DrawResult = Result<(), Box<dyn Error>>;
 
@@ -71,11 +74,12 @@ pub(crate) type DrawResult = Result<(), Box<dyn Error>>;
 pub fn write_plots(
     dir: &Path,
     scenario: &str,
-    records: &[FrameRecord],
+    trace: &PlotTrace,
     expect: &Expect,
 ) -> Result<Vec<PathBuf>, ReportError> {
     register_font(dir)?;
-    let series = Series::new(records);
+    let records = &trace.rows[..];
+    let series = Series::new(records, trace.period.period());
     let mut written = Vec::new();
     let mut plot = |file: &str, size, draw: &dyn Fn(&Area) -> DrawResult| {
         let path = dir.join(file);
@@ -139,9 +143,67 @@ pub(crate) fn render(
         })
 }
 
+/// What the plots draw of one frame: a few of its record's fields.
+#[derive(Clone, Copy, Debug)]
+struct PlotRow {
+    t_s: f64,
+    gap_m: f64,
+    true_range_m: f64,
+    est_range_m: f64,
+    lateral_deviation_m: f64,
+    chase_xz: [f64; 2],
+    lead_xz: [f64; 2],
+    status: TrackerStatus,
+    lost_truth: bool,
+    lost_out_of_view: bool,
+    partly_out_of_view: bool,
+}
+
+/// What the plots need of a run, kept as the records come (a tenth of each record's
+/// size): [`write_plots`] draws from it at the end.
+#[derive(Clone, Debug, Default)]
+pub struct PlotTrace {
+    rows: Vec<PlotRow>,
+    period: FramePeriod,
+}
+
+impl PlotTrace {
+    /// An empty trace.
+    pub fn new() -> PlotTrace {
+        PlotTrace::default()
+    }
+
+    /// The trace of `records`.
+    pub fn of(records: &[FrameRecord]) -> PlotTrace {
+        let mut trace = PlotTrace::new();
+        for r in records {
+            trace.push(r);
+        }
+        trace
+    }
+
+    /// Takes the next record.
+    pub fn push(&mut self, r: &FrameRecord) {
+        self.period.push(r.t_s);
+        self.rows.push(PlotRow {
+            t_s: r.t_s,
+            gap_m: r.gap_m,
+            true_range_m: r.true_range_m,
+            est_range_m: r.est_range_m,
+            lateral_deviation_m: r.lateral_deviation_m,
+            chase_xz: r.chase_xz,
+            lead_xz: r.lead_xz,
+            status: r.status,
+            lost_truth: r.lost_truth,
+            lost_out_of_view: r.lost_truth && r.loss_cause == LossCause::OutOfView,
+            partly_out_of_view: r.target_partly_out_of_view,
+        });
+    }
+}
+
 /// Per-frame intervals and the time axis shared by the time-series plots.
 struct Series<'r> {
-    records: &'r [FrameRecord],
+    records: &'r [PlotRow],
     /// `[start, end)` of each frame's interval, seconds.
     spans: Vec<(f64, f64)>,
     t0: f64,
@@ -150,8 +212,7 @@ struct Series<'r> {
 }
 
 impl<'r> Series<'r> {
-    fn new(records: &'r [FrameRecord]) -> Series<'r> {
-        let period = frame_period(records);
+    fn new(records: &'r [PlotRow], period: f64) -> Series<'r> {
         let spans: Vec<(f64, f64)> = records
             .iter()
             .enumerate()
@@ -176,7 +237,7 @@ impl<'r> Series<'r> {
     }
 
     /// `(t, f(r))` as polylines, broken where the value is not finite or frames are missing.
-    fn lines(&self, f: impl Fn(&FrameRecord) -> f64) -> Vec<Vec<(f64, f64)>> {
+    fn lines(&self, f: impl Fn(&PlotRow) -> f64) -> Vec<Vec<(f64, f64)>> {
         let mut lines = Vec::new();
         let mut current: Vec<(f64, f64)> = Vec::new();
         let mut last_t = f64::NEG_INFINITY;
@@ -203,7 +264,7 @@ impl<'r> Series<'r> {
     }
 
     /// Maximal runs of frames with the same class, as `(start, end, class)`.
-    fn runs<C: PartialEq + Copy>(&self, class: impl Fn(&FrameRecord) -> C) -> Vec<(f64, f64, C)> {
+    fn runs<C: PartialEq + Copy>(&self, class: impl Fn(&PlotRow) -> C) -> Vec<(f64, f64, C)> {
         let mut runs: Vec<(f64, f64, C)> = Vec::new();
         for (r, &(a, b)) in self.records.iter().zip(&self.spans) {
             let c = class(r);
@@ -216,7 +277,7 @@ impl<'r> Series<'r> {
     }
 
     /// A padded value range covering `f` over the records and `extra` values.
-    fn value_range(&self, f: impl Fn(&FrameRecord) -> f64, extra: &[f64]) -> (f64, f64) {
+    fn value_range(&self, f: impl Fn(&PlotRow) -> f64, extra: &[f64]) -> (f64, f64) {
         let values = self.records.iter().map(f).chain(extra.iter().copied());
         padded_range(values)
     }
@@ -437,19 +498,22 @@ fn status(area: &Area, scenario: &str, s: &Series) -> DrawResult {
     #[derive(Clone, Copy, PartialEq)]
     enum Truth {
         Tracked,
+        TrackedPartlyOut,
         Lost,
-        OutOfView,
+        LostOutOfView,
     }
-    let truth = s.runs(|r| match (r.target_in_view, r.lost_truth) {
-        (false, _) => Truth::OutOfView,
-        (true, true) => Truth::Lost,
-        (true, false) => Truth::Tracked,
+    let truth = s.runs(|r| match (r.lost_truth, r.lost_out_of_view) {
+        (true, true) => Truth::LostOutOfView,
+        (true, false) => Truth::Lost,
+        (false, _) if r.partly_out_of_view => Truth::TrackedPartlyOut,
+        (false, _) => Truth::Tracked,
     });
     chart.draw_series(truth.iter().map(|&(a, b, t)| {
         let c = match t {
             Truth::Tracked => TRACKING,
+            Truth::TrackedPartlyOut => PARTLY_OUT,
             Truth::Lost => LOST,
-            Truth::OutOfView => OUT_OF_VIEW,
+            Truth::LostOutOfView => OUT_OF_VIEW,
         };
         lane(0, a, b, c)
     }))?;
@@ -468,10 +532,11 @@ fn status(area: &Area, scenario: &str, s: &Series) -> DrawResult {
 fn status_legend(area: &Area) -> DrawResult {
     let mut x = 140;
     for (label, colour) in [
-        ("tracking (tracker) / on target (truth)", TRACKING),
+        ("tracking / on target", TRACKING),
         ("coasting", COASTING),
         ("lost", LOST),
-        ("target out of view", OUT_OF_VIEW),
+        ("lost, out of view", OUT_OF_VIEW),
+        ("on target, partly out of view", PARTLY_OUT),
     ] {
         area.draw(&Rectangle::new([(x, 8), (x + 24, 22)], colour.filled()))?;
         area.draw_text(label, &font(TICK_PX), (x + 32, 7))?;
@@ -483,7 +548,7 @@ fn status_legend(area: &Area) -> DrawResult {
 
 /// Top view: world x to the right, world z down the page (y up, towards the reader), with one
 /// metre the same number of pixels on both axes.
-fn trajectories(area: &Area, scenario: &str, records: &[FrameRecord]) -> DrawResult {
+fn trajectories(area: &Area, scenario: &str, records: &[PlotRow]) -> DrawResult {
     const MARGIN: u32 = TOP_VIEW_MARGIN;
     const X_LABELS: u32 = TOP_VIEW_X_LABELS;
     const Y_LABELS: u32 = TOP_VIEW_Y_LABELS;
@@ -551,7 +616,7 @@ fn trajectories(area: &Area, scenario: &str, records: &[FrameRecord]) -> DrawRes
 }
 
 /// Padded ranges of world x and z over both vehicles, metres.
-fn ground_ranges(records: &[FrameRecord]) -> ((f64, f64), (f64, f64)) {
+fn ground_ranges(records: &[PlotRow]) -> ((f64, f64), (f64, f64)) {
     let x = padded_range(records.iter().flat_map(|r| [r.chase_xz[0], r.lead_xz[0]]));
     let z = padded_range(records.iter().flat_map(|r| [r.chase_xz[1], r.lead_xz[1]]));
     (x, z)
@@ -559,7 +624,7 @@ fn ground_ranges(records: &[FrameRecord]) -> ((f64, f64), (f64, f64)) {
 
 /// The trajectory figure's size: fixed width, the height that fits the ground's aspect (within
 /// [`TOP_VIEW_HEIGHT`]), so little of the figure is empty.
-fn trajectory_size(records: &[FrameRecord]) -> (u32, u32) {
+fn trajectory_size(records: &[PlotRow]) -> (u32, u32) {
     let ((x0, x1), (z0, z1)) = ground_ranges(records);
     let plot_w = TOP_VIEW_WIDTH - 2 * TOP_VIEW_MARGIN - TOP_VIEW_Y_LABELS;
     let extra_h = TOP_VIEW_TITLE + 2 * TOP_VIEW_MARGIN + TOP_VIEW_X_LABELS;

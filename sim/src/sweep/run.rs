@@ -20,7 +20,7 @@
 
 use super::{Point, ResultRow, ResultsWriter, Sweep, SweepError};
 use crate::recording::{Recorder, RecorderOptions, ReplaySetup};
-use crate::report::Summary;
+use crate::report::{Summary, SummaryBuilder};
 use serde::{Deserialize, Serialize};
 use sim_core::Child;
 use sim_core::ClosedLoop;
@@ -75,18 +75,19 @@ pub fn run_point(
             )
         }
     };
-    let mut records = Vec::with_capacity(looped.frames() as usize);
+    // The summary is built as the frames come: a point keeps no record.
+    let mut built = SummaryBuilder::new(scenario.expect.gap_band_m);
     while let Some(out) = looped.step().map_err(|e| fail(e.to_string()))? {
         if let Some(r) = &mut recorder {
             r.frame(&out, looped.chase());
         }
-        records.push(out.record);
+        built.push(&out.record);
     }
     let wall_s = started.elapsed().as_secs_f64();
-    let mut summary = Summary::compute(
+    let mut summary = Summary::of(
+        built,
         &scenario.name,
         scenario.seed,
-        &records,
         &scenario.expect,
         wall_s,
     );

@@ -19,15 +19,18 @@ fn wrong(estimate: Option<&Estimate>, truth: &GroundTruth, width_px: f64, width_
     let Some(e) = estimate else {
         return true;
     };
+    // Written as "not within", so that a centre that does not project (the target behind
+    // the camera) or a non-finite estimate is wrong.
     match (e.cx, e.cy, e.scale) {
         (Some(cx), Some(cy), Some(scale)) => {
-            (cx - truth.c_x).hypot(cy - truth.c_y) > 0.25 * width_px
-                || (scale / truth.scale - 1.0).abs() > 0.25
+            !((cx - truth.c_x).hypot(cy - truth.c_y) <= 0.25 * width_px
+                && (scale / truth.scale - 1.0).abs() <= 0.25)
         }
         _ => {
             let [tx, ty, tz] = truth.target_cam_m;
             let dy = e.vertical_m.map_or(0.0, |y| y - ty);
-            (e.lateral_m - tx).hypot(dy) > 0.25 * width_m || (e.range_m / tz - 1.0).abs() > 0.25
+            !((e.lateral_m - tx).hypot(dy) <= 0.25 * width_m
+                && (e.range_m / tz - 1.0).abs() <= 0.25)
         }
     }
 }
@@ -100,7 +103,9 @@ impl ClosedLoop {
         let truth = frame.truth;
         let estimate = tracked.estimate.as_ref();
         let width_px = truth.scale * self.target_width_px;
-        let lost_truth = !truth.in_view || wrong(estimate, &truth, width_px, self.target_width_m);
+        // Lost: no estimate, or one off by the tolerance, wherever the target is (issue 37:
+        // a target partly out of the image but tracked within the tolerance is not lost).
+        let lost_truth = wrong(estimate, &truth, width_px, self.target_width_m);
         let world_from_camera = captured.world_from_camera;
         let loss_cause = if !lost_truth {
             LossCause::None
@@ -139,6 +144,7 @@ impl ClosedLoop {
             true_range_m: tz,
             true_lateral_m: tx,
             target_in_view: truth.in_view,
+            target_partly_out_of_view: truth.partly_in_view,
             est_cx: known(estimate.and_then(|e| e.cx)),
             est_cy: known(estimate.and_then(|e| e.cy)),
             est_scale: known(estimate.and_then(|e| e.scale)),
@@ -183,5 +189,74 @@ impl ClosedLoop {
             camera_pan_deg: captured.input.camera_pan_rad.to_degrees(),
             desired_gap_m: f64::from(desired_gap_m),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The truth of a target 10 m ahead, centred at `(cx, 120)` at scale 1, wholly in view or
+    /// partly out of it.
+    fn truth(cx: f64, whole: bool) -> GroundTruth {
+        GroundTruth {
+            c_x: cx,
+            c_y: 120.0,
+            scale: 1.0,
+            target_cam_m: [0.0, 0.0, 10.0],
+            in_view: whole,
+            partly_in_view: !whole,
+        }
+    }
+
+    fn at(cx: f64, scale: f64) -> Estimate {
+        Estimate {
+            cx: Some(cx),
+            cy: Some(120.0),
+            scale: Some(scale),
+            ..Estimate::new(10.0, 0.0)
+        }
+    }
+
+    #[test]
+    fn a_target_partly_out_of_view_but_tracked_within_the_tolerance_is_not_lost() {
+        // A 40 px wide target with its centre on the image's right edge: half of it out.
+        let t = truth(255.0, false);
+        assert!(!wrong(Some(&at(256.0, 1.02)), &t, 40.0, 1.0));
+        // Off by more than a quarter of its width, or by more than 25 % in scale: lost,
+        // wherever the target is.
+        assert!(wrong(Some(&at(266.0, 1.0)), &t, 40.0, 1.0));
+        assert!(wrong(Some(&at(255.0, 1.3)), &t, 40.0, 1.0));
+        assert!(wrong(Some(&at(266.0, 1.0)), &truth(128.0, true), 40.0, 1.0));
+        // No estimate at all is lost.
+        assert!(wrong(None, &t, 40.0, 1.0));
+    }
+
+    #[test]
+    fn a_target_behind_the_camera_or_a_non_finite_estimate_is_lost() {
+        let mut behind = truth(f64::NAN, false);
+        behind.c_y = f64::NAN;
+        behind.target_cam_m = [0.0, 0.0, -10.0];
+        assert!(wrong(Some(&at(128.0, 1.0)), &behind, 40.0, 1.0));
+        assert!(wrong(Some(&Estimate::new(10.0, 0.0)), &behind, 40.0, 1.0));
+        assert!(wrong(
+            Some(&at(f64::NAN, 1.0)),
+            &truth(128.0, true),
+            40.0,
+            1.0
+        ));
+        // The metric judgement, for an estimate without an image location.
+        assert!(!wrong(
+            Some(&Estimate::new(10.5, 0.1)),
+            &truth(128.0, true),
+            40.0,
+            1.0
+        ));
+        assert!(wrong(
+            Some(&Estimate::new(13.0, 0.0)),
+            &truth(128.0, true),
+            40.0,
+            1.0
+        ));
     }
 }

@@ -88,6 +88,9 @@ pub struct GroundTruth {
     /// Whether every corner of the target projects inside the image (occlusion is not
     /// considered).
     pub in_view: bool,
+    /// Whether some of the target, not all, projects inside the image: partly out of view.
+    /// False when [`GroundTruth::in_view`] is, and when none of it is in the image.
+    pub partly_in_view: bool,
 }
 
 /// One rendered frame.

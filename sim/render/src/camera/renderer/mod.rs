@@ -453,7 +453,7 @@ pub fn ground_truth_of(
         .intrinsics
         .project(target_cam_m)
         .unwrap_or([f64::NAN, f64::NAN]);
-    let in_view = target.corners_m().iter().all(|&[x, y]| {
+    let inside = |x: f64, y: f64| {
         let p = camera_from_target * Point3::new(x, y, 0.0);
         rig.intrinsics
             .project([p.x, p.y, p.z])
@@ -461,12 +461,33 @@ pub fn ground_truth_of(
                 (-0.5..f64::from(rig.width) - 0.5).contains(&u)
                     && (-0.5..f64::from(rig.height) - 0.5).contains(&v)
             })
-    });
+    };
+    let in_view = target.corners_m().iter().all(|&[x, y]| inside(x, y));
+    // Some of the target in the image, not all: a point of a grid over the target's face
+    // (its corners' bounding box, PARTLY_GRID points a side) projects inside.
+    let partly_in_view = !in_view && {
+        let [[x0, y0], [x1, y1]] = bounding_box(target.corners_m());
+        let at = |a: f64, b: f64, k: usize| a + (b - a) * k as f64 / (PARTLY_GRID - 1) as f64;
+        (0..PARTLY_GRID).any(|i| (0..PARTLY_GRID).any(|j| inside(at(x0, x1, i), at(y0, y1, j))))
+    };
     GroundTruth {
         c_x,
         c_y,
         scale: target.nominal_range_m() / centre.z,
         target_cam_m,
         in_view,
+        partly_in_view,
     }
+}
+
+/// Points a side of the grid over the target's face that tells a target partly in view
+/// from one wholly out of it: a sliver narrower than 1/16 of the target counts as out.
+const PARTLY_GRID: usize = 17;
+
+/// The smallest and largest x and y of `points`.
+fn bounding_box(points: &[[f64; 2]]) -> [[f64; 2]; 2] {
+    points.iter().fold(
+        [[f64::INFINITY; 2], [f64::NEG_INFINITY; 2]],
+        |[[x0, y0], [x1, y1]], &[x, y]| [[x0.min(x), y0.min(y)], [x1.max(x), y1.max(y)]],
+    )
 }

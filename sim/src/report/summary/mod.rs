@@ -9,8 +9,11 @@
 //! Times spent in a state (outside the gap band, lost, coasting) add up the intervals of the
 //! frames in that state; `gap_m.mean` and `lateral_path_error_m.mean_abs` are time-weighted.
 //!
-//! **Tracking loss** is judged by ground truth (`lost_truth`), whatever the tracker says; an
-//! event is a maximal run of consecutive lost frames. The tracker's own `lost` and `coasting`
+//! **Tracking loss** is judged by ground truth (`lost_truth`), whatever the tracker says: a
+//! frame is lost when there is no estimate or it is off by the tolerance, wherever the
+//! target is (a target partly out of the image but tracked within the tolerance is not
+//! lost; the time it spends partly out of view is `partly_out_of_view_s`); an event is a
+//! maximal run of consecutive lost frames. The tracker's own `lost` and `coasting`
 //! times are reported beside it, and so is how long after each event's start the tracker
 //! first said it was not tracking (`loss_events`, `max_loss_report_delay_frames`), and how
 //! many lost frames it spent saying `tracking` (`silent_loss_frames`).
@@ -22,10 +25,15 @@
 //! smallest error that at least 95 % of the frames do not exceed); both are `null` when no frame
 //! qualifies.
 
+mod stream;
+
 use serde::Serialize;
 
+pub(crate) use stream::FramePeriod;
+pub use stream::SummaryBuilder;
+
 use sim_core::LoopTiming;
-use sim_core::{Expect, FrameRecord, LossCause, TrackerStatus};
+use sim_core::{Expect, FrameRecord, LossCause};
 
 /// The frame period used when the records cannot tell it: the loop's 15 Hz.
 pub const DEFAULT_FRAME_PERIOD_S: f64 = 1.0 / 15.0;
@@ -86,6 +94,9 @@ pub struct Summary {
     /// `tracking_lost_s` by cause, seconds: `out_of_view` (the target outside the image),
     /// `occluded` (hidden by scenery) and `tracker` (in view, not hidden, and lost).
     pub lost_by_cause_s: LostByCause,
+    /// Time with the target partly out of view (some of it in the image, not all),
+    /// seconds, whether or not it was lost then.
+    pub partly_out_of_view_s: f64,
     /// A tighter measure beside the 25 % of `tracking_lost_s`: the share (0–1) of the frames
     /// with the target in view whose estimate is off by more than
     /// `IMPRECISE_CENTRE_PX` (2 px) in centre or `IMPRECISE_SCALE` (0.05) in scale (or is no
@@ -193,60 +204,12 @@ pub struct TrackerEventTime {
     pub event: String,
 }
 
-/// The ground-truth loss events of a run, each with the tracker's report delay.
-pub fn loss_events(records: &[FrameRecord]) -> Vec<LossEvent> {
-    let mut events: Vec<LossEvent> = Vec::new();
-    let mut open: Option<(LossEvent, [u64; 3])> = None;
-    let index = |c: LossCause| LossCause::ALL.iter().position(|&a| a == c);
-    let close = |(mut e, counts): (LossEvent, [u64; 3])| {
-        let most = (0..3).fold(0, |m, k| if counts[k] > counts[m] { k } else { m });
-        // A lost frame without a cause (records from before causes were kept) is the
-        // tracker's.
-        e.cause = if counts[most] > 0 {
-            LossCause::ALL[most]
-        } else {
-            LossCause::Tracker
-        };
-        e
-    };
-    for r in records {
-        match (&mut open, r.lost_truth) {
-            (None, true) => {
-                let mut counts = [0; 3];
-                if let Some(k) = index(r.loss_cause) {
-                    counts[k] += 1;
-                }
-                open = Some((
-                    LossEvent {
-                        start_frame: r.frame,
-                        start_t_s: r.t_s,
-                        frames: 1,
-                        report_delay_frames: (r.status != TrackerStatus::Tracking).then_some(0),
-                        cause: LossCause::None,
-                    },
-                    counts,
-                ));
-            }
-            (Some((e, counts)), true) => {
-                if e.report_delay_frames.is_none() && r.status != TrackerStatus::Tracking {
-                    e.report_delay_frames = Some(e.frames);
-                }
-                e.frames += 1;
-                if let Some(k) = index(r.loss_cause) {
-                    counts[k] += 1;
-                }
-            }
-            (Some(_), false) => events.extend(open.take().map(close)),
-            (None, false) => {}
-        }
-    }
-    events.extend(open.map(close));
-    events
-}
-
 /// `summary.json`'s `schema_version`. 2: `schema_version`, `carfollow_version`,
-/// `git_commit`, `overrides` and `resolved_scenario` added.
-pub const SCHEMA_VERSION: u32 = 2;
+/// `git_commit`, `overrides` and `resolved_scenario` added. 3: a frame with the target
+/// partly (or wholly) out of view is lost only when the estimate is off, as any other
+/// (`tracking_lost_s`, `lost_by_cause_s`, `loss_events` follow); `partly_out_of_view_s`
+/// added.
+pub const SCHEMA_VERSION: u32 = 3;
 
 /// Minimum, time-weighted mean and maximum of the gap, metres (zeros without frames).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
@@ -297,7 +260,8 @@ pub struct Criterion {
 
 impl Summary {
     /// Computes the summary of a run from its records, its scenario's name, seed and
-    /// `[expect]`, and the wall-clock time it took.
+    /// `[expect]`, and the wall-clock time it took (see [`SummaryBuilder`] to build it as
+    /// the records come, keeping none).
     pub fn compute(
         scenario: &str,
         seed: u64,
@@ -305,47 +269,25 @@ impl Summary {
         expect: &Expect,
         wall_s: f64,
     ) -> Summary {
-        let weights = frame_weights(records);
-        let duration_s: f64 = weights.iter().sum();
-        let time_where =
-            |f: &dyn Fn(&FrameRecord) -> bool| -> f64 { sum_where(records, &weights, f) };
+        let mut builder = SummaryBuilder::new(expect.gap_band_m);
+        for r in records {
+            builder.push(r);
+        }
+        Summary::of(builder, scenario, seed, expect, wall_s)
+    }
 
-        let gap_m = gap_stats(records, &weights, duration_s);
-        let time_outside_gap_band_s = match expect.gap_band_m {
-            Some([lo, hi]) => time_where(&|r| !(lo..=hi).contains(&r.gap_m)),
-            None => 0.0,
-        };
-        let tracking_lost_s = time_where(&|r| r.lost_truth);
-        let lost_by_cause_s = LostByCause {
-            out_of_view: time_where(&|r| r.lost_truth && r.loss_cause == LossCause::OutOfView),
-            occluded: time_where(&|r| r.lost_truth && r.loss_cause == LossCause::Occluded),
-            // A lost frame without a cause (records from before causes were kept) is the
-            // tracker's.
-            tracker: time_where(&|r| {
-                r.lost_truth && matches!(r.loss_cause, LossCause::Tracker | LossCause::None)
-            }),
-        };
-        let tracking_loss_events = count_events(records.iter().map(|r| r.lost_truth));
-        let in_view: Vec<&FrameRecord> = records.iter().filter(|r| r.target_in_view).collect();
-        let imprecise_share = (!in_view.is_empty()).then(|| {
-            let off = in_view
-                .iter()
-                .filter(|r| {
-                    let centre = (r.est_cx - r.true_cx).hypot(r.est_cy - r.true_cy);
-                    let scale = (r.est_scale / r.true_scale - 1.0).abs();
-                    !(centre <= IMPRECISE_CENTRE_PX && scale <= IMPRECISE_SCALE)
-                })
-                .count();
-            off as f64 / in_view.len() as f64
-        });
-        let events = loss_events(records);
-        let tracker_lost_s = time_where(&|r| r.status == TrackerStatus::Lost);
-        let tracker_coasting_s = time_where(&|r| r.status == TrackerStatus::Coasting);
-        let range_error_m = range_error(records);
-        let lateral_path_error_m = lateral_error(records, &weights, duration_s);
-        let collisions = count_events(records.iter().map(|r| r.collision));
-        let distance_m = records.last().map_or(0.0, |r| r.chase_distance_m);
-
+    /// The summary of the records `builder` took, for a scenario of that name, seed and
+    /// `[expect]` (whose `gap_band_m` the builder was made with), and the wall-clock time
+    /// the run took.
+    pub fn of(
+        builder: SummaryBuilder,
+        scenario: &str,
+        seed: u64,
+        expect: &Expect,
+        wall_s: f64,
+    ) -> Summary {
+        debug_assert_eq!(builder.gap_band_m(), expect.gap_band_m);
+        let m = builder.measured();
         let mut summary = Summary {
             schema_version: SCHEMA_VERSION,
             carfollow_version: env!("CARGO_PKG_VERSION").to_owned(),
@@ -356,44 +298,35 @@ impl Summary {
             seed,
             tracker: None,
             controller: None,
-            duration_s,
-            frames: records.len() as u64,
+            duration_s: m.duration_s,
+            frames: m.frames,
             passed: false,
             failures: Vec::new(),
             criteria: Vec::new(),
-            gap_m,
+            gap_m: m.gap_m,
             gap_band_m: expect.gap_band_m,
-            time_outside_gap_band_s,
-            tracking_lost_s,
-            tracking_loss_events,
-            lost_by_cause_s,
-            imprecise_share,
-            tracker_lost_s,
-            tracker_coasting_s,
-            silent_loss_frames: records
-                .iter()
-                .filter(|r| r.lost_truth && r.status == TrackerStatus::Tracking)
-                .count() as u64,
-            max_loss_report_delay_frames: events
+            time_outside_gap_band_s: m.time_outside_gap_band_s,
+            tracking_lost_s: m.tracking_lost_s,
+            tracking_loss_events: m.tracking_loss_events,
+            lost_by_cause_s: m.lost_by_cause_s,
+            partly_out_of_view_s: m.partly_out_of_view_s,
+            imprecise_share: m.imprecise_share,
+            tracker_lost_s: m.tracker_lost_s,
+            tracker_coasting_s: m.tracker_coasting_s,
+            silent_loss_frames: m.silent_loss_frames,
+            max_loss_report_delay_frames: m
+                .loss_events
                 .iter()
                 .map(|e| e.report_delay_frames.unwrap_or(e.frames))
                 .max(),
-            loss_events: events,
-            reacquired: records
-                .iter()
-                .filter(|r| !r.tracker_event.is_empty())
-                .map(|r| TrackerEventTime {
-                    frame: r.frame,
-                    t_s: r.t_s,
-                    event: r.tracker_event.clone(),
-                })
-                .collect(),
-            range_error_m,
-            lateral_path_error_m,
-            collisions,
-            distance_m,
+            loss_events: m.loss_events,
+            reacquired: m.reacquired,
+            range_error_m: m.range_error_m,
+            lateral_path_error_m: m.lateral_path_error_m,
+            collisions: m.collisions,
+            distance_m: m.distance_m,
             wall_s,
-            realtime_factor: (wall_s > 0.0).then(|| duration_s / wall_s),
+            realtime_factor: (wall_s > 0.0).then(|| m.duration_s / wall_s),
             timing: None,
         };
         summary.criteria = check(&summary, expect);
@@ -406,121 +339,6 @@ impl Summary {
         summary.passed = summary.failures.is_empty();
         summary
     }
-}
-
-/// The time each frame stands for, seconds (see the module notes).
-fn frame_weights(records: &[FrameRecord]) -> Vec<f64> {
-    let period = frame_period(records);
-    let mut w: Vec<f64> = records
-        .windows(2)
-        .map(|p| {
-            let dt = p[1].t_s - p[0].t_s;
-            if dt.is_finite() && dt > 0.0 {
-                dt
-            } else {
-                period
-            }
-        })
-        .collect();
-    if !records.is_empty() {
-        w.push(period);
-    }
-    w
-}
-
-/// The median positive step between consecutive capture times, else 1/15 s.
-pub(crate) fn frame_period(records: &[FrameRecord]) -> f64 {
-    let mut steps: Vec<f64> = records
-        .windows(2)
-        .map(|p| p[1].t_s - p[0].t_s)
-        .filter(|dt| dt.is_finite() && *dt > 0.0)
-        .collect();
-    if steps.is_empty() {
-        return DEFAULT_FRAME_PERIOD_S;
-    }
-    steps.sort_by(f64::total_cmp);
-    steps[(steps.len() - 1) / 2]
-}
-
-fn sum_where(records: &[FrameRecord], weights: &[f64], f: &dyn Fn(&FrameRecord) -> bool) -> f64 {
-    records
-        .iter()
-        .zip(weights)
-        .filter(|(r, _)| f(r))
-        // Folded from +0.0: `Sum` for floats starts at -0.0, which would print as "-0.0 s".
-        .fold(0.0, |total, (_, w)| total + w)
-}
-
-/// Number of maximal runs of `true`.
-fn count_events(flags: impl Iterator<Item = bool>) -> u64 {
-    let mut count = 0;
-    let mut previous = false;
-    for f in flags {
-        if f && !previous {
-            count += 1;
-        }
-        previous = f;
-    }
-    count
-}
-
-fn gap_stats(records: &[FrameRecord], weights: &[f64], duration_s: f64) -> GapStats {
-    if records.is_empty() {
-        return GapStats::default();
-    }
-    let mut s = GapStats {
-        min: f64::INFINITY,
-        mean: 0.0,
-        max: f64::NEG_INFINITY,
-    };
-    for (r, w) in records.iter().zip(weights) {
-        s.min = s.min.min(r.gap_m);
-        s.max = s.max.max(r.gap_m);
-        s.mean += r.gap_m * w;
-    }
-    s.mean /= duration_s;
-    s
-}
-
-fn range_error(records: &[FrameRecord]) -> RangeError {
-    let mut errors: Vec<f64> = records
-        .iter()
-        .filter(|r| r.target_in_view && !r.lost_truth)
-        .map(|r| (r.est_range_m - r.true_range_m).abs())
-        .filter(|e| e.is_finite())
-        .collect();
-    if errors.is_empty() {
-        return RangeError::default();
-    }
-    let n = errors.len();
-    let mean = errors.iter().sum::<f64>() / n as f64;
-    errors.sort_by(f64::total_cmp);
-    RangeError {
-        mean_abs: Some(mean),
-        p95_abs: Some(percentile_nearest_rank(&errors, 95.0)),
-        frames: n as u64,
-    }
-}
-
-/// The nearest-rank percentile of sorted, non-empty values: the value at rank ⌈p/100 · n⌉.
-fn percentile_nearest_rank(sorted: &[f64], p: f64) -> f64 {
-    let n = sorted.len();
-    let rank = ((p / 100.0) * n as f64).ceil() as usize;
-    sorted[rank.clamp(1, n) - 1]
-}
-
-fn lateral_error(records: &[FrameRecord], weights: &[f64], duration_s: f64) -> LateralError {
-    if records.is_empty() {
-        return LateralError::default();
-    }
-    let mut e = LateralError::default();
-    for (r, w) in records.iter().zip(weights) {
-        let d = r.lateral_deviation_m.abs();
-        e.max_abs = e.max_abs.max(d);
-        e.mean_abs += d * w;
-    }
-    e.mean_abs /= duration_s;
-    e
 }
 
 /// Each criterion `[expect]` asks for, in a fixed order.
@@ -646,6 +464,16 @@ fn check(s: &Summary, expect: &Expect) -> Vec<Criterion> {
 mod tests {
     use super::*;
     use crate::report::frames_csv::tests::record;
+    use sim_core::TrackerStatus;
+
+    /// The median positive step between consecutive capture times of `records`, else 1/15 s.
+    fn frame_period(records: &[FrameRecord]) -> f64 {
+        let mut period = FramePeriod::default();
+        for r in records {
+            period.push(r.t_s);
+        }
+        period.period()
+    }
 
     fn run(n: u64) -> Vec<FrameRecord> {
         (0..n).map(record).collect()
@@ -671,6 +499,52 @@ mod tests {
         assert!(close(s.duration_s, 1.0), "{}", s.duration_s);
         // One frame: the 15 Hz fallback.
         assert!(close(frame_period(&rs[..1]), 1.0 / 15.0));
+    }
+
+    #[test]
+    fn the_frame_period_is_the_lower_median_step_however_the_steps_come() {
+        // Jittered steps, some repeated, a zero and a backward step among them: the kept
+        // counts give what sorting every positive step gives.
+        let mut t = 0.0;
+        let mut rs = run(200);
+        for (i, r) in rs.iter_mut().enumerate() {
+            t += match i % 7 {
+                0 => 0.0,
+                3 => -0.01,
+                k => 0.05 + 0.01 * (((i * 31) % 11) as f64) + 0.001 * k as f64,
+            };
+            r.t_s = t;
+        }
+        let mut steps: Vec<f64> = rs
+            .windows(2)
+            .map(|p| p[1].t_s - p[0].t_s)
+            .filter(|dt| *dt > 0.0)
+            .collect();
+        steps.sort_by(f64::total_cmp);
+        assert_eq!(frame_period(&rs), steps[(steps.len() - 1) / 2]);
+    }
+
+    #[test]
+    fn time_partly_out_of_view_is_counted_whether_lost_or_not() {
+        // 30 frames at 15 Hz; frames 5..11 partly out of view, of which 9 and 10 lost.
+        let mut rs = run(30);
+        for r in &mut rs[5..11] {
+            r.target_in_view = false;
+            r.target_partly_out_of_view = true;
+        }
+        for r in &mut rs[9..11] {
+            r.lost_truth = true;
+            r.loss_cause = LossCause::OutOfView;
+        }
+        let s = Summary::compute("x", 1, &rs, &Expect::default(), 1.0);
+        assert!(
+            close(s.partly_out_of_view_s, 6.0 / 15.0),
+            "{}",
+            s.partly_out_of_view_s
+        );
+        assert!(close(s.tracking_lost_s, 2.0 / 15.0));
+        assert!(close(s.lost_by_cause_s.out_of_view, 2.0 / 15.0));
+        assert_eq!(s.tracking_loss_events, 1);
     }
 
     #[test]
@@ -774,11 +648,8 @@ mod tests {
             s.failures,
             vec!["tracking lost (ground truth) for 0.47 s in 4 event(s) (allowed 0.40 s): 0.20 s out_of_view, 0.20 s tracker, 0.07 s occluded"]
         );
-        assert_eq!(
-            count_events([false, true, true, false, true].into_iter()),
-            2
-        );
-        assert_eq!(count_events([false, false].into_iter()), 0);
+        assert_eq!(stream::count_runs([false, true, true, false, true]), 2);
+        assert_eq!(stream::count_runs([false, false]), 0);
     }
 
     #[test]
@@ -804,9 +675,9 @@ mod tests {
         assert_eq!(s.range_error_m.p95_abs, Some(20.0));
         // Nearest rank on 1..=100: the 95th value; on 1..=20: the 19th.
         let v: Vec<f64> = (1..=100).map(f64::from).collect();
-        assert_eq!(percentile_nearest_rank(&v, 95.0), 95.0);
-        assert_eq!(percentile_nearest_rank(&v[..20], 95.0), 19.0);
-        assert_eq!(percentile_nearest_rank(&v[..1], 95.0), 1.0);
+        assert_eq!(stream::percentile_nearest_rank(&v, 95.0), 95.0);
+        assert_eq!(stream::percentile_nearest_rank(&v[..20], 95.0), 19.0);
+        assert_eq!(stream::percentile_nearest_rank(&v[..1], 95.0), 1.0);
         // No tracked frame: null, not NaN.
         for r in &mut rs {
             r.lost_truth = true;
