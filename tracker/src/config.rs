@@ -40,8 +40,9 @@ impl TrackerMode {
 #[derive(Clone, Debug, PartialEq)]
 pub struct TrackerConfig {
     /// Edge magnitude threshold, grey levels on 0–255 (2.3: "a threshold value of 8 in a grey
-    /// level range of 0 to 255 proved to be effective"). The magnitude is the Sobel gradient
-    /// normalised so that a step of h grey levels has magnitude h.
+    /// level range of 0 to 255 proved to be effective"), on the magnitude of eq. 4: |∇f| in
+    /// grey levels per pixel, the 3×3 Sobel response divided by
+    /// [`crate::edges::SOBEL_TO_GRADIENT`]. A sharp step of h grey levels peaks at h/2.
     pub edge_threshold: f64,
     /// δ of eq. 7, degrees: how far an edge's direction may be from horizontal or vertical
     /// (section 3: "within a 15 degree threshold about either the horizontal and vertical").
@@ -55,7 +56,9 @@ pub struct TrackerConfig {
     /// A feature needs at least this fraction of its predicted length in associated points,
     /// or its confidence is zero (2.5: 0.3).
     pub min_support_fraction: f64,
-    /// σ² floor of eq. 14, pixels²: below it the confidence is capped at 1/√0.1.
+    /// σ² floor of eq. 14, pixels²: below it the confidence is capped at 1/√0.1 (2.5:
+    /// 0.1). It also bounds the residual eq. 17 divides by
+    /// ([`crate::object_location::grid_residual`]).
     pub sigma2_floor: f64,
     /// λ of eq. 18, the motion model's forgetting factor (0 < λ < 1, as eq. 18 requires). Not
     /// given by the paper.
@@ -76,19 +79,21 @@ pub struct TrackerConfig {
     /// Camera frame rate, Hz: one motion-model cycle (t = 1) lasts 1/rate_hz seconds.
     /// Default 15 Hz (the paper's update rate).
     pub rate_hz: f64,
-    /// How long (seconds) the tracker coasts on its prediction without a usable measurement
-    /// before it reports `Lost`. Not given by the paper, which has no loss state (a
-    /// teleoperator watched). Default 1 s (15 frames): at 35 km/h the lead moves about 10 m
-    /// in that time; a quadratic extrapolation over longer is a guess, not a track. In the
-    /// paper's mode `Lost` is a status only: the tracker goes on measuring, and reports
-    /// `tracking` again as soon as the features return.
+    /// How long (seconds) the tracker goes without a trusted measurement (one that passes
+    /// the coverage check) before it reports `Lost`. Not given by the paper, which has no
+    /// loss state (a teleoperator watched). Default 1 s (15 frames): at 35 km/h the lead
+    /// moves about 10 m in that time; a quadratic extrapolation over longer is a guess, not
+    /// a track, and so is a fit that has stayed off the target's edges that long. In the
+    /// paper's mode `Lost` is a status only: the tracker goes on measuring, its estimates are
+    /// the same whatever the status, and it reports `tracking` again as soon as the features
+    /// return.
     pub lost_after_s: f64,
     /// Floor on J_l (eq. 15) for a fit with no degrees of freedom: with exactly three
     /// features the fit is exact, J_l = 0, and eq. 17, which divides by J_l, has no value.
     /// Not in the paper. Default 1: the expected residual of one degree of freedom when each
-    /// feature's error matches its stated σ. A fit with four or more features uses eq. 17 as
-    /// written; its J_l is floored only by [`crate::object_location::RELATIVE_RESIDUAL_FLOOR`]
-    /// of the weighted intercepts' energy, far below any residual a real image gives.
+    /// feature's error matches its stated σ. A fit with four or more features divides by
+    /// no less than the residual the image grid alone leaves,
+    /// [`crate::object_location::grid_residual`] (eq. 14's reasoning, with `sigma2_floor`).
     pub min_fit_residual: f64,
     /// Improvement over the paper (off by default, so the default is the paper's tracker):
     /// locate each edge point to a fraction of a pixel across the edge by fitting a parabola

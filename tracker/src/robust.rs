@@ -5,8 +5,10 @@
 //! mode keeps stages 1–8 and adds, each with its source:
 //!
 //! - **An edge threshold that follows the image noise** ([`NoiseEstimator`]). The paper's
-//!   threshold of 8 grey levels (2.3) suits its camera; in dim, noisy frames it passes
-//!   thousands of noise edges. The noise σ is estimated inside the window with Immerkær's
+//!   fixed threshold of 8 grey levels per pixel (2.3) suits its camera; it is too high for
+//!   the weak edges of a clean, distant or shadowed target and too low for very noisy
+//!   frames. Robust mode starts lower ([`ROBUST_FLOOR_FRACTION`]) and rises with the
+//!   noise. The noise σ is estimated inside the window with Immerkær's
 //!   Laplacian-difference operator (J. Immerkær, "Fast noise variance estimation", CVIU 64(2),
 //!   1996), taking the median of its absolute response rather than the mean, so that the
 //!   target's own edges do not inflate it. The threshold is raised to
@@ -48,23 +50,33 @@ use crate::model::{Feature, Orientation};
 use crate::prediction::PredictedFeature;
 use crate::window::Window;
 
-/// The adaptive edge threshold in units of the estimated noise σ. The normalised Sobel
-/// components of pure noise have standard deviation √12/4 σ ≈ 0.866 σ, so the magnitude is
-/// Rayleigh distributed and exceeds t with probability exp(−t²/(1.5 σ²)); t = 2.12 σ makes
-/// that 5 %. (1 %, t = 2.63 σ, was measured first: with the step-painted target it dropped
-/// the weaker mid-tone edges of a target at 40 % of nominal size in the clutter sequence
-/// and lost it for 4 frames of 450, which the paper's fixed threshold did not. Association
-/// rejects scattered noise points; it cannot bring back a dropped edge.)
-pub const NOISE_THRESHOLD_FACTOR: f64 = 2.12;
-/// The adaptive threshold of a chamfer search, in units of the noise σ: 2.63 σ, where a
+/// The adaptive edge threshold in units of the estimated noise σ, on the gradient magnitude
+/// of eq. 4 (grey levels per pixel). The gradient components of pure noise (the Sobel
+/// response over 8) have standard deviation √12/8 σ ≈ 0.433 σ, so the magnitude is Rayleigh
+/// distributed and exceeds t with probability exp(−t²/(0.375 σ²)); t = 1.06 σ makes that 5 %.
+/// (1 %, t = 1.315 σ, was measured first: with the step-painted target it dropped the weaker
+/// mid-tone edges of a target at 40 % of nominal size in the clutter sequence and lost it
+/// for 4 frames of 450, which the paper's fixed threshold did not. Association rejects
+/// scattered noise points; it cannot bring back a dropped edge.)
+pub const NOISE_THRESHOLD_FACTOR: f64 = 1.06;
+/// The adaptive threshold of a chamfer search, in units of the noise σ: 1.315 σ, where a
 /// pure-noise pixel passes with probability 1 %. A search scores every placement over a
 /// region with no prediction to reject scattered noise points, so it needs the stricter
 /// threshold (at 5 % the whole-image search of the dim sequence found nothing).
-pub const SEARCH_NOISE_THRESHOLD_FACTOR: f64 = 2.63;
-/// The adaptive threshold never exceeds this, grey levels: a target with less contrast than
-/// about twice this is not trackable anyway, and a wrong noise estimate must not blind the
-/// tracker.
-pub const MAX_ADAPTIVE_THRESHOLD: f64 = 40.0;
+pub const SEARCH_NOISE_THRESHOLD_FACTOR: f64 = 1.315;
+/// The adaptive threshold never exceeds this, grey levels per pixel (a sharp step of 40
+/// levels): a target with less contrast than about that is not trackable anyway, and a
+/// wrong noise estimate must not blind the tracker.
+pub const MAX_ADAPTIVE_THRESHOLD: f64 = 20.0;
+/// Robust mode's lowest edge threshold, as a fraction of the paper's (2.3): half, 4 grey
+/// levels per pixel (a sharp step of 8 levels) at the paper's 8. Robust mode keeps weaker
+/// edges than the paper on clean frames, where the noise term does not raise its threshold,
+/// so that a distant or shadowed target keeps its mid-tone edges; association and the
+/// coverage check reject the scattered points this lets through. It is the floor robust
+/// mode was developed and measured with on the scenario library (when the project's
+/// gradient read a step's height, twice eq. 4's |∇f|, so the paper's 8 passed what 4 passes
+/// now), and with it robust mode's estimates are unchanged by that correction.
+pub const ROBUST_FLOOR_FRACTION: f64 = 0.5;
 /// Forgetting factor of the fast motion model. With λ = 0.5 the model's memory is two
 /// frames: it follows a swerve or a bump within a frame or two, at the price of noise.
 pub const FAST_LAMBDA: f64 = 0.5;
@@ -86,8 +98,29 @@ pub const COVERAGE_TOLERANCE_PX: i64 = 2;
 /// falls to 0.3–0.5 while the paper's fit stays on it; an estimate that slid sideways off
 /// the target leaves one orientation's features on blank board (0–0.2). Measured on the
 /// scenario library in the paper's mode (22,050 frames): 1.8 % of the frames on target
-/// fall below 0.3, 6 % below 0.5.
+/// fall below 0.3, 6 % below 0.5. (Measured while the gradient read a step's height, which
+/// let weaker edges and noise cover outlines; to be measured again with eq. 4's.)
 pub const MIN_COVERAGE: f64 = 0.3;
+/// A measurement is not trusted, in either mode, when its coverage (the smaller of the two
+/// orientations') has fallen below this fraction of the track's own reference coverage
+/// ([`CoverageReference`]): the outline no longer lies on edges the way it did while the
+/// track was held. It catches a fit that settled beside the target, farther than the moves
+/// of [`coverage_gain`] reach: after an abrupt 30 px swerve past a pole, the paper's fit
+/// stays 30 px beside the target (two feature spacings at scale 1.2, its features on the
+/// target's other features and on the pole), covering 0.32–0.34 of its outline
+/// horizontally and 0.80 vertically, against 0.86–0.90 and 0.89–0.92 before the swerve
+/// (issue 37's report: 0.46 and 0.49 against 0.95 and 0.88). Measured on the synthetic
+/// sequences in the paper's mode (13 kinds of sequence, 6 seeds, both λ): of 14,784 frames
+/// whose fit was on the target (within 5 px and 10 %) and passed the absolute checks, 10
+/// fell below 0.6 of the reference (the second frame of the shake sequence, whose reference
+/// is one frame old), 32 below 0.7, 93 below 0.75; of 1,360 such frames whose fit was off
+/// the target, 1,177 fell below 0.6.
+pub const COVERAGE_DROP_RATIO: f64 = 0.6;
+/// The weight of the newest trusted coverage in the reference's exponential mean
+/// ([`CoverageReference`]): a memory of about ten frames (2/3 s at 15 Hz), so the reference
+/// follows a target that slowly recedes, or a shadow slowly spreading over it, and not a
+/// single frame.
+pub const COVERAGE_REFERENCE_GAIN: f64 = 0.1;
 /// A search takes a fit only when at least this fraction of its outline, in each
 /// orientation, is covered, and no move of it would cover more ([`coverage_gain`] ≤ 0):
 /// a wrong re-acquisition steers a car. The same strength lets a measurement reset the
@@ -196,17 +229,20 @@ impl NoiseEstimator {
     }
 }
 
-/// The edge threshold robust mode uses for a frame whose noise σ is `sigma`: the paper's
-/// threshold, raised to [`NOISE_THRESHOLD_FACTOR`] σ when the noise demands it, capped at
+/// The edge threshold robust mode uses for a frame whose noise σ is `sigma`, grey levels per
+/// pixel: [`ROBUST_FLOOR_FRACTION`] of the paper's threshold, raised to
+/// [`NOISE_THRESHOLD_FACTOR`] σ when the noise demands it, capped at
 /// [`MAX_ADAPTIVE_THRESHOLD`].
 pub fn adaptive_threshold(paper_threshold: f64, sigma: f64) -> f64 {
-    paper_threshold.max((NOISE_THRESHOLD_FACTOR * sigma).min(MAX_ADAPTIVE_THRESHOLD))
+    (ROBUST_FLOOR_FRACTION * paper_threshold)
+        .max((NOISE_THRESHOLD_FACTOR * sigma).min(MAX_ADAPTIVE_THRESHOLD))
 }
 
 /// The edge threshold of a chamfer search for a frame whose noise σ is `sigma`: as
 /// [`adaptive_threshold`], with [`SEARCH_NOISE_THRESHOLD_FACTOR`].
 pub fn search_threshold(paper_threshold: f64, sigma: f64) -> f64 {
-    paper_threshold.max((SEARCH_NOISE_THRESHOLD_FACTOR * sigma).min(MAX_ADAPTIVE_THRESHOLD))
+    (ROBUST_FLOOR_FRACTION * paper_threshold)
+        .max((SEARCH_NOISE_THRESHOLD_FACTOR * sigma).min(MAX_ADAPTIVE_THRESHOLD))
 }
 
 /// The edge points of a window as two bitmaps, one per class, for checking a located model
@@ -298,6 +334,45 @@ impl EdgeMaps {
             }
         });
         (covered, total)
+    }
+}
+
+/// The track's own reference coverage: the exponential mean (gain
+/// [`COVERAGE_REFERENCE_GAIN`]) of the coverage (the smaller orientation's) of the
+/// measurements the tracker trusted. A measurement whose coverage falls below
+/// [`COVERAGE_DROP_RATIO`] of it is not trusted. Only trusted measurements move it, so a
+/// fit that slid off the target cannot drag the reference down to itself and be trusted
+/// after a while; the coverage of the target itself must come back. It starts empty (no
+/// check) and is set by the first trusted measurement.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct CoverageReference {
+    value: Option<f64>,
+}
+
+impl CoverageReference {
+    /// The reference, once a measurement has been trusted.
+    pub fn value(&self) -> Option<f64> {
+        self.value
+    }
+
+    /// Whether a measurement covering `coverage` (the smaller orientation's) is within
+    /// [`COVERAGE_DROP_RATIO`] of the reference (always, before there is one).
+    pub fn admits(&self, coverage: f64) -> bool {
+        self.value
+            .is_none_or(|reference| coverage >= COVERAGE_DROP_RATIO * reference)
+    }
+
+    /// Takes in the coverage of a trusted measurement.
+    pub fn learn(&mut self, coverage: f64) {
+        self.value = Some(match self.value {
+            None => coverage,
+            Some(r) => r + COVERAGE_REFERENCE_GAIN * (coverage - r),
+        });
+    }
+
+    /// Forgets the reference (a new track).
+    pub fn clear(&mut self) {
+        self.value = None;
     }
 }
 
@@ -664,9 +739,9 @@ mod tests {
 
     #[test]
     fn threshold_follows_noise_within_bounds() {
-        assert_eq!(adaptive_threshold(8.0, 0.0), 8.0);
-        assert!((adaptive_threshold(8.0, 7.0) - 14.84).abs() < 1e-9);
+        assert_eq!(adaptive_threshold(8.0, 0.0), 4.0);
+        assert!((adaptive_threshold(8.0, 7.0) - 7.42).abs() < 1e-9);
         assert_eq!(adaptive_threshold(8.0, 100.0), MAX_ADAPTIVE_THRESHOLD);
-        assert!((search_threshold(8.0, 7.0) - 18.41).abs() < 1e-9);
+        assert!((search_threshold(8.0, 7.0) - 9.205).abs() < 1e-9);
     }
 }

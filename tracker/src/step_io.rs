@@ -117,12 +117,17 @@ pub struct TrackOutput {
     /// The share of the measured outline covered by edge points, `[horizontal, vertical]`
     /// (0 without a measurement): the check that decides whether it is trusted.
     pub coverage: [f64; 2],
+    /// The track's reference coverage this frame was judged against (see
+    /// [`crate::robust::CoverageReference`]), before this frame; `None` before the first
+    /// trusted measurement.
+    pub coverage_reference: Option<f64>,
     /// How much more of the outline a move of a few pixels would cover (see
     /// [`crate::robust::coverage_gain`]): above a small margin, the fit is not on the
     /// target's edges. −∞ where it was not needed: a fit covered at least
     /// [`crate::robust::SEARCH_BELOW_COVERAGE`] in both orientations.
     pub coverage_gain: f64,
-    /// The edge threshold used, grey levels (the paper's 8, or robust mode's adaptive one).
+    /// The edge threshold used on |∇f| (eq. 4), grey levels per pixel (the paper's 8, or
+    /// robust mode's adaptive one).
     pub edge_threshold: f64,
     /// Whether a chamfer search ran this frame (robust mode).
     pub searched: bool,

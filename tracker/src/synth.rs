@@ -80,6 +80,41 @@ pub struct SynthScene {
     pub distractors: Vec<Rect>,
     /// Shadows: every pixel inside is multiplied by the rect's value (soft-edged by area).
     pub shadows: Vec<Rect>,
+    /// A photographic-like texture over the background (none: a flat `background`).
+    pub texture: Option<Texture>,
+    /// The lead vehicle's body around the board, moving with the target: painted over the
+    /// background before the target (none: the board stands on the background).
+    pub body: Option<Body>,
+    /// Gaussian blur of the optics, standard deviation in pixels, applied to the drawn
+    /// frame before the sensor noise (0: none).
+    pub blur_sigma: f64,
+}
+
+/// A seeded photographic-like background: multi-octave value noise with the same amplitude
+/// in every octave, from [`TEXTURE_COARSEST_PX`] down to 2 px. Equal energy per octave is a
+/// 1/f amplitude spectrum, as natural images have (D. J. Field, "Relations between the
+/// statistics of natural images and the response properties of cortical cells", JOSA A
+/// 4(12), 1987).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Texture {
+    /// Seed of the lattice values.
+    pub seed: u64,
+    /// Michelson contrast, (max − min) / (max + min): the texture spans
+    /// `background × (1 ± contrast)` over the frame.
+    pub contrast: f64,
+}
+
+/// The wavelength of the texture's coarsest octave, pixels: a quarter of the frame's width.
+pub const TEXTURE_COARSEST_PX: f64 = 64.0;
+
+/// The lead vehicle's body: a rectangle in the target's frame (metres from the target's
+/// centre, x right, y up, as [`crate::paint::PaintRect`]), with its grey level.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Body {
+    /// `[x0, y0, x1, y1]`, metres.
+    pub bounds_m: [f64; 4],
+    /// Grey level.
+    pub value: f64,
 }
 
 impl Default for SynthScene {
@@ -94,6 +129,9 @@ impl Default for SynthScene {
             noise_sigma: 0.0,
             distractors: Vec::new(),
             shadows: Vec::new(),
+            texture: None,
+            body: None,
+            blur_sigma: 0.0,
         }
     }
 }
@@ -187,7 +225,13 @@ pub fn draw(
     seed: u64,
 ) -> Vec<u8> {
     let (w, h) = (scene.width, scene.height);
-    let mut buf = vec![scene.background; w * h];
+    let mut buf = match scene.texture {
+        Some(t) => cached_texture(w, h, scene.background, t),
+        None => vec![scene.background; w * h],
+    };
+    if let Some(body) = scene.body {
+        paint(&mut buf, w, h, body_rect(model, camera, at, body), false);
+    }
     let rects = target_rects(model, camera, at, scene);
     let steps = model.paint() == Paint::Steps && paint::layout(model).is_ok();
     for (k, &rect) in rects.iter().enumerate() {
@@ -205,6 +249,9 @@ pub fn draw(
     for &rect in &scene.shadows {
         paint(&mut buf, w, h, rect, true);
     }
+    if scene.blur_sigma > 0.0 {
+        blur(&mut buf, w, h, scene.blur_sigma);
+    }
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let noise = Normal::new(0.0, scene.noise_sigma.max(0.0)).expect("finite sigma");
     buf.iter()
@@ -218,6 +265,116 @@ pub fn draw(
             (v + n).round().clamp(0.0, 255.0) as u8
         })
         .collect()
+}
+
+/// The body's rectangle in image pixels for the target at `at`.
+fn body_rect(model: &TargetModel, camera: &Camera, at: Location, body: Body) -> Rect {
+    let [fx, fy] = camera.focal_px();
+    let kx = at.scale * fx / model.nominal_range_m();
+    let ky = at.scale * fy / model.nominal_range_m();
+    let [x0, y0, x1, y1] = body.bounds_m;
+    Rect {
+        bounds: [
+            at.c_x + x0 * kx,
+            at.c_y - y1 * ky,
+            at.c_x + x1 * kx,
+            at.c_y - y0 * ky,
+        ],
+        value: body.value,
+    }
+}
+
+/// A `width × height` frame of [`Texture`] about the grey level `mean`: value noise (random
+/// lattice values, smoothly interpolated) summed over octaves from [`TEXTURE_COARSEST_PX`]
+/// down to 2 px with equal amplitudes, then stretched so that its minimum and
+/// maximum over the frame are `mean × (1 ∓ contrast)`.
+pub fn texture(width: usize, height: usize, mean: f64, t: Texture) -> Vec<f64> {
+    let mut rng = ChaCha8Rng::seed_from_u64(t.seed);
+    let mut sum = vec![0.0; width * height];
+    let mut wavelength = TEXTURE_COARSEST_PX;
+    while wavelength >= 2.0 {
+        let nx = (width as f64 / wavelength).ceil() as usize + 2;
+        let ny = (height as f64 / wavelength).ceil() as usize + 2;
+        let lattice: Vec<f64> = (0..nx * ny).map(|_| rng.random_range(-1.0..1.0)).collect();
+        // Smoothstep interpolation between lattice values, each octave offset by a random
+        // fraction of its cell so that no lattice line is common to all octaves.
+        let (ox, oy) = (rng.random_range(0.0..1.0), rng.random_range(0.0..1.0));
+        for j in 0..height {
+            let fy = j as f64 / wavelength + oy;
+            let (cy, ty) = (fy.floor() as usize, fy.fract());
+            let sy = ty * ty * (3.0 - 2.0 * ty);
+            for i in 0..width {
+                let fx = i as f64 / wavelength + ox;
+                let (cx, tx) = (fx.floor() as usize, fx.fract());
+                let sx = tx * tx * (3.0 - 2.0 * tx);
+                let v = |a: usize, b: usize| lattice[(cy + b) * nx + cx + a];
+                let top = v(0, 0) + sx * (v(1, 0) - v(0, 0));
+                let bottom = v(0, 1) + sx * (v(1, 1) - v(0, 1));
+                sum[j * width + i] += top + sy * (bottom - top);
+            }
+        }
+        wavelength /= 2.0;
+    }
+    let (lo, hi) = sum
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(lo, hi), &v| (lo.min(v), hi.max(v)));
+    let (mid, half) = (0.5 * (lo + hi), (0.5 * (hi - lo)).max(f64::MIN_POSITIVE));
+    sum.iter()
+        .map(|&v| mean * (1.0 + t.contrast * (v - mid) / half))
+        .collect()
+}
+
+/// [`texture`], computed once per thread for the last set of arguments: a sequence draws
+/// the same background in every frame.
+fn cached_texture(width: usize, height: usize, mean: f64, t: Texture) -> Vec<f64> {
+    type Key = (usize, usize, u64, u64, u64);
+    thread_local! {
+        static LAST: std::cell::RefCell<Option<(Key, Vec<f64>)>> =
+            const { std::cell::RefCell::new(None) };
+    }
+    let key = (width, height, mean.to_bits(), t.seed, t.contrast.to_bits());
+    LAST.with(|last| {
+        let mut last = last.borrow_mut();
+        match &*last {
+            Some((k, pixels)) if *k == key => pixels.clone(),
+            _ => {
+                let pixels = texture(width, height, mean, t);
+                *last = Some((key, pixels.clone()));
+                pixels
+            }
+        }
+    })
+}
+
+/// Gaussian blur of standard deviation `sigma` pixels, separable, kernel cut at 3σ, edges
+/// clamped.
+fn blur(buf: &mut [f64], width: usize, height: usize, sigma: f64) {
+    let r = (3.0 * sigma).ceil() as isize;
+    let kernel: Vec<f64> = (-r..=r)
+        .map(|d| (-(d * d) as f64 / (2.0 * sigma * sigma)).exp())
+        .collect();
+    let norm: f64 = kernel.iter().sum();
+    let kernel: Vec<f64> = kernel.iter().map(|k| k / norm).collect();
+    let mut tmp = vec![0.0; buf.len()];
+    let clamp = |v: isize, n: usize| v.clamp(0, n as isize - 1) as usize;
+    for j in 0..height {
+        for i in 0..width {
+            tmp[j * width + i] = kernel
+                .iter()
+                .enumerate()
+                .map(|(k, w)| w * buf[j * width + clamp(i as isize + k as isize - r, width)])
+                .sum();
+        }
+    }
+    for j in 0..height {
+        for i in 0..width {
+            buf[j * width + i] = kernel
+                .iter()
+                .enumerate()
+                .map(|(k, w)| w * tmp[clamp(j as isize + k as isize - r, height) * width + i])
+                .sum();
+        }
+    }
 }
 
 /// The frame the benchmark and the profiling example measure: the shipped target at scale 1
@@ -288,16 +445,23 @@ pub enum SequenceKind {
     /// the target's edges (the board 80, the darkest paint 20: the step-painted target's
     /// mid tone, 50, is 30 levels from both).
     Dim,
+    /// A dim, noisy weave ([`dim_weave_scene`], [`dim_weave`]): the board and its darkest
+    /// paint 30 grey levels apart (0.42 and 0.30 of full scale, so the mid-tone edges have
+    /// 15), on a vehicle body of 0.34, over a photographic-like background at 40 % contrast;
+    /// blur σ = 0.9 px, then noise σ = 7; the target weaving ±28 px over 90 frames, its
+    /// scale 1.05 ± 0.2 over 180.
+    DimWeave,
 }
 
 impl SequenceKind {
     /// Every kind, in order.
-    pub const ALL: [SequenceKind; 5] = [
+    pub const ALL: [SequenceKind; 6] = [
         SequenceKind::Plain,
         SequenceKind::Clutter,
         SequenceKind::Swerve,
         SequenceKind::Shake,
         SequenceKind::Dim,
+        SequenceKind::DimWeave,
     ];
 
     /// Lower-case name.
@@ -308,6 +472,7 @@ impl SequenceKind {
             SequenceKind::Swerve => "swerve",
             SequenceKind::Shake => "shake",
             SequenceKind::Dim => "dim",
+            SequenceKind::DimWeave => "dim-weave",
         }
     }
 
@@ -368,8 +533,63 @@ pub fn sequence(
                 at
             })
             .collect(),
+        SequenceKind::DimWeave => dim_weave(start, frames, seed),
     };
-    sequence_with_truth(kind, truth, half_extent_px)
+    scenes_for(kind, truth, half_extent_px, seed)
+}
+
+/// Half the sideways travel of [`SequenceKind::DimWeave`], pixels.
+pub const WEAVE_PX: f64 = 28.0;
+/// The weave's period, frames (6 s at 15 Hz).
+pub const WEAVE_PERIOD_FRAMES: f64 = 90.0;
+/// The weave's swing of scale about 1.05 × the start's, and its period in frames.
+pub const WEAVE_SCALE: (f64, f64) = (0.2, 180.0);
+
+/// The truth of [`SequenceKind::DimWeave`]: c_x weaving ±[`WEAVE_PX`] about `start` with
+/// period [`WEAVE_PERIOD_FRAMES`], c_y a gentle wander (up to 0.5 px a frame) about it,
+/// and the scale `start.scale × 1.05 ± 0.2` (period 180 frames), both sines rising from
+/// frame 0.
+pub fn dim_weave(start: Location, frames: usize, seed: u64) -> Vec<Location> {
+    let tau = std::f64::consts::TAU;
+    wander(start, frames, 0.5, 0.0, seed)
+        .into_iter()
+        .enumerate()
+        .map(|(k, w)| {
+            let k = k as f64;
+            let (swing, period) = WEAVE_SCALE;
+            Location::new(
+                start.c_x + WEAVE_PX * (tau * k / WEAVE_PERIOD_FRAMES).sin(),
+                w.c_y,
+                start.scale * (1.05 + swing * (tau * k / period).sin()),
+            )
+        })
+        .collect()
+}
+
+/// The scene of [`SequenceKind::DimWeave`] (one for every frame; the target moves, the
+/// background does not), its texture seeded by `seed`. Grey levels as fractions of full
+/// scale (255): board 0.42, darkest paint 0.30 (30 levels below the board; the step-painted
+/// target's mid tone is 15 from both), the vehicle's body 0.34, reaching 0.15 m beyond the
+/// board's sides, 0.2 m above it and 0.55 m below; the background a [`Texture`] about 0.36
+/// at 40 % contrast (92 ± 37 levels); blur σ = 0.9 px, then sensor noise σ = 7 levels.
+pub fn dim_weave_scene(seed: u64) -> SynthScene {
+    let level = |fraction: f64| fraction * 255.0;
+    SynthScene {
+        background: level(0.36),
+        board: level(0.42),
+        paint: level(0.30),
+        noise_sigma: 7.0,
+        texture: Some(Texture {
+            seed: seed ^ 0x7e47_u64,
+            contrast: 0.4,
+        }),
+        body: Some(Body {
+            bounds_m: [-1.3, -1.4, 1.3, 1.05],
+            value: level(0.34),
+        }),
+        blur_sigma: 0.9,
+        ..SynthScene::default()
+    }
 }
 
 /// The cluttered scene of frame `k` with the target at `at` (`half_extent_px`: half its size
@@ -405,6 +625,17 @@ pub fn sequence_with_truth(
     truth: Vec<Location>,
     half_extent_px: [f64; 2],
 ) -> Sequence {
+    scenes_for(kind, truth, half_extent_px, 0)
+}
+
+/// The scenes of a sequence of `kind` for a given truth; `seed` seeds what a scene draws
+/// besides its noise (the dim weave's background).
+fn scenes_for(
+    kind: SequenceKind,
+    truth: Vec<Location>,
+    half_extent_px: [f64; 2],
+    seed: u64,
+) -> Sequence {
     let scenes = truth
         .iter()
         .enumerate()
@@ -422,6 +653,7 @@ pub fn sequence_with_truth(
                 ..SynthScene::default()
             },
             SequenceKind::Plain => SynthScene::default(),
+            SequenceKind::DimWeave => dim_weave_scene(seed),
         })
         .collect();
     Sequence { truth, scenes }

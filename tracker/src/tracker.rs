@@ -1,8 +1,9 @@
 //! The tracker: the loop of paper Figure 1, stages 1–7 on each image, plus stage 8.
 //!
 //! Both modes check every measurement against the image ([`EdgeMaps::coverage`]): a
-//! measurement whose located outline is not covered by edges is not trusted, and the status
-//! leaves `tracking`, so a loss is never silent. The paper's mode otherwise runs the paper's
+//! measurement whose located outline is not covered by edges, or covered far less than the
+//! track's own outline was ([`CoverageReference`]), is not trusted, and the status leaves
+//! `tracking`, so a loss is never silent. The paper's mode otherwise runs the paper's
 //! stages as written; robust mode adds what [`crate::robust`] describes.
 
 use crate::association::{associate, Association};
@@ -19,11 +20,12 @@ use crate::object_location::{locate_object, Measurement};
 use crate::pixel_rect::PixelRect;
 use crate::prediction::{predict_features, predict_location, PredictedFeature};
 use crate::robust::{
-    adaptive_threshold, alias_spacing, coverage_gain, search_threshold, ChamferSearch, EdgeMaps,
-    NoiseEstimator, ACQUIRE_EVERY_FRAMES, ACQUIRE_SCALES, CHAMFER_ACCEPT_PX, COVERAGE_TOLERANCE_PX,
-    FAST_LAMBDA, LOCAL_SEARCH_GROWTH_PX, LOCAL_SEARCH_PX, MAX_COVERAGE_GAIN, MAX_SCALE_STEP,
-    MIN_COVERAGE, MODEL_ERROR_DECAY, PEAK_PROBE_PX, REACQUIRE_MIN_COVERAGE, SCALE_NOISE_PX,
-    SEARCH_BELOW_COVERAGE, SEARCH_MARGIN, SURPRISE_FORGETTING,
+    adaptive_threshold, alias_spacing, coverage_gain, search_threshold, ChamferSearch,
+    CoverageReference, EdgeMaps, NoiseEstimator, ACQUIRE_EVERY_FRAMES, ACQUIRE_SCALES,
+    CHAMFER_ACCEPT_PX, COVERAGE_TOLERANCE_PX, FAST_LAMBDA, LOCAL_SEARCH_GROWTH_PX, LOCAL_SEARCH_PX,
+    MAX_COVERAGE_GAIN, MAX_SCALE_STEP, MIN_COVERAGE, MODEL_ERROR_DECAY, PEAK_PROBE_PX,
+    REACQUIRE_MIN_COVERAGE, SCALE_NOISE_PX, SEARCH_BELOW_COVERAGE, SEARCH_MARGIN,
+    SURPRISE_FORGETTING,
 };
 use crate::window::Window;
 
@@ -68,8 +70,13 @@ pub struct Tracker {
     /// Robust mode: whether it has ever held it.
     ever_locked: bool,
     last_estimate: Location,
+    /// The paper's mode: the last location measured, whatever the status, where its window
+    /// goes when the prediction is not a location.
+    last_measured: Location,
     /// The last location a trusted measurement gave.
     last_trusted: Location,
+    /// The coverage of the trusted measurements, which a measurement must stay near.
+    coverage_reference: CoverageReference,
     /// Robust mode: the last location measured with a strong check, where a search after a
     /// loss starts.
     last_good: Location,
@@ -124,9 +131,11 @@ impl Measured {
         }
     }
 
-    /// The paper's mode's check: enough of the outline on edges, and on a peak of coverage.
-    fn trusted(&self) -> bool {
-        self.passes(MIN_COVERAGE, MAX_COVERAGE_GAIN)
+    /// The check of both modes: enough of the outline on edges ([`MIN_COVERAGE`]), on a
+    /// peak of coverage ([`MAX_COVERAGE_GAIN`]), and not far below the track's own
+    /// `reference` coverage ([`CoverageReference`]).
+    fn trusted(&self, reference: &CoverageReference) -> bool {
+        self.passes(MIN_COVERAGE, MAX_COVERAGE_GAIN) && reference.admits(self.coverage())
     }
 
     /// At least `min_coverage` covered, and no move covering more than `max_gain` more (a
@@ -214,7 +223,9 @@ impl Tracker {
             locked: true,
             ever_locked: true,
             last_estimate: init,
+            last_measured: init,
             last_trusted: init,
+            coverage_reference: CoverageReference::default(),
             last_good: init,
             extractor: EdgeExtractor::default(),
             edges: Edges::default(),
@@ -243,7 +254,9 @@ impl Tracker {
         self.locked = true;
         self.ever_locked = true;
         self.last_estimate = init;
+        self.last_measured = init;
         self.last_trusted = init;
+        self.coverage_reference.clear();
         self.last_good = init;
         self.restart_motion(init);
         Ok(())
@@ -480,15 +493,20 @@ impl Tracker {
     }
 
     /// The paper's loop. Its estimates are the paper's: every measurement updates the motion
-    /// models. The paper has no loss state (a teleoperator watched), so this loop never
-    /// stops measuring: the status is a report only. A measurement that fails the coverage
-    /// check is reported as `coasting`, so a loss is never silent; no measurement at all for
-    /// `lost_after_s` is reported as `lost`; and as soon as the features return within the
-    /// window, their measurement updates the models and the status is `tracking` again.
+    /// models, trusted or not. The paper has no loss state (a teleoperator watched), so this
+    /// loop never stops measuring: the status is a report only, judged by the check both
+    /// modes share ([`Measured::trusted`]). A frame without a trusted measurement is
+    /// reported as `coasting`, so a loss is never silent; `lost_after_s` without one is
+    /// reported as `lost` (a fit that stays beside the target is lost as surely as no fit);
+    /// and as soon as the features return within the window, their measurement is trusted
+    /// and the status is `tracking` again.
     ///
     /// One guard the paper does not need: if the motion models extrapolate to an invalid
-    /// location (a scale at or below zero), the window is placed on the last valid
-    /// estimate instead, so that measuring can go on.
+    /// location (a scale at or below zero, after a long time without a measurement), the
+    /// window is placed on the last location measured instead, where the target was last
+    /// seen, so that measuring can go on. It is the last one measured whatever the status:
+    /// the status never steers the estimates. (It was the last estimate before a reported
+    /// loss, so a loss declared sooner or later placed the window elsewhere.)
     fn run_paper(
         &mut self,
         image: GrayView<'_>,
@@ -509,33 +527,18 @@ impl Tracker {
         let look_at = if predicted.is_valid() {
             predicted
         } else {
-            self.last_estimate
+            self.last_measured
         };
         let m = self.measure(image, look_at, false, diagnostics);
         // Stage 5: each parameter's model takes the measurement with its eq. 17 confidence.
-        let status = match &m.measurement {
-            Some(meas) => {
-                let l = meas.location.to_array();
-                for ((model, z), w) in self.motion.iter_mut().zip(l).zip(meas.confidence) {
-                    model.add(z, w);
-                }
-                self.coast_cycles = 0;
-                if m.trusted() {
-                    Status::Tracking
-                } else {
-                    Status::Coasting
-                }
+        if let Some(meas) = &m.measurement {
+            let l = meas.location.to_array();
+            for ((model, z), w) in self.motion.iter_mut().zip(l).zip(meas.confidence) {
+                model.add(z, w);
             }
-            None => {
-                self.coast_cycles += u64::from(cycles.max(1));
-                let coasted_s = self.coast_cycles as f64 / self.config.rate_hz;
-                if coasted_s + 1e-9 >= self.config.lost_after_s {
-                    Status::Lost
-                } else {
-                    Status::Coasting
-                }
-            }
-        };
+        }
+        let trusted = m.trusted(&self.coverage_reference);
+        let status = self.judge(trusted, cycles);
         // Stage 6: the prediction for the next frame (eq. 34).
         let next = if self.motion[0].has_information() {
             predict_location(&self.motion, 1.0)
@@ -546,6 +549,9 @@ impl Tracker {
             Some(meas) => meas.location,
             None => look_at,
         };
+        if let Some(meas) = &m.measurement {
+            self.last_measured = meas.location;
+        }
         self.finish(
             frame, t_s, status, predicted, estimate, next, m, false, None,
         )
@@ -580,8 +586,10 @@ impl Tracker {
         searched: bool,
         event: Option<TrackEvent>,
     ) -> TrackOutput {
+        let coverage_reference = self.coverage_reference.value();
         if status == Status::Tracking {
             self.last_trusted = estimate;
+            self.coverage_reference.learn(m.coverage());
         }
         if status != Status::Lost {
             self.last_estimate = estimate;
@@ -598,6 +606,7 @@ impl Tracker {
             window: m.window,
             features: m.located,
             coverage: m.coverage,
+            coverage_reference,
             coverage_gain: m.gain,
             edge_threshold: m.threshold,
             searched,
@@ -829,7 +838,7 @@ impl Tracker {
         let mut searched = false;
         let mut event = None;
         let reach = self.reach_px();
-        if m.coverage() < SEARCH_BELOW_COVERAGE || !m.trusted() {
+        if m.coverage() < SEARCH_BELOW_COVERAGE || !m.trusted(&self.coverage_reference) {
             // A failed or weak check: search near the prediction, and keep what the search
             // finds if its outline is clearly better covered.
             searched = true;
@@ -841,7 +850,7 @@ impl Tracker {
                 self.search_and_measure(image, region, [s / step, s * step], diagnostics)
             {
                 if found.coverage() > m.coverage() + SEARCH_MARGIN {
-                    if !m.trusted() && self.coast_cycles > 0 {
+                    if !m.trusted(&self.coverage_reference) && self.coast_cycles > 0 {
                         event = Some(TrackEvent::Reacquired);
                     }
                     m = found;
@@ -863,7 +872,7 @@ impl Tracker {
                 event = None;
             }
         }
-        let trusted = m.trusted();
+        let trusted = m.trusted(&self.coverage_reference);
         if trusted {
             let meas = m.measurement.expect("a trusted measurement exists");
             let strong = m.passes(REACQUIRE_MIN_COVERAGE, 0.0);
