@@ -40,9 +40,8 @@ impl TrackerMode {
 #[derive(Clone, Debug, PartialEq)]
 pub struct TrackerConfig {
     /// Edge magnitude threshold, grey levels on 0–255 (2.3: "a threshold value of 8 in a grey
-    /// level range of 0 to 255 proved to be effective"), on the magnitude of eq. 4: |∇f| in
-    /// grey levels per pixel, the 3×3 Sobel response divided by
-    /// [`crate::edges::SOBEL_TO_GRADIENT`]. A sharp step of h grey levels peaks at h/2.
+    /// level range of 0 to 255 proved to be effective"). The magnitude is the Sobel gradient
+    /// normalised so that a step of h grey levels has magnitude h.
     pub edge_threshold: f64,
     /// δ of eq. 7, degrees: how far an edge's direction may be from horizontal or vertical
     /// (section 3: "within a 15 degree threshold about either the horizontal and vertical").

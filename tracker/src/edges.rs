@@ -109,21 +109,6 @@ pub struct EdgeExtractor {
 /// tan(22.5°): the border between the axis and diagonal bins of non-maximum suppression.
 const TAN_22_5: f32 = 0.414_213_57;
 
-/// What the raw 3×3 Sobel response is divided by to give ∇f of eq. 3–4 in grey levels per
-/// pixel: the operator takes a difference over two pixels (f(x + 1) − f(x − 1)) in each of
-/// three rows weighted 1, 2, 1, so on a ramp of slope a it responds 2 · (1 + 2 + 1) · a = 8a.
-/// The threshold of 2.3 ("8 in a grey level range of 0 to 255") is on this magnitude,
-/// eq. 4's: a sharp step of h grey levels peaks at h/2, so a step must be at least 16 grey
-/// levels high to pass, and blurred steps need more.
-///
-/// (The project once divided by 4, reading a step's height instead of the gradient, which
-/// halved the effective threshold. In dim frames with noise σ = 7 that passed about 40 % of
-/// pure-noise pixels before suppression instead of 3 %, association took the noise points
-/// within ζ of every prediction, each measurement leaned towards its prediction, and the
-/// scale ran away: on the dim-weave sequence, +5 % at frame 5, +16 % at 8, +30 % at 10,
-/// lost from frame 10 on, where the paper's gradient holds it within 5 %.)
-pub const SOBEL_TO_GRADIENT: f64 = 8.0;
-
 impl EdgeExtractor {
     /// Extracts the classified edge points inside `window` into `out` (cleared first).
     /// With `diagnostics`, the local maxima dropped for weakness or orientation are
@@ -151,8 +136,9 @@ impl EdgeExtractor {
         let rh = ey1 - ey0;
         self.sobel(image, ex0, ey0, rw, rh);
 
-        // The threshold is on |∇f| (eq. 4), the raw Sobel response over SOBEL_TO_GRADIENT.
-        let thr = SOBEL_TO_GRADIENT * config.edge_threshold;
+        // Magnitude normalised so a step of h grey levels gives h (the raw 3×3 Sobel sums
+        // weights 1 + 2 + 1 = 4 on each side).
+        let thr = 4.0 * config.edge_threshold;
         // Squared magnitudes are whole numbers, so m² ≥ thr² exactly when m² ≥ ⌈thr²⌉.
         let thr2 = (thr * thr).ceil() as i32;
         let tan_delta = (config.delta_deg.to_radians() as f32).tan();
@@ -338,8 +324,8 @@ impl EdgeExtractor {
         }
     }
 
-    /// The 3×3 Sobel gradient (eq. 3–4's ∇f, times [`SOBEL_TO_GRADIENT`]) over `rw × rh`
-    /// pixels from (x0, y0); every pixel there has all eight neighbours in the image.
+    /// The 3×3 Sobel gradient (eq. 3–4's ∇f) over `rw × rh` pixels from (x0, y0); every
+    /// pixel there has all eight neighbours in the image.
     ///
     /// The operator is separable: per row, a vertical [1 2 1] smoothing and a vertical
     /// [−1 0 1] difference over the columns x0 − 1 ..= x0 + rw, then the horizontal

@@ -3,8 +3,12 @@
 //! Both modes check every measurement against the image ([`EdgeMaps::coverage`]): a
 //! measurement whose located outline is not covered by edges, or covered far less than the
 //! track's own outline was ([`CoverageReference`]), is not trusted, and the status leaves
-//! `tracking`, so a loss is never silent. The paper's mode otherwise runs the paper's
-//! stages as written; robust mode adds what [`crate::robust`] describes.
+//! `tracking`, so a loss is never silent. The check counts edges at robust mode's
+//! noise-adaptive threshold ([`adaptive_threshold`]: the paper's 8, raised in noisy frames)
+//! in both modes, so that in the paper's mode noise edges cannot make a fit that left the
+//! target look covered; the paper's measurement itself takes the paper's edges. The paper's
+//! mode otherwise runs the paper's stages as written; robust mode adds what
+//! [`crate::robust`] describes.
 
 use crate::association::{associate, Association};
 use crate::camera::Camera;
@@ -448,10 +452,29 @@ impl Tracker {
         locate_features(&self.predicted, &self.associations, &config, &mut located);
         let measurement = locate_object(&self.features, &located, &config, &mut self.rows);
         // The check, in both modes: does the located outline lie on edges of its class?
+        let mut check_config = config.clone();
+        if !robust && measurement.is_some() {
+            // Robust mode's threshold is noise-adaptive already.
+            let sigma = self.noise.sigma(image, window);
+            check_config.edge_threshold = adaptive_threshold(config.edge_threshold, sigma);
+        }
         let (coverage, gain) = match &measurement {
             Some(m) => {
                 predict_features(&self.features, m.location, &mut self.check);
-                self.maps.build(&self.edges, window);
+                // The check's edges: the measurement's, unless noise raises the check's
+                // threshold above them (the paper's mode; see `Tracker::check_threshold`).
+                if check_config.edge_threshold > config.edge_threshold {
+                    self.extractor.extract(
+                        image,
+                        window,
+                        &check_config,
+                        &mut self.check_edges,
+                        None,
+                    );
+                    self.maps.build(&self.check_edges, window);
+                } else {
+                    self.maps.build(&self.edges, window);
+                }
                 let coverage = self.maps.coverage(&self.check);
                 let gain = if coverage[0].min(coverage[1]) >= SEARCH_BELOW_COVERAGE {
                     // A fit this well covered is on the target: no other fit of it covers
@@ -473,8 +496,13 @@ impl Tracker {
                         size_index: window.size_index,
                     };
                     self.note_read(grown, w, h);
-                    self.extractor
-                        .extract(image, grown, &config, &mut self.check_edges, None);
+                    self.extractor.extract(
+                        image,
+                        grown,
+                        &check_config,
+                        &mut self.check_edges,
+                        None,
+                    );
                     self.maps.build(&self.check_edges, grown);
                     coverage_gain(&self.maps, &self.check, alias, &mut self.moved)
                 };
