@@ -55,9 +55,7 @@ pub struct TrackerConfig {
     /// A feature needs at least this fraction of its predicted length in associated points,
     /// or its confidence is zero (2.5: 0.3).
     pub min_support_fraction: f64,
-    /// σ² floor of eq. 14, pixels²: below it the confidence is capped at 1/√0.1 (2.5:
-    /// 0.1). It also bounds the residual eq. 17 divides by
-    /// ([`crate::object_location::grid_residual`]).
+    /// σ² floor of eq. 14, pixels²: below it the confidence is capped at 1/√0.1.
     pub sigma2_floor: f64,
     /// λ of eq. 18, the motion model's forgetting factor (0 < λ < 1, as eq. 18 requires). Not
     /// given by the paper.
@@ -90,9 +88,9 @@ pub struct TrackerConfig {
     /// Floor on J_l (eq. 15) for a fit with no degrees of freedom: with exactly three
     /// features the fit is exact, J_l = 0, and eq. 17, which divides by J_l, has no value.
     /// Not in the paper. Default 1: the expected residual of one degree of freedom when each
-    /// feature's error matches its stated σ. A fit with four or more features divides by
-    /// no less than the residual the image grid alone leaves,
-    /// [`crate::object_location::grid_residual`] (eq. 14's reasoning, with `sigma2_floor`).
+    /// feature's error matches its stated σ. A fit with four or more features uses eq. 17 as
+    /// written; its J_l is floored only by [`crate::object_location::RELATIVE_RESIDUAL_FLOOR`]
+    /// of the weighted intercepts' energy, far below any residual a real image gives.
     pub min_fit_residual: f64,
     /// Improvement over the paper (off by default, so the default is the paper's tracker):
     /// locate each edge point to a fraction of a pixel across the edge by fitting a parabola

@@ -16,36 +16,10 @@ use crate::location::Location;
 use crate::model::{Feature, Orientation};
 
 /// The smallest J_l eq. 17 divides by for a fit with degrees of freedom, as a fraction of
-/// Σ(w·b)², the weighted intercepts' energy: a last guard that keeps the confidences finite
-/// should [`grid_residual`] be zero (a zero σ² floor).
+/// Σ(w·b)², the weighted intercepts' energy: it only keeps the confidences finite when the
+/// features fit exactly (a synthetic image with no noise), and is ten orders of magnitude
+/// below the residual of a fit off by a hundredth of a pixel.
 pub const RELATIVE_RESIDUAL_FLOOR: f64 = 1e-24;
-
-/// The residual J_l (eq. 15) that the image grid alone leaves in a fit of `features`
-/// features whose confidences w (eq. 13–14) have squares summing to `sum_w2`: eq. 17 never
-/// divides by less.
-///
-/// The paper caps each feature's confidence because "differences in variance below this
-/// threshold are more likely attributable to feature location with respect to the discrete
-/// image grid" (eq. 14, σ² = 0.1 px²). The same holds of the fit's residual, which eq. 17
-/// divides by and the paper leaves unbounded: with each feature located no better than the
-/// grid's σ², the residual expected of a least-squares fit of n features and 3 parameters is
-/// σ² · Σw² · (n − 3)/n (its leverages sum to 3); a smaller J_l says where the edges fell on
-/// the grid, not how consistent the features are. Without this floor, clean step edges on
-/// whole pixels fit exactly (J_l ≈ 10⁻²⁰) on some frames, eq. 17 gave them confidences near
-/// 10¹⁰, and each such frame alone set the motion models (eq. 18): their extrapolation
-/// then overshot, association took neighbouring features' points, and the paper's mode lost
-/// the target in 8 of 24 runs of the noiseless synthetic wander (300 frames) and 5 of 24
-/// of the cluttered one (85 frames); with it, in 1 and 2 (5 and 14 frames). Robust mode,
-/// which takes the same confidences, was off the target by more than 5 px or 10 % on 42 of
-/// 6,000 frames of the synthetic plain, clutter, swerve, shake and dim sequences without it
-/// (4 seeds, both λ), and on none with it.
-pub fn grid_residual(sigma2_floor: f64, sum_w2: f64, features: usize) -> f64 {
-    let n = features as f64;
-    if n <= 3.0 {
-        return 0.0;
-    }
-    sigma2_floor * sum_w2 * (n - 3.0) / n
-}
 
 /// The stage-4 measurement of the object's location, with its confidences.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -110,19 +84,14 @@ pub fn locate_object(
         return None;
     }
     // J_l is z2ᵀz2 (eq. 26); eq. 17 divides by it. A fit with no degrees of freedom has
-    // J_l = 0 and takes the configured floor; any other fit takes no less than the residual
-    // the image grid alone leaves (see `grid_residual`).
+    // J_l = 0 and takes the configured floor; any other fit uses J_l as eq. 17 writes it,
+    // kept finite only by a relative epsilon (see `RELATIVE_RESIDUAL_FLOOR`).
     let j_l = residual(rows);
     let j = if features_used == 3 {
         j_l.max(config.min_fit_residual)
     } else {
-        j_l.max(grid_residual(
-            config.sigma2_floor,
-            sum_wx2 + sum_wy2,
-            features_used,
-        ))
-        .max(RELATIVE_RESIDUAL_FLOOR * energy)
-        .max(f64::MIN_POSITIVE)
+        j_l.max(RELATIVE_RESIDUAL_FLOOR * energy)
+            .max(f64::MIN_POSITIVE)
     };
     Some(Measurement {
         location,

@@ -180,40 +180,95 @@ impl NoiseEstimator {
     /// interior, and on white noise of σ it has standard deviation 6 σ; the median of its
     /// absolute value is then 0.6745 × 6 σ. Every second pixel in each direction is used.
     pub fn sigma(&mut self, image: GrayView<'_>, window: Window) -> f64 {
+        self.median_sigma(image, window, 2)
+    }
+
+    /// Whether the noise σ inside `window` is above `floor`, and then σ, estimated as
+    /// [`NoiseEstimator::sigma`] does but from every `step`-th pixel in each direction; found
+    /// without building the histogram when it is not: the median of |Laplacian| is at most
+    /// `⌊floor × 0.6745 × 6⌋` exactly when at least half the samples are. (The paper's mode
+    /// asks this of every frame, at a step of 4: its check needs σ only when noise raises
+    /// the threshold.)
+    pub fn sigma_above(
+        &mut self,
+        image: GrayView<'_>,
+        window: Window,
+        floor: f64,
+        step: usize,
+    ) -> Option<f64> {
+        let limit = (floor.max(0.0) * 0.6745 * 6.0).floor() as u32;
+        let (at_most, n) = self.count_at_most(image, window, limit, step);
+        if n == 0 || at_most >= n.div_ceil(2) {
+            return None;
+        }
+        Some(self.median_sigma(image, window, step))
+    }
+
+    /// How many of the samples have |Laplacian| ≤ `limit`, and how many samples there are.
+    fn count_at_most(
+        &self,
+        image: GrayView<'_>,
+        window: Window,
+        limit: u32,
+        step: usize,
+    ) -> (u32, u32) {
+        let mut at_most = 0u32;
+        let n = Self::each_laplacian(image, window, step, |l| at_most += u32::from(l <= limit));
+        (at_most, n)
+    }
+
+    /// Calls `f` with |Laplacian| at every `step`-th pixel in each direction of `window`
+    /// (its border pixels excepted); returns how many.
+    fn each_laplacian(
+        image: GrayView<'_>,
+        window: Window,
+        step: usize,
+        mut f: impl FnMut(u32),
+    ) -> u32 {
         let (w, h) = (image.width(), image.height());
         let x0 = window.x0.max(1);
         let y0 = window.y0.max(1);
         let x1 = window.x1.min(w.saturating_sub(1));
         let y1 = window.y1.min(h.saturating_sub(1));
         if x1 <= x0 || y1 <= y0 {
-            return 0.0;
+            return 0;
         }
-        self.histogram.clear();
-        self.histogram.resize(16 * 255 + 1, 0);
         let px = image.pixels();
         let mut n = 0u32;
-        for y in (y0..y1).step_by(2) {
+        for y in (y0..y1).step_by(step) {
             let (up, mid, down) = ((y - 1) * w, y * w, (y + 1) * w);
-            for x in (x0..x1).step_by(2) {
+            for x in (x0..x1).step_by(step) {
                 let p = |row: usize, dx: usize| i32::from(px[row + x + dx - 1]);
                 let l = p(up, 0) - 2 * p(up, 1) + p(up, 2) - 2 * p(mid, 0) + 4 * p(mid, 1)
                     - 2 * p(mid, 2)
                     + p(down, 0)
                     - 2 * p(down, 1)
                     + p(down, 2);
-                self.histogram[l.unsigned_abs() as usize] += 1;
+                f(l.unsigned_abs());
                 n += 1;
             }
         }
+        n
+    }
+
+    /// The median-based σ of the module notes.
+    fn median_sigma(&mut self, image: GrayView<'_>, window: Window, step: usize) -> f64 {
+        let mut histogram = std::mem::take(&mut self.histogram);
+        histogram.clear();
+        histogram.resize(16 * 255 + 1, 0);
+        let n = Self::each_laplacian(image, window, step, |l| histogram[l as usize] += 1);
         let half = n.div_ceil(2);
         let mut seen = 0u32;
-        for (value, &count) in self.histogram.iter().enumerate() {
+        let mut sigma = 0.0;
+        for (value, &count) in histogram.iter().enumerate() {
             seen += count;
-            if seen >= half {
-                return value as f64 / (0.6745 * 6.0);
+            if n > 0 && seen >= half {
+                sigma = value as f64 / (0.6745 * 6.0);
+                break;
             }
         }
-        0.0
+        self.histogram = histogram;
+        sigma
     }
 }
 
