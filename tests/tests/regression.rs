@@ -97,6 +97,7 @@ scenario_test!(stop_and_go, "stop-and-go");
 scenario_test!(gravel_road, "gravel-road");
 scenario_test!(swerves, "swerves");
 scenario_test!(section4, "section4");
+scenario_test!(highway_90, "highway-90");
 
 macro_rules! robust_test {
     ($test:ident, $name:literal) => {
@@ -128,6 +129,7 @@ robust_test!(robust_poles_and_buildings, "poles-and-buildings");
 robust_test!(robust_tape_17min, "tape-17min");
 robust_test!(robust_intersections, "intersections");
 robust_test!(robust_stop_and_go, "stop-and-go");
+robust_test!(robust_highway_90, "highway-90");
 
 /// Without its pan head, `intersections`' first right-angle turn takes the target out of
 /// the fixed camera's view: the loss is put down to `out_of_view`, the failure says so, and
@@ -214,5 +216,65 @@ fn robust_mode_reacquires_after_a_misplaced_start_and_the_chase_follows() {
         s.distance_m > 100.0,
         "the chase drove only {:.1} m",
         s.distance_m
+    );
+}
+
+/// `highway-90` with the paper's 8 mm lens: at 25 m the target is 28 px wide, and the
+/// paper's mode loses it within two seconds. It must say so, and the chase must then stop
+/// under control (the loss's 3.5 m/s², `loss_decel_mps2`), never braking fully: the lead
+/// drives on at 90 km/h, so no real closing is ever measured.
+#[test]
+fn at_90_kmh_with_the_8_mm_lens_the_paper_modes_loss_brings_a_controlled_stop() {
+    let overrides = ["camera.focal_length_mm=8", "tracker.mode=paper"].map(String::from);
+    let plan =
+        Plan::load(&scenario_path("highway-90"), &overrides).unwrap_or_else(|e| panic!("{e}"));
+    let scenario = plan.scenario().clone();
+    let mut looped = ClosedLoop::new(plan, Backend::choose(None).unwrap(), false).unwrap();
+    let mut records = Vec::new();
+    while let Some(out) = looped.step().unwrap() {
+        records.push(out.record);
+    }
+    let s = Summary::compute(
+        &scenario.name,
+        scenario.seed,
+        &records,
+        &scenario.expect,
+        0.0,
+    );
+    assert!(
+        s.tracking_lost_s > 1.0,
+        "the 8 mm lens held the target ({} s lost)",
+        s.tracking_lost_s
+    );
+    assert!(
+        s.max_loss_report_delay_frames.unwrap_or(0) <= 15,
+        "the loss went unreported for {:?} frames",
+        s.max_loss_report_delay_frames
+    );
+    let full: Vec<f64> = records
+        .iter()
+        .filter(|r| r.brake >= 0.99)
+        .map(|r| r.t_s)
+        .collect();
+    assert!(full.is_empty(), "full brake at {full:?} s with no closing");
+    let stop = records
+        .iter()
+        .find(|r| r.chase_mode == "stopping")
+        .expect("the chase stops after the loss");
+    assert!(
+        stop.chase_speed_mps > 15.0,
+        "stopping from {} m/s",
+        stop.chase_speed_mps
+    );
+    // Over any second, the chase slows by no more than the loss's 3.5 m/s² and a margin
+    // for the brake's build-up (measured: 3.6 m/s²).
+    let worst = records
+        .windows(16)
+        .map(|w| (w[0].chase_speed_mps - w[15].chase_speed_mps) / (w[15].t_s - w[0].t_s))
+        .fold(0.0, f64::max);
+    assert!(worst <= 4.5, "decelerated at {worst:.2} m/s² over a second");
+    assert!(
+        records.last().unwrap().chase_speed_mps < 0.5,
+        "the chase did not stop"
     );
 }

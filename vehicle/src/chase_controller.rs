@@ -157,6 +157,15 @@ const REFERENCE_RANGE_M: f32 = 10.0;
 /// range has really moved (three frames, 0.2 s).
 const RANGE_GATE_ACCEPT_AFTER: u32 = 3;
 
+/// How long a closing alone (below the safe gap, closing fast, with room to stop still; see
+/// [`crate::gap_keeper::Threat::closing_only`]) must last beyond the alarm filter's reference
+/// range before it calls the emergency brake, ms: three frames at 15 Hz. Nearer than the
+/// reference range, and when stopping needs more than the gap keeper's deceleration, the
+/// brake comes at once. (At 90 km/h with the 8 mm lens, a 28 px target 25 m ahead, one
+/// frame's scale noise made the alarm filter read a 4 m/s closing and the chase braked
+/// fully from 25 m/s for a lead driving steadily on.)
+const CLOSING_CONFIRM_MS: f64 = 200.0;
+
 impl Default for ChaseControllerConfig {
     fn default() -> Self {
         ChaseControllerConfig {
@@ -255,6 +264,8 @@ pub struct ChaseController {
     last_arrival: Option<Step>,
     last_status: Option<TrackStatus>,
     stop_ref_mps: f32,
+    /// When the current run of closing-only alarms began (see [`CLOSING_CONFIRM_MS`]).
+    closing_since: Option<Step>,
     odometer_m: f32,
     events: Vec<ControllerEvent>,
     telemetry: ChaseTelemetry,
@@ -363,6 +374,7 @@ impl ChaseController {
             last_arrival: None,
             last_status: None,
             stop_ref_mps: 0.0,
+            closing_since: None,
             odometer_m: 0.0,
             events: Vec::new(),
             telemetry: ChaseTelemetry {
@@ -592,8 +604,26 @@ impl ChaseController {
         self.gap_keeper.set_view_limit(view_limit_m);
         let (pan_aim_rad, pan_rate_cmd_rad_s) = self.aim_pan_head(&pose, odometry.camera_pan_rad);
         let threat = match carried(self.alarm_range.state()) {
-            (Some(gap), Some(rate)) => self.config.gap_keeper.threat(gap, rate, v),
-            _ => Threat::default(),
+            (Some(gap), Some(rate)) => {
+                let noise = self.alarm_range.gains().rate_noise_ratio(gap);
+                let mut t = self.config.gap_keeper.threat_in_noise(gap, rate, v, noise);
+                // Beyond the alarm filter's reference range a closing alone must last
+                // CLOSING_CONFIRM_MS before it brakes fully: a small, far target's rate
+                // noise fakes a closing for a frame or two, a braking lead's lasts.
+                if t.closing_only && noise > 1.0 {
+                    let since = *self.closing_since.get_or_insert(now);
+                    if now.since(since) < steps_from_ms(CLOSING_CONFIRM_MS) {
+                        t.emergency = false;
+                    }
+                } else {
+                    self.closing_since = None;
+                }
+                t
+            }
+            _ => {
+                self.closing_since = None;
+                Threat::default()
+            }
         };
 
         // Speed.

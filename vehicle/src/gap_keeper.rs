@@ -298,12 +298,29 @@ impl GapKeeperConfig {
     /// brakes there pitched the chassis 2°, and the camera with it, whenever the lead merely
     /// slowed at a 5 m gap.)
     pub fn threat(&self, gap_m: f32, range_rate_mps: f32, speed_mps: f32) -> Threat {
+        self.threat_in_noise(gap_m, range_rate_mps, speed_mps, 1.0)
+    }
+
+    /// [`GapKeeperConfig::threat`] for a range rate whose noise is `rate_noise_ratio` times
+    /// that at the alarm filter's reference range ([`crate::range_filter::Gains::rate_noise_ratio`]):
+    /// a closing counts only when it is `emergency_closing_mps` times that ratio (at least
+    /// 1), so that the rate noise of a small, far target (the range's error grows as its
+    /// square) is not taken for a real closing. At 25 m that is 1.6 times the 10 m figure.
+    pub fn threat_in_noise(
+        &self,
+        gap_m: f32,
+        range_rate_mps: f32,
+        speed_mps: f32,
+        rate_noise_ratio: f32,
+    ) -> Threat {
         let required_decel_mps2 = self.required_decel_mps2(gap_m, range_rate_mps);
         let unsafe_gap = gap_m < self.safe_gap_m(speed_mps, speed_mps + range_rate_mps);
-        let closing = -range_rate_mps > self.emergency_closing_mps;
+        let closing = -range_rate_mps > self.emergency_closing_mps * rate_noise_ratio.max(1.0);
+        let too_close = required_decel_mps2 > self.max_decel_mps2;
         Threat {
             required_decel_mps2,
-            emergency: required_decel_mps2 > self.max_decel_mps2 || (unsafe_gap && closing),
+            emergency: too_close || (unsafe_gap && closing),
+            closing_only: !too_close && unsafe_gap && closing,
         }
     }
 
@@ -322,6 +339,9 @@ pub struct Threat {
     /// Whether to brake fully now: keeping the stop gap needs more than `max_decel_mps2`,
     /// or the gap is below the RSS safe gap and closing fast.
     pub emergency: bool,
+    /// Whether the emergency is the second kind alone: below the safe gap and closing fast,
+    /// with room to stop at `max_decel_mps2` still (what a noisy rate can fake).
+    pub closing_only: bool,
 }
 
 /// The gap keeper's output for one step.

@@ -63,6 +63,29 @@ impl Gains {
     }
 }
 
+impl Gains {
+    /// The standard deviation of the filter's steady-state rate estimate for a measurement
+    /// at `range_m`, relative to its value at the gains' reference range, with the range
+    /// noise growing as the square of the range (the model [`Gains::TrackingIndex`] is made
+    /// for): 1 at the reference, about 1.6 at 2.5 times it for the alarm filter's default
+    /// index of 0.6. (For white range noise of σ, an α–β filter's steady-state rate variance
+    /// is σ² · 2β² / (α (4 − 2α − β)) / T²; T cancels in the ratio.) Fixed gains: 1.
+    pub fn rate_noise_ratio(&self, range_m: f32) -> f32 {
+        match *self {
+            Gains::Fixed { .. } => 1.0,
+            Gains::TrackingIndex { reference_m, .. } => {
+                let noise = |r: f32| {
+                    let (a, b) = self.at(r);
+                    let sigma = r * r;
+                    sigma * (2.0 * b * b / (a * (4.0 - 2.0 * a - b))).sqrt()
+                };
+                let range_m = range_m.max(0.1 * reference_m);
+                noise(range_m) / noise(reference_m)
+            }
+        }
+    }
+}
+
 /// Which measurements the filter refuses: those further from its prediction than
 /// `max(min_m, fraction × predicted range)`, unless [`RangeGate::accept_after`] of them come
 /// in a row (then the range really has moved, and the filter follows).
@@ -174,6 +197,11 @@ impl RangeFilter {
         next
     }
 
+    /// The filter's gains.
+    pub fn gains(&self) -> Gains {
+        self.gains
+    }
+
     /// The last estimate.
     pub fn state(&self) -> Option<RangeState> {
         self.state
@@ -195,6 +223,24 @@ mod tests {
         min_m: 0.75,
         accept_after: 3,
     };
+
+    #[test]
+    fn the_rate_noise_grows_with_the_range_beyond_the_reference() {
+        let g = Gains::TrackingIndex {
+            index_at_reference: 0.6,
+            reference_m: 10.0,
+        };
+        assert!((g.rate_noise_ratio(10.0) - 1.0).abs() < 1e-6);
+        let at_25 = g.rate_noise_ratio(25.0);
+        assert!((1.5..1.7).contains(&at_25), "{at_25}");
+        assert!(g.rate_noise_ratio(5.0) < 1.0);
+        assert!(g.rate_noise_ratio(40.0) > at_25);
+        let fixed = Gains::Fixed {
+            alpha: 0.5,
+            beta: 0.1,
+        };
+        assert_eq!(fixed.rate_noise_ratio(25.0), 1.0);
+    }
 
     /// The chase standing still.
     const STILL: OwnMotion = OwnMotion {
