@@ -189,9 +189,9 @@ struct Pending {
     values: [f64; SLOTS],
 }
 
-/// A run's summary, built one record at a time (see the module notes);
-/// [`SummaryBuilder::finish`] gives the same summary as [`super::Summary::compute`] over the
-/// same records, up to the rounding of the time sums.
+/// A run's summary, built one record at a time (see the module notes): feed it with
+/// [`SummaryBuilder::push`], and [`super::Summary::of`] gives the summary, the same as
+/// [`super::Summary::compute`] over the same records.
 #[derive(Clone, Debug)]
 pub struct SummaryBuilder {
     gap_band_m: Option<[f64; 2]>,
