@@ -127,34 +127,38 @@ fn max(v: impl Iterator<Item = f64>) -> f64 {
     v.fold(0.0, f64::max)
 }
 
+/// The dim-weave sequence of `seed` (from the image centre at scale 1), run as [`run`] does.
+fn run_dim_weave(
+    mode: TrackerMode,
+    lambda: f64,
+    edge_threshold: Option<f64>,
+    seed: u64,
+) -> Vec<Frame> {
+    let start = Location::new(128.0, 112.0, 1.0);
+    let half = half_extent(&Camera::default());
+    let seq = sequence(SequenceKind::DimWeave, start, FRAMES, half, seed);
+    run(
+        mode,
+        lambda,
+        edge_threshold,
+        &seq.truth,
+        |k| seq.scenes[k].clone(),
+        seed,
+    )
+}
+
 /// eq. 4's |∇f| of 8 on this project's scale (a step's height).
 const GRADIENT_READING: f64 = 16.0;
 
 #[test]
 fn the_dim_weave_is_held_by_robust_mode_and_by_the_paper_at_eq_4s_gradient() {
-    let camera = Camera::default();
-    let start = Location::new(128.0, 112.0, 1.0);
     for (mode, threshold) in [
         (TrackerMode::Paper, Some(GRADIENT_READING)),
         (TrackerMode::Robust, None),
     ] {
         for lambda in [0.5, 0.8] {
             for seed in 1..=SEEDS {
-                let seq = sequence(
-                    SequenceKind::DimWeave,
-                    start,
-                    FRAMES,
-                    half_extent(&camera),
-                    seed,
-                );
-                let frames = run(
-                    mode,
-                    lambda,
-                    threshold,
-                    &seq.truth,
-                    |k| seq.scenes[k].clone(),
-                    seed,
-                );
+                let frames = run_dim_weave(mode, lambda, threshold, seed);
                 let name = format!("{} λ = {lambda} seed {seed}", mode.as_str());
                 let lost: Vec<usize> = (0..frames.len())
                     .filter(|&k| frames[k].lost_truth)
@@ -198,26 +202,10 @@ fn the_dim_weave_is_held_by_robust_mode_and_by_the_paper_at_eq_4s_gradient() {
 
 #[test]
 fn at_the_default_threshold_the_paper_modes_runaway_is_never_reported_as_tracking() {
-    let camera = Camera::default();
-    let start = Location::new(128.0, 112.0, 1.0);
     let mut lost_runs = 0;
     for lambda in [0.5, 0.8] {
         for seed in 1..=SEEDS {
-            let seq = sequence(
-                SequenceKind::DimWeave,
-                start,
-                FRAMES,
-                half_extent(&camera),
-                seed,
-            );
-            let frames = run(
-                TrackerMode::Paper,
-                lambda,
-                None,
-                &seq.truth,
-                |k| seq.scenes[k].clone(),
-                seed,
-            );
+            let frames = run_dim_weave(TrackerMode::Paper, lambda, None, seed);
             let name = format!("paper λ = {lambda} seed {seed}");
             let lost = frames.iter().filter(|f| f.lost_truth).count();
             lost_runs += usize::from(lost > 0);

@@ -287,48 +287,7 @@ impl Summary {
         wall_s: f64,
     ) -> Summary {
         debug_assert_eq!(builder.gap_band_m(), expect.gap_band_m);
-        let m = builder.measured();
-        let mut summary = Summary {
-            schema_version: SCHEMA_VERSION,
-            carfollow_version: env!("CARGO_PKG_VERSION").to_owned(),
-            git_commit: option_env!("CARFOLLOW_GIT_COMMIT").map(str::to_owned),
-            overrides: Vec::new(),
-            resolved_scenario: None,
-            scenario: scenario.to_owned(),
-            seed,
-            tracker: None,
-            controller: None,
-            duration_s: m.duration_s,
-            frames: m.frames,
-            passed: false,
-            failures: Vec::new(),
-            criteria: Vec::new(),
-            gap_m: m.gap_m,
-            gap_band_m: expect.gap_band_m,
-            time_outside_gap_band_s: m.time_outside_gap_band_s,
-            tracking_lost_s: m.tracking_lost_s,
-            tracking_loss_events: m.tracking_loss_events,
-            lost_by_cause_s: m.lost_by_cause_s,
-            partly_out_of_view_s: m.partly_out_of_view_s,
-            imprecise_share: m.imprecise_share,
-            tracker_lost_s: m.tracker_lost_s,
-            tracker_coasting_s: m.tracker_coasting_s,
-            silent_loss_frames: m.silent_loss_frames,
-            max_loss_report_delay_frames: m
-                .loss_events
-                .iter()
-                .map(|e| e.report_delay_frames.unwrap_or(e.frames))
-                .max(),
-            loss_events: m.loss_events,
-            reacquired: m.reacquired,
-            range_error_m: m.range_error_m,
-            lateral_path_error_m: m.lateral_path_error_m,
-            collisions: m.collisions,
-            distance_m: m.distance_m,
-            wall_s,
-            realtime_factor: (wall_s > 0.0).then(|| m.duration_s / wall_s),
-            timing: None,
-        };
+        let mut summary = builder.measured(scenario, seed, expect.gap_band_m, wall_s);
         summary.criteria = check(&summary, expect);
         summary.failures = summary
             .criteria

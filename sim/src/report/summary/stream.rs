@@ -14,8 +14,8 @@ use std::collections::BTreeMap;
 use sim_core::{FrameRecord, LossCause, TrackerStatus};
 
 use super::{
-    GapStats, LateralError, LossEvent, LostByCause, RangeError, TrackerEventTime,
-    DEFAULT_FRAME_PERIOD_S, IMPRECISE_CENTRE_PX, IMPRECISE_SCALE,
+    GapStats, LateralError, LossEvent, LostByCause, RangeError, Summary, TrackerEventTime,
+    DEFAULT_FRAME_PERIOD_S, IMPRECISE_CENTRE_PX, IMPRECISE_SCALE, SCHEMA_VERSION,
 };
 
 /// The median positive step between consecutive capture times, kept as a count of each
@@ -314,35 +314,55 @@ impl SummaryBuilder {
         }
     }
 
-    /// What the records came to, before the criteria: the summary's measured fields.
-    pub(super) fn measured(mut self) -> Measured {
+    /// What the records came to, before the criteria (`criteria`, `failures` and `passed`
+    /// are left empty, and the caller's fields unset): for a scenario of that name and
+    /// seed, with the `[expect]` band `gap_band_m`, and the run's wall-clock time.
+    pub(super) fn measured(
+        mut self,
+        scenario: &str,
+        seed: u64,
+        gap_band_m: Option<[f64; 2]>,
+        wall_s: f64,
+    ) -> Summary {
         if let Some(p) = self.pending.take() {
             self.weigh(p, None);
         }
         let period = self.period.period();
         let time = |slot| self.weighted.total(slot, period);
         let duration_s = time(DURATION);
-        let gap_m = if self.frames == 0 {
-            GapStats::default()
+        let (gap_m, lateral_path_error_m) = if self.frames == 0 {
+            (GapStats::default(), LateralError::default())
         } else {
-            GapStats {
-                min: self.gap_min,
-                mean: time(GAP) / duration_s,
-                max: self.gap_max,
-            }
+            (
+                GapStats {
+                    min: self.gap_min,
+                    mean: time(GAP) / duration_s,
+                    max: self.gap_max,
+                },
+                LateralError {
+                    mean_abs: time(LATERAL) / duration_s,
+                    max_abs: self.lateral_max,
+                },
+            )
         };
-        let lateral_path_error_m = if self.frames == 0 {
-            LateralError::default()
-        } else {
-            LateralError {
-                mean_abs: time(LATERAL) / duration_s,
-                max_abs: self.lateral_max,
-            }
-        };
-        Measured {
-            frames: self.frames,
+        let loss_events = self.loss_events.finish();
+        Summary {
+            schema_version: SCHEMA_VERSION,
+            carfollow_version: env!("CARGO_PKG_VERSION").to_owned(),
+            git_commit: option_env!("CARFOLLOW_GIT_COMMIT").map(str::to_owned),
+            overrides: Vec::new(),
+            resolved_scenario: None,
+            scenario: scenario.to_owned(),
+            seed,
+            tracker: None,
+            controller: None,
             duration_s,
+            frames: self.frames,
+            passed: false,
+            failures: Vec::new(),
+            criteria: Vec::new(),
             gap_m,
+            gap_band_m,
             time_outside_gap_band_s: time(OUTSIDE_BAND),
             tracking_lost_s: time(LOST),
             tracking_loss_events: self.lost_runs.count,
@@ -357,36 +377,21 @@ impl SummaryBuilder {
             tracker_lost_s: time(SAYS_LOST),
             tracker_coasting_s: time(SAYS_COASTING),
             silent_loss_frames: self.silent_loss_frames,
-            loss_events: self.loss_events.finish(),
+            max_loss_report_delay_frames: loss_events
+                .iter()
+                .map(|e| e.report_delay_frames.unwrap_or(e.frames))
+                .max(),
+            loss_events,
             reacquired: self.reacquired,
             range_error_m: range_error(self.range_errors),
             lateral_path_error_m,
             collisions: self.collision_runs.count,
             distance_m: self.distance_m,
+            wall_s,
+            realtime_factor: (wall_s > 0.0).then(|| duration_s / wall_s),
+            timing: None,
         }
     }
-}
-
-/// The summary's measured fields (see [`super::Summary`] for each).
-pub(super) struct Measured {
-    pub frames: u64,
-    pub duration_s: f64,
-    pub gap_m: GapStats,
-    pub time_outside_gap_band_s: f64,
-    pub tracking_lost_s: f64,
-    pub tracking_loss_events: u64,
-    pub lost_by_cause_s: LostByCause,
-    pub partly_out_of_view_s: f64,
-    pub imprecise_share: Option<f64>,
-    pub tracker_lost_s: f64,
-    pub tracker_coasting_s: f64,
-    pub silent_loss_frames: u64,
-    pub loss_events: Vec<LossEvent>,
-    pub reacquired: Vec<TrackerEventTime>,
-    pub range_error_m: RangeError,
-    pub lateral_path_error_m: LateralError,
-    pub collisions: u64,
-    pub distance_m: f64,
 }
 
 fn range_error(mut errors: Vec<f64>) -> RangeError {
