@@ -160,7 +160,8 @@ impl GymCore {
         Ok(plan.scenario().frames())
     }
 
-    /// Starts an episode with the scenario's `seed` (its own when None).
+    /// Starts an episode with the scenario's `seed` (its own when None), ending the last one
+    /// first: a reset that fails leaves no episode, and `step()` asks for a reset.
     #[pyo3(signature = (seed=None))]
     fn reset(&self, py: Python<'_>, seed: Option<u64>) -> PyResult<()> {
         let plan = plan_of(
@@ -198,8 +199,16 @@ impl GymCore {
             ..LoopOptions::new(self.backend)
         };
         let raised = &self.raised;
+        // The old episode goes first, with the interpreter released: closing its renderer
+        // takes tens of milliseconds, and two renderers need not be held at once.
+        let old = self
+            .episode
+            .lock()
+            .unwrap_or_else(|p| p.into_inner())
+            .take();
         let episode = py
             .detach(move || -> Result<Episode, sim::RunError> {
+                drop(old);
                 let mut looped = ClosedLoop::start(plan, options)?;
                 let last = looped.step()?.expect("a scenario has at least one frame");
                 looped.prefetch()?;
