@@ -3,7 +3,8 @@
 
 use image::{GrayImage, Rgb, RgbImage};
 use sim_core::FrameOutput;
-use tracker::{EdgeDiagnostic, EdgeFate, Orientation, TrackOutput};
+use tracker::prediction::PredictedFeature;
+use tracker::{EdgeDiagnostic, EdgeFate, Orientation, TrackOutput, Window};
 
 /// The overlay's colours, by what they mark.
 #[derive(Clone, Copy, Debug)]
@@ -24,6 +25,29 @@ impl OverlayColour {
 
 use OverlayColour as C;
 
+/// The window of interest's corners, pixel centres, in drawing order (top-left, top-right,
+/// bottom-right, bottom-left); `None` for an empty window.
+pub(crate) fn window_corners(w: &Window) -> Option<[(f64, f64); 4]> {
+    if w.is_empty() {
+        return None;
+    }
+    let (x0, y0, x1, y1) = (
+        w.x0 as f64,
+        w.y0 as f64,
+        (w.x1 - 1) as f64,
+        (w.y1 - 1) as f64,
+    );
+    Some([(x0, y0), (x1, y0), (x1, y1), (x0, y1)])
+}
+
+/// A predicted feature's ends in the image, pixels.
+pub(crate) fn feature_ends(p: &PredictedFeature) -> ((f64, f64), (f64, f64)) {
+    match p.orientation {
+        Orientation::Horizontal => ((p.extent[0], p.intercept), (p.extent[1], p.intercept)),
+        Orientation::Vertical => ((p.intercept, p.extent[0]), (p.intercept, p.extent[1])),
+    }
+}
+
 /// The frame in colour with the tracker's overlay. Weak and wrongly oriented points are not
 /// drawn (there are many and they hide the image).
 pub fn draw_overlay(frame: &GrayImage, out: &TrackOutput, edges: &[EdgeDiagnostic]) -> RgbImage {
@@ -31,29 +55,13 @@ pub fn draw_overlay(frame: &GrayImage, out: &TrackOutput, edges: &[EdgeDiagnosti
         let g = frame.get_pixel(x, y)[0];
         Rgb([g, g, g])
     });
-    let w = out.window;
-    if !w.is_empty() {
-        let (x0, y0, x1, y1) = (
-            w.x0 as f64,
-            w.y0 as f64,
-            (w.x1 - 1) as f64,
-            (w.y1 - 1) as f64,
-        );
-        for (a, b) in [
-            ((x0, y0), (x1, y0)),
-            ((x1, y0), (x1, y1)),
-            ((x1, y1), (x0, y1)),
-            ((x0, y1), (x0, y0)),
-        ] {
-            line(&mut img, a, b, C::WINDOW);
+    if let Some(corners) = window_corners(&out.window) {
+        for (k, &a) in corners.iter().enumerate() {
+            line(&mut img, a, corners[(k + 1) % 4], C::WINDOW);
         }
     }
     for f in &out.features {
-        let p = f.predicted;
-        let (a, b) = match p.orientation {
-            Orientation::Horizontal => ((p.extent[0], p.intercept), (p.extent[1], p.intercept)),
-            Orientation::Vertical => ((p.intercept, p.extent[0]), (p.intercept, p.extent[1])),
-        };
+        let (a, b) = feature_ends(&f.predicted);
         line(&mut img, a, b, C::PREDICTED);
     }
     for e in edges {

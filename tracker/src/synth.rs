@@ -152,18 +152,9 @@ pub fn target_rects(
     let rects = paint::layout(model).unwrap_or_else(|_| paint::stripes(model));
     rects
         .iter()
-        .map(|r| {
-            let [x0, y0, x1, y1] = r.bounds_m;
-            Rect {
-                // Model y is up, image y is down.
-                bounds: [
-                    at.c_x + x0 * kx,
-                    at.c_y - y1 * ky,
-                    at.c_x + x1 * kx,
-                    at.c_y - y0 * ky,
-                ],
-                value: scene.paint + r.tone * (scene.board - scene.paint),
-            }
+        .map(|r| Rect {
+            bounds: image_bounds(r.bounds_m, at, [kx, ky]),
+            value: scene.paint + r.tone * (scene.board - scene.paint),
         })
         .collect()
 }
@@ -267,19 +258,24 @@ pub fn draw(
         .collect()
 }
 
+/// A rectangle of the target's plane, `[x0, y0, x1, y1]` metres from its centre (y up), in
+/// image pixels for the target at `at`, `k` pixels a metre (image y is down).
+fn image_bounds([x0, y0, x1, y1]: [f64; 4], at: Location, [kx, ky]: [f64; 2]) -> [f64; 4] {
+    [
+        at.c_x + x0 * kx,
+        at.c_y - y1 * ky,
+        at.c_x + x1 * kx,
+        at.c_y - y0 * ky,
+    ]
+}
+
 /// The body's rectangle in image pixels for the target at `at`.
 fn body_rect(model: &TargetModel, camera: &Camera, at: Location, body: Body) -> Rect {
     let [fx, fy] = camera.focal_px();
     let kx = at.scale * fx / model.nominal_range_m();
     let ky = at.scale * fy / model.nominal_range_m();
-    let [x0, y0, x1, y1] = body.bounds_m;
     Rect {
-        bounds: [
-            at.c_x + x0 * kx,
-            at.c_y - y1 * ky,
-            at.c_x + x1 * kx,
-            at.c_y - y0 * ky,
-        ],
+        bounds: image_bounds(body.bounds_m, at, [kx, ky]),
         value: body.value,
     }
 }

@@ -452,26 +452,30 @@ impl Tracker {
         locate_features(&self.predicted, &self.associations, &config, &mut located);
         let measurement = locate_object(&self.features, &located, &config, &mut self.rows);
         // The check, in both modes: does the located outline lie on edges of its class?
-        let mut check_config = config.clone();
-        if !robust && measurement.is_some() {
-            // Robust mode's threshold is noise-adaptive already. The paper's is raised only
-            // where σ exceeds threshold / NOISE_THRESHOLD_FACTOR (σ from every 4th pixel
-            // each way: about 5 % of the step, where every 2nd pixel took 18 %).
+        // Its edges are the measurement's, unless noise raises its threshold: robust mode's
+        // threshold is noise-adaptive already, and the paper's is raised only where σ
+        // exceeds threshold / NOISE_THRESHOLD_FACTOR (σ from every 4th pixel each way: about
+        // 5 % of the step, where every 2nd pixel took 18 %).
+        let raised = if !robust && measurement.is_some() {
             let floor = config.edge_threshold / NOISE_THRESHOLD_FACTOR;
-            if let Some(sigma) = self.noise.sigma_above(image, window, floor, 4) {
-                check_config.edge_threshold = adaptive_threshold(config.edge_threshold, sigma);
-            }
-        }
+            self.noise
+                .sigma_above(image, window, floor, 4)
+                .map(|sigma| TrackerConfig {
+                    edge_threshold: adaptive_threshold(config.edge_threshold, sigma),
+                    ..config.clone()
+                })
+        } else {
+            None
+        };
+        let check_config = raised.as_ref().unwrap_or(&config);
         let (coverage, gain) = match &measurement {
             Some(m) => {
                 predict_features(&self.features, m.location, &mut self.check);
-                // The check's edges: the measurement's, unless noise raises the check's
-                // threshold above them (the paper's mode; see `Tracker::check_threshold`).
-                if check_config.edge_threshold > config.edge_threshold {
+                if raised.is_some() {
                     self.extractor.extract(
                         image,
                         window,
-                        &check_config,
+                        check_config,
                         &mut self.check_edges,
                         None,
                     );
@@ -500,13 +504,8 @@ impl Tracker {
                         size_index: window.size_index,
                     };
                     self.note_read(grown, w, h);
-                    self.extractor.extract(
-                        image,
-                        grown,
-                        &check_config,
-                        &mut self.check_edges,
-                        None,
-                    );
+                    self.extractor
+                        .extract(image, grown, check_config, &mut self.check_edges, None);
                     self.maps.build(&self.check_edges, grown);
                     coverage_gain(&self.maps, &self.check, alias, &mut self.moved)
                 };

@@ -3,7 +3,7 @@
 //! image's annotations.
 
 use super::messages::TrackerState;
-use crate::overlay::OverlayColour;
+use crate::overlay::{feature_ends, window_corners, OverlayColour};
 use foxglove::messages::{
     points_annotation, Color, FrameTransform, ImageAnnotations, Point2, PointsAnnotation,
     Quaternion, Timestamp, Vector3,
@@ -12,7 +12,7 @@ use image::Rgb;
 use nalgebra::{Isometry3, UnitQuaternion, Vector3 as NaVector3};
 use sim_core::FrameOutput;
 use sim_core::TrackerStatus;
-use tracker::{EdgeFate, Orientation};
+use tracker::EdgeFate;
 
 /// An RGB colour of the overlay as Foxglove's colour.
 pub(super) fn color(c: Rgb<u8>) -> Color {
@@ -201,28 +201,17 @@ pub(super) fn annotations(out: &FrameOutput, ts: Timestamp) -> ImageAnnotations 
             ..ImageAnnotations::default()
         };
     };
-    let w = t.window;
-    if !w.is_empty() {
-        let (x0, y0, x1, y1) = (
-            w.x0 as f64,
-            w.y0 as f64,
-            (w.x1 - 1) as f64,
-            (w.y1 - 1) as f64,
-        );
+    if let Some(corners) = window_corners(&t.window) {
         list.push(points(
             Type::LineLoop,
-            vec![pixel(x0, y0), pixel(x1, y0), pixel(x1, y1), pixel(x0, y1)],
+            corners.iter().map(|&(x, y)| pixel(x, y)).collect(),
             OverlayColour::WINDOW,
             ts,
         ));
     }
     let mut model = Vec::with_capacity(2 * t.features.len());
     for f in &t.features {
-        let p = f.predicted;
-        let (a, b) = match p.orientation {
-            Orientation::Horizontal => ((p.extent[0], p.intercept), (p.extent[1], p.intercept)),
-            Orientation::Vertical => ((p.intercept, p.extent[0]), (p.intercept, p.extent[1])),
-        };
+        let (a, b) = feature_ends(&f.predicted);
         model.push(pixel(a.0, a.1));
         model.push(pixel(b.0, b.1));
     }

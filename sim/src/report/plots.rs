@@ -79,7 +79,11 @@ pub fn write_plots(
 ) -> Result<Vec<PathBuf>, ReportError> {
     register_font(dir)?;
     let records = &trace.rows[..];
-    let series = Series::new(records, trace.period.period());
+    let mut period = FramePeriod::default();
+    for r in records {
+        period.push(r.t_s);
+    }
+    let series = Series::new(records, period.period());
     let mut written = Vec::new();
     let mut plot = |file: &str, size, draw: &dyn Fn(&Area) -> DrawResult| {
         let path = dir.join(file);
@@ -164,7 +168,6 @@ struct PlotRow {
 #[derive(Clone, Debug, Default)]
 pub struct PlotTrace {
     rows: Vec<PlotRow>,
-    period: FramePeriod,
 }
 
 impl PlotTrace {
@@ -184,7 +187,6 @@ impl PlotTrace {
 
     /// Takes the next record.
     pub fn push(&mut self, r: &FrameRecord) {
-        self.period.push(r.t_s);
         self.rows.push(PlotRow {
             t_s: r.t_s,
             gap_m: r.gap_m,
