@@ -363,7 +363,7 @@ pub fn run(job: &TrackJob) -> anyhow::Result<TrackSummary> {
             Status::Coasting => summary.coasting += 1,
             Status::Lost => summary.lost += 1,
         }
-        summary.acquisitions += usize::from(out.event.is_some());
+        summary.acquisitions += usize::from(out.event.is_some_and(|e| e.is_acquisition()));
         bar.set_message(out.status.as_str());
         bar.inc(1);
     }

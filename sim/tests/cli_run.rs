@@ -374,7 +374,7 @@ fn summary_json_records_versions_overrides_and_the_resolved_scenario() {
     assert!(matches!(out.status.code(), Some(0 | 1)), "{out:?}");
     let s: serde_json::Value =
         serde_json::from_slice(&std::fs::read(dir.path().join("summary.json")).unwrap()).unwrap();
-    assert_eq!(s["schema_version"], 3);
+    assert_eq!(s["schema_version"], 4);
     assert!(s["partly_out_of_view_s"].is_number(), "{s}");
     assert_eq!(s["carfollow_version"], env!("CARGO_PKG_VERSION"));
     assert_eq!(

@@ -219,62 +219,82 @@ fn robust_mode_reacquires_after_a_misplaced_start_and_the_chase_follows() {
     );
 }
 
-/// `highway-90` with the paper's 8 mm lens: at 25 m the target is 28 px wide, and the
-/// paper's mode loses it within two seconds. It must say so, and the chase must then stop
-/// under control (the loss's 3.5 m/s², `loss_decel_mps2`), never braking fully: the lead
-/// drives on at 90 km/h, so no real closing is ever measured.
+/// `highway-90` with the paper's 8 mm lens: at 25 m the target is 28 px wide, its
+/// horizontal features 3.2 px apart, below the ζ = 4 px the tracker resolves
+/// (`Tracker::resolution_px`). Each mode must say so (no more than 15
+/// frames of silent loss, and no frame of `tracking` more than 15 frames into the truth's
+/// loss), and the chase must then stop under control (the loss's 3.5 m/s²,
+/// `loss_decel_mps2`), never braking fully: the lead drives on at 90 km/h, so no real
+/// closing is ever measured. (Robust mode reported `tracking` for 24 frames with the range
+/// 25-50 % short, and braked fully for 0.4 s, before the resolution check.)
 #[test]
-fn at_90_kmh_with_the_8_mm_lens_the_paper_modes_loss_brings_a_controlled_stop() {
-    let overrides = ["camera.focal_length_mm=8", "tracker.mode=paper"].map(String::from);
-    let plan =
-        Plan::load(&scenario_path("highway-90"), &overrides).unwrap_or_else(|e| panic!("{e}"));
-    let scenario = plan.scenario().clone();
-    let mut looped = ClosedLoop::new(plan, Backend::choose(None).unwrap(), false).unwrap();
-    let mut records = Vec::new();
-    while let Some(out) = looped.step().unwrap() {
-        records.push(out.record);
+fn at_90_kmh_with_the_8_mm_lens_a_loss_brings_a_controlled_stop_in_both_modes() {
+    for mode in ["paper", "robust"] {
+        let overrides = [
+            "camera.focal_length_mm=8".to_string(),
+            format!("tracker.mode={mode}"),
+        ];
+        let plan =
+            Plan::load(&scenario_path("highway-90"), &overrides).unwrap_or_else(|e| panic!("{e}"));
+        let scenario = plan.scenario().clone();
+        let mut looped = ClosedLoop::new(plan, Backend::choose(None).unwrap(), false).unwrap();
+        let mut records = Vec::new();
+        while let Some(out) = looped.step().unwrap() {
+            records.push(out.record);
+        }
+        let s = Summary::compute(
+            &scenario.name,
+            scenario.seed,
+            &records,
+            &scenario.expect,
+            0.0,
+        );
+        assert!(
+            s.tracking_lost_s > 1.0,
+            "{mode}: the 8 mm lens held the target ({} s lost)",
+            s.tracking_lost_s
+        );
+        assert!(
+            s.max_loss_report_delay_frames.unwrap_or(0) <= 15,
+            "{mode}: the loss went unreported for {:?} frames",
+            s.max_loss_report_delay_frames
+        );
+        assert!(
+            s.silent_loss_frames <= 15,
+            "{mode}: {} frames reported tracking while lost",
+            s.silent_loss_frames
+        );
+        let full: Vec<f64> = records
+            .iter()
+            .filter(|r| r.brake >= 0.99)
+            .map(|r| r.t_s)
+            .collect();
+        assert!(
+            full.is_empty(),
+            "{mode}: full brake at {full:?} s with no closing"
+        );
+        let stop = records
+            .iter()
+            .find(|r| r.chase_mode == "stopping")
+            .unwrap_or_else(|| panic!("{mode}: the chase does not stop after the loss"));
+        assert!(
+            stop.chase_speed_mps > 15.0,
+            "{mode}: stopping from {} m/s",
+            stop.chase_speed_mps
+        );
+        // Over any second, the chase slows by no more than the loss's 3.5 m/s² and a margin
+        // for the brake's build-up (measured: 3.6 m/s²).
+        let worst = records
+            .windows(16)
+            .map(|w| (w[0].chase_speed_mps - w[15].chase_speed_mps) / (w[15].t_s - w[0].t_s))
+            .fold(0.0, f64::max);
+        assert!(
+            worst <= 4.5,
+            "{mode}: decelerated at {worst:.2} m/s² over a second"
+        );
+        assert!(
+            records.last().unwrap().chase_speed_mps < 0.5,
+            "{mode}: the chase did not stop"
+        );
     }
-    let s = Summary::compute(
-        &scenario.name,
-        scenario.seed,
-        &records,
-        &scenario.expect,
-        0.0,
-    );
-    assert!(
-        s.tracking_lost_s > 1.0,
-        "the 8 mm lens held the target ({} s lost)",
-        s.tracking_lost_s
-    );
-    assert!(
-        s.max_loss_report_delay_frames.unwrap_or(0) <= 15,
-        "the loss went unreported for {:?} frames",
-        s.max_loss_report_delay_frames
-    );
-    let full: Vec<f64> = records
-        .iter()
-        .filter(|r| r.brake >= 0.99)
-        .map(|r| r.t_s)
-        .collect();
-    assert!(full.is_empty(), "full brake at {full:?} s with no closing");
-    let stop = records
-        .iter()
-        .find(|r| r.chase_mode == "stopping")
-        .expect("the chase stops after the loss");
-    assert!(
-        stop.chase_speed_mps > 15.0,
-        "stopping from {} m/s",
-        stop.chase_speed_mps
-    );
-    // Over any second, the chase slows by no more than the loss's 3.5 m/s² and a margin
-    // for the brake's build-up (measured: 3.6 m/s²).
-    let worst = records
-        .windows(16)
-        .map(|w| (w[0].chase_speed_mps - w[15].chase_speed_mps) / (w[15].t_s - w[0].t_s))
-        .fold(0.0, f64::max);
-    assert!(worst <= 4.5, "decelerated at {worst:.2} m/s² over a second");
-    assert!(
-        records.last().unwrap().chase_speed_mps < 0.5,
-        "the chase did not stop"
-    );
 }

@@ -41,14 +41,24 @@ pub enum TrackEvent {
     Acquired,
     /// Robust mode found the target again by search after coasting or a loss.
     Reacquired,
+    /// The target became too small to resolve: its parallel features closer in the image
+    /// than the gradient operator can separate. The tracker stops saying `tracking` until
+    /// the target is well resolved again.
+    Unresolved,
 }
 
 impl TrackEvent {
+    /// Whether the event is a find by search (an acquisition or re-acquisition).
+    pub fn is_acquisition(self) -> bool {
+        matches!(self, TrackEvent::Acquired | TrackEvent::Reacquired)
+    }
+
     /// Lower-case name, as written in tables.
     pub fn as_str(self) -> &'static str {
         match self {
             TrackEvent::Acquired => "acquired",
             TrackEvent::Reacquired => "reacquired",
+            TrackEvent::Unresolved => "unresolved",
         }
     }
 }

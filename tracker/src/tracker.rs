@@ -27,9 +27,9 @@ use crate::robust::{
     adaptive_threshold, alias_spacing, coverage_gain, search_threshold, ChamferSearch,
     CoverageReference, EdgeMaps, NoiseEstimator, ACQUIRE_EVERY_FRAMES, ACQUIRE_SCALES,
     CHAMFER_ACCEPT_PX, COVERAGE_TOLERANCE_PX, FAST_LAMBDA, LOCAL_SEARCH_GROWTH_PX, LOCAL_SEARCH_PX,
-    MAX_COVERAGE_GAIN, MAX_SCALE_STEP, MIN_COVERAGE, MODEL_ERROR_DECAY, NOISE_THRESHOLD_FACTOR,
-    PEAK_PROBE_PX, REACQUIRE_MIN_COVERAGE, SCALE_NOISE_PX, SEARCH_BELOW_COVERAGE, SEARCH_MARGIN,
-    SURPRISE_FORGETTING,
+    MAX_COVERAGE_GAIN, MAX_SCALE_STEP, MIN_COVERAGE, MIN_RESOLVED_SPACING_PX, MODEL_ERROR_DECAY,
+    NOISE_THRESHOLD_FACTOR, PEAK_PROBE_PX, REACQUIRE_MIN_COVERAGE, RESOLVED_AGAIN_FACTOR,
+    SCALE_NOISE_PX, SEARCH_BELOW_COVERAGE, SEARCH_MARGIN, SURPRISE_FORGETTING,
 };
 use crate::window::Window;
 
@@ -81,6 +81,11 @@ pub struct Tracker {
     last_trusted: Location,
     /// The coverage of the trusted measurements, which a measurement must stay near.
     coverage_reference: CoverageReference,
+    /// Whether the track is beyond the tracker's resolution (see
+    /// [`Tracker::judge_resolution`]).
+    unresolved: bool,
+    /// The track became unresolved in this step (reported as an event).
+    unresolved_event: bool,
     /// Robust mode: the last location measured with a strong check, where a search after a
     /// loss starts.
     last_good: Location,
@@ -111,6 +116,9 @@ struct Measured {
     coverage: [f64; 2],
     gain: f64,
     threshold: f64,
+    /// Whether the model's parallel features are resolved at the measured scale (see
+    /// [`Tracker::judge_resolution`]); true without a measurement.
+    resolved: bool,
 }
 
 impl Measured {
@@ -123,6 +131,7 @@ impl Measured {
             coverage: [0.0; 2],
             gain: 0.0,
             threshold,
+            resolved: true,
         }
     }
 
@@ -136,16 +145,18 @@ impl Measured {
     }
 
     /// The check of both modes: enough of the outline on edges ([`MIN_COVERAGE`]), on a
-    /// peak of coverage ([`MAX_COVERAGE_GAIN`]), and not far below the track's own
-    /// `reference` coverage ([`CoverageReference`]).
+    /// peak of coverage ([`MAX_COVERAGE_GAIN`]), the target resolved
+    /// ([`MIN_RESOLVED_SPACING_PX`]), and not far below the track's own `reference`
+    /// coverage ([`CoverageReference`]).
     fn trusted(&self, reference: &CoverageReference) -> bool {
         self.passes(MIN_COVERAGE, MAX_COVERAGE_GAIN) && reference.admits(self.coverage())
     }
 
-    /// At least `min_coverage` covered, and no move covering more than `max_gain` more (a
-    /// gain not computed (−∞), for a well-covered fit, passes).
+    /// At least `min_coverage` covered, no move covering more than `max_gain` more (a
+    /// gain not computed (−∞), for a well-covered fit, passes), and the target resolved
+    /// ([`Tracker::judge_resolution`]).
     fn passes(&self, min_coverage: f64, max_gain: f64) -> bool {
-        self.coverage() >= min_coverage && self.gain <= max_gain
+        self.coverage() >= min_coverage && self.gain <= max_gain && self.resolved
     }
 }
 
@@ -230,6 +241,8 @@ impl Tracker {
             last_measured: init,
             last_trusted: init,
             coverage_reference: CoverageReference::default(),
+            unresolved: false,
+            unresolved_event: false,
             last_good: init,
             extractor: EdgeExtractor::default(),
             edges: Edges::default(),
@@ -261,6 +274,8 @@ impl Tracker {
         self.last_measured = init;
         self.last_trusted = init;
         self.coverage_reference.clear();
+        self.unresolved = false;
+        self.unresolved_event = false;
         self.last_good = init;
         self.restart_motion(init);
         Ok(())
@@ -513,14 +528,51 @@ impl Tracker {
             }
             None => ([0.0; 2], 0.0),
         };
-        Measured {
+        let mut m = Measured {
             window,
             measurement,
             located,
             coverage,
             gain,
             threshold: config.edge_threshold,
+            resolved: true,
+        };
+        self.judge_resolution(&mut m);
+        m
+    }
+
+    /// The smallest spacing of parallel features the tracker resolves, pixels: ζ (2.4), or
+    /// [`MIN_RESOLVED_SPACING_PX`] if ζ is set below it. Two parallel features closer than
+    /// ζ each lie within ζ of the other's prediction, so an estimate off by half their
+    /// spacing associates each feature's edges with its neighbour and association no longer
+    /// tells them apart; closer than the 3×3 gradient operator's width (2.3), their edges
+    /// merge.
+    pub fn resolution_px(&self) -> f64 {
+        self.config.zeta_px.max(MIN_RESOLVED_SPACING_PX)
+    }
+
+    /// Whether `m`'s target is resolved, in both modes: the model's parallel features at
+    /// least [`Tracker::resolution_px`] apart in the image at the measured scale. A
+    /// measurement that passes the coverage checks with its features closer than that
+    /// marks the track unresolved (event `unresolved`): the measured scale sticks near the
+    /// limit while the target recedes past it, then drifts up as merged edges and the
+    /// board's border stand in for features, so a scale above the limit no longer shows the
+    /// target resolved. The track is resolved again only by a measurement that passes the
+    /// checks at [`RESOLVED_AGAIN_FACTOR`] times the limit.
+    fn judge_resolution(&mut self, m: &mut Measured) {
+        let Some(meas) = &m.measurement else {
+            return;
+        };
+        let limit = self.resolution_px();
+        let spacing_px = self.alias_px[0].min(self.alias_px[1]) * meas.location.scale;
+        let checks = m.coverage() >= MIN_COVERAGE && m.gain <= MAX_COVERAGE_GAIN;
+        if checks && spacing_px < limit && !self.unresolved {
+            self.unresolved = true;
+            self.unresolved_event = true;
+        } else if checks && self.unresolved && spacing_px >= RESOLVED_AGAIN_FACTOR * limit {
+            self.unresolved = false;
         }
+        m.resolved = !self.unresolved && spacing_px >= limit;
     }
 
     /// The paper's loop. Its estimates are the paper's: every measurement updates the motion
@@ -618,6 +670,11 @@ impl Tracker {
         event: Option<TrackEvent>,
     ) -> TrackOutput {
         let coverage_reference = self.coverage_reference.value();
+        let event = if std::mem::take(&mut self.unresolved_event) {
+            Some(TrackEvent::Unresolved)
+        } else {
+            event
+        };
         if status == Status::Tracking {
             self.last_trusted = estimate;
             self.coverage_reference.learn(m.coverage());

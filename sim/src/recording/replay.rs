@@ -662,7 +662,7 @@ impl Run {
             Status::Coasting => s.coasting += 1,
             Status::Lost => s.lost += 1,
         }
-        s.acquisitions += u64::from(out.event.is_some());
+        s.acquisitions += u64::from(out.event.is_some_and(|e| e.is_acquisition()));
         if same {
             s.same_as_recorded += 1;
         } else if s.first_difference.is_none() {

@@ -117,6 +117,9 @@ pub struct Summary {
     /// Frames on which robust mode found the target again by search after coasting or a
     /// loss (or first found it, with no start given), with their times.
     pub reacquired: Vec<TrackerEventTime>,
+    /// Frames on which the tracker found the target beyond its resolution (its parallel
+    /// features closer in the image than ζ: `unresolved` events), with their times.
+    pub unresolved: Vec<TrackerEventTime>,
     /// Range estimate error while tracked, metres.
     pub range_error_m: RangeError,
     /// Chase vehicle's distance from the lead's path, metres.
@@ -200,7 +203,7 @@ pub struct TrackerEventTime {
     pub frame: u64,
     /// Capture time, seconds.
     pub t_s: f64,
-    /// `acquired` or `reacquired`.
+    /// `acquired`, `reacquired` or `unresolved`.
     pub event: String,
 }
 
@@ -208,8 +211,9 @@ pub struct TrackerEventTime {
 /// `git_commit`, `overrides` and `resolved_scenario` added. 3: a frame with the target
 /// partly (or wholly) out of view is lost only when the estimate is off, as any other
 /// (`tracking_lost_s`, `lost_by_cause_s`, `loss_events` follow); `partly_out_of_view_s`
-/// added.
-pub const SCHEMA_VERSION: u32 = 3;
+/// added. 4: `unresolved` added (the tracker's `unresolved` events; `reacquired` keeps
+/// acquisitions only).
+pub const SCHEMA_VERSION: u32 = 4;
 
 /// Minimum, time-weighted mean and maximum of the gap, metres (zeros without frames).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]

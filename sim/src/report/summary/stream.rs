@@ -12,6 +12,7 @@
 use std::collections::BTreeMap;
 
 use sim_core::{FrameRecord, LossCause, TrackerStatus};
+use tracker::TrackEvent;
 
 use super::{
     GapStats, LateralError, LossEvent, LostByCause, RangeError, Summary, TrackerEventTime,
@@ -209,6 +210,7 @@ pub struct SummaryBuilder {
     imprecise: u64,
     silent_loss_frames: u64,
     reacquired: Vec<TrackerEventTime>,
+    unresolved: Vec<TrackerEventTime>,
     range_errors: Vec<f64>,
     distance_m: f64,
 }
@@ -233,6 +235,7 @@ impl SummaryBuilder {
             imprecise: 0,
             silent_loss_frames: 0,
             reacquired: Vec::new(),
+            unresolved: Vec::new(),
             range_errors: Vec::new(),
             distance_m: 0.0,
         }
@@ -295,11 +298,16 @@ impl SummaryBuilder {
             self.silent_loss_frames += 1;
         }
         if !r.tracker_event.is_empty() {
-            self.reacquired.push(TrackerEventTime {
+            let event = TrackerEventTime {
                 frame: r.frame,
                 t_s: r.t_s,
                 event: r.tracker_event.clone(),
-            });
+            };
+            if r.tracker_event == TrackEvent::Unresolved.as_str() {
+                self.unresolved.push(event);
+            } else {
+                self.reacquired.push(event);
+            }
         }
         self.distance_m = r.chase_distance_m;
     }
@@ -383,6 +391,7 @@ impl SummaryBuilder {
                 .max(),
             loss_events,
             reacquired: self.reacquired,
+            unresolved: self.unresolved,
             range_error_m: range_error(self.range_errors),
             lateral_path_error_m,
             collisions: self.collision_runs.count,
