@@ -89,8 +89,8 @@ pub struct TrackerConfig {
     /// features the fit is exact, J_l = 0, and eq. 17, which divides by J_l, has no value.
     /// Not in the paper. Default 1: the expected residual of one degree of freedom when each
     /// feature's error matches its stated σ. A fit with four or more features uses eq. 17 as
-    /// written; its J_l is floored only by [`crate::object_location::RELATIVE_RESIDUAL_FLOOR`]
-    /// of the weighted intercepts' energy, far below any residual a real image gives.
+    /// written, down to [`crate::object_location::MIN_RESIDUAL_PER_DOF`] of its weights per
+    /// degree of freedom.
     pub min_fit_residual: f64,
     /// Improvement over the paper (off by default, so the default is the paper's tracker):
     /// locate each edge point to a fraction of a pixel across the edge by fitting a parabola

@@ -5,7 +5,7 @@
 
 use nalgebra::{DMatrix, DVector};
 use tracker::feature_location::FeatureLocation;
-use tracker::object_location::{locate_object, RELATIVE_RESIDUAL_FLOOR};
+use tracker::object_location::{locate_object, MIN_RESIDUAL_PER_DOF};
 use tracker::prediction::predict_features;
 use tracker::{
     Feature, Location, MotionModel, Orientation, PredictedFeature, TrackerConfig, Window,
@@ -117,8 +117,8 @@ fn weights_enter_eq_15_squared() {
 fn an_exact_fit_takes_the_floor_only_without_degrees_of_freedom() {
     let config = TrackerConfig::default();
     let mut rows = Vec::new();
-    // Five features placed exactly: J_l is zero up to rounding, and eq. 17 is kept finite
-    // only by the relative floor, far above any fit the floor of 1 would allow.
+    // Five features placed exactly: J_l is zero up to rounding, and eq. 17 takes the floor
+    // of MIN_RESIDUAL_PER_DOF of the weights (5) per degree of freedom (2): 10⁻³.
     let model = five_features();
     let b = [80.0, 120.0, 100.0, 40.0, 60.0];
     let loc: Vec<FeatureLocation> = model
@@ -128,9 +128,9 @@ fn an_exact_fit_takes_the_floor_only_without_degrees_of_freedom() {
         .collect();
     let m = locate_object(&model, &loc, &config, &mut rows).unwrap();
     assert!(m.residual < 1e-18, "{m:?}");
-    let energy: f64 = b.iter().map(|b| b * b).sum();
-    let floor = RELATIVE_RESIDUAL_FLOOR * energy;
-    assert!((m.confidence[0] - (3.0 / floor).sqrt()).abs() < 1e-6 * (3.0 / floor).sqrt());
+    let floor = MIN_RESIDUAL_PER_DOF * 5.0 * 2.0;
+    assert!((m.confidence[0] - (3.0 / floor).sqrt()).abs() < 1e-9 * (3.0 / floor).sqrt());
+    assert!((m.confidence[2] - (5.0 / floor).sqrt()).abs() < 1e-9 * (5.0 / floor).sqrt());
     // Three features (one vertical pair and a horizontal one): no degrees of freedom, so
     // J_l = 0 and eq. 17 takes the configured floor of 1: w_x = √2, w_y = 1, w_s = √3.
     let three = vec![model[0], model[1], model[3]];
