@@ -99,8 +99,8 @@ pub const MIN_COVERAGE: f64 = 0.3;
 /// scale 1) on a rendered lead pulling away from 10 to 50 m at 8 mm, seeds 1-3, both modes,
 /// without the check: with the true spacing at 2.75 px or more no frame's scale was off by
 /// 25 % and the mean error was at most 7 %; between 2.25 and 2.75 px, 218 of 316 frames
-/// were, the scale running away upward. In the synthetic frames of [`crate::synth`] the
-/// paper's mode ran away from 4 px, where the features come within ζ: hence ζ.
+/// were, the scale running away upward. The resolution is ζ, with its margin over that,
+/// because ζ is where association itself stops telling the features apart.
 pub const MIN_RESOLVED_SPACING_PX: f64 = 3.0;
 /// A track that became unresolved is resolved again only at this many times the
 /// resolution ([`Tracker::resolution_px`](crate::Tracker::resolution_px)). On the receding
