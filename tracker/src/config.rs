@@ -55,7 +55,7 @@ pub struct TrackerConfig {
     /// A feature needs at least this fraction of its predicted length in associated points,
     /// or its confidence is zero (2.5: 0.3).
     pub min_support_fraction: f64,
-    /// σ² floor of eq. 14, pixels²: below it the confidence is capped at 1/√0.1.
+    /// σ² floor of eq. 14, pixels²: below it the confidence is capped at 1/√0.1 (2.5: 0.1).
     pub sigma2_floor: f64,
     /// λ of eq. 18, the motion model's forgetting factor (0 < λ < 1, as eq. 18 requires). Not
     /// given by the paper.

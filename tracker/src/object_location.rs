@@ -29,7 +29,10 @@ use crate::model::{Feature, Orientation};
 /// in the paper's mode, none with the floor, and robust mode's plain, swerve and shake
 /// losses, 11, 9 and 8 frames, went too. Of the shipped scenarios, only one frame of
 /// `swerves` in the paper's mode met such a fit, after the target was lost.) It caps the
-/// scale's confidence at 100/√(n − 3) for n features.
+/// scale's confidence at 100/√(n − 3) for n features. A floor at the residual the grid
+/// alone would leave (eq. 14's σ² of 0.1 px² on every feature: 0.1 Σw² (n − 3)/n, some 100
+/// times this) was tried first: it lowered ordinary measurements' confidences too, moved
+/// the paper's estimates, and `hard-braking` then lost the target three times.
 pub const MIN_RESIDUAL_PER_DOF: f64 = 1e-4;
 
 /// The stage-4 measurement of the object's location, with its confidences.

@@ -42,8 +42,8 @@ pub enum TrackEvent {
     /// Robust mode found the target again by search after coasting or a loss.
     Reacquired,
     /// The target became too small to resolve: its parallel features closer in the image
-    /// than the gradient operator can separate. The tracker stops saying `tracking` until
-    /// the target is well resolved again.
+    /// than association tells apart (`Tracker::resolution_px`). The tracker stops saying
+    /// `tracking` until the target is well resolved again.
     Unresolved,
 }
 

@@ -146,7 +146,7 @@ impl Measured {
 
     /// The check of both modes: enough of the outline on edges ([`MIN_COVERAGE`]), on a
     /// peak of coverage ([`MAX_COVERAGE_GAIN`]), the target resolved
-    /// ([`MIN_RESOLVED_SPACING_PX`]), and not far below the track's own `reference`
+    /// ([`Tracker::resolution_px`]), and not far below the track's own `reference`
     /// coverage ([`CoverageReference`]).
     fn trusted(&self, reference: &CoverageReference) -> bool {
         self.passes(MIN_COVERAGE, MAX_COVERAGE_GAIN) && reference.admits(self.coverage())
@@ -565,7 +565,8 @@ impl Tracker {
         };
         let limit = self.resolution_px();
         let spacing_px = self.alias_px[0].min(self.alias_px[1]) * meas.location.scale;
-        let checks = m.coverage() >= MIN_COVERAGE && m.gain <= MAX_COVERAGE_GAIN;
+        // The absolute checks (`resolved` is still true here).
+        let checks = m.passes(MIN_COVERAGE, MAX_COVERAGE_GAIN);
         if checks && spacing_px < limit && !self.unresolved {
             self.unresolved = true;
             self.unresolved_event = true;

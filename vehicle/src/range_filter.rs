@@ -61,9 +61,7 @@ impl Gains {
             }
         }
     }
-}
 
-impl Gains {
     /// The standard deviation of the filter's steady-state rate estimate for a measurement
     /// at `range_m`, relative to its value at the gains' reference range, with the range
     /// noise growing as the square of the range (the model [`Gains::TrackingIndex`] is made
