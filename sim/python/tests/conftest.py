@@ -15,6 +15,11 @@ def carfollow_bin() -> pathlib.Path:
     """The `carfollow` command line, built by `cargo build --release` (or CARFOLLOW_BIN)."""
     given = os.environ.get("CARFOLLOW_BIN")
     candidates = [pathlib.Path(given)] if given else []
+    # Cargo's build folder: CARGO_TARGET_DIR where set (as `.ci/test` honours it), else the
+    # workspace's own.
+    target = os.environ.get("CARGO_TARGET_DIR")
+    if target:
+        candidates.append(pathlib.Path(target) / "release" / "carfollow")
     candidates.append(REPO / "target" / "release" / "carfollow")
     found = shutil.which("carfollow")
     if found:

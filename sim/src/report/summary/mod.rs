@@ -342,9 +342,17 @@ fn check(s: &Summary, expect: &Expect) -> Vec<Criterion> {
             value: t,
             limit: allowed,
             message: if t > 0.0 {
+                // A target beyond the tracker's resolution explains a loss of its own.
+                let unresolved = s.unresolved.first().map_or(String::new(), |e| {
+                    format!(
+                        "; the target was beyond the tracker's resolution (`unresolved`) \
+                         from {:.2} s",
+                        e.t_s
+                    )
+                });
                 format!(
                     "tracking lost (ground truth) for {t:.2} s in {} event(s) (allowed \
-                     {allowed:.2} s): {}",
+                     {allowed:.2} s): {}{unresolved}",
                     s.tracking_loss_events,
                     s.lost_by_cause_s.describe()
                 )
@@ -613,6 +621,31 @@ mod tests {
         );
         assert_eq!(stream::count_runs([false, true, true, false, true]), 2);
         assert_eq!(stream::count_runs([false, false]), 0);
+    }
+
+    #[test]
+    fn a_loss_beyond_the_trackers_resolution_says_so() {
+        let mut rs = run(30);
+        for r in &mut rs[15..] {
+            r.lost_truth = true;
+        }
+        rs[12].tracker_event = "unresolved".into();
+        rs[20].tracker_event = "reacquired".into();
+        let expect = Expect {
+            max_lost_s: Some(0.0),
+            ..Expect::default()
+        };
+        let s = Summary::compute("x", 1, &rs, &expect, 1.0);
+        assert_eq!(s.unresolved.len(), 1);
+        assert_eq!(s.reacquired.len(), 1);
+        assert_eq!(
+            s.failures,
+            vec![
+                "tracking lost (ground truth) for 1.00 s in 1 event(s) (allowed 0.00 s): 1.00 s \
+                  tracker; the target was beyond the tracker's resolution (`unresolved`) from \
+                  0.80 s"
+            ]
+        );
     }
 
     #[test]
