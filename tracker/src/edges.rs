@@ -136,9 +136,10 @@ impl EdgeExtractor {
         let rh = ey1 - ey0;
         self.sobel(image, ex0, ey0, rw, rh);
 
-        // Magnitude normalised so a step of h grey levels gives h (the raw 3×3 Sobel sums
-        // weights 1 + 2 + 1 = 4 on each side).
-        let thr = 4.0 * config.edge_threshold;
+        // The threshold is on eq. 4's magnitude |∇f|, grey levels per pixel: the raw 3×3
+        // Sobel response over 8 (weights 1 + 2 + 1 on each side of a two-pixel span), so a
+        // step of h grey levels has |∇f| = h/2 and the paper's 8 passes steps of 16.
+        let thr = 8.0 * config.edge_threshold;
         // Squared magnitudes are whole numbers, so m² ≥ thr² exactly when m² ≥ ⌈thr²⌉.
         let thr2 = (thr * thr).ceil() as i32;
         let tan_delta = (config.delta_deg.to_radians() as f32).tan();

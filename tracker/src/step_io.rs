@@ -136,7 +136,8 @@ pub struct TrackOutput {
     /// target's edges. −∞ where it was not needed: a fit covered at least
     /// [`crate::robust::SEARCH_BELOW_COVERAGE`] in both orientations.
     pub coverage_gain: f64,
-    /// The edge threshold used, grey levels (the paper's 8, or robust mode's adaptive one).
+    /// The edge threshold used, on eq. 4's |∇f| in grey levels per pixel (the paper's 8, or
+    /// robust mode's adaptive one).
     pub edge_threshold: f64,
     /// Whether a chamfer search ran this frame (robust mode).
     pub searched: bool,

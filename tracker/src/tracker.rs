@@ -3,10 +3,10 @@
 //! Both modes check every measurement against the image ([`EdgeMaps::coverage`]): a
 //! measurement whose located outline is not covered by edges, or covered far less than the
 //! track's own outline was ([`CoverageReference`]), is not trusted, and the status leaves
-//! `tracking`, so a loss is never silent. The check counts edges at robust mode's
-//! noise-adaptive threshold ([`adaptive_threshold`]: the paper's 8, raised in noisy frames)
-//! in both modes, so that in the paper's mode noise edges cannot make a fit that left the
-//! target look covered; the paper's measurement itself takes the paper's edges. The paper's
+//! `tracking`, so a loss is never silent. In the paper's mode the check counts edges at the
+//! paper's threshold raised with the noise ([`noise_raised_threshold`]), so that noise edges
+//! cannot make a fit that left the target look covered; the paper's measurement itself takes
+//! the paper's edges. The paper's
 //! mode otherwise runs the paper's stages as written; robust mode adds what
 //! [`crate::robust`] describes.
 
@@ -24,12 +24,13 @@ use crate::object_location::{locate_object, Measurement};
 use crate::pixel_rect::PixelRect;
 use crate::prediction::{predict_features, predict_location, PredictedFeature};
 use crate::robust::{
-    adaptive_threshold, alias_spacing, coverage_gain, search_threshold, ChamferSearch,
-    CoverageReference, EdgeMaps, NoiseEstimator, ACQUIRE_EVERY_FRAMES, ACQUIRE_SCALES,
-    CHAMFER_ACCEPT_PX, COVERAGE_TOLERANCE_PX, FAST_LAMBDA, LOCAL_SEARCH_GROWTH_PX, LOCAL_SEARCH_PX,
-    MAX_COVERAGE_GAIN, MAX_SCALE_STEP, MIN_COVERAGE, MIN_RESOLVED_SPACING_PX, MODEL_ERROR_DECAY,
-    NOISE_THRESHOLD_FACTOR, PEAK_PROBE_PX, REACQUIRE_MIN_COVERAGE, RESOLVED_AGAIN_FACTOR,
-    SCALE_NOISE_PX, SEARCH_BELOW_COVERAGE, SEARCH_MARGIN, SURPRISE_FORGETTING,
+    adaptive_threshold, alias_spacing, coverage_gain, noise_raised_threshold, search_threshold,
+    ChamferSearch, CoverageReference, EdgeMaps, NoiseEstimator, ACQUIRE_EVERY_FRAMES,
+    ACQUIRE_SCALES, CHAMFER_ACCEPT_PX, COVERAGE_TOLERANCE_PX, FAST_LAMBDA, LOCAL_SEARCH_GROWTH_PX,
+    LOCAL_SEARCH_PX, MAX_COVERAGE_GAIN, MAX_SCALE_STEP, MIN_COVERAGE, MIN_RESOLVED_SPACING_PX,
+    MODEL_ERROR_DECAY, NOISE_THRESHOLD_FACTOR, PEAK_PROBE_PX, REACQUIRE_MIN_COVERAGE,
+    RESOLVED_AGAIN_FACTOR, SCALE_NOISE_PX, SEARCH_BELOW_COVERAGE, SEARCH_MARGIN,
+    SURPRISE_FORGETTING,
 };
 use crate::window::Window;
 
@@ -476,7 +477,7 @@ impl Tracker {
             self.noise
                 .sigma_above(image, window, floor, 4)
                 .map(|sigma| TrackerConfig {
-                    edge_threshold: adaptive_threshold(config.edge_threshold, sigma),
+                    edge_threshold: noise_raised_threshold(config.edge_threshold, sigma),
                     ..config.clone()
                 })
         } else {

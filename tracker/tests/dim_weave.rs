@@ -5,19 +5,17 @@
 //! ±28 px over 90 frames, its scale 1.05 ± 0.2) for 180 frames at λ = 0.5 and 0.8: no frame
 //! lost by the truth or reported lost, and the scale within [`SCALE_BOUND`].
 //!
-//! Why the paper's mode runs away here, where an implementation reading eq. 4's |∇f| as the
-//! Sobel response over 8 does not: this project's gradient reads a step's height (the Sobel
-//! response over 4), so the paper's threshold of 8 (2.3) passes steps of 8 grey levels, not
-//! 16. With noise σ = 7 about 40 % of pure-noise pixels pass it before suppression instead
-//! of 3 %, association takes the noise points within ζ of every prediction, each
-//! measurement leans towards its prediction, and the scale runs away. At
-//! `edge_threshold = 16` (eq. 4's |∇f| of 8 on this scale) the paper's mode holds every
-//! run. The paper does not say which it meant ("8 in a grey level range of 0 to 255"), and
-//! the two readings trade: at 16, the shipped strong-shadows scenario loses the target in
-//! the paper's mode (`--set tracker.edge_threshold=16`: 39.1 s lost, 7.1 s of it the
-//! tracker's before the lead left the view; its shadowed edges fall below the threshold),
-//! where at 8 it holds it. The default stays 8 on this scale; what must hold at 8 is that the runaway is
-//! never silent: no frame reported `tracking` with the scale more than 20 % off.
+//! Why the paper's mode ran away here, where an independent implementation of 2.3–2.8 did
+//! not: the threshold's scale. The paper thresholds eq. 4's mag = |∇f| at "8 in a grey level
+//! range of 0 to 255" (2.3). This project read that as a step's height (the Sobel response
+//! over 4), which passes steps of 8 grey levels, where |∇f| (the Sobel response over 8, the
+//! derivative it estimates) passes steps of 16. With noise σ = 7 the step reading lets about
+//! 40 % of pure-noise pixels through before suppression, |∇f| 3 %. Association then takes
+//! the noise points within ζ of every prediction, each feature's measurement leans towards
+//! its prediction, and the motion model's extrapolation carries the scale away. The tracker
+//! now reads |∇f| (`TrackerConfig::edge_threshold`), and the paper's mode holds every run;
+//! the step reading (`edge_threshold = 4` on |∇f|) is kept here to show the cause, and that
+//! even then the runaway is never reported as `tracking`.
 //!
 //! A target 28 px wide (18 m away with the default camera, beyond the paper's 5–15 m) must
 //! be held, or reported as not `tracking` while its scale is off by more than 20 % (for
@@ -33,9 +31,8 @@ use tracker::{Camera, GrayView, Location, Status, Tracker, TrackerConfig, Tracke
 const FRAMES: usize = 180;
 /// Noise seeds (and backgrounds) per mode and λ.
 const SEEDS: u64 = 3;
-/// The largest scale error allowed on the dim weave, as a fraction: measured at most 4.9 %
-/// in the paper's mode and 5.9 % in robust mode over these seeds and both λ (and 4.9 % in
-/// the paper's mode over six seeds).
+/// The largest scale error allowed on the dim weave, as a fraction: measured at most 4.7 %
+/// in the paper's mode and 5.9 % in robust mode over these seeds and both λ.
 const SCALE_BOUND: f64 = 0.08;
 /// The largest centre error allowed on the dim weave, pixels: measured at most 2.2 px.
 const CENTRE_BOUND_PX: f64 = 3.5;
@@ -147,18 +144,15 @@ fn run_dim_weave(
     )
 }
 
-/// eq. 4's |∇f| of 8 on this project's scale (a step's height).
-const GRADIENT_READING: f64 = 16.0;
+/// The paper's 8 read as a step's height: |∇f| of 4.
+const STEP_READING: f64 = 4.0;
 
 #[test]
-fn the_dim_weave_is_held_by_robust_mode_and_by_the_paper_at_eq_4s_gradient() {
-    for (mode, threshold) in [
-        (TrackerMode::Paper, Some(GRADIENT_READING)),
-        (TrackerMode::Robust, None),
-    ] {
+fn the_dim_weave_is_held_in_both_modes() {
+    for mode in [TrackerMode::Paper, TrackerMode::Robust] {
         for lambda in [0.5, 0.8] {
             for seed in 1..=SEEDS {
-                let frames = run_dim_weave(mode, lambda, threshold, seed);
+                let frames = run_dim_weave(mode, lambda, None, seed);
                 let name = format!("{} λ = {lambda} seed {seed}", mode.as_str());
                 let lost: Vec<usize> = (0..frames.len())
                     .filter(|&k| frames[k].lost_truth)
@@ -201,11 +195,11 @@ fn the_dim_weave_is_held_by_robust_mode_and_by_the_paper_at_eq_4s_gradient() {
 }
 
 #[test]
-fn at_the_default_threshold_the_paper_modes_runaway_is_never_reported_as_tracking() {
+fn read_as_a_steps_height_the_paper_threshold_runs_away_but_never_as_tracking() {
     let mut lost_runs = 0;
     for lambda in [0.5, 0.8] {
         for seed in 1..=SEEDS {
-            let frames = run_dim_weave(TrackerMode::Paper, lambda, None, seed);
+            let frames = run_dim_weave(TrackerMode::Paper, lambda, Some(STEP_READING), seed);
             let name = format!("paper λ = {lambda} seed {seed}");
             let lost = frames.iter().filter(|f| f.lost_truth).count();
             lost_runs += usize::from(lost > 0);
@@ -219,7 +213,7 @@ fn at_the_default_threshold_the_paper_modes_runaway_is_never_reported_as_trackin
                 .filter(|f| f.lost_truth && f.status == Status::Tracking)
                 .count();
             eprintln!(
-                "default threshold, {name}: {lost} frames lost, {silent} of them reported \
+                "step reading, {name}: {lost} frames lost, {silent} of them reported \
                  tracking; worst scale error {:.1} %",
                 100.0 * max(frames.iter().map(|f| f.scale_error.abs()))
             );
@@ -234,19 +228,21 @@ fn at_the_default_threshold_the_paper_modes_runaway_is_never_reported_as_trackin
         }
     }
     eprintln!(
-        "default threshold: {lost_runs} of {} runs lost the target",
+        "step reading: {lost_runs} of {} runs lost the target",
         2 * SEEDS
     );
+    // The cause: at the step reading the scale runs away (measured: 5 runs of 6).
+    assert!(lost_runs >= 1, "the step reading held every run");
 }
 
 #[test]
 fn a_28_px_target_is_held_or_reported_as_not_tracking() {
     // The dim weave's scene, with the darkest paint 60 grey levels below the board (its
     // mid-tone edges 30), noise σ = 7, and the target 28 px wide (scale 0.547: 18 m away),
-    // weaving ±15 px with its scale ±3 %. Measured (seeds 1–3, both λ): the paper's mode
-    // lost one run of six (one lost frame reported `tracking`) and said `tracking` on 3
-    // frames whose scale was 20–29 % off, at most 2 in a row; robust mode held all six
-    // (worst scale error 4.4 %).
+    // weaving ±15 px with its scale ±3 %. Measured (seeds 1–3, both λ): both modes held all
+    // six runs, with worst scale errors of 3.8 % (paper) and 4.4 % (robust). (Reading the
+    // paper's threshold as a step's height, the paper's mode lost one run of six and said
+    // `tracking` on 3 frames whose scale was 20–29 % off, at most 2 in a row.)
     let tau = std::f64::consts::TAU;
     let truth: Vec<Location> = (0..FRAMES)
         .map(|k| {

@@ -85,9 +85,10 @@ fn off_centre_boundary_is_found_on_the_nearer_pixel() {
 
 #[test]
 fn weak_step_is_dropped_as_weak() {
-    // A 7-grey-level step: below the paper's threshold of 8.
+    // The threshold is on eq. 4's |∇f| (the Sobel response over 8): a 15-grey-level step has
+    // |∇f| = 7.5, below the paper's threshold of 8.
     let px: Vec<u8> = (0..W * H)
-        .map(|i| if i % W < 20 { 100 } else { 107 })
+        .map(|i| if i % W < 20 { 100 } else { 115 })
         .collect();
     let (edges, diag) = extract(&px, &TrackerConfig::default());
     assert!(edges.vertical.is_empty());
@@ -95,11 +96,21 @@ fn weak_step_is_dropped_as_weak() {
         diag.iter().filter(|d| d.fate == EdgeFate::Weak).count(),
         H - 2
     );
-    // An 8-level step passes.
+    // A 16-level step, |∇f| = 8, passes.
+    let px: Vec<u8> = (0..W * H)
+        .map(|i| if i % W < 20 { 100 } else { 116 })
+        .collect();
+    let (edges, _) = extract(&px, &TrackerConfig::default());
+    assert_eq!(edges.vertical.len(), H - 2);
+    // So does an 8-level step at a threshold of 4.
     let px: Vec<u8> = (0..W * H)
         .map(|i| if i % W < 20 { 100 } else { 108 })
         .collect();
-    let (edges, _) = extract(&px, &TrackerConfig::default());
+    let config = TrackerConfig {
+        edge_threshold: 4.0,
+        ..TrackerConfig::default()
+    };
+    let (edges, _) = extract(&px, &config);
     assert_eq!(edges.vertical.len(), H - 2);
 }
 

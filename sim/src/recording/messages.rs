@@ -50,7 +50,7 @@ pub struct TrackerState {
     /// jumped too far to be trusted: the tracker's −∞ and +∞, which would upset a plot's
     /// axis).
     pub coverage_gain: f64,
-    /// The edge threshold used, grey levels.
+    /// The edge threshold used, on eq. 4's |∇f| in grey levels per pixel.
     pub edge_threshold: f64,
     /// Whether a chamfer search ran (robust mode).
     pub searched: bool,

@@ -184,7 +184,7 @@ pub struct TrackerFile {
     pub delta_deg: Option<f64>,
     /// ζ of 2.4, pixels.
     pub zeta_px: Option<f64>,
-    /// Edge threshold, grey levels.
+    /// Edge threshold on eq. 4's |∇f|, grey levels per pixel.
     pub edge_threshold: Option<f64>,
     /// Coasting time before `lost`, seconds.
     pub lost_after_s: Option<f64>,
