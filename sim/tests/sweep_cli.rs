@@ -306,12 +306,18 @@ fn a_worker_that_dies_costs_only_its_point() {
 fn ctrl_c_keeps_every_finished_row_and_resume_finishes_the_rest() {
     use std::os::unix::process::CommandExt;
     let dir = tempfile::tempdir().unwrap();
-    // Eight points of 2 s: long enough to interrupt midway.
+    // Eight points: four of 1 s, then four of 120 s (the first axis varies slowest), so that
+    // the interrupt, sent once two rows are in, always finds the long points running. (With
+    // eight points of 2 s the rest could finish in the second or so a loaded machine took to
+    // send it, and the sweep then rightly reported success.)
     let sweep = sweep_file(
         dir.path(),
-        &TINY
-            .replace("[1, 2]", "[1, 2, 3, 4]")
-            .replace("duration_s=1.0", "duration_s=2.0"),
+        r#"
+scenarios = ["SCENARIOS/weave.toml"]
+seeds = [1, 2, 3, 4]
+[axes]
+duration_s = [1.0, 120.0]
+"#,
     );
     let out = dir.path().join("out");
     let results = out.join("results.jsonl");
