@@ -75,8 +75,8 @@ pub const MAX_ADAPTIVE_THRESHOLD: f64 = 20.0;
 /// of 8 grey levels. Its threshold follows the noise up, so it can start below the paper's
 /// fixed one. In `strong-shadows` the board lies in deep shadow from 20 s (ambient light
 /// 0.08) and its steps fall under 16 grey levels: at the paper's threshold robust mode
-/// loses the target there (38.3 s lost, `--set tracker.mode=robust` with the fraction at 1),
-/// at half of it it holds it.
+/// loses the target there (measured with this fraction at 1: 38.3 s lost), at half of it
+/// it holds it.
 pub const CLEAN_THRESHOLD_FRACTION: f64 = 0.5;
 /// Forgetting factor of the fast motion model. With λ = 0.5 the model's memory is two
 /// frames: it follows a swerve or a bump within a frame or two, at the price of noise.
@@ -301,10 +301,16 @@ impl NoiseEstimator {
     }
 }
 
+/// `threshold` (|∇f|), raised to `factor` σ for a frame whose noise σ is `sigma` when the
+/// noise demands it, the raise capped at [`MAX_ADAPTIVE_THRESHOLD`].
+fn raised(threshold: f64, factor: f64, sigma: f64) -> f64 {
+    threshold.max((factor * sigma).min(MAX_ADAPTIVE_THRESHOLD))
+}
+
 /// `threshold` (|∇f|), raised to [`NOISE_THRESHOLD_FACTOR`] σ for a frame whose noise σ is
 /// `sigma` when the noise demands it, the raise capped at [`MAX_ADAPTIVE_THRESHOLD`].
 pub fn noise_raised_threshold(threshold: f64, sigma: f64) -> f64 {
-    threshold.max((NOISE_THRESHOLD_FACTOR * sigma).min(MAX_ADAPTIVE_THRESHOLD))
+    raised(threshold, NOISE_THRESHOLD_FACTOR, sigma)
 }
 
 /// The edge threshold robust mode uses for a frame whose noise σ is `sigma`:
@@ -317,8 +323,11 @@ pub fn adaptive_threshold(paper_threshold: f64, sigma: f64) -> f64 {
 /// The edge threshold of a chamfer search for a frame whose noise σ is `sigma`: as
 /// [`adaptive_threshold`], with [`SEARCH_NOISE_THRESHOLD_FACTOR`].
 pub fn search_threshold(paper_threshold: f64, sigma: f64) -> f64 {
-    (CLEAN_THRESHOLD_FRACTION * paper_threshold)
-        .max((SEARCH_NOISE_THRESHOLD_FACTOR * sigma).min(MAX_ADAPTIVE_THRESHOLD))
+    raised(
+        CLEAN_THRESHOLD_FRACTION * paper_threshold,
+        SEARCH_NOISE_THRESHOLD_FACTOR,
+        sigma,
+    )
 }
 
 /// The edge points of a window as two bitmaps, one per class, for checking a located model

@@ -6,9 +6,8 @@
 //! `tracking`, so a loss is never silent. In the paper's mode the check counts edges at the
 //! paper's threshold raised with the noise ([`noise_raised_threshold`]), so that noise edges
 //! cannot make a fit that left the target look covered; the paper's measurement itself takes
-//! the paper's edges. The paper's
-//! mode otherwise runs the paper's stages as written; robust mode adds what
-//! [`crate::robust`] describes.
+//! the paper's edges. The paper's mode otherwise runs the paper's stages as written; robust
+//! mode adds what [`crate::robust`] describes.
 
 use crate::association::{associate, Association};
 use crate::camera::Camera;
