@@ -63,6 +63,7 @@ enum Commands {
 }
 
 fn main() -> ExitCode {
+    release_large_blocks();
     let cli = Cli::parse();
     let result = match cli.command {
         Commands::Run(args) => cli::run::run_run(args),
@@ -83,3 +84,19 @@ fn main() -> ExitCode {
         }
     }
 }
+
+/// Makes the allocator take blocks of 256 KiB and more straight from the system (glibc's
+/// `M_MMAP_THRESHOLD`), so that freeing one gives its memory back. Left to itself, glibc
+/// raises that threshold once such a block is freed, and the scene's groups of districts,
+/// built and let go as a long route goes by, then leave the heap in pieces that are never
+/// given back: a 30-minute run's peak was 12 % over a 90-second run's, and is 8 % with
+/// this (`/usr/bin/time -f %M`, `run --renderers 1` and 2). Workers run this too.
+#[cfg(all(target_os = "linux", target_env = "gnu"))]
+fn release_large_blocks() {
+    // SAFETY: mallopt sets an allocator parameter, before any other thread is started.
+    unsafe { libc::mallopt(libc::M_MMAP_THRESHOLD, 256 * 1024) };
+}
+
+/// Elsewhere the allocator is left as it is.
+#[cfg(not(all(target_os = "linux", target_env = "gnu")))]
+fn release_large_blocks() {}

@@ -292,6 +292,9 @@ impl Simulation {
         let s = &self.scenario;
         let summary = match self.outputs.take() {
             Some(outputs) => {
+                // The loop (its renderers, the scene, the physics) goes first, so that the
+                // plots are drawn in the memory it held, not on top of it.
+                drop(self.looped);
                 let dir = outputs.dir().to_path_buf();
                 let summary = outputs.finish(&s.name, s.seed, wall_s, timing)?;
                 write_junit(dir.join("junit.xml"), &[JunitScenario::Ran(&summary)])?;

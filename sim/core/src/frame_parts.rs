@@ -379,12 +379,15 @@ mod tests {
         use sim_render::{Backend, CameraRig, FrameInput, RenderOptions, Renderer};
         use tracker::{GrayView, TrackerConfig};
 
-        let scene = Scene::build(builtin_description(builtin_target(), 5)).expect("scene");
+        let scene = std::sync::Arc::new(
+            Scene::build(builtin_description(builtin_target(), 5)).expect("scene"),
+        );
         let options = RenderOptions {
             backend: Backend::choose(None).expect("backend"),
             ..RenderOptions::default()
         };
-        let mut renderer = Renderer::new(&scene, CameraRig::default(), &options).expect("renderer");
+        let mut renderer =
+            Renderer::new(scene.clone(), CameraRig::default(), &options).expect("renderer");
         let time_s = 3.0;
         let (world_from_chase, world_from_lead) = builtin_poses(
             scene.description(),

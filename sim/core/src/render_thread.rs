@@ -132,14 +132,17 @@ mod tests {
     /// comes back with each.
     #[test]
     fn frames_on_the_thread_are_the_frames_rendered_here() {
-        let scene = Scene::build(builtin_description(builtin_target(), 3)).expect("scene");
+        let scene = std::sync::Arc::new(
+            Scene::build(builtin_description(builtin_target(), 3)).expect("scene"),
+        );
         let options = RenderOptions {
             backend: Backend::choose(None).expect("backend"),
             ..RenderOptions::default()
         };
         let rig = CameraRig::default();
-        let mut here = Renderer::new(&scene, rig.clone(), &options).expect("renderer");
-        let mut away = Box::new(Renderer::new(&scene, rig.clone(), &options).expect("renderer"));
+        let mut here = Renderer::new(scene.clone(), rig.clone(), &options).expect("renderer");
+        let mut away =
+            Box::new(Renderer::new(scene.clone(), rig.clone(), &options).expect("renderer"));
         let mut thread = RenderThread::start().expect("thread");
         let part = PixelRect {
             x0: 90,

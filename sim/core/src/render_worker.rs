@@ -286,15 +286,16 @@ impl RemoteRenderer {
                     }
                 };
                 let options = render_options(backend);
-                let opened = Renderer::on_current_gl(&scene, rig.clone(), &options, &|name| {
-                    context.proc_address(name)
-                })
-                .map_err(|e| e.to_string())
-                .map(|renderer| {
-                    let print = fingerprint(scene.description(), &rig, &options);
-                    let adapter = renderer.adapter_name().to_string();
-                    (renderer, (print, adapter))
-                });
+                let opened =
+                    Renderer::on_current_gl(scene.clone(), rig.clone(), &options, &|name| {
+                        context.proc_address(name)
+                    })
+                    .map_err(|e| e.to_string())
+                    .map(|renderer| {
+                        let print = fingerprint(scene.description(), &rig, &options);
+                        let adapter = renderer.adapter_name().to_string();
+                        (renderer, (print, adapter))
+                    });
                 let mut renderer = match opened {
                     Ok((renderer, hello)) => {
                         let _ = greet.send(Ok(hello));
@@ -466,7 +467,7 @@ mod tests {
         let (scene, rig) = (plan.scene().clone(), plan.rig().clone());
         let options = render_options(Backend::Gl);
         let print = fingerprint(scene.description(), &rig, &options);
-        let mut here = Renderer::new(&scene, rig.clone(), &options).expect("here");
+        let mut here = Renderer::new(scene.clone(), rig.clone(), &options).expect("here");
         let adapter = here.adapter_name().to_string();
         let start = || {
             RemoteRenderer::spawn_thread(scene.clone(), rig.clone(), Backend::Gl)

@@ -11,7 +11,9 @@ use sim_render::{Backend, CameraRig, FrameInput, RenderOptions, Renderer};
 use tracker::PixelRect;
 
 fn render(c: &mut Criterion) {
-    let scene = Scene::build(builtin_description(builtin_target(), 1)).expect("built-in scene");
+    let scene = std::sync::Arc::new(
+        Scene::build(builtin_description(builtin_target(), 1)).expect("built-in scene"),
+    );
     let rig = CameraRig::default();
     let backend = Backend::choose(None).expect("backend");
     let mut group = c.benchmark_group("render");
@@ -22,7 +24,7 @@ fn render(c: &mut Criterion) {
             shadow_map_size,
             ..RenderOptions::default()
         };
-        let mut renderer = Renderer::new(&scene, rig.clone(), &options).expect("renderer");
+        let mut renderer = Renderer::new(scene.clone(), rig.clone(), &options).expect("renderer");
         eprintln!("adapter: {}", renderer.adapter_name());
         // Drive along the route at 15 Hz so culling, shadow fitting and noise change per frame.
         let mut frame_index = 0u64;
@@ -49,7 +51,7 @@ fn render(c: &mut Criterion) {
         backend,
         ..RenderOptions::default()
     };
-    let mut renderer = Renderer::new(&scene, rig.clone(), &options).expect("renderer");
+    let mut renderer = Renderer::new(scene.clone(), rig.clone(), &options).expect("renderer");
     let mut frame_index = 0u64;
     group.bench_function("frame_part_110x90", |b| {
         b.iter(|| {
@@ -83,7 +85,7 @@ fn render(c: &mut Criterion) {
     });
     group.finish();
     let mut renderer = Renderer::new(
-        &scene,
+        scene.clone(),
         rig.clone(),
         &RenderOptions {
             backend,
@@ -103,7 +105,7 @@ fn render(c: &mut Criterion) {
         .expect("frame");
     eprintln!(
         "scene: {} triangles; frame 0 drew {:?}",
-        scene.mesh().indices.len() / 3,
+        scene.objects_indices().end / 3,
         renderer.stats()
     );
 }

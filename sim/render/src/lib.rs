@@ -29,9 +29,9 @@ pub use camera::{
 pub use scene::{
     builtin_description, builtin_poses, builtin_target, distractor_near_side, lead_from_target_of,
     stream, AutoGain, CameraMount, ChaseVehicle, Chunk, ChunkPart, Densities, Distractor,
-    DistractorKind, DynamicObject, Layer, LeadVehicle, Material, Mesh, Motion, ObjectSlot,
-    Placement, RoadSurface, Route, RouteSegment, RouteSpec, Scene, SceneDescription, SceneError,
-    Sensor, Sun, Terrain, Textures, Vertex, BOARD_ALBEDO, BOARD_MARGIN_M, BUILTIN_GAP_M,
-    BUILTIN_SPEED_M_S, FIELD_PERIOD_STEPS, GRASS_ALBEDO, GRASS_ALBEDO_RANGE, GROUND_CELL_M,
-    MAX_BUFFER_BYTES, STRIPE_ALBEDO, STRIPE_OVERRUN_M, STRIPE_WIDTH_M,
+    DistractorKind, DynamicObject, Layer, LeadVehicle, Material, Mesh, MeshPiece, Motion,
+    ObjectSlot, Placement, RoadSurface, Route, RouteSegment, RouteSpec, Scene, SceneDescription,
+    SceneError, Sensor, Sun, Terrain, Textures, Vertex, BOARD_ALBEDO, BOARD_MARGIN_M,
+    BUILTIN_GAP_M, BUILTIN_SPEED_M_S, FIELD_PERIOD_STEPS, GRASS_ALBEDO, GRASS_ALBEDO_RANGE,
+    GROUND_CELL_M, MAX_BUFFER_BYTES, STRIPE_ALBEDO, STRIPE_OVERRUN_M, STRIPE_WIDTH_M,
 };

@@ -67,7 +67,7 @@ fn bumps() -> vehicle::BumpsConfig {
 
 /// The clutter's vertices, chunk by chunk.
 fn clutter(scene: &Scene) -> Vec<Vec<[f64; 3]>> {
-    let mesh = scene.mesh();
+    let mesh = scene.whole_mesh();
     scene
         .chunks()
         .iter()
@@ -153,11 +153,11 @@ fn clutter_stands_on_the_ground_under_its_footprint() {
 fn the_same_description_builds_the_same_clutter() {
     let a = Scene::build(busy_street(9)).unwrap();
     let b = Scene::build(busy_street(9)).unwrap();
-    assert_eq!(a.mesh(), b.mesh());
+    assert_eq!(a.whole_mesh(), b.whole_mesh());
     assert_eq!(a.chunks(), b.chunks());
     assert_eq!(a.objects(), b.objects());
     let c = Scene::build(busy_street(10)).unwrap();
-    assert_ne!(a.mesh(), c.mesh());
+    assert_ne!(a.whole_mesh(), c.whole_mesh());
 }
 
 /// Pixels of `image` inside `rect` (x0, y0, x1, y1, inclusive) where the grey level steps
@@ -190,13 +190,13 @@ fn a_parked_car_seen_close_shows_its_parts_edges() {
             ..Densities::default()
         },
     );
-    let scene = Scene::build(d.clone()).unwrap();
+    let scene = std::sync::Arc::new(Scene::build(d.clone()).unwrap());
     // The parked cars: the only clutter; grouped along the road.
     let mut points: Vec<[f64; 3]> = clutter(&scene).concat();
     points.sort_by(|a, b| a[2].total_cmp(&b[2]).then(a[0].total_cmp(&b[0])));
     let rig = CameraRig::default();
     let mut r = Renderer::new(
-        &scene,
+        scene.clone(),
         rig.clone(),
         &RenderOptions {
             backend: Backend::choose(None).expect("backend"),

@@ -67,13 +67,14 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
     }
     let backend = Backend::choose(args.backend.as_deref())?;
     let description = builtin_description(builtin_target(), args.seed.unwrap_or(BUILTIN_SEED));
-    let scene = Scene::build(description).context("building the built-in scene")?;
+    let scene =
+        std::sync::Arc::new(Scene::build(description).context("building the built-in scene")?);
     let rig = CameraRig::default();
     let options = RenderOptions {
         backend,
         ..RenderOptions::default()
     };
-    let mut renderer = Renderer::new(&scene, rig.clone(), &options).map_err(incomplete)?;
+    let mut renderer = Renderer::new(scene.clone(), rig.clone(), &options).map_err(incomplete)?;
     let (world_from_chase, world_from_lead) =
         builtin_poses(scene.description(), scene.route(), &rig.mount, args.time);
     let frame = renderer

@@ -30,7 +30,7 @@ pub fn run_render_worker(args: RenderWorkerArgs) -> anyhow::Result<ExitCode> {
     let backend = Backend::choose(args.backend.as_deref())?;
     let options = render_options(backend);
     let (scene, rig) = (plan.scene(), plan.rig());
-    let mut renderer = Renderer::new(scene, rig.clone(), &options)?;
+    let mut renderer = Renderer::new(scene.clone(), rig.clone(), &options)?;
     let print = fingerprint(scene.description(), rig, &options);
     serve_frames(
         &mut renderer,

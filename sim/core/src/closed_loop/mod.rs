@@ -248,7 +248,7 @@ impl ClosedLoop {
             ..
         } = plan;
         let options = render_options(backend);
-        let renderer = Renderer::new(&scene, rig.clone(), &options)?;
+        let renderer = Renderer::new(scene.clone(), rig.clone(), &options)?;
         let fingerprint = fingerprint(scene.description(), &rig, &options);
         let mut paper =
             Tracker::new(s.target.clone(), s.camera, s.tracker.clone(), init).map_err(|e| {

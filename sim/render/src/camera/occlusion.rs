@@ -9,7 +9,7 @@
 //! its board, and the chase's hood below the view. The board is occluded when more than half
 //! of the rays are blocked.
 
-use crate::scene::{Layer, Motion, Scene};
+use crate::scene::{Layer, MeshPiece, Motion, Scene};
 use nalgebra::{Isometry3, Point3, Vector3};
 
 /// Points per side of the grid of rays over the board.
@@ -64,32 +64,31 @@ fn ray_blocked(
     from: Point3<f64>,
     to: Point3<f64>,
 ) -> bool {
-    let mesh = scene.mesh();
-    let hits = |indices: &std::ops::Range<u32>, object_from_world: &Isometry3<f64>| {
+    let hits = |piece: MeshPiece<'_>, object_from_world: &Isometry3<f64>| {
         let a = object_from_world * from;
         let b = object_from_world * to;
-        mesh.indices[indices.start as usize..indices.end as usize]
-            .chunks_exact(3)
-            .any(|tri| {
-                let v = |k: usize| {
-                    let p = mesh.vertices[tri[k] as usize].position;
-                    Point3::new(f64::from(p[0]), f64::from(p[1]), f64::from(p[2]))
-                };
-                segment_hits_triangle(a, b, [v(0), v(1), v(2)])
-            })
+        piece.indices.chunks_exact(3).any(|tri| {
+            let v = |k: usize| {
+                let p = piece.vertices[(tri[k] - piece.base) as usize].position;
+                Point3::new(f64::from(p[0]), f64::from(p[1]), f64::from(p[2]))
+            };
+            segment_hits_triangle(a, b, [v(0), v(1), v(2)])
+        })
     };
     let world = Isometry3::identity();
-    let statics = scene
-        .chunks()
-        .iter()
-        .filter(|c| matches!(c.layer, Layer::Clutter | Layer::Foliage));
-    for chunk in statics {
-        if segment_near_sphere(from, to, Point3::from(chunk.centre), chunk.radius)
-            && hits(&chunk.indices, &world)
-        {
-            return true;
-        }
+    let near = (scene.chunks().iter().enumerate())
+        .filter(|(_, c)| {
+            matches!(c.layer, Layer::Clutter | Layer::Foliage)
+                && segment_near_sphere(from, to, Point3::from(c.centre), c.radius)
+        })
+        .map(|(k, _)| k);
+    let mut blocked = false;
+    scene.visit_chunks(near, |_, piece| blocked = blocked || hits(piece, &world));
+    if blocked {
+        return true;
     }
+    let objects = scene.objects_geometry();
+    let first = scene.objects_indices().start;
     for object in scene.objects() {
         if !matches!(object.motion, Motion::Oncoming { .. }) {
             continue;
@@ -100,8 +99,14 @@ fn ray_blocked(
             continue;
         };
         let centre = world_from_object * Point3::from(object.centre);
+        let indices =
+            (object.indices.start - first) as usize..(object.indices.end - first) as usize;
+        let piece = MeshPiece {
+            indices: &objects.indices[indices],
+            ..objects
+        };
         if segment_near_sphere(from, to, centre, object.radius)
-            && hits(&object.indices, &world_from_object.inverse())
+            && hits(piece, &world_from_object.inverse())
         {
             return true;
         }

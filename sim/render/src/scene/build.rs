@@ -2,15 +2,20 @@
 //! ground-plane cells (so the renderer can cull what it cannot see), and the moving objects
 //! (chase hood, lead vehicle with its board, oncoming traffic) in their own frames.
 //!
-//! [`Scene::build`] lays the world in a fixed order, which is part of what it builds: the
+//! [`lay_static`] lays the world in a fixed order, which is part of what it builds: the
 //! renderer draws each chunk's parts in the order they were laid, so coplanar pieces show
 //! as they would drawn whole, and each builder draws from its own named random stream.
+//! [`Scene::build`] runs it first to survey the districts laid in, then once for each group
+//! of them (see `districts`), keeping each chunk's outline and the first groups' geometry.
 
-use super::bins::Bins;
+use super::bins::{Bins, Cell, Keep, Survey};
 use super::built_scene::Scene;
+use super::chunk::{Chunk, ChunkPart};
 use super::description::SceneDescription;
+use super::districts::{self, Districts, Home, CACHED_GROUPS, GROUP_INDICES};
 use super::error::{SceneError, MAX_BUFFER_BYTES};
-use super::mesh::Mesh;
+use super::layer::Layer;
+use super::mesh::{Mesh, Vertex};
 use super::route::Route;
 use super::site::Site;
 use super::terrain::Terrain;
@@ -18,61 +23,142 @@ use super::{
     building, ground, house, parked_car, placement, pole_line, road, road_marks, tree, vehicles,
     verge,
 };
+use std::collections::BTreeSet;
+use std::sync::Arc;
 
 impl Scene {
-    /// Builds the world. Deterministic: the same description gives the same mesh, vertex for
-    /// vertex.
+    /// Builds the world. Deterministic: the same description gives the same geometry,
+    /// vertex for vertex.
     pub fn build(description: SceneDescription) -> Result<Scene, SceneError> {
-        Self::build_within(description, MAX_BUFFER_BYTES)
+        Self::build_within(description, MAX_BUFFER_BYTES, GROUP_INDICES)
     }
 
     /// [`Scene::build`], refusing geometry whose vertices or indices take more than
-    /// `limit` bytes.
+    /// `limit` bytes in all, its districts grouped by `budget` indices.
     pub(crate) fn build_within(
         description: SceneDescription,
         limit: u64,
+        budget: usize,
     ) -> Result<Scene, SceneError> {
         description.validate()?;
         let route = Route::new(description.route.clone());
         let terrain = Terrain::new(&description.ground)?;
         let site = Site::new(&description, &route, terrain.as_ref());
-        // Static geometry, binned: the ground and the road,
-        let mut bins = Bins::default();
-        ground::lay_grass(&site, &mut bins);
-        verge::lay(&site, &mut bins);
-        road::lay_surface(&site, &mut bins);
-        road::lay_centre_line(&site, &mut bins);
-        road::lay_crossings(&site, &mut bins);
-        road_marks::lay(&site, &mut bins);
-        // the roadside and the standing clutter,
-        tree::lay_row(&site, &mut bins);
-        pole_line::lay(&site, &mut bins);
-        house::lay_row(&site, &mut bins);
-        building::lay_row(&site, &mut bins);
-        parked_car::lay_row(&site, &mut bins);
-        placement::lay(&site, &mut bins);
-        // and over bumps, the road's surfaces laid on the ground; then the moving objects.
-        ground::drape_surfaces(&site, &mut bins);
-        let (mut mesh, chunks) = bins.into_chunks();
-        let objects = vehicles::lay_objects(&site, &mut mesh);
-        mesh.orient_faces();
-        fits(&mesh, limit)?;
+        let survey = lay_static(&site, Keep::Survey(Survey::default())).into_survey();
+        let groups = districts::group(&survey, budget);
+        // Each group's chunks, with their cells and layers, and the first groups' meshes.
+        let mut found: Vec<((Cell, Layer), Chunk, usize)> = Vec::new();
+        let mut built = Vec::new();
+        for (g, group) in groups.iter().enumerate() {
+            let (mesh, chunks, keys) = static_geometry(&site, group);
+            found.extend(
+                keys.into_iter()
+                    .zip(chunks)
+                    .map(|(key, chunk)| (key, chunk, g)),
+            );
+            if g < CACHED_GROUPS {
+                built.push((g, Arc::new(mesh)));
+            }
+        }
+        // The chunks in the order of their cells and layers, as if laid in one mesh.
+        found.sort_by_key(|(key, _, _)| *key);
+        let (mut chunks, mut homes) = (Vec::new(), Vec::new());
+        let (mut indices, mut vertices) = (0u32, 0u32);
+        for (_, chunk, group) in found {
+            let home = Home {
+                group,
+                indices: chunk.indices.clone(),
+                vertices: chunk.vertices.clone(),
+            };
+            let shift = |r: &std::ops::Range<u32>, to: u32| to..to + (r.end - r.start);
+            let moved = indices as i64 - chunk.indices.start as i64;
+            let parts = (chunk.parts.iter())
+                .map(|p| ChunkPart {
+                    indices: (p.indices.start as i64 + moved) as u32
+                        ..(p.indices.end as i64 + moved) as u32,
+                    ..p.clone()
+                })
+                .collect();
+            let chunk = Chunk {
+                indices: shift(&chunk.indices, indices),
+                vertices: shift(&chunk.vertices, vertices),
+                parts,
+                ..chunk
+            };
+            (indices, vertices) = (chunk.indices.end, chunk.vertices.end);
+            chunks.push(chunk);
+            homes.push(home);
+        }
+        // The moving objects, after the static chunks.
+        let mut objects_mesh = Mesh::default();
+        let mut objects = vehicles::lay_objects(&site, &mut objects_mesh);
+        objects_mesh.orient_faces();
+        for object in &mut objects {
+            object.indices = object.indices.start + indices..object.indices.end + indices;
+        }
+        fits(
+            vertices as usize + objects_mesh.vertices.len(),
+            indices as usize + objects_mesh.indices.len(),
+            limit,
+        )?;
         Ok(Scene {
             description,
             route,
             terrain,
-            mesh,
             chunks,
             objects,
+            objects_mesh,
+            objects_start: [indices, vertices],
+            districts: Districts::new(groups, homes, built),
         })
+    }
+
+    /// Builds the static geometry of group `g` of the districts.
+    pub(super) fn build_group(&self, g: usize) -> Mesh {
+        let site = Site::new(&self.description, &self.route, self.terrain.as_ref());
+        static_geometry(&site, &self.districts.groups[g]).0
     }
 }
 
-/// Refuses `mesh` if its vertices or its indices take more than `limit` bytes.
-fn fits(mesh: &Mesh, limit: u64) -> Result<(), SceneError> {
+/// The static geometry laid in `districts`, its faces oriented, as chunks, with the cell and
+/// layer of each.
+fn static_geometry(
+    site: &Site<'_>,
+    districts: &BTreeSet<Cell>,
+) -> (Mesh, Vec<Chunk>, Vec<(Cell, Layer)>) {
+    let (mut mesh, chunks, keys) =
+        lay_static(site, Keep::Districts(districts.clone())).into_chunks();
+    mesh.orient_faces();
+    (mesh, chunks, keys)
+}
+
+/// Lays the world's static geometry into bins keeping what `keep` says.
+fn lay_static(site: &Site<'_>, keep: Keep) -> Bins {
+    // The ground and the road,
+    let mut bins = Bins::new(keep);
+    ground::lay_grass(site, &mut bins);
+    verge::lay(site, &mut bins);
+    road::lay_surface(site, &mut bins);
+    road::lay_centre_line(site, &mut bins);
+    road::lay_crossings(site, &mut bins);
+    road_marks::lay(site, &mut bins);
+    // the roadside and the standing clutter,
+    tree::lay_row(site, &mut bins);
+    pole_line::lay(site, &mut bins);
+    house::lay_row(site, &mut bins);
+    building::lay_row(site, &mut bins);
+    parked_car::lay_row(site, &mut bins);
+    placement::lay(site, &mut bins);
+    // and over bumps, the road's surfaces laid on the ground.
+    ground::drape_surfaces(site, &mut bins);
+    bins
+}
+
+/// Refuses geometry of `vertices` and `indices` if either takes more than `limit` bytes.
+fn fits(vertices: usize, indices: usize, limit: u64) -> Result<(), SceneError> {
     for (buffer, bytes) in [
-        ("vertices", std::mem::size_of_val(&mesh.vertices[..])),
-        ("indices", std::mem::size_of_val(&mesh.indices[..])),
+        ("vertices", vertices * std::mem::size_of::<Vertex>()),
+        ("indices", indices * std::mem::size_of::<u32>()),
     ] {
         if bytes as u64 > limit {
             return Err(SceneError::TooLarge {
@@ -104,7 +190,7 @@ mod tests {
                 bytes.extend_from_slice(&w.to_le_bytes());
             }
         };
-        let mesh = scene.mesh();
+        let mesh = &scene.whole_mesh();
         put(&[mesh.vertices.len() as u64, mesh.indices.len() as u64]);
         for v in &mesh.vertices {
             let [x, y, z] = v.position.map(|c| u64::from(c.to_bits()));
@@ -216,6 +302,39 @@ mod tests {
         }
     }
 
+    /// A scene built a district at a time, or in groups of a few, or all at once, is the
+    /// same scene, bit for bit; and asked for again after its groups were let go, the same
+    /// geometry comes back, while no more than [`CACHED_GROUPS`] groups are kept.
+    #[test]
+    fn a_scene_built_a_district_at_a_time_is_the_scene_built_whole() {
+        for (name, d) in fingerprinted_descriptions() {
+            let build = |budget| Scene::build_within(d.clone(), MAX_BUFFER_BYTES, budget);
+            let whole = build(usize::MAX).expect("scene");
+            assert_eq!(whole.districts.groups.len(), 1, "{name}");
+            let print = fingerprint(&whole);
+            for budget in [0, 20_000, GROUP_INDICES] {
+                let scene = build(budget).expect("scene");
+                assert_eq!(scene.chunks(), whole.chunks(), "{name}, {budget}");
+                assert_eq!(fingerprint(&scene), print, "{name}, {budget}");
+                assert!(scene.districts.kept() <= CACHED_GROUPS);
+            }
+            let apart = build(0).expect("scene");
+            assert!(apart.districts.groups.len() > CACHED_GROUPS, "{name}");
+            // Backwards, then forwards again: every group built again at least once.
+            let n = apart.chunks().len();
+            let mut pieces = Vec::new();
+            apart.visit_chunks((0..n).rev(), |k, p| {
+                pieces.push((k, p.vertices.to_vec(), p.indices.to_vec(), p.base))
+            });
+            let mut again = Vec::new();
+            apart.visit_chunks((0..n).rev(), |k, p| {
+                again.push((k, p.vertices.to_vec(), p.indices.to_vec(), p.base))
+            });
+            assert_eq!(pieces, again, "{name}");
+            assert!(apart.districts.kept() <= CACHED_GROUPS);
+        }
+    }
+
     /// The limit is the one the renderer's device has, and a scene over it is refused
     /// (not left for wgpu to panic on when the renderer uploads it).
     #[test]
@@ -226,9 +345,9 @@ mod tests {
         );
         let d = builtin_description(builtin_target(), 3);
         let scene = Scene::build(d.clone()).expect("the built-in scene fits");
-        let bytes = std::mem::size_of_val(&scene.mesh().vertices[..]) as u64;
-        assert!(Scene::build_within(d.clone(), bytes).is_ok());
-        match Scene::build_within(d, bytes - 1) {
+        let bytes = std::mem::size_of_val(&scene.whole_mesh().vertices[..]) as u64;
+        assert!(Scene::build_within(d.clone(), bytes, GROUP_INDICES).is_ok());
+        match Scene::build_within(d, bytes - 1, GROUP_INDICES) {
             Err(SceneError::TooLarge { buffer, limit, .. }) => {
                 assert_eq!((buffer, limit), ("vertices", bytes - 1))
             }
@@ -248,7 +367,7 @@ mod tests {
             let mut d = builtin_description(builtin_target(), 3);
             d.ground = ground;
             let scene = Scene::build(d).expect("scene");
-            let mesh = scene.mesh();
+            let mesh = &scene.whole_mesh();
             let grass = |range: &std::ops::Range<u32>| {
                 mesh.indices[range.start as usize..range.end as usize]
                     .iter()
@@ -287,15 +406,14 @@ mod tests {
             let mut d = builtin_description(builtin_target(), 2);
             d.road_surface = surface;
             let scene = Scene::build(d).expect("scene");
+            let mesh = &scene.whole_mesh();
             let materials = |layer: Layer| -> std::collections::BTreeSet<u32> {
                 scene
                     .chunks()
                     .iter()
                     .filter(|c| c.layer == layer)
-                    .flat_map(|c| {
-                        &scene.mesh().indices[c.indices.start as usize..c.indices.end as usize]
-                    })
-                    .map(|&i| scene.mesh().vertices[i as usize].object)
+                    .flat_map(|c| &mesh.indices[c.indices.start as usize..c.indices.end as usize])
+                    .map(|&i| mesh.vertices[i as usize].object)
                     .collect()
             };
             assert_eq!(
@@ -318,9 +436,9 @@ mod tests {
             assert!(!foliage.is_empty() && foliage.iter().all(|c| c.casts_shadow));
             for object in scene.objects() {
                 let range = object.indices.start as usize..object.indices.end as usize;
-                assert!(scene.mesh().indices[range]
+                assert!(mesh.indices[range]
                     .iter()
-                    .all(|&i| scene.mesh().vertices[i as usize].object == object.slot));
+                    .all(|&i| mesh.vertices[i as usize].object == object.slot));
             }
         }
     }

@@ -3,8 +3,9 @@
 
 use super::chunk::Chunk;
 use super::description::SceneDescription;
+use super::districts::Districts;
 use super::dynamic_object::{DynamicObject, Motion};
-use super::mesh::Mesh;
+use super::mesh::{Mesh, Vertex};
 use super::rng::stream;
 use super::route::Route;
 use super::site::ROAD_RUNOUT_M;
@@ -12,16 +13,40 @@ use super::target_board::lead_from_target_of;
 use super::terrain::Terrain;
 use nalgebra::{Isometry3, UnitQuaternion, Vector3};
 use rand::Rng;
+use std::ops::Range;
 
-/// The built world: one mesh with static chunks and dynamic objects, plus the description.
+/// Part of a scene's geometry: vertices, and indices naming them less `base` (index `i`
+/// names `vertices[(i - base) as usize]`).
+#[derive(Clone, Copy, Debug)]
+pub struct MeshPiece<'a> {
+    /// The vertices.
+    pub vertices: &'a [Vertex],
+    /// The triangles' indices, in order.
+    pub indices: &'a [u32],
+    /// What an index names the first of `vertices` by.
+    pub base: u32,
+}
+
+/// The built world: static chunks and moving objects, plus the description.
+///
+/// Its geometry lies in one index space, as if in one mesh: the static chunks' indices in
+/// the order of their cells and layers, then the moving objects'. The objects' geometry is
+/// kept; the chunks' is built a group of districts at a time when asked for, and only the
+/// groups used last are kept (see `districts`), so a long route costs little more memory
+/// than a short one. Asked for again, a chunk's geometry is the same, vertex for vertex.
 #[derive(Clone, Debug)]
 pub struct Scene {
     pub(super) description: SceneDescription,
     pub(super) route: Route,
     pub(super) terrain: Option<Terrain>,
-    pub(super) mesh: Mesh,
     pub(super) chunks: Vec<Chunk>,
     pub(super) objects: Vec<DynamicObject>,
+    /// The moving objects' geometry, its indices naming its own vertices.
+    pub(super) objects_mesh: Mesh,
+    /// Where the objects' indices and vertices start in the scene's index space.
+    pub(super) objects_start: [u32; 2],
+    /// Where the static chunks' geometry lies, and what of it is built.
+    pub(super) districts: Districts,
 }
 
 impl Scene {
@@ -40,11 +65,6 @@ impl Scene {
         &self.route
     }
 
-    /// All geometry, static then dynamic.
-    pub fn mesh(&self) -> &Mesh {
-        &self.mesh
-    }
-
     /// The static, cullable chunks.
     pub fn chunks(&self) -> &[Chunk] {
         &self.chunks
@@ -53,6 +73,68 @@ impl Scene {
     /// The moving objects.
     pub fn objects(&self) -> &[DynamicObject] {
         &self.objects
+    }
+
+    /// The moving objects' indices in the scene's index space: after every static chunk's,
+    /// to the end.
+    pub fn objects_indices(&self) -> Range<u32> {
+        let start = self.objects_start[0];
+        start..start + self.objects_mesh.indices.len() as u32
+    }
+
+    /// The moving objects' geometry.
+    pub fn objects_geometry(&self) -> MeshPiece<'_> {
+        MeshPiece {
+            vertices: &self.objects_mesh.vertices,
+            indices: &self.objects_mesh.indices,
+            base: 0,
+        }
+    }
+
+    /// Calls `f` with each of `chunks` (indices into [`Scene::chunks`]), in order, and its
+    /// geometry, built if it is not kept.
+    pub fn visit_chunks(
+        &self,
+        chunks: impl IntoIterator<Item = usize>,
+        mut f: impl FnMut(usize, MeshPiece<'_>),
+    ) {
+        let chunks: Vec<usize> = chunks.into_iter().collect();
+        let homes = &self.districts.homes;
+        let mut groups: Vec<usize> = chunks.iter().map(|&k| homes[k].group).collect();
+        groups.sort_unstable();
+        groups.dedup();
+        let meshes = self.districts.meshes(&groups, |g| self.build_group(g));
+        for k in chunks {
+            let home = &homes[k];
+            let mesh = &meshes[groups
+                .binary_search(&home.group)
+                .expect("its group is built")];
+            let (v, i) = (&home.vertices, &home.indices);
+            f(
+                k,
+                MeshPiece {
+                    vertices: &mesh.vertices[v.start as usize..v.end as usize],
+                    indices: &mesh.indices[i.start as usize..i.end as usize],
+                    base: v.start,
+                },
+            );
+        }
+    }
+
+    /// All the scene's geometry in one mesh, its index space the scene's (every chunk's
+    /// [`Chunk::indices`] and every object's [`DynamicObject::indices`] index it): for
+    /// tests and tools, since it is as large as the whole route's.
+    pub fn whole_mesh(&self) -> Mesh {
+        let mut mesh = Mesh::default();
+        let mut put = |piece: MeshPiece<'_>| {
+            let first = mesh.vertices.len() as u32;
+            mesh.vertices.extend_from_slice(piece.vertices);
+            mesh.indices
+                .extend(piece.indices.iter().map(|&i| i - piece.base + first));
+        };
+        self.visit_chunks(0..self.chunks.len(), |_, piece| put(piece));
+        put(self.objects_geometry());
+        mesh
     }
 
     /// Where a dynamic object is at time `time_s`, given the two vehicles' poses. `None`

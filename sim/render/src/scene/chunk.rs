@@ -7,8 +7,10 @@ use std::ops::Range;
 /// (world frame).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Chunk {
-    /// Range into [`Scene::mesh`](crate::scene::Scene::mesh)'s indices.
+    /// Range of the scene's indices (see [`Scene`](crate::scene::Scene)).
     pub indices: Range<u32>,
+    /// Range of the scene's vertices its indices name.
+    pub vertices: Range<u32>,
     /// Bounding sphere centre, world metres.
     pub centre: [f64; 3],
     /// Bounding sphere radius, metres.
@@ -29,7 +31,7 @@ pub struct Chunk {
 /// sphere (world frame).
 #[derive(Clone, Debug, PartialEq)]
 pub struct ChunkPart {
-    /// Range into [`Scene::mesh`](crate::scene::Scene::mesh)'s indices.
+    /// Range of the scene's indices (see [`Scene`](crate::scene::Scene)).
     pub indices: Range<u32>,
     /// Bounding sphere centre, world metres.
     pub centre: [f64; 3],

@@ -25,7 +25,7 @@ pub enum Motion {
 pub struct DynamicObject {
     /// Its slot (see [`ObjectSlot`](crate::scene::ObjectSlot)).
     pub slot: u32,
-    /// Range into [`Scene::mesh`](crate::scene::Scene::mesh)'s indices.
+    /// Range of the scene's indices (see [`Scene`](crate::scene::Scene)).
     pub indices: Range<u32>,
     /// Bounding sphere centre, object frame.
     pub centre: [f64; 3],

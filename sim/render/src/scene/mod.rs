@@ -9,8 +9,9 @@
 //!   (the scene's named random streams);
 //! - the types the builders share: `mesh`, `object_slot`, `material`, `layer`, `chunk`,
 //!   `dynamic_object`, `terrain` (the physics' height field), `bins` (static geometry
-//!   binned by ground cell and layer, then concatenated into chunks), `site` (what every
-//!   builder lays against: the route, the ground and the road's frame);
+//!   binned by ground cell and layer, kept for the districts asked for, then concatenated
+//!   into chunks), `districts` (the groups of districts built at once, and those kept),
+//!   `site` (what every builder lays against: the route, the ground and the road's frame);
 //! - what the standing clutter's shapes share: `standing` (an item built on flat ground,
 //!   stood on the lowest ground under its footprint), `footing` (an object's frame on the
 //!   ground), `wall` (walls, and the framed windows and doors on them);
@@ -33,6 +34,7 @@ mod car;
 mod chunk;
 mod description;
 mod distractor;
+mod districts;
 mod dynamic_object;
 mod error;
 mod footing;
@@ -63,7 +65,7 @@ mod vehicles;
 mod verge;
 mod wall;
 
-pub use built_scene::Scene;
+pub use built_scene::{MeshPiece, Scene};
 pub use builtin::{
     builtin_description, builtin_poses, builtin_target, BUILTIN_GAP_M, BUILTIN_SPEED_M_S,
 };

@@ -5,7 +5,8 @@
 use super::culling::{DrawItem, Frustum, HOOD_CLASS};
 use super::light::Sunlight;
 use super::pipelines::{Lookups, MainPipelines, Pass, Shading};
-use super::resources::{Geometry, Targets};
+use super::resident::Resident;
+use super::resources::Targets;
 use super::uniforms::{Globals, ObjectTransforms, Uniforms};
 use crate::camera::rig::{CameraRig, NEAR_M};
 use crate::scene::{ChaseVehicle, Chunk};
@@ -156,6 +157,11 @@ impl MainPass {
             .sum()
     }
 
+    /// The index ranges the frame's draws draw.
+    pub fn ranges(&self) -> impl Iterator<Item = &Range<u32>> {
+        self.draws.iter().map(|d| &d.indices)
+    }
+
     /// The frame's draw calls.
     pub fn draw_calls(&self) -> usize {
         self.draws.len()
@@ -167,7 +173,7 @@ impl MainPass {
     pub fn encode(
         &self,
         encoder: &mut wgpu::CommandEncoder,
-        geometry: &Geometry,
+        geometry: &Resident,
         sky: f64,
         scissor: PixelRect,
         hood_rows: u32,
@@ -210,7 +216,7 @@ impl MainPass {
                 }
                 set_scissor(&mut pass, above);
             }
-            pass.draw_indexed(draw.indices.clone(), 0, 0..1);
+            geometry.draw(&mut pass, draw.indices.clone());
         }
     }
 

@@ -1,7 +1,6 @@
-//! The off-screen renderer. [`Renderer::new`] uploads the scene's geometry once (it never
-//! changes); [`Renderer::render`] reads top to bottom like wgpu's `render_to_texture`
-//! example: poses and culling, the sun's frustum fitted to the camera's, uniforms, one
-//! command encoder with the shadow pass, the main pass and the copy to a staging buffer,
+//! The off-screen renderer. [`Renderer::render`] reads top to bottom like wgpu's
+//! `render_to_texture` example: poses and culling, the sun's frustum fitted to the camera's,
+//! the geometry drawn made resident, uniforms, one command encoder with the shadow pass, the main pass and the copy to a staging buffer,
 //! one submission, map and read, then the sensor model and the ground truth.
 //!
 //! On llvmpipe the cost is mostly per rasterised 4×4 block, whether or not it survives the
@@ -19,8 +18,9 @@
 //! they draw with and its uniforms (`pipelines::Pass`), and a frame encodes them in order;
 //! as in rapier's physics pipeline, what the renderer does is spread over files by phase:
 //! - `device`: instance, adapter and device, and the display's lock;
-//! - `resources`: the geometry, the maps from the sun, the frame's targets, the ground's
-//!   textures, the samplers;
+//! - `resident`: the scene's geometry on the device, the part of it the frames draw;
+//! - `resources`: the maps from the sun, the frame's targets, the ground's textures, the
+//!   samplers;
 //! - `uniforms`: the shader's `Globals` and the buffers that hold them;
 //! - `pipelines`: the shader, the layouts, and each pass's pipelines and bind groups;
 //! - `culling`: the camera, the draw items and the frustum, the casters of a map;
@@ -36,6 +36,7 @@ mod light;
 mod main_pass;
 mod pipelines;
 mod readback;
+mod resident;
 mod resources;
 mod shadow_pass;
 mod slots_pass;
@@ -50,14 +51,15 @@ use crate::scene::{AutoGain, Scene};
 use culling::{gather_items, CameraView, DrawItem};
 use device::{display_lock, Gpu};
 use image::GrayImage;
-use light::Light;
+use light::{Light, Sunlight};
 use main_pass::{Hood, MainPass};
-use nalgebra::{Isometry3, Point3};
+use nalgebra::{Isometry3, Point3, Vector3};
 use pipelines::Builder;
 use readback::{interlace, Readback};
-use resources::{Geometry, ShadowMaps, ShadowSamplers, SurfaceTextures, Targets};
+use resident::Resident;
+use resources::{ShadowMaps, ShadowSamplers, SurfaceTextures, Targets};
 use shadow_pass::{ShadowPass, SunMap};
-use slots_pass::SlotsPass;
+use slots_pass::{SlotsPass, Vehicles};
 use std::sync::Arc;
 use thiserror::Error;
 use tracker::PixelRect;
@@ -84,10 +86,16 @@ pub struct RenderOptions {
     /// draws only the moving vehicles into its own map. Off, every caster is drawn into
     /// each frame's map, as the renderer did before the cache.
     pub cached_shadows: bool,
+    /// How near the camera a static chunk comes for it to be uploaded with what a frame
+    /// draws, metres (see `resident`). Only memory and time depend on it, never a pixel:
+    /// the device holds about twice this much road, and the uploads come about every
+    /// `resident_m - 250` metres travelled.
+    pub resident_m: f64,
 }
 
 impl Default for RenderOptions {
-    /// GL, a 512² shadow map over 60 m, cached static shadows, no MSAA.
+    /// GL, a 512² shadow map over 60 m, cached static shadows, no MSAA, the chunks within
+    /// 500 m uploaded.
     fn default() -> Self {
         RenderOptions {
             backend: Backend::Gl,
@@ -95,6 +103,7 @@ impl Default for RenderOptions {
             shadow_distance_m: 60.0,
             msaa_samples: 1,
             cached_shadows: true,
+            resident_m: 500.0,
         }
     }
 }
@@ -134,6 +143,12 @@ impl RenderOptions {
                 self.shadow_map_size
             )));
         }
+        if !(self.resident_m.is_finite() && self.resident_m >= 0.0) {
+            return Err(RenderError::Options(format!(
+                "resident_m must be a distance of 0 m or more, got {}",
+                self.resident_m
+            )));
+        }
         if external && self.backend != Backend::Gl {
             return Err(RenderError::Options(format!(
                 "an external OpenGL context needs the gl backend, not {}",
@@ -152,8 +167,8 @@ pub struct Renderer {
     options: RenderOptions,
     /// The device, its queue, and the display it takes turns on.
     gpu: Gpu,
-    /// The scene's vertices and indices.
-    geometry: Geometry,
+    /// The scene's vertices and indices: the part of them the frames draw.
+    geometry: Resident,
     /// The grass's parameters in the shader's `Globals` ([`uniforms::ground_params`]).
     ground: [f32; 4],
     /// Every piece of geometry the frame may draw (kept to avoid allocating every frame).
@@ -189,9 +204,10 @@ pub struct DrawStats {
 }
 
 impl Renderer {
-    /// Opens the backend, compiles the pipelines and uploads the scene's geometry.
+    /// Opens the backend and compiles the pipelines (the scene's geometry is uploaded as
+    /// the frames draw it).
     pub fn new(
-        scene: &Scene,
+        scene: Arc<Scene>,
         rig: CameraRig,
         options: &RenderOptions,
     ) -> Result<Renderer, RenderError> {
@@ -204,7 +220,7 @@ impl Renderer {
     /// alongside renderers on wgpu's display. The renderer must be used and dropped on this
     /// thread, with the context still current. `options.backend` must be GL.
     pub fn on_current_gl(
-        scene: &Scene,
+        scene: Arc<Scene>,
         rig: CameraRig,
         options: &RenderOptions,
         proc_address: &dyn Fn(&str) -> *const std::ffi::c_void,
@@ -214,7 +230,7 @@ impl Renderer {
 
     /// The device, then its resources, then the passes over them.
     fn open(
-        scene: &Scene,
+        scene: Arc<Scene>,
         rig: CameraRig,
         options: &RenderOptions,
         external_gl: Option<&dyn Fn(&str) -> *const std::ffi::c_void>,
@@ -227,7 +243,7 @@ impl Renderer {
 
         // Resources: the geometry, the maps from the sun, the frame's targets, the
         // ground's textures, the samplers, the staging buffer.
-        let geometry = Geometry::upload(&gpu, scene.mesh());
+        let geometry = Resident::new(&gpu, &scene, options.resident_m);
         let maps = ShadowMaps::new(device, options);
         let targets = Targets::new(device, &rig, options.msaa_samples);
         let surfaces = SurfaceTextures::upload(&gpu, description);
@@ -264,7 +280,7 @@ impl Renderer {
             Hood::new(&rig, &description.chase),
         );
         Ok(Renderer {
-            scene: Arc::new(scene.clone()),
+            scene,
             rig,
             options: options.clone(),
             gpu,
@@ -385,8 +401,19 @@ impl Renderer {
         // The sensor's brightness, with the automatic gain: the shading's and the sky's.
         let brightness = description.sensor.brightness() * auto_gain;
         let sky = (description.sun.sky * brightness).clamp(0.0, 1.0);
-        // Culling: what each pass draws.
+        // Culling: what each pass draws; the geometry it draws made resident.
         let slot_work = self.cull(&view, &sun, scissor);
+        if sun.window.is_some() {
+            let vehicles = Vehicles {
+                items: &self.items,
+                draws: &self.shadow.draws,
+                world_from_object: &placed.world_from_object,
+                eye: &view.eye,
+            };
+            self.slots
+                .prepare(self.scene.chunks(), &slot_work, &vehicles);
+        }
+        self.hold_drawn(&sun, &view.eye);
         // Uniforms: the frame's, written once.
         self.write_uniforms(&view, &sun, &placed, brightness);
 
@@ -398,7 +425,7 @@ impl Renderer {
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("frame"),
             });
-        self.encode_sun_passes(&mut encoder, &sun, &slot_work, &view, &placed);
+        self.encode_sun_passes(&mut encoder, &sun);
         let from_tiles = sun.window.is_some();
         let geometry = &self.geometry;
         self.main
@@ -410,6 +437,37 @@ impl Renderer {
         self.gpu.queue.submit([encoder.finish()]);
         self.readback
             .read(&self.gpu.device, self.options.backend, rows)
+    }
+
+    /// Makes what the frame's passes draw resident (see `resident`), the camera at `eye`.
+    fn hold_drawn(&mut self, sun: &Sunlight, eye: &Vector3<f64>) {
+        let geometry = &mut self.geometry;
+        for range in self.main.ranges() {
+            geometry.want(range);
+        }
+        let [solid, leafy] = self.shadow.draws.lists();
+        if sun.window.is_some() {
+            for range in self.slots.ranges() {
+                geometry.want(range);
+            }
+        } else {
+            for range in solid.iter().chain(leafy) {
+                geometry.want(range);
+            }
+        }
+        if sun.board.is_some() {
+            let [solid, leafy] = self.board_shadow.draws.lists();
+            for range in solid.iter().chain(leafy) {
+                geometry.want(range);
+            }
+        }
+        geometry.hold(&self.gpu, &self.scene, eye);
+    }
+
+    /// How many times the geometry on the device has been made (a frame that draws what is
+    /// not on it makes it again).
+    pub fn geometry_loads(&self) -> u32 {
+        self.geometry.loads()
     }
 
     /// The target's true position in the image and in the camera frame, for these poses.

@@ -1,5 +1,5 @@
-//! Resources: the scene's geometry (uploaded once), the depth maps from the sun, the frame's
-//! targets, the ground's textures and the samplers that read them.
+//! Resources: the depth maps from the sun, the frame's targets, the ground's textures and
+//! the samplers that read them.
 
 use super::device::Gpu;
 use super::light::BOARD_SHADOW_SIZE;
@@ -8,59 +8,12 @@ use crate::camera::rig::CameraRig;
 use crate::camera::shadow_tiles;
 use crate::camera::texture_cache::ground_texels;
 use crate::camera::textures::{LAYERS, TEXTURE_SIZE};
-use crate::scene::{Mesh, SceneDescription};
+use crate::scene::SceneDescription;
 
 /// Depth format of both passes.
 pub(super) const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// Colour format: 8-bit grey, what the frame grabber delivers.
 pub(super) const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R8Unorm;
-
-/// The scene's vertices and indices: uploaded once, never changed (moving objects move by
-/// their transforms).
-pub(super) struct Geometry {
-    vertices: wgpu::Buffer,
-    indices: wgpu::Buffer,
-}
-
-impl Geometry {
-    /// Uploads `mesh`.
-    pub fn upload(gpu: &Gpu, mesh: &Mesh) -> Geometry {
-        Geometry {
-            vertices: buffer_init(
-                gpu,
-                "vertices",
-                bytemuck::cast_slice(&mesh.vertices),
-                wgpu::BufferUsages::VERTEX,
-            ),
-            indices: buffer_init(
-                gpu,
-                "indices",
-                bytemuck::cast_slice(&mesh.indices),
-                wgpu::BufferUsages::INDEX,
-            ),
-        }
-    }
-
-    /// Sets them as `pass`'s vertex and index buffers.
-    pub fn bind(&self, pass: &mut wgpu::RenderPass) {
-        pass.set_vertex_buffer(0, self.vertices.slice(..));
-        pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
-    }
-}
-
-/// Uploads `bytes` into a new buffer.
-fn buffer_init(gpu: &Gpu, label: &str, bytes: &[u8], usage: wgpu::BufferUsages) -> wgpu::Buffer {
-    let buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some(label),
-        size: (bytes.len() as u64)
-            .max(4)
-            .next_multiple_of(wgpu::COPY_BUFFER_ALIGNMENT),
-        usage: usage | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
-    gpu.queue.write_buffer(&buffer, 0, bytes);
-    buffer
-}
 
 /// A 2D texture of one mip level.
 fn texture(

@@ -1,41 +1,23 @@
 //! The shadow pass: the casters drawn depth only from the sun into a map of the frame's
 //! own, and the board's fine map (with soft shadows on the target).
 
-use super::culling::{CameraView, CasterDraws, Placed};
+use super::culling::CasterDraws;
 use super::light::Sunlight;
 use super::pipelines::{Builder, CasterPipelines, Pass};
-use super::resources::Geometry;
-use super::slots_pass::Vehicles;
+use super::resident::Resident;
 use super::Renderer;
-use crate::camera::shadow_tiles::SlotWork;
 use std::ops::Range;
 use tracker::PixelRect;
 
 impl Renderer {
     /// Encodes the passes from the sun: with the `sun`'s window of cached tiles, the slots
-    /// pass (`work`, and the vehicles as `placed`, seen from `view`), else every caster
-    /// into the frame's own map; then the board's pass, only with soft shadows: without
-    /// them nothing samples its map.
-    pub(super) fn encode_sun_passes(
-        &mut self,
-        encoder: &mut wgpu::CommandEncoder,
-        sun: &Sunlight,
-        work: &SlotWork,
-        view: &CameraView,
-        placed: &Placed,
-    ) {
+    /// pass (its draws prepared), else every caster into the frame's own map; then the
+    /// board's pass, only with soft shadows: without them nothing samples its map.
+    pub(super) fn encode_sun_passes(&mut self, encoder: &mut wgpu::CommandEncoder, sun: &Sunlight) {
         let geometry = &self.geometry;
         if sun.window.is_some() {
-            let vehicles = Vehicles {
-                items: &self.items,
-                draws: &self.shadow.draws,
-                world_from_object: &placed.world_from_object,
-                eye: &view.eye,
-            };
-            let (queue, chunks) = (&self.gpu.queue, self.scene.chunks());
-            self.stats.shadow_triangles = self
-                .slots
-                .encode(encoder, queue, geometry, chunks, work, &vehicles);
+            let queue = &self.gpu.queue;
+            self.stats.shadow_triangles = self.slots.encode(encoder, queue, geometry);
         } else {
             self.shadow.encode(encoder, geometry, Some(sun.seen));
         }
@@ -89,7 +71,7 @@ impl ShadowPass {
     pub fn encode(
         &self,
         encoder: &mut wgpu::CommandEncoder,
-        geometry: &Geometry,
+        geometry: &Resident,
         texels: Option<PixelRect>,
     ) {
         let mut pass = depth_pass(encoder, self.label, &self.view, wgpu::LoadOp::Clear(1.0));
@@ -106,7 +88,12 @@ impl ShadowPass {
                 texels.height() as u32,
             );
         }
-        draw_casters(&mut pass, &self.pass.pipelines, self.draws.lists());
+        draw_casters(
+            &mut pass,
+            geometry,
+            &self.pass.pipelines,
+            self.draws.lists(),
+        );
     }
 }
 
@@ -135,10 +122,11 @@ pub(super) fn depth_pass<'e>(
     })
 }
 
-/// Draws the solid casters and the canopies of `draws`, each list with its pipeline of
-/// `pipelines` (an empty list sets none).
+/// Draws the solid casters and the canopies of `draws` from `geometry`, each list with its
+/// pipeline of `pipelines` (an empty list sets none).
 pub(super) fn draw_casters(
     pass: &mut wgpu::RenderPass,
+    geometry: &Resident,
     pipelines: &[wgpu::RenderPipeline],
     draws: [&[Range<u32>]; 2],
 ) {
@@ -146,7 +134,7 @@ pub(super) fn draw_casters(
         if !list.is_empty() {
             pass.set_pipeline(pipeline);
             for range in list {
-                pass.draw_indexed(range.clone(), 0, 0..1);
+                geometry.draw(pass, range.clone());
             }
         }
     }

@@ -5,7 +5,7 @@
 use super::culling::{push_merged, sort_merged, triangles, CasterDraws, DrawItem};
 use super::light::{Light, Sunlight};
 use super::pipelines::{Builder, Pass, Shading};
-use super::resources::Geometry;
+use super::resident::Resident;
 use super::shadow_pass::{depth_pass, draw_casters};
 use super::uniforms::{to_f32, Globals, ObjectTransforms, SlotUniforms};
 use crate::camera::shadow_tiles::{self, Cell, SlotWork, Slots, TexelRect, TileFrame};
@@ -28,6 +28,9 @@ pub(super) struct SlotsPass {
     pass: Pass<[wgpu::RenderPipeline; 3], SlotUniforms>,
     /// The grass's parameters, in every draw's globals.
     ground: [f32; 4],
+    /// The frame's draws, and their uniforms' entries ([`SlotsPass::prepare`]).
+    entries: Vec<(Globals, ObjectTransforms)>,
+    draws: Vec<SlotDraw>,
 }
 
 /// The frame's vehicles, as the slots pass draws them.
@@ -69,6 +72,8 @@ impl SlotsPass {
             view,
             pass: builder.slots_pass(uniforms),
             ground,
+            entries: Vec::new(),
+            draws: Vec::new(),
         }
     }
 
@@ -97,24 +102,31 @@ impl SlotsPass {
         self.slots.frame(window, &rects)
     }
 
-    /// Encodes a frame's draws into the slots' texture (`work`): the tiles drawn whole, the
+    /// Makes the frame's draws into the slots' texture (`work`): the tiles drawn whole, the
     /// texels set back (the cleared depth, and the static casters there drawn again: the
-    /// same draws as the tile's, so the same texels), then the `vehicles`. Returns the
-    /// vehicles' triangles drawn.
+    /// same draws as the tile's, so the same texels), then the `vehicles`.
+    pub fn prepare(&mut self, chunks: &[Chunk], work: &SlotWork, vehicles: &Vehicles) {
+        (self.entries, self.draws) = self.draws(chunks, work, vehicles);
+    }
+
+    /// The index ranges the frame's draws ([`SlotsPass::prepare`]) draw.
+    pub fn ranges(&self) -> impl Iterator<Item = &Range<u32>> {
+        self.draws.iter().flat_map(|d| d.casters.iter().flatten())
+    }
+
+    /// Encodes the frame's draws ([`SlotsPass::prepare`]). Returns the vehicles' triangles
+    /// drawn.
     pub fn encode(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         queue: &wgpu::Queue,
-        geometry: &Geometry,
-        chunks: &[Chunk],
-        work: &SlotWork,
-        vehicles: &Vehicles,
+        geometry: &Resident,
     ) -> u32 {
-        let (entries, draws) = self.draws(chunks, work, vehicles);
+        let (entries, draws) = (&self.entries, &self.draws);
         if draws.is_empty() {
             return 0;
         }
-        self.pass.uniforms.write(queue, &entries);
+        self.pass.uniforms.write(queue, entries);
         let [far, casters @ ..] = &self.pass.pipelines;
         let mut pass = depth_pass(encoder, "shadow tiles", &self.view, wgpu::LoadOp::Load);
         geometry.bind(&mut pass);
@@ -133,7 +145,7 @@ impl SlotsPass {
             } else {
                 vehicle_triangles += triangles(solid) + triangles(leafy);
             }
-            draw_casters(&mut pass, casters, [solid, leafy]);
+            draw_casters(&mut pass, geometry, casters, [solid, leafy]);
         }
         vehicle_triangles
     }
