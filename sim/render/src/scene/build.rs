@@ -108,7 +108,7 @@ impl Scene {
             chunks,
             objects,
             objects_mesh,
-            objects_start: [indices, vertices],
+            objects_start: indices,
             districts: Districts::new(groups, homes, built),
         })
     }

@@ -43,8 +43,8 @@ pub struct Scene {
     pub(super) objects: Vec<DynamicObject>,
     /// The moving objects' geometry, its indices naming its own vertices.
     pub(super) objects_mesh: Mesh,
-    /// Where the objects' indices and vertices start in the scene's index space.
-    pub(super) objects_start: [u32; 2],
+    /// Where the objects' indices start in the scene's index space.
+    pub(super) objects_start: u32,
     /// Where the static chunks' geometry lies, and what of it is built.
     pub(super) districts: Districts,
 }
@@ -78,7 +78,7 @@ impl Scene {
     /// The moving objects' indices in the scene's index space: after every static chunk's,
     /// to the end.
     pub fn objects_indices(&self) -> Range<u32> {
-        let start = self.objects_start[0];
+        let start = self.objects_start;
         start..start + self.objects_mesh.indices.len() as u32
     }
 

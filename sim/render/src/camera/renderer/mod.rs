@@ -1,7 +1,8 @@
 //! The off-screen renderer. [`Renderer::render`] reads top to bottom like wgpu's
 //! `render_to_texture` example: poses and culling, the sun's frustum fitted to the camera's,
-//! the geometry drawn made resident, uniforms, one command encoder with the shadow pass, the main pass and the copy to a staging buffer,
-//! one submission, map and read, then the sensor model and the ground truth.
+//! the geometry drawn made resident, uniforms, one command encoder with the shadow pass,
+//! the main pass and the copy to a staging buffer, one submission, map and read, then the
+//! sensor model and the ground truth.
 //!
 //! On llvmpipe the cost is mostly per rasterised 4×4 block, whether or not it survives the
 //! depth test. So the main pass draws front to back (hood, lead, other vehicles, clutter,
@@ -88,8 +89,9 @@ pub struct RenderOptions {
     pub cached_shadows: bool,
     /// How near the camera a static chunk comes for it to be uploaded with what a frame
     /// draws, metres (see `resident`). Only memory and time depend on it, never a pixel:
-    /// the device holds about twice this much road, and the uploads come about every
-    /// `resident_m - 250` metres travelled.
+    /// the device holds the road within about this distance of the camera, uploaded again
+    /// each time a frame draws what is not there (with the far plane at 250 m, after about
+    /// `resident_m` − 250 m of travel; at every new chunk below 250 m).
     pub resident_m: f64,
 }
 
