@@ -24,6 +24,7 @@ use super::{
     verge,
 };
 use std::collections::BTreeSet;
+use std::ops::Range;
 use std::sync::Arc;
 
 impl Scene {
@@ -70,18 +71,19 @@ impl Scene {
                 indices: chunk.indices.clone(),
                 vertices: chunk.vertices.clone(),
             };
-            let shift = |r: &std::ops::Range<u32>, to: u32| to..to + (r.end - r.start);
-            let moved = indices as i64 - chunk.indices.start as i64;
+            // Moved from where the chunk starts in its group's mesh to where it starts here.
+            let from_group = |r: &Range<u32>, group: &Range<u32>, here: u32| {
+                r.start - group.start + here..r.end - group.start + here
+            };
             let parts = (chunk.parts.iter())
                 .map(|p| ChunkPart {
-                    indices: (p.indices.start as i64 + moved) as u32
-                        ..(p.indices.end as i64 + moved) as u32,
+                    indices: from_group(&p.indices, &chunk.indices, indices),
                     ..p.clone()
                 })
                 .collect();
             let chunk = Chunk {
-                indices: shift(&chunk.indices, indices),
-                vertices: shift(&chunk.vertices, vertices),
+                indices: from_group(&chunk.indices, &chunk.indices, indices),
+                vertices: from_group(&chunk.vertices, &chunk.vertices, vertices),
                 parts,
                 ..chunk
             };
@@ -322,14 +324,16 @@ mod tests {
             assert!(apart.districts.groups.len() > CACHED_GROUPS, "{name}");
             // Backwards, then forwards again: every group built again at least once.
             let n = apart.chunks().len();
-            let mut pieces = Vec::new();
-            apart.visit_chunks((0..n).rev(), |k, p| {
-                pieces.push((k, p.vertices.to_vec(), p.indices.to_vec(), p.base))
-            });
-            let mut again = Vec::new();
-            apart.visit_chunks((0..n).rev(), |k, p| {
-                again.push((k, p.vertices.to_vec(), p.indices.to_vec(), p.base))
-            });
+            let visit = |order: Vec<usize>| {
+                let mut pieces = Vec::new();
+                apart.visit_chunks(order, |k, p| {
+                    pieces.push((k, p.vertices.to_vec(), p.indices.to_vec(), p.base))
+                });
+                pieces
+            };
+            let pieces = visit((0..n).rev().collect());
+            let mut again = visit((0..n).collect());
+            again.reverse();
             assert_eq!(pieces, again, "{name}");
             assert!(apart.districts.kept() <= CACHED_GROUPS);
         }

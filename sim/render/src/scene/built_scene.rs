@@ -5,7 +5,7 @@ use super::chunk::Chunk;
 use super::description::SceneDescription;
 use super::districts::Districts;
 use super::dynamic_object::{DynamicObject, Motion};
-use super::mesh::{Mesh, Vertex};
+use super::mesh::{Mesh, MeshPiece};
 use super::rng::stream;
 use super::route::Route;
 use super::site::ROAD_RUNOUT_M;
@@ -14,18 +14,6 @@ use super::terrain::Terrain;
 use nalgebra::{Isometry3, UnitQuaternion, Vector3};
 use rand::Rng;
 use std::ops::Range;
-
-/// Part of a scene's geometry: vertices, and indices naming them less `base` (index `i`
-/// names `vertices[(i - base) as usize]`).
-#[derive(Clone, Copy, Debug)]
-pub struct MeshPiece<'a> {
-    /// The vertices.
-    pub vertices: &'a [Vertex],
-    /// The triangles' indices, in order.
-    pub indices: &'a [u32],
-    /// What an index names the first of `vertices` by.
-    pub base: u32,
-}
 
 /// The built world: static chunks and moving objects, plus the description.
 ///
@@ -99,6 +87,9 @@ impl Scene {
         mut f: impl FnMut(usize, MeshPiece<'_>),
     ) {
         let chunks: Vec<usize> = chunks.into_iter().collect();
+        if chunks.is_empty() {
+            return;
+        }
         let homes = &self.districts.homes;
         let mut groups: Vec<usize> = chunks.iter().map(|&k| homes[k].group).collect();
         groups.sort_unstable();
@@ -126,14 +117,8 @@ impl Scene {
     /// tests and tools, since it is as large as the whole route's.
     pub fn whole_mesh(&self) -> Mesh {
         let mut mesh = Mesh::default();
-        let mut put = |piece: MeshPiece<'_>| {
-            let first = mesh.vertices.len() as u32;
-            mesh.vertices.extend_from_slice(piece.vertices);
-            mesh.indices
-                .extend(piece.indices.iter().map(|&i| i - piece.base + first));
-        };
-        self.visit_chunks(0..self.chunks.len(), |_, piece| put(piece));
-        put(self.objects_geometry());
+        self.visit_chunks(0..self.chunks.len(), |_, piece| mesh.append_piece(piece));
+        mesh.append_piece(self.objects_geometry());
         mesh
     }
 

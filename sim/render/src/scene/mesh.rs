@@ -30,6 +30,18 @@ pub struct Mesh {
     pub indices: Vec<u32>,
 }
 
+/// Part of a mesh: vertices, and indices naming them less `base` (index `i`
+/// names `vertices[(i - base) as usize]`).
+#[derive(Clone, Copy, Debug)]
+pub struct MeshPiece<'a> {
+    /// The vertices.
+    pub vertices: &'a [Vertex],
+    /// The triangles' indices, in order.
+    pub indices: &'a [u32],
+    /// What an index names the first of `vertices` by.
+    pub base: u32,
+}
+
 type P = [f64; 3];
 
 fn sub(a: P, b: P) -> P {
@@ -311,9 +323,18 @@ impl Mesh {
 
     /// Appends another mesh, re-basing its indices.
     pub fn append(&mut self, other: &Mesh) {
-        let base = self.vertices.len() as u32;
-        self.vertices.extend_from_slice(&other.vertices);
-        self.indices.extend(other.indices.iter().map(|i| i + base));
+        self.append_piece(MeshPiece {
+            vertices: &other.vertices,
+            indices: &other.indices,
+            base: 0,
+        });
+    }
+
+    /// Appends part of a mesh, re-basing its indices onto this mesh's vertices.
+    pub fn append_piece(&mut self, piece: MeshPiece<'_>) {
+        let first = self.vertices.len() as u32;
+        self.vertices.extend_from_slice(piece.vertices);
+        (self.indices).extend(piece.indices.iter().map(|&i| i - piece.base + first));
     }
 
     /// Centre and radius of a sphere holding every vertex (object frame).

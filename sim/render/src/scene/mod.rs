@@ -65,7 +65,7 @@ mod vehicles;
 mod verge;
 mod wall;
 
-pub use built_scene::{MeshPiece, Scene};
+pub use built_scene::Scene;
 pub use builtin::{
     builtin_description, builtin_poses, builtin_target, BUILTIN_GAP_M, BUILTIN_SPEED_M_S,
 };
@@ -80,7 +80,7 @@ pub use error::{SceneError, MAX_BUFFER_BYTES};
 pub use ground::{GRASS_ALBEDO, GRASS_ALBEDO_RANGE, GROUND_CELL_M};
 pub use layer::Layer;
 pub use material::Material;
-pub use mesh::{Mesh, Vertex};
+pub use mesh::{Mesh, MeshPiece, Vertex};
 pub use object_slot::ObjectSlot;
 pub use rng::stream;
 pub use route::{Route, RouteSegment, RouteSpec};

@@ -8,7 +8,7 @@
 //! the whole geometry in one buffer: the same pixels.
 
 use super::device::Gpu;
-use crate::scene::{MeshPiece, Scene, Vertex};
+use crate::scene::{Mesh, MeshPiece, Scene};
 use nalgebra::Vector3;
 use std::ops::Range;
 
@@ -87,14 +87,11 @@ impl Resident {
 
     /// Uploads the blocks wanted, in the order of the scene's index space.
     fn load(&mut self, gpu: &Gpu, scene: &Scene) {
-        let mut vertices: Vec<Vertex> = Vec::new();
-        let mut indices: Vec<u32> = Vec::new();
+        let mut mesh = Mesh::default();
         self.placed.fill(None);
         let mut put = |placed: &mut Option<u32>, piece: MeshPiece<'_>| {
-            *placed = Some(indices.len() as u32);
-            let first = vertices.len() as u32;
-            vertices.extend_from_slice(piece.vertices);
-            indices.extend(piece.indices.iter().map(|&i| i - piece.base + first));
+            *placed = Some(mesh.indices.len() as u32);
+            mesh.append_piece(piece);
         };
         let wanted = &self.wanted;
         let chunks = (0..wanted.len() - 1).filter(|&k| wanted[k]);
@@ -102,17 +99,18 @@ impl Resident {
         scene.visit_chunks(chunks, |k, piece| put(&mut placed[k], piece));
         let objects = placed.len() - 1;
         put(&mut placed[objects], scene.objects_geometry());
+        let (vertices, indices) = (&mesh.vertices, &mesh.indices);
         write(
             gpu,
             &mut self.vertices,
             "vertices",
-            bytemuck::cast_slice(&vertices),
+            bytemuck::cast_slice(vertices),
         );
         write(
             gpu,
             &mut self.indices,
             "indices",
-            bytemuck::cast_slice(&indices),
+            bytemuck::cast_slice(indices),
         );
         self.loads += 1;
     }
