@@ -98,6 +98,7 @@ scenario_test!(gravel_road, "gravel-road");
 scenario_test!(swerves, "swerves");
 scenario_test!(section4, "section4");
 scenario_test!(highway_90, "highway-90");
+scenario_test!(low_sun_trees, "low-sun-trees");
 
 macro_rules! robust_test {
     ($test:ident, $name:literal) => {
@@ -129,6 +130,22 @@ robust_test!(robust_tape_17min, "tape-17min");
 robust_test!(robust_intersections, "intersections");
 robust_test!(robust_stop_and_go, "stop-and-go");
 robust_test!(robust_highway_90, "highway-90");
+
+/// `low-sun-trees`: the low sun's long shadow brings the paper's mode to say `lost` early
+/// and lose the target for a moment, within the scenario's `[expect]`; robust mode, whose
+/// threshold follows the light down, holds it with no loss and no time out of the gap band.
+#[test]
+fn robust_mode_holds_the_low_sun_through_trees_with_no_loss() {
+    let s = run_with("low-sun-trees", &["tracker.mode=robust"]);
+    assert!(
+        s.passed,
+        "low-sun-trees failed its [expect] in robust mode:\n  {}",
+        s.failures.join("\n  ")
+    );
+    assert_eq!(s.tracking_lost_s, 0.0, "robust mode lost the target");
+    assert_eq!(s.tracking_loss_events, 0);
+    assert_eq!(s.time_outside_gap_band_s, 0.0);
+}
 
 /// Without its pan head, `intersections`' first right-angle turn takes the target out of
 /// the fixed camera's view: the loss is put down to `out_of_view`, the failure says so, and

@@ -78,7 +78,8 @@ pub fn write_plots(
     expect: &Expect,
 ) -> Result<Vec<PathBuf>, ReportError> {
     register_font(dir)?;
-    let records = &trace.rows[..];
+    let rows = trace.rows();
+    let records = &rows[..];
     let mut period = FramePeriod::default();
     for r in records {
         period.push(r.t_s);
@@ -147,8 +148,9 @@ pub(crate) fn render(
         })
 }
 
-/// What the plots draw of one frame: a few of its record's fields.
-#[derive(Clone, Copy, Debug)]
+/// What the plots draw of one frame (a few of its record's fields), or of a run of frames
+/// merged by [`PlotRow::merge`].
+#[derive(Clone, Copy, Debug, PartialEq)]
 struct PlotRow {
     t_s: f64,
     gap_m: f64,
@@ -163,17 +165,114 @@ struct PlotRow {
     partly_out_of_view: bool,
 }
 
-/// What the plots need of a run, kept as the records come (a tenth of each record's
-/// size): [`write_plots`] draws from it at the end.
-#[derive(Clone, Debug, Default)]
+impl PlotRow {
+    fn of(r: &FrameRecord) -> PlotRow {
+        PlotRow {
+            t_s: r.t_s,
+            gap_m: r.gap_m,
+            true_range_m: r.true_range_m,
+            est_range_m: r.est_range_m,
+            lateral_deviation_m: r.lateral_deviation_m,
+            chase_xz: r.chase_xz,
+            lead_xz: r.lead_xz,
+            status: r.status,
+            lost_truth: r.lost_truth,
+            lost_out_of_view: r.lost_truth && r.loss_cause == LossCause::OutOfView,
+            partly_out_of_view: r.target_partly_out_of_view,
+        }
+    }
+
+    /// This row and the `later` one as one row, keeping what a plot must not hide: the
+    /// start time and the positions of the earlier; the smaller gap; the larger lateral
+    /// deviation; the ranges of the frame with the larger range error (a frame with no
+    /// estimate counts as the largest, so the estimate's line still breaks there); the
+    /// worse tracker status; and any loss or partial view of either.
+    fn merge(self, later: PlotRow) -> PlotRow {
+        let error = |r: &PlotRow| {
+            let e = (r.est_range_m - r.true_range_m).abs();
+            if e.is_nan() {
+                f64::INFINITY
+            } else {
+                e
+            }
+        };
+        let ranges = if error(&later) > error(&self) {
+            later
+        } else {
+            self
+        };
+        PlotRow {
+            t_s: self.t_s,
+            gap_m: self.gap_m.min(later.gap_m),
+            true_range_m: ranges.true_range_m,
+            est_range_m: ranges.est_range_m,
+            lateral_deviation_m: self.lateral_deviation_m.max(later.lateral_deviation_m),
+            chase_xz: self.chase_xz,
+            lead_xz: self.lead_xz,
+            status: worse(self.status, later.status),
+            lost_truth: self.lost_truth || later.lost_truth,
+            lost_out_of_view: self.lost_out_of_view || later.lost_out_of_view,
+            partly_out_of_view: self.partly_out_of_view || later.partly_out_of_view,
+        }
+    }
+}
+
+/// The worse of two statuses: lost, then coasting, then tracking.
+fn worse(a: TrackerStatus, b: TrackerStatus) -> TrackerStatus {
+    let rank = |s| match s {
+        TrackerStatus::Tracking => 0,
+        TrackerStatus::Coasting => 1,
+        TrackerStatus::Lost => 2,
+    };
+    if rank(b) > rank(a) {
+        b
+    } else {
+        a
+    }
+}
+
+/// Rows a [`PlotTrace`] keeps before it halves them: 32 768 (36 minutes at 15 Hz, 2.9 MB).
+const TRACE_ROWS: usize = 1 << 15;
+
+/// What the plots need of a run, kept as the records come: [`write_plots`] draws from it at
+/// the end.
+///
+/// Its memory is bounded. Up to [`TRACE_ROWS`] frames it keeps a row a frame, so the plots
+/// are drawn frame by frame. At that many rows it merges them in pairs ([`PlotRow::merge`])
+/// and from then on keeps a row for every two frames, then four, and so on, between half
+/// and all of [`TRACE_ROWS`] rows, far more than a plot has pixels across. A merged row keeps
+/// the closest gap, the largest deviation and range error, the worse status and any loss of
+/// its frames, so that a single lost frame still shows in `status.png` after a day's run.
+#[derive(Clone, Debug)]
 pub struct PlotTrace {
     rows: Vec<PlotRow>,
+    /// Frames each row of `rows` stands for: a power of two.
+    stride: u64,
+    /// The frames since the last full row, merged, and how many they are (under `stride`).
+    pending: Option<(PlotRow, u64)>,
+    /// Rows kept before halving: [`TRACE_ROWS`], smaller in tests.
+    cap: usize,
+}
+
+impl Default for PlotTrace {
+    fn default() -> PlotTrace {
+        PlotTrace::with_cap(TRACE_ROWS)
+    }
 }
 
 impl PlotTrace {
     /// An empty trace.
     pub fn new() -> PlotTrace {
         PlotTrace::default()
+    }
+
+    fn with_cap(cap: usize) -> PlotTrace {
+        PlotTrace {
+            rows: Vec::new(),
+            stride: 1,
+            pending: None,
+            cap: cap.max(2),
+        }
     }
 
     /// The trace of `records`.
@@ -187,19 +286,38 @@ impl PlotTrace {
 
     /// Takes the next record.
     pub fn push(&mut self, r: &FrameRecord) {
-        self.rows.push(PlotRow {
-            t_s: r.t_s,
-            gap_m: r.gap_m,
-            true_range_m: r.true_range_m,
-            est_range_m: r.est_range_m,
-            lateral_deviation_m: r.lateral_deviation_m,
-            chase_xz: r.chase_xz,
-            lead_xz: r.lead_xz,
-            status: r.status,
-            lost_truth: r.lost_truth,
-            lost_out_of_view: r.lost_truth && r.loss_cause == LossCause::OutOfView,
-            partly_out_of_view: r.target_partly_out_of_view,
-        });
+        self.push_row(PlotRow::of(r));
+    }
+
+    fn push_row(&mut self, row: PlotRow) {
+        let (merged, n) = match self.pending.take() {
+            Some((earlier, n)) => (earlier.merge(row), n + 1),
+            None => (row, 1),
+        };
+        if n < self.stride {
+            self.pending = Some((merged, n));
+            return;
+        }
+        self.rows.push(merged);
+        if self.rows.len() >= self.cap {
+            self.rows = self
+                .rows
+                .chunks(2)
+                .map(|pair| match *pair {
+                    [a, b] => a.merge(b),
+                    [a] => a,
+                    _ => unreachable!("chunks of two"),
+                })
+                .collect();
+            self.stride *= 2;
+        }
+    }
+
+    /// The rows to draw: the full ones, then the frames since.
+    fn rows(&self) -> Vec<PlotRow> {
+        let mut rows = self.rows.clone();
+        rows.extend(self.pending.map(|(row, _)| row));
+        rows
     }
 }
 
@@ -678,4 +796,94 @@ fn draw_legend<'a, 'b: 'a, X: Ranged, Y: Ranged>(
         .label_font(font(TICK_PX))
         .draw()?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Frame `i` of a run at 15 Hz: a gap and a deviation that wander, tracking on target.
+    fn frame(i: u64) -> PlotRow {
+        let t = i as f64 / 15.0;
+        PlotRow {
+            t_s: t,
+            gap_m: 10.0 + (t * 0.3).sin(),
+            true_range_m: 10.0 + (t * 0.3).sin(),
+            est_range_m: 10.0 + (t * 0.3).sin() + 0.01 * (t * 7.0).cos(),
+            lateral_deviation_m: 0.1 * (t * 0.05).cos().abs(),
+            chase_xz: [t, 0.0],
+            lead_xz: [t + 10.0, 0.0],
+            status: TrackerStatus::Tracking,
+            lost_truth: false,
+            lost_out_of_view: false,
+            partly_out_of_view: false,
+        }
+    }
+
+    fn trace_of(cap: usize, frames: impl Iterator<Item = PlotRow>) -> PlotTrace {
+        let mut trace = PlotTrace::with_cap(cap);
+        for f in frames {
+            trace.push_row(f);
+            assert!(trace.rows.len() < cap, "the trace outgrew its cap");
+        }
+        trace
+    }
+
+    #[test]
+    fn a_trace_within_its_cap_keeps_every_frame() {
+        let frames: Vec<PlotRow> = (0..99).map(frame).collect();
+        let trace = trace_of(100, frames.iter().copied());
+        assert_eq!(trace.rows(), frames);
+    }
+
+    #[test]
+    fn a_long_trace_stays_within_its_cap_and_hides_no_event() {
+        const N: u64 = 100_000;
+        let (lost_at, coasting_at, close_at, wide_at, no_estimate_at) =
+            (40_001, 61_234, 77_777, 12_345, 90_001);
+        let frames = (0..N).map(|i| {
+            let mut f = frame(i);
+            if i == lost_at {
+                f.lost_truth = true;
+                f.status = TrackerStatus::Lost;
+            }
+            if i == coasting_at {
+                f.status = TrackerStatus::Coasting;
+            }
+            if i == close_at {
+                f.gap_m = 2.5;
+            }
+            if i == wide_at {
+                f.lateral_deviation_m = 1.7;
+            }
+            if i == no_estimate_at {
+                f.est_range_m = f64::NAN;
+            }
+            f
+        });
+        let cap = 64;
+        let rows = trace_of(cap, frames).rows();
+        assert!(
+            rows.len() >= cap / 2 && rows.len() <= cap,
+            "{} rows",
+            rows.len()
+        );
+        assert!(rows.windows(2).all(|w| w[0].t_s < w[1].t_s));
+        assert_eq!(rows[0].t_s, 0.0);
+        // Each event is in the row whose span holds its frame, and in no other.
+        let row_of = |i: u64| {
+            let t = i as f64 / 15.0;
+            rows.iter().rposition(|r| r.t_s <= t).unwrap()
+        };
+        let lost: Vec<usize> = (0..rows.len()).filter(|&k| rows[k].lost_truth).collect();
+        assert_eq!(lost, [row_of(lost_at)]);
+        assert_eq!(rows[row_of(lost_at)].status, TrackerStatus::Lost);
+        assert_eq!(rows[row_of(coasting_at)].status, TrackerStatus::Coasting);
+        let gaps = rows.iter().map(|r| r.gap_m);
+        assert_eq!(gaps.fold(f64::INFINITY, f64::min), 2.5);
+        assert_eq!(rows[row_of(close_at)].gap_m, 2.5);
+        assert_eq!(rows[row_of(wide_at)].lateral_deviation_m, 1.7);
+        assert!(rows[row_of(no_estimate_at)].est_range_m.is_nan());
+        assert_eq!(rows.iter().filter(|r| r.est_range_m.is_nan()).count(), 1);
+    }
 }
