@@ -1,8 +1,8 @@
 //! [`RunOutputs`]: the one thing the closed loop talks to. It streams `frames.csv` and the
 //! video while the run goes and keeps no record: the summary is built as the records come
-//! ([`SummaryBuilder`]), and the plots keep what they draw of each frame (88 bytes, about
-//! 2.4 MB for 30 minutes; none with plots off). At the end it writes `summary.json` and the
-//! plots.
+//! ([`SummaryBuilder`]), and the plots keep what they draw of each frame (88 bytes) up to
+//! 2.9 MB, merging frames beyond that ([`PlotTrace`]; none with plots off). At the end it
+//! writes `summary.json` and the plots.
 //!
 //! Files in the output directory:
 //! - `frames.csv` (see [`FramesCsv`]), `summary.json` (see [`Summary`]), the plots of

@@ -237,10 +237,10 @@ const TRACE_ROWS: usize = 1 << 15;
 /// What the plots need of a run, kept as the records come: [`write_plots`] draws from it at
 /// the end.
 ///
-/// Its memory is bounded. Up to [`TRACE_ROWS`] frames it keeps a row a frame, so the plots
-/// are drawn frame by frame. At that many rows it merges them in pairs ([`PlotRow::merge`])
-/// and from then on keeps a row for every two frames, then four, and so on, between half
-/// and all of [`TRACE_ROWS`] rows, far more than a plot has pixels across. A merged row keeps
+/// Its memory is bounded. Up to 32 768 frames (36 minutes at 15 Hz) it keeps a row a frame,
+/// so the plots are drawn frame by frame. At that many rows it merges them in pairs, and
+/// from then on keeps a row for every two frames, then four, and so on: between 16 384 and
+/// 32 768 rows (2.9 MB at most), far more than a plot has pixels across. A merged row keeps
 /// the closest gap, the largest deviation and range error, the worse status and any loss of
 /// its frames, so that a single lost frame still shows in `status.png` after a day's run.
 #[derive(Clone, Debug)]

@@ -25,6 +25,7 @@
 //! smallest error that at least 95 % of the frames do not exceed); both are `null` when no frame
 //! qualifies.
 
+mod range_errors;
 mod stream;
 
 use serde::Serialize;
@@ -669,11 +670,14 @@ mod tests {
         assert_eq!(s.range_error_m.frames, 19);
         assert!(close(s.range_error_m.mean_abs.unwrap(), 11.0));
         assert_eq!(s.range_error_m.p95_abs, Some(20.0));
-        // Nearest rank on 1..=100: the 95th value; on 1..=20: the 19th.
-        let v: Vec<f64> = (1..=100).map(f64::from).collect();
-        assert_eq!(stream::percentile_nearest_rank(&v, 95.0), 95.0);
-        assert_eq!(stream::percentile_nearest_rank(&v[..20], 95.0), 19.0);
-        assert_eq!(stream::percentile_nearest_rank(&v[..1], 95.0), 1.0);
+        // Nearest rank on 1..=100: the 95th value; on 1..=20: the 19th; on one, that one.
+        for (n, want) in [(100, 95.0), (20, 19.0), (1, 1.0)] {
+            let mut errors = range_errors::RangeErrors::default();
+            for v in 1..=n {
+                errors.push(f64::from(v));
+            }
+            assert_eq!(errors.finish().unwrap().1, Some(want), "{n} values");
+        }
         // No tracked frame: null, not NaN.
         for r in &mut rs {
             r.lost_truth = true;

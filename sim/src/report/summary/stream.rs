@@ -1,7 +1,7 @@
 //! The summary built as the records arrive ([`SummaryBuilder`]), so that a run keeps no
-//! record once it is written: what it holds grows with the run only by the range errors of
-//! its tracked frames (8 bytes each, for the exact 95th percentile) and by its loss and
-//! tracker events.
+//! record once it is written: what it holds in memory grows with the run only by its loss
+//! and tracker events. The range errors of its tracked frames, which the exact 95th
+//! percentile needs, go to disk beyond 65 536 of them ([`RangeErrors`]).
 //!
 //! A frame's weight is the time to the next frame, known only when that frame arrives, or
 //! the frame period (the median step, known only at the end) for the last frame and after a
@@ -14,6 +14,7 @@ use std::collections::BTreeMap;
 use sim_core::{FrameRecord, LossCause, TrackerStatus};
 use tracker::TrackEvent;
 
+use super::range_errors::RangeErrors;
 use super::{
     GapStats, LateralError, LossEvent, LostByCause, RangeError, Summary, TrackerEventTime,
     DEFAULT_FRAME_PERIOD_S, IMPRECISE_CENTRE_PX, IMPRECISE_SCALE, SCHEMA_VERSION,
@@ -193,7 +194,7 @@ struct Pending {
 /// A run's summary, built one record at a time (see the module notes): feed it with
 /// [`SummaryBuilder::push`], and [`super::Summary::of`] gives the summary, the same as
 /// [`super::Summary::compute`] over the same records.
-#[derive(Clone, Debug)]
+#[derive(Debug)]
 pub struct SummaryBuilder {
     gap_band_m: Option<[f64; 2]>,
     frames: u64,
@@ -211,7 +212,7 @@ pub struct SummaryBuilder {
     silent_loss_frames: u64,
     reacquired: Vec<TrackerEventTime>,
     unresolved: Vec<TrackerEventTime>,
-    range_errors: Vec<f64>,
+    range_errors: RangeErrors,
     distance_m: f64,
 }
 
@@ -236,7 +237,7 @@ impl SummaryBuilder {
             silent_loss_frames: 0,
             reacquired: Vec::new(),
             unresolved: Vec::new(),
-            range_errors: Vec::new(),
+            range_errors: RangeErrors::default(),
             distance_m: 0.0,
         }
     }
@@ -403,23 +404,14 @@ impl SummaryBuilder {
     }
 }
 
-fn range_error(mut errors: Vec<f64>) -> RangeError {
-    if errors.is_empty() {
-        return RangeError::default();
+fn range_error(errors: RangeErrors) -> RangeError {
+    let frames = errors.count();
+    match errors.finish() {
+        None => RangeError::default(),
+        Some((mean, p95)) => RangeError {
+            mean_abs: Some(mean),
+            p95_abs: p95,
+            frames,
+        },
     }
-    let n = errors.len();
-    let mean = errors.iter().sum::<f64>() / n as f64;
-    errors.sort_by(f64::total_cmp);
-    RangeError {
-        mean_abs: Some(mean),
-        p95_abs: Some(percentile_nearest_rank(&errors, 95.0)),
-        frames: n as u64,
-    }
-}
-
-/// The nearest-rank percentile of sorted, non-empty values: the value at rank ⌈p/100 · n⌉.
-pub(super) fn percentile_nearest_rank(sorted: &[f64], p: f64) -> f64 {
-    let n = sorted.len();
-    let rank = ((p / 100.0) * n as f64).ceil() as usize;
-    sorted[rank.clamp(1, n) - 1]
 }
