@@ -60,7 +60,22 @@ impl DrivenPath {
     }
 
     /// Extends the path to `p`.
+    ///
+    /// A lead at rest (its body asleep, so at exactly the same place frame after frame)
+    /// adds a point once more and then nothing: the segment from that point to itself is
+    /// there already, so another would give every query the same distance again. So the
+    /// path grows with the lead's movement, not with the time it stands still.
     pub fn push(&mut self, p: [f64; 2]) {
+        if let [.., a, b] = self.points[..] {
+            if a == p && b == p {
+                return;
+            }
+        }
+        self.extend(p);
+    }
+
+    /// Adds `p` and the segment to it, whatever it repeats.
+    fn extend(&mut self, p: [f64; 2]) {
         self.points.push(p);
         let n = self.points.len();
         let a = self.points[n.saturating_sub(2)];
@@ -158,6 +173,31 @@ mod tests {
         let mut one = DrivenPath::new();
         one.push([3.0, 4.0]);
         assert_eq!(one.distance([0.0, 0.0]), 5.0);
+    }
+
+    #[test]
+    fn a_lead_at_rest_adds_nothing_and_changes_no_distance() {
+        // A winding drive with stops of 400 frames; against a path that keeps every repeat.
+        let (mut path, mut every) = (DrivenPath::new(), DrivenPath::new());
+        let mut p = [0.0, 0.0];
+        let mut moving = 0;
+        for k in 0..3000 {
+            if k % 700 < 300 {
+                let s = k as f64 * 0.5;
+                p = [s, 5.0 * (s / 20.0).sin()];
+                moving += 1;
+            }
+            path.push(p);
+            every.extend(p);
+            if k % 25 == 0 {
+                for q in [[p[0], 0.3], [p[0] - 3.0, 2.5], [p[0] * 0.5, -4.0], p] {
+                    assert_eq!(path.distance(q).to_bits(), every.distance(q).to_bits());
+                }
+            }
+        }
+        // Each of the four stops leaves one repeat of its point.
+        assert_eq!(path.len(), moving + 4);
+        assert_eq!(every.len(), 3000);
     }
 
     #[test]
