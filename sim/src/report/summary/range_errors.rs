@@ -100,6 +100,11 @@ impl RangeErrors {
         }
         let mean = self.sum / self.count as f64;
         let rank = ((0.95 * self.count as f64).ceil() as u64).clamp(1, self.count);
+        if self.spill.is_none() {
+            let mut sorted = self.block;
+            sorted.sort_by(f64::total_cmp);
+            return Some((mean, Some(sorted[rank as usize - 1])));
+        }
         Some((mean, self.select(rank).ok()))
     }
 
@@ -121,13 +126,9 @@ impl RangeErrors {
         Ok(())
     }
 
-    /// The value of 1-based `rank` in ascending order.
+    /// The value of 1-based `rank` in ascending order, among the file's values and the
+    /// block's.
     fn select(&self, mut rank: u64) -> std::io::Result<f64> {
-        if self.spill.is_none() {
-            let mut sorted = self.block.clone();
-            sorted.sort_by(f64::total_cmp);
-            return Ok(sorted[rank as usize - 1]);
-        }
         // The values whose top `fixed` bits are `prefix`'s hold the rank (at `rank` among
         // them); `within` is how many they are.
         let (mut prefix, mut fixed, mut within) = (0u64, 0u32, self.count);
