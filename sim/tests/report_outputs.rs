@@ -78,6 +78,7 @@ fn record(i: u64) -> FrameRecord {
         loss_cause: sim_core::LossCause::None,
         camera_pan_deg: 0.0,
         desired_gap_m: 10.0,
+        false_alarm: false,
     }
 }
 
@@ -115,6 +116,7 @@ fn expect() -> Expect {
         min_distance_m: Some(400.0),
         max_range_error_p95_m: None,
         max_loss_events: None,
+        max_false_alarm_s: None,
     }
 }
 

@@ -30,6 +30,16 @@ fn run_with(name: &str, extra: &[&str]) -> Summary {
     let overrides: Vec<String> = extra.iter().map(|s| s.to_string()).collect();
     let plan = Plan::load(&path, &overrides).unwrap_or_else(|e| panic!("{e}"));
     let summary = run_scenario(plan);
+    eprintln!(
+        "{name} {extra:?}: passed {}, lost {:.2} s, silent {} frames, false alarm {:.2} s \
+         (longest {} frames), unresolved {:?}",
+        summary.passed,
+        summary.tracking_lost_s,
+        summary.silent_loss_frames,
+        summary.false_alarm_s,
+        summary.longest_false_alarm_frames,
+        summary.unresolved.first().map(|e| e.t_s)
+    );
     // In every mode and scenario, a loss is never silent for long: the tracker's own status
     // leaves `tracking` within 15 frames of the truth's loss.
     if let Some(delay) = summary.max_loss_report_delay_frames {

@@ -32,6 +32,7 @@ pub mod object_location;
 pub mod paint;
 pub mod pixel_rect;
 pub mod prediction;
+pub mod resolvability;
 pub mod robust;
 mod step_io;
 pub mod tracker;

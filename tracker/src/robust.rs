@@ -29,7 +29,7 @@
 //!   [`COVERAGE_TOLERANCE_PX`]. This check runs in both modes: it is what makes the status
 //!   leave `tracking` when the estimate has slid off the target (no silent loss). With it,
 //!   in both modes, a target too far away to resolve is not trusted
-//!   ([`Tracker::resolution_px`](crate::Tracker::resolution_px)).
+//!   ([`crate::resolvability`]); robust mode, like the paper's, goes on measuring it.
 //! - **A chamfer search** ([`ChamferSearch`]): the model's outline matched against the
 //!   distance transforms of the horizontal and vertical edge maps over position and scale,
 //!   coarse to fine (H. G. Barrow et al., "Parametric correspondence and chamfer matching",
@@ -102,22 +102,6 @@ pub const COVERAGE_TOLERANCE_PX: i64 = 2;
 /// fall below 0.3, 6 % below 0.5. (Measured while the gradient read a step's height, which
 /// let weaker edges and noise cover outlines; to be measured again with eq. 4's.)
 pub const MIN_COVERAGE: f64 = 0.3;
-/// The floor of the tracker's resolution ([`Tracker::resolution_px`](crate::Tracker::resolution_px)),
-/// pixels: the width of the paper's 3×3 gradient operator (2.3), below which two parallel
-/// edges merge. The resolution itself is ζ (default 4 px), or this if ζ is set lower.
-///
-/// Measured with the ten-segment target (its horizontal features 0.25 m apart, 8 px at
-/// scale 1) on a rendered lead pulling away from 10 to 50 m at 8 mm, seeds 1-3, both modes,
-/// without the check: with the true spacing at 2.75 px or more no frame's scale was off by
-/// 25 % and the mean error was at most 7 %; between 2.25 and 2.75 px, 218 of 316 frames
-/// were, the scale running away upward. The resolution is ζ, with its margin over that,
-/// because ζ is where association itself stops telling the features apart.
-pub const MIN_RESOLVED_SPACING_PX: f64 = 3.0;
-/// A track that became unresolved is resolved again only at this many times the
-/// resolution ([`Tracker::resolution_px`](crate::Tracker::resolution_px)). On the receding
-/// lead without the check, fits that passed every coverage check while off the target
-/// reached a scale of 0.71 (5.7 px) where the truth was about 0.3; 1.5 times ζ is 6 px.
-pub const RESOLVED_AGAIN_FACTOR: f64 = 1.5;
 /// A measurement is not trusted, in either mode, when its coverage (the smaller of the two
 /// orientations') has fallen below this fraction of the track's own reference coverage
 /// ([`CoverageReference`]): the outline no longer lies on edges the way it did while the

@@ -41,8 +41,9 @@ pub enum TrackEvent {
     Acquired,
     /// Robust mode found the target again by search after coasting or a loss.
     Reacquired,
-    /// The target became too small to resolve: its parallel features closer in the image
-    /// than association tells apart (`Tracker::resolution_px`). The tracker stops saying
+    /// The target went beyond the tracker's resolution: two of its parallel features that
+    /// compete for edge points came closer in the image than association tells apart
+    /// (`tracker::resolvability`). The tracker goes on measuring, but stops saying
     /// `tracking` until the target is well resolved again.
     Unresolved,
 }

@@ -22,16 +22,15 @@ use crate::motion::MotionModel;
 use crate::object_location::{locate_object, Measurement};
 use crate::pixel_rect::PixelRect;
 use crate::prediction::{predict_features, predict_location, PredictedFeature};
+use crate::resolvability::Resolvability;
 use crate::robust::{
-    adaptive_threshold, alias_spacing, coverage_gain, noise_raised_threshold, search_threshold,
-    ChamferSearch, CoverageReference, EdgeMaps, NoiseEstimator, ACQUIRE_EVERY_FRAMES,
-    ACQUIRE_SCALES, CHAMFER_ACCEPT_PX, COVERAGE_TOLERANCE_PX, FAST_LAMBDA, LOCAL_SEARCH_GROWTH_PX,
-    LOCAL_SEARCH_PX, MAX_COVERAGE_GAIN, MAX_SCALE_STEP, MIN_COVERAGE, MIN_RESOLVED_SPACING_PX,
-    MODEL_ERROR_DECAY, NOISE_THRESHOLD_FACTOR, PEAK_PROBE_PX, REACQUIRE_MIN_COVERAGE,
-    RESOLVED_AGAIN_FACTOR, SCALE_NOISE_PX, SEARCH_BELOW_COVERAGE, SEARCH_MARGIN,
-    SURPRISE_FORGETTING,
+    adaptive_threshold, alias_spacing, coverage_gain, noise_raised_threshold, ChamferSearch,
+    CoverageReference, EdgeMaps, NoiseEstimator, COVERAGE_TOLERANCE_PX, FAST_LAMBDA,
+    MAX_COVERAGE_GAIN, MIN_COVERAGE, NOISE_THRESHOLD_FACTOR, PEAK_PROBE_PX, SEARCH_BELOW_COVERAGE,
 };
 use crate::window::Window;
+
+mod robust_loop;
 
 pub use crate::step_io::{EgoMotion, Status, TrackEvent, TrackOutput, TrackerError};
 
@@ -81,11 +80,8 @@ pub struct Tracker {
     last_trusted: Location,
     /// The coverage of the trusted measurements, which a measurement must stay near.
     coverage_reference: CoverageReference,
-    /// Whether the track is beyond the tracker's resolution (see
-    /// [`Tracker::judge_resolution`]).
-    unresolved: bool,
-    /// The track became unresolved in this step (reported as an event).
-    unresolved_event: bool,
+    /// Whether the model's features are resolved, and the prediction's recent error.
+    resolvability: Resolvability,
     /// Robust mode: the last location measured with a strong check, where a search after a
     /// loss starts.
     last_good: Location,
@@ -117,7 +113,7 @@ struct Measured {
     gain: f64,
     threshold: f64,
     /// Whether the model's parallel features are resolved at the measured scale (see
-    /// [`Tracker::judge_resolution`]); true without a measurement.
+    /// [`Resolvability::judge`]); true without a measurement.
     resolved: bool,
 }
 
@@ -146,17 +142,28 @@ impl Measured {
 
     /// The check of both modes: enough of the outline on edges ([`MIN_COVERAGE`]), on a
     /// peak of coverage ([`MAX_COVERAGE_GAIN`]), the target resolved
-    /// ([`Tracker::resolution_px`]), and not far below the track's own `reference`
+    /// ([`Resolvability::judge`]), and not far below the track's own `reference`
     /// coverage ([`CoverageReference`]).
     fn trusted(&self, reference: &CoverageReference) -> bool {
-        self.passes(MIN_COVERAGE, MAX_COVERAGE_GAIN) && reference.admits(self.coverage())
+        self.resolved && self.trusted_but_for_resolution(reference)
+    }
+
+    /// Every check of [`Measured::trusted`] but resolution: the outline lies on the
+    /// target's edges, whether or not its features are resolved.
+    fn trusted_but_for_resolution(&self, reference: &CoverageReference) -> bool {
+        self.covered(MIN_COVERAGE, MAX_COVERAGE_GAIN) && reference.admits(self.coverage())
     }
 
     /// At least `min_coverage` covered, no move covering more than `max_gain` more (a
     /// gain not computed (−∞), for a well-covered fit, passes), and the target resolved
-    /// ([`Tracker::judge_resolution`]).
+    /// ([`Resolvability::judge`]).
     fn passes(&self, min_coverage: f64, max_gain: f64) -> bool {
-        self.coverage() >= min_coverage && self.gain <= max_gain && self.resolved
+        self.covered(min_coverage, max_gain) && self.resolved
+    }
+
+    /// [`Measured::passes`] but for resolution.
+    fn covered(&self, min_coverage: f64, max_gain: f64) -> bool {
+        self.coverage() >= min_coverage && self.gain <= max_gain
     }
 }
 
@@ -214,6 +221,7 @@ impl Tracker {
         let target_width_px = target_width_m * camera.focal_px()[0] / model.nominal_range_m();
         let lambda = config.lambda;
         let alias_px = alias_spacing(&features);
+        let resolvability = Resolvability::new(&features);
         Ok(Tracker {
             association_fates_only: false,
             read: PixelRect::whole(0, 0),
@@ -241,8 +249,7 @@ impl Tracker {
             last_measured: init,
             last_trusted: init,
             coverage_reference: CoverageReference::default(),
-            unresolved: false,
-            unresolved_event: false,
+            resolvability,
             last_good: init,
             extractor: EdgeExtractor::default(),
             edges: Edges::default(),
@@ -274,8 +281,7 @@ impl Tracker {
         self.last_measured = init;
         self.last_trusted = init;
         self.coverage_reference.clear();
-        self.unresolved = false;
-        self.unresolved_event = false;
+        self.resolvability.clear();
         self.last_good = init;
         self.restart_motion(init);
         Ok(())
@@ -416,12 +422,14 @@ impl Tracker {
 
     /// Stages 7 and 1–4 at `at`: the window, the edges, association, feature and object
     /// location, and the coverage check of the result. `robust` selects robust mode's
-    /// adaptive threshold and M-estimators.
+    /// adaptive threshold and M-estimators. `predicted`: `at` is the motion models'
+    /// prediction, whose recent error then bears on resolution (a search's fit is not).
     fn measure(
         &mut self,
         image: GrayView<'_>,
         at: Location,
         robust: bool,
+        predicted: bool,
         diagnostics: Option<&mut Vec<EdgeDiagnostic>>,
     ) -> Measured {
         let window = Window::around(
@@ -537,43 +545,44 @@ impl Tracker {
             threshold: config.edge_threshold,
             resolved: true,
         };
-        self.judge_resolution(&mut m);
+        self.judge_resolution(&mut m, predicted);
         m
     }
 
-    /// The smallest spacing of parallel features the tracker resolves, pixels: ζ (2.4), or
-    /// [`MIN_RESOLVED_SPACING_PX`] if ζ is set below it. Two parallel features closer than
-    /// ζ each lie within ζ of the other's prediction, so an estimate off by half their
-    /// spacing associates each feature's edges with its neighbour and association no longer
-    /// tells them apart; closer than the 3×3 gradient operator's width (2.3), their edges
-    /// merge.
-    pub fn resolution_px(&self) -> f64 {
-        self.config.zeta_px.max(MIN_RESOLVED_SPACING_PX)
+    /// The spacing below which two parallel features that compete for edge points (their
+    /// extents overlap, eq. 8 and 10) are confused now, `[x, y]`, pixels: see
+    /// [`Resolvability::limit_px`].
+    pub fn resolution_px(&self) -> [f64; 2] {
+        self.resolvability.limit_px()
     }
 
-    /// Whether `m`'s target is resolved, in both modes: the model's parallel features at
-    /// least [`Tracker::resolution_px`] apart in the image at the measured scale. A
-    /// measurement that passes the coverage checks with its features closer than that
-    /// marks the track unresolved (event `unresolved`): the measured scale sticks near the
-    /// limit while the target recedes past it, then drifts up as merged edges and the
-    /// board's border stand in for features, so a scale above the limit no longer shows the
-    /// target resolved. The track is resolved again only by a measurement that passes the
-    /// checks at [`RESOLVED_AGAIN_FACTOR`] times the limit.
-    fn judge_resolution(&mut self, m: &mut Measured) {
+    /// The judgement of whether the model's features are resolved, with the prediction's
+    /// recent error.
+    pub fn resolvability(&self) -> &Resolvability {
+        &self.resolvability
+    }
+
+    /// Whether `m`'s target is resolved, in both modes ([`Resolvability::judge`]), judged
+    /// by a measurement that passes the coverage checks; `predicted`: whether it was made
+    /// from the prediction.
+    fn judge_resolution(&mut self, m: &mut Measured, predicted: bool) {
         let Some(meas) = &m.measurement else {
             return;
         };
-        let limit = self.resolution_px();
-        let spacing_px = self.alias_px[0].min(self.alias_px[1]) * meas.location.scale;
-        // The absolute checks (`resolved` is still true here).
-        let checks = m.passes(MIN_COVERAGE, MAX_COVERAGE_GAIN);
-        if checks && spacing_px < limit && !self.unresolved {
-            self.unresolved = true;
-            self.unresolved_event = true;
-        } else if checks && self.unresolved && spacing_px >= RESOLVED_AGAIN_FACTOR * limit {
-            self.unresolved = false;
+        let checks = m.covered(MIN_COVERAGE, MAX_COVERAGE_GAIN);
+        m.resolved = self
+            .resolvability
+            .judge(meas.location.scale, checks, predicted);
+    }
+
+    /// Takes this frame's prediction error into the resolvability's, from a measurement
+    /// that passed the coverage checks, against `from`, where association worked.
+    fn learn_prediction_error(&mut self, m: &Measured, from: Location) {
+        if let Some(meas) = &m.measurement {
+            if m.covered(MIN_COVERAGE, MAX_COVERAGE_GAIN) {
+                self.resolvability.learn(from, meas.location);
+            }
         }
-        m.resolved = !self.unresolved && spacing_px >= limit;
     }
 
     /// The paper's loop. Its estimates are the paper's: every measurement updates the motion
@@ -613,7 +622,7 @@ impl Tracker {
         } else {
             self.last_measured
         };
-        let m = self.measure(image, look_at, false, diagnostics);
+        let m = self.measure(image, look_at, false, predicted.is_valid(), diagnostics);
         // Stage 5: each parameter's model takes the measurement with its eq. 17 confidence.
         if let Some(meas) = &m.measurement {
             let l = meas.location.to_array();
@@ -622,6 +631,7 @@ impl Tracker {
             }
         }
         let trusted = m.trusted(&self.coverage_reference);
+        self.learn_prediction_error(&m, look_at);
         let status = self.judge(trusted, cycles);
         // Stage 6: the prediction for the next frame (eq. 34).
         let next = if self.motion[0].has_information() {
@@ -671,7 +681,7 @@ impl Tracker {
         event: Option<TrackEvent>,
     ) -> TrackOutput {
         let coverage_reference = self.coverage_reference.value();
-        let event = if std::mem::take(&mut self.unresolved_event) {
+        let event = if self.resolvability.take_event() {
             Some(TrackEvent::Unresolved)
         } else {
             event
@@ -701,298 +711,5 @@ impl Tracker {
             searched,
             event,
         }
-    }
-
-    /// Robust mode's prediction: both banks aged, the camera's rotation applied, and each
-    /// parameter from the bank whose recent prediction errors are smaller.
-    fn predict_robust(&mut self, cycles: u32, ego: Option<EgoMotion>) -> Location {
-        if !self.motion[0].has_information() {
-            return self.init;
-        }
-        for m in self.motion.iter_mut().chain(self.banks.fast.iter_mut()) {
-            m.age(cycles);
-        }
-        let mut p = [0.0; 3];
-        for (k, out) in p.iter_mut().enumerate() {
-            let slow = self.motion[k].predict(0.0);
-            let fast = self.banks.fast[k].predict(0.0);
-            self.banks.predicted[k] = [slow, fast];
-            *out = if self.use_fast(k) { fast } else { slow };
-        }
-        let mut predicted = Location::new(p[0], p[1], p[2]);
-        if let Some(ego) = ego {
-            let [dx, dy] = ego.image_shift(&self.camera, predicted);
-            for (k, d) in [(0, dx), (1, dy)] {
-                self.motion[k].shift(d);
-                self.banks.fast[k].shift(d);
-                for v in &mut self.banks.predicted[k] {
-                    *v += d;
-                }
-            }
-            predicted.c_x += dx;
-            predicted.c_y += dy;
-        }
-        predicted
-    }
-
-    /// Whether parameter `k` is predicted by the fast model: its recent prediction errors
-    /// are smaller, and the tracker is not coasting (coasting, the slower model extrapolates
-    /// more calmly).
-    fn use_fast(&self, k: usize) -> bool {
-        let [e_slow, e_fast] = self.banks.error[k];
-        e_fast < e_slow && self.coast_cycles == 0
-    }
-
-    /// Adds a trusted measurement to both banks, after the surprise test, and updates the
-    /// running errors that choose between them.
-    fn learn(&mut self, meas: &Measurement, predicted: Location, fresh: bool, strong: bool) {
-        let z = meas.location.to_array();
-        if !fresh {
-            for (k, zk) in z.iter().enumerate() {
-                for (b, p) in self.banks.predicted[k].iter().enumerate() {
-                    let e = zk - p;
-                    let err = &mut self.banks.error[k][b];
-                    *err = MODEL_ERROR_DECAY * *err + (1.0 - MODEL_ERROR_DECAY) * e * e;
-                }
-            }
-            let jump = (meas.location.c_x - predicted.c_x)
-                .abs()
-                .max((meas.location.c_y - predicted.c_y).abs());
-            let zoom = (meas.location.scale / predicted.scale - 1.0).abs();
-            // Only a strong measurement may say the motion changed.
-            if strong && (jump > self.config.zeta_px || zoom > 0.1) {
-                for m in self.motion.iter_mut().chain(self.banks.fast.iter_mut()) {
-                    m.forget(SURPRISE_FORGETTING);
-                }
-            }
-        }
-        for (k, w) in meas.confidence.iter().enumerate() {
-            self.motion[k].add(z[k], *w);
-            self.banks.fast[k].add(z[k], *w);
-        }
-    }
-
-    /// The region a search covers: the whole image when `around` is `None`; otherwise
-    /// room for the target (its size at `around`'s scale, 25 % larger) with its centre up to
-    /// `reach_px` from `around`'s.
-    fn search_region(
-        &self,
-        around: Option<Location>,
-        reach_px: f64,
-        width: usize,
-        height: usize,
-    ) -> Window {
-        let whole = Window {
-            x0: 1,
-            y0: 1,
-            x1: width.saturating_sub(1),
-            y1: height.saturating_sub(1),
-            size_index: self.config.window_scales.len() - 1,
-        };
-        let Some(at) = around else { return whole };
-        let hw = self.half_extent_px[0] * at.scale * 1.25 + reach_px;
-        let hh = self.half_extent_px[1] * at.scale * 1.25 + reach_px;
-        let clip = |lo: f64, hi: f64, n: usize| {
-            let a = lo.floor().clamp(1.0, (n - 1) as f64) as usize;
-            let b = hi.ceil().clamp(1.0, (n - 1) as f64) as usize;
-            (a, b.max(a))
-        };
-        let (x0, x1) = clip(at.c_x - hw, at.c_x + hw, width);
-        let (y0, y1) = clip(at.c_y - hh, at.c_y + hh, height);
-        Window {
-            x0,
-            y0,
-            x1,
-            y1,
-            size_index: whole.size_index,
-        }
-    }
-
-    /// How far from the prediction a search looks, and a measurement may lie, pixels:
-    /// [`LOCAL_SEARCH_PX`], and [`LOCAL_SEARCH_GROWTH_PX`] more for every frame coasted.
-    fn reach_px(&self) -> f64 {
-        LOCAL_SEARCH_PX + LOCAL_SEARCH_GROWTH_PX * self.coast_cycles as f64
-    }
-
-    /// Searches `region` at scales `scales` and measures at the best fit; the measurement
-    /// when the fit and the measurement both pass their checks, the measurement's the
-    /// strong one (REACQUIRE_MIN_COVERAGE, on a peak of coverage).
-    fn search_and_measure(
-        &mut self,
-        image: GrayView<'_>,
-        region: Window,
-        scales: [f64; 2],
-        diagnostics: Option<&mut Vec<EdgeDiagnostic>>,
-    ) -> Option<Measured> {
-        self.note_read(region, image.width(), image.height());
-        let mut config = self.config.clone();
-        let sigma = self.noise.sigma(image, region);
-        config.edge_threshold = search_threshold(self.config.edge_threshold, sigma);
-        let hit = self.search.search(
-            image,
-            region,
-            &self.features,
-            self.half_extent_px,
-            scales,
-            &config,
-        )?;
-        if hit.score > CHAMFER_ACCEPT_PX {
-            return None;
-        }
-        let m = self.measure(image, hit.location, true, diagnostics);
-        m.passes(REACQUIRE_MIN_COVERAGE, 0.0).then_some(m)
-    }
-
-    /// Robust mode's loop.
-    fn run_robust(
-        &mut self,
-        image: GrayView<'_>,
-        t_s: f64,
-        frame: u64,
-        cycles: u32,
-        ego: Option<EgoMotion>,
-        mut diagnostics: Option<&mut Vec<EdgeDiagnostic>>,
-    ) -> TrackOutput {
-        let (width, height) = (image.width(), image.height());
-        if !self.locked {
-            // Searching: around the last location for a short loss, else everywhere.
-            let lost_long = self.coast_cycles as f64 / self.config.rate_hz
-                >= 2.0 * self.config.lost_after_s.max(1.0 / self.config.rate_hz);
-            let (region, scales) = if self.ever_locked && !lost_long {
-                let s = self.last_good.scale;
-                (
-                    self.search_region(Some(self.last_good), self.reach_px(), width, height),
-                    [s / 1.3, s * 1.3],
-                )
-            } else {
-                (self.search_region(None, 0.0, width, height), ACQUIRE_SCALES)
-            };
-            // A whole-image search costs tens of milliseconds: after a long loss, one frame in
-            // ACQUIRE_EVERY_FRAMES.
-            let skip = self.ever_locked && lost_long && !frame.is_multiple_of(ACQUIRE_EVERY_FRAMES);
-            let found = if skip {
-                None
-            } else {
-                self.search_and_measure(image, region, scales, diagnostics.as_deref_mut())
-            };
-            if let Some(m) = found {
-                let meas = m.measurement.expect("a trusted measurement exists");
-                self.last_good = meas.location;
-                let event = if self.ever_locked {
-                    TrackEvent::Reacquired
-                } else {
-                    TrackEvent::Acquired
-                };
-                self.restart_motion(meas.location);
-                self.learn(&meas, meas.location, true, true);
-                self.locked = true;
-                self.ever_locked = true;
-                let status = self.judge(true, cycles);
-                let next = meas.location;
-                return self.finish(
-                    frame,
-                    t_s,
-                    status,
-                    meas.location,
-                    meas.location,
-                    next,
-                    m,
-                    true,
-                    Some(event),
-                );
-            }
-            let status = if self.ever_locked {
-                self.judge(false, cycles)
-            } else {
-                Status::Lost
-            };
-            let held = self.last_estimate;
-            let empty = Measured::none(region, self.config.edge_threshold);
-            return self.finish(frame, t_s, status, held, held, held, empty, !skip, None);
-        }
-
-        let predicted = self.predict_robust(cycles, ego);
-        let fresh = !self.motion[0].has_information();
-        let viewable = predicted.is_valid()
-            && !Window::around(predicted, self.half_extent_px, &self.config, width, height)
-                .is_empty();
-        if !viewable {
-            // The prediction left the image or stopped being a location: search from the
-            // last trusted location.
-            self.locked = false;
-            self.coast_cycles = self.coast_cycles.max(1);
-            return self.run_robust(image, t_s, frame, 0, None, diagnostics);
-        }
-        let mut m = self.measure(image, predicted, true, diagnostics.as_deref_mut());
-        let mut searched = false;
-        let mut event = None;
-        let reach = self.reach_px();
-        if m.coverage() < SEARCH_BELOW_COVERAGE || !m.trusted(&self.coverage_reference) {
-            // A failed or weak check: search near the prediction, and keep what the search
-            // finds if its outline is clearly better covered.
-            searched = true;
-            let region = self.search_region(Some(predicted), reach, width, height);
-            let s = predicted.scale;
-            let step = 1.0 + MAX_SCALE_STEP;
-            // Only a strong fit will do (REACQUIRE_MIN_COVERAGE, on a peak of coverage).
-            if let Some(found) =
-                self.search_and_measure(image, region, [s / step, s * step], diagnostics)
-            {
-                if found.coverage() > m.coverage() + SEARCH_MARGIN {
-                    if !m.trusted(&self.coverage_reference) && self.coast_cycles > 0 {
-                        event = Some(TrackEvent::Reacquired);
-                    }
-                    m = found;
-                }
-            }
-        }
-        // The innovation gate: a measurement beyond the search's reach, or whose scale moved
-        // by more than MAX_SCALE_STEP a frame, is not the target moving.
-        if let Some(meas) = &m.measurement {
-            let l = meas.location;
-            let frames = 1.0 + self.coast_cycles.min(1) as f64;
-            let jump = (l.c_x - predicted.c_x)
-                .abs()
-                .max((l.c_y - predicted.c_y).abs());
-            let zoom = (l.scale / predicted.scale).ln().abs();
-            let noise = SCALE_NOISE_PX / (self.half_extent_px[0] * predicted.scale).max(1.0);
-            if !fresh && (jump > reach || zoom > frames * (1.0 + MAX_SCALE_STEP).ln() + noise) {
-                m.gain = f64::INFINITY;
-                event = None;
-            }
-        }
-        let trusted = m.trusted(&self.coverage_reference);
-        if trusted {
-            let meas = m.measurement.expect("a trusted measurement exists");
-            let strong = m.passes(REACQUIRE_MIN_COVERAGE, 0.0);
-            self.learn(&meas, predicted, fresh, strong);
-            if strong {
-                self.last_good = meas.location;
-            }
-        }
-        let status = self.judge(trusted, cycles);
-        if status == Status::Lost {
-            self.locked = false;
-        }
-        let next = if trusted {
-            let p = [0, 1, 2].map(|k| {
-                if self.use_fast(k) {
-                    self.banks.fast[k].predict(1.0)
-                } else {
-                    self.motion[k].predict(1.0)
-                }
-            });
-            Location::new(p[0], p[1], p[2])
-        } else {
-            predicted
-        };
-        let estimate = match (&m.measurement, trusted) {
-            (Some(meas), true) => meas.location,
-            _ if status == Status::Lost => self.last_estimate,
-            _ => predicted,
-        };
-        self.finish(
-            frame, t_s, status, predicted, estimate, next, m, searched, event,
-        )
     }
 }

@@ -1,15 +1,15 @@
-//! A target receding beyond the tracker's resolution (issue 37: at 90 km/h with the 8 mm
-//! lens the target 25–40 m ahead). Its parallel features come within ζ of each other in the
-//! image, where association (2.4) can no longer tell them apart, and an estimate reported as
-//! `tracking` there would steer a car with a wild range. Both modes must say so instead: no
-//! frame reported `tracking` while its estimate is off by the closed loop's tolerance, an
-//! `unresolved` event as the features come within ζ
-//! (`Tracker::resolution_px`), and the target reported `tracking` while well resolved.
+//! A target receding beyond the tracker's resolution (at 90 km/h with the 8 mm lens the
+//! target 25–40 m ahead). Its competing parallel features come closer in the image than
+//! stage 1 separates (`tracker::resolvability::EDGE_SEPARATION_PX`), where association (2.4)
+//! can no longer tell them apart, and an estimate reported as `tracking` there would steer a
+//! car with a wild range. Both modes must say so instead: no frame reported `tracking` while
+//! its estimate is off by the closed loop's tolerance, an `unresolved` event as the features
+//! come within the limit, and the target reported `tracking` while well resolved.
 //!
 //! Run with `cargo test -p tracker --release --test receding -- --nocapture` (the figures
 //! go to stderr).
 
-use tracker::robust::alias_spacing;
+use tracker::resolvability::{confusable_spacing, EDGE_SEPARATION_PX};
 use tracker::synth::{draw, nist_ten_segment, Body, SynthScene, Texture};
 use tracker::{
     Camera, GrayView, Location, Status, TrackEvent, Tracker, TrackerConfig, TrackerMode,
@@ -80,11 +80,11 @@ fn a_target_receding_beyond_resolution_is_reported_not_tracked() {
                 };
                 let mut tracker = Tracker::new(model.clone(), camera, config, truth[0]).unwrap();
                 let spacing_1 = {
-                    let [x, y] = alias_spacing(tracker.features());
+                    let [x, y] = confusable_spacing(tracker.features());
                     x.min(y)
                 };
                 let width_1 = tracker.target_width_px();
-                let limit = tracker.resolution_px();
+                let limit = EDGE_SEPARATION_PX;
                 let (mut wild, mut resolved, mut resolved_tracking) = (Vec::new(), 0, 0);
                 let mut unresolved_at_px = None;
                 for (k, at) in truth.iter().enumerate() {

@@ -164,4 +164,10 @@ pub struct FrameRecord {
     /// The gap the chase controller aimed for, metres (its policy, the view limit in bends
     /// and the safe gap; see `vehicle::GapKeeper`).
     pub desired_gap_m: f64,
+    /// A false alarm, the dual of a silent loss: the tracker did not say `tracking`, though
+    /// its estimate was within the ground truth's tolerance ([`FrameRecord::lost_truth`] is
+    /// false) of a target wholly in view and not hidden by scenery. A car that trusts its
+    /// tracker's word brakes for nothing on such a frame.
+    #[serde(default)]
+    pub false_alarm: bool,
 }

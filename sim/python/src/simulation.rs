@@ -55,6 +55,7 @@ pub(crate) fn truth_dict<'py>(py: Python<'py>, r: &FrameRecord) -> PyResult<Boun
     d.set_item("chase_speed_mps", r.chase_speed_mps)?;
     d.set_item("lost", r.lost_truth)?;
     d.set_item("loss_cause", r.loss_cause.as_str())?;
+    d.set_item("false_alarm", r.false_alarm)?;
     d.set_item("collision", r.collision)?;
     d.set_item("lateral_deviation_m", r.lateral_deviation_m)?;
     Ok(d)

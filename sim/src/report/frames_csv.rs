@@ -15,7 +15,7 @@ use super::ReportError;
 use sim_core::FrameRecord;
 
 /// The columns of `frames.csv`, in order. The order is stable: new columns go at the end.
-pub const FRAMES_CSV_COLUMNS: [&str; 41] = [
+pub const FRAMES_CSV_COLUMNS: [&str; 42] = [
     "frame",
     "t_s",
     "true_range_m",
@@ -57,6 +57,7 @@ pub const FRAMES_CSV_COLUMNS: [&str; 41] = [
     "camera_pan_deg",
     "desired_gap_m",
     "target_partly_out_of_view",
+    "false_alarm",
 ];
 
 /// The name of the column after [`FRAMES_CSV_COLUMNS`] holding feature `j`'s σ² (eq. 13),
@@ -197,6 +198,7 @@ impl Row {
             self.num(v);
         }
         self.flag(r.target_partly_out_of_view);
+        self.flag(r.false_alarm);
         for j in 0..features {
             self.num(r.feature_sigma2.get(j).copied().unwrap_or(f64::NAN));
         }
@@ -279,6 +281,7 @@ pub(crate) mod tests {
             loss_cause: sim_core::LossCause::None,
             camera_pan_deg: 0.0,
             desired_gap_m: 10.0,
+            false_alarm: false,
         }
     }
 

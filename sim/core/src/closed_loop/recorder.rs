@@ -107,21 +107,33 @@ impl ClosedLoop {
         // a target partly out of the image but tracked within the tolerance is not lost).
         let lost_truth = wrong(estimate, &truth, width_px, self.target_width_m);
         let world_from_camera = captured.world_from_camera;
+        let status = estimate.map_or(TrackerStatus::Coasting, |e| match e.status {
+            EstimateStatus::Tracking => TrackerStatus::Tracking,
+            EstimateStatus::Coasting => TrackerStatus::Coasting,
+            EstimateStatus::Lost => TrackerStatus::Lost,
+        });
+        // Whether scenery hides the target: asked only where it decides something, a loss's
+        // cause or a false alarm (a target the tracker cannot see is no false alarm).
+        let occluded = || {
+            target_occluded(
+                &self.scene,
+                &captured.input.world_from_chase,
+                &captured.input.world_from_lead,
+                &world_from_camera,
+                captured.input.time_s,
+            )
+        };
         let loss_cause = if !lost_truth {
             LossCause::None
         } else if !truth.in_view {
             LossCause::OutOfView
-        } else if target_occluded(
-            &self.scene,
-            &captured.input.world_from_chase,
-            &captured.input.world_from_lead,
-            &world_from_camera,
-            captured.input.time_s,
-        ) {
+        } else if occluded() {
             LossCause::Occluded
         } else {
             LossCause::Tracker
         };
+        let false_alarm =
+            !lost_truth && status != TrackerStatus::Tracking && truth.in_view && !occluded();
         let cam = world_from_camera.translation.vector;
         let [tx, ty, tz] = truth.target_cam_m;
         let target_world = world_from_camera * nalgebra::Point3::new(tx, ty, tz);
@@ -153,11 +165,7 @@ impl ClosedLoop {
             confidence: track.map_or([f64::NAN; 3], |t| {
                 t.measurement.map_or([0.0; 3], |m| m.confidence)
             }),
-            status: estimate.map_or(TrackerStatus::Coasting, |e| match e.status {
-                EstimateStatus::Tracking => TrackerStatus::Tracking,
-                EstimateStatus::Coasting => TrackerStatus::Coasting,
-                EstimateStatus::Lost => TrackerStatus::Lost,
-            }),
+            status,
             lost_truth,
             gap_m,
             chase_speed_mps: f64::from(chase_state.forward_speed_mps),
@@ -188,6 +196,7 @@ impl ClosedLoop {
             loss_cause,
             camera_pan_deg: captured.input.camera_pan_rad.to_degrees(),
             desired_gap_m: f64::from(desired_gap_m),
+            false_alarm,
         }
     }
 }

@@ -27,4 +27,8 @@ pub struct Expect {
     pub max_range_error_p95_m: Option<f64>,
     /// Most ground-truth tracking-loss events (maximal runs of lost frames) allowed.
     pub max_loss_events: Option<u64>,
+    /// Longest total time the tracker may raise a false alarm, seconds: not say `tracking`
+    /// while its estimate is within the ground truth's tolerance of a target wholly in view
+    /// and not hidden (the dual of a silent loss).
+    pub max_false_alarm_s: Option<f64>,
 }

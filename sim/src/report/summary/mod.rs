@@ -16,7 +16,10 @@
 //! maximal run of consecutive lost frames. The tracker's own `lost` and `coasting`
 //! times are reported beside it, and so is how long after each event's start the tracker
 //! first said it was not tracking (`loss_events`, `max_loss_report_delay_frames`), and how
-//! many lost frames it spent saying `tracking` (`silent_loss_frames`).
+//! many lost frames it spent saying `tracking` (`silent_loss_frames`). Its dual, the
+//! **false alarm**, is a frame the tracker did not say `tracking` though its estimate was
+//! within the tolerance of a target wholly in view and not hidden (`false_alarm_s`,
+//! `longest_false_alarm_frames`).
 //!
 //! **Range error** is `|est_range_m − true_range_m|` over the frames where the target is in view
 //! and not lost by the ground-truth judgement (and the estimate is finite): while the tracker is
@@ -110,6 +113,12 @@ pub struct Summary {
     /// Frames lost by the ground-truth judgement while the tracker said `tracking`: silent
     /// loss, the kind a car that steers by the tracker cannot see.
     pub silent_loss_frames: u64,
+    /// Time the tracker raised a false alarm, seconds: frames it did not say `tracking`
+    /// though its estimate was within the ground truth's tolerance of a target wholly in
+    /// view and not hidden (`FrameRecord::false_alarm`), the dual of silent loss.
+    pub false_alarm_s: f64,
+    /// The longest run of consecutive false-alarm frames (0 without any).
+    pub longest_false_alarm_frames: u64,
     /// Each ground-truth loss event, with how long the tracker took to say so.
     pub loss_events: Vec<LossEvent>,
     /// The longest delay from a ground-truth loss to the tracker's own report, frames
@@ -118,8 +127,9 @@ pub struct Summary {
     /// Frames on which robust mode found the target again by search after coasting or a
     /// loss (or first found it, with no start given), with their times.
     pub reacquired: Vec<TrackerEventTime>,
-    /// Frames on which the tracker found the target beyond its resolution (its parallel
-    /// features closer in the image than ζ: `unresolved` events), with their times.
+    /// Frames on which the tracker found the target beyond its resolution (two parallel
+    /// features that compete for edge points closer in the image than association tells
+    /// apart: `unresolved` events), with their times.
     pub unresolved: Vec<TrackerEventTime>,
     /// Range estimate error while tracked, metres.
     pub range_error_m: RangeError,
@@ -251,7 +261,8 @@ pub struct LateralError {
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Criterion {
     /// Short stable name: `gap_band`, `max_lost`, `max_lateral_deviation`, `no_collision`,
-    /// `min_distance`, `max_range_error_p95`, `max_loss_events` (or `frames_recorded`).
+    /// `min_distance`, `max_range_error_p95`, `max_loss_events`, `max_false_alarm` (or
+    /// `frames_recorded`).
     pub name: String,
     /// Whether it held.
     pub passed: bool,
@@ -427,6 +438,20 @@ fn check(s: &Summary, expect: &Expect) -> Vec<Criterion> {
             value: n as f64,
             limit: allowed as f64,
             message: format!("the target was lost {n} time(s) (allowed {allowed})"),
+        });
+    }
+    if let Some(allowed) = expect.max_false_alarm_s {
+        let t = s.false_alarm_s;
+        out.push(Criterion {
+            name: "max_false_alarm".into(),
+            passed: t <= allowed + TIME_TOLERANCE_S,
+            value: t,
+            limit: allowed,
+            message: format!(
+                "the tracker raised a false alarm (not `tracking`, its estimate within the \
+                 tolerance) for {t:.2} s, {} frames at the longest (allowed {allowed:.2} s)",
+                s.longest_false_alarm_frames
+            ),
         });
     }
     out
@@ -739,6 +764,44 @@ mod tests {
         assert_eq!(
             s.failures,
             ["the run recorded no frames (at least 1 needed)"]
+        );
+    }
+
+    #[test]
+    fn false_alarms_are_timed_with_their_longest_run_and_judged() {
+        let mut rs = run(30);
+        for i in [3, 4, 5, 10, 20, 21] {
+            rs[i].false_alarm = true;
+        }
+        let expect = Expect {
+            max_false_alarm_s: Some(0.3),
+            ..Expect::default()
+        };
+        let s = Summary::compute("x", 1, &rs, &expect, 1.0);
+        let period = frame_period(&rs);
+        assert!(
+            (s.false_alarm_s - 6.0 * period).abs() < 1e-9,
+            "{}",
+            s.false_alarm_s
+        );
+        assert_eq!(s.longest_false_alarm_frames, 3);
+        let c = &s.criteria[0];
+        assert_eq!(c.name, "max_false_alarm");
+        assert!(!c.passed, "0.4 s of false alarm passed a 0.3 s limit");
+        assert!(
+            c.message.contains("3 frames at the longest"),
+            "{}",
+            c.message
+        );
+        let loose = Expect {
+            max_false_alarm_s: Some(0.4),
+            ..Expect::default()
+        };
+        assert!(Summary::compute("x", 1, &rs, &loose, 1.0).passed);
+        let none = Summary::compute("x", 1, &run(30), &expect, 1.0);
+        assert_eq!(
+            (none.false_alarm_s, none.longest_false_alarm_frames),
+            (0.0, 0)
         );
     }
 

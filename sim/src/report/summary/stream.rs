@@ -71,7 +71,8 @@ const PARTLY_OUT: usize = 7;
 const GAP: usize = 8;
 const LATERAL: usize = 9;
 const DURATION: usize = 10;
-const SLOTS: usize = 11;
+const FALSE_ALARM: usize = 11;
+const SLOTS: usize = 12;
 
 /// Time-weighted sums: over frames of known step, and over frames that stand for a period.
 #[derive(Clone, Debug, Default)]
@@ -158,11 +159,13 @@ impl LossEvents {
     }
 }
 
-/// Maximal runs of `true`, counted as they come.
+/// Maximal runs of `true`, counted as they come, with the longest run's length in frames.
 #[derive(Clone, Copy, Debug, Default)]
 struct RunCount {
     count: u64,
     previous: bool,
+    current: u64,
+    longest: u64,
 }
 
 impl RunCount {
@@ -170,6 +173,8 @@ impl RunCount {
         if f && !self.previous {
             self.count += 1;
         }
+        self.current = if f { self.current + 1 } else { 0 };
+        self.longest = self.longest.max(self.current);
         self.previous = f;
     }
 }
@@ -206,6 +211,7 @@ pub struct SummaryBuilder {
     lateral_max: f64,
     lost_runs: RunCount,
     collision_runs: RunCount,
+    false_alarm_runs: RunCount,
     loss_events: LossEvents,
     whole_in_view: u64,
     imprecise: u64,
@@ -231,6 +237,7 @@ impl SummaryBuilder {
             lateral_max: 0.0,
             lost_runs: RunCount::default(),
             collision_runs: RunCount::default(),
+            false_alarm_runs: RunCount::default(),
             loss_events: LossEvents::default(),
             whole_in_view: 0,
             imprecise: 0,
@@ -270,6 +277,7 @@ impl SummaryBuilder {
         values[GAP] = r.gap_m;
         values[LATERAL] = r.lateral_deviation_m.abs();
         values[DURATION] = 1.0;
+        values[FALSE_ALARM] = f64::from(u8::from(r.false_alarm));
         if let Some(p) = self.pending.replace(Pending { t_s: r.t_s, values }) {
             let dt = r.t_s - p.t_s;
             self.weigh(p, (dt.is_finite() && dt > 0.0).then_some(dt));
@@ -280,6 +288,7 @@ impl SummaryBuilder {
         self.lateral_max = self.lateral_max.max(r.lateral_deviation_m.abs());
         self.lost_runs.push(r.lost_truth);
         self.collision_runs.push(r.collision);
+        self.false_alarm_runs.push(r.false_alarm);
         self.loss_events.push(r);
         if r.target_in_view {
             self.whole_in_view += 1;
@@ -386,6 +395,8 @@ impl SummaryBuilder {
             tracker_lost_s: time(SAYS_LOST),
             tracker_coasting_s: time(SAYS_COASTING),
             silent_loss_frames: self.silent_loss_frames,
+            false_alarm_s: time(FALSE_ALARM),
+            longest_false_alarm_frames: self.false_alarm_runs.longest,
             max_loss_report_delay_frames: loss_events
                 .iter()
                 .map(|e| e.report_delay_frames.unwrap_or(e.frames))

@@ -24,6 +24,7 @@ pub(super) fn expect(x: &Expect, f: &Blame) -> Result<(), ScenarioError> {
         ("expect.max_lateral_deviation_m", x.max_lateral_deviation_m),
         ("expect.min_distance_m", x.min_distance_m),
         ("expect.max_range_error_p95_m", x.max_range_error_p95_m),
+        ("expect.max_false_alarm_s", x.max_false_alarm_s),
     ] {
         if let Some(v) = v {
             f.at(field, check(v.is_finite() && v >= 0.0, "must be ≥ 0", v))?;
