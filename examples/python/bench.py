@@ -21,7 +21,8 @@ random actions:
   ``Simulation.step()``, since ``run()`` renders only what the tracker reads);
 - a reset of each environment, in milliseconds (median of five).
 
-It prints each round and the medians, and the ratios the README quotes.
+It prints each round and the medians, and the ratios the book quotes
+(docs/src/results/python-speed.md).
 """
 
 from __future__ import annotations

@@ -1,6 +1,7 @@
 //! The one simulation clock: a whole number of fixed physics steps.
 //!
-//! Times are step counts turned into seconds, never accumulated floats (DESIGN.md, "one clock").
+//! Times are step counts turned into seconds, never accumulated floats (`docs/src/conventions.md`,
+//! "One clock").
 
 use serde::{Deserialize, Serialize};
 

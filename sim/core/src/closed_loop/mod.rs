@@ -1,4 +1,4 @@
-//! The closed loop (DESIGN.md, "One camera frame"): every 1/15 s the camera renders a frame,
+//! The closed loop (ARCHITECTURE.md, "Bird's-eye view"): every 1/15 s the camera renders a frame,
 //! the tracker processes it, its 3-D estimate enters the delay line, and the controllers
 //! drive both vehicles through eight 120 Hz physics steps.
 //!

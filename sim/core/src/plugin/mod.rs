@@ -1,4 +1,4 @@
-//! Where others plug in (DESIGN.md, "Where others plug in"): a [`FrameTracker`] stands
+//! Where others plug in (ARCHITECTURE.md, "The plug-in boundary"): a [`FrameTracker`] stands
 //! where the paper's tracker stands, a [`Controller`] where the built-in chase controller
 //! stands, and the loop keeps everything else: the clock, the camera, the delay line with
 //! its latency, jitter and drops, the physics, and the scoring against ground truth.

@@ -1,4 +1,5 @@
-//! Named, independent random streams split from one seed (DESIGN.md, "Randomness").
+//! Named, independent random streams split from one seed (`docs/src/conventions.md`,
+//! "Randomness and seeds").
 //!
 //! Each consumer (tree placement, pole placement, sensor noise, ...) draws from its own
 //! ChaCha8 stream, selected by hashing the stream's name, so adding clutter of one kind never
