@@ -163,3 +163,26 @@ fn a_shadow_distractor_puts_its_edge_at_the_offset() {
         3.0 * scale
     );
 }
+
+/// A negative `--time` reaches the validator (exit 2, one line), as `--time=-1` does,
+/// rather than clap's advice; a time between two frames of a run says which frame it
+/// rendered.
+#[test]
+fn a_negative_time_is_refused_and_a_time_between_frames_is_said() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("f.png");
+    for time in [&["--time", "-1"][..], &["--time=-1"][..]] {
+        let mut args = vec![weave()];
+        args.extend(time.iter().map(|s| s.to_string()));
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let done = render(&out, &args);
+        let err = String::from_utf8_lossy(&done.stderr);
+        assert_eq!(done.status.code(), Some(2), "{err}");
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+        assert!(err.contains("--time must be"), "{err}");
+    }
+    let done = render(&out, &[&weave(), "--time", "0.03"]);
+    let err = String::from_utf8_lossy(&done.stderr);
+    assert!(done.status.success(), "{err}");
+    assert!(err.contains("rendering frame 0, t = 0.000 s"), "{err}");
+}

@@ -395,6 +395,36 @@ fn summary_json_records_versions_overrides_and_the_resolved_scenario() {
     );
     assert_eq!(r["camera"]["mount"]["forward_m"], 2.2);
     assert!(r["chase"]["controller"]["half_fov_deg"].as_f64().unwrap() > 21.0);
+    // The tracker's, the loop's and the sensor's defaults too.
+    assert_eq!(r["tracker"]["mode"], "paper");
+    assert_eq!(r["tracker"]["delta_deg"], 15.0);
+    assert_eq!(r["loop"]["rate_hz"], 15.0);
+    assert_eq!(r["loop"]["latency_ms"], 128.0);
+    assert!(r["environment"]["sensor"]["noise_sigma_grey"].is_number());
+    // Every field is filled but the optional parts that are off: the sensor's effects, a
+    // chase speed profile (the gap keeper drives) and the bumps (a flat road).
+    let mut nulls = Vec::new();
+    fn walk(v: &serde_json::Value, at: &str, out: &mut Vec<String>) {
+        match v {
+            serde_json::Value::Null => out.push(at.to_string()),
+            serde_json::Value::Object(m) => {
+                for (k, x) in m {
+                    walk(x, &format!("{at}.{k}"), out);
+                }
+            }
+            _ => {}
+        }
+    }
+    walk(r, "", &mut nulls);
+    let effects = [
+        ".environment.sensor.blur_sigma_px",
+        ".environment.sensor.shot_noise_full_well_e",
+        ".environment.sensor.auto_gain",
+        ".chase.speed_profile",
+        ".environment.bumps",
+    ];
+    nulls.retain(|n| !effects.contains(&n.as_str()));
+    assert!(nulls.is_empty(), "left null: {nulls:?}");
     if let Some(commit) = s.get("git_commit") {
         assert_eq!(commit.as_str().unwrap().len(), 40, "{commit}");
     }
@@ -652,4 +682,26 @@ fn a_closed_stdout_is_no_failure() {
     assert!(matches!(out.status.code(), Some(0 | 1)), "{stderr}");
     assert!(!stderr.contains("panicked"), "{stderr}");
     assert!(dir.path().join("summary.json").is_file());
+}
+
+/// A `--set` that cannot apply is the command's error, said once, not a count of invalid
+/// files; files that are invalid are counted, with the noun agreeing.
+#[test]
+fn check_says_a_bad_set_once_and_counts_bad_files() {
+    let out = carfollow(&["check", &scenario("nist-grounds.toml"), "--set", "bogus=1"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(
+        err.contains("--set bogus=1") && !err.contains("invalid"),
+        "{err}"
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("bad.toml");
+    std::fs::write(&bad, "name = \"x\"\nduration_s = 5.0\nduration_s = 6.0\n").unwrap();
+    let out = carfollow(&["check", bad.to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(err.contains(":3:1: duplicate key `duration_s`"), "{err}");
+    assert!(err.contains("1 of 1 scenario file is invalid"), "{err}");
 }

@@ -246,8 +246,8 @@ fn robust_mode_reacquires_after_a_misplaced_start_and_the_chase_follows() {
 }
 
 /// `highway-90` with the paper's 8 mm lens: at 25 m the target is 28 px wide, its
-/// horizontal features 3.2 px apart, below the ζ = 4 px the tracker resolves
-/// (`Tracker::resolution_px`). Each mode must say so (no more than 15
+/// horizontal features 3.2 px apart, near the 3 px at which stage 1 merges them and within
+/// the prediction's error at speed (`tracker::resolvability`). Each mode must say so (no more than 15
 /// frames of silent loss, and no frame of `tracking` more than 15 frames into the truth's
 /// loss), and the chase must then stop under control (the loss's 3.5 m/s²,
 /// `loss_decel_mps2`), never braking fully: the lead drives on at 90 km/h, so no real

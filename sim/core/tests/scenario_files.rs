@@ -619,11 +619,32 @@ fn a_set_on_a_table_without_defaults_says_what_to_write() {
     assert_eq!(s.chase.lookahead.min_m, 3.0);
 }
 
+/// A lead whose speed profile drives it past the route's end is valid (it stops there), and
+/// warned of with the distance against the route's length.
+#[test]
+fn a_lead_driven_past_the_roads_end_is_warned_of() {
+    let s = load(&text(), &["duration_s=10000"]).unwrap();
+    let w = s.warnings();
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert!(
+        w[0].contains("beyond the route's") && w[0].contains("stop at the road's end"),
+        "{w:?}"
+    );
+}
+
 /// A lead faster than the chase's gap keeper will drive is valid, and warned of, naming
 /// both fields; no shipped scenario is.
 #[test]
 fn a_lead_faster_than_the_gap_keeper_is_warned_of() {
-    let s = load(&text(), &["lead.speed_profile=[[0.0, 8.0], [20.0, 25.0]]"]).unwrap();
+    // 40 s, so that the lead stays on the route's 1160 m.
+    let s = load(
+        &text(),
+        &[
+            "lead.speed_profile=[[0.0, 8.0], [20.0, 25.0]]",
+            "duration_s=40",
+        ],
+    )
+    .unwrap();
     let w = s.warnings();
     assert_eq!(w.len(), 1, "{w:?}");
     assert!(
@@ -636,6 +657,7 @@ fn a_lead_faster_than_the_gap_keeper_is_warned_of() {
         &[
             "lead.speed_profile=[[0.0, 8.0], [20.0, 25.0]]",
             "chase.controller.gap_keeper.max_speed_mps=30",
+            "duration_s=40",
         ],
     )
     .unwrap();
@@ -644,4 +666,16 @@ fn a_lead_faster_than_the_gap_keeper_is_warned_of() {
         let s = Scenario::shipped(name, &[]).unwrap().unwrap();
         assert!(s.warnings().is_empty(), "{name}: {:?}", s.warnings());
     }
+}
+
+/// A key given twice is named, at the line of its second use.
+#[test]
+fn a_duplicate_key_is_named() {
+    let text = text().replacen(
+        "duration_s = 90.0",
+        "duration_s = 90.0\nduration_s = 60.0",
+        1,
+    );
+    let e = load(&text, &[]).unwrap_err().to_string();
+    assert!(e.contains(":12:1: duplicate key `duration_s`"), "{e}");
 }

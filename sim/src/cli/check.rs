@@ -1,7 +1,7 @@
 //! `carfollow check`: validate scenario files without running them.
 
 use clap::Args;
-use sim_core::{Plan, Scenario};
+use sim_core::{Plan, Scenario, ScenarioError};
 use std::path::PathBuf;
 
 /// Arguments of `carfollow check`.
@@ -41,6 +41,9 @@ pub fn run_check(args: CheckArgs) -> anyhow::Result<()> {
     for path in &args.scenarios {
         match Plan::load(path, &args.set) {
             Ok(plan) => ok(&path.display().to_string(), plan.scenario()),
+            // A `--set` that cannot apply is the command's error, not the file's: said once
+            // (by `main`), with no count of invalid files.
+            Err(e @ ScenarioError::Override { .. }) => return Err(e.into()),
             Err(e) => {
                 eprintln!("error: {e}");
                 bad += 1;
@@ -48,10 +51,9 @@ pub fn run_check(args: CheckArgs) -> anyhow::Result<()> {
         }
     }
     if bad > 0 {
-        anyhow::bail!(
-            "{bad} of {} scenario files are invalid",
-            args.scenarios.len()
-        );
+        let files = args.scenarios.len();
+        let noun = if files == 1 { "file is" } else { "files are" };
+        anyhow::bail!("{bad} of {files} scenario {noun} invalid");
     }
     Ok(())
 }

@@ -32,6 +32,13 @@ pub const SWEEP_HELP: &str = "Exit status: 0 when every point ran (whether or no
                               before anything runs), 3 when a point could not run or a merge \
                               has points missing.";
 
+/// The exit statuses of the tools that run no scenario (`render`, `track`, `target`,
+/// `synth`) as `--help` shows them.
+pub const TOOL_HELP: &str = "Exit status: 0 when it ran, 2 on bad input (arguments, scenario, \
+                             target or image files, found before anything is written or, for \
+                             frames, as they are read, keeping what was written), 3 when an \
+                             output could not be written.";
+
 /// An error that stopped a run part-way (renderer, worker process, I/O): exit status 3,
 /// where other errors are bad input (2).
 #[derive(Debug, Error)]

@@ -11,6 +11,7 @@ use std::path::PathBuf;
 /// Arguments of `carfollow render`.
 #[derive(Args, Debug)]
 #[command(
+    after_help = super::exit::TOOL_HELP,
     about = "Render one camera frame (256×242 grey PNG) at time T",
     long_about = "Render one frame of what the chase vehicle's camera sees at time T, with sun \
                   shadows, clutter and sensor noise, and print the target's ground truth.\n\n\
@@ -23,8 +24,8 @@ pub struct RenderArgs {
     /// Scenario file: the frame at --time of its closed-loop run (the loop runs up to it).
     /// Without one, the built-in scene.
     pub scenario: Option<PathBuf>,
-    /// Simulation time of the frame, seconds.
-    #[arg(long, default_value_t = 0.0)]
+    /// Simulation time of the frame, seconds (the nearest camera frame's, at 15 Hz).
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
     pub time: f64,
     /// Where to write the PNG.
     #[arg(long, default_value = "frame.png")]
@@ -125,6 +126,15 @@ fn render_scenario(path: &std::path::Path, args: &RenderArgs) -> anyhow::Result<
             scenario.name,
             frames.saturating_sub(1) as f64 / FRAME_RATE_HZ,
             scenario.duration_s
+        );
+    }
+    // A run has frames only every 1/15 s: say which one stands for a time between them.
+    let at = wanted as f64 / FRAME_RATE_HZ;
+    if (at - args.time).abs() > 1e-9 {
+        eprintln!(
+            "note: --time {} s falls between the run's camera frames (15 Hz): rendering frame \
+             {wanted}, t = {at:.3} s",
+            args.time
         );
     }
     let backend = Backend::choose(args.backend.as_deref())?;

@@ -186,7 +186,7 @@ pub fn run_sweep(args: SweepArgs) -> anyhow::Result<ExitCode> {
     let jobs = args.jobs.unwrap_or_else(cores);
     if !args.quiet {
         eprintln!(
-            "{}: {} points{}, {} already done, {} to run on {} jobs; results in {}",
+            "{}: {} points{}, {} already done, {} to run on {} job{}; results in {}",
             file.display(),
             points.len(),
             args.shard.map_or(String::new(), |s| format!(
@@ -196,6 +196,7 @@ pub fn run_sweep(args: SweepArgs) -> anyhow::Result<ExitCode> {
             points.len() - todo.len(),
             todo.len(),
             jobs,
+            if jobs == 1 { "" } else { "s" },
             results.display()
         );
     }

@@ -12,6 +12,7 @@ use tracker::{Camera, Location};
 /// Arguments of `carfollow synth`.
 #[derive(Args, Debug)]
 #[command(
+    after_help = super::exit::TOOL_HELP,
     about = "Write a synthetic 256×242 frame sequence of a target (PNG) and its truth.csv",
     long_about = "Draws the target, moving smoothly in position and scale, into OUT_DIR as \
                   frame_0000.png, frame_0001.png, ... with truth.csv (frame,cx,cy,scale). \

@@ -10,7 +10,10 @@ use tracker::{Camera, Location};
 
 /// Arguments of `carfollow target`.
 #[derive(Args, Debug)]
-#[command(about = "Check a target model file, list its features, and draw it as painted (PNG)")]
+#[command(
+    about = "Check a target model file, list its features, and draw it as painted (PNG)",
+    after_help = super::exit::TOOL_HELP
+)]
 pub struct TargetArgs {
     /// Target model file (TOML).
     pub target: PathBuf,

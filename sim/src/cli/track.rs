@@ -12,6 +12,7 @@ use tracker::{TrackerConfig, TrackerMode};
 /// Arguments of `carfollow track`.
 #[derive(Args, Debug)]
 #[command(
+    after_help = super::exit::TOOL_HELP,
     about = "Run the tracker on a folder of frames (PNG or PGM), or replay a recording (run.mcap)",
     long_about = "Run the paper's tracker (stages 1-8) over every PNG or PGM in FRAMES_DIR, \
                   sorted by name, converting colour to grey. Writes one CSV row per frame as \

@@ -422,9 +422,17 @@ fn padded_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
     ((lo - pad).max(floor), hi + pad)
 }
 
-/// A tick label: at most three decimals, no trailing zeros, no "-0".
+/// A tick label: at most three decimals (two significant digits under 0.001), no trailing
+/// zeros, no "-0".
 pub(crate) fn tick(v: &f64) -> String {
-    let t = format!("{v:.3}");
+    // Three decimals, or for a tick under 0.001 (an axis of small values: 0.0004 m) two
+    // significant digits, so that no tick of a small axis reads 0.
+    let decimals = if *v != 0.0 && v.abs() < 1e-3 && v.is_finite() {
+        (-v.abs().log10()).ceil() as usize + 1
+    } else {
+        3
+    };
+    let t = format!("{v:.decimals$}");
     let t = t.trim_end_matches('0').trim_end_matches('.');
     if t == "-0" {
         "0".into()
@@ -801,6 +809,17 @@ fn draw_legend<'a, 'b: 'a, X: Ranged, Y: Ranged>(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn ticks_follow_the_magnitude_of_small_values() {
+        assert_eq!(tick(&0.0004), "0.0004");
+        assert_eq!(tick(&0.00045), "0.00045");
+        assert_eq!(tick(&-0.0002), "-0.0002");
+        assert_eq!(tick(&0.0), "0");
+        assert_eq!(tick(&-0.0), "0");
+        assert_eq!(tick(&0.30000000000000004), "0.3");
+        assert_eq!(tick(&12.5), "12.5");
+    }
 
     /// Frame `i` of a run at 15 Hz: a gap and a deviation that wander, tracking on target.
     fn frame(i: u64) -> PlotRow {

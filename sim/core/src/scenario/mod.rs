@@ -302,7 +302,16 @@ pub fn from_toml_naming_field<T: serde::de::DeserializeOwned>(
     text: &str,
 ) -> Result<T, (toml::de::Error, String)> {
     let de = toml::Deserializer::parse(text).map_err(|e| {
-        let message = e.message().trim().to_string();
+        let mut message = e.message().trim().to_string();
+        // toml says "duplicate key" and points at it: name it.
+        if message == "duplicate key" {
+            if let Some(key) = e.span().and_then(|span| text.get(span)) {
+                let key = key.trim();
+                if !key.is_empty() && !key.contains('\n') {
+                    message = format!("duplicate key `{key}`");
+                }
+            }
+        }
         (e, message)
     })?;
     serde_path_to_error::deserialize(de).map_err(|e| {
@@ -400,8 +409,46 @@ impl Scenario {
             "/environment/road/surface",
             json!(self.road_surface.as_str()),
         );
+        self.fill_tracker_loop_and_sensor(&mut v);
         shortest_f32(&mut v);
         v
+    }
+
+    /// [`Scenario::resolved_json`]'s defaults of `[tracker]`, `[loop]` and
+    /// `[environment.sensor]` (the sensor's optional effects stay `null` when off).
+    fn fill_tracker_loop_and_sensor(&self, v: &mut serde_json::Value) {
+        use serde_json::json;
+        let t = &self.tracker;
+        for (name, value) in [
+            ("lambda", json!(t.lambda)),
+            ("delta_deg", json!(t.delta_deg)),
+            ("zeta_px", json!(t.zeta_px)),
+            ("edge_threshold", json!(t.edge_threshold)),
+            ("lost_after_s", json!(t.lost_after_s)),
+            ("subpixel_edges", json!(t.subpixel_edges)),
+            ("mode", json!(t.mode.as_str())),
+            ("init_offset", json!(self.init_offset)),
+        ] {
+            fill_null(v, &format!("/tracker/{name}"), value);
+        }
+        let d = &self.delay;
+        for (name, value) in [
+            ("rate_hz", json!(t.rate_hz)),
+            ("latency_ms", json!(d.latency_ms)),
+            ("jitter_ms", json!(d.jitter_ms)),
+            ("drop_probability", json!(d.drop_probability)),
+        ] {
+            fill_null(v, &format!("/loop/{name}"), value);
+        }
+        let s = &self.sensor;
+        for (name, value) in [
+            ("gain", json!(s.gain)),
+            ("noise_sigma_grey", json!(s.noise_sigma_grey)),
+            ("vignetting", json!(s.vignetting)),
+            ("interlaced", json!(s.interlaced)),
+        ] {
+            fill_null(v, &format!("/environment/sensor/{name}"), value);
+        }
     }
 
     /// Reads a scenario file and applies `--set` overrides.
@@ -446,7 +493,40 @@ impl Scenario {
                  the chase will drive): the gap can only open while the lead is faster"
             ));
         }
+        if let Some(warning) = self.lead_beyond_the_road() {
+            out.push(warning);
+        }
         out
+    }
+
+    /// A warning when the lead's speed profile, driven from `lead.start_m` for the whole
+    /// of `duration_s`, would take it past the route's end, where it stops: the distance it
+    /// drives (the profile integrated in steps of 1/20 s) against the route's length.
+    fn lead_beyond_the_road(&self) -> Option<String> {
+        const DT_S: f64 = 0.05;
+        let length = validate::route_length_m(&self.route);
+        let room = length - self.lead_start_m;
+        let profile = &self.lead_profile;
+        let (mut t, mut d) = (0.0_f64, 0.0_f64);
+        let mut end_t = None;
+        while t < self.duration_s {
+            let key = match profile.basis {
+                vehicle::ProfileBasis::Time => t,
+                vehicle::ProfileBasis::Distance => d,
+            };
+            d += f64::from(profile.speed_at(key as f32)) * DT_S;
+            t += DT_S;
+            if d > room && end_t.is_none() {
+                end_t = Some(t);
+            }
+        }
+        let end_t = end_t?;
+        Some(format!(
+            "`lead.speed_profile` drives about {d:.0} m in the {} s of `duration_s` from \
+             `lead.start_m` = {} m, beyond the route's {length:.0} m: the lead will stop at \
+             the road's end, at about {end_t:.0} s",
+            self.duration_s, self.lead_start_m
+        ))
     }
 
     /// The built-in `nist-grounds`, with `--set` overrides.

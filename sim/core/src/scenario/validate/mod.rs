@@ -13,6 +13,8 @@ mod lead;
 mod route;
 mod tracking;
 
+pub(crate) use route::length_m as route_length_m;
+
 use super::{Scenario, ScenarioError, ScenarioFile};
 use tracker::TargetModel;
 use vehicle::WorldConfig;

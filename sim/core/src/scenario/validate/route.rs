@@ -70,17 +70,7 @@ pub(super) fn route(r: &RouteFile, f: &Blame) -> Result<(RouteSpec, f64), Scenar
         intersections_m: r.intersections_m.clone(),
         lane_width_m: r.lane_width_m,
     };
-    let length: f64 = route
-        .segments
-        .iter()
-        .map(|s| match s {
-            RouteSegment::Straight { length_m } => *length_m,
-            RouteSegment::Arc {
-                radius_m,
-                angle_deg,
-            } => radius_m * angle_deg.abs().to_radians(),
-        })
-        .sum();
+    let length = length_m(&route);
     f.at(
         "route.segments",
         check(
@@ -100,4 +90,19 @@ pub(super) fn route(r: &RouteFile, f: &Blame) -> Result<(RouteSpec, f64), Scenar
         )?;
     }
     Ok((route, length))
+}
+
+/// The length of a route's centreline, metres.
+pub(crate) fn length_m(route: &RouteSpec) -> f64 {
+    route
+        .segments
+        .iter()
+        .map(|s| match s {
+            RouteSegment::Straight { length_m } => *length_m,
+            RouteSegment::Arc {
+                radius_m,
+                angle_deg,
+            } => radius_m * angle_deg.abs().to_radians(),
+        })
+        .sum()
 }
