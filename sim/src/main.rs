@@ -54,6 +54,12 @@ enum Commands {
     Target(cli::target::TargetArgs),
     /// Write a synthetic frame sequence of a target, with its ground truth.
     Synth(cli::synth::SynthArgs),
+    /// Print the scenario format's JSON Schema (for editors that check TOML against one).
+    #[command(
+        after_help = "Writes scenarios/carfollow-scenario.schema.json's text to stdout. Exit \
+                      status: 0."
+    )]
+    Schema,
     /// A sweep's worker process (started by `carfollow sweep`).
     #[command(hide = true)]
     SweepWorker(cli::sweep::SweepWorkerArgs),
@@ -73,6 +79,10 @@ fn main() -> ExitCode {
         Commands::Track(args) => cli::track::run_track(args).map(|()| ExitCode::SUCCESS),
         Commands::Target(args) => cli::target::run_target(args).map(|()| ExitCode::SUCCESS),
         Commands::Synth(args) => cli::synth::run_synth(args).map(|()| ExitCode::SUCCESS),
+        Commands::Schema => {
+            say!("{}", sim_core::scenario_schema_json().trim_end());
+            Ok(ExitCode::SUCCESS)
+        }
         Commands::SweepWorker(args) => cli::sweep::run_sweep_worker(args),
         Commands::RenderWorker(args) => cli::render_worker::run_render_worker(args),
     };

@@ -3,7 +3,7 @@
 use serde::{Deserialize, Serialize};
 
 /// How fast and how far one actuator can move.
-#[derive(Copy, Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Copy, Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct ActuatorLimits {
     /// Lowest value (units of the actuator: radians for steering, 0..1 for pedals).
     pub min: f32,

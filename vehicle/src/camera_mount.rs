@@ -9,7 +9,7 @@ use rapier3d::math::{Mat3, Pose, Rotation, Vector};
 use serde::{Deserialize, Serialize};
 
 /// The camera's mounting on the chassis.
-#[derive(Copy, Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Copy, Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct CameraMount {
     /// Distance of the camera ahead of the rear axle, m (default 2.2 m: above the HMMWV's

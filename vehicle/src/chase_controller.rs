@@ -63,7 +63,7 @@ fn max_curvature(path: &[Vector], chord_m: f32) -> f32 {
 }
 
 /// How the chase vehicle chooses its speed.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case", tag = "mode")]
 pub enum SpeedMode {
     /// Keep the gap to the lead (the gap keeper).
@@ -83,7 +83,7 @@ pub const MIN_HALF_FOV_DEG: f64 = 1e-3;
 pub const MAX_HALF_FOV_DEG: f64 = 89.9;
 
 /// The chase controller's configuration.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct ChaseControllerConfig {
     /// Where the camera sits on the chase vehicle.
@@ -205,7 +205,7 @@ pub struct Odometry {
 }
 
 /// What the chase controller is doing.
-#[derive(Copy, Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum ChaseMode {
     /// Following the lead.

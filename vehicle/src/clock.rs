@@ -16,7 +16,18 @@ pub const PHYSICS_DT_S: f32 = 1.0 / PHYSICS_HZ as f32;
 
 /// A point on the simulation clock, counted in physics steps since the start.
 #[derive(
-    Copy, Clone, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize,
+    Copy,
+    Clone,
+    Debug,
+    Default,
+    PartialEq,
+    Eq,
+    PartialOrd,
+    Ord,
+    Hash,
+    Serialize,
+    Deserialize,
+    schemars::JsonSchema,
 )]
 pub struct Step(pub u64);
 

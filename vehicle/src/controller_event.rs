@@ -4,7 +4,7 @@ use crate::clock::Step;
 use serde::{Deserialize, Serialize};
 
 /// What happened.
-#[derive(Copy, Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Copy, Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case", tag = "kind")]
 pub enum ControllerEventKind {
     /// The tracker reported the lead lost: braking to a stop.
@@ -31,7 +31,7 @@ pub enum ControllerEventKind {
 }
 
 /// One event with its time.
-#[derive(Copy, Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Copy, Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct ControllerEvent {
     /// When it happened.
     pub step: Step,

@@ -5,7 +5,7 @@ use serde::{Deserialize, Serialize};
 /// Commands for one vehicle: what a driver (human or controller) asks of the actuators.
 ///
 /// The actuators then apply their rate limits and lag before the wheels see them.
-#[derive(Copy, Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Copy, Clone, Debug, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Controls {
     /// Road-wheel steering angle of the equivalent bicycle model, radians; positive turns left
     /// (counter-clockwise seen from above, a positive rotation about the world's +y).

@@ -30,7 +30,7 @@ use crate::error::{check_range, VehicleError};
 use serde::{Deserialize, Serialize};
 
 /// How the wanted gap is chosen.
-#[derive(Copy, Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Copy, Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case", tag = "policy", deny_unknown_fields)]
 pub enum GapPolicy {
     /// The same gap at every speed.
@@ -63,7 +63,7 @@ pub enum GapPolicy {
 const IDM_EXPONENT: i32 = 4;
 
 /// The gap keeper's tuning.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct GapKeeperConfig {
     /// How the wanted gap is chosen (default: a constant time gap of 0.4 s on a 6 m

@@ -17,7 +17,7 @@ const BUMP_WAVES: usize = 4;
 const BUMP_FADE_M: f32 = 10.0;
 
 /// The ground's shape.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct GroundConfig {
     /// Half the side of the flat square ground, m (default 2,000 m: room for any route).
@@ -36,7 +36,7 @@ impl Default for GroundConfig {
 }
 
 /// Gentle bumps over a square patch centred on the world origin.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct BumpsConfig {
     /// Largest bump height, m (default 0.08 m: the chassis visibly pitches and rolls a few

@@ -22,7 +22,7 @@ const PREVIEW_MARGIN_M: f32 = 5.0;
 const END_MARGIN_M: f32 = 2.0;
 
 /// The lead driver's tuning.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct LeadDriverConfig {
     /// Pure-pursuit look-ahead.

@@ -6,7 +6,7 @@ use rapier3d::math::Vector;
 use serde::{Deserialize, Serialize};
 
 /// The tracker's status for one frame.
-#[derive(Copy, Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum TrackStatus {
     /// The target was measured in this frame.

@@ -9,7 +9,7 @@ use rapier3d::math::{Pose, Vector};
 use serde::{Deserialize, Serialize};
 
 /// A speed-dependent look-ahead distance: `clamp(base_m + gain_s · speed, min_m, max_m)`.
-#[derive(Copy, Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Copy, Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct LookAhead {
     /// Look-ahead at standstill, m.

@@ -14,7 +14,7 @@ const STANDSTILL_MPS: f32 = 0.3;
 const HOLD_BRAKE: f32 = 0.4;
 
 /// Gains of the speed loop.
-#[derive(Copy, Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Copy, Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SpeedGains {
     /// Acceleration asked per m/s of speed error, 1/s (2 /s: half a second to close an error,

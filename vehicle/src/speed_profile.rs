@@ -4,7 +4,7 @@ use crate::error::VehicleError;
 use serde::{Deserialize, Serialize};
 
 /// What a speed profile's keys measure.
-#[derive(Copy, Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum ProfileBasis {
     /// Keys are seconds since the start.
@@ -19,7 +19,7 @@ pub const MAX_SPEED_MPS: f32 = 40.0;
 pub const MAX_KEY: f32 = 1e7;
 
 /// One knot of a speed profile.
-#[derive(Copy, Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Copy, Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SpeedKnot {
     /// Seconds or metres, by the profile's basis.
@@ -32,7 +32,7 @@ pub struct SpeedKnot {
 ///
 /// A step (two knots at nearly the same key) is how hard braking is scripted: the speed
 /// controller then brakes as hard as the vehicle can.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SpeedProfile {
     /// What the keys measure.

@@ -13,7 +13,7 @@ pub const GRAVITY_MPS2: f32 = 9.81;
 pub const AIR_DENSITY_KGPM3: f32 = 1.225;
 
 /// Physical parameters of a four-wheeled ray-cast vehicle. All lengths in metres.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct VehicleParams {
     /// Total mass, kg.

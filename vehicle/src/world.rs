@@ -18,7 +18,7 @@ const GROUND_SLAB_M: f32 = 1.0;
 pub struct VehicleId(usize);
 
 /// The physics world's configuration.
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct WorldConfig {
     /// The ground's shape.

@@ -677,5 +677,5 @@ fn a_duplicate_key_is_named() {
         1,
     );
     let e = load(&text, &[]).unwrap_err().to_string();
-    assert!(e.contains(":12:1: duplicate key `duration_s`"), "{e}");
+    assert!(e.contains(":13:1: duplicate key `duration_s`"), "{e}");
 }

@@ -4,7 +4,7 @@ use serde::{Deserialize, Serialize};
 
 /// The pass/fail criteria of a scenario (`[expect]`). A criterion left out is not checked.
 /// Every limit must be finite and at least 0; a gap band's minimum below its maximum.
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Expect {
     /// The following distance must stay within this band, metres `[min, max]`, except for

@@ -11,7 +11,7 @@ use vehicle::{BumpsConfig, ChaseControllerConfig, LeadDriverConfig};
 use super::Expect;
 
 /// The whole file.
-#[derive(Clone, Debug, Deserialize, Serialize)]
+#[derive(Clone, Debug, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ScenarioFile {
     /// Short name: names the output folder.
@@ -48,7 +48,7 @@ pub struct ScenarioFile {
 }
 
 /// `[route]`.
-#[derive(Clone, Debug, Deserialize, Serialize)]
+#[derive(Clone, Debug, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct RouteFile {
     /// Width of one lane, metres (default 3.5): 2–6.
@@ -68,7 +68,7 @@ fn default_lane_width() -> f64 {
 
 /// One piece of the route: `{ straight_m = L }` or `{ arc_radius_m = R, arc_angle_deg = A }`
 /// (A positive turns left).
-#[derive(Clone, Debug, Deserialize, Serialize)]
+#[derive(Clone, Debug, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SegmentFile {
     /// Length of a straight, metres: (0, [`super::MAX_ROUTE_M`]].
@@ -80,7 +80,7 @@ pub struct SegmentFile {
 }
 
 /// `[lead]`.
-#[derive(Clone, Debug, Deserialize, Serialize)]
+#[derive(Clone, Debug, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct LeadFile {
     /// Where the lead's rear axle starts, metres along the route (default 30): on the
@@ -110,7 +110,7 @@ fn default_basis() -> String {
 }
 
 /// `[chase]`.
-#[derive(Clone, Debug, Deserialize, Serialize)]
+#[derive(Clone, Debug, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ChaseFile {
     /// Camera-to-target distance at t = 0, metres (default 10): 3–60, with the target in
@@ -146,7 +146,7 @@ impl Default for ChaseFile {
 }
 
 /// `[camera]`.
-#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[derive(Clone, Debug, Default, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct CameraFile {
     /// Focal length, millimetres (default 8): [`super::FOCAL_LENGTH_MM`].
@@ -171,7 +171,7 @@ pub struct CameraFile {
 }
 
 /// `[tracker]`.
-#[derive(Clone, Debug, Deserialize, Serialize)]
+#[derive(Clone, Debug, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct TrackerFile {
     /// Target model file, relative to the scenario file (see [`crate::load_target`] for
@@ -200,7 +200,7 @@ pub struct TrackerFile {
 }
 
 /// `[loop]`.
-#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[derive(Clone, Debug, Default, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct LoopFile {
     /// Camera and tracker rate, Hz: 15 only, the paper's (the physics clock is built on it).
@@ -214,7 +214,7 @@ pub struct LoopFile {
 }
 
 /// `[environment]`.
-#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[derive(Clone, Debug, Default, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct EnvironmentFile {
     /// The sun.
@@ -243,7 +243,7 @@ pub struct EnvironmentFile {
 }
 
 /// `[environment.road]`.
-#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[derive(Clone, Debug, Default, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct RoadFile {
     /// What the road is paved with: `"asphalt"` (the default) or `"gravel"`. It chooses the
@@ -254,7 +254,7 @@ pub struct RoadFile {
 /// `[environment.textures]`: seeded, mipmapped detail on the road and the grass (asphalt
 /// grain, patches and sealed cracks; grass blades; gravel stones), multiplying each
 /// surface's albedo by a factor of mean 1.
-#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[derive(Clone, Debug, Default, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct TexturesFile {
     /// On or off (default on, [`sim_render::Textures::default`]).
@@ -265,7 +265,7 @@ pub struct TexturesFile {
 
 /// `[[environment.distractors]]`: a pole or a wire that moves with the lead beside one of
 /// the target's features (section 4's "close and parallel" clutter).
-#[derive(Clone, Debug, Deserialize, Serialize)]
+#[derive(Clone, Debug, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct DistractorFile {
     /// `"pole"` (vertical, beside a vertical feature) or `"wire"` (horizontal, beside a
@@ -286,7 +286,7 @@ pub struct DistractorFile {
 
 /// `[[environment.overpasses]]`: a bridge over the route, whose shadow lies across the
 /// road as a band.
-#[derive(Clone, Debug, Deserialize, Serialize)]
+#[derive(Clone, Debug, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct OverpassFile {
     /// Where it crosses the route, metres along it: on the route.
@@ -298,7 +298,7 @@ pub struct OverpassFile {
 }
 
 /// `[environment.sun]`.
-#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[derive(Clone, Debug, Default, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SunFile {
     /// Compass direction the sunlight comes from, degrees: -360–360.
@@ -315,7 +315,7 @@ pub struct SunFile {
 }
 
 /// `[environment.clutter]`: every density 0–1000 per km.
-#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[derive(Clone, Debug, Default, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ClutterFile {
     /// Trees per km.
@@ -339,7 +339,7 @@ pub struct ClutterFile {
 }
 
 /// `[environment.sensor]`.
-#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[derive(Clone, Debug, Default, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SensorFile {
     /// Gain: 0.05–20.
@@ -361,7 +361,7 @@ pub struct SensorFile {
 
 /// `[environment.sensor.auto_gain]`: every field optional, with
 /// [`sim_render::AutoGain::default`]'s values.
-#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[derive(Clone, Debug, Default, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct AutoGainFile {
     /// The mean grey the control aims at: 10–245.

@@ -7,12 +7,14 @@ mod expect;
 mod file;
 mod library;
 mod overrides;
+mod schema;
 mod validate;
 
 pub use expect::Expect;
 pub use file::*;
 pub use library::shipped_scenarios;
 pub use overrides::apply_override;
+pub use schema::{scenario_schema_json, SCHEMA_FILE_NAME};
 pub use validate::{
     FOCAL_LENGTH_MM, MAX_ARC_RADIUS_M, MAX_BLUR_SIGMA_PX, MAX_BREADCRUMBS, MAX_INIT_OFFSET_PX,
     MAX_ROUTE_M, MIN_ARC_RADIUS_M,
