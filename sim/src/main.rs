@@ -60,6 +60,9 @@ enum Commands {
                       status: 0."
     )]
     Schema,
+    /// Print the command-line reference as Markdown (the book's `reference/cli.md`).
+    #[command(hide = true)]
+    CliReference,
     /// A sweep's worker process (started by `carfollow sweep`).
     #[command(hide = true)]
     SweepWorker(cli::sweep::SweepWorkerArgs),
@@ -79,6 +82,10 @@ fn main() -> ExitCode {
         Commands::Track(args) => cli::track::run_track(args).map(|()| ExitCode::SUCCESS),
         Commands::Target(args) => cli::target::run_target(args).map(|()| ExitCode::SUCCESS),
         Commands::Synth(args) => cli::synth::run_synth(args).map(|()| ExitCode::SUCCESS),
+        Commands::CliReference => {
+            say!("{}", cli_reference().trim_end());
+            Ok(ExitCode::SUCCESS)
+        }
         Commands::Schema => {
             say!("{}", sim_core::scenario_schema_json().trim_end());
             Ok(ExitCode::SUCCESS)
@@ -93,6 +100,15 @@ fn main() -> ExitCode {
             cli::exit::code_of(&error)
         }
     }
+}
+
+/// The command-line reference of `docs/src/reference/cli.md`, from the clap definitions:
+/// every visible command with its arguments, options and their help.
+fn cli_reference() -> String {
+    let options = clap_markdown::MarkdownOptions::new()
+        .title("Command-line reference".to_string())
+        .show_footer(false);
+    clap_markdown::help_markdown_custom::<Cli>(&options)
 }
 
 /// Makes the allocator take blocks of 256 KiB and more straight from the system (glibc's

@@ -705,3 +705,27 @@ fn check_says_a_bad_set_once_and_counts_bad_files() {
     assert!(err.contains(":3:1: duplicate key `duration_s`"), "{err}");
     assert!(err.contains("1 of 1 scenario file is invalid"), "{err}");
 }
+
+/// The book's command-line reference is what the program's clap definitions give, so it
+/// cannot drift from the flags that exist.
+#[test]
+fn the_books_command_line_reference_is_current() {
+    let out = carfollow(&["cli-reference"]);
+    assert!(out.status.success());
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/src/reference/cli.md");
+    let committed = std::fs::read_to_string(&path).unwrap();
+    assert!(
+        committed.as_bytes() == out.stdout.as_slice(),
+        "{} is out of date: write it again with `cargo run --release -- cli-reference > \
+         docs/src/reference/cli.md`",
+        path.display()
+    );
+    for flag in [
+        "--backend",
+        "--rate-hz",
+        "--px-per-frame",
+        "--subpixel-edges",
+    ] {
+        assert!(committed.contains(flag), "{flag} missing");
+    }
+}
