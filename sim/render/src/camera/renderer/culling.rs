@@ -1,16 +1,17 @@
-//! Culling: where the camera stands ([`CameraView`]), every piece of geometry a frame may
-//! draw ([`DrawItem`], the moving objects placed), the camera's frustum, and the casters a
-//! map from the sun draws ([`CasterDraws`]).
+//! Culling: every piece of geometry a frame may draw ([`DrawItem`], the moving objects
+//! placed), the camera's frustum, and the casters a map from the sun draws
+//! ([`CasterDraws`]).
 
 use super::light::{Light, Sunlight};
 use super::pipelines::Shading;
-use super::uniforms::{to_f32, ObjectTransforms};
+use super::uniforms::{to_f32, Placed};
+use super::view::CameraView;
 use super::{DrawStats, Renderer};
 use crate::camera::frame::Field;
 use crate::camera::rig::{CameraRig, FAR_M, NEAR_M};
 use crate::camera::shadow_tiles::SlotWork;
 use crate::scene::{Layer, ObjectSlot, Scene};
-use nalgebra::{Isometry3, Matrix4, Point3, Translation3, Vector3};
+use nalgebra::{Isometry3, Point3, Vector3};
 use std::ops::Range;
 use tracker::PixelRect;
 
@@ -18,45 +19,6 @@ use tracker::PixelRect;
 pub(super) const HOOD_CLASS: u8 = 0;
 /// Draw-order class of the first static layer: below it, the moving objects.
 const FIRST_STATIC_CLASS: u8 = 3;
-
-/// The camera for a field: its pose, and the frame positions reach the GPU in.
-///
-/// Positions reach the GPU relative to the camera (the origin), with every transform
-/// composed in f64: in f32, world coordinates kilometres from the world's origin lose
-/// millimetres, enough for the board to show through paint standing 3 mm proud of it.
-pub(super) struct CameraView {
-    pub world_from_camera: Isometry3<f64>,
-    pub camera_from_world: Isometry3<f64>,
-    /// The camera's position, the origin of what the GPU is given.
-    pub eye: Vector3<f64>,
-    /// Camera-relative positions to world ones, and back.
-    pub world_from_relative: Matrix4<f64>,
-    pub relative_from_world: Matrix4<f64>,
-    /// Camera-relative positions to the camera's clip space.
-    pub view_proj: Matrix4<f64>,
-}
-
-impl CameraView {
-    /// The camera on the chase chassis, panned, as `field` has them.
-    pub fn new(rig: &CameraRig, field: &Field) -> CameraView {
-        let world_from_camera =
-            rig.world_from_camera_panned(&field.world_from_chase, field.camera_pan_rad);
-        let camera_from_world = world_from_camera.inverse();
-        let eye = world_from_camera.translation.vector;
-        let world_from_relative = Translation3::from(eye).to_homogeneous();
-        let relative_from_world = Translation3::from(-eye).to_homogeneous();
-        let view_proj =
-            rig.clip_from_camera() * camera_from_world.to_homogeneous() * world_from_relative;
-        CameraView {
-            world_from_camera,
-            camera_from_world,
-            eye,
-            world_from_relative,
-            relative_from_world,
-            view_proj,
-        }
-    }
-}
 
 impl Renderer {
     /// What each pass draws of the frame's items, seen from `view` through the pixels
@@ -116,15 +78,6 @@ impl DrawItem {
     pub fn moving_caster(&self) -> bool {
         self.casts_shadow && self.class < FIRST_STATIC_CLASS
     }
-}
-
-/// The moving objects as a field places them.
-pub(super) struct Placed {
-    /// Every object slot's transform, relative to the camera (the zero matrix for what is
-    /// off the route).
-    pub world_from_object: ObjectTransforms,
-    /// The target board's centre, world frame (`None` without a lead).
-    pub board_centre: Option<Point3<f64>>,
 }
 
 /// Into `items`: every moving object, placed as `field` has it, then every static chunk,

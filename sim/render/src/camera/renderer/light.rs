@@ -2,7 +2,7 @@
 //! and the frame's choice among them ([`Sunlight`]): the frame's own map, the window of
 //! cached tiles under it, the board's fine map.
 
-use super::culling::CameraView;
+use super::view::CameraView;
 use super::{RenderOptions, Renderer};
 use crate::camera::rig::{CameraRig, FAR_M, NEAR_M};
 use crate::camera::shadow_tiles::{self, TileFrame, Window};

@@ -42,6 +42,7 @@ mod resources;
 mod shadow_pass;
 mod slots_pass;
 mod uniforms;
+mod view;
 
 use super::backend::{Backend, BackendError};
 use super::frame::{Field, Frame, FrameInput, GroundTruth};
@@ -49,22 +50,24 @@ use super::rig::CameraRig;
 use super::sensor::blur_reach_px;
 use super::shadow_tiles::TileFrame;
 use crate::scene::{AutoGain, Scene};
-use culling::{gather_items, CameraView, DrawItem};
+use culling::{gather_items, DrawItem};
 use device::{display_lock, Gpu};
 use image::GrayImage;
 use light::{Light, Sunlight};
 use main_pass::{Hood, MainPass};
 use nalgebra::{Isometry3, Point3, Vector3};
 use pipelines::Builder;
+use pipelines::SunMap;
 use readback::{interlace, Readback};
 use resident::Resident;
 use resources::{ShadowMaps, ShadowSamplers, SurfaceTextures, Targets};
-use shadow_pass::{ShadowPass, SunMap};
+use shadow_pass::ShadowPass;
 use slots_pass::{SlotsPass, Vehicles};
 use std::sync::Arc;
 use thiserror::Error;
 use tracker::PixelRect;
 use uniforms::{ground_params, SlotUniforms, Uniforms};
+use view::CameraView;
 
 /// Options that trade quality for speed; none changes the scene.
 #[derive(Clone, Debug, PartialEq)]

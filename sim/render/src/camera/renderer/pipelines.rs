@@ -3,7 +3,6 @@
 //! shaded grey from the camera.
 
 use super::resources::{ShadowMaps, ShadowSamplers, SurfaceTextures, COLOR_FORMAT, DEPTH_FORMAT};
-use super::shadow_pass::SunMap;
 use super::uniforms::{SlotUniforms, Uniforms};
 use crate::scene::Vertex;
 
@@ -551,4 +550,13 @@ fn lookup_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
             fragment(5, comparison),
         ],
     })
+}
+
+/// Which map a pass from the sun draws.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum SunMap {
+    /// The frame's own map (`vs_shadow`).
+    Own,
+    /// The board's fine map (`vs_board_shadow`).
+    Board,
 }

@@ -3,7 +3,7 @@
 
 use super::culling::CasterDraws;
 use super::light::Sunlight;
-use super::pipelines::{Builder, CasterPipelines, Pass};
+use super::pipelines::{Builder, CasterPipelines, Pass, SunMap};
 use super::resident::Resident;
 use super::Renderer;
 use std::ops::Range;
@@ -25,15 +25,6 @@ impl Renderer {
             self.board_shadow.encode(encoder, geometry, None);
         }
     }
-}
-
-/// Which map a pass from the sun draws.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(super) enum SunMap {
-    /// The frame's own map (`vs_shadow`).
-    Own,
-    /// The board's fine map (`vs_board_shadow`).
-    Board,
 }
 
 /// A pass from the sun into a map of its own: its pipelines, with the frame's bind group,

@@ -1,14 +1,14 @@
 //! Uniforms: the plain-data block `Globals` of `scene.wgsl` as a frame and a slot's draw fill
 //! it, and the buffers that hold it with the object transforms.
 
-use super::culling::{CameraView, Placed};
 use super::light::{Light, Sunlight, NORMAL_OFFSET_TEXELS};
+use super::view::CameraView;
 use super::Renderer;
 use crate::camera::shadow_tiles::{self, TileFrame};
 use crate::camera::textures::TILE_M;
 use crate::scene::{ObjectSlot, SceneDescription, GRASS_ALBEDO_RANGE, GROUND_CELL_M};
 use bytemuck::{Pod, Zeroable};
-use nalgebra::{Matrix4, Translation3, Vector3};
+use nalgebra::{Matrix4, Point3, Translation3, Vector3};
 
 /// The uniform block `Globals` of `scene.wgsl`.
 #[repr(C)]
@@ -301,4 +301,13 @@ impl SlotUniforms {
         let at = (k as u64 * self.stride) as u32;
         [at, at]
     }
+}
+
+/// The moving objects as a field places them.
+pub(super) struct Placed {
+    /// Every object slot's transform, relative to the camera (the zero matrix for what is
+    /// off the route).
+    pub world_from_object: ObjectTransforms,
+    /// The target board's centre, world frame (`None` without a lead).
+    pub board_centre: Option<Point3<f64>>,
 }
