@@ -68,6 +68,18 @@ pub const RESOLVED_AGAIN_FACTOR: f64 = 1.5;
 /// y (infinite when no two features of that direction compete for a point). Features on one
 /// line (closer than a pixel) are one edge, not two.
 pub fn confusable_spacing(features: &[Feature]) -> [f64; 2] {
+    closest_parallel(features, |a, b| {
+        a.extent_px[1].min(b.extent_px[1]) > a.extent_px[0].max(b.extent_px[0])
+    })
+}
+
+/// The smallest spacing of two parallel features at scale 1 for which `pair` holds, pixels,
+/// `[x, y]` (vertical features for x, horizontal for y; infinite without such a pair).
+/// Features closer than a pixel lie on one line and are not a pair.
+pub(crate) fn closest_parallel(
+    features: &[Feature],
+    pair: impl Fn(&Feature, &Feature) -> bool,
+) -> [f64; 2] {
     let mut out = [f64::INFINITY; 2];
     for (k, class) in [Orientation::Vertical, Orientation::Horizontal]
         .into_iter()
@@ -77,9 +89,7 @@ pub fn confusable_spacing(features: &[Feature]) -> [f64; 2] {
         for (i, a) in of_class().enumerate() {
             for b in of_class().skip(i + 1) {
                 let d = (a.offset_px - b.offset_px).abs();
-                let overlap =
-                    a.extent_px[1].min(b.extent_px[1]) - a.extent_px[0].max(b.extent_px[0]);
-                if d > 1.0 && overlap > 0.0 {
+                if d > 1.0 && pair(a, b) {
                     out[k] = out[k].min(d);
                 }
             }

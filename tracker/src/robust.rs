@@ -499,21 +499,7 @@ pub fn coverage_gain(
 /// `[x, y]`: between vertical features for x, horizontal ones for y (infinite when a
 /// direction has fewer than two distinct features).
 pub fn alias_spacing(features: &[Feature]) -> [f64; 2] {
-    let mut out = [f64::INFINITY; 2];
-    for (k, class) in [Orientation::Vertical, Orientation::Horizontal]
-        .into_iter()
-        .enumerate()
-    {
-        for a in features.iter().filter(|f| f.orientation == class) {
-            for b in features.iter().filter(|f| f.orientation == class) {
-                let d = (a.offset_px - b.offset_px).abs();
-                if d > 1.0 {
-                    out[k] = out[k].min(d);
-                }
-            }
-        }
-    }
-    out
+    crate::resolvability::closest_parallel(features, |_, _| true)
 }
 
 /// A search result: where the model fits best, and how well (mean truncated chamfer
