@@ -8,16 +8,20 @@
 
 mod capture;
 mod drive;
+mod eye;
 mod recorder;
 mod renderers;
-mod step;
+mod schedule;
 mod tracking;
 mod two_in_flight;
 
 pub use renderers::LoopOptions;
 
-use capture::{renders_ahead, xz, Captured, InFlight};
-use drive::{Chase, Drive, Driven, PluginChase};
+use capture::{renders_ahead, xz};
+use drive::{Chase, Drive, PluginChase};
+use eye::Eye;
+use recorder::Recorder;
+use schedule::{Schedule, Shot, Spent};
 use tracking::{PluginTracking, Tracking};
 
 use crate::auto_gain::AutoGainControl;
@@ -26,17 +30,14 @@ use crate::frame_parts::FrameParts;
 use crate::plan::{iso, render_options, Plan};
 use crate::plugin::{CameraModel, ControllerChoice, Estimate, PluginError, TrackerChoice};
 use crate::record::FrameRecord;
-use crate::render_thread::RenderThread;
-use crate::render_worker::{fingerprint, RemoteRenderer};
+use crate::render_worker::fingerprint;
 use crate::scenario::Scenario;
 use image::GrayImage;
-use nalgebra::{Isometry3, UnitQuaternion};
+use nalgebra::Isometry3;
 use serde::Serialize;
-use sim_render::Scene;
-use sim_render::{Backend, CameraRig, RenderError, Renderer};
+use sim_render::{Backend, CameraRig, RenderError, Renderer, Route as SceneRoute};
 use std::collections::VecDeque;
-use std::sync::Arc;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 use thiserror::Error;
 use tracker::{EdgeDiagnostic, EgoMotion, Location, TrackOutput, Tracker, TrackerMode};
 use vehicle::{ChaseController, DelayLine, Gyro, GyroConfig};
@@ -71,6 +72,24 @@ pub enum LoopError {
         /// What it said.
         error: PluginError,
     },
+}
+
+/// A plug-in's failure placed at frame `frame`, when it has no place yet.
+fn at_frame(e: LoopError, frame: u64) -> LoopError {
+    match e {
+        LoopError::Plugin {
+            what,
+            frame: None,
+            error,
+            ..
+        } => LoopError::Plugin {
+            what,
+            frame: Some(frame),
+            t_s: Some(frame as f64 / f64::from(vehicle::CAMERA_HZ)),
+            error,
+        },
+        other => other,
+    }
 }
 
 /// " at frame k (t = s s)", or " before the first frame".
@@ -141,59 +160,32 @@ pub struct LoopTiming {
     pub rerendered_frames: u64,
 }
 
-/// The running loop.
+impl LoopTiming {
+    /// Adds one step's times: `spent` rendering, tracking and in physics, `step` in all.
+    fn add(&mut self, spent: Spent, step: Duration) {
+        let [render_t, track_t, physics_t] = spent;
+        self.frames += 1;
+        self.render_s += render_t.as_secs_f64();
+        self.track_s += track_t.as_secs_f64();
+        self.physics_s += physics_t.as_secs_f64();
+        self.step_s += step.as_secs_f64();
+    }
+}
+
+/// The running loop: the paper's loop, one camera frame per [`ClosedLoop::step`].
 pub struct ClosedLoop {
     name: String,
     frames: u64,
     frame: u64,
+    /// The physics: the vehicles, their controllers, the delay line between.
     drive: Drive,
-    /// Whether the physics to the next frame runs on a second thread while this frame is
-    /// rendered and tracked (see [`ClosedLoop::set_pipelined`]).
-    pipelined: bool,
-    /// Whether anything may run beside the tracker at all (not with two plug-ins).
-    overlap: bool,
-    /// This process's renderer: `None` while it renders a frame on `render_thread`.
-    renderer: Option<Box<Renderer>>,
-    /// The thread this process's frames render on with two in flight, once started.
-    render_thread: Option<RenderThread>,
-    /// The renderer's scene, for the records while the renderer is away.
-    scene: Arc<Scene>,
-    /// The renderer's adapter.
-    adapter_name: String,
-    /// The second renderer, in a worker process, when two frames are in flight.
-    remote: Option<RemoteRenderer>,
-    /// Frames submitted by earlier steps and not yet tracked, in order (two in flight).
-    in_flight: VecDeque<InFlight>,
-    /// What the physics to the frame after the first in flight left, when an earlier step
-    /// has run it already (two in flight).
-    advanced: Option<Driven>,
-    /// The scene's fingerprint, which a render worker must match.
-    fingerprint: u64,
+    /// The camera and the tracker.
+    eye: Eye,
+    /// The renderers and the frames in flight.
+    schedule: Schedule,
+    /// The truth against the estimate.
+    recorder: Recorder,
     timing: LoopTiming,
-    /// Which part of each frame to render.
-    parts: FrameParts,
-    /// The camera's automatic gain control (gain 1 when off).
-    auto_gain: AutoGainControl,
-    rig: CameraRig,
-    tracking: Tracking,
-    /// Scene origin (body centre) in the lead's vehicle frame (rear axle).
-    lead_from_scene: Isometry3<f64>,
-    target_width_px: f64,
-    /// The target's width, metres.
-    target_width_m: f64,
-    /// The lead's driven path, for the chase's lateral deviation.
-    lead_path: DrivenPath,
-    chase_distance_m: f64,
-    last_chase_xz: [f64; 2],
-    diagnostics: bool,
-    /// The chase's rate gyro, read between tracked frames for robust mode's ego-motion
-    /// aided prediction and for plug-in trackers (`None` for the paper's mode, which has no
-    /// use for it).
-    gyro: Option<Gyro>,
-    /// The camera's orientation at the last tracked frame.
-    last_camera: Option<UnitQuaternion<f64>>,
-    /// The gyro's reading handed to the tracker with the last tracked frame.
-    last_ego: Option<EgoMotion>,
     /// The teleoperator's placement the tracker started from.
     start: Location,
     /// What the set-up has to say that is not an error (see [`ClosedLoop::notes`]).
@@ -201,6 +193,63 @@ pub struct ClosedLoop {
 }
 
 impl ClosedLoop {
+    /// Runs one camera frame and the physics up to the next one. `None` when the scenario's
+    /// duration is over.
+    ///
+    /// A frame is the paper's loop in order: 1. the camera captures the world, 2. renders
+    /// it, 3. the tracker tracks the image, 4. its estimate enters the delay line, 5. the
+    /// controllers and the physics run eight 120 Hz steps to the next frame, and 6. the
+    /// recorder holds the truth against the estimate. The schedule may run 2 and 3 beside
+    /// 5, or the next frame's 2 beside this one's 3, but never so that any result differs
+    /// from running them in order (see `schedule`).
+    pub fn step(&mut self) -> Result<Option<FrameOutput>, LoopError> {
+        if self.frame >= self.frames {
+            return Ok(None);
+        }
+        let started = Instant::now();
+        let mut spent = Spent::default();
+        // 1 to 5.
+        let shot = self
+            .schedule
+            .run(&mut self.drive, &mut self.eye, &mut spent)
+            .map_err(|e| at_frame(e, self.frame))?;
+        if let Some((step, error)) = self.drive.take_failure() {
+            // The frame whose physics the step belongs to (it may run ahead of this one).
+            return Err(LoopError::Plugin {
+                what: "controller",
+                frame: Some(step.0 / u64::from(vehicle::STEPS_PER_FRAME)),
+                t_s: Some(step.seconds()),
+                error,
+            });
+        }
+        let Shot {
+            captured,
+            frame,
+            tracked,
+            driven,
+        } = shot;
+        debug_assert_eq!(captured.input.frame_index, self.frame);
+        // 6.
+        let record = self
+            .recorder
+            .record(self.frame, &captured, &frame, &tracked, driven);
+        self.frame += 1;
+        self.timing.add(spent, started.elapsed());
+        Ok(Some(FrameOutput {
+            record,
+            image: frame.image,
+            estimate: tracked.estimate,
+            track: tracked.out,
+            edges: tracked.edges,
+            poses: FramePoses {
+                world_from_chase: captured.input.world_from_chase,
+                world_from_lead: captured.input.world_from_lead,
+                world_from_camera: captured.world_from_camera,
+            },
+            ego: self.eye.last_ego,
+        }))
+    }
+
     /// The loop of `plan` on one renderer of `backend` (see [`ClosedLoop::start`] for
     /// two), with the built-in tracker and controller: the plan's world, controllers and
     /// scene, this process's renderer, and the paper's tracker, which the teleoperator
@@ -250,45 +299,9 @@ impl ClosedLoop {
         let options = render_options(backend);
         let renderer = Renderer::new(scene.clone(), rig.clone(), &options)?;
         let fingerprint = fingerprint(scene.description(), &rig, &options);
-        let mut paper =
-            Tracker::new(s.target.clone(), s.camera, s.tracker.clone(), init).map_err(|e| {
-                LoopError::Setup {
-                    scenario: s.name.clone(),
-                    message: format!("tracker: {e}"),
-                }
-            })?;
-        // The overlay and the recording draw associated and rejected points only.
-        paper.set_association_fates_only(true);
-        let target_width_px = paper.target_width_px();
-        let tracking = match tracker {
-            TrackerChoice::Builtin => Tracking::Builtin(paper),
-            TrackerChoice::Plugin(mut plugin) => {
-                let camera = CameraModel {
-                    intrinsics: rig.intrinsics,
-                    width: rig.width,
-                    height: rig.height,
-                    mount_height_m: rig.mount.height_m,
-                    mount_forward_m: rig.mount.forward_offset_m,
-                    mount_pitch_down_deg: rig.mount.pitch_deg,
-                    pan_rad: pan.as_ref().map_or(0.0, vehicle::PanHead::reading_rad),
-                    target: s.target.clone(),
-                };
-                plugin
-                    .reset(&camera, Some(&start_estimate))
-                    .map_err(|error| LoopError::Plugin {
-                        what: "tracker",
-                        frame: None,
-                        t_s: None,
-                        error,
-                    })?;
-                let next_read = plugin.will_read();
-                Tracking::Plugin(PluginTracking {
-                    tracker: plugin,
-                    camera,
-                    next_read,
-                })
-            }
-        };
+        let pan_rad = pan.as_ref().map_or(0.0, vehicle::PanHead::reading_rad);
+        let (tracking, target_width_px) =
+            tracking_of(tracker, &s, &rig, pan_rad, init, &start_estimate)?;
         let chase = match controller {
             ControllerChoice::Builtin => Chase::Builtin(chase),
             ControllerChoice::Plugin(plugin) => Chase::Plugin(PluginChase::new(plugin)),
@@ -297,47 +310,32 @@ impl ClosedLoop {
         // beside anything else, so that their calls come in one order, run after run.
         let overlap =
             !(matches!(tracking, Tracking::Plugin(_)) && matches!(chase, Chase::Plugin(_)));
-
-        // The lead's path so far: the lane behind its start, so the chase has a path from t = 0.
-        let lateral = 0.5 * s.route.lane_width_m;
-        let mut lead_path = DrivenPath::new();
-        for k in 0..=((s.lead_start_m - chase_start_m + 10.0) as usize) {
-            let st = (chase_start_m - 10.0 + k as f64).max(0.0);
-            lead_path.push(scene_route.point(st, lateral));
-        }
-        let last_chase_xz = xz(&world.vehicle_state(chase_id).world_from_vehicle);
+        let can_overlap = overlap && renders_ahead(&delay);
         let robust = s.tracker.mode == TrackerMode::Robust;
         let plugin_tracker = matches!(tracking, Tracking::Plugin(_));
-        Ok(ClosedLoop {
-            name: s.name.clone(),
-            frames: s.frames(),
-            frame: 0,
-            pipelined: overlap && renders_ahead(&delay),
-            overlap,
-            drive: Drive {
-                world,
-                chase_id,
-                lead_id,
-                chase,
-                lead,
-                delay,
-                pan,
-                interlaced: s.sensor.interlaced,
-                earlier_field: None,
-                ahead: None,
-            },
-            scene,
-            adapter_name: renderer.adapter_name().to_string(),
-            renderer: Some(Box::new(renderer)),
-            render_thread: None,
-            remote: None,
-            in_flight: VecDeque::new(),
-            advanced: None,
-            fingerprint,
-            timing: LoopTiming {
-                setup_s: planned_s + started.elapsed().as_secs_f64(),
-                ..LoopTiming::default()
-            },
+        let drive = Drive {
+            world,
+            chase_id,
+            lead_id,
+            chase,
+            lead,
+            delay,
+            pan,
+            interlaced: s.sensor.interlaced,
+            earlier_field: None,
+            ahead: None,
+        };
+        let recorder = Recorder {
+            scene: scene.clone(),
+            target_width_px,
+            target_width_m: s.target.size_m()[0],
+            // The lead's path so far: the lane behind its start, so the chase has a path
+            // from t = 0.
+            lead_path: lane_behind(&scene_route, &s, chase_start_m),
+            chase_distance_m: 0.0,
+            last_chase_xz: xz(&drive.world.vehicle_state(chase_id).world_from_vehicle),
+        };
+        let eye = Eye {
             parts: FrameParts::new(
                 rig.width,
                 rig.height,
@@ -351,17 +349,37 @@ impl ClosedLoop {
                 f64::from(vehicle::CAMERA_HZ),
             ),
             rig,
-            tracking,
             lead_from_scene,
-            target_width_px,
-            target_width_m: s.target.size_m()[0],
-            lead_path,
-            chase_distance_m: 0.0,
-            last_chase_xz,
+            tracking,
             diagnostics,
             gyro: (robust || plugin_tracker).then(|| Gyro::new(&GyroConfig::default(), s.seed)),
             last_camera: None,
             last_ego: None,
+        };
+        let schedule = Schedule {
+            frames: s.frames(),
+            pipelined: can_overlap,
+            can_overlap,
+            adapter_name: renderer.adapter_name().to_string(),
+            renderer: Some(Box::new(renderer)),
+            fingerprint,
+            render_thread: None,
+            remote: None,
+            in_flight: VecDeque::new(),
+            advanced: None,
+        };
+        Ok(ClosedLoop {
+            name: s.name.clone(),
+            frames: s.frames(),
+            frame: 0,
+            drive,
+            eye,
+            schedule,
+            recorder,
+            timing: LoopTiming {
+                setup_s: planned_s + started.elapsed().as_secs_f64(),
+                ..LoopTiming::default()
+            },
             start: init,
             notes: Vec::new(),
         })
@@ -375,7 +393,7 @@ impl ClosedLoop {
 
     /// The camera rig.
     pub fn rig(&self) -> &CameraRig {
-        &self.rig
+        &self.eye.rig
     }
 
     /// The scenario's name.
@@ -401,7 +419,7 @@ impl ClosedLoop {
 
     /// The tracker's name, for reports: the paper's with its mode, or the plug-in's own.
     pub fn tracker_name(&self) -> String {
-        self.tracking.name()
+        self.eye.tracking.name()
     }
 
     /// The controller's name, for reports.
@@ -409,19 +427,6 @@ impl ClosedLoop {
         match &self.drive.chase {
             Chase::Builtin(_) => "pure pursuit and gap keeper".into(),
             Chase::Plugin(p) => p.controller.name(),
-        }
-    }
-
-    /// The part of the frame `captured` to render: what the tracker will read, or the
-    /// whole frame (`None`).
-    fn needed(&self, captured: &Captured) -> Option<tracker::PixelRect> {
-        match &self.tracking {
-            _ if self.parts.whole_frames => None,
-            Tracking::Builtin(_) => self.parts.needed(
-                captured.input.frame_index,
-                &captured.world_from_camera.rotation,
-            ),
-            Tracking::Plugin(p) => p.next_read,
         }
     }
 
@@ -439,19 +444,15 @@ impl ClosedLoop {
 
     /// How many camera frames render at once: 2 with a render worker, else 1.
     pub fn frames_in_flight(&self) -> usize {
-        if self.remote.is_some() {
-            2
-        } else {
-            1
-        }
+        self.schedule.frames_in_flight()
     }
 
     /// Where the wall-clock time went so far.
     pub fn timing(&self) -> LoopTiming {
         LoopTiming {
-            pipelined: self.pipelined,
+            pipelined: self.schedule.pipelined,
             frames_in_flight: self.frames_in_flight(),
-            rerendered_frames: self.parts.rerendered,
+            rerendered_frames: self.eye.parts.rerendered,
             ..self.timing
         }
     }
@@ -462,12 +463,12 @@ impl ClosedLoop {
     /// part (the rest is unspecified). Whole frames are for whoever looks at the images:
     /// the video, recordings, stills.
     pub fn set_whole_frames(&mut self, on: bool) {
-        self.parts.whole_frames = on;
+        self.eye.parts.whole_frames = on;
     }
 
     /// Whether each frame's rendering and tracking overlap the physics to the next frame.
     pub fn pipelined(&self) -> bool {
-        self.pipelined
+        self.schedule.pipelined
     }
 
     /// Asks for each frame's rendering and tracking to run on this thread while a second
@@ -478,32 +479,84 @@ impl ClosedLoop {
     /// when that is at least one frame; otherwise this keeps the loop sequential. Returns
     /// whether the loop is now pipelined.
     pub fn set_pipelined(&mut self, on: bool) -> bool {
-        if !on && self.remote.is_some() {
-            self.take_back_first_frame();
-            if !self.in_flight.is_empty() {
-                // A frame is rendering in the worker: too late to change.
-                return self.pipelined;
-            }
-            // Two frames in flight overlap by nature.
-            self.remote = None;
-        }
-        self.pipelined = on && self.overlap && renders_ahead(&self.drive.delay);
-        self.pipelined
+        self.schedule.set_pipelined(on)
+    }
+
+    /// Starts rendering the next frame now, on this process's render thread, so that it
+    /// renders while the caller does something else (a Gymnasium agent choosing its
+    /// action); the next [`ClosedLoop::step`] takes it. Only with one renderer, and it
+    /// changes nothing of the results: the frame is the one the step would render.
+    pub fn prefetch(&mut self) -> Result<(), LoopError> {
+        self.schedule.prefetch(&self.drive, &self.eye, self.frame)
     }
 
     /// The renderer's adapter, for reports.
     pub fn adapter_name(&self) -> &str {
-        &self.adapter_name
+        &self.schedule.adapter_name
     }
+}
 
-    /// The state of the world at the start of frame `frame_index` (now), and the camera's
-    /// input for it.
-    fn capture(&self) -> Captured {
-        Captured::of(
-            &self.drive,
-            &self.rig,
-            &self.lead_from_scene,
-            &self.auto_gain,
-        )
+/// The loop's tracker, as `choice` says, and the target's width in the image at the
+/// nominal range, pixels. The paper's starts from the teleoperator's placement `init`; a
+/// plug-in is reset with the camera and `start` (the same placement as an estimate).
+fn tracking_of(
+    choice: TrackerChoice,
+    s: &Scenario,
+    rig: &CameraRig,
+    pan_rad: f64,
+    init: Location,
+    start: &Estimate,
+) -> Result<(Tracking, f64), LoopError> {
+    let mut paper =
+        Tracker::new(s.target.clone(), s.camera, s.tracker.clone(), init).map_err(|e| {
+            LoopError::Setup {
+                scenario: s.name.clone(),
+                message: format!("tracker: {e}"),
+            }
+        })?;
+    // The overlay and the recording draw associated and rejected points only.
+    paper.set_association_fates_only(true);
+    let target_width_px = paper.target_width_px();
+    let tracking = match choice {
+        TrackerChoice::Builtin => Tracking::Builtin(paper),
+        TrackerChoice::Plugin(mut plugin) => {
+            let camera = CameraModel {
+                intrinsics: rig.intrinsics,
+                width: rig.width,
+                height: rig.height,
+                mount_height_m: rig.mount.height_m,
+                mount_forward_m: rig.mount.forward_offset_m,
+                mount_pitch_down_deg: rig.mount.pitch_deg,
+                pan_rad,
+                target: s.target.clone(),
+            };
+            plugin
+                .reset(&camera, Some(start))
+                .map_err(|error| LoopError::Plugin {
+                    what: "tracker",
+                    frame: None,
+                    t_s: None,
+                    error,
+                })?;
+            let next_read = plugin.will_read();
+            Tracking::Plugin(PluginTracking {
+                tracker: plugin,
+                camera,
+                next_read,
+            })
+        }
+    };
+    Ok((tracking, target_width_px))
+}
+
+/// The lead's lane from 10 m behind the chase's start to the lead's start, metre by metre:
+/// the lead's path before t = 0, so that the chase has a path from the first frame.
+fn lane_behind(route: &SceneRoute, s: &Scenario, chase_start_m: f64) -> DrivenPath {
+    let lateral = 0.5 * s.route.lane_width_m;
+    let mut path = DrivenPath::new();
+    for k in 0..=((s.lead_start_m - chase_start_m + 10.0) as usize) {
+        let station = (chase_start_m - 10.0 + k as f64).max(0.0);
+        path.push(route.point(station, lateral));
     }
+    path
 }

@@ -1,15 +1,13 @@
-//! After a frame is tracked: its estimate into the delay line, the gyro's reading for
-//! robust mode, and the recorder's row, the truth against the estimate.
+//! The recorder's row of each frame: the truth against the estimate.
 
 use super::capture::{xz, Captured};
 use super::drive::Driven;
-use super::tracking::{Tracked, Tracking};
-use super::ClosedLoop;
-use crate::frame_parts::camera_turn;
+use super::tracking::Tracked;
+use crate::driven_path::DrivenPath;
 use crate::plugin::{Estimate, EstimateStatus};
 use crate::record::{FrameRecord, LossCause, TrackerStatus};
-use sim_render::{target_occluded, Frame, GroundTruth};
-use tracker::EgoMotion;
+use sim_render::{target_occluded, Frame, GroundTruth, Scene};
+use std::sync::Arc;
 
 /// Whether `estimate` is wrong by the loss tolerance against `truth`, or missing: off by
 /// more than a quarter of the target's width in the image (`width_px`) or by more than a
@@ -35,59 +33,26 @@ fn wrong(estimate: Option<&Estimate>, truth: &GroundTruth, width_px: f64, width_
     }
 }
 
-impl ClosedLoop {
-    /// After frame `captured` is tracked: its estimate into the delay line, and what it
-    /// read for the part of the next frames to render.
-    pub(super) fn tracked(&mut self, captured: &Captured, tracked: &Tracked, rerendered: bool) {
-        if let Some(estimate) = tracked.estimate {
-            self.drive.push_estimate(
-                captured.now,
-                estimate,
-                tracked.position_m,
-                captured.pan_reading_rad,
-            );
-        }
-        if let (Tracking::Builtin(t), Some(out)) = (&self.tracking, &tracked.out) {
-            self.parts.observe(
-                captured.input.frame_index,
-                out.estimate,
-                out.next,
-                t.last_read(),
-                captured.world_from_camera.rotation,
-            );
-        }
-        self.parts.rerendered += u64::from(rerendered);
-    }
+/// The recorder: the only part of the loop that sees the truth, which it holds against the
+/// estimate, frame by frame.
+pub(super) struct Recorder {
+    /// The renderer's scene, for whether scenery hides the target.
+    pub(super) scene: Arc<Scene>,
+    /// The target's width in the image at the nominal range, pixels.
+    pub(super) target_width_px: f64,
+    /// The target's width, metres.
+    pub(super) target_width_m: f64,
+    /// The lead's driven path, for the chase's lateral deviation.
+    pub(super) lead_path: DrivenPath,
+    pub(super) chase_distance_m: f64,
+    pub(super) last_chase_xz: [f64; 2],
+}
 
-    /// The gyro's reading of the camera's rotation since the last tracked frame, for the
-    /// frame `captured` (robust mode only), kept for the frame's output. Frames are tracked
-    /// in order, so this is called once per frame, in order.
-    pub(super) fn ego_motion(&mut self, captured: &Captured) -> Option<EgoMotion> {
-        let ego = self.gyro_reading(captured);
-        self.last_ego = ego;
-        ego
-    }
-
-    /// See [`ClosedLoop::ego_motion`].
-    pub(super) fn gyro_reading(&mut self, captured: &Captured) -> Option<EgoMotion> {
-        let gyro = self.gyro.as_mut()?;
-        let now = captured.world_from_camera.rotation;
-        let previous = self.last_camera.replace(now)?;
-        // The rotation from the last camera orientation to this one, in the last camera's
-        // frame; the gyro rides on the camera (on the pan head when there is one), so its
-        // axes are the camera's up to a constant rotation.
-        let measured = gyro.measure(
-            camera_turn(&previous, &now),
-            1.0 / f64::from(vehicle::CAMERA_HZ),
-        );
-        Some(EgoMotion {
-            rotation_rad: measured,
-        })
-    }
-
-    /// The recorder: truth against estimate, at the frame's capture time.
+impl Recorder {
+    /// Step 6: the record of frame `frame_index`: truth against estimate, at its capture time.
     pub(super) fn record(
         &mut self,
+        frame_index: u64,
         captured: &Captured,
         frame: &Frame,
         tracked: &Tracked,
@@ -148,7 +113,7 @@ impl ClosedLoop {
         let track = tracked.out.as_ref();
         let known = |v: Option<f64>| v.unwrap_or(f64::NAN);
         FrameRecord {
-            frame: self.frame,
+            frame: frame_index,
             t_s: captured.input.time_s,
             true_cx: truth.c_x,
             true_cy: truth.c_y,

@@ -3,7 +3,8 @@
 //! (on the GL backend), or else a worker process (`carfollow render-worker`). Results are
 //! the same bit for bit with one renderer or two.
 
-use super::{renders_ahead, ClosedLoop, LoopError};
+use super::{ClosedLoop, LoopError};
+use crate::closed_loop::capture::renders_ahead;
 use crate::plan::Plan;
 use crate::plugin::{ControllerChoice, TrackerChoice};
 use crate::render_worker::{RemoteRenderer, StartedWorker};
@@ -111,7 +112,7 @@ impl ClosedLoop {
     /// [`ClosedLoop::set_pipelined`]) and before the first step; returns whether two frames
     /// are now in flight.
     pub fn add_render_worker(&mut self, command: std::process::Command) -> Result<bool, LoopError> {
-        if !self.pipelined || self.frame > 0 {
+        if !self.schedule.pipelined || self.frame > 0 {
             return Ok(false);
         }
         let started = RemoteRenderer::spawn(command).map_err(LoopError::Worker)?;
@@ -129,35 +130,7 @@ impl ClosedLoop {
     /// capture changes nothing, and a frame's pixels never depend on what its renderer drew
     /// before.
     pub fn add_started_render_worker(&mut self, worker: StartedWorker) -> Result<bool, LoopError> {
-        if !self.pipelined || self.frame > 0 {
-            return Ok(false);
-        }
-        if self.in_flight.is_empty() {
-            let first = self.submit()?;
-            self.in_flight.push_back(first);
-        }
-        match worker.ready(self.fingerprint, &self.adapter_name, &self.rig) {
-            Ok(remote) => {
-                self.remote = Some(remote);
-                Ok(true)
-            }
-            Err(e) => {
-                self.take_back_first_frame();
-                Err(LoopError::Worker(e))
-            }
-        }
-    }
-
-    /// Before the first step: drops the first frame from the render thread, if it is on
-    /// it, and takes its renderer back, for one renderer's path to render it again.
-    pub(super) fn take_back_first_frame(&mut self) {
-        if self.frame == 0 && self.in_flight.len() == 1 && self.in_flight[0].here {
-            self.in_flight.clear();
-            let thread = self
-                .render_thread
-                .as_mut()
-                .expect("the first frame's thread");
-            self.renderer = Some(thread.wait().renderer);
-        }
+        self.schedule
+            .add_second(worker, &self.drive, &self.eye, self.frame)
     }
 }
