@@ -729,3 +729,41 @@ fn the_books_command_line_reference_is_current() {
         assert!(committed.contains(flag), "{flag} missing");
     }
 }
+
+/// A lead that reaches its route's end stops there; the run says when, once, besides the
+/// check's warning before it starts (and the run goes on with a standing lead).
+#[test]
+fn a_run_says_when_the_lead_reaches_the_roads_end() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = carfollow(&[
+        "run",
+        "--quiet",
+        "--set",
+        "route.segments=[{straight_m=150}]",
+        "--set",
+        "route.intersections_m=[]",
+        "--set",
+        "duration_s=30",
+        "--out",
+        dir.path().to_str().unwrap(),
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(matches!(out.status.code(), Some(0 | 1)), "{err}");
+    let said: Vec<&str> = err
+        .lines()
+        .filter(|l| l.contains("the lead reached the route's end"))
+        .collect();
+    assert_eq!(said.len(), 1, "{err}");
+    let t: f64 = said[0]
+        .split("at t = ")
+        .nth(1)
+        .and_then(|rest| rest.split(' ').next())
+        .and_then(|t| t.parse().ok())
+        .unwrap_or_else(|| panic!("no time in: {}", said[0]));
+    assert!((5.0..30.0).contains(&t), "{}", said[0]);
+    assert!(err.contains("stop at the road's end"), "{err}");
+    // A lead that stays on its road: no such line.
+    let out = run(dir.path(), &["--renderers", "1"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!err.contains("route's end"), "{err}");
+}

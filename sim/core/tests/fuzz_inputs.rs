@@ -42,7 +42,7 @@ fn shipped() -> Vec<String> {
     // And each as resolved, every default written out, so that every field gets mutated
     // (the controllers' look-ahead, gains and the like are absent from the files).
     for p in &paths {
-        let resolved = Scenario::load(p, &[]).unwrap().resolved;
+        let resolved = Scenario::load(p, &[]).unwrap().resolved.clone();
         texts.push(toml::to_string(&resolved).unwrap());
     }
     texts

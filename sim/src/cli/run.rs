@@ -297,8 +297,17 @@ fn run_one(plan: Plan, backend: Backend, dir: &Path, args: &RunArgs) -> anyhow::
     }
     let progress = Progress::new(&scenario, sim.looped().frames(), args);
     let started = Instant::now();
+    let mut road_end_said = false;
     while let Some(out) = sim.step().map_err(incomplete)? {
         progress.frame(&out.record, started.elapsed().as_secs_f64());
+        if let (false, Some(t)) = (road_end_said, sim.looped().lead_at_road_end_s()) {
+            road_end_said = true;
+            progress.say(&format!(
+                "warning: {}: at t = {t:.1} s the lead reached the route's end, where it \
+                 stops: the rest of the run follows a standing lead",
+                scenario.name
+            ));
+        }
     }
     progress.done();
     let (summary, recording) = sim.finish().map_err(incomplete)?;
@@ -343,6 +352,11 @@ impl Progress {
             duration_s: scenario.duration_s,
             frames,
         }
+    }
+
+    /// Writes `line` to stderr, above the bar on a terminal.
+    fn say(&self, line: &str) {
+        self.bar.suspend(|| eprintln!("{line}"));
     }
 
     /// After frame `r`, `wall_s` seconds into the run.

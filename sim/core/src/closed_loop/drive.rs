@@ -101,7 +101,14 @@ pub(super) struct Drive {
     /// The steps of the physics to the next frame run so far (see
     /// [`Drive::advance_before`]).
     pub(super) ahead: Option<FrameSteps>,
+    /// The step at which the lead came within [`ROAD_END_M`] of its route's end, where its
+    /// driver stops it.
+    pub(super) lead_at_road_end: Option<Step>,
 }
+
+/// How near its route's end the lead counts as having reached it, m: its driver stops it
+/// 2 m before.
+const ROAD_END_M: f32 = 5.0;
 
 /// The steps of one frame's physics run so far, and what they did.
 #[derive(Clone, Copy, Debug, Default)]
@@ -188,6 +195,11 @@ impl Drive {
                 pan.step(pan_rate_rad_s);
             }
             let lead_controls = self.lead.update(step_now, &lead);
+            if self.lead_at_road_end.is_none()
+                && self.lead.progress_m() >= self.lead.route().length_m() - ROAD_END_M
+            {
+                self.lead_at_road_end = Some(step_now);
+            }
             self.world.set_controls(self.chase_id, ahead.controls);
             self.world.set_controls(self.lead_id, lead_controls);
             self.world.step();

@@ -324,6 +324,7 @@ impl ClosedLoop {
             interlaced: s.sensor.interlaced,
             earlier_field: None,
             ahead: None,
+            lead_at_road_end: None,
         };
         let recorder = Recorder {
             scene: scene.clone(),
@@ -415,6 +416,13 @@ impl ClosedLoop {
     /// stopped).
     pub fn chase(&self) -> Option<&ChaseController> {
         self.drive.builtin()
+    }
+
+    /// When the lead reached its route's end, where its driver stops it, seconds (`None`
+    /// while it has not): the rest of the run follows a standing lead, which a log should
+    /// say. (The physics may run a frame ahead of the frames returned.)
+    pub fn lead_at_road_end_s(&self) -> Option<f64> {
+        self.drive.lead_at_road_end.map(|step| step.seconds())
     }
 
     /// The tracker's name, for reports: the paper's with its mode, or the plug-in's own.

@@ -99,9 +99,41 @@ pub enum ScenarioError {
     },
 }
 
-/// A validated scenario: everything the closed loop needs, with defaults filled in.
+/// A validated scenario: everything the closed loop needs, with defaults filled in. Only
+/// validation makes one ([`Scenario::load`], [`Scenario::parse`], [`Scenario::builtin`]),
+/// and nothing changes it after: its contents ([`ScenarioSpec`]) are read through it,
+/// never written. A clone shares them.
+///
+/// ```compile_fail
+/// let mut s = sim_core::Scenario::builtin(&[]).unwrap();
+/// s.duration_s = 1.0; // refused: a validated scenario is read-only
+/// ```
+///
+/// ```
+/// let s = sim_core::Scenario::builtin(&["duration_s=2".into()]).unwrap();
+/// assert_eq!(s.duration_s, 2.0);
+/// ```
 #[derive(Clone, Debug)]
-pub struct Scenario {
+pub struct Scenario(Arc<ScenarioSpec>);
+
+impl std::ops::Deref for Scenario {
+    type Target = ScenarioSpec;
+
+    fn deref(&self) -> &ScenarioSpec {
+        &self.0
+    }
+}
+
+impl Scenario {
+    /// The scenario `spec` says, once validated.
+    pub(crate) fn validated(spec: ScenarioSpec) -> Scenario {
+        Scenario(Arc::new(spec))
+    }
+}
+
+/// What a validated [`Scenario`] holds, read through it.
+#[derive(Clone, Debug)]
+pub struct ScenarioSpec {
     /// Name (the output folder).
     pub name: String,
     /// What it is for.
@@ -463,9 +495,10 @@ impl Scenario {
         Self::parse(&text, path, overrides, |target| {
             crate::target::load(&dir.join(target))
         })
-        .map(|mut s| {
-            s.path = Some(path.to_owned());
-            s
+        .map(|s| {
+            let mut spec = Arc::unwrap_or_clone(s.0);
+            spec.path = Some(path.to_owned());
+            Scenario::validated(spec)
         })
     }
 

@@ -15,7 +15,7 @@ mod tracking;
 
 pub(crate) use route::length_m as route_length_m;
 
-use super::{Scenario, ScenarioError, ScenarioFile};
+use super::{Scenario, ScenarioError, ScenarioFile, ScenarioSpec};
 use tracker::TargetModel;
 use vehicle::WorldConfig;
 
@@ -166,7 +166,7 @@ pub(super) fn validate(
     chase::tuning(&chase, &raw.lead.driver, f)?;
     let mut world = WorldConfig::default();
     world.ground.bumps = raw.environment.bumps.clone();
-    Ok(Scenario {
+    Ok(Scenario::validated(ScenarioSpec {
         resolved: raw.clone(),
         overrides: overrides.to_vec(),
         name: raw.name,
@@ -196,5 +196,5 @@ pub(super) fn validate(
         textures: e.textures,
         expect: raw.expect,
         source,
-    })
+    }))
 }
