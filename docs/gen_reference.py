@@ -227,9 +227,13 @@ class Schema:
             if keyword in s:
                 return self._alternatives(node, keyword)
         if "enum" in s:
-            values = s["enum"]
-            if not values or not all(isinstance(v, str) for v in values):
-                raise SchemaError(f"{node.ptr}/enum", "an enum of anything but strings")
+            # A null among the values is an optional field's "not set": not a value to write.
+            values = [v for v in s["enum"] if v is not None]
+            scalar = (str, int, float)
+            if not values or not all(isinstance(v, scalar) and not isinstance(v, bool)
+                                     for v in values):
+                raise SchemaError(f"{node.ptr}/enum",
+                                  "an enum of anything but strings and numbers")
             return TypeInfo("enum", node, values=[(v, None) for v in values])
         if "const" in s:
             if not isinstance(s["const"], str) or s.get("type", "string") != "string":
@@ -396,7 +400,10 @@ def type_text(info: TypeInfo, plural: bool = False) -> str:
         return f"{word} {rng}" if rng else word
     if info.kind == "enum":
         values = " | ".join(code(json.dumps(v, ensure_ascii=False)) for v, _ in info.values)
-        return f"strings, each one of {values}" if plural else f"one of {values}"
+        if plural:
+            words = "strings" if all(isinstance(v, str) for v, _ in info.values) else "values"
+            return f"{words}, each one of {values}"
+        return f"one of {values}"
     if info.kind == "const":
         value = code(json.dumps(info.name, ensure_ascii=False))
         return f"strings, each {value}" if plural else value

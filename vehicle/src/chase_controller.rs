@@ -86,14 +86,20 @@ pub const MAX_HALF_FOV_DEG: f64 = 89.9;
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct ChaseControllerConfig {
-    /// Where the camera sits on the chase vehicle.
+    /// Where the camera sits on the chase vehicle. (Not a scenario field: a scenario sets
+    /// it by `[camera.mount]`.)
+    #[schemars(skip)]
     pub camera_mount: CameraMount,
     /// The camera's pan head (default: none, the paper's fixed camera). When it is on, the
-    /// controller aims it at the lead.
+    /// controller aims it at the lead. (Not a scenario field: a scenario sets it by
+    /// `[camera.pan]`.)
+    #[schemars(skip)]
     pub pan_head: PanHeadConfig,
     /// Half the camera's horizontal field of view, degrees (default 21.8°: 128 px at a
     /// 320 px focal length). The scenario sets it from the camera's intrinsics; the
-    /// curve-aware gap keeping uses it ([`ChaseController::view_limited_gap_m`]).
+    /// curve-aware gap keeping uses it ([`ChaseController::view_limited_gap_m`]). (Not a
+    /// scenario field.)
+    #[schemars(skip)]
     pub half_fov_deg: f32,
     /// How far inside the field of view's edge the target's centre must stay, degrees
     /// (default 6°: the board's half-width at 5 m, 5.7°, and the estimate's latency); 0–45°,

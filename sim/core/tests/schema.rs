@@ -34,3 +34,102 @@ fn every_shipped_scenario_names_the_schema_on_its_first_line() {
         assert_eq!(text.lines().next(), Some(line.as_str()), "{name}");
     }
 }
+
+/// Every field of a table (not of an array of tables) with a range or a list of values in
+/// the schema, with its dotted path: `(path, schema)`.
+fn bounded_fields(schema: &serde_json::Value) -> Vec<(String, serde_json::Value)> {
+    fn resolve<'a>(root: &'a serde_json::Value, s: &'a serde_json::Value) -> &'a serde_json::Value {
+        match s["$ref"].as_str() {
+            Some(r) => &root["$defs"][r.trim_start_matches("#/$defs/")],
+            None => s,
+        }
+    }
+    fn walk(
+        root: &serde_json::Value,
+        table: &serde_json::Value,
+        prefix: &str,
+        out: &mut Vec<(String, serde_json::Value)>,
+    ) {
+        let Some(props) = table["properties"].as_object() else {
+            return;
+        };
+        for (name, field) in props {
+            let path = format!("{prefix}{name}");
+            // An optional table: `anyOf` of the table and null.
+            let inner = field["anyOf"]
+                .as_array()
+                .and_then(|v| v.iter().find(|s| s["$ref"].is_string()))
+                .unwrap_or(field);
+            let inner = resolve(root, inner);
+            if inner["properties"].is_object() {
+                walk(root, inner, &format!("{path}."), out);
+            } else if [
+                "minimum",
+                "maximum",
+                "exclusiveMinimum",
+                "exclusiveMaximum",
+                "enum",
+            ]
+            .iter()
+            .any(|k| !field[*k].is_null())
+            {
+                out.push((path, field.clone()));
+            }
+        }
+    }
+    let mut out = Vec::new();
+    walk(schema, schema, "", &mut out);
+    out
+}
+
+/// The schema's ranges and lists of values are validation's: a value just outside a range
+/// is refused by `check` naming the field, and every value a list allows is accepted. (So
+/// an editor never flags what `check` accepts, and says the range `check` will hold to.)
+#[test]
+fn the_schemas_ranges_are_validations() {
+    let schema: serde_json::Value =
+        serde_json::from_str(&sim_core::scenario_schema_json()).unwrap();
+    let fields = bounded_fields(&schema);
+    assert!(fields.len() >= 30, "{} bounded fields", fields.len());
+    let refused = |path: &str, value: String| {
+        let set = format!("{path}={value}");
+        match sim_core::Scenario::builtin(&[set.clone()]) {
+            Ok(_) => panic!("`--set {set}` is outside the schema's range but check accepts it"),
+            Err(e) => assert!(e.to_string().contains(path), "`--set {set}`: {e}"),
+        }
+    };
+    for (path, field) in &fields {
+        let bound = |k: &str| field[k].as_f64();
+        if let Some(max) = bound("maximum") {
+            refused(path, format!("{:?}", max + 1e-6 * max.abs().max(1.0)));
+        }
+        if let Some(max) = bound("exclusiveMaximum") {
+            refused(path, format!("{max:?}"));
+        }
+        if let Some(min) = bound("minimum") {
+            refused(path, format!("{:?}", min - 1e-6 * min.abs().max(1.0)));
+        }
+        if let Some(min) = bound("exclusiveMinimum") {
+            refused(path, format!("{min:?}"));
+        }
+        for value in field["enum"].as_array().into_iter().flatten() {
+            if value.is_null() {
+                continue;
+            }
+            let set = format!("{path}={value}");
+            // A field that applies only with another one set.
+            let with: &[&str] = match path.as_str() {
+                "chase.speed_basis" => &["chase.speed_profile=[[0.0, 5.0]]"],
+                _ => &[],
+            };
+            let sets: Vec<String> = with
+                .iter()
+                .map(|s| s.to_string())
+                .chain([set.clone()])
+                .collect();
+            if let Err(e) = sim_core::Scenario::builtin(&sets) {
+                panic!("the schema allows `--set {set}` but check refuses it: {e}");
+            }
+        }
+    }
+}

@@ -20,6 +20,7 @@ pub struct ScenarioFile {
     #[serde(default)]
     pub description: String,
     /// Simulated time, seconds: one camera frame (1/15 s) to 86400.
+    #[schemars(extend("minimum" = 0.06666666666666667, "maximum" = 86400.0))]
     pub duration_s: f64,
     /// The one seed; every random stream derives from it.
     #[serde(default)]
@@ -53,12 +54,13 @@ pub struct ScenarioFile {
 pub struct RouteFile {
     /// Width of one lane, metres (default 3.5): 2–6.
     #[serde(default = "default_lane_width")]
+    #[schemars(extend("minimum" = 2.0, "maximum" = 6.0))]
     pub lane_width_m: f64,
     /// Stations (metres along the centreline) where a road crosses: on the route.
     #[serde(default)]
     pub intersections_m: Vec<f64>,
     /// The centreline, in driving order: at least one segment, at most
-    /// [`super::MAX_ROUTE_M`] in all.
+    /// 50 000 m in all.
     pub segments: Vec<SegmentFile>,
 }
 
@@ -71,11 +73,14 @@ fn default_lane_width() -> f64 {
 #[derive(Clone, Debug, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SegmentFile {
-    /// Length of a straight, metres: (0, [`super::MAX_ROUTE_M`]].
+    /// Length of a straight, metres: (0, 50 000].
+    #[schemars(extend("exclusiveMinimum" = 0.0, "maximum" = 50000.0))]
     pub straight_m: Option<f64>,
-    /// Radius of an arc, metres: [`super::MIN_ARC_RADIUS_M`]–[`super::MAX_ARC_RADIUS_M`].
+    /// Radius of an arc, metres: 8–10 000.
+    #[schemars(extend("minimum" = 8.0, "maximum" = 10000.0))]
     pub arc_radius_m: Option<f64>,
     /// Turn of an arc, degrees (positive left): non-zero, at most 360 either way.
+    #[schemars(extend("minimum" = -360.0, "maximum" = 360.0))]
     pub arc_angle_deg: Option<f64>,
 }
 
@@ -87,11 +92,14 @@ pub struct LeadFile {
     /// route, and far enough along that the chase vehicle, `initial_gap_m` behind, starts
     /// on it too.
     #[serde(default = "default_lead_start")]
+    #[schemars(extend("minimum" = 0.0))]
     pub start_m: f64,
     /// Speed at t = 0, m/s (default: the profile's first speed): 0–40.
+    #[schemars(extend("minimum" = 0.0, "maximum" = 40.0))]
     pub initial_speed_mps: Option<f64>,
     /// What the profile's keys are: `"time"` (seconds) or `"distance"` (metres).
     #[serde(default = "default_basis")]
+    #[schemars(extend("enum" = ["time", "distance"]))]
     pub speed_basis: String,
     /// `[[key, speed_mps], ...]`, keys increasing; linear between, held beyond. Keys within
     /// ±1e7 (s or m), speeds 0–40 m/s.
@@ -115,6 +123,7 @@ fn default_basis() -> String {
 pub struct ChaseFile {
     /// Camera-to-target distance at t = 0, metres (default 10): 3–60, with the target in
     /// the camera's view.
+    #[schemars(extend("minimum" = 3.0, "maximum" = 60.0))]
     pub initial_gap_m: Option<f64>,
     /// The paper's manual throttle ("throttle was controlled manually"): with a profile, the
     /// chase's speed follows this scripted driver, as `[lead] speed_profile` is written
@@ -125,6 +134,7 @@ pub struct ChaseFile {
     /// What `speed_profile`'s keys are: `"time"` (seconds, the default) or `"distance"`
     /// (metres driven).
     #[serde(default = "default_basis")]
+    #[schemars(extend("enum" = ["time", "distance"]))]
     pub speed_basis: String,
     /// The controller (gap keeper or manual speed, look-ahead, loss handling). Its camera
     /// mount comes from `[camera.mount]`.
@@ -149,7 +159,8 @@ impl Default for ChaseFile {
 #[derive(Clone, Debug, Default, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct CameraFile {
-    /// Focal length, millimetres (default 8): [`super::FOCAL_LENGTH_MM`].
+    /// Focal length, millimetres (default 8): 1–200.
+    #[schemars(extend("minimum" = 1.0, "maximum" = 200.0))]
     pub focal_length_mm: Option<f64>,
     /// Pixel size, millimetres `[w, h]` (default 0.025 × 0.025): each in (0, 1).
     #[serde(default, deserialize_with = "exact::optional")]
@@ -174,26 +185,30 @@ pub struct CameraFile {
 #[derive(Clone, Debug, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct TrackerFile {
-    /// Target model file, relative to the scenario file (see [`crate::load_target`] for
-    /// its bounds).
+    /// Target model file, relative to the scenario file (its format: `scenarios/targets/`
+    /// and `carfollow target`).
     pub target: String,
-    /// λ of eq. 18. This and the tracker settings below are checked by
-    /// `tracker::TrackerConfig::validate`, which states their ranges (λ in (0, 1), as eq. 18 requires).
+    /// λ of eq. 18, the features' exponential decay: in (0, 1), as eq. 18 requires.
+    #[schemars(extend("exclusiveMinimum" = 0.0, "exclusiveMaximum" = 1.0))]
     pub lambda: Option<f64>,
     /// δ of eq. 7, degrees.
+    #[schemars(extend("exclusiveMinimum" = 0.0, "exclusiveMaximum" = 45.0))]
     pub delta_deg: Option<f64>,
     /// ζ of 2.4, pixels.
+    #[schemars(extend("exclusiveMinimum" = 0.0))]
     pub zeta_px: Option<f64>,
     /// Edge threshold on eq. 4's |∇f|, grey levels per pixel.
+    #[schemars(extend("minimum" = 0.0))]
     pub edge_threshold: Option<f64>,
     /// Coasting time before `lost`, seconds.
     pub lost_after_s: Option<f64>,
     /// Sub-pixel edges (an improvement over the paper).
     pub subpixel_edges: Option<bool>,
     /// `"paper"` (the default) or `"robust"`, the mode that goes beyond the paper.
+    #[schemars(extend("enum" = ["paper", "robust", null]))]
     pub mode: Option<String>,
     /// The teleoperator's placement error at start: `[dx_px, dy_px, dscale]` added to the
-    /// true location (default none): |dx|, |dy| at most [`super::MAX_INIT_OFFSET_PX`],
+    /// true location (default none): |dx|, |dy| at most 128,
     /// dscale in (-0.5, 1].
     #[serde(default, deserialize_with = "exact::optional")]
     pub init_offset: Option<[f64; 3]>,
@@ -204,12 +219,16 @@ pub struct TrackerFile {
 #[serde(deny_unknown_fields)]
 pub struct LoopFile {
     /// Camera and tracker rate, Hz: 15 only, the paper's (the physics clock is built on it).
+    #[schemars(extend("enum" = [15.0, null]))]
     pub rate_hz: Option<f64>,
     /// Tracker-to-controller latency, ms (default 128): 0–2000.
+    #[schemars(extend("minimum" = 0.0, "maximum" = 2000.0))]
     pub latency_ms: Option<f64>,
     /// Latency jitter, ± ms (default 0): 0 to `latency_ms`.
+    #[schemars(extend("minimum" = 0.0))]
     pub jitter_ms: Option<f64>,
     /// Probability that an estimate is dropped (default 0): [0, 1).
+    #[schemars(extend("minimum" = 0.0, "exclusiveMaximum" = 1.0))]
     pub drop_probability: Option<f64>,
 }
 
@@ -248,6 +267,7 @@ pub struct EnvironmentFile {
 pub struct RoadFile {
     /// What the road is paved with: `"asphalt"` (the default) or `"gravel"`. It chooses the
     /// road's texture; the road's grey is the same.
+    #[schemars(extend("enum" = ["asphalt", "gravel", null]))]
     pub surface: Option<String>,
 }
 
@@ -260,6 +280,7 @@ pub struct TexturesFile {
     /// On or off (default on, [`sim_render::Textures::default`]).
     pub enabled: Option<bool>,
     /// Scale of the texture's departures from its mean: 0–2 (default 1).
+    #[schemars(extend("minimum" = 0.0, "maximum" = 2.0))]
     pub contrast: Option<f64>,
 }
 
@@ -268,19 +289,25 @@ pub struct TexturesFile {
 #[derive(Clone, Debug, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct DistractorFile {
-    /// `"pole"` (vertical, beside a vertical feature) or `"wire"` (horizontal, beside a
-    /// horizontal feature).
+    /// `"pole"` (vertical, beside a vertical feature), `"wire"` (horizontal, beside a
+    /// horizontal feature) or `"shadow"` (a shadow's edge, cast by a thin fin standing out
+    /// of the board, placed for the sun at the start).
+    #[schemars(extend("enum" = ["pole", "wire", "shadow"]))]
     pub kind: String,
     /// The target segment it runs beside (its index in the target file).
     pub feature: usize,
     /// Gap from the feature's line to its near side, pixels at the nominal range (scale 1),
     /// positive away from the target's centre: ±60. Give this or `offset_m`.
+    #[schemars(extend("minimum" = -60.0, "maximum" = 60.0))]
     pub offset_px: Option<f64>,
     /// The same gap in metres on the board: ±2. Give this or `offset_px`.
+    #[schemars(extend("minimum" = -2.0, "maximum" = 2.0))]
     pub offset_m: Option<f64>,
     /// Its width, metres: 0.005–0.5 (default 0.05 for a pole, 0.02 for a wire).
+    #[schemars(extend("minimum" = 0.005, "maximum" = 0.5))]
     pub width_m: Option<f64>,
     /// Its albedo: 0–1 (default 0.1, dark; the board's light paint is 0.85).
+    #[schemars(extend("minimum" = 0.0, "maximum" = 1.0))]
     pub albedo: Option<f64>,
 }
 
@@ -290,10 +317,13 @@ pub struct DistractorFile {
 #[serde(deny_unknown_fields)]
 pub struct OverpassFile {
     /// Where it crosses the route, metres along it: on the route.
+    #[schemars(extend("minimum" = 0.0))]
     pub station_m: f64,
     /// The deck's width along the route, metres: 2–60 (default 10).
+    #[schemars(extend("minimum" = 2.0, "maximum" = 60.0))]
     pub deck_m: Option<f64>,
     /// The deck's underside above the road, metres: 4.5–20 (default 5.5).
+    #[schemars(extend("minimum" = 4.5, "maximum" = 20.0))]
     pub height_m: Option<f64>,
 }
 
@@ -302,12 +332,16 @@ pub struct OverpassFile {
 #[serde(deny_unknown_fields)]
 pub struct SunFile {
     /// Compass direction the sunlight comes from, degrees: -360–360.
+    #[schemars(extend("minimum" = -360.0, "maximum" = 360.0))]
     pub azimuth_deg: Option<f64>,
     /// Height above the horizon, degrees: (0, 90].
+    #[schemars(extend("exclusiveMinimum" = 0.0, "maximum" = 90.0))]
     pub elevation_deg: Option<f64>,
     /// Direct light, 0–2 (1 is full sun).
+    #[schemars(extend("minimum" = 0.0, "maximum" = 2.0))]
     pub strength: Option<f64>,
     /// Ambient light, 0–2.
+    #[schemars(extend("minimum" = 0.0, "maximum" = 2.0))]
     pub ambient: Option<f64>,
     /// Soft shadows on the target (default false): a fine shadow map around the board and
     /// penumbrae sized by the sun's 0.53° disc; about half the renderer's speed.
@@ -319,22 +353,31 @@ pub struct SunFile {
 #[serde(deny_unknown_fields)]
 pub struct ClutterFile {
     /// Trees per km.
+    #[schemars(extend("minimum" = 0.0, "maximum" = 1000.0))]
     pub trees_per_km: Option<f64>,
     /// Telephone poles per km.
+    #[schemars(extend("minimum" = 0.0, "maximum" = 1000.0))]
     pub poles_per_km: Option<f64>,
     /// Houses per km.
+    #[schemars(extend("minimum" = 0.0, "maximum" = 1000.0))]
     pub houses_per_km: Option<f64>,
     /// Buildings per km.
+    #[schemars(extend("minimum" = 0.0, "maximum" = 1000.0))]
     pub buildings_per_km: Option<f64>,
     /// Parked vehicles per km.
+    #[schemars(extend("minimum" = 0.0, "maximum" = 1000.0))]
     pub parked_vehicles_per_km: Option<f64>,
     /// Oncoming vehicles per km.
+    #[schemars(extend("minimum" = 0.0, "maximum" = 1000.0))]
     pub oncoming_vehicles_per_km: Option<f64>,
     /// Cracks per km.
+    #[schemars(extend("minimum" = 0.0, "maximum" = 1000.0))]
     pub cracks_per_km: Option<f64>,
     /// Patches per km.
+    #[schemars(extend("minimum" = 0.0, "maximum" = 1000.0))]
     pub patches_per_km: Option<f64>,
     /// Pot holes per km.
+    #[schemars(extend("minimum" = 0.0, "maximum" = 1000.0))]
     pub potholes_per_km: Option<f64>,
 }
 
@@ -343,14 +386,19 @@ pub struct ClutterFile {
 #[serde(deny_unknown_fields)]
 pub struct SensorFile {
     /// Gain: 0.05–20.
+    #[schemars(extend("minimum" = 0.05, "maximum" = 20.0))]
     pub gain: Option<f64>,
     /// Gaussian noise, grey levels: 0–64.
+    #[schemars(extend("minimum" = 0.0, "maximum" = 64.0))]
     pub noise_sigma_grey: Option<f64>,
-    /// Optional Gaussian blur, pixels: 0–[`super::MAX_BLUR_SIGMA_PX`].
+    /// Optional Gaussian blur, pixels: 0–10.
+    #[schemars(extend("minimum" = 0.0, "maximum" = 10.0))]
     pub blur_sigma_px: Option<f64>,
     /// Strength of the lens's cos⁴ vignetting: 0 (off, the default)–1.
+    #[schemars(extend("minimum" = 0.0, "maximum" = 1.0))]
     pub vignetting: Option<f64>,
     /// Shot noise: the full-well capacity, electrons, at grey 255: 100–10⁷ (absent: off).
+    #[schemars(extend("minimum" = 100.0, "maximum" = 10000000.0))]
     pub shot_noise_full_well_e: Option<f64>,
     /// Automatic gain control (absent: off).
     pub auto_gain: Option<AutoGainFile>,
@@ -365,10 +413,13 @@ pub struct SensorFile {
 #[serde(deny_unknown_fields)]
 pub struct AutoGainFile {
     /// The mean grey the control aims at: 10–245.
+    #[schemars(extend("minimum" = 10.0, "maximum" = 245.0))]
     pub target_grey: Option<f64>,
     /// Its time constant, seconds: 0.1–60.
+    #[schemars(extend("minimum" = 0.1, "maximum" = 60.0))]
     pub time_constant_s: Option<f64>,
     /// Its largest gain (the smallest is the reciprocal): 1–64.
+    #[schemars(extend("minimum" = 1.0, "maximum" = 64.0))]
     pub max_gain: Option<f64>,
 }
 
