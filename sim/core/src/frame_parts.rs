@@ -8,14 +8,13 @@
 //! submitted before frame k is tracked, so that is a two-frame prediction. When a step turns
 //! out to read beyond what was rendered (a search, a surprise), the rest of the frame is
 //! rendered and the step run again from a copy of the tracker's state
-//! ([`track_part`]): correctness comes first, and the estimates are bit for bit those of
+//! (`closed_loop::tracking`): correctness comes first, and the estimates are bit for bit those of
 //! whole frames (`sim/tests/cli_run.rs` compares `frames.csv` with and without `--video`).
 //! Whole frames are rendered when something needs them: the video, recordings, stills.
 
 use nalgebra::UnitQuaternion;
-use sim_render::Frame;
 use std::collections::VecDeque;
-use tracker::{Camera, EdgeDiagnostic, EgoMotion, Location, PixelRect, TrackOutput, Tracker};
+use tracker::{Camera, EgoMotion, Location, PixelRect};
 
 /// Margin around the predicted read rectangle, pixels, whatever the prediction's recent
 /// record: the read rectangle's edges are whole pixels.
@@ -213,45 +212,7 @@ pub(crate) fn camera_turn(previous: &UnitQuaternion<f64>, now: &UnitQuaternion<f
 /// exactly what the first did (about 1,100 second parts, none short), so the margin is the
 /// least, as for [`MARGIN_PX`]: a wider one only renders more pixels on the loop's
 /// critical path.
-const RETRY_MARGIN_PX: usize = 2;
-
-/// Tracks `frame` with `step` (the tracker's step on an image). When the frame is only
-/// partly rendered and the step read beyond its exact pixels, the tracker goes back to its
-/// state before the step, `render` renders a larger part of the frame into `frame` (what
-/// the step read and what was rendered, grown by [`RETRY_MARGIN_PX`]; on whichever
-/// renderer is free: the images are the same), and the step runs again; should that step
-/// also read beyond it, the same with the whole frame (`None`). The second value says
-/// whether the frame was rendered again.
-pub(crate) fn track_part<E>(
-    tracker: &mut Tracker,
-    frame: &mut Frame,
-    mut render: impl FnMut(Option<PixelRect>) -> Result<Frame, E>,
-    step: impl Fn(&mut Tracker, &Frame) -> (TrackOutput, Vec<EdgeDiagnostic>),
-) -> Result<((TrackOutput, Vec<EdgeDiagnostic>), bool), E> {
-    let (width, height) = (frame.image.width() as usize, frame.image.height() as usize);
-    let all = PixelRect::whole(width, height);
-    if frame.exact == all {
-        return Ok((step(tracker, frame), false));
-    }
-    let before = tracker.clone();
-    let out = step(tracker, frame);
-    if frame.exact.contains(&tracker.last_read()) {
-        return Ok((out, false));
-    }
-    let larger = frame
-        .exact
-        .union(&tracker.last_read())
-        .grown(RETRY_MARGIN_PX, width, height);
-    *tracker = before.clone();
-    *frame = render((larger != all).then_some(larger))?;
-    let out = step(tracker, frame);
-    if frame.exact.contains(&tracker.last_read()) {
-        return Ok((out, true));
-    }
-    *tracker = before;
-    *frame = render(None)?;
-    Ok((step(tracker, frame), true))
-}
+pub(crate) const RETRY_MARGIN_PX: usize = 2;
 
 #[cfg(test)]
 mod tests {
@@ -368,111 +329,5 @@ mod tests {
         let m = MARGIN_PX + FIRST_ERROR_PX;
         assert_eq!(turned.x0, (98.0 + shift[0] - m).floor() as usize);
         assert!(turned.x0 < still.x0);
-    }
-
-    /// A part that misses the target: the step reads beyond it, so a larger part (or, when
-    /// that falls short too, the whole frame) is rendered and tracked again, and the
-    /// output is the whole frame's.
-    #[test]
-    fn a_step_beyond_the_part_renders_the_rest_and_steps_again() {
-        use sim_render::{builtin_description, builtin_poses, builtin_target, Scene};
-        use sim_render::{Backend, CameraRig, FrameInput, RenderOptions, Renderer};
-        use tracker::{GrayView, TrackerConfig};
-
-        let scene = std::sync::Arc::new(
-            Scene::build(builtin_description(builtin_target(), 5)).expect("scene"),
-        );
-        let options = RenderOptions {
-            backend: Backend::choose(None).expect("backend"),
-            ..RenderOptions::default()
-        };
-        let mut renderer =
-            Renderer::new(scene.clone(), CameraRig::default(), &options).expect("renderer");
-        let time_s = 3.0;
-        let (world_from_chase, world_from_lead) = builtin_poses(
-            scene.description(),
-            scene.route(),
-            &renderer.rig().mount,
-            time_s,
-        );
-        let input = FrameInput::fixed_camera(45, time_s, world_from_chase, world_from_lead);
-        let whole = renderer.render(&input).expect("frame");
-        let t = whole.truth;
-        let camera = renderer.rig().intrinsics;
-        let new_tracker = || {
-            let at = Location::new(t.c_x, t.c_y, t.scale);
-            Tracker::new(builtin_target(), camera, TrackerConfig::default(), at).unwrap()
-        };
-        let step = |tracker: &mut Tracker, f: &Frame| {
-            let (w, h) = f.image.dimensions();
-            let view = GrayView::new(w as usize, h as usize, f.image.as_raw()).unwrap();
-            (tracker.step(view, time_s), Vec::new())
-        };
-        let mut reference = new_tracker();
-        let (expected, _) = step(&mut reference, &whole);
-
-        // A part a few pixels short of what the step reads on every side, as a part
-        // predicted from a smaller read falls short: the step reads beyond it.
-        let read = reference.last_read();
-        let short = PixelRect {
-            x0: read.x0 + 6,
-            y0: read.y0 + 6,
-            x1: read.x1 - 6,
-            y1: read.y1 - 6,
-        };
-        // Tracks the short part; `narrow`: a renderer that draws the short part again
-        // whatever part it is asked for. The parts asked for come back too.
-        let mut track_short = |narrow: bool| {
-            let mut partial = renderer.render_part(&input, Some(short)).expect("frame");
-            assert_ne!(partial.image, whole.image);
-            let mut tracker = new_tracker();
-            let mut asked = Vec::new();
-            let ((out, _), again) = track_part(
-                &mut tracker,
-                &mut partial,
-                |p| {
-                    asked.push(p);
-                    renderer.render_part(&input, if narrow { p.map(|_| short) } else { p })
-                },
-                step,
-            )
-            .expect("track");
-            (out, again, asked, partial)
-        };
-        let (out, again, asked, partial) = track_short(false);
-        assert!(again, "rendered again and stepped again");
-        assert_eq!(out, expected);
-        // Once: a part holding what the step read, not the whole frame.
-        assert_eq!(asked.len(), 1, "{asked:?}");
-        let larger = asked[0].expect("a part");
-        assert!(larger.contains(&short) && larger.contains(&read));
-        assert_eq!(partial.exact, larger);
-        let (w, _) = whole.image.dimensions();
-        for y in larger.y0..larger.y1 {
-            let row = |f: &Frame| f.image.as_raw()[y * w as usize..][larger.x0..larger.x1].to_vec();
-            assert_eq!(row(&partial), row(&whole), "row {y}");
-        }
-
-        // Should the larger part fall short too, the whole frame.
-        let (out, again, asked, partial) = track_short(true);
-        assert!(again);
-        assert_eq!(asked.len(), 2, "{asked:?}");
-        assert_eq!(asked[1], None);
-        assert_eq!(out, expected);
-        assert_eq!(partial, whole);
-
-        // A part holding what the step reads: no second render.
-        let mut enough = renderer.render_part(&input, Some(read)).expect("frame");
-        let mut tracker = new_tracker();
-        let ((out, _), again) = track_part(
-            &mut tracker,
-            &mut enough,
-            |p| renderer.render_part(&input, p),
-            step,
-        )
-        .expect("track");
-        assert!(!again);
-        assert_eq!(out, expected);
-        assert_eq!(enough.exact, read);
     }
 }

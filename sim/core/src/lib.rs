@@ -37,8 +37,8 @@ pub use driven_path::DrivenPath;
 pub use plan::{lead_body_size_m, render_options, Plan};
 pub use plugin::{
     BuiltinController, BuiltinTracker, CameraModel, Command, ControlInput, Controller,
-    ControllerChoice, Estimate, EstimateStatus, FrameTracker, PluginError, TrackerChoice,
-    TrackerInput,
+    ControllerChoice, Delivered, Drawn, Estimate, EstimateStatus, FrameTracker, PluginError,
+    StepDetails, TrackerChoice, TrackerInput,
 };
 pub use record::{FrameRecord, LossCause, TrackerStatus};
 pub use render_worker::{fingerprint, serve_frames};

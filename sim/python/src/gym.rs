@@ -17,7 +17,7 @@ use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use sim_core::{
-    BuiltinController, ClosedLoop, Command, ControlInput, Controller, ControllerChoice,
+    BuiltinController, ClosedLoop, Command, ControlInput, Controller, ControllerChoice, Delivered,
     EstimateStatus, FrameOutput, LoopOptions, PluginError, TrackerChoice,
 };
 use sim_render::Backend;
@@ -56,6 +56,13 @@ struct Agent {
 }
 
 impl Controller for Agent {
+    /// The built-in steering hears every estimate delivered, as in the loop.
+    fn receive(&mut self, delivered: &Delivered) {
+        if let Some(builtin) = &mut self.steering {
+            builtin.receive(delivered);
+        }
+    }
+
     fn name(&self) -> String {
         match self.steering {
             Some(_) => "gymnasium agent (longitudinal; built-in steering)".into(),

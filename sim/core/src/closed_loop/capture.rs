@@ -4,11 +4,9 @@
 use super::drive::Drive;
 use super::iso;
 use crate::auto_gain::AutoGainControl;
-use image::GrayImage;
 use nalgebra::Isometry3;
 use sim_render::{CameraRig, Field, FrameInput};
 use std::time::{Duration, Instant};
-use tracker::{EdgeDiagnostic, EgoMotion, GrayView, TrackOutput, Tracker};
 use vehicle::{DelayLine, Pose, Step, VehicleState, STEPS_PER_FRAME};
 
 /// The world at the start of a frame, and the camera's input for it.
@@ -87,29 +85,6 @@ pub(super) fn timed<T>(spent: &mut Duration, f: impl FnOnce() -> T) -> T {
     let out = f();
     *spent += started.elapsed();
     out
-}
-
-/// The tracker's step on one frame: the image only, and in robust mode the gyro's reading
-/// of the camera's rotation since the last frame.
-pub(super) fn track_frame(
-    tracker: &mut Tracker,
-    image: &GrayImage,
-    t_s: f64,
-    ego: Option<EgoMotion>,
-    diagnostics: bool,
-) -> (TrackOutput, Vec<EdgeDiagnostic>) {
-    let view = GrayView::new(
-        image.width() as usize,
-        image.height() as usize,
-        image.as_raw(),
-    )
-    .expect("the renderer's frame matches its size");
-    match (ego, diagnostics) {
-        (Some(ego), true) => tracker.step_aided_with_diagnostics(view, t_s, ego),
-        (Some(ego), false) => (tracker.step_aided(view, t_s, ego), Vec::new()),
-        (None, true) => tracker.step_with_diagnostics(view, t_s),
-        (None, false) => (tracker.step(view, t_s), Vec::new()),
-    }
 }
 
 pub(super) fn xz(p: &Pose) -> [f64; 2] {

@@ -3,26 +3,16 @@
 
 use super::iso;
 use crate::delayed::Delayed;
-use crate::plugin::{ControlInput, Controller, Estimate, EstimateStatus, PluginError};
+use crate::plugin::{ControlInput, Controller, Delivered, Estimate, EstimateStatus, PluginError};
 use sim_render::Field;
 use vehicle::{
-    ChaseController, Controls, DelayLine, LeadDriver, LeadEstimate, Odometry, PanHead, Step,
-    TrackStatus, Vector, VehicleId, World, STEPS_PER_FRAME,
+    ChaseController, Controls, DelayLine, LeadDriver, LeadEstimate, PanHead, Step, TrackStatus,
+    Vector, VehicleId, World, STEPS_PER_FRAME,
 };
 
-/// The chase's controller: the built-in, or a plug-in.
-// One per loop, made once and never moved in the loop's steps: the built-in's size costs
-// nothing, and a box would cost an indirection at 120 Hz.
-#[allow(clippy::large_enum_variant)]
-pub(super) enum Chase {
-    /// The built-in controller, fed every estimate that falls due.
-    Builtin(ChaseController),
-    /// A plug-in, fed the latest estimate delivered.
-    Plugin(PluginChase),
-}
-
-/// A plug-in controller and what it has heard.
-pub(super) struct PluginChase {
+/// The chase's controller, through the plug-in trait whatever it is (the built-in
+/// [`crate::BuiltinController`] or anyone's), and what it has heard.
+pub(super) struct Chase {
     pub(super) controller: Box<dyn Controller>,
     /// The latest estimate delivered, by capture time.
     latest: Option<Delayed>,
@@ -30,9 +20,9 @@ pub(super) struct PluginChase {
     pub(super) failed: Option<(Step, PluginError)>,
 }
 
-impl PluginChase {
-    pub(super) fn new(controller: Box<dyn Controller>) -> PluginChase {
-        PluginChase {
+impl Chase {
+    pub(super) fn new(controller: Box<dyn Controller>) -> Chase {
+        Chase {
             controller,
             latest: None,
             failed: None,
@@ -40,9 +30,10 @@ impl PluginChase {
     }
 }
 
-/// A physics step's commands from a plug-in: the vehicle's controls and the pan head's rate.
-fn plugin_commands(
-    p: &mut PluginChase,
+/// A physics step's commands from the controller: the vehicle's controls and the pan
+/// head's rate.
+fn commands(
+    p: &mut Chase,
     delivered: Vec<Delayed>,
     step: Step,
     chase: &vehicle::VehicleState,
@@ -50,6 +41,13 @@ fn plugin_commands(
 ) -> Result<(Controls, f64), PluginError> {
     let fresh = !delivered.is_empty();
     for d in delivered {
+        let [x, y, z] = d.lead.target_in_camera_m.into();
+        p.controller.receive(&Delivered {
+            estimate: d.estimate,
+            position_m: [x, y, z].map(f64::from),
+            captured_t_s: d.lead.capture_step.seconds(),
+            captured_pan_rad: f64::from(d.lead.camera_pan_rad),
+        });
         if p.latest
             .is_none_or(|l| l.lead.capture_step <= d.lead.capture_step)
         {
@@ -125,9 +123,9 @@ impl Drive {
     pub(super) fn advance_frame(&mut self) -> Driven {
         self.advance_steps(None);
         let ahead = self.ahead.take().expect("the frame's steps have run");
-        let (chase_mode, desired_gap_m) = match &self.chase {
-            Chase::Builtin(c) => (Some(c.mode()), c.telemetry().desired_gap_m),
-            Chase::Plugin(_) => (None, f32::NAN),
+        let (chase_mode, desired_gap_m) = match self.builtin() {
+            Some(c) => (Some(c.mode()), c.telemetry().desired_gap_m),
+            None => (None, f32::NAN),
         };
         Driven {
             controls: ahead.controls,
@@ -163,32 +161,24 @@ impl Drive {
             let chase = self.world.vehicle_state(self.chase_id);
             let lead = self.world.vehicle_state(self.lead_id);
             let pan_reading_rad = self.pan_reading_rad();
-            let pan_rate_rad_s = match &mut self.chase {
-                Chase::Builtin(c) => {
-                    for d in delivered {
-                        c.receive(d.lead);
-                    }
-                    ahead.controls = c.update(&Odometry {
-                        step: step_now,
-                        world_from_chase: chase.world_from_vehicle,
-                        forward_speed_mps: chase.forward_speed_mps,
-                        camera_pan_rad: pan_reading_rad as f32,
-                    });
-                    f64::from(c.telemetry().pan_rate_cmd_rad_s)
+            if self.chase.failed.is_some() {
+                break;
+            }
+            let pan_rate_rad_s = match commands(
+                &mut self.chase,
+                delivered,
+                step_now,
+                &chase,
+                pan_reading_rad,
+            ) {
+                Ok((controls, pan_rate)) => {
+                    ahead.controls = controls;
+                    pan_rate
                 }
-                Chase::Plugin(p) if p.failed.is_some() => break,
-                Chase::Plugin(p) => {
-                    match plugin_commands(p, delivered, step_now, &chase, pan_reading_rad) {
-                        Ok((controls, pan_rate)) => {
-                            ahead.controls = controls;
-                            pan_rate
-                        }
-                        Err(e) => {
-                            // The run ends here: nothing more is stepped.
-                            p.failed = Some((step_now, e));
-                            break;
-                        }
-                    }
+                Err(e) => {
+                    // The run ends here: nothing more is stepped.
+                    self.chase.failed = Some((step_now, e));
+                    break;
                 }
             };
             if let Some(pan) = &mut self.pan {
@@ -260,20 +250,14 @@ impl Drive {
         self.delay.push(captured, Delayed { lead, estimate });
     }
 
-    /// The built-in controller, when it drives.
+    /// The built-in controller's state, when it drives.
     pub(super) fn builtin(&self) -> Option<&ChaseController> {
-        match &self.chase {
-            Chase::Builtin(c) => Some(c),
-            Chase::Plugin(_) => None,
-        }
+        self.chase.controller.chase_controller()
     }
 
-    /// A plug-in controller's failure, which ends the run.
+    /// The controller's failure, which ends the run.
     pub(super) fn take_failure(&mut self) -> Option<(Step, PluginError)> {
-        match &mut self.chase {
-            Chase::Plugin(p) => p.failed.take(),
-            Chase::Builtin(_) => None,
-        }
+        self.chase.failed.take()
     }
 }
 
@@ -285,8 +269,8 @@ impl Drive {
 pub(super) struct Driven {
     pub(super) controls: vehicle::Controls,
     pub(super) collision: bool,
-    /// The built-in controller's mode (`None` for a plug-in).
+    /// The built-in controller's mode (`None` for another).
     pub(super) chase_mode: Option<vehicle::ChaseMode>,
-    /// The built-in controller's desired gap (NaN for a plug-in).
+    /// The built-in controller's desired gap (NaN for another).
     pub(super) desired_gap_m: f32,
 }

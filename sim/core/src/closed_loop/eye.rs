@@ -26,9 +26,9 @@ pub(super) struct Eye {
     pub(super) tracking: Tracking,
     /// Each frame's output carries its edge points' fates.
     pub(super) diagnostics: bool,
-    /// The chase's rate gyro, read between tracked frames for robust mode's ego-motion
-    /// aided prediction and for plug-in trackers (`None` for the paper's mode, which has no
-    /// use for it).
+    /// The chase's rate gyro, read between tracked frames for a tracker that reads it
+    /// (robust mode's ego-motion aided prediction, plug-ins); `None` for the paper's mode,
+    /// which has no use for it.
     pub(super) gyro: Option<Gyro>,
     /// The camera's orientation at the last tracked frame.
     pub(super) last_camera: Option<UnitQuaternion<f64>>,
@@ -46,19 +46,21 @@ impl Eye {
     /// The part of the frame `captured` to render: what the tracker will read, or the
     /// whole frame (`None`).
     pub(super) fn needed(&self, captured: &Captured) -> Option<PixelRect> {
-        match &self.tracking {
-            _ if self.parts.whole_frames => None,
-            Tracking::Builtin(_) => self.parts.needed(
+        if self.parts.whole_frames {
+            return None;
+        }
+        self.parts
+            .needed(
                 captured.input.frame_index,
                 &captured.world_from_camera.rotation,
-            ),
-            Tracking::Plugin(p) => p.next_read,
-        }
+            )
+            .or_else(|| self.tracking.will_read())
     }
 
     /// The part of frame `captured` to render when it is submitted before the frame
     /// before it is tracked (two in flight): the paper's tracker's prediction two frames
-    /// on; a plug-in's frames whole, since what it said it will read is of the next frame.
+    /// on; a tracker that gives no details gets whole frames, since what it said it will
+    /// read is of the next frame.
     pub(super) fn needed_ahead(&self, captured: &Captured) -> Option<PixelRect> {
         self.parts.needed(
             captured.input.frame_index,
@@ -89,7 +91,6 @@ impl Eye {
                 render,
                 input.time_s,
                 ego,
-                self.diagnostics,
                 captured.pan_reading_rad,
             )
         })
@@ -120,12 +121,12 @@ impl Eye {
 
     /// What the tracker read of frame `captured`, for the part of the next frames to render.
     fn observe(&mut self, captured: &Captured, tracked: &Tracked, rerendered: bool) {
-        if let (Tracking::Builtin(t), Some(out)) = (&self.tracking, &tracked.out) {
+        if let (Some(out), Some(read)) = (&tracked.out, tracked.read) {
             self.parts.observe(
                 captured.input.frame_index,
                 out.estimate,
                 out.next,
-                t.last_read(),
+                read,
                 captured.world_from_camera.rotation,
             );
         }

@@ -18,17 +18,20 @@ mod two_in_flight;
 pub use renderers::LoopOptions;
 
 use capture::{renders_ahead, xz};
-use drive::{Chase, Drive, PluginChase};
+use drive::{Chase, Drive};
 use eye::Eye;
 use recorder::Recorder;
 use schedule::{Schedule, Shot, Spent};
-use tracking::{PluginTracking, Tracking};
+use tracking::Tracking;
 
 use crate::auto_gain::AutoGainControl;
 use crate::driven_path::DrivenPath;
 use crate::frame_parts::FrameParts;
 use crate::plan::{iso, render_options, Plan};
-use crate::plugin::{CameraModel, ControllerChoice, Estimate, PluginError, TrackerChoice};
+use crate::plugin::{
+    BuiltinController, BuiltinTracker, CameraModel, ControllerChoice, Estimate, PluginError,
+    TrackerChoice,
+};
 use crate::record::FrameRecord;
 use crate::render_worker::fingerprint;
 use crate::scenario::Scenario;
@@ -299,20 +302,26 @@ impl ClosedLoop {
         let options = render_options(backend);
         let renderer = Renderer::new(scene.clone(), rig.clone(), &options)?;
         let fingerprint = fingerprint(scene.description(), &rig, &options);
-        let pan_rad = pan.as_ref().map_or(0.0, vehicle::PanHead::reading_rad);
-        let (tracking, target_width_px) =
-            tracking_of(tracker, &s, &rig, pan_rad, init, &start_estimate)?;
-        let chase = match controller {
-            ControllerChoice::Builtin => Chase::Builtin(chase),
-            ControllerChoice::Plugin(plugin) => Chase::Plugin(PluginChase::new(plugin)),
-        };
         // Two plug-ins may share state (one object behind both, say): then nothing runs
         // beside anything else, so that their calls come in one order, run after run.
-        let overlap =
-            !(matches!(tracking, Tracking::Plugin(_)) && matches!(chase, Chase::Plugin(_)));
+        let overlap = !(matches!(tracker, TrackerChoice::Plugin(_))
+            && matches!(controller, ControllerChoice::Plugin(_)));
         let can_overlap = overlap && renders_ahead(&delay);
-        let robust = s.tracker.mode == TrackerMode::Robust;
-        let plugin_tracker = matches!(tracking, Tracking::Plugin(_));
+        // Robust mode's prediction, and so the parts rendered, turn with the gyro.
+        let turning =
+            matches!(tracker, TrackerChoice::Builtin) && s.tracker.mode == TrackerMode::Robust;
+        let pan_rad = pan.as_ref().map_or(0.0, vehicle::PanHead::reading_rad);
+        let (mut tracking, target_width_px) =
+            tracking_of(tracker, &s, &rig, pan_rad, init, &start_estimate)?;
+        tracking.tracker.set_diagnostics(diagnostics);
+        let gyro = tracking
+            .tracker
+            .reads_gyro()
+            .then(|| Gyro::new(&GyroConfig::default(), s.seed));
+        let chase = Chase::new(match controller {
+            ControllerChoice::Builtin => Box::new(BuiltinController::from(chase)),
+            ControllerChoice::Plugin(plugin) => plugin,
+        });
         let drive = Drive {
             world,
             chase_id,
@@ -337,12 +346,7 @@ impl ClosedLoop {
             last_chase_xz: xz(&drive.world.vehicle_state(chase_id).world_from_vehicle),
         };
         let eye = Eye {
-            parts: FrameParts::new(
-                rig.width,
-                rig.height,
-                // Robust mode turns its prediction with the gyro's reading.
-                (robust && !plugin_tracker).then_some(rig.intrinsics),
-            ),
+            parts: FrameParts::new(rig.width, rig.height, turning.then_some(rig.intrinsics)),
             auto_gain: AutoGainControl::new(
                 s.sensor.auto_gain,
                 rig.width,
@@ -353,7 +357,7 @@ impl ClosedLoop {
             lead_from_scene,
             tracking,
             diagnostics,
-            gyro: (robust || plugin_tracker).then(|| Gyro::new(&GyroConfig::default(), s.seed)),
+            gyro,
             last_camera: None,
             last_ego: None,
         };
@@ -432,10 +436,7 @@ impl ClosedLoop {
 
     /// The controller's name, for reports.
     pub fn controller_name(&self) -> String {
-        match &self.drive.chase {
-            Chase::Builtin(_) => "pure pursuit and gap keeper".into(),
-            Chase::Plugin(p) => p.controller.name(),
-        }
+        self.drive.chase.controller.name()
     }
 
     /// Whether the loop of scenario `s` renders frames ahead (see `set_pipelined`), so that
@@ -504,9 +505,9 @@ impl ClosedLoop {
     }
 }
 
-/// The loop's tracker, as `choice` says, and the target's width in the image at the
-/// nominal range, pixels. The paper's starts from the teleoperator's placement `init`; a
-/// plug-in is reset with the camera and `start` (the same placement as an estimate).
+/// The loop's tracker, as `choice` says, reset with the camera and `start` (the
+/// teleoperator's placement `init` as an estimate), and the target's width in the image at
+/// the nominal range, pixels.
 fn tracking_of(
     choice: TrackerChoice,
     s: &Scenario,
@@ -515,46 +516,35 @@ fn tracking_of(
     init: Location,
     start: &Estimate,
 ) -> Result<(Tracking, f64), LoopError> {
-    let mut paper =
-        Tracker::new(s.target.clone(), s.camera, s.tracker.clone(), init).map_err(|e| {
-            LoopError::Setup {
-                scenario: s.name.clone(),
-                message: format!("tracker: {e}"),
-            }
-        })?;
-    // The overlay and the recording draw associated and rejected points only.
-    paper.set_association_fates_only(true);
-    let target_width_px = paper.target_width_px();
-    let tracking = match choice {
-        TrackerChoice::Builtin => Tracking::Builtin(paper),
-        TrackerChoice::Plugin(mut plugin) => {
-            let camera = CameraModel {
-                intrinsics: rig.intrinsics,
-                width: rig.width,
-                height: rig.height,
-                mount_height_m: rig.mount.height_m,
-                mount_forward_m: rig.mount.forward_offset_m,
-                mount_pitch_down_deg: rig.mount.pitch_deg,
-                pan_rad,
-                target: s.target.clone(),
-            };
-            plugin
-                .reset(&camera, Some(start))
-                .map_err(|error| LoopError::Plugin {
-                    what: "tracker",
-                    frame: None,
-                    t_s: None,
-                    error,
-                })?;
-            let next_read = plugin.will_read();
-            Tracking::Plugin(PluginTracking {
-                tracker: plugin,
-                camera,
-                next_read,
-            })
+    let paper = Tracker::new(s.target.clone(), s.camera, s.tracker.clone(), init).map_err(|e| {
+        LoopError::Setup {
+            scenario: s.name.clone(),
+            message: format!("tracker: {e}"),
         }
+    })?;
+    let mut tracker = match choice {
+        TrackerChoice::Builtin => Box::new(BuiltinTracker::new(s.tracker.clone())),
+        TrackerChoice::Plugin(plugin) => plugin,
     };
-    Ok((tracking, target_width_px))
+    let camera = CameraModel {
+        intrinsics: rig.intrinsics,
+        width: rig.width,
+        height: rig.height,
+        mount_height_m: rig.mount.height_m,
+        mount_forward_m: rig.mount.forward_offset_m,
+        mount_pitch_down_deg: rig.mount.pitch_deg,
+        pan_rad,
+        target: s.target.clone(),
+    };
+    tracker
+        .reset(&camera, Some(start))
+        .map_err(|error| LoopError::Plugin {
+            what: "tracker",
+            frame: None,
+            t_s: None,
+            error,
+        })?;
+    Ok((Tracking { tracker, camera }, paper.target_width_px()))
 }
 
 /// The lead's lane from 10 m behind the chase's start to the lead's start, metre by metre:

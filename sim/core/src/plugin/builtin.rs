@@ -1,14 +1,17 @@
 //! The built-in tracker and controller behind the plug-in traits: the paper's tracker
 //! (either mode) as a [`FrameTracker`], the built-in chase controller as a [`Controller`].
-//! The loop runs the built-ins directly (see [`super::TrackerChoice`]); these are for
-//! whoever wants them as plug-ins: a comparison, a wrapper in Python, a controller of one's
-//! own over the paper's tracker.
+//! The loop runs them as it runs any plug-in; they are as much for whoever wants them as
+//! plug-ins: a comparison, a wrapper in Python, a controller of one's own over the paper's
+//! tracker.
 
 use super::{
-    CameraModel, Command, ControlInput, Controller, Estimate, EstimateStatus, FrameTracker,
-    PluginError, TrackerInput,
+    CameraModel, Command, ControlInput, Controller, Delivered, Drawn, Estimate, EstimateStatus,
+    FrameTracker, PluginError, StepDetails, TrackerInput,
 };
-use tracker::{EgoMotion, Location, TrackOutput, Tracker, TrackerConfig, TrackerMode};
+use tracker::{
+    EdgeDiagnostic, EgoMotion, Location, PixelRect, TrackOutput, Tracker, TrackerConfig,
+    TrackerMode,
+};
 use vehicle::{
     ChaseController, ChaseControllerConfig, LeadEstimate, Odometry, Step, TrackStatus, Vector,
     VehicleParams,
@@ -19,6 +22,10 @@ pub struct BuiltinTracker {
     config: TrackerConfig,
     tracker: Option<Tracker>,
     last: Option<TrackOutput>,
+    /// Whether each step records its edge points' fates.
+    diagnostics: bool,
+    /// The last step's edge points' fates, with diagnostics on.
+    edges: Vec<EdgeDiagnostic>,
 }
 
 impl BuiltinTracker {
@@ -28,6 +35,8 @@ impl BuiltinTracker {
             config,
             tracker: None,
             last: None,
+            diagnostics: false,
+            edges: Vec::new(),
         }
     }
 
@@ -75,8 +84,12 @@ impl FrameTracker for BuiltinTracker {
             Some(init) => Tracker::new(model, camera.intrinsics, config, init),
             None => Tracker::new_searching(model, camera.intrinsics, config),
         };
-        self.tracker = Some(tracker.map_err(|e| PluginError::Failed(e.to_string()))?);
+        let mut tracker = tracker.map_err(|e| PluginError::Failed(e.to_string()))?;
+        // The overlay and recordings draw associated and rejected points only.
+        tracker.set_association_fates_only(true);
+        self.tracker = Some(tracker);
         self.last = None;
+        self.edges.clear();
         Ok(())
     }
 
@@ -90,22 +103,65 @@ impl FrameTracker for BuiltinTracker {
             .then_some(input.gyro_rad)
             .flatten()
             .map(|rotation_rad| EgoMotion { rotation_rad });
-        let out = match ego {
-            Some(ego) => tracker.step_aided(input.frame, input.t_s, ego),
-            None => tracker.step(input.frame, input.t_s),
+        let (frame, t_s) = (input.frame, input.t_s);
+        let (out, edges) = match (ego, self.diagnostics) {
+            (Some(ego), true) => tracker.step_aided_with_diagnostics(frame, t_s, ego),
+            (Some(ego), false) => (tracker.step_aided(frame, t_s, ego), Vec::new()),
+            (None, true) => tracker.step_with_diagnostics(frame, t_s),
+            (None, false) => (tracker.step(frame, t_s), Vec::new()),
         };
         let estimate = estimate_of(&out);
         self.last = Some(out);
+        self.edges = edges;
         Ok(Some(estimate))
+    }
+
+    /// Steps on the part drawn, from a copy of the tracker's state; should the step read
+    /// beyond it ([`Tracker::last_read`]), the copy is put back and the pixels read asked
+    /// for.
+    fn track_drawn(
+        &mut self,
+        input: &TrackerInput<'_>,
+        drawn: PixelRect,
+    ) -> Result<Drawn, PluginError> {
+        if drawn == PixelRect::whole(input.frame.width(), input.frame.height()) {
+            return self.track(input).map(Drawn::Tracked);
+        }
+        let before = self.tracker.clone();
+        let last = self.last.take();
+        let estimate = self.track(input)?;
+        let read = self.tracker.as_ref().map(Tracker::last_read);
+        match read {
+            Some(read) if !drawn.contains(&read) => {
+                self.tracker = before;
+                self.last = last;
+                self.edges.clear();
+                Ok(Drawn::Needs(read))
+            }
+            _ => Ok(Drawn::Tracked(estimate)),
+        }
+    }
+
+    fn reads_gyro(&self) -> bool {
+        self.config.mode == TrackerMode::Robust
+    }
+
+    fn set_diagnostics(&mut self, on: bool) {
+        self.diagnostics = on;
+    }
+
+    fn take_details(&mut self) -> Option<StepDetails> {
+        Some(StepDetails {
+            output: self.last.clone()?,
+            read: self.tracker.as_ref()?.last_read(),
+            edges: std::mem::take(&mut self.edges),
+        })
     }
 }
 
 /// The built-in chase controller (pure pursuit on breadcrumbs from the delayed estimates,
-/// the gap keeper, loss handling and the pan head's aim) as a plug-in.
-///
-/// Run through the trait it hears one estimate a step, the latest delivered; the loop's own
-/// path gives it every estimate that falls due at a step, which differs only when jitter
-/// delivers two at once.
+/// the gap keeper, loss handling and the pan head's aim) as a plug-in. It hears every
+/// estimate the delay line delivers ([`Controller::receive`]).
 pub struct BuiltinController {
     controller: ChaseController,
 }
@@ -127,27 +183,36 @@ impl BuiltinController {
     }
 }
 
+impl From<ChaseController> for BuiltinController {
+    fn from(controller: ChaseController) -> BuiltinController {
+        BuiltinController { controller }
+    }
+}
+
 impl Controller for BuiltinController {
     fn name(&self) -> String {
         "pure pursuit and gap keeper".into()
     }
 
+    fn receive(&mut self, d: &Delivered) {
+        let [x, y, z] = d.position_m;
+        self.controller.receive(LeadEstimate {
+            capture_step: Step::from_seconds(d.captured_t_s),
+            target_in_camera_m: Vector::new(x as f32, y as f32, z as f32),
+            status: match d.estimate.status {
+                EstimateStatus::Tracking => TrackStatus::Tracking,
+                EstimateStatus::Coasting => TrackStatus::Coasting,
+                EstimateStatus::Lost => TrackStatus::Lost,
+            },
+            camera_pan_rad: d.captured_pan_rad as f32,
+        });
+    }
+
+    fn chase_controller(&self) -> Option<&ChaseController> {
+        Some(&self.controller)
+    }
+
     fn control(&mut self, input: &ControlInput) -> Result<Command, PluginError> {
-        if let (true, Some(e), Some(captured_t_s)) =
-            (input.fresh, input.estimate, input.captured_t_s)
-        {
-            let [x, y, z] = [e.lateral_m, e.vertical_m.unwrap_or(0.0), e.range_m];
-            self.controller.receive(LeadEstimate {
-                capture_step: Step::from_seconds(captured_t_s),
-                target_in_camera_m: Vector::new(x as f32, y as f32, z as f32),
-                status: match e.status {
-                    EstimateStatus::Tracking => TrackStatus::Tracking,
-                    EstimateStatus::Coasting => TrackStatus::Coasting,
-                    EstimateStatus::Lost => TrackStatus::Lost,
-                },
-                camera_pan_rad: input.captured_pan_rad.unwrap_or(0.0) as f32,
-            });
-        }
         let controls = self.controller.update(&Odometry {
             step: Step::from_seconds(input.t_s),
             world_from_chase: input.world_from_chase,

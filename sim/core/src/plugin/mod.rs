@@ -10,19 +10,25 @@
 //! built-in's do.
 //!
 //! The paper's tracker ([`BuiltinTracker`]) and the built-in controller
-//! ([`BuiltinController`]) implement the traits; the loop runs them directly (see
-//! [`TrackerChoice`]), so that a built-in run renders only the part of each frame the
-//! tracker reads and records its diagnostics, and the same estimates come out either way.
+//! ([`BuiltinController`]) implement the traits, and the loop runs them through the traits
+//! as it runs any plug-in. What they do beyond a plug-in's minimum goes through the traits'
+//! optional methods, open to any plug-in: a tracker may say it needs more of a frame drawn
+//! only in part ([`FrameTracker::track_drawn`]), and give its step's details for the
+//! records ([`FrameTracker::take_details`]); a controller may hear every estimate the
+//! delay line delivers ([`Controller::receive`]).
 
 mod builtin;
 mod types;
 
-pub(crate) use builtin::estimate_of;
 pub use builtin::{BuiltinController, BuiltinTracker};
-pub use types::{CameraModel, Command, ControlInput, Estimate, EstimateStatus, TrackerInput};
+pub use types::{
+    CameraModel, Command, ControlInput, Delivered, Drawn, Estimate, EstimateStatus, StepDetails,
+    TrackerInput,
+};
 
 use thiserror::Error;
 use tracker::PixelRect;
+use vehicle::ChaseController;
 
 /// A plug-in's failure, which ends the run (see [`crate::LoopError::Plugin`]).
 #[derive(Debug, Error)]
@@ -62,6 +68,41 @@ pub trait FrameTracker: Send {
     fn will_read(&self) -> Option<PixelRect> {
         None
     }
+
+    /// Whether the tracker reads [`TrackerInput::gyro_rad`] (the default): the loop reads
+    /// the chase's gyro only for a tracker that does.
+    fn reads_gyro(&self) -> bool {
+        true
+    }
+
+    /// One frame drawn only in part: `input.frame` holds the camera's pixels within
+    /// `drawn`, the rest is unspecified. A tracker that finds it needs pixels beyond
+    /// `drawn` goes back to its state before the frame and returns [`Drawn::Needs`] with
+    /// them; the loop draws more of the frame and calls again, at last with the whole
+    /// frame, of which no more may be asked. The default tracks the frame as it is
+    /// ([`FrameTracker::track`]): a plug-in is drawn what [`FrameTracker::will_read`]
+    /// asked for.
+    fn track_drawn(
+        &mut self,
+        input: &TrackerInput<'_>,
+        drawn: PixelRect,
+    ) -> Result<Drawn, PluginError> {
+        let _ = drawn;
+        self.track(input).map(Drawn::Tracked)
+    }
+
+    /// Asks for each step's edge points' fates in [`StepDetails::edges`] (for the overlay
+    /// and recordings). A tracker without them ignores it (the default).
+    fn set_diagnostics(&mut self, on: bool) {
+        let _ = on;
+    }
+
+    /// What the last step made beyond its estimate, once: the paper's tracker's stages
+    /// 1–8, the pixels it read and its edge points' fates, for the records. `None`, the
+    /// default, for a tracker that says no more.
+    fn take_details(&mut self) -> Option<StepDetails> {
+        None
+    }
 }
 
 /// A chase controller in the loop: what came through the delay line and the chase's own
@@ -74,13 +115,27 @@ pub trait Controller: Send {
 
     /// The commands for this physics step.
     fn control(&mut self, input: &ControlInput) -> Result<Command, PluginError>;
+
+    /// Each estimate the delay line delivers, in the order delivered, before
+    /// [`Controller::control`] at that step: with jitter several can arrive at one step,
+    /// and [`ControlInput::estimate`] holds only the latest by capture time. The default
+    /// does nothing with them.
+    fn receive(&mut self, delivered: &Delivered) {
+        let _ = delivered;
+    }
+
+    /// The built-in controller's state (its mode, telemetry and events log), for the
+    /// records; `None`, the default, for any other controller.
+    fn chase_controller(&self) -> Option<&ChaseController> {
+        None
+    }
 }
 
 /// Which tracker a loop runs.
 pub enum TrackerChoice {
-    /// The paper's tracker as the scenario sets it up (`[tracker]`, both modes), run
-    /// directly by the loop: only the part of each frame it reads is rendered, and its
-    /// diagnostics (confidences, coverage, σ², edge points) are recorded.
+    /// The paper's tracker as the scenario sets it up (`[tracker]`, both modes): a
+    /// [`BuiltinTracker`], which has only the part of each frame it reads rendered, and its
+    /// diagnostics (confidences, coverage, σ², edge points) recorded.
     Builtin,
     /// A plug-in; its columns of `frames.csv` that it cannot fill stay empty.
     Plugin(Box<dyn FrameTracker>),

@@ -1,7 +1,7 @@
 //! What passes between the loop and its plug-ins.
 
 use super::PluginError;
-use tracker::{Camera, GrayView, TargetModel};
+use tracker::{Camera, EdgeDiagnostic, GrayView, PixelRect, TargetModel, TrackOutput};
 
 /// What a tracker knows of its camera and its target: the intrinsics (those of stage 8,
 /// eq. 36), the image size, the mount on the chase vehicle, the pan head's encoder reading
@@ -221,4 +221,42 @@ impl Command {
         }
         Ok(())
     }
+}
+
+/// What a tracker made of a frame drawn only in part (see
+/// [`super::FrameTracker::track_drawn`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Drawn {
+    /// Tracked: the estimate, or `None` for none this frame.
+    Tracked(Option<Estimate>),
+    /// Not tracked: the tracker needs these pixels too, and is back in its state before
+    /// the frame.
+    Needs(PixelRect),
+}
+
+/// What a tracker's step made beyond its estimate (see
+/// [`super::FrameTracker::take_details`]).
+#[derive(Clone, Debug)]
+pub struct StepDetails {
+    /// The paper's tracker's whole output (stages 1–8).
+    pub output: TrackOutput,
+    /// The pixels the step read.
+    pub read: PixelRect,
+    /// Its edge points' fates, when diagnostics are on.
+    pub edges: Vec<EdgeDiagnostic>,
+}
+
+/// An estimate as the delay line delivers it to a controller (see
+/// [`super::Controller::receive`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Delivered {
+    /// The estimate.
+    pub estimate: Estimate,
+    /// Where it puts the target in the camera frame, metres `[x, y, z]`
+    /// ([`Estimate::position_m`] with the camera's intrinsics).
+    pub position_m: [f64; 3],
+    /// Its frame's capture time, seconds.
+    pub captured_t_s: f64,
+    /// The pan head's encoder reading at that capture, radians (0 for a fixed camera).
+    pub captured_pan_rad: f64,
 }
