@@ -767,3 +767,16 @@ fn a_run_says_when_the_lead_reaches_the_roads_end() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(!err.contains("route's end"), "{err}");
 }
+
+/// `check` on a sweep file says what it is and how to check it, besides the error.
+#[test]
+fn check_on_a_sweep_file_points_at_the_sweeps_dry_run() {
+    let sweep = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenarios/sweeps/lambda.toml");
+    let out = carfollow(&["check", sweep.to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("is a sweep file") && err.contains("--dry-run"),
+        "{err}"
+    );
+}

@@ -633,3 +633,42 @@ fn resume_refuses_a_changed_scenario_or_target_file() {
     // As they were, the resume finishes the sweep.
     ok(shard(&["--resume"]));
 }
+
+/// `--dry-run` checks the sweep and plans every point, says how many there are (in the
+/// shard too), and runs and writes nothing; a point that cannot be planned fails it with
+/// status 2, as it fails a run before anything starts.
+#[test]
+fn a_dry_run_checks_every_point_and_writes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = sweep_file(dir.path(), TINY);
+    let out_dir = dir.path().join("out");
+    let out = ok(carfollow(&[
+        "sweep",
+        s(&file),
+        "--dry-run",
+        "--shard",
+        "1/3",
+        "--out",
+        s(&out_dir),
+    ]));
+    let said = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        said.contains("valid: 4 points (1 scenario × 2 seeds × 2 combinations of the axes)")
+            && said.contains(", 1 in shard 1/3"),
+        "{said}"
+    );
+    assert!(!out_dir.exists(), "a dry run wrote {}", out_dir.display());
+    // A value only one point has, which planning refuses (the target out of view at t = 0).
+    let bad = sweep_file(
+        dir.path(),
+        &TINY.replace(
+            "[axes]",
+            "[axes]\ncamera.mount.pitch_down_deg = [5.0, 40.0]",
+        ),
+    );
+    let out = carfollow(&["sweep", s(&bad), "--dry-run", "--out", s(&out_dir)]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(err.contains("out of the camera's view"), "{err}");
+    assert!(!out_dir.exists());
+}

@@ -93,7 +93,7 @@ fn the_schemas_ranges_are_validations() {
     assert!(fields.len() >= 30, "{} bounded fields", fields.len());
     let refused = |path: &str, value: String| {
         let set = format!("{path}={value}");
-        match sim_core::Scenario::builtin(&[set.clone()]) {
+        match sim_core::Scenario::builtin(std::slice::from_ref(&set)) {
             Ok(_) => panic!("`--set {set}` is outside the schema's range but check accepts it"),
             Err(e) => assert!(e.to_string().contains(path), "`--set {set}`: {e}"),
         }

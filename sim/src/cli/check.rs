@@ -46,6 +46,14 @@ pub fn run_check(args: CheckArgs) -> anyhow::Result<()> {
             Err(e @ ScenarioError::Override { .. }) => return Err(e.into()),
             Err(e) => {
                 eprintln!("error: {e}");
+                if is_sweep_file(path) {
+                    eprintln!(
+                        "note: {} is a sweep file: check it, and every point of it, with \
+                         `carfollow sweep {} --dry-run`",
+                        path.display(),
+                        path.display()
+                    );
+                }
                 bad += 1;
             }
         }
@@ -56,4 +64,13 @@ pub fn run_check(args: CheckArgs) -> anyhow::Result<()> {
         anyhow::bail!("{bad} of {files} scenario {noun} invalid");
     }
     Ok(())
+}
+
+/// Whether `path` holds a sweep file (`scenarios` and `seeds` at the top level) rather than
+/// a scenario.
+fn is_sweep_file(path: &std::path::Path) -> bool {
+    std::fs::read_to_string(path)
+        .ok()
+        .and_then(|text| text.parse::<toml::Table>().ok())
+        .is_some_and(|t| t.contains_key("scenarios") && t.contains_key("seeds"))
 }

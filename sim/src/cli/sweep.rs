@@ -77,6 +77,11 @@ pub struct SweepArgs {
     /// wgpu backend: gl (default; Mesa llvmpipe), vulkan or primary. Overrides WGPU_BACKEND.
     #[arg(long)]
     pub backend: Option<String>,
+    /// Check the sweep file and plan every point (as before a run), say how many points
+    /// there are (in the shard) and how long the check took, and stop: nothing is run or
+    /// written. For a sweep about to go to a cluster.
+    #[arg(long)]
+    pub dry_run: bool,
     /// Record every point, and keep the recordings (for Foxglove and `carfollow track`) of
     /// the points whose criteria failed, in DIR/recordings/SCENARIO-seedSEED-ID.mcap.
     #[arg(long)]
@@ -108,7 +113,9 @@ pub struct SweepWorkerArgs {
 /// Runs a sweep worker: point requests on stdin, one JSON answer per line on stdout (see
 /// `sim::serve_points`).
 pub fn run_sweep_worker(args: SweepWorkerArgs) -> anyhow::Result<ExitCode> {
-    let sweep = Sweep::load(&args.sweep, &args.set)?;
+    // The sweep that started this worker checked every point: none is planned again here
+    // but the one it runs.
+    let sweep = Sweep::load_checked(&args.sweep, &args.set)?;
     let backend = Backend::choose(args.backend.as_deref())?;
     serve_points(
         &sweep,
@@ -155,7 +162,30 @@ pub fn run_sweep(args: SweepArgs) -> anyhow::Result<ExitCode> {
         anyhow::bail!("--jobs must be at least 1");
     }
     let file = args.sweep.clone().expect("clap requires the sweep file");
+    let checked = std::time::Instant::now();
     let sweep = Sweep::load(&file, &args.set)?;
+    if args.dry_run {
+        let shard = sweep.shard(args.shard).len();
+        println!(
+            "{}: valid: {} point{} ({} scenario{} × {} seed{} × {} combination{} of the axes){}; every \
+             point planned in {:.2} s",
+            file.display(),
+            sweep.points.len(),
+            plural(sweep.points.len()),
+            sweep.scenarios.len(),
+            plural(sweep.scenarios.len()),
+            sweep.seeds.len(),
+            plural(sweep.seeds.len()),
+            sweep.points.len() / (sweep.scenarios.len() * sweep.seeds.len()),
+            plural(sweep.points.len() / (sweep.scenarios.len() * sweep.seeds.len())),
+            args.shard.map_or(String::new(), |s| format!(
+                ", {shard} in shard {}/{}",
+                s.index, s.count
+            )),
+            checked.elapsed().as_secs_f64(),
+        );
+        return Ok(ExitCode::SUCCESS);
+    }
     let backend = Backend::choose(args.backend.as_deref())?;
     let out = args.out.clone().unwrap_or_else(|| {
         let stem = file
@@ -552,4 +582,13 @@ fn run_merge(args: MergeArgs) -> anyhow::Result<ExitCode> {
         missing_file.display()
     );
     Ok(ExitCode::from(exit::INCOMPLETE))
+}
+
+/// "s" for a count other than 1.
+fn plural(n: usize) -> &'static str {
+    if n == 1 {
+        ""
+    } else {
+        "s"
+    }
 }

@@ -35,6 +35,8 @@ pub struct SweepScenario {
     pub path: PathBuf,
     /// Its `name` (unique within the sweep; it identifies the scenario in ids and rows).
     pub name: String,
+    /// Its text, read once: every point loads the scenario from it.
+    pub text: std::sync::Arc<str>,
 }
 
 /// An inclusive range `{ from, to, step }`.

@@ -11,7 +11,7 @@
 use super::file::{flatten_axes, SweepFile, SweepScenario};
 use super::SweepError;
 use sim_core::line_column;
-use sim_core::{from_toml_naming_field, locate_field, Plan};
+use sim_core::{from_toml_naming_field, locate_field, Plan, Scenario, ScenarioError};
 use std::path::{Path, PathBuf};
 
 /// The most points a sweep may have.
@@ -121,9 +121,19 @@ pub struct Sweep {
 
 impl Sweep {
     /// Reads and validates a sweep file; `extra_set` are command-line overrides applied after
-    /// the file's `set`. Every point's scenario is loaded with its overrides, so nothing
-    /// runs unless every point can.
+    /// the file's `set`. Each scenario file is read once, and every point's scenario is
+    /// loaded with its overrides and planned, once, so nothing runs unless every point can.
     pub fn load(path: &Path, extra_set: &[String]) -> Result<Sweep, SweepError> {
+        Sweep::read(path, extra_set, true)
+    }
+
+    /// [`Sweep::load`] for a sweep already checked (a sweep worker, started by the sweep
+    /// that checked it): every point's scenario is loaded, for the hash, but not planned.
+    pub fn load_checked(path: &Path, extra_set: &[String]) -> Result<Sweep, SweepError> {
+        Sweep::read(path, extra_set, false)
+    }
+
+    fn read(path: &Path, extra_set: &[String], plan: bool) -> Result<Sweep, SweepError> {
         let text = std::fs::read_to_string(path).map_err(|error| SweepError::Io {
             path: path.to_owned(),
             action: "cannot read the sweep",
@@ -233,7 +243,7 @@ impl Sweep {
         let mut scenarios: Vec<SweepScenario> = Vec::new();
         for file in &raw.scenarios {
             let scenario_path = dir.join(file);
-            let base = Plan::load(&scenario_path, &set).map_err(|e| {
+            let point_error = |e: ScenarioError| {
                 let field = if matches!(e, sim_core::ScenarioError::Override { .. }) {
                     "set"
                 } else {
@@ -248,8 +258,22 @@ impl Sweep {
                     point: file.clone(),
                     error: Box::new(e),
                 }
-            })?;
-            let name = &base.scenario().name;
+            };
+            let text: std::sync::Arc<str> = std::fs::read_to_string(&scenario_path)
+                .map_err(|source| {
+                    point_error(ScenarioError::Io {
+                        path: scenario_path.clone(),
+                        source,
+                    })
+                })?
+                .into();
+            let base =
+                Scenario::from_file_text(&text, &scenario_path, &set).map_err(point_error)?;
+            if plan {
+                // Its own mistakes are the scenario's (or `set`'s), not an axis's.
+                Plan::new(&base).map_err(point_error)?;
+            }
+            let name = &base.name;
             if scenarios.iter().any(|s| &s.name == name) {
                 return Err(invalid(
                     "scenarios",
@@ -259,6 +283,7 @@ impl Sweep {
             scenarios.push(SweepScenario {
                 path: scenario_path,
                 name: name.clone(),
+                text,
             });
         }
 
@@ -279,17 +304,23 @@ impl Sweep {
             scenarios.iter().map(|s| s.path.clone()).collect();
         for point in &points {
             let overrides = point.overrides(&set);
-            let scenario_path = &scenarios[point.scenario].path;
-            let planned = Plan::load(scenario_path, &overrides);
-            if let Ok(plan) = &planned {
-                let target = &plan.scenario().resolved.tracker.target;
+            let scenario = &scenarios[point.scenario];
+            let loaded = Scenario::from_file_text(&scenario.text, &scenario.path, &overrides);
+            if let Ok(s) = &loaded {
+                let target = &s.resolved.tracker.target;
                 inputs.insert(
-                    scenario_path
+                    scenario
+                        .path
                         .parent()
                         .unwrap_or(Path::new("."))
                         .join(target),
                 );
             }
+            let planned = match loaded {
+                Ok(s) if plan => Plan::new(&s).map(|_| ()),
+                Ok(_) => Ok(()),
+                Err(e) => Err(e),
+            };
             if let Err(e) = planned {
                 let field = match &e {
                     sim_core::ScenarioError::Override { assignment, .. } => axes
@@ -326,14 +357,13 @@ impl Sweep {
 
     /// The plan of a point's scenario, with all its overrides applied.
     pub fn plan(&self, point: &Point) -> Result<Plan, SweepError> {
-        Plan::load(
-            &self.scenarios[point.scenario].path,
-            &point.overrides(&self.set),
-        )
-        .map_err(|e| SweepError::Run {
-            point: point.describe(),
-            message: e.to_string(),
-        })
+        let scenario = &self.scenarios[point.scenario];
+        Scenario::from_file_text(&scenario.text, &scenario.path, &point.overrides(&self.set))
+            .and_then(|s| Plan::new(&s))
+            .map_err(|e| SweepError::Run {
+                point: point.describe(),
+                message: e.to_string(),
+            })
     }
 
     /// The points of a shard (all of them without one), in grid order.

@@ -491,8 +491,18 @@ impl Scenario {
             path: path.to_owned(),
             source,
         })?;
+        Self::from_file_text(&text, path, overrides)
+    }
+
+    /// [`Scenario::load`] with the file's text already read (`text`, of the file at
+    /// `path`): for whoever loads one file many times over, as a sweep's points do.
+    pub fn from_file_text(
+        text: &str,
+        path: &Path,
+        overrides: &[String],
+    ) -> Result<Scenario, ScenarioError> {
         let dir = path.parent().unwrap_or(Path::new("."));
-        Self::parse(&text, path, overrides, |target| {
+        Self::parse(text, path, overrides, |target| {
             crate::target::load(&dir.join(target))
         })
         .map(|s| {

@@ -107,59 +107,83 @@ class ControlInput:
         """The chase's rear axle in the world by its odometry, metres (x, y up, z)."""
     @property
     def heading_rad(self) -> float:
-        """The chase's heading by its odometry, radians, from the world's +x towards +z."""
+        """The chase's heading by its odometry, radians: the angle of its forward axis from
+        the world's +x towards +z (turning right)."""
 
 class Camera:
     """The camera a tracker is given: intrinsics, image size, mount, the pan head's reading
     at the frame's capture, and the target model. Read-only."""
 
     @property
-    def focal_length_mm(self) -> float: ...
+    def focal_length_mm(self) -> float:
+        """Focal length, millimetres."""
     @property
-    def pixel_size_mm(self) -> tuple[float, float]: ...
+    def pixel_size_mm(self) -> tuple[float, float]:
+        """Pixel size on the sensor, millimetres (width, height)."""
     @property
-    def focal_px(self) -> tuple[float, float]: ...
+    def focal_px(self) -> tuple[float, float]:
+        """The focal length in pixels (x, y)."""
     @property
-    def image_center_px(self) -> tuple[float, float]: ...
+    def image_center_px(self) -> tuple[float, float]:
+        """The principal point, pixels (pixel centres at integer coordinates)."""
     @property
-    def width(self) -> int: ...
+    def width(self) -> int:
+        """Image width, pixels."""
     @property
-    def height(self) -> int: ...
+    def height(self) -> int:
+        """Image height, pixels."""
     @property
-    def mount_height_m(self) -> float: ...
+    def mount_height_m(self) -> float:
+        """The camera's height above the ground, metres."""
     @property
-    def mount_forward_m(self) -> float: ...
+    def mount_forward_m(self) -> float:
+        """How far ahead of the chase's rear axle the camera sits, metres."""
     @property
-    def mount_pitch_down_deg(self) -> float: ...
+    def mount_pitch_down_deg(self) -> float:
+        """How far the camera is pitched down, degrees."""
     @property
-    def pan_rad(self) -> float: ...
+    def pan_rad(self) -> float:
+        """The pan head's encoder reading at the frame's capture, radians (0: fixed
+        camera)."""
     @property
     def gyro_rad(self) -> Optional[tuple[float, float, float]]:
-        """The camera's rotation since the previous frame (rotation vector, radians), with
-        the gyro's bias and noise; None without a gyro, on the first frame and in reset()."""
+        """The chase's rate gyro: the camera's rotation since the previous frame, radians,
+        as a rotation vector in the previous camera frame (+y turns the camera right, +x
+        tilts it up), with the gyro's bias and noise; None on the first frame and in
+        reset()."""
     @property
-    def target_size_m(self) -> tuple[float, float]: ...
+    def target_size_m(self) -> tuple[float, float]:
+        """The target's size, metres (width, height)."""
     @property
-    def target_nominal_range_m(self) -> float: ...
+    def target_nominal_range_m(self) -> float:
+        """The range at which the target's scale is 1, metres."""
     @property
-    def target_size_px(self) -> tuple[float, float]: ...
+    def target_size_px(self) -> tuple[float, float]:
+        """The target's size in the image at scale 1, pixels (width, height)."""
     @property
-    def target_segments(self) -> list[tuple[tuple[float, float], tuple[float, float]]]: ...
+    def target_segments(self) -> list[tuple[tuple[float, float], tuple[float, float]]]:
+        """The target model's line segments, metres about its centre at the nominal range (x
+        right, y up): ((x0, y0), (x1, y1)) each."""
     def project(self, x: float, y: float, z: float) -> Optional[tuple[float, float]]:
-        """A point in the camera frame (metres, x right, y down, z forward) in image pixels;
-        None behind the camera."""
+        """Projects a point in the camera frame (metres, x right, y down, z forward) to
+        image pixels; None behind the camera."""
 
 class Tracker(Protocol):
     """What ``Simulation(tracker=...)`` takes (``reset`` is optional)."""
 
     def track(
         self, frame: npt.NDArray[np.uint8], t: float, camera: Camera
-    ) -> Optional[Estimate]: ...
+    ) -> Optional[Estimate]:
+        """Tracks one frame (uint8, shape (height, width)) captured at ``t`` seconds by
+        ``camera``: the estimate, or None for none this frame. An exception ends the run and
+        reaches the caller."""
 
 class Controller(Protocol):
     """What ``Simulation(controller=...)`` takes."""
 
-    def control(self, inp: ControlInput) -> Command: ...
+    def control(self, inp: ControlInput) -> Command:
+        """The commands for one physics step (120 Hz). An exception ends the run and reaches
+        the caller."""
 
 class Simulation:
     """A scenario's run, stepped one camera frame at a time.
@@ -181,38 +205,53 @@ class Simulation:
         backend: Optional[str] = None,
     ) -> None: ...
     def step(self) -> bool:
-        """Runs one camera frame; False when the scenario was over already."""
+        """Runs one camera frame (1/15 s, with the physics steps in it). Returns False when
+        the scenario was over already."""
     @property
-    def done(self) -> bool: ...
+    def done(self) -> bool:
+        """Whether the run is over."""
     @property
-    def t(self) -> float: ...
+    def t(self) -> float:
+        """The time of the last frame run, seconds (0 before the first)."""
     @property
-    def frame_index(self) -> Optional[int]: ...
+    def frame_index(self) -> Optional[int]:
+        """The index of the last frame run (None before the first)."""
     @property
     def frame(self) -> Optional[npt.NDArray[np.uint8]]:
-        """The last camera frame, shape (242, 256); None before the first step."""
+        """The last camera frame: numpy uint8, shape (242, 256), row-major; None before the
+        first step."""
     @property
-    def truth(self) -> Optional[dict[str, Any]]: ...
+    def truth(self) -> Optional[dict[str, Any]]:
+        """The ground truth of the last frame (a dict; the plug-ins never see it)."""
     @property
-    def estimate(self) -> Optional[dict[str, Any]]: ...
+    def estimate(self) -> Optional[dict[str, Any]]:
+        """The tracker's estimate of the last frame (a dict; None when it had none)."""
     @property
-    def estimate_object(self) -> Optional[Estimate]: ...
+    def estimate_object(self) -> Optional[Estimate]:
+        """The last frame's estimate as a carfollow.Estimate (None when it had none)."""
     @property
     def record(self) -> Optional[dict[str, Any]]:
-        """The last frame's record: every column of frames.csv."""
+        """The last frame's record: every column of frames.csv (a dict)."""
     @property
-    def name(self) -> str: ...
+    def name(self) -> str:
+        """The scenario's name."""
     @property
-    def frames(self) -> int: ...
+    def frames(self) -> int:
+        """How many frames the run has."""
     @property
-    def tracker_name(self) -> str: ...
+    def tracker_name(self) -> str:
+        """The tracker's name."""
     @property
-    def controller_name(self) -> str: ...
+    def controller_name(self) -> str:
+        """The controller's name."""
     def run(self, out: Optional[Union[str, os.PathLike[str]]] = None) -> dict[str, Any]:
-        """Runs to the end; writes the usual outputs into ``out`` when given; returns the
-        summary (as summary.json has it)."""
+        """Runs to the end and returns the summary (as summary.json has it). With ``out``,
+        the usual outputs are written there as the run goes: frames.csv (with the frames run
+        so far), summary.json, the plots and junit.xml. The simulation is finished after
+        it."""
     def write_outputs(self, dir: Union[str, os.PathLike[str]]) -> dict[str, Any]:
-        """Writes the outputs of the frames run so far and returns the summary."""
+        """Writes the usual outputs of the frames run so far into ``dir`` (frames.csv,
+        summary.json, the plots, junit.xml) and returns the summary."""
 
 class PaperTracker:
     """The paper's tracker with a scenario's ``[tracker]`` settings, as a Python tracker."""
@@ -221,11 +260,15 @@ class PaperTracker:
         self, scenario: Optional[Scenario] = None, overrides: Optional[Overrides] = None
     ) -> None: ...
     @property
-    def name(self) -> str: ...
-    def reset(self, camera: Camera, start: Optional[Estimate] = None) -> None: ...
+    def name(self) -> str:
+        """Its name in reports."""
+    def reset(self, camera: Camera, start: Optional[Estimate] = None) -> None:
+        """Starts it on ``camera`` at ``start`` (the teleoperator's placement; it needs cx,
+        cy and scale). None: robust mode searches the image; the paper's mode cannot."""
     def track(
         self, frame: npt.NDArray[np.uint8], t: float, camera: Camera
-    ) -> Optional[Estimate]: ...
+    ) -> Optional[Estimate]:
+        """Stages 1–8 on one frame (uint8, height × width): the estimate."""
 
 class GymCore:
     """The native core of ``carfollow.env.FollowEnv`` (use the environment instead)."""
@@ -238,23 +281,38 @@ class GymCore:
         camera: bool = True,
         backend: Optional[str] = None,
     ) -> None: ...
-    def check(self) -> int: ...
-    def reset(self, seed: Optional[int] = None) -> None: ...
-    def step(self, steer: float, longitudinal: float) -> tuple[float, bool, bool]: ...
-    def frame(self) -> npt.NDArray[np.uint8]: ...
-    def estimate_observation(self) -> npt.NDArray[np.float32]: ...
-    def info(self) -> dict[str, Any]: ...
-    def frames(self) -> int: ...
-    def close(self) -> None: ...
+    def check(self) -> int:
+        """Checks the scenario (as ``carfollow check`` does) and that its latency lets an
+        action be applied after the frame it answers: returns the number of frames of an
+        episode."""
+    def reset(self, seed: Optional[int] = None) -> None:
+        """Starts an episode with the scenario's ``seed`` (its own when None), ending the
+        last one first: a reset that fails leaves no episode, and ``step()`` asks for a
+        reset."""
+    def step(self, steer: float, longitudinal: float) -> tuple[float, bool, bool]:
+        """Takes an action on the last observation and runs to the next frame. Returns
+        ``(reward, terminated, truncated)``."""
+    def frame(self) -> npt.NDArray[np.uint8]:
+        """The last frame, uint8 (242, 256)."""
+    def estimate_observation(self) -> npt.NDArray[np.float32]:
+        """The estimate observation (see ``carfollow.env.FollowEnv``), float32."""
+    def info(self) -> dict[str, Any]:
+        """What the step's ``info`` holds: the time, the frame, the truth (for scoring; the
+        agent should not act on it), the tracker's estimate, the actions in flight."""
+    def frames(self) -> int:
+        """The number of frames of an episode."""
+    def close(self) -> None:
+        """Ends the episode (frees the renderer)."""
 
 def shipped_scenarios() -> list[str]:
-    """The names of the shipped scenarios."""
+    """The names of the shipped scenarios, which ``Simulation`` takes by name."""
 
 def check(
     scenario: Scenario, seed: Optional[int] = None, overrides: Optional[Overrides] = None
 ) -> str:
-    """Checks a scenario as ``carfollow check`` does; returns its name or raises
-    ValueError (FileNotFoundError for a missing file)."""
+    """Checks a scenario as ``carfollow check`` does (parsed, validated, planned): returns
+    its name, or raises ValueError with the line ``carfollow check`` prints
+    (FileNotFoundError for a missing file)."""
 
 def estimate_space() -> tuple[list[float], list[float]]:
-    """The estimate observation's bounds (low, high)."""
+    """The estimate observation space's bounds, for Python: (low, high) as lists."""

@@ -122,6 +122,9 @@ class FollowEnv(gym.Env):
     def reset(
         self, *, seed: Optional[int] = None, options: Optional[dict] = None
     ) -> tuple[np.ndarray, dict]:
+        """Starts an episode: with ``seed``, the scenario run with that seed; without one,
+        the scenario's own seed first, then seeds drawn from the first episode's, so a run
+        of episodes is reproducible. Returns the first observation and ``info``."""
         super().reset(seed=seed)
         if seed is None and self._started:
             # A new episode of its own, reproducible from the first seed.
@@ -131,6 +134,9 @@ class FollowEnv(gym.Env):
         return self._obs(), self._core.info()
 
     def step(self, action: Any) -> tuple[np.ndarray, float, bool, bool, dict]:
+        """Applies ``action`` (in [-1, 1]: steering and throttle/brake, or throttle/brake
+        alone with ``action="longitudinal"``) through the scenario's latency and runs to the
+        next camera frame: ``(observation, reward, terminated, truncated, info)``."""
         a = np.asarray(action, dtype=np.float64).reshape(-1)
         if self._action == "drive":
             steer, longitudinal = float(a[0]), float(a[1])
@@ -140,10 +146,13 @@ class FollowEnv(gym.Env):
         return self._obs(), float(reward), bool(terminated), bool(truncated), self._core.info()
 
     def render(self) -> Optional[np.ndarray]:
+        """With ``render_mode="rgb_array"``, the last camera frame as RGB (242, 256, 3);
+        otherwise None."""
         if self.render_mode != "rgb_array":
             return None
         grey = self._core.frame()
         return np.repeat(grey[:, :, None], 3, axis=2)
 
     def close(self) -> None:
+        """Ends the episode and frees the renderer."""
         self._core.close()
