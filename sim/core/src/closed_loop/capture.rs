@@ -2,8 +2,8 @@
 //! small helpers each step uses.
 
 use super::drive::Drive;
-use super::iso;
 use crate::auto_gain::AutoGainControl;
+use crate::plan::iso;
 use nalgebra::Isometry3;
 use sim_render::{CameraRig, Field, FrameInput};
 use std::time::{Duration, Instant};

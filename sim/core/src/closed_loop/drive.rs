@@ -1,8 +1,8 @@
 //! The physics side of the loop: both vehicles, their drivers and the delay line between
 //! the tracker and the chase controller, stepped eight 120 Hz steps to each camera frame.
 
-use super::iso;
 use crate::delayed::Delayed;
+use crate::plan::iso;
 use crate::plugin::{ControlInput, Controller, Delivered, Estimate, EstimateStatus, PluginError};
 use sim_render::Field;
 use vehicle::{

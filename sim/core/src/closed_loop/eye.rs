@@ -4,8 +4,8 @@
 
 use super::capture::{timed, Captured};
 use super::drive::Drive;
+use super::error::LoopError;
 use super::tracking::{TrackFailure, Tracked, Tracking};
-use super::LoopError;
 use crate::auto_gain::AutoGainControl;
 use crate::frame_parts::{camera_turn, FrameParts};
 use nalgebra::{Isometry3, UnitQuaternion};

@@ -8,6 +8,7 @@
 
 mod capture;
 mod drive;
+mod error;
 mod eye;
 mod recorder;
 mod renderers;
@@ -15,10 +16,12 @@ mod schedule;
 mod tracking;
 mod two_in_flight;
 
+pub use error::LoopError;
 pub use renderers::LoopOptions;
 
 use capture::{renders_ahead, xz};
 use drive::{Chase, Drive};
+use error::at_frame;
 use eye::Eye;
 use recorder::Recorder;
 use schedule::{Schedule, Shot, Spent};
@@ -27,10 +30,9 @@ use tracking::Tracking;
 use crate::auto_gain::AutoGainControl;
 use crate::driven_path::DrivenPath;
 use crate::frame_parts::FrameParts;
-use crate::plan::{iso, render_options, Plan};
+use crate::plan::{render_options, Plan};
 use crate::plugin::{
-    BuiltinController, BuiltinTracker, CameraModel, ControllerChoice, Estimate, PluginError,
-    TrackerChoice,
+    BuiltinController, BuiltinTracker, CameraModel, ControllerChoice, Estimate, TrackerChoice,
 };
 use crate::record::FrameRecord;
 use crate::render_worker::fingerprint;
@@ -38,71 +40,11 @@ use crate::scenario::Scenario;
 use image::GrayImage;
 use nalgebra::Isometry3;
 use serde::Serialize;
-use sim_render::{Backend, CameraRig, RenderError, Renderer, Route as SceneRoute};
+use sim_render::{Backend, CameraRig, Renderer, Route as SceneRoute};
 use std::collections::VecDeque;
 use std::time::{Duration, Instant};
-use thiserror::Error;
 use tracker::{EdgeDiagnostic, EgoMotion, Location, TrackOutput, Tracker, TrackerMode};
 use vehicle::{ChaseController, DelayLine, Gyro, GyroConfig};
-
-/// A run that could not start or go on.
-#[derive(Debug, Error)]
-pub enum LoopError {
-    /// The scenario cannot be set up (vehicles, route, tracker).
-    #[error("scenario `{scenario}`: {message}")]
-    Setup {
-        /// Scenario name.
-        scenario: String,
-        /// What is wrong.
-        message: String,
-    },
-    /// The renderer failed.
-    #[error(transparent)]
-    Render(#[from] RenderError),
-    /// The second renderer (a thread with a llvmpipe of its own, or a worker process)
-    /// failed.
-    #[error("the second renderer: {0}")]
-    Worker(String),
-    /// A plug-in tracker or controller failed, which ends the run.
-    #[error("the {what}{}: {error}", at(*frame, *t_s))]
-    Plugin {
-        /// `tracker` or `controller`.
-        what: &'static str,
-        /// The camera frame it failed at (`None` before the first).
-        frame: Option<u64>,
-        /// The time it failed at, seconds.
-        t_s: Option<f64>,
-        /// What it said.
-        error: PluginError,
-    },
-}
-
-/// A plug-in's failure placed at frame `frame`, when it has no place yet.
-fn at_frame(e: LoopError, frame: u64) -> LoopError {
-    match e {
-        LoopError::Plugin {
-            what,
-            frame: None,
-            error,
-            ..
-        } => LoopError::Plugin {
-            what,
-            frame: Some(frame),
-            t_s: Some(frame as f64 / f64::from(vehicle::CAMERA_HZ)),
-            error,
-        },
-        other => other,
-    }
-}
-
-/// " at frame k (t = s s)", or " before the first frame".
-fn at(frame: Option<u64>, t_s: Option<f64>) -> String {
-    match (frame, t_s) {
-        (Some(k), Some(t)) => format!(" failed at frame {k} (t = {t:.3} s)"),
-        (Some(k), None) => format!(" failed at frame {k}"),
-        _ => " failed before the first frame".into(),
-    }
-}
 
 /// Everything one frame of the loop produced.
 pub struct FrameOutput {

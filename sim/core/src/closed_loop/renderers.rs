@@ -3,7 +3,8 @@
 //! (on the GL backend), or else a worker process (`carfollow render-worker`). Results are
 //! the same bit for bit with one renderer or two.
 
-use super::{ClosedLoop, LoopError};
+use super::error::LoopError;
+use super::ClosedLoop;
 use crate::closed_loop::capture::renders_ahead;
 use crate::plan::Plan;
 use crate::plugin::{ControllerChoice, TrackerChoice};

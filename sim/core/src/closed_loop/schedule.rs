@@ -16,9 +16,9 @@
 
 use super::capture::{timed, Captured, InFlight, HERE};
 use super::drive::{Drive, Driven};
+use super::error::LoopError;
 use super::eye::Eye;
 use super::tracking::Tracked;
-use super::LoopError;
 use crate::render_thread::RenderThread;
 use crate::render_worker::{RemoteRenderer, StartedWorker};
 use sim_render::{Frame, Renderer};

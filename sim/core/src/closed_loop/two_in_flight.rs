@@ -4,9 +4,9 @@
 
 use super::capture::{timed, InFlight};
 use super::drive::Drive;
+use super::error::LoopError;
 use super::eye::Eye;
 use super::schedule::{Schedule, Shot, Spent};
-use super::LoopError;
 
 impl Schedule {
     /// Starts rendering the frame of the world as it is now: even frames on this process's
