@@ -34,7 +34,7 @@ mod target;
 pub use child::{Child, RASTER_THREADS_ENV};
 pub use closed_loop::{ClosedLoop, FrameOutput, FramePoses, LoopError, LoopOptions, LoopTiming};
 pub use driven_path::DrivenPath;
-pub use plan::{lead_body_size_m, render_options, Plan};
+pub use plan::{lead_body_size_m, planning_key, render_options, Plan};
 pub use plugin::{
     BuiltinController, BuiltinTracker, CameraModel, Command, ControlInput, Controller,
     ControllerChoice, Delivered, Drawn, Estimate, EstimateStatus, FrameTracker, PluginError,

@@ -74,6 +74,20 @@ fn camera_rig(s: &Scenario) -> CameraRig {
     }
 }
 
+/// What decides whether scenario `s` plans ([`Plan::new`] succeeds): a hash of its resolved
+/// form without `[expect]`, and of `[tracker]` only its target. Scenarios with the same key
+/// plan alike, so a sweep's pre-flight plans one point of each (a sweep over the tracker's
+/// settings plans one point per scenario and seed).
+pub fn planning_key(s: &Scenario) -> u64 {
+    let mut v = s.resolved_json();
+    if let Some(table) = v.as_object_mut() {
+        table.remove("expect");
+        let target = table.get("tracker").and_then(|t| t.get("target")).cloned();
+        table.insert("tracker".into(), serde_json::json!({ "target": target }));
+    }
+    vehicle::fnv1a64(v.to_string().as_bytes())
+}
+
 /// The scene description of a scenario.
 fn scene_description(s: &Scenario, world: &WorldConfig) -> SceneDescription {
     let chase_params = VehicleParams::hmmwv_m998();
@@ -201,6 +215,9 @@ impl Plan {
     /// Plans scenario `s`. `Err` names the field to blame: the chase starting before the
     /// route, a ground the physics cannot build, a controller refused, a scene too large
     /// for the renderer's buffers, or the target out of the camera's view at t = 0.
+    ///
+    /// None of these depends on the tracker's settings but its target, nor on `[expect]`:
+    /// scenarios of one [`planning_key`] plan alike. Keep it so, or change the key.
     pub fn new(s: &Scenario) -> Result<Plan, ScenarioError> {
         let started = std::time::Instant::now();
         let src = &s.source;

@@ -129,3 +129,62 @@ fn every_validated_scenario_runs_one_second() {
         "no case validated: the property was never tested"
     );
 }
+
+/// A change of the tracker's settings (not its target) or of `[expect]` leaves a scenario's
+/// planning key as it was, and whether it plans: a sweep's pre-flight plans one point of
+/// each key (`sim_core::planning_key`), and must refuse nothing less than planning each.
+#[test]
+fn scenarios_of_one_planning_key_plan_alike() {
+    let files = scenario_files();
+    let tracker_or_expect = prop_oneof![
+        (0.01..0.99f64).prop_map(|v| format!("tracker.lambda={v}")),
+        (1.0..40.0f64).prop_map(|v| format!("tracker.delta_deg={v}")),
+        (0.5..10.0f64).prop_map(|v| format!("tracker.zeta_px={v}")),
+        prop::sample::select(vec!["tracker.mode=\"paper\"", "tracker.mode=\"robust\""])
+            .prop_map(String::from),
+        (0.0..100.0f64).prop_map(|v| format!("expect.max_lost_s={v}")),
+    ];
+    let mut runner = TestRunner::new_with_rng(
+        Config {
+            cases: 30,
+            failure_persistence: None,
+            max_shrink_iters: 0,
+            ..Config::default()
+        },
+        TestRng::deterministic_rng(RngAlgorithm::ChaCha),
+    );
+    let strategy = (
+        0..files.len(),
+        prop::collection::vec(an_override(), 0..3),
+        prop::collection::vec(tracker_or_expect, 1..3),
+    );
+    runner
+        .run(&strategy, |(which, base, extra)| {
+            let Ok(a) = sim_core::Scenario::load(&files[which], &base) else {
+                return Ok(());
+            };
+            let both: Vec<String> = base.iter().chain(&extra).cloned().collect();
+            let Ok(b) = sim_core::Scenario::load(&files[which], &both) else {
+                return Ok(());
+            };
+            prop_assert_eq!(sim_core::planning_key(&a), sim_core::planning_key(&b));
+            prop_assert_eq!(Plan::new(&a).is_ok(), Plan::new(&b).is_ok(), "{:?}", both);
+            Ok(())
+        })
+        .unwrap();
+}
+
+/// What decides planning does change the key: the seed (the scenery), the camera, the
+/// target file.
+#[test]
+fn the_planning_key_follows_what_decides_planning() {
+    let key = |set: &[&str]| {
+        let set: Vec<String> = set.iter().map(|s| s.to_string()).collect();
+        sim_core::planning_key(&sim_core::Scenario::builtin(&set).unwrap())
+    };
+    let base = key(&[]);
+    assert_eq!(base, key(&["tracker.lambda=0.7", "expect.max_lost_s=3"]));
+    assert_ne!(base, key(&["seed=2"]));
+    assert_ne!(base, key(&["camera.mount.pitch_down_deg=5"]));
+    assert_ne!(base, key(&["environment.clutter.trees_per_km=10"]));
+}

@@ -167,8 +167,9 @@ pub fn run_sweep(args: SweepArgs) -> anyhow::Result<ExitCode> {
     if args.dry_run {
         let shard = sweep.shard(args.shard).len();
         println!(
-            "{}: valid: {} point{} ({} scenario{} × {} seed{} × {} combination{} of the axes){}; every \
-             point planned in {:.2} s",
+            "{}: valid: {} point{} ({} scenario{} × {} seed{} × {} combination{} of the axes){}; checked \
+             in {:.2} s with {} plan{} (points that differ only in the tracker's settings or \
+             [expect] plan alike)",
             file.display(),
             sweep.points.len(),
             plural(sweep.points.len()),
@@ -183,6 +184,8 @@ pub fn run_sweep(args: SweepArgs) -> anyhow::Result<ExitCode> {
                 s.index, s.count
             )),
             checked.elapsed().as_secs_f64(),
+            sweep.plans,
+            plural(sweep.plans),
         );
         return Ok(ExitCode::SUCCESS);
     }

@@ -11,7 +11,7 @@
 use super::file::{flatten_axes, SweepFile, SweepScenario};
 use super::SweepError;
 use sim_core::line_column;
-use sim_core::{from_toml_naming_field, locate_field, Plan, Scenario, ScenarioError};
+use sim_core::{from_toml_naming_field, locate_field, planning_key, Plan, Scenario, ScenarioError};
 use std::path::{Path, PathBuf};
 
 /// The most points a sweep may have.
@@ -113,6 +113,9 @@ pub struct Sweep {
     pub axes: Vec<Axis>,
     /// Every point, in grid order.
     pub points: Vec<Point>,
+    /// How many plans its check built: one per [`planning_key`] (0 for a sweep loaded
+    /// without planning).
+    pub plans: usize,
     /// What the results are results of: the 64-bit FNV-1a hash, in hex, of the sweep file's
     /// text, the command line's overrides, and the text of every scenario and target file
     /// its points read. `--resume` refuses a folder whose results have another.
@@ -122,7 +125,8 @@ pub struct Sweep {
 impl Sweep {
     /// Reads and validates a sweep file; `extra_set` are command-line overrides applied after
     /// the file's `set`. Each scenario file is read once, and every point's scenario is
-    /// loaded with its overrides and planned, once, so nothing runs unless every point can.
+    /// loaded with its overrides and planned (one point of each [`planning_key`]: the others
+    /// plan alike), so nothing runs unless every point can.
     pub fn load(path: &Path, extra_set: &[String]) -> Result<Sweep, SweepError> {
         Sweep::read(path, extra_set, true)
     }
@@ -238,6 +242,9 @@ impl Sweep {
             }
         }
 
+        // The planning keys of the scenarios planned already: one of the same key plans alike
+        // (see `planning_key`).
+        let mut planned_keys = std::collections::BTreeSet::new();
         // The scenarios, each with the common overrides.
         let dir = path.parent().unwrap_or(Path::new("."));
         let mut scenarios: Vec<SweepScenario> = Vec::new();
@@ -269,7 +276,7 @@ impl Sweep {
                 .into();
             let base =
                 Scenario::from_file_text(&text, &scenario_path, &set).map_err(point_error)?;
-            if plan {
+            if plan && planned_keys.insert(planning_key(&base)) {
                 // Its own mistakes are the scenario's (or `set`'s), not an axis's.
                 Plan::new(&base).map_err(point_error)?;
             }
@@ -317,7 +324,7 @@ impl Sweep {
                 );
             }
             let planned = match loaded {
-                Ok(s) if plan => Plan::new(&s).map(|_| ()),
+                Ok(s) if plan && planned_keys.insert(planning_key(&s)) => Plan::new(&s).map(|_| ()),
                 Ok(_) => Ok(()),
                 Err(e) => Err(e),
             };
@@ -345,6 +352,7 @@ impl Sweep {
             }
         }
         Ok(Sweep {
+            plans: planned_keys.len(),
             hash: sweep_hash(&text, extra_set, &inputs),
             path: path.to_owned(),
             scenarios,
