@@ -14,14 +14,18 @@ use serde::{Deserialize, Serialize};
 pub struct CameraMount {
     /// Distance of the camera ahead of the rear axle, m (default 2.2 m: above the HMMWV's
     /// windscreen).
+    #[schemars(extend("minimum" = -10.0, "maximum" = 10.0))]
     pub forward_m: f32,
     /// Height of the camera above the ground at nominal ride height, m (default 2.0 m: on
     /// the HMMWV's cab roof).
+    #[schemars(extend("minimum" = 0.1, "maximum" = 10.0))]
     pub height_m: f32,
     /// Offset of the camera to the right of the centreline, m (default 0).
+    #[schemars(extend("minimum" = -5.0, "maximum" = 5.0))]
     pub right_m: f32,
     /// Downward tilt of the optical axis, degrees (default 3°, so the lead's back sits a
     /// little below the image centre at 10 m).
+    #[schemars(extend("minimum" = -45.0, "maximum" = 45.0))]
     pub pitch_down_deg: f32,
 }
 

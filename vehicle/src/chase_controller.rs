@@ -104,6 +104,7 @@ pub struct ChaseControllerConfig {
     /// How far inside the field of view's edge the target's centre must stay, degrees
     /// (default 6°: the board's half-width at 5 m, 5.7°, and the estimate's latency); 0–45°,
     /// and a margin wider than half the field of view leaves none.
+    #[schemars(extend("minimum" = 0.0, "maximum" = 45.0))]
     pub view_margin_deg: f32,
     /// Whether the gap shortens where the road curves so that the lead stays in view
     /// (default true; see [`ChaseController::view_limited_gap_m`]).
@@ -118,13 +119,17 @@ pub struct ChaseControllerConfig {
     pub speed_gains: SpeedGains,
     /// With no estimate for this long the lead counts as lost, ms (default 500 ms: about 4
     /// missing frames after the 128 ms latency).
+    #[schemars(extend("minimum" = 1.0, "maximum" = 60000.0))]
     pub estimate_timeout_ms: f64,
     /// Deceleration of the stop after a loss, m/s² (default 3.5 m/s²: firm, controlled).
+    #[schemars(extend("minimum" = 0.1, "maximum" = 15.0))]
     pub loss_decel_mps2: f32,
     /// How long the pose history reaches back, ms (default 2,000 ms: far more than any
     /// latency studied).
+    #[schemars(extend("minimum" = 10.0, "maximum" = 600000.0))]
     pub pose_history_ms: f64,
     /// Breadcrumbs closer together than this are merged, m (default 0.25 m).
+    #[schemars(extend("minimum" = 0.0, "maximum" = 10.0))]
     pub breadcrumb_spacing_m: f32,
     /// Most breadcrumbs kept (default 2,000: 500 m of path).
     pub max_breadcrumbs: usize,
@@ -136,6 +141,7 @@ pub struct ChaseControllerConfig {
     /// ([`Gains::TrackingIndex`]). (A filter on the range itself, at one β for every range,
     /// could not have both: at β = 0.15 the gap hunted between 15 and 24 m at 15 m, at
     /// β = 0.05 it swung ±0.6 m every 4 s at 10 m.)
+    #[schemars(extend("minimum" = 0.001, "maximum" = 100.0))]
     pub range_tracking_index: f32,
     /// Tracking index of the alarm range filter at 10 m (default 0.6, gains α = 0.66 and
     /// β = 0.35 there). This second filter only feeds the emergency-brake test, so it must
@@ -144,14 +150,17 @@ pub struct ChaseControllerConfig {
     /// at 5 m and 0.19 at 15 m. (Fixed at 10 m's gains, the noise at 14 m gave closing
     /// speeds of several m/s out of nothing, and full brakes that pitched the target out of
     /// the tracker's window.)
+    #[schemars(extend("minimum" = 0.001, "maximum" = 100.0))]
     pub alarm_tracking_index: f32,
     /// Both range filters refuse a measurement further than this fraction of the predicted
     /// range from their prediction (default 0.08: several times the tracker's range noise at
     /// 15 m. One frame of background edges taken for features can put the scale 16 % off; a
     /// lead braking at 0.85 g moves the range a few centimetres a frame beyond the
     /// prediction).
+    #[schemars(extend("minimum" = 0.01, "maximum" = 10.0))]
     pub range_gate_fraction: f32,
     /// The smallest gate, m (default 0.5 m).
+    #[schemars(extend("minimum" = 0.0, "maximum" = 1000.0))]
     pub range_gate_min_m: f32,
 }
 

@@ -72,21 +72,27 @@ pub struct GapKeeperConfig {
     /// tracker lost the board through `hard-braking`'s stops).
     pub policy: GapPolicy,
     /// The wanted gap is never below this, m (default 5 m).
+    #[schemars(extend("minimum" = 0.5, "maximum" = 100.0))]
     pub min_gap_m: f32,
     /// The wanted gap is never above this, m (default 15 m: beyond it the paper's tracker
     /// sees the target too small).
     pub max_gap_m: f32,
     /// Speed asked per metre of gap error, 1/s (0.4 /s: a gap error closes in a few seconds,
     /// well below the speed loop's bandwidth so the two loops do not fight).
+    #[schemars(extend("minimum" = 0.01, "maximum" = 10.0))]
     pub gap_gain_per_s: f32,
     /// Acceleration asked per m/s between wanted and reference speed, 1/s.
+    #[schemars(extend("minimum" = 0.01, "maximum" = 20.0))]
     pub speed_gain_per_s: f32,
     /// Largest acceleration, m/s² (1.5 m/s²: brisk for a 2.4 t vehicle).
+    #[schemars(extend("minimum" = 0.05, "maximum" = 10.0))]
     pub max_accel_mps2: f32,
     /// Largest deceleration in normal following, m/s² (3.5 m/s²: firm but not emergency).
+    #[schemars(extend("minimum" = 0.05, "maximum" = 10.0))]
     pub max_decel_mps2: f32,
     /// Largest rate of change of the acceleration, m/s³ (2.5 m/s³: comfortable). Applies
     /// to speeding up and to easing off the brake.
+    #[schemars(extend("minimum" = 0.05, "maximum" = 100.0))]
     pub max_jerk_mps3: f32,
     /// Largest rate at which braking may build up, m/s³ (12 m/s³: a driver moving to the
     /// brake pedal; braking onset must not wait on comfort).
@@ -94,11 +100,13 @@ pub struct GapKeeperConfig {
     /// Time the chase needs to turn a measurement into braking, s, counted in the emergency
     /// test as distance already lost (default 0.3 s: half a frame, the brake lag and margin;
     /// the measurement's own latency is already compensated).
+    #[schemars(extend("minimum" = 0.0, "maximum" = 5.0))]
     pub reaction_time_s: f32,
     /// The gap the emergency brake protects, m: below it, or when stopping before it needs
     /// more than `max_decel_mps2`, the controller brakes fully (default 2.5 m).
     pub stop_gap_m: f32,
     /// Highest speed the chase vehicle is asked for, m/s (default 20 m/s = 72 km/h).
+    #[schemars(extend("minimum" = 0.1, "maximum" = 60.0))]
     pub max_speed_mps: f32,
     /// When keeping the stop gap needs more than this deceleration, the reference brakes
     /// at least that hard, m/s² (default 1.0 m/s²: above what tracker noise at 10 m asks
@@ -106,14 +114,17 @@ pub struct GapKeeperConfig {
     pub collision_braking_mps2: f32,
     /// The hardest braking assumed of the lead in the safe-gap test, m/s² (default
     /// 8.5 m/s²: a light truck with ABS on dry asphalt).
+    #[schemars(extend("minimum" = 0.5, "maximum" = 15.0))]
     pub assumed_lead_decel_mps2: f32,
     /// The braking the chase can count on in an emergency, m/s² (default 7.0 m/s²: the
     /// HMMWV's 0.8 g less a margin for the brake's build-up).
+    #[schemars(extend("minimum" = 0.5, "maximum" = 15.0))]
     pub own_emergency_decel_mps2: f32,
     /// Below the RSS safe gap, a closing speed above this calls the emergency brake, m/s
     /// (default 2.5 m/s: what the lead braking at 0.85 g opens within 0.3 s; about four
     /// times the alarm filter's rate noise at 10 m with 1 % range noise, which a lead merely
     /// slowing for a bend reached at 1.5 m/s).
+    #[schemars(extend("minimum" = 0.0, "maximum" = 100.0))]
     pub emergency_closing_mps: f32,
 }
 

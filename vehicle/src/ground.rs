@@ -41,13 +41,16 @@ impl Default for GroundConfig {
 pub struct BumpsConfig {
     /// Largest bump height, m (default 0.08 m: the chassis visibly pitches and rolls a few
     /// tenths of a degree, as on a rough paved road).
+    #[schemars(extend("minimum" = 0.0, "maximum" = 1.0))]
     pub amplitude_m: f32,
     /// Typical distance between bump crests, m (default 9 m, between the wheelbase and three
     /// wheelbases, so front and rear axles see different heights).
+    #[schemars(extend("minimum" = 1.0, "maximum" = 200.0))]
     pub wavelength_m: f32,
     /// Half the side of the bumpy patch, m (default 300 m).
     pub half_extent_m: f32,
     /// Heightfield cell size, m (default 0.5 m, fine enough for 0.47 m wheels).
+    #[schemars(extend("minimum" = 0.05, "maximum" = 5.0))]
     pub cell_m: f32,
     /// Seed of the bumps' random phases and directions (a named stream `"ground_bumps"`).
     pub seed: u64,

@@ -29,17 +29,22 @@ pub struct LeadDriverConfig {
     pub lookahead: LookAhead,
     /// Largest lateral acceleration the driver accepts in turns, m/s² (2.5 m/s²: a calm
     /// driver; the profile's speed is lowered ahead of tighter turns).
+    #[schemars(extend("minimum" = 0.1, "maximum" = 15.0))]
     pub max_lateral_accel_mps2: f32,
     /// Deceleration used to slow down ahead of turns and the route's end, m/s².
+    #[schemars(extend("minimum" = 0.1, "maximum" = 15.0))]
     pub comfort_decel_mps2: f32,
     /// Weaving: amplitude of the sinusoidal offset from the centreline, m (0 = none; keep
     /// under about 0.8 m to stay in a 3.6 m lane).
+    #[schemars(extend("minimum" = 0.0, "maximum" = 5.0))]
     pub weave_amplitude_m: f32,
     /// Weaving: distance along the route of one full weave, m.
+    #[schemars(extend("minimum" = 1.0, "maximum" = 10000.0))]
     pub weave_wavelength_m: f32,
     /// When the vehicle is this much faster than the profile asks, the driver stamps on the
     /// brake (full brake) instead of easing off, m/s (default 2 m/s: a scripted drop in
     /// speed is a hard stop, a gentle slope is not).
+    #[schemars(extend("minimum" = 0.1, "maximum" = 100.0))]
     pub panic_brake_error_mps: f32,
     /// Speed-loop gains.
     pub speed_gains: SpeedGains,

@@ -28,22 +28,28 @@ pub struct PanHeadConfig {
     /// Fastest turn, degrees per second (default 90 °/s: a mid-range pan-tilt unit; the
     /// lead's bearing changes at up to about 45 °/s through a right-angle turn of 18 m
     /// radius at 7 m/s and a 10 m gap).
+    #[schemars(extend("minimum" = 0.1, "maximum" = 2000.0))]
     pub max_rate_deg_s: f64,
     /// Largest angular acceleration, degrees per second squared (default 360 °/s²: full
     /// rate in a quarter of a second).
+    #[schemars(extend("minimum" = 0.1, "maximum" = 100000.0))]
     pub max_accel_deg_s2: f64,
     /// Mechanical limit either side of straight ahead, degrees (default 100°).
+    #[schemars(extend("minimum" = 0.0, "maximum" = 180.0))]
     pub limit_deg: f64,
     /// Encoder latency: the reading is the angle this long ago, ms (default 8 ms: one
     /// sample of a 125 Hz encoder bus).
+    #[schemars(extend("minimum" = 0.0, "maximum" = 1000.0))]
     pub encoder_latency_ms: f64,
     /// Encoder noise, one standard deviation, degrees (default 0.02°: a 14-bit encoder's
     /// quantisation; a hundredth of a pixel's angle is 0.18° for the default camera).
+    #[schemars(extend("minimum" = 0.0, "maximum" = 10.0))]
     pub encoder_noise_deg: f64,
     /// The aim's proportional gain: commanded rate per angle of aim error, 1/s (default
     /// 6 /s: the head settles within about half a second, three times faster than the
     /// lead's bearing changes through a turn, and slow enough that the tracker's 15 Hz
     /// estimates, 128 ms late, do not make it hunt).
+    #[schemars(extend("minimum" = 0.01, "maximum" = 100.0))]
     pub gain_per_s: f64,
 }
 

@@ -93,7 +93,7 @@ fn the_schemas_ranges_are_validations() {
     assert!(fields.len() >= 30, "{} bounded fields", fields.len());
     let refused = |path: &str, value: String| {
         let set = format!("{path}={value}");
-        match sim_core::Scenario::builtin(std::slice::from_ref(&set)) {
+        match sim_core::Plan::builtin(std::slice::from_ref(&set)) {
             Ok(_) => panic!("`--set {set}` is outside the schema's range but check accepts it"),
             Err(e) => assert!(e.to_string().contains(path), "`--set {set}`: {e}"),
         }
@@ -127,7 +127,7 @@ fn the_schemas_ranges_are_validations() {
                 .map(|s| s.to_string())
                 .chain([set.clone()])
                 .collect();
-            if let Err(e) = sim_core::Scenario::builtin(&sets) {
+            if let Err(e) = sim_core::Plan::builtin(&sets) {
                 panic!("the schema allows `--set {set}` but check refuses it: {e}");
             }
         }
