@@ -114,13 +114,10 @@ fn builtin_loop(overrides: &[&str]) -> ClosedLoop {
     ClosedLoop::new(plan, Backend::choose(None).unwrap(), false).unwrap()
 }
 
-/// `carfollow render-worker` for the built-in scenario with `overrides`.
-fn render_worker(overrides: &[&str]) -> std::process::Command {
+/// `carfollow render-worker`: it reads no scenario, the loop sends it the scene.
+fn render_worker() -> std::process::Command {
     let mut c = std::process::Command::new(env!("CARGO_BIN_EXE_carfollow"));
     c.arg("render-worker");
-    for o in overrides {
-        c.arg("--set").arg(o);
-    }
     c
 }
 
@@ -128,7 +125,7 @@ fn render_worker(overrides: &[&str]) -> std::process::Command {
 fn two_frames_in_flight_change_nothing() {
     let set = ["duration_s=5", "environment.sensor.noise_sigma_grey=4"];
     let mut l = builtin_loop(&set);
-    assert!(l.add_render_worker(render_worker(&set)).unwrap());
+    assert!(l.add_render_worker(render_worker()).unwrap());
     assert_eq!(l.frames_in_flight(), 2);
     let mut two = Vec::new();
     while let Some(out) = l.step().unwrap() {
@@ -206,11 +203,19 @@ fn the_builder_says_why_it_renders_one_frame_at_a_time() {
     assert_eq!(records_of(&mut l), run(&["duration_s=1"]));
 }
 
+/// A worker that says it built another scene than the one it was sent (it answers with a
+/// fingerprint of its own and renders nothing).
+fn a_worker_of_another_scene() -> std::process::Command {
+    let mut c = std::process::Command::new("sh");
+    c.args(["-c", "printf ABCDEFGH; exec cat >/dev/null"]);
+    c
+}
+
 #[test]
 fn a_render_worker_with_another_scene_is_refused() {
     let mut l = builtin_loop(&["duration_s=1"]);
     let err = l
-        .add_render_worker(render_worker(&["duration_s=1", "seed=5"]))
+        .add_render_worker(a_worker_of_another_scene())
         .unwrap_err()
         .to_string();
     assert!(err.contains("another scene"), "{err}");
@@ -220,16 +225,14 @@ fn a_render_worker_with_another_scene_is_refused() {
     assert_eq!(records_of(&mut l), run(&["duration_s=1"]));
     // A loop that cannot overlap does not start one.
     let mut l = builtin_loop(&["duration_s=1", "loop.latency_ms=50"]);
-    assert!(!l
-        .add_render_worker(render_worker(&["duration_s=1"]))
-        .unwrap());
+    assert!(!l.add_render_worker(render_worker()).unwrap());
 }
 
 #[test]
 fn a_loop_made_sequential_after_its_worker_was_added_runs_on_one_renderer() {
     let set = ["duration_s=1"];
     let mut l = builtin_loop(&set);
-    assert!(l.add_render_worker(render_worker(&set)).unwrap());
+    assert!(l.add_render_worker(render_worker()).unwrap());
     // The first frame is on the render thread already: it comes back, and is rendered
     // again on the sequential path.
     assert!(!l.set_pipelined(false));
@@ -243,7 +246,7 @@ fn run_metered(set: &[&str], whole: bool, worker: bool) -> (Vec<FrameRecord>, Ve
     let mut l = builtin_loop(set);
     l.set_whole_frames(whole);
     if worker {
-        assert!(l.add_render_worker(render_worker(set)).unwrap());
+        assert!(l.add_render_worker(render_worker()).unwrap());
     }
     let window = sim_render::AutoGain::metering_window(256, 242);
     let (mut records, mut means) = (Vec::new(), Vec::new());

@@ -6,6 +6,7 @@
 
 /// Pinhole intrinsics: the "intrinsic camera parameters" eq. 36 needs.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Camera {
     /// Focal length, millimetres.
     pub focal_length_mm: f64,

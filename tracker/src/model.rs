@@ -33,8 +33,15 @@ impl Orientation {
     }
 }
 
-/// The target model: corners and segments in metres, as read from a target file.
+/// The target model: corners and segments in metres, as read from a target file. (With the
+/// `serde` feature it goes on the wire as its name, nominal range, corners, segments and
+/// paint, and is checked again as [`TargetModel::new`] checks it.)
 #[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(into = "TargetWire", try_from = "TargetWire")
+)]
 pub struct TargetModel {
     name: String,
     nominal_range_m: f64,
@@ -42,6 +49,45 @@ pub struct TargetModel {
     segments: Vec<[usize; 2]>,
     features: Vec<FeatureM>,
     paint: Paint,
+}
+
+/// A target model on the wire.
+#[cfg(feature = "serde")]
+#[derive(serde::Serialize, serde::Deserialize)]
+struct TargetWire {
+    name: String,
+    nominal_range_m: f64,
+    corners_m: Vec<[f64; 2]>,
+    segments: Vec<[usize; 2]>,
+    stripes: bool,
+}
+
+#[cfg(feature = "serde")]
+impl From<TargetModel> for TargetWire {
+    fn from(t: TargetModel) -> TargetWire {
+        TargetWire {
+            stripes: t.paint == Paint::Stripes,
+            name: t.name,
+            nominal_range_m: t.nominal_range_m,
+            corners_m: t.corners_m,
+            segments: t.segments,
+        }
+    }
+}
+
+#[cfg(feature = "serde")]
+impl TryFrom<TargetWire> for TargetModel {
+    type Error = TargetError;
+
+    fn try_from(w: TargetWire) -> Result<TargetModel, TargetError> {
+        let paint = if w.stripes {
+            Paint::Stripes
+        } else {
+            Paint::Steps
+        };
+        TargetModel::new(w.name, w.nominal_range_m, w.corners_m, w.segments)
+            .map(|t| t.with_paint(paint))
+    }
 }
 
 /// One segment of the model in metres, with its orientation resolved.

@@ -41,7 +41,7 @@ pub use plugin::{
     StepDetails, TrackerChoice, TrackerInput,
 };
 pub use record::{FrameRecord, LossCause, TrackerStatus};
-pub use render_worker::{fingerprint, serve_frames};
+pub use render_worker::{fingerprint, receive_scene, send_scene, serve_frames};
 pub use scenario::{
     apply_override, from_toml_naming_field, locate as locate_field, scenario_schema_json,
     shipped_scenarios, AutoGainFile, CameraFile, ChaseFile, ClutterFile, DistractorFile,

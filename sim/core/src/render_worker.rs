@@ -19,11 +19,14 @@
 //! estimates of frames up to k − 1 (none arrives sooner than one frame after its capture:
 //! see [`crate::closed_loop::ClosedLoop::set_pipelined`]), so frame k + 1's poses are known
 //! before frame k has been tracked, and both frames can be rendering at once. The worker
-//! builds the same scene from the same scenario with the same code and driver, so its frames
-//! are the frames the loop's own renderer would have made: the results do not change.
+//! builds the loop's scene with the same code and driver, so its frames are the frames the
+//! loop's own renderer would have made: the results do not change.
 //!
 //! **The protocol**, over the worker's stdin and stdout, all numbers little-endian:
-//! - the worker first writes its scene's fingerprint ([`fingerprint`]), a `u64`, which the
+//! - the loop first sends the plan's scene description and camera rig ([`send_scene`]: a
+//!   `u64` byte count, then the two as TOML, whose numbers round-trip exactly), so the
+//!   worker plans nothing: it builds the scene it is given;
+//! - the worker then writes that scene's fingerprint ([`fingerprint`]), a `u64`, which the
 //!   loop checks against its own;
 //! - each request is 39 `u64`-sized fields: the frame index (`u64`), the time, then each of
 //!   the chase's and the lead's poses as translation x, y, z and rotation quaternion i, j,
@@ -156,6 +159,52 @@ fn decode_request(bytes: &[u8; REQUEST_BYTES]) -> (FrameInput, PixelRect) {
     (input, get_rect(bytes, 18))
 }
 
+/// The scene a render worker builds, on the wire: the plan's camera rig and scene
+/// description.
+#[derive(serde::Serialize)]
+struct SceneOut<'a> {
+    rig: &'a CameraRig,
+    description: &'a SceneDescription,
+}
+
+/// [`SceneOut`], received.
+#[derive(serde::Deserialize)]
+struct SceneIn {
+    rig: CameraRig,
+    description: SceneDescription,
+}
+
+/// The loop's side, first: sends the scene `description` and camera `rig` to a render
+/// worker on `output` (a `u64` byte count, then TOML: its numbers round-trip exactly).
+pub fn send_scene(
+    output: &mut impl Write,
+    description: &SceneDescription,
+    rig: &CameraRig,
+) -> std::io::Result<()> {
+    let text = toml::to_string(&SceneOut { rig, description }).map_err(std::io::Error::other)?;
+    output.write_all(&(text.len() as u64).to_le_bytes())?;
+    output.write_all(text.as_bytes())?;
+    output.flush()
+}
+
+/// The worker's side, first: the scene description and camera rig [`send_scene`] sent.
+pub fn receive_scene(input: &mut impl Read) -> std::io::Result<(SceneDescription, CameraRig)> {
+    let mut count = [0u8; 8];
+    input.read_exact(&mut count)?;
+    let count = u64::from_le_bytes(count);
+    // A scene's description is some kilobytes; a count beyond this is not one.
+    if count > 1 << 30 {
+        return Err(std::io::Error::other(format!(
+            "a scene of {count} bytes: not the loop's"
+        )));
+    }
+    let mut text = vec![0u8; count as usize];
+    input.read_exact(&mut text)?;
+    let text = String::from_utf8(text).map_err(std::io::Error::other)?;
+    let scene: SceneIn = toml::from_str(&text).map_err(std::io::Error::other)?;
+    Ok((scene.description, scene.rig))
+}
+
 /// The worker's side: renders each request from `input` with `renderer` and writes the
 /// answer to `output`, until `input` ends.
 pub fn serve_frames(
@@ -239,20 +288,19 @@ impl Drop for ThreadLink {
 }
 
 impl RemoteRenderer {
-    /// Starts `command` (a worker that serves this scene: `carfollow render-worker` with the
-    /// scenario's file and overrides) and checks that it renders the scene of `expected`
-    /// fingerprint at `rig`'s size.
-    pub fn start(
-        command: Command,
-        expected: u64,
+    /// Starts `command` (a render worker: `carfollow render-worker`) and sends it `scene`
+    /// and `rig` to render, without waiting for it to set up ([`StartedWorker::ready`]
+    /// does, and checks that it built the scene of the same fingerprint).
+    pub fn spawn(
+        mut command: Command,
+        scene: &Scene,
         rig: &CameraRig,
-    ) -> Result<RemoteRenderer, String> {
-        Self::spawn(command)?.ready(expected, "", rig)
-    }
-
-    /// Starts `command` (see [`RemoteRenderer::start`]) without waiting for it to set up.
-    pub fn spawn(mut command: Command) -> Result<StartedWorker, String> {
-        let child = Child::spawn(&mut command).map_err(|e| format!("cannot start it: {e}"))?;
+    ) -> Result<StartedWorker, String> {
+        let mut child = Child::spawn(&mut command).map_err(|e| format!("cannot start it: {e}"))?;
+        child
+            .stdin()
+            .and_then(|stdin| send_scene(stdin, scene.description(), rig))
+            .map_err(|e| format!("cannot send it the scene: {e}"))?;
         Ok(StartedWorker {
             link: Link::Process(child),
         })

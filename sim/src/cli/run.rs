@@ -258,16 +258,10 @@ fn run_one(plan: Plan, backend: Backend, dir: &Path, args: &RunArgs) -> anyhow::
     let scenario = plan.scenario().clone();
     // The scenario is planned: from here on, whatever stops the run is not bad input.
     // The second renderer's process, where it cannot be a thread of this one (see
-    // `ClosedLoop::start`): `carfollow render-worker` with this scenario.
+    // `ClosedLoop::start`): `carfollow render-worker`, which the loop sends its scene.
     let worker_process = std::env::current_exe().ok().map(|exe| {
         let mut command = Command::new(exe);
         command.arg("render-worker");
-        if let Some(path) = &scenario.path {
-            command.arg(path);
-        }
-        for set in &args.set {
-            command.arg("--set").arg(set);
-        }
         command.arg("--backend").arg(backend.to_string());
         command
     });

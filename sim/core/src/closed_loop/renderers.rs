@@ -24,8 +24,8 @@ pub struct LoopOptions {
     /// Render every frame whole (for whoever looks at the images: the video, recordings),
     /// not only the part the tracker reads (see [`ClosedLoop::set_whole_frames`]).
     pub whole_frames: bool,
-    /// How to start a render worker process (`carfollow render-worker` with the scenario's
-    /// file and overrides) where the second renderer cannot be a thread of this process;
+    /// How to start a render worker process (`carfollow render-worker`, which is sent the
+    /// plan's scene) where the second renderer cannot be a thread of this process;
     /// `None` renders one frame at a time there instead.
     pub worker_process: Option<std::process::Command>,
     /// The tracker: the built-in, as the scenario sets it up, or a plug-in.
@@ -79,7 +79,9 @@ impl ClosedLoop {
                 plan.rig.clone(),
                 backend,
             )),
-            (true, false, Some(_)) => worker_process.take().map(RemoteRenderer::spawn),
+            (true, false, Some(_)) => worker_process
+                .take()
+                .map(|command| RemoteRenderer::spawn(command, &plan.scene, &plan.rig)),
             (true, false, None) => Some(Err(format!(
                 "no render worker process to start on {backend}"
             ))),
@@ -105,10 +107,10 @@ impl ClosedLoop {
         Ok(looped)
     }
 
-    /// Starts a second renderer in a worker process (`command`: `carfollow render-worker`
-    /// with this scenario's file and overrides), so that two camera frames render at once:
-    /// frame k + 1 in one renderer while frame k finishes in the other. Results are
-    /// identical to one renderer's (the worker checks it builds the same scene), so this
+    /// Starts a second renderer in a worker process (`command`: `carfollow render-worker`,
+    /// which is sent this loop's scene), so that two camera frames render at once: frame
+    /// k + 1 in one renderer while frame k finishes in the other. Results are identical to
+    /// one renderer's (the worker's scene has this one's fingerprint), so this
     /// only changes the speed. Possible only when the loop can overlap at all (see
     /// [`ClosedLoop::set_pipelined`]) and before the first step; returns whether two frames
     /// are now in flight.
@@ -116,7 +118,8 @@ impl ClosedLoop {
         if !self.schedule.pipelined || self.frame > 0 {
             return Ok(false);
         }
-        let started = RemoteRenderer::spawn(command).map_err(LoopError::Worker)?;
+        let started = RemoteRenderer::spawn(command, &self.recorder.scene, &self.eye.rig)
+            .map_err(LoopError::Worker)?;
         self.add_started_render_worker(started)
     }
 

@@ -12,7 +12,7 @@ pub const NEAR_M: f64 = 0.5;
 pub const FAR_M: f64 = 250.0;
 
 /// Intrinsics, image size and mount.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct CameraRig {
     /// Pinhole intrinsics: the very object the tracker's stage 8 uses.
     pub intrinsics: tracker::Camera,

@@ -7,7 +7,7 @@ use tracker::TargetModel;
 
 /// How much clutter to place along the route, per kilometre of route (both sides together
 /// unless stated).
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Densities {
     /// Trees per km.
     pub trees_per_km: f64,
@@ -52,7 +52,7 @@ impl Default for Densities {
 
 /// A piece of clutter the scenario places by hand (world x, z on the ground), in addition to
 /// what the densities place. Tests use these to put a shadow exactly where they want it.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum Placement {
     /// A telephone pole (no wires) at world `(x_m, z_m)`.
     Pole {
@@ -82,7 +82,7 @@ pub enum Placement {
 }
 
 /// What a controlled distractor is.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum DistractorKind {
     /// A vertical bar from the ground up (a pole), beside a vertical feature.
     Pole,
@@ -104,7 +104,7 @@ pub enum DistractorKind {
 /// A line that moves with the lead, beside one of the target's features, at a set offset:
 /// section 4's clutter "of similar orientation ... near a predicted feature location", held
 /// where a study wants it.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Distractor {
     /// Pole or wire.
     pub kind: DistractorKind,
@@ -133,7 +133,7 @@ pub fn distractor_near_side(
 }
 
 /// The sun: a directional light, and the sky's ambient light.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Sun {
     /// Azimuth, degrees, measured in the ground plane from world +x towards world +z.
     /// The direction towards the sun is `(cos el · cos az, sin el, cos el · sin az)`.
@@ -171,7 +171,7 @@ impl Default for Sun {
 }
 
 /// The CCD sensor's response and noise (all applied per frame, seeded).
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Sensor {
     /// Electronic gain, a factor (1 = nominal).
     pub gain: f64,
@@ -204,7 +204,7 @@ pub const FIELD_PERIOD_STEPS: u64 = 2;
 /// The camera's automatic gain control: a gain, on top of `Sensor::gain`, that brings the
 /// mean grey of the metering window ([`AutoGain::metering_window`]) towards a target with
 /// a first-order time constant.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct AutoGain {
     /// The mean grey level the control aims at, 1–254.
     pub target_grey: f64,
@@ -268,7 +268,7 @@ impl Default for Sensor {
 }
 
 /// The lead vehicle (a box truck) and where its target board hangs.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct LeadVehicle {
     /// Body length, width, height (metres).
     pub length_m: f64,
@@ -298,7 +298,7 @@ impl Default for LeadVehicle {
 }
 
 /// The chase vehicle as far as the camera sees it: its hood.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ChaseVehicle {
     /// Where the hood's front edge is, metres forward of the vehicle origin.
     pub hood_front_m: f64,
@@ -325,7 +325,7 @@ impl Default for ChaseVehicle {
 
 /// Where the camera sits on the chase vehicle (vehicle frame: x forward, y up, z right;
 /// origin on the ground below the vehicle's centre when level).
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct CameraMount {
     /// Height of the optical centre above the vehicle origin, metres.
     pub height_m: f64,
@@ -349,7 +349,7 @@ impl Default for CameraMount {
 
 /// What the road is paved with: it chooses the road's texture (see [`Textures`]); its
 /// albedo is the same either way.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum RoadSurface {
     /// Asphalt: fine aggregate, patches and sealed cracks.
     #[default]
@@ -378,7 +378,7 @@ impl RoadSurface {
 /// Procedural textures on the ground's surfaces (asphalt, grass, gravel): detail that
 /// multiplies each surface's albedo by a factor of mean 1, sampled trilinearly from
 /// seeded, mipmapped textures at the surface's world position.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Textures {
     /// Whether the ground is textured (off: the flat albedos and the grass's mottle alone,
     /// the frames the renderer drew before it had textures, bit for bit).
@@ -404,7 +404,7 @@ impl Default for Textures {
 }
 
 /// Everything needed to build the world. Filled by the scenario code.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SceneDescription {
     /// The scenario seed; clutter and noise each use a named stream of it.
     pub seed: u64,

@@ -9,7 +9,7 @@
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 
 /// One piece of the centreline.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum RouteSegment {
     /// A straight of the given length (metres).
     Straight {
@@ -26,7 +26,7 @@ pub enum RouteSegment {
 }
 
 /// What the scenario says about the route.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct RouteSpec {
     /// The centreline's pieces, in driving order.
     pub segments: Vec<RouteSegment>,
