@@ -45,7 +45,8 @@ impl BuiltinTracker {
         self.tracker.as_ref()
     }
 
-    /// Everything the last frame's step made (stages 1–8), with its diagnostics.
+    /// Everything the last frame's step made (stages 1–8), until
+    /// [`FrameTracker::take_details`] takes it.
     pub fn last_output(&self) -> Option<&TrackOutput> {
         self.last.as_ref()
     }
@@ -152,7 +153,8 @@ impl FrameTracker for BuiltinTracker {
 
     fn take_details(&mut self) -> Option<StepDetails> {
         Some(StepDetails {
-            output: self.last.clone()?,
+            // Taken, not copied: the loop takes it every frame.
+            output: self.last.take()?,
             read: self.tracker.as_ref()?.last_read(),
             edges: std::mem::take(&mut self.edges),
         })
