@@ -1,4 +1,5 @@
-//! Physical parameters of one ray-cast vehicle, with the HMMWV chase and pickup lead presets.
+//! Physical parameters of one ray-cast vehicle, with the HMMWV chase and pickup lead presets
+//! and the traffic's kinds (sedan, hatchback, van, truck).
 //!
 //! The vehicle frame: x forward, y up, z right; its origin is the middle of the rear axle at
 //! ground level when the vehicle stands at its nominal ride height on flat ground.
@@ -26,8 +27,12 @@ pub struct VehicleParams {
     pub length_m: f32,
     /// Body width.
     pub width_m: f32,
-    /// Height of the body's collision box (from its underside to its top).
+    /// Height of the body's collision box (from its underside to its top). The box may stop
+    /// short of the roof ([`VehicleParams::height_m`]): its centre is the centre of mass.
     pub body_height_m: f32,
+    /// Overall height, ground to roof at rest: what is drawn and what hides the view (no
+    /// part in the physics).
+    pub height_m: f32,
     /// Height of the body's underside above the ground at rest.
     pub ground_clearance_m: f32,
     /// Length of body behind the rear axle.
@@ -96,6 +101,8 @@ impl VehicleParams {
             // The collision box stands for the body up to the bonnet line; the cab top is
             // not needed for collisions and would raise the centre of mass too high.
             body_height_m: 0.95,
+            // 72 in to the top of the cab.
+            height_m: 1.83,
             ground_clearance_m: 0.41,
             rear_overhang_m: 0.62,
             wheel_radius_m: 0.47,
@@ -137,6 +144,8 @@ impl VehicleParams {
             length_m: 5.30,
             width_m: 2.00,
             body_height_m: 0.90,
+            // The cab's roof; the target board it carries stands higher.
+            height_m: 1.90,
             ground_clearance_m: 0.30,
             rear_overhang_m: 1.20,
             wheel_radius_m: 0.38,
@@ -163,6 +172,147 @@ impl VehicleParams {
         }
     }
 
+    /// A family saloon of the traffic, about 1,450 kg with its driver: the renderer's drawn
+    /// sedan, 4.4 m over the bumpers, 1.8 m wide and 1.45 m to the roof, axles 1.35 m either
+    /// side of the body's centre (wheelbase 2.7 m, overhangs 0.85 m). The collision box
+    /// stops at the belt line (0.95 m), so that the centre of mass is at about 0.55 m.
+    pub fn sedan() -> VehicleParams {
+        VehicleParams {
+            mass_kg: 1450.0,
+            wheelbase_m: 2.70,
+            track_m: 1.58,
+            length_m: 4.40,
+            width_m: 1.80,
+            body_height_m: 0.80,
+            height_m: 1.45,
+            ground_clearance_m: 0.15,
+            rear_overhang_m: 0.85,
+            wheel_radius_m: 0.32,
+            suspension_rest_m: 0.28,
+            suspension_travel_m: 0.18,
+            ride_frequency_hz: 1.3,
+            ride_damping_ratio: 0.4,
+            tyre_friction: 0.9,
+            // Turning circle 11 m: atan(2.7 / 5.2) = 0.48 rad.
+            max_steer_rad: 0.48,
+            steer_rate_radps: 0.5,
+            steer_lag_s: 0.05,
+            // 0.35 g at low speed; 85 kW of a 110 kW engine reaches the wheels.
+            max_drive_force_n: 5000.0,
+            max_drive_power_w: 85_000.0,
+            throttle_rate_per_s: 2.5,
+            throttle_lag_s: 0.15,
+            // 0.9 g with ABS on dry road.
+            max_brake_force_n: 12_800.0,
+            brake_rate_per_s: 6.0,
+            brake_lag_s: 0.05,
+            // Cd 0.30 on 2.2 m².
+            drag_area_m2: 0.66,
+            rolling_resistance: 0.011,
+            // Most are driven at the front; the model drives the rear pair or all four, and
+            // on a dry road the difference does not show.
+            four_wheel_drive: false,
+        }
+    }
+
+    /// A small hatchback of the traffic, about 1,250 kg with its driver: the drawn
+    /// hatchback has the sedan's footprint (4.4 × 1.8 m, 1.45 m high, wheelbase 2.7 m), a
+    /// lighter car with a smaller engine.
+    pub fn hatchback() -> VehicleParams {
+        VehicleParams {
+            mass_kg: 1250.0,
+            max_drive_force_n: 4500.0,
+            max_drive_power_w: 65_000.0,
+            // 0.9 g.
+            max_brake_force_n: 11_000.0,
+            // Cd 0.31 on 2.1 m².
+            drag_area_m2: 0.65,
+            ..VehicleParams::sedan()
+        }
+    }
+
+    /// A panel van of the traffic, about 1,900 kg: the drawn van, 4.4 m over the bumpers,
+    /// 1.8 m wide and 1.9 m to the roof, axles 1.45 m either side of the body's centre
+    /// (wheelbase 2.9 m, overhangs 0.75 m). The collision box stops at the belt line
+    /// (1.05 m); the light upper box adds little to the height of the centre of mass.
+    pub fn van() -> VehicleParams {
+        VehicleParams {
+            mass_kg: 1900.0,
+            wheelbase_m: 2.90,
+            track_m: 1.58,
+            length_m: 4.40,
+            width_m: 1.80,
+            body_height_m: 0.88,
+            height_m: 1.90,
+            ground_clearance_m: 0.17,
+            rear_overhang_m: 0.75,
+            wheel_radius_m: 0.32,
+            suspension_rest_m: 0.28,
+            suspension_travel_m: 0.18,
+            ride_frequency_hz: 1.4,
+            ride_damping_ratio: 0.4,
+            tyre_friction: 0.9,
+            // Turning circle 12 m: atan(2.9 / 5.6) = 0.48 rad.
+            max_steer_rad: 0.47,
+            steer_rate_radps: 0.45,
+            steer_lag_s: 0.06,
+            // 0.3 g at low speed; 80 kW at the wheels.
+            max_drive_force_n: 6000.0,
+            max_drive_power_w: 80_000.0,
+            throttle_rate_per_s: 2.0,
+            throttle_lag_s: 0.2,
+            // 0.85 g.
+            max_brake_force_n: 15_800.0,
+            brake_rate_per_s: 6.0,
+            brake_lag_s: 0.06,
+            // Cd 0.35 on 2.9 m².
+            drag_area_m2: 1.0,
+            rolling_resistance: 0.012,
+            four_wheel_drive: false,
+        }
+    }
+
+    /// A medium rigid box truck of the traffic, 12 t half laden: 7.5 m over the bumpers,
+    /// 2.5 m wide and 3.4 m to the box's roof; wheelbase 4.2 m, front overhang 1.3 m, rear
+    /// 2.0 m. The collision box stops at 2.7 m, so that the centre of mass is at 1.5 m, a
+    /// half-laden box truck's. Air brakes: slower and weaker than a car's.
+    pub fn truck() -> VehicleParams {
+        VehicleParams {
+            mass_kg: 12_000.0,
+            wheelbase_m: 4.20,
+            track_m: 2.00,
+            length_m: 7.50,
+            width_m: 2.50,
+            body_height_m: 2.40,
+            height_m: 3.40,
+            ground_clearance_m: 0.30,
+            rear_overhang_m: 2.00,
+            wheel_radius_m: 0.48,
+            suspension_rest_m: 0.30,
+            suspension_travel_m: 0.15,
+            ride_frequency_hz: 1.8,
+            ride_damping_ratio: 0.3,
+            tyre_friction: 0.8,
+            // Turning circle 16 m: atan(4.2 / 7.0) = 0.54 rad.
+            max_steer_rad: 0.54,
+            steer_rate_radps: 0.3,
+            steer_lag_s: 0.1,
+            // 0.15 g at low speed; 150 kW of a 184 kW diesel at the wheels.
+            max_drive_force_n: 18_000.0,
+            max_drive_power_w: 150_000.0,
+            throttle_rate_per_s: 1.5,
+            throttle_lag_s: 0.35,
+            // 0.6 g through air brakes.
+            max_brake_force_n: 70_000.0,
+            brake_rate_per_s: 4.0,
+            brake_lag_s: 0.25,
+            // Cd 0.8 on 8.5 m².
+            drag_area_m2: 6.8,
+            rolling_resistance: 0.007,
+            four_wheel_drive: false,
+        }
+    }
+
     /// Checks every field for a physically meaningful value.
     pub fn validate(&self) -> Result<(), VehicleError> {
         let f = |v: f32| f64::from(v);
@@ -173,6 +323,12 @@ impl VehicleParams {
         check_range("width_m", f(self.width_m), 0.5, 4.0)?;
         check_range("body_height_m", f(self.body_height_m), 0.1, 5.0)?;
         check_range("ground_clearance_m", f(self.ground_clearance_m), 0.05, 2.0)?;
+        check_range(
+            "height_m",
+            f(self.height_m),
+            f(self.ground_clearance_m) + f(self.body_height_m),
+            10.0,
+        )?;
         check_range(
             "rear_overhang_m",
             f(self.rear_overhang_m),
@@ -218,6 +374,12 @@ impl VehicleParams {
     /// x of the rear bumper in the vehicle frame (negative: behind the rear axle).
     pub fn rear_bumper_x_m(&self) -> f32 {
         -self.rear_overhang_m
+    }
+
+    /// x of the body's centre (halfway between the bumpers) in the vehicle frame: where a
+    /// mesh drawn about the body's centre is placed (as `sim-core` places the lead's).
+    pub fn body_centre_x_m(&self) -> f32 {
+        0.5 * self.length_m - self.rear_overhang_m
     }
 
     /// Rapier's suspension stiffness: spring force per unit of chassis mass per metre of
@@ -293,6 +455,32 @@ mod tests {
     fn presets_are_valid() {
         VehicleParams::hmmwv_m998().validate().unwrap();
         VehicleParams::pickup().validate().unwrap();
+        for p in [
+            VehicleParams::sedan(),
+            VehicleParams::hatchback(),
+            VehicleParams::van(),
+            VehicleParams::truck(),
+        ] {
+            p.validate().unwrap();
+        }
+    }
+
+    /// The cars' bodies are the renderer's drawn cars: 4.4 m by 1.8 m, centred between the
+    /// axles (the drawn axles stand 1.35 m, the van's 1.45 m, either side of the centre).
+    #[test]
+    fn the_cars_bodies_are_the_drawn_cars() {
+        for (p, axle_m) in [
+            (VehicleParams::sedan(), 1.35),
+            (VehicleParams::hatchback(), 1.35),
+            (VehicleParams::van(), 1.45),
+        ] {
+            assert_eq!((p.length_m, p.width_m), (4.4, 1.8));
+            assert!((p.body_centre_x_m() - axle_m).abs() < 1e-6);
+            assert!((p.wheelbase_m - 2.0 * axle_m).abs() < 1e-6);
+            assert!((p.front_bumper_x_m() - p.body_centre_x_m() - 2.2).abs() < 1e-6);
+        }
+        let t = VehicleParams::truck();
+        assert_eq!((t.length_m, t.width_m, t.height_m), (7.5, 2.5, 3.4));
     }
 
     #[test]
