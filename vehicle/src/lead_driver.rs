@@ -1,5 +1,8 @@
 //! The lead vehicle's driver: pure pursuit on ground truth along the route, a scripted speed
-//! profile, slowing for turns, and optional weaving within the lane.
+//! profile, slowing for turns, and optional weaving within the lane. The same driver drives
+//! the traffic's scripted vehicles ([`crate::ActorDriver`]): a lateral offset from the route
+//! (a lane change) and a speed that replaces the profile's (a speed event) can be set at
+//! each step; left unset, the driver computes exactly what it did without them.
 
 use crate::clock::{Step, PHYSICS_DT_S};
 use crate::controls::Controls;
@@ -64,7 +67,20 @@ impl Default for LeadDriverConfig {
     }
 }
 
+/// A speed that replaces the profile's for one step: what a speed event asks.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct SpeedOverride {
+    /// The speed to aim for now, m/s.
+    pub speed_mps: f32,
+    /// Its rate of change now, m/s² (the speed loop's feedforward).
+    pub accel_mps2: f32,
+}
+
 /// Drives the lead vehicle along its route at its speed profile, from ground truth.
+///
+/// For a scripted vehicle of the traffic, [`LeadDriver::set_lateral_offset_m`] shifts the
+/// path it follows sideways and [`LeadDriver::set_speed_override`] replaces the profile's
+/// speed; the slowing for turns and the route's end still applies.
 #[derive(Clone, Debug)]
 pub struct LeadDriver {
     route: Route,
@@ -75,6 +91,10 @@ pub struct LeadDriver {
     progress_m: f32,
     speed_ref_mps: f32,
     panic_braking: bool,
+    /// Lateral offset from the route, m (positive left); 0 leaves the path as the lead's.
+    offset_m: f32,
+    /// The speed that replaces the profile's, if any.
+    speed_override: Option<SpeedOverride>,
 }
 
 impl LeadDriver {
@@ -125,6 +145,8 @@ impl LeadDriver {
             progress_m: 0.0,
             speed_ref_mps: 0.0,
             panic_braking: false,
+            offset_m: 0.0,
+            speed_override: None,
         })
     }
 
@@ -141,6 +163,29 @@ impl LeadDriver {
     /// The speed the driver is aiming for now, m/s.
     pub fn speed_ref_mps(&self) -> f32 {
         self.speed_ref_mps
+    }
+
+    /// Drives `offset_m` to the left of the route from the next [`LeadDriver::update`] on
+    /// (negative: to the right), on top of any weave: the pure-pursuit target is
+    /// `route.point_at(s) + route.left_at(s) × (weave + offset)`. A lane change moves it.
+    pub fn set_lateral_offset_m(&mut self, offset_m: f32) {
+        self.offset_m = offset_m;
+    }
+
+    /// The lateral offset from the route now asked for, m (positive left).
+    pub fn lateral_offset_m(&self) -> f32 {
+        self.offset_m
+    }
+
+    /// Replaces the profile's speed and its slope by `speed` from the next
+    /// [`LeadDriver::update`] on (`None`: the profile again). The turn limit still applies.
+    pub fn set_speed_override(&mut self, speed: Option<SpeedOverride>) {
+        self.speed_override = speed;
+    }
+
+    /// The speed that replaces the profile's now, if any.
+    pub fn speed_override(&self) -> Option<SpeedOverride> {
+        self.speed_override
     }
 
     /// The centreline offset of the weave at arc length `s_m`, m (positive left).
@@ -180,6 +225,19 @@ impl LeadDriver {
         limit
     }
 
+    /// The profile's speed and its rate of change at step `now` and speed `v`.
+    fn profile_speed(&self, now: Step, v: f32) -> (f32, f32) {
+        let (profile_speed, slope) = match self.profile.basis {
+            ProfileBasis::Time => self.profile.sample(now.seconds() as f32),
+            ProfileBasis::Distance => self.profile.sample(self.progress_m),
+        };
+        let profile_accel = match self.profile.basis {
+            ProfileBasis::Time => slope,
+            ProfileBasis::Distance => slope * v,
+        };
+        (profile_speed, profile_accel)
+    }
+
     /// Commands for the lead at step `now` from its true state.
     pub fn update(&mut self, now: Step, state: &VehicleState) -> Controls {
         let pose = &state.world_from_vehicle;
@@ -190,18 +248,19 @@ impl LeadDriver {
         let v = state.forward_speed_mps;
 
         let s_target = self.progress_m + self.config.lookahead.distance_m(v);
-        let target =
-            self.route.point_at(s_target) + self.route.left_at(s_target) * self.weave_m(s_target);
+        // Without an offset, exactly the lead's arithmetic.
+        let target = if self.offset_m != 0.0 {
+            self.route.point_at(s_target)
+                + self.route.left_at(s_target) * (self.weave_m(s_target) + self.offset_m)
+        } else {
+            self.route.point_at(s_target) + self.route.left_at(s_target) * self.weave_m(s_target)
+        };
         let curvature = curvature_toward(pose, target);
         let steer_rad = steer_for_curvature(curvature, self.wheelbase_m);
 
-        let (profile_speed, slope) = match self.profile.basis {
-            ProfileBasis::Time => self.profile.sample(now.seconds() as f32),
-            ProfileBasis::Distance => self.profile.sample(self.progress_m),
-        };
-        let profile_accel = match self.profile.basis {
-            ProfileBasis::Time => slope,
-            ProfileBasis::Distance => slope * v,
+        let (profile_speed, profile_accel) = match self.speed_override {
+            Some(o) => (o.speed_mps, o.accel_mps2),
+            None => self.profile_speed(now, v),
         };
         let limit = self.turn_limit_mps(v);
         let (speed_ref, accel_ref) = if limit < profile_speed {

@@ -95,7 +95,7 @@ pub use error::VehicleError;
 pub use gap_keeper::{GapKeeper, GapKeeperConfig, GapPolicy, SpeedCommand, Threat};
 pub use ground::{BumpsConfig, Ground, GroundConfig};
 pub use gyro::{Gyro, GyroConfig};
-pub use lead_driver::{LeadDriver, LeadDriverConfig};
+pub use lead_driver::{LeadDriver, LeadDriverConfig, SpeedOverride};
 pub use lead_estimate::{LeadEstimate, TrackStatus};
 pub use pan_head::{PanHead, PanHeadConfig};
 pub use pose_history::{OwnMotion, PoseHistory};
