@@ -46,6 +46,16 @@ pub enum VehicleError {
         /// Its key, metres.
         key: f64,
     },
+    /// A scripted event is malformed: `field` is its dotted path inside the vehicle's
+    /// event list, e.g. `events[2].trigger.to`, for the caller to put under its own
+    /// prefix (`lead.` or `actors[0].`).
+    #[error("invalid {field}: {reason}")]
+    InvalidEvent {
+        /// The dotted path of the offending field, e.g. `events[2].trigger.delay_s`.
+        field: String,
+        /// What is wrong with it (the value, when there is one, and what is allowed).
+        reason: String,
+    },
     /// A vehicle id that this world did not hand out.
     #[error("no vehicle with id {0}")]
     UnknownVehicle(usize),

@@ -12,6 +12,11 @@
 //!   frame's capture time, steers by pure pursuit on the breadcrumbs, keeps the gap
 //!   ([`GapKeeper`]) or replays a scripted speed ([`SpeedMode::Manual`]), and brakes to a
 //!   stop when the lead is lost ([`ControllerEvent`]).
+//! - The **traffic** ([`ActorDriver`]): other vehicles ([`VehicleParams::sedan`],
+//!   [`VehicleParams::truck`], …) driven like the lead, each scripted by events
+//!   ([`EventScript`]: a trigger on time, distance, gap, time gap, time to collision or
+//!   another event; a lane change, a speed change or a stop) that [`Events`] runs at every
+//!   step against a [`TrafficView`].
 //! - The **delay line** ([`DelayLine`]) holds each estimate for the latency (128 ms by
 //!   default), to the physics step, with optional seeded jitter and drops.
 //!
@@ -52,6 +57,7 @@
 
 #![warn(missing_docs)]
 
+mod actor_driver;
 mod actuator;
 mod breadcrumb_trail;
 mod camera_mount;
@@ -61,6 +67,8 @@ mod controller_event;
 mod controls;
 mod delay_line;
 mod error;
+mod event_spec;
+mod events;
 mod gap_keeper;
 mod ground;
 mod gyro;
@@ -78,6 +86,7 @@ mod speed_profile;
 mod vehicle_params;
 mod world;
 
+pub use actor_driver::ActorDriver;
 pub use actuator::{Actuator, ActuatorLimits};
 pub use breadcrumb_trail::{Breadcrumb, BreadcrumbTrail};
 pub use camera_mount::CameraMount;
@@ -92,6 +101,8 @@ pub use controller_event::{ControllerEvent, ControllerEventKind};
 pub use controls::Controls;
 pub use delay_line::{DelayLine, DelayLineConfig};
 pub use error::VehicleError;
+pub use event_spec::{ActionSpec, EventScript, EventSpec, Rule, Shape, TriggerSpec, MAX_LANES};
+pub use events::{Events, Fired, FiredKind, Lanes, TrafficView, VehicleView};
 pub use gap_keeper::{GapKeeper, GapKeeperConfig, GapPolicy, SpeedCommand, Threat};
 pub use ground::{BumpsConfig, Ground, GroundConfig};
 pub use gyro::{Gyro, GyroConfig};

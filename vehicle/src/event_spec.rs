@@ -1,0 +1,674 @@
+//! Scripted events as a scenario file writes them: a trigger and an action, as esmini and
+//! OpenSCENARIO script their traffic, checked into the typed form the engine
+//! ([`crate::Events`]) runs.
+//!
+//! A vehicle's events are a list of tables:
+//!
+//! ```toml
+//! [[actors.events]]            # also [[lead.events]]
+//! name = "cut-in"
+//! trigger = { time_s = 8.0 }
+//! action = { lane = 1, duration_s = 2.5, shape = "cubic" }
+//!
+//! [[actors.events]]
+//! name = "brake"
+//! trigger = { after = "cut-in", delay_s = 0.5 }
+//! action = { speed_mps = 8.0, rate_mps2 = 2.0 }
+//! ```
+//!
+//! Each table is read with unknown fields refused; what each may hold together (exactly one
+//! kind of trigger, the timing an action needs) is checked by [`EventScript::validate`],
+//! whose errors name the field as a dotted path (`events[1].trigger.after`).
+
+use crate::error::VehicleError;
+use crate::speed_profile::MAX_SPEED_MPS;
+use serde::{Deserialize, Serialize};
+
+/// The most lanes a road may have on one side of its centre line.
+pub const MAX_LANES: u32 = 16;
+/// Largest time or distance threshold, delay or duration, s or m.
+const MAX_KEY: f64 = 1e7;
+/// Largest gap threshold either way, m.
+const MAX_GAP_M: f64 = 1e4;
+/// Largest time-gap and time-to-collision threshold, s.
+const MAX_TIME_S: f64 = 1e3;
+/// Largest rate of change of speed (or deceleration) an action may ask, m/s².
+const MAX_RATE_MPS2: f64 = 20.0;
+/// Largest lateral speed of a lane change, m/s.
+const MAX_LATERAL_SPEED_MPS: f64 = 10.0;
+
+/// One vehicle's scripted events, in the order written (a scenario's `[[lead.events]]` or
+/// an actor's `events`): a TOML array of [`EventSpec`] tables.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(transparent)]
+pub struct EventScript(pub Vec<EventSpec>);
+
+/// One event: when its trigger holds, its action runs once (or again each time it holds
+/// after the action ended, with `repeat`).
+///
+/// ```toml
+/// name = "slow-down"
+/// trigger = { gap_m = 12.0, to = "chase", rule = "less" }
+/// action = { speed_mps = 8.0, duration_s = 3.0, shape = "cubic" }
+/// repeat = false
+/// ```
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct EventSpec {
+    /// The event's name, unique among the vehicle's events (for `after` and the log).
+    pub name: String,
+    /// When the action starts.
+    pub trigger: TriggerSpec,
+    /// What the vehicle does.
+    pub action: ActionSpec,
+    /// Fire again each time the trigger holds after the action ended (default: once).
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub repeat: bool,
+}
+
+fn is_false(b: &bool) -> bool {
+    !*b
+}
+
+/// Which side of its threshold a trigger's value must be on.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum Rule {
+    /// At most the threshold (the default for gaps, time gaps and times to collision).
+    Less,
+    /// At least the threshold (the default for time and distance).
+    Greater,
+}
+
+/// When an event's action starts: exactly one of `time_s`, `distance_m`, `gap_m`,
+/// `time_gap_s`, `ttc_s` and `after`, evaluated at every physics step on level (it fires
+/// at the first step its condition holds, not only when it becomes true).
+///
+/// ```toml
+/// trigger = { time_s = 8.0 }                   # simulation time ≥ 8 s
+/// trigger = { distance_m = 120.0 }             # this vehicle has travelled ≥ 120 m
+/// trigger = { gap_m = 12.0, to = "chase" }     # gap to `chase` ≤ 12 m
+/// trigger = { time_gap_s = 1.5, to = "lead" }  # gap ÷ speed of the one behind ≤ 1.5 s
+/// trigger = { ttc_s = 3.0, to = "stopped" }    # gap ÷ closing speed ≤ 3 s, while closing
+/// trigger = { after = "cut-in", delay_s = 0.5 }  # 0.5 s after `cut-in`'s action ended
+/// ```
+///
+/// The gap to the vehicle `to` is measured along the road, whatever the lanes, from the
+/// rear bumper of whichever is ahead to the front bumper of the other.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct TriggerSpec {
+    /// Simulation time, s.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("minimum" = 0.0, "maximum" = 1e7))]
+    pub time_s: Option<f64>,
+    /// Distance this vehicle has travelled along the road since the start, m.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("minimum" = 0.0, "maximum" = 1e7))]
+    pub distance_m: Option<f64>,
+    /// Bumper-to-bumper gap along the road to the vehicle `to`, m.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("minimum" = -1e4, "maximum" = 1e4))]
+    pub gap_m: Option<f64>,
+    /// Time gap to `to`: the gap over the speed of whichever of the two is behind, s
+    /// (endless while that one stands still).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("minimum" = 0.0, "maximum" = 1e3))]
+    pub time_gap_s: Option<f64>,
+    /// Time to collision with `to`: the gap over the speed at which it closes, s. The
+    /// condition holds only while the gap is closing, whatever the rule.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("minimum" = 0.0, "maximum" = 1e3))]
+    pub ttc_s: Option<f64>,
+    /// The name of another of this vehicle's events: holds once that event's action has
+    /// ended.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub after: Option<String>,
+    /// The vehicle a gap, time gap or time to collision is measured to (a name the
+    /// scenario gives).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub to: Option<String>,
+    /// Which side of the threshold holds: `less` (at most; the default for gaps and
+    /// times) or `greater` (at least; the default for `time_s` and `distance_m`). Not for
+    /// `after`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rule: Option<Rule>,
+    /// The action starts this long after the condition first holds, s (default 0).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("minimum" = 0.0, "maximum" = 1e7))]
+    pub delay_s: Option<f64>,
+}
+
+/// How an action moves between its start and its end.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum Shape {
+    /// At a constant rate (speed actions; the default for them).
+    Linear,
+    /// Smoothstep 3u² − 2u³: no jump in rate at either end (the default for lane changes).
+    Cubic,
+    /// (1 − cos πu) / 2 (lane changes).
+    Sinusoidal,
+    /// At once (speed actions; no duration).
+    Step,
+}
+
+/// What an event does: exactly one of `lane`, `speed_mps` and `stop`, with its timing.
+///
+/// ```toml
+/// action = { lane = 2, duration_s = 3.0 }                   # shape cubic (default) or sinusoidal
+/// action = { lane = 1, lateral_speed_mps = 1.0, shape = "sinusoidal" }
+/// action = { speed_mps = 8.0, rate_mps2 = 2.0 }             # linear at 2 m/s²
+/// action = { speed_mps = 8.0, duration_s = 3.0, shape = "cubic" }  # linear (default) or cubic
+/// action = { speed_mps = 0.0, shape = "step" }              # at once: the hardest braking
+/// action = { stop = true, decel_mps2 = 4.0 }                # to a standstill at 4 m/s², held
+/// ```
+///
+/// Lanes are numbered 1, 2, … from the road's centre line outward, lane k centred
+/// (k − 0.5) lane widths to the right of it. A lane change moves the vehicle from where it
+/// is asked to be to the centre of lane `lane`, over `duration_s` or at an average
+/// `lateral_speed_mps`. A speed action changes the speed from the vehicle's speed when it
+/// starts to `speed_mps`, and the vehicle keeps that speed afterwards: the profile no longer
+/// applies. A stop is a speed action to 0 at `decel_mps2`.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ActionSpec {
+    /// Change to this lane (1 = the lane next to the centre line).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("minimum" = 1, "maximum" = 16))]
+    pub lane: Option<u32>,
+    /// Change speed to this, m/s.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("minimum" = 0.0, "maximum" = 40.0))]
+    pub speed_mps: Option<f64>,
+    /// Stop (must be `true`), at `decel_mps2`, and stand still.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stop: Option<bool>,
+    /// How long a lane change or speed change takes, s.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("exclusiveMinimum" = 0.0, "maximum" = 1e7))]
+    pub duration_s: Option<f64>,
+    /// A lane change's average lateral speed, m/s (instead of `duration_s`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("exclusiveMinimum" = 0.0, "maximum" = 10.0))]
+    pub lateral_speed_mps: Option<f64>,
+    /// A speed change's constant rate, m/s² (instead of `duration_s`; linear).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("exclusiveMinimum" = 0.0, "maximum" = 20.0))]
+    pub rate_mps2: Option<f64>,
+    /// A stop's deceleration, m/s².
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("exclusiveMinimum" = 0.0, "maximum" = 20.0))]
+    pub decel_mps2: Option<f64>,
+    /// How the change is made: `cubic` or `sinusoidal` for lane changes, `linear`,
+    /// `cubic` or `step` for speed changes.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shape: Option<Shape>,
+}
+
+impl Shape {
+    /// The shape's name as a scenario file writes it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Shape::Linear => "linear",
+            Shape::Cubic => "cubic",
+            Shape::Sinusoidal => "sinusoidal",
+            Shape::Step => "step",
+        }
+    }
+
+    /// How far along the change is at `u` in [0, 1] (0 at the start, 1 at the end), and
+    /// its derivative by `u`.
+    pub(crate) fn at(self, u: f64) -> (f64, f64) {
+        match self {
+            Shape::Linear => (u, 1.0),
+            Shape::Cubic => (u * u * (3.0 - 2.0 * u), 6.0 * u * (1.0 - u)),
+            Shape::Sinusoidal => {
+                let pi = std::f64::consts::PI;
+                (0.5 * (1.0 - (pi * u).cos()), 0.5 * pi * (pi * u).sin())
+            }
+            Shape::Step => (1.0, 0.0),
+        }
+    }
+}
+
+/// What a checked trigger measures.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) enum Condition {
+    /// Simulation time, s.
+    Time(f64),
+    /// Distance travelled, m.
+    Distance(f64),
+    /// Gap to a vehicle, m.
+    Gap(f64, String),
+    /// Time gap to a vehicle, s.
+    TimeGap(f64, String),
+    /// Time to collision with a vehicle, s.
+    Ttc(f64, String),
+    /// Another event (its index) has ended.
+    After(usize),
+}
+
+/// A checked trigger.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Trigger {
+    pub(crate) condition: Condition,
+    pub(crate) rule: Rule,
+    pub(crate) delay_s: f64,
+}
+
+/// How long a change takes.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub(crate) enum Timing {
+    /// Over this many seconds.
+    Duration(f64),
+    /// At this average rate (m/s for lane changes, m/s² for speed), whatever the change.
+    Rate(f64),
+}
+
+/// A checked action.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) enum Action {
+    /// To the centre of this lane.
+    Lane {
+        lane: u32,
+        timing: Timing,
+        shape: Shape,
+    },
+    /// To this speed, m/s (a stop is one to 0 at its deceleration).
+    Speed {
+        speed_mps: f64,
+        timing: Timing,
+        shape: Shape,
+    },
+}
+
+/// A checked event.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Checked {
+    pub(crate) name: String,
+    pub(crate) trigger: Trigger,
+    pub(crate) action: Action,
+    pub(crate) repeat: bool,
+}
+
+/// An [`VehicleError::InvalidEvent`] for `events[i].<path>`.
+fn invalid(i: usize, path: &str, reason: String) -> VehicleError {
+    VehicleError::InvalidEvent {
+        field: format!("events[{i}].{path}"),
+        reason,
+    }
+}
+
+/// Checks that `value` is finite and within `[min, max]` (above `min` when `open`).
+fn check(
+    i: usize,
+    path: &str,
+    value: f64,
+    min: f64,
+    max: f64,
+    open: bool,
+) -> Result<f64, VehicleError> {
+    let above = if open { value > min } else { value >= min };
+    if value.is_finite() && above && value <= max {
+        Ok(value)
+    } else {
+        let low = if open { "above" } else { "at least" };
+        Err(invalid(
+            i,
+            path,
+            format!("= {value}: must be finite, {low} {min} and at most {max}"),
+        ))
+    }
+}
+
+impl EventScript {
+    /// Checks every event: names unique and not empty; each trigger exactly one condition,
+    /// `to` given for (and only for) gaps, time gaps and times to collision, `after` naming
+    /// another of these events, values finite and in range; each action exactly one of
+    /// `lane`, `speed_mps` and `stop` with the timing and shape it takes. The names of
+    /// vehicles (`to`) and the lanes are checked by the caller, who knows the scenario:
+    /// see [`EventScript::vehicles_named`] and [`EventScript::lanes_named`].
+    pub fn validate(&self) -> Result<(), VehicleError> {
+        self.checked().map(|_| ())
+    }
+
+    /// Whether there are no events.
+    pub fn is_empty(&self) -> bool {
+        self.0.is_empty()
+    }
+
+    /// The vehicles the triggers measure to, each with its field (`events[2].trigger.to`),
+    /// in the order written, for the caller to check against the scenario's vehicles.
+    pub fn vehicles_named(&self) -> impl Iterator<Item = (String, &str)> {
+        self.0.iter().enumerate().filter_map(|(i, e)| {
+            e.trigger
+                .to
+                .as_deref()
+                .map(|to| (format!("events[{i}].trigger.to"), to))
+        })
+    }
+
+    /// The lanes the lane changes go to, each with its field (`events[1].action.lane`), in
+    /// the order written, for the caller to check against the road's lanes.
+    pub fn lanes_named(&self) -> impl Iterator<Item = (String, u32)> + '_ {
+        self.0.iter().enumerate().filter_map(|(i, e)| {
+            e.action
+                .lane
+                .map(|lane| (format!("events[{i}].action.lane"), lane))
+        })
+    }
+
+    /// The events checked into the engine's form.
+    pub(crate) fn checked(&self) -> Result<Vec<Checked>, VehicleError> {
+        for (i, e) in self.0.iter().enumerate() {
+            if e.name.trim().is_empty() {
+                return Err(invalid(i, "name", "must not be empty".into()));
+            }
+            if let Some(j) = self.0[..i].iter().position(|o| o.name == e.name) {
+                return Err(invalid(
+                    i,
+                    "name",
+                    format!("\"{}\" is already the name of events[{j}]", e.name),
+                ));
+            }
+        }
+        self.0
+            .iter()
+            .enumerate()
+            .map(|(i, e)| {
+                Ok(Checked {
+                    name: e.name.clone(),
+                    trigger: self.trigger(i, &e.trigger)?,
+                    action: action(i, &e.action)?,
+                    repeat: e.repeat,
+                })
+            })
+            .collect()
+    }
+
+    /// Event `i`'s trigger, checked.
+    fn trigger(&self, i: usize, t: &TriggerSpec) -> Result<Trigger, VehicleError> {
+        let given: Vec<&str> = [
+            ("time_s", t.time_s.is_some()),
+            ("distance_m", t.distance_m.is_some()),
+            ("gap_m", t.gap_m.is_some()),
+            ("time_gap_s", t.time_gap_s.is_some()),
+            ("ttc_s", t.ttc_s.is_some()),
+            ("after", t.after.is_some()),
+        ]
+        .into_iter()
+        .filter_map(|(name, set)| set.then_some(name))
+        .collect();
+        if given.len() != 1 {
+            return Err(invalid(
+                i,
+                "trigger",
+                format!(
+                    "give exactly one of time_s, distance_m, gap_m, time_gap_s, ttc_s and \
+                     after (given: {})",
+                    if given.is_empty() {
+                        "none".to_string()
+                    } else {
+                        given.join(", ")
+                    }
+                ),
+            ));
+        }
+        let needs_to = t.gap_m.is_some() || t.time_gap_s.is_some() || t.ttc_s.is_some();
+        let to = match (&t.to, needs_to) {
+            (Some(to), true) if to.trim().is_empty() => {
+                return Err(invalid(i, "trigger.to", "must not be empty".into()))
+            }
+            (Some(to), true) => to.clone(),
+            (None, true) => {
+                return Err(invalid(
+                    i,
+                    "trigger.to",
+                    format!("missing: a {} trigger measures to a vehicle", given[0]),
+                ))
+            }
+            (Some(_), false) => {
+                return Err(invalid(
+                    i,
+                    "trigger.to",
+                    format!("a {} trigger measures to no vehicle", given[0]),
+                ))
+            }
+            (None, false) => String::new(),
+        };
+        let field = |name: &str| format!("trigger.{name}");
+        let condition = if let Some(v) = t.time_s {
+            Condition::Time(check(i, &field("time_s"), v, 0.0, MAX_KEY, false)?)
+        } else if let Some(v) = t.distance_m {
+            Condition::Distance(check(i, &field("distance_m"), v, 0.0, MAX_KEY, false)?)
+        } else if let Some(v) = t.gap_m {
+            let v = check(i, &field("gap_m"), v, -MAX_GAP_M, MAX_GAP_M, false)?;
+            Condition::Gap(v, to)
+        } else if let Some(v) = t.time_gap_s {
+            let v = check(i, &field("time_gap_s"), v, 0.0, MAX_TIME_S, false)?;
+            Condition::TimeGap(v, to)
+        } else if let Some(v) = t.ttc_s {
+            Condition::Ttc(check(i, &field("ttc_s"), v, 0.0, MAX_TIME_S, false)?, to)
+        } else {
+            let after = t.after.as_deref().unwrap_or_default();
+            match self.0.iter().position(|e| e.name == after) {
+                Some(j) if j == i => {
+                    return Err(invalid(
+                        i,
+                        "trigger.after",
+                        format!("\"{after}\" is this event itself"),
+                    ))
+                }
+                Some(j) => Condition::After(j),
+                None => {
+                    return Err(invalid(
+                        i,
+                        "trigger.after",
+                        format!("no event is named \"{after}\""),
+                    ))
+                }
+            }
+        };
+        let rule = match (&condition, t.rule) {
+            (Condition::After(_), Some(_)) => {
+                return Err(invalid(
+                    i,
+                    "trigger.rule",
+                    "an after trigger has no threshold to compare with".into(),
+                ))
+            }
+            (_, Some(rule)) => rule,
+            (Condition::Time(_) | Condition::Distance(_) | Condition::After(_), None) => {
+                Rule::Greater
+            }
+            (_, None) => Rule::Less,
+        };
+        let delay_s = match t.delay_s {
+            Some(v) => check(i, &field("delay_s"), v, 0.0, MAX_KEY, false)?,
+            None => 0.0,
+        };
+        Ok(Trigger {
+            condition,
+            rule,
+            delay_s,
+        })
+    }
+}
+
+/// Refuses each of `fields` (name, whether given) that is given, as not for `what`.
+fn refuse(i: usize, what: &str, fields: &[(&str, bool)]) -> Result<(), VehicleError> {
+    match fields.iter().find(|f| f.1) {
+        Some((name, _)) => Err(invalid(
+            i,
+            &format!("action.{name}"),
+            format!("not for {what}"),
+        )),
+        None => Ok(()),
+    }
+}
+
+/// Event `i`'s action, checked.
+fn action(i: usize, a: &ActionSpec) -> Result<Action, VehicleError> {
+    let kinds = [a.lane.is_some(), a.speed_mps.is_some(), a.stop.is_some()];
+    if kinds.iter().filter(|&&k| k).count() != 1 {
+        return Err(invalid(
+            i,
+            "action",
+            "give exactly one of lane, speed_mps and stop".into(),
+        ));
+    }
+    let f = |name: &str| format!("action.{name}");
+    let open = |name: &str, v: f64, max: f64| check(i, &f(name), v, 0.0, max, true);
+    if let Some(lane) = a.lane {
+        refuse(
+            i,
+            "a lane change",
+            &[
+                ("rate_mps2", a.rate_mps2.is_some()),
+                ("decel_mps2", a.decel_mps2.is_some()),
+            ],
+        )?;
+        if !(1..=MAX_LANES).contains(&lane) {
+            return Err(invalid(
+                i,
+                "action.lane",
+                format!("= {lane}: lanes are numbered 1 to {MAX_LANES} from the centre line"),
+            ));
+        }
+        let timing = match (a.duration_s, a.lateral_speed_mps) {
+            (Some(d), None) => Timing::Duration(open("duration_s", d, MAX_KEY)?),
+            (None, Some(v)) => Timing::Rate(open("lateral_speed_mps", v, MAX_LATERAL_SPEED_MPS)?),
+            _ => {
+                return Err(invalid(
+                    i,
+                    "action",
+                    "a lane change takes exactly one of duration_s and lateral_speed_mps".into(),
+                ))
+            }
+        };
+        let shape = match a.shape {
+            None | Some(Shape::Cubic) => Shape::Cubic,
+            Some(Shape::Sinusoidal) => Shape::Sinusoidal,
+            Some(other) => {
+                return Err(invalid(
+                    i,
+                    "action.shape",
+                    format!(
+                        "{} is not a lane change's shape (cubic or sinusoidal)",
+                        other.name()
+                    ),
+                ))
+            }
+        };
+        return Ok(Action::Lane {
+            lane,
+            timing,
+            shape,
+        });
+    }
+    if let Some(stop) = a.stop {
+        if !stop {
+            return Err(invalid(
+                i,
+                "action.stop",
+                "= false: write stop = true, or leave the event out".into(),
+            ));
+        }
+        refuse(
+            i,
+            "a stop (it slows at decel_mps2)",
+            &[
+                ("duration_s", a.duration_s.is_some()),
+                ("rate_mps2", a.rate_mps2.is_some()),
+                ("lateral_speed_mps", a.lateral_speed_mps.is_some()),
+                ("shape", a.shape.is_some()),
+            ],
+        )?;
+        let Some(decel) = a.decel_mps2 else {
+            return Err(invalid(
+                i,
+                "action.decel_mps2",
+                "missing: a stop needs its deceleration".into(),
+            ));
+        };
+        return Ok(Action::Speed {
+            speed_mps: 0.0,
+            timing: Timing::Rate(open("decel_mps2", decel, MAX_RATE_MPS2)?),
+            shape: Shape::Linear,
+        });
+    }
+    speed_action(i, a)
+}
+
+/// Event `i`'s speed action (`speed_mps` given), checked.
+fn speed_action(i: usize, a: &ActionSpec) -> Result<Action, VehicleError> {
+    let f = |name: &str| format!("action.{name}");
+    let open = |name: &str, v: f64, max: f64| check(i, &f(name), v, 0.0, max, true);
+    refuse(
+        i,
+        "a speed change",
+        &[
+            ("lateral_speed_mps", a.lateral_speed_mps.is_some()),
+            ("decel_mps2", a.decel_mps2.is_some()),
+        ],
+    )?;
+    let speed_mps = check(
+        i,
+        "action.speed_mps",
+        a.speed_mps.unwrap_or_default(),
+        0.0,
+        f64::from(MAX_SPEED_MPS),
+        false,
+    )?;
+    let (timing, shape) = match (a.duration_s, a.rate_mps2, a.shape) {
+        (None, None, Some(Shape::Step)) => (Timing::Duration(0.0), Shape::Step),
+        (Some(_), _, Some(Shape::Step)) | (_, Some(_), Some(Shape::Step)) => {
+            return Err(invalid(
+                i,
+                "action.shape",
+                "a step change takes no time: leave duration_s and rate_mps2 out".into(),
+            ))
+        }
+        (Some(_), Some(_), _) | (None, None, _) => {
+            return Err(invalid(
+                i,
+                "action",
+                "a speed change takes exactly one of duration_s and rate_mps2, or \
+                 shape = \"step\""
+                    .into(),
+            ))
+        }
+        (None, Some(r), None | Some(Shape::Linear)) => (
+            Timing::Rate(open("rate_mps2", r, MAX_RATE_MPS2)?),
+            Shape::Linear,
+        ),
+        (None, Some(_), Some(_)) => {
+            return Err(invalid(
+                i,
+                "action.shape",
+                "a change at rate_mps2 is linear; give duration_s for a cubic one".into(),
+            ))
+        }
+        (Some(d), None, None | Some(Shape::Linear)) => (
+            Timing::Duration(open("duration_s", d, MAX_KEY)?),
+            Shape::Linear,
+        ),
+        (Some(d), None, Some(Shape::Cubic)) => (
+            Timing::Duration(open("duration_s", d, MAX_KEY)?),
+            Shape::Cubic,
+        ),
+        (Some(_), None, Some(_)) => {
+            return Err(invalid(
+                i,
+                "action.shape",
+                "sinusoidal is not a speed change's shape (linear, cubic or step)".into(),
+            ))
+        }
+    };
+    Ok(Action::Speed {
+        speed_mps,
+        timing,
+        shape,
+    })
+}
