@@ -1,0 +1,583 @@
+//! Guarantees the event engine keeps on synthetic traffic: every trigger fires on level at
+//! the step its condition first holds, `after` chains and `delay_s` wait as documented,
+//! `repeat` fires again, actions move the speed and the lateral offset along their shapes,
+//! the documented TOML parses, and every malformed event is refused naming its field.
+//!
+//! Run: `CARGO_TARGET_DIR=/work/wt-events/target cargo test -p vehicle --release --test events`
+
+use vehicle::*;
+
+const LANES: Lanes = Lanes {
+    width_m: 3.5,
+    count: 3,
+    route_lane: 1,
+};
+
+fn script(toml_text: &str) -> EventScript {
+    #[derive(serde::Deserialize)]
+    struct File {
+        events: EventScript,
+    }
+    toml::from_str::<File>(toml_text)
+        .unwrap_or_else(|e| panic!("{e}"))
+        .events
+}
+
+/// A vehicle at `station_m` with its bumpers 1 m behind and 4 m ahead of it.
+fn car(station_m: f64, speed_mps: f64) -> VehicleView {
+    VehicleView {
+        station_m,
+        left_offset_m: 0.0,
+        speed_mps,
+        front_m: station_m + 4.0,
+        rear_m: station_m - 1.0,
+    }
+}
+
+/// Runs `events` (vehicle 0 is "me", 1 is "other") for `steps`, the traffic at each step
+/// from `view`; every event fired.
+fn run(
+    events: &mut Events,
+    steps: u64,
+    view: impl Fn(f64) -> [VehicleView; 2],
+) -> Vec<(u64, String, FiredKind)> {
+    let mut log = Vec::new();
+    for n in 0..steps {
+        let now = Step(n);
+        for f in events.update(now, &view(now.seconds()), 0) {
+            assert_eq!(f.step, now);
+            log.push((n, f.name, f.kind));
+        }
+    }
+    log
+}
+
+fn engine(toml_text: &str) -> Events {
+    Events::new(&script(toml_text), &["me", "other"], LANES).unwrap()
+}
+
+/// The step each event first started at, by name.
+fn first_start(log: &[(u64, String, FiredKind)], name: &str) -> Option<u64> {
+    log.iter()
+        .find(|(_, n, k)| n == name && *k == FiredKind::Started)
+        .map(|e| e.0)
+}
+
+/// Every trigger kind, each with its default rule and the other one, on traffic whose
+/// values cross the thresholds between steps (the time at an exact step, as promised).
+#[test]
+fn each_trigger_fires_at_the_step_its_condition_first_holds() {
+    // Me: from station 100 at 6 m/s (0.05 m a step). Other: standing at 200 (bumpers
+    // 199–204). My front at 104 + 6t: gap 95 − 6t, closing at 6 m/s.
+    let approach = |t: f64| [car(100.0 + 6.0 * t, 6.0), car(200.0, 0.0)];
+    // Me ahead at 150 standing; other coming from 100 at 10 m/s: gap from its front (104
+    // + 10t) to my rear (149): 45 − 10t.
+    let overtaken = |t: f64| [car(150.0, 0.0), car(100.0 + 10.0 * t, 10.0)];
+    // Me behind at 100, 8 m/s; other ahead from 130 at 10 m/s: the gap (25 + 2t) opens.
+    let opening = |t: f64| [car(100.0 + 8.0 * t, 8.0), car(130.0 + 10.0 * t, 10.0)];
+    type View = fn(f64) -> [VehicleView; 2];
+    let cases: [(&str, View, Option<u64>); 14] = [
+        ("time_s = 8.0", approach, Some(960)),
+        ("time_s = 8.0, rule = \"less\"", approach, Some(0)),
+        // Travelled 10 m at 10/6 s = step 200 exactly; the threshold just past it.
+        ("distance_m = 10.001", approach, Some(201)),
+        ("distance_m = 10.001, rule = \"less\"", approach, Some(0)),
+        // 95 − 6t ≤ 12.02 from t = 13.83 s: step 1659.6 → 1660.
+        ("gap_m = 12.02, to = \"other\"", approach, Some(1660)),
+        // Already holding at step 0: fires on level, at once.
+        ("gap_m = 100.0, to = \"other\"", approach, Some(0)),
+        (
+            "gap_m = 94.99, to = \"other\", rule = \"greater\"",
+            approach,
+            Some(0),
+        ),
+        (
+            "gap_m = 95.01, to = \"other\", rule = \"greater\"",
+            approach,
+            None,
+        ),
+        // The other behind me: 45 − 10t ≤ 5.02 from t = 3.998 s: step 479.76 → 480.
+        ("gap_m = 5.02, to = \"other\"", overtaken, Some(480)),
+        // Time gap (95 − 6t)/6 ≤ 2.01 from t = 13.823 s: step 1658.8 → 1659.
+        ("time_gap_s = 2.01, to = \"other\"", approach, Some(1659)),
+        // The one behind is the other: (45 − 10t)/10 ≤ 1.003 from t = 3.497: step 419.6.
+        ("time_gap_s = 1.003, to = \"other\"", overtaken, Some(420)),
+        // Closing at 6 m/s: (95 − 6t)/6 ≤ 3.01 from t = 12.823 s: step 1538.8 → 1539.
+        ("ttc_s = 3.01, to = \"other\"", approach, Some(1539)),
+        // Opening: no time to collision, whatever the rule.
+        ("ttc_s = 100.0, to = \"other\"", opening, None),
+        (
+            "ttc_s = 0.0, to = \"other\", rule = \"greater\"",
+            opening,
+            None,
+        ),
+    ];
+    for (trigger, view, expected) in cases {
+        let mut events = engine(&format!(
+            "[[events]]\nname = \"e\"\ntrigger = {{ {trigger} }}\n\
+             action = {{ speed_mps = 5.0, rate_mps2 = 1.0 }}"
+        ));
+        let log = run(&mut events, 2400, view);
+        assert_eq!(first_start(&log, "e"), expected, "{trigger}");
+        // Once only: started at most once.
+        let starts = log.iter().filter(|e| e.2 == FiredKind::Started).count();
+        assert!(starts <= 1, "{trigger}: {log:?}");
+    }
+}
+
+/// `after` holds from the step after the other's action ended; `delay_s` starts the action
+/// that many steps after the condition first held, whatever it does meanwhile.
+#[test]
+fn after_chains_and_delays() {
+    let mut events = engine(
+        r#"
+        [[events]]
+        name = "slow"
+        trigger = { time_s = 1.0 }
+        action = { speed_mps = 4.0, duration_s = 2.0 }
+
+        [[events]]
+        name = "pull-out"
+        trigger = { after = "slow" }
+        action = { lane = 2, duration_s = 1.0 }
+
+        [[events]]
+        name = "back"
+        trigger = { after = "pull-out", delay_s = 0.5 }
+        action = { lane = 1, lateral_speed_mps = 3.5 }
+
+        [[events]]
+        name = "brief"
+        trigger = { gap_m = 90.0, to = "other", delay_s = 6.0 }
+        action = { stop = true, decel_mps2 = 4.0 }
+        "#,
+    );
+    let log = run(&mut events, 1200, |t| {
+        [car(100.0 + 6.0 * t, 6.0), car(200.0, 0.0)]
+    });
+    let at = |name: &str, kind: FiredKind| {
+        log.iter()
+            .find(|e| e.1 == name && e.2 == kind)
+            .map(|e| e.0)
+            .unwrap_or_else(|| panic!("{name} {kind:?}: {log:?}"))
+    };
+    use FiredKind::*;
+    assert_eq!(at("slow", Started), 120);
+    assert_eq!(at("slow", Ended), 360);
+    assert_eq!(at("pull-out", Started), 361);
+    assert_eq!(at("pull-out", Ended), 481);
+    // 60 steps of delay, then 3.5 m at 3.5 m/s: 1 s.
+    assert_eq!(at("back", Started), 542);
+    assert_eq!(at("back", Ended), 662);
+    // Gap 95 − 6t ≤ 90 from t = 0.8333 s (step 100), then 6 s: step 820, though the
+    // gap has long been smaller.
+    assert_eq!(at("brief", Started), 820);
+}
+
+/// A speed action replaces the running one, which ends there (and what waits for its end
+/// starts at the next step); a lane change likewise replaces a lane change.
+#[test]
+fn a_new_action_replaces_the_running_one_of_its_kind() {
+    let mut events = engine(
+        r#"
+        [[events]]
+        name = "long"
+        trigger = { time_s = 0.0 }
+        action = { speed_mps = 20.0, duration_s = 5.0 }
+
+        [[events]]
+        name = "sudden"
+        trigger = { time_s = 1.0 }
+        action = { speed_mps = 2.0, shape = "step" }
+
+        [[events]]
+        name = "then"
+        trigger = { after = "long" }
+        action = { lane = 2, duration_s = 2.0 }
+
+        [[events]]
+        name = "swerve"
+        trigger = { time_s = 2.0 }
+        action = { lane = 3, duration_s = 1.0 }
+        "#,
+    );
+    let log = run(&mut events, 600, |_| [car(0.0, 10.0), car(50.0, 5.0)]);
+    use FiredKind::*;
+    let expected: Vec<(u64, String, FiredKind)> = [
+        (0, "long", Started),
+        (120, "long", Ended),
+        (120, "sudden", Started),
+        (120, "sudden", Ended),
+        (121, "then", Started),
+        (240, "then", Ended),
+        (240, "swerve", Started),
+        (360, "swerve", Ended),
+    ]
+    .into_iter()
+    .map(|(n, name, kind)| (n, name.to_string(), kind))
+    .collect();
+    assert_eq!(log, expected);
+    let s = events.speed_override().unwrap();
+    assert_eq!((s.speed_mps, s.accel_mps2), (2.0, 0.0));
+    assert_eq!(events.lateral_offset_m(), -7.0);
+}
+
+/// With `repeat`, an event fires again each time its condition holds after its action
+/// ended (the next step at the earliest); without, once.
+#[test]
+fn repeat_fires_again_once_the_action_has_ended() {
+    let mut events = engine(
+        r#"
+        [[events]]
+        name = "again"
+        trigger = { time_s = 1.0 }
+        action = { lane = 2, duration_s = 1.0 }
+        repeat = true
+
+        [[events]]
+        name = "once"
+        trigger = { time_s = 1.0 }
+        action = { speed_mps = 3.0, duration_s = 1.0 }
+        "#,
+    );
+    let log = run(&mut events, 600, |_| [car(0.0, 5.0), car(50.0, 5.0)]);
+    let starts = |name: &str| -> Vec<u64> {
+        log.iter()
+            .filter(|e| e.1 == name && e.2 == FiredKind::Started)
+            .map(|e| e.0)
+            .collect()
+    };
+    assert_eq!(starts("again"), [120, 241, 362, 483]);
+    assert_eq!(starts("once"), [120]);
+}
+
+/// The speed follows the action's shape from the vehicle's speed at its start, with its
+/// rate as the acceleration, and is held after; a lane change moves the offset to the
+/// lane's centre along its shape, and the next one starts from where it is.
+#[test]
+fn actions_follow_their_shapes() {
+    let mut events = engine(
+        r#"
+        [[events]]
+        name = "speed"
+        trigger = { time_s = 0.0 }
+        action = { speed_mps = 16.0, duration_s = 2.0, shape = "cubic" }
+
+        [[events]]
+        name = "lane"
+        trigger = { time_s = 0.0 }
+        action = { lane = 3, duration_s = 4.0, shape = "sinusoidal" }
+
+        [[events]]
+        name = "back"
+        trigger = { time_s = 2.0 }
+        action = { lane = 1, duration_s = 1.0 }
+        "#,
+    );
+    let view = [car(0.0, 10.0), car(50.0, 5.0)];
+    assert_eq!(events.speed_override(), None);
+    events.update(Step(0), &view, 0);
+    let s = events.speed_override().unwrap();
+    assert_eq!((s.speed_mps, s.accel_mps2), (10.0, 0.0));
+    for n in 1..=360 {
+        events.update(Step(n), &view, 0);
+        let s = events.speed_override().unwrap();
+        let offset = events.lateral_offset_m();
+        if n == 120 {
+            // Half way: the mean speed, the cubic's steepest rate 1.5 × 6 m/s / 2 s.
+            assert!((s.speed_mps - 13.0).abs() < 1e-5, "{s:?}");
+            assert!((s.accel_mps2 - 4.5).abs() < 1e-5, "{s:?}");
+            // A quarter of the sinusoid: (1 − cos π/4)/2 of lane 3's −7 m.
+            let expected = -7.0 * 0.5 * (1.0 - std::f64::consts::FRAC_PI_4.cos());
+            assert!((offset - expected).abs() < 1e-9, "{offset}");
+        }
+        if n >= 240 {
+            assert_eq!((s.speed_mps, s.accel_mps2), (16.0, 0.0));
+        }
+        if n >= 360 {
+            assert_eq!(offset, 0.0);
+        }
+    }
+}
+
+/// Every example the docs show parses and checks.
+#[test]
+fn the_documented_toml_parses() {
+    let text = r#"
+        [[events]]
+        name = "cut-in"
+        trigger = { time_s = 8.0 }
+        action = { lane = 1, duration_s = 2.5, shape = "cubic" }
+        [[events]]
+        name = "b"
+        trigger = { distance_m = 120.0 }
+        action = { lane = 2, lateral_speed_mps = 1.0, shape = "sinusoidal" }
+        [[events]]
+        name = "c"
+        trigger = { gap_m = 12.0, to = "other", rule = "less" }
+        action = { speed_mps = 8.0, rate_mps2 = 2.0 }
+        [[events]]
+        name = "d"
+        trigger = { time_gap_s = 1.5, to = "other" }
+        action = { speed_mps = 8.0, duration_s = 3.0, shape = "cubic" }
+        [[events]]
+        name = "e"
+        trigger = { ttc_s = 3.0, to = "other", rule = "greater" }
+        action = { speed_mps = 0.0, shape = "step" }
+        [[events]]
+        name = "f"
+        trigger = { after = "cut-in", delay_s = 0.5 }
+        action = { stop = true, decel_mps2 = 4.0 }
+        repeat = true
+    "#;
+    let s = script(text);
+    s.validate().unwrap();
+    assert_eq!(s.0.len(), 6);
+    Events::new(&s, &["me", "other"], LANES).unwrap();
+    let vehicles: Vec<(String, &str)> = s.vehicles_named().collect();
+    assert_eq!(
+        vehicles,
+        [
+            ("events[2].trigger.to".to_string(), "other"),
+            ("events[3].trigger.to".to_string(), "other"),
+            ("events[4].trigger.to".to_string(), "other"),
+        ]
+    );
+    let lanes: Vec<(String, u32)> = s.lanes_named().collect();
+    assert_eq!(
+        lanes,
+        [
+            ("events[0].action.lane".to_string(), 1),
+            ("events[1].action.lane".to_string(), 2)
+        ]
+    );
+    // What serialises reads back the same.
+    #[derive(serde::Serialize)]
+    struct File<'a> {
+        events: &'a EventScript,
+    }
+    let again = script(&toml::to_string(&File { events: &s }).unwrap());
+    assert_eq!(again, s);
+}
+
+const OK_TRIGGER: &str = "trigger = { time_s = 1.0 }";
+const OK_ACTION: &str = "action = { speed_mps = 5.0, rate_mps2 = 1.0 }";
+
+/// A script of a good event "a" and an event "b" with `trigger` and `action`.
+fn one(trigger: &str, action: &str) -> String {
+    format!(
+        "[[events]]\nname = \"a\"\n{OK_TRIGGER}\n{OK_ACTION}\n\
+         [[events]]\nname = \"b\"\n{trigger}\n{action}\n"
+    )
+}
+
+/// Each malformed event is refused, naming the field; none panics.
+#[test]
+fn bad_events_name_their_field() {
+    let (ok_trigger, ok_action) = (OK_TRIGGER, OK_ACTION);
+    let cases = [
+        (one("trigger = { }", ok_action), "events[1].trigger"),
+        (
+            one(
+                "trigger = { time_s = 1.0, gap_m = 3.0, to = \"other\" }",
+                ok_action,
+            ),
+            "events[1].trigger",
+        ),
+        (
+            one("trigger = { gap_m = 3.0 }", ok_action),
+            "events[1].trigger.to",
+        ),
+        (
+            one("trigger = { time_s = 3.0, to = \"other\" }", ok_action),
+            "events[1].trigger.to",
+        ),
+        (
+            one("trigger = { after = \"c\" }", ok_action),
+            "events[1].trigger.after",
+        ),
+        (
+            one("trigger = { after = \"b\" }", ok_action),
+            "events[1].trigger.after",
+        ),
+        (
+            one("trigger = { after = \"a\", rule = \"less\" }", ok_action),
+            "events[1].trigger.rule",
+        ),
+        (
+            one("trigger = { time_s = -1.0 }", ok_action),
+            "events[1].trigger.time_s",
+        ),
+        (
+            one("trigger = { time_s = nan }", ok_action),
+            "events[1].trigger.time_s",
+        ),
+        (
+            one("trigger = { time_s = 1.0, delay_s = inf }", ok_action),
+            "events[1].trigger.delay_s",
+        ),
+        (
+            one("trigger = { ttc_s = -2.0, to = \"other\" }", ok_action),
+            "events[1].trigger.ttc_s",
+        ),
+        (one(ok_trigger, "action = { }"), "events[1].action"),
+        (
+            one(
+                ok_trigger,
+                "action = { lane = 2, speed_mps = 3.0, duration_s = 1.0 }",
+            ),
+            "events[1].action",
+        ),
+        (one(ok_trigger, "action = { lane = 2 }"), "events[1].action"),
+        (
+            one(ok_trigger, "action = { lane = 0, duration_s = 1.0 }"),
+            "events[1].action.lane",
+        ),
+        (
+            one(ok_trigger, "action = { lane = 2, duration_s = 0.0 }"),
+            "events[1].action.duration_s",
+        ),
+        (
+            one(
+                ok_trigger,
+                "action = { lane = 2, lateral_speed_mps = -1.0 }",
+            ),
+            "events[1].action.lateral_speed_mps",
+        ),
+        (
+            one(
+                ok_trigger,
+                "action = { lane = 2, duration_s = 1.0, shape = \"step\" }",
+            ),
+            "events[1].action.shape",
+        ),
+        (
+            one(
+                ok_trigger,
+                "action = { lane = 2, duration_s = 1.0, rate_mps2 = 1.0 }",
+            ),
+            "events[1].action.rate_mps2",
+        ),
+        (
+            one(ok_trigger, "action = { speed_mps = 50.0, rate_mps2 = 1.0 }"),
+            "events[1].action.speed_mps",
+        ),
+        (
+            one(ok_trigger, "action = { speed_mps = 5.0, rate_mps2 = 0.0 }"),
+            "events[1].action.rate_mps2",
+        ),
+        (
+            one(ok_trigger, "action = { speed_mps = 5.0 }"),
+            "events[1].action",
+        ),
+        (
+            one(
+                ok_trigger,
+                "action = { speed_mps = 5.0, duration_s = 1.0, rate_mps2 = 1.0 }",
+            ),
+            "events[1].action",
+        ),
+        (
+            one(
+                ok_trigger,
+                "action = { speed_mps = 5.0, duration_s = 2.0, shape = \"sinusoidal\" }",
+            ),
+            "events[1].action.shape",
+        ),
+        (
+            one(
+                ok_trigger,
+                "action = { speed_mps = 5.0, duration_s = 2.0, shape = \"step\" }",
+            ),
+            "events[1].action.shape",
+        ),
+        (
+            one(
+                ok_trigger,
+                "action = { speed_mps = 5.0, rate_mps2 = 2.0, shape = \"cubic\" }",
+            ),
+            "events[1].action.shape",
+        ),
+        (
+            one(ok_trigger, "action = { stop = true }"),
+            "events[1].action.decel_mps2",
+        ),
+        (
+            one(ok_trigger, "action = { stop = false, decel_mps2 = 3.0 }"),
+            "events[1].action.stop",
+        ),
+        (
+            one(
+                ok_trigger,
+                "action = { stop = true, decel_mps2 = 3.0, duration_s = 1.0 }",
+            ),
+            "events[1].action.duration_s",
+        ),
+        (
+            one(ok_trigger, "action = { stop = true, decel_mps2 = 30.0 }"),
+            "events[1].action.decel_mps2",
+        ),
+        (
+            "[[events]]\nname = \"a\"\ntrigger = { time_s = 1.0 }\n\
+             action = { stop = true, decel_mps2 = 3.0 }\n\
+             [[events]]\nname = \"a\"\ntrigger = { time_s = 1.0 }\n\
+             action = { stop = true, decel_mps2 = 3.0 }\n"
+                .to_string(),
+            "events[1].name",
+        ),
+        (
+            one(ok_trigger, ok_action).replace("\"b\"", "\" \""),
+            "events[1].name",
+        ),
+    ];
+    for (text, field) in cases {
+        let err = script(&text).validate().unwrap_err();
+        match &err {
+            VehicleError::InvalidEvent { field: f, .. } => assert_eq!(f, field, "{text}"),
+            other => panic!("{text}: {other:?}"),
+        }
+        println!("{err}");
+    }
+}
+
+/// The engine refuses a `to` that names no vehicle, a lane the road does not have and bad
+/// lanes, naming the field; the parser refuses unknown fields, naming them.
+#[test]
+fn the_engine_and_the_parser_name_bad_fields() {
+    let (ok_trigger, ok_action) = (OK_TRIGGER, OK_ACTION);
+    let s = script(&one(
+        "trigger = { gap_m = 3.0, to = \"nobody\" }",
+        ok_action,
+    ));
+    s.validate().unwrap();
+    let err = Events::new(&s, &["me", "other"], LANES).unwrap_err();
+    assert!(
+        matches!(&err, VehicleError::InvalidEvent { field, .. } if field == "events[1].trigger.to"),
+        "{err:?}"
+    );
+    let s = script(&one(ok_trigger, "action = { lane = 4, duration_s = 1.0 }"));
+    let err = Events::new(&s, &["me"], LANES).unwrap_err();
+    assert!(
+        matches!(&err, VehicleError::InvalidEvent { field, .. } if field == "events[1].action.lane"),
+        "{err:?}"
+    );
+    let bad_lanes = Lanes {
+        route_lane: 4,
+        ..LANES
+    };
+    assert!(matches!(
+        Events::new(&EventScript::default(), &[], bad_lanes),
+        Err(VehicleError::InvalidParameter {
+            field: "route_lane",
+            ..
+        })
+    ));
+    // Unknown fields are refused by the parser, naming them.
+    #[derive(Debug, serde::Deserialize)]
+    #[allow(dead_code)]
+    struct File {
+        events: EventScript,
+    }
+    let err = toml::from_str::<File>(&one("trigger = { time = 1.0 }", ok_action)).unwrap_err();
+    assert!(err.to_string().contains("unknown field `time`"), "{err}");
+}
