@@ -169,7 +169,9 @@ pub enum Shape {
 /// is asked to be to the centre of lane `lane`, over `duration_s` or at an average
 /// `lateral_speed_mps`. A speed action changes the speed from the vehicle's speed when it
 /// starts to `speed_mps`, and the vehicle keeps that speed afterwards: the profile no longer
-/// applies. A stop is a speed action to 0 at `decel_mps2`.
+/// applies. A stop is a speed action to 0 at `decel_mps2`. An action ends when its
+/// reference reaches its end (a stop's, when the speed asked reaches 0), which is what an
+/// `after` trigger waits for.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ActionSpec {

@@ -236,7 +236,9 @@ impl Events {
     }
 
     /// Runs step `now` for the vehicle `me` of `view`: the events that started and ended
-    /// at it, in that order. A `me` or `to` missing from `view` holds no condition.
+    /// at it, in that order. Call it at every physics step from the first: a distance
+    /// trigger counts from `me`'s station at the first call. A `me` or `to` missing from
+    /// `view` holds no condition.
     pub fn update(&mut self, now: Step, view: &TrafficView, me: usize) -> Vec<Fired> {
         let mut fired = Vec::new();
         let Some(mine) = view.get(me) else {
