@@ -35,13 +35,15 @@ type Edge = [[f64; 2]; 2];
 
 /// The target model of the back of a vehicle of `kind`: its strong horizontal and vertical
 /// edges (see the module notes), named `"{kind}-back"`, at
-/// [`BACK_MODEL_NOMINAL_RANGE_M`], painted with step edges.
+/// [`BACK_MODEL_NOMINAL_RANGE_M`], painted with step edges. Its corners are rounded to the
+/// micrometre, so that they read as the numbers they are in a target file.
 pub fn vehicle_back_model(kind: VehicleKind) -> TargetModel {
     let edges = edges(kind);
     let [_, centre_y, _] = back_model_centre_m(kind);
+    let micrometres = |v: f64| (v * 1e6).round() / 1e6;
     let mut corners: Vec<[f64; 2]> = Vec::new();
     let mut corner = |[z, y]: [f64; 2]| {
-        let p = [z, y - centre_y];
+        let p = [micrometres(z), micrometres(y - centre_y)];
         match corners.iter().position(|&c| c == p) {
             Some(k) => k,
             None => {
