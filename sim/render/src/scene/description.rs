@@ -608,3 +608,43 @@ impl Sun {
         [el.cos() * az.cos(), el.sin(), el.cos() * az.sin()]
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{builtin_description, builtin_target};
+
+    /// Lanes outside 1–4, too many actors and an actor's albedo outside 0–1 are refused,
+    /// each naming its field.
+    #[test]
+    fn lanes_and_actors_out_of_range_are_refused_by_name() {
+        let refused = |edit: &dyn Fn(&mut SceneDescription)| {
+            let mut d = builtin_description(builtin_target(), 1);
+            edit(&mut d);
+            match d.validate() {
+                Err(SceneError::Invalid { field, .. }) => field,
+                other => panic!("{other:?}"),
+            }
+        };
+        let actor = |albedo| ActorBody {
+            kind: VehicleKind::Truck,
+            albedo,
+        };
+        assert_eq!(refused(&|d| d.route.lanes = 0), "route.lanes");
+        assert_eq!(refused(&|d| d.route.lanes = 5), "route.lanes");
+        assert_eq!(
+            refused(&|d| d.actors = vec![actor(0.5); ObjectSlot::MAX_ACTORS as usize + 1]),
+            "actors"
+        );
+        assert_eq!(
+            refused(&|d| d.actors = vec![actor(0.5), actor(f64::NAN)]),
+            "actors[1].albedo"
+        );
+        let mut d = builtin_description(builtin_target(), 1);
+        d.route.lanes = RouteSpec::MAX_LANES;
+        d.actors = vec![actor(1.0); ObjectSlot::MAX_ACTORS as usize];
+        let scene = crate::scene::Scene::build(d).expect("the most lanes and actors");
+        let slots: Vec<u32> = scene.objects().iter().map(|o| o.slot).collect();
+        assert_eq!(slots.last(), Some(&(ObjectSlot::COUNT - 1)));
+    }
+}
