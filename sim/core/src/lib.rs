@@ -52,6 +52,6 @@ pub use scenario::{
     SCHEMA_FILE_NAME,
 };
 pub use target::{
-    line_column, load as load_target, parse as parse_target, TargetFileError, MAX_CORNER_M,
-    NOMINAL_RANGE_M,
+    line_column, load as load_target, parse as parse_target, to_file_text as target_file_text,
+    TargetFileError, MAX_CORNER_M, NOMINAL_RANGE_M,
 };

@@ -119,6 +119,7 @@ fn scene_description(s: &Scenario, world: &WorldConfig) -> SceneDescription {
         ground: world.ground.clone(),
         road_surface: s.road_surface,
         textures: s.textures,
+        actors: Vec::new(),
     }
 }
 
@@ -227,7 +228,7 @@ impl Plan {
             invalid(&field, message)
         };
         let scene_route = SceneRoute::new(s.route.clone());
-        let (points, reach_m) = lane_polyline(&scene_route, 0.5 * s.route.lane_width_m);
+        let (points, reach_m) = lane_polyline(&scene_route, s.route.lane_centre_m(1));
         let route = Route::new(points).map_err(|e| invalid("route.segments", format!(": {e}")))?;
         let chase_start_m = chase_start_m(
             s.lead_start_m,

@@ -28,13 +28,15 @@
 //!   worker plans nothing: it builds the scene it is given;
 //! - the worker then writes that scene's fingerprint ([`fingerprint`]), a `u64`, which the
 //!   loop checks against its own;
-//! - each request is 39 `u64`-sized fields: the frame index (`u64`), the time, then each of
+//! - each request is 41 `u64`-sized fields: the frame index (`u64`), the time, then each of
 //!   the chase's and the lead's poses as translation x, y, z and rotation quaternion i, j,
 //!   k, w (`f64`, exact bits, so the worker renders exactly the loop's poses), the camera's
 //!   pan and the automatic gain (`f64`), then the part of the frame to render, x0, y0, x1,
 //!   y1 (`u64`, see [`Renderer::render_part`]), then for an interlaced camera's earlier
 //!   field a flag (`u64`, 1 when there is one), its time, the two poses and the pan, as
-//!   above;
+//!   above, then how many actor poses the frame and its earlier field have (`u64` each, at
+//!   most [`ObjectSlot::MAX_ACTORS`]); then those poses, the frame's and then the earlier
+//!   field's, seven `f64` each as above;
 //! - each answer is the ground truth: c_x, c_y, scale, the target centre in the camera
 //!   frame x, y, z (`f64`), and in view (one byte, 0 or 1), then the frame's exact pixels
 //!   x0, y0, x1, y1 (`u64`), then the image's rows y0 to y1 (width bytes each; the rows
@@ -54,7 +56,7 @@ use sim_render::{
     Backend, CameraRig, Field, Frame, FrameInput, GroundTruth, RenderOptions, Renderer,
     SoftwareContext,
 };
-use sim_render::{Scene, SceneDescription};
+use sim_render::{ObjectSlot, Scene, SceneDescription};
 use std::io::{BufReader, BufWriter, Read, Write};
 use std::process::Command;
 use std::sync::mpsc::{channel, Receiver, Sender};
@@ -62,8 +64,10 @@ use std::sync::Arc;
 use std::thread::JoinHandle;
 use tracker::PixelRect;
 
-/// Bytes of one request.
-const REQUEST_BYTES: usize = 39 * 8;
+/// Bytes of one request before its actors' poses.
+const REQUEST_BYTES: usize = 41 * 8;
+/// Bytes of one pose in a request.
+const POSE_BYTES: usize = 7 * 8;
 /// Bytes of the ground truth and the exact pixels before the image's rows.
 const TRUTH_BYTES: usize = 6 * 8 + 1 + 4 * 8;
 
@@ -132,27 +136,61 @@ fn encode_request(input: &FrameInput, part: PixelRect) -> Vec<u8> {
     out.extend_from_slice(&input.camera_pan_rad.to_le_bytes());
     out.extend_from_slice(&input.auto_gain.to_le_bytes());
     put_rect(&mut out, part);
-    let field = input.earlier_field.unwrap_or(input.field());
+    let own = input.field();
+    let field = input.earlier_field.as_ref().unwrap_or(&own);
     out.extend_from_slice(&u64::from(input.earlier_field.is_some()).to_le_bytes());
     out.extend_from_slice(&field.time_s.to_le_bytes());
     put_pose(&mut out, &field.world_from_chase);
     put_pose(&mut out, &field.world_from_lead);
     out.extend_from_slice(&field.camera_pan_rad.to_le_bytes());
+    let earlier_actors = input
+        .earlier_field
+        .as_ref()
+        .map_or(&[][..], |f| &f.world_from_actors[..]);
+    for count in [input.world_from_actors.len(), earlier_actors.len()] {
+        out.extend_from_slice(&(count as u64).to_le_bytes());
+    }
+    for pose in input.world_from_actors.iter().chain(earlier_actors) {
+        put_pose(&mut out, pose);
+    }
     out
 }
 
-fn decode_request(bytes: &[u8; REQUEST_BYTES]) -> (FrameInput, PixelRect) {
+/// How many actor poses follow a request's first [`REQUEST_BYTES`] `bytes`: the frame's
+/// and its earlier field's. More than a scene can have is not a request of the loop's.
+fn actor_counts(bytes: &[u8; REQUEST_BYTES]) -> std::io::Result<[usize; 2]> {
+    let counts = [get_u64(bytes, 39), get_u64(bytes, 40)];
+    if counts
+        .iter()
+        .any(|&n| n > u64::from(ObjectSlot::MAX_ACTORS))
+    {
+        return Err(std::io::Error::other(format!(
+            "a request with {counts:?} actor poses: not the loop's"
+        )));
+    }
+    Ok(counts.map(|n| n as usize))
+}
+
+/// The request of first bytes `bytes` and actor poses `poses` (as many as
+/// [`actor_counts`] says).
+fn decode_request(bytes: &[u8; REQUEST_BYTES], poses: &[u8]) -> (FrameInput, PixelRect) {
+    let [own, earlier] = actor_counts(bytes).unwrap_or([0, 0]);
+    let actors = |first: usize, n: usize| -> Vec<Isometry3<f64>> {
+        (first..first + n).map(|k| get_pose(poses, 7 * k)).collect()
+    };
     let input = FrameInput {
         frame_index: get_u64(bytes, 0),
         time_s: get_f64(bytes, 1),
         world_from_chase: get_pose(bytes, 2),
         world_from_lead: get_pose(bytes, 9),
+        world_from_actors: actors(0, own),
         camera_pan_rad: get_f64(bytes, 16),
         auto_gain: get_f64(bytes, 17),
         earlier_field: (get_u64(bytes, 22) != 0).then(|| Field {
             time_s: get_f64(bytes, 23),
             world_from_chase: get_pose(bytes, 24),
             world_from_lead: get_pose(bytes, 31),
+            world_from_actors: actors(own, earlier),
             camera_pan_rad: get_f64(bytes, 38),
         }),
     };
@@ -218,13 +256,17 @@ pub fn serve_frames(
     output.write_all(&fingerprint.to_le_bytes())?;
     output.flush()?;
     let mut request = [0u8; REQUEST_BYTES];
+    let mut poses = Vec::new();
     loop {
         match input.read_exact(&mut request) {
             Ok(()) => {}
             Err(e) if e.kind() == std::io::ErrorKind::UnexpectedEof => return Ok(()),
             Err(e) => return Err(e),
         }
-        let (frame_input, part) = decode_request(&request);
+        let [own, earlier] = actor_counts(&request)?;
+        poses.resize((own + earlier) * POSE_BYTES, 0);
+        input.read_exact(&mut poses)?;
+        let (frame_input, part) = decode_request(&request, &poses);
         let frame = renderer
             .render_part(&frame_input, Some(part))
             .map_err(std::io::Error::other)?;
@@ -562,19 +604,10 @@ mod tests {
                 UnitQuaternion::from_euler_angles(0.01 * a, a, -0.3 * a),
             )
         };
-        let input = FrameInput {
-            frame_index: 123_456_789,
-            time_s: 8.2 + 1.0 / 3.0,
-            world_from_chase: pose(0.7, [1.0 / 3.0, 0.2, -1e5]),
-            world_from_lead: pose(-2.9, [std::f64::consts::PI, 1e-9, 7.0]),
-            camera_pan_rad: -0.3 - 1e-12,
-            auto_gain: 1.0 / 3.0,
-            earlier_field: Some(Field {
-                time_s: 8.2 + 1.0 / 7.0,
-                world_from_chase: pose(0.69, [1.0 / 7.0, 0.21, -1e5 + 0.1]),
-                world_from_lead: pose(-2.8, [3.0, 2e-9, 7.1]),
-                camera_pan_rad: -0.29,
-            }),
+        let actors = |n: usize, a: f64| -> Vec<Isometry3<f64>> {
+            (0..n)
+                .map(|k| pose(a + k as f64 / 3.0, [k as f64 + 0.1, 0.0, -7.0 / 3.0]))
+                .collect()
         };
         let part = PixelRect {
             x0: 3,
@@ -582,14 +615,49 @@ mod tests {
             x1: 250,
             y1: 241,
         };
-        let bytes: [u8; REQUEST_BYTES] = encode_request(&input, part).try_into().unwrap();
-        let (back, back_part) = decode_request(&bytes);
-        assert_eq!(back, input);
-        assert_eq!(back_part, part);
-        assert_eq!(
-            back.world_from_lead.rotation.quaternion().coords,
-            input.world_from_lead.rotation.quaternion().coords
-        );
+        // Without actors, with the earlier field's, and with a progressive frame's.
+        for (own, earlier, interlaced) in [(0, 0, true), (3, 3, true), (2, 0, false)] {
+            let input = FrameInput {
+                frame_index: 123_456_789,
+                time_s: 8.2 + 1.0 / 3.0,
+                world_from_chase: pose(0.7, [1.0 / 3.0, 0.2, -1e5]),
+                world_from_lead: pose(-2.9, [std::f64::consts::PI, 1e-9, 7.0]),
+                world_from_actors: actors(own, 0.2),
+                camera_pan_rad: -0.3 - 1e-12,
+                auto_gain: 1.0 / 3.0,
+                earlier_field: interlaced.then(|| Field {
+                    time_s: 8.2 + 1.0 / 7.0,
+                    world_from_chase: pose(0.69, [1.0 / 7.0, 0.21, -1e5 + 0.1]),
+                    world_from_lead: pose(-2.8, [3.0, 2e-9, 7.1]),
+                    world_from_actors: actors(earlier, -0.4),
+                    camera_pan_rad: -0.29,
+                }),
+            };
+            let encoded = encode_request(&input, part);
+            let bytes: [u8; REQUEST_BYTES] = encoded[..REQUEST_BYTES].try_into().unwrap();
+            let poses = &encoded[REQUEST_BYTES..];
+            let [n, m] = actor_counts(&bytes).unwrap();
+            assert_eq!((n, m), (own, earlier));
+            assert_eq!(poses.len(), (n + m) * POSE_BYTES);
+            let (back, back_part) = decode_request(&bytes, poses);
+            assert_eq!(back, input);
+            assert_eq!(back_part, part);
+            assert_eq!(
+                back.world_from_lead.rotation.quaternion().coords,
+                input.world_from_lead.rotation.quaternion().coords
+            );
+        }
+    }
+
+    /// A request of more actor poses than a scene can have is refused, not read.
+    #[test]
+    fn a_request_of_too_many_actors_is_an_error() {
+        let mut input =
+            FrameInput::fixed_camera(0, 0.0, Isometry3::identity(), Isometry3::identity());
+        input.world_from_actors = vec![Isometry3::identity(); ObjectSlot::MAX_ACTORS as usize + 1];
+        let encoded = encode_request(&input, PixelRect::whole(4, 4));
+        let bytes: [u8; REQUEST_BYTES] = encoded[..REQUEST_BYTES].try_into().unwrap();
+        assert!(actor_counts(&bytes).is_err());
     }
 
     #[test]

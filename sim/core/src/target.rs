@@ -107,6 +107,32 @@ pub enum TargetFileError {
     },
 }
 
+/// The text of a target file holding `model`, opened by `comment` (its lines each made a
+/// TOML comment): its numbers written with the digits that read back as the same `f64`,
+/// so that [`parse`] of the text gives `model` again.
+pub fn to_file_text(model: &TargetModel, comment: &str) -> String {
+    let mut text = String::new();
+    for line in comment.lines() {
+        text.push_str(format!("# {line}").trim_end());
+        text.push('\n');
+    }
+    text.push_str(&format!("name = {:?}\n", model.name()));
+    text.push_str(&format!(
+        "nominal_range_m = {:?}\n",
+        model.nominal_range_m()
+    ));
+    text.push_str("corners_m = [\n");
+    for (k, [x, y]) in model.corners_m().iter().enumerate() {
+        text.push_str(&format!("    [{x:?}, {y:?}],  # {k}\n"));
+    }
+    text.push_str("]\nsegments = [\n");
+    for [a, b] in model.segments() {
+        text.push_str(&format!("    [{a}, {b}],\n"));
+    }
+    text.push_str(&format!("]\npaint = \"{}\"\n", model.paint().as_str()));
+    text
+}
+
 /// 1-based (line, column) of a byte offset in `text`.
 pub fn line_column(text: &str, offset: usize) -> (usize, usize) {
     let before = &text[..offset.min(text.len())];

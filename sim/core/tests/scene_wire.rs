@@ -4,7 +4,7 @@
 //! `cargo test --release -p sim-core --test scene_wire`.
 
 use sim_core::{fingerprint, receive_scene, render_options, send_scene, Plan};
-use sim_render::Backend;
+use sim_render::{ActorBody, Backend, VehicleKind};
 use std::path::Path;
 
 #[test]
@@ -42,6 +42,44 @@ fn every_shipped_scenes_description_crosses_the_wire_exactly() {
             );
         }
     }
+}
+
+/// Actors and lanes cross the wire exactly too; a description without them (one lane each
+/// way, no actors) is sent as before they existed, without either field.
+#[test]
+fn actors_and_lanes_cross_the_wire_exactly() {
+    let plan = Plan::builtin(&[]).unwrap();
+    let (description, rig) = (plan.scene().description(), plan.rig());
+    let mut wire = Vec::new();
+    send_scene(&mut wire, description, rig).unwrap();
+    let text = String::from_utf8_lossy(&wire[8..]).to_string();
+    let named = |text: &str, key: &str| {
+        text.lines()
+            .any(|l| l.starts_with(&format!("{key} =")) || l.contains(&format!(".{key}]")))
+    };
+    assert!(!named(&text, "actors") && !named(&text, "lanes"), "{text}");
+    let mut traffic = description.clone();
+    traffic.route.lanes = 3;
+    traffic.actors = VehicleKind::ALL
+        .iter()
+        .enumerate()
+        .map(|(k, &kind)| ActorBody {
+            kind,
+            albedo: 0.1 + k as f64 / 7.0,
+        })
+        .collect();
+    let mut wire = Vec::new();
+    send_scene(&mut wire, &traffic, rig).unwrap();
+    let text = String::from_utf8_lossy(&wire[8..]).to_string();
+    assert!(named(&text, "actors") && named(&text, "lanes"), "{text}");
+    for kind in VehicleKind::ALL {
+        assert!(
+            text.contains(&format!("kind = \"{}\"", kind.as_str())),
+            "{text}"
+        );
+    }
+    let (got, _) = receive_scene(&mut wire.as_slice()).unwrap();
+    assert!(got == traffic, "the actors or the lanes changed");
 }
 
 /// What is not a scene is refused with an error, never a panic.

@@ -9,7 +9,10 @@
 //! no scenario files, no controllers, no records.
 //!
 //! - The scene: a [`SceneDescription`] (seed, route, densities, sun, sensor, target,
-//!   vehicles, ground) built into a [`Scene`] of static chunks and moving objects.
+//!   vehicles, ground, and the actors in traffic) built into a [`Scene`] of static chunks
+//!   and moving objects.
+//! - The vehicles in traffic: a [`VehicleKind`] each, and the target model of each kind's
+//!   back ([`vehicle_back_model`]), made from the numbers its shape is drawn from.
 //! - The camera: a [`Renderer`] for a [`CameraRig`] draws a [`Frame`] (the image with its
 //!   [`GroundTruth`]) for each [`FrameInput`] (the poses at capture), whole or in part.
 //!
@@ -27,11 +30,13 @@ pub use camera::{
     TEXTURE_SIZE, TILE_M,
 };
 pub use scene::{
-    builtin_description, builtin_poses, builtin_target, distractor_near_side, lead_from_target_of,
-    stream, AutoGain, CameraMount, ChaseVehicle, Chunk, ChunkPart, Densities, Distractor,
-    DistractorKind, DynamicObject, Layer, LeadVehicle, Material, Mesh, MeshPiece, Motion,
-    ObjectSlot, Placement, RoadSurface, Route, RouteSegment, RouteSpec, Scene, SceneDescription,
-    SceneError, Sensor, Sun, Terrain, Textures, Vertex, BOARD_ALBEDO, BOARD_MARGIN_M,
-    BUILTIN_GAP_M, BUILTIN_SPEED_M_S, FIELD_PERIOD_STEPS, GRASS_ALBEDO, GRASS_ALBEDO_RANGE,
-    GROUND_CELL_M, MAX_BUFFER_BYTES, STRIPE_ALBEDO, STRIPE_OVERRUN_M, STRIPE_WIDTH_M,
+    back_model_centre_m, body_from_back_model, builtin_description, builtin_poses, builtin_target,
+    distractor_near_side, lead_from_target_of, stream, vehicle_back_model, ActorBody, AutoGain,
+    CameraMount, ChaseVehicle, Chunk, ChunkPart, Densities, Distractor, DistractorKind,
+    DynamicObject, Layer, LeadVehicle, Material, Mesh, MeshPiece, Motion, ObjectSlot, Placement,
+    RoadSurface, Route, RouteSegment, RouteSpec, Scene, SceneDescription, SceneError, Sensor, Sun,
+    Terrain, Textures, VehicleKind, Vertex, BACK_MODEL_NOMINAL_RANGE_M, BOARD_ALBEDO,
+    BOARD_MARGIN_M, BUILTIN_GAP_M, BUILTIN_SPEED_M_S, FIELD_PERIOD_STEPS, GRASS_ALBEDO,
+    GRASS_ALBEDO_RANGE, GROUND_CELL_M, MAX_BUFFER_BYTES, STRIPE_ALBEDO, STRIPE_OVERRUN_M,
+    STRIPE_WIDTH_M,
 };

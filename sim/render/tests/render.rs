@@ -62,6 +62,7 @@ fn builtin_frame_panned(renderer: &mut Renderer, time_s: f64, camera_pan_rad: f6
             time_s,
             world_from_chase,
             world_from_lead,
+            world_from_actors: Vec::new(),
             camera_pan_rad,
             auto_gain: 1.0,
             earlier_field: None,
@@ -273,6 +274,7 @@ fn a_part_of_a_frame_is_the_whole_frame_there() {
                 time_s,
                 world_from_chase,
                 world_from_lead,
+                world_from_actors: Vec::new(),
                 camera_pan_rad,
                 auto_gain: 1.0,
                 earlier_field: None,
@@ -678,7 +680,7 @@ fn poles_between_the_camera_and_the_board_occlude_it() {
         }
         let scene = Scene::build(d).unwrap();
         let camera = rig.world_from_camera(&chase);
-        target_occluded(&scene, &chase, &lead, &camera, 1.0)
+        target_occluded(&scene, &chase, &lead, &[], &camera, 1.0)
     };
     let corners = builtin_target().corners_m().to_vec();
     let (lo, hi) = corners
@@ -788,10 +790,11 @@ fn an_interlaced_frame_takes_its_odd_rows_from_the_earlier_field() {
         time_s: earlier_s,
         world_from_chase: chase0,
         world_from_lead: lead0 * Isometry3::translation(0.0, 0.0, -0.3),
+        world_from_actors: Vec::new(),
         camera_pan_rad: 0.0,
     };
     let input = FrameInput {
-        earlier_field: Some(earlier),
+        earlier_field: Some(earlier.clone()),
         ..FrameInput::fixed_camera(60, time_s, world_from_chase, world_from_lead)
     };
     let interlaced = r.render(&input).expect("frame");

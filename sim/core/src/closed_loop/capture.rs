@@ -39,11 +39,12 @@ impl Captured {
             time_s: now.seconds(),
             world_from_chase: iso(&chase.world_from_vehicle),
             world_from_lead: iso(&lead.world_from_vehicle) * lead_from_scene,
+            world_from_actors: Vec::new(),
             camera_pan_rad: drive.pan_angle_rad(),
             auto_gain: auto_gain.gain_for(frame_index),
             // Before the first frame the world stood still.
             earlier_field: drive.interlaced.then(|| {
-                let f = drive.earlier_field.unwrap_or_else(|| drive.field_now());
+                let f = (drive.earlier_field.clone()).unwrap_or_else(|| drive.field_now());
                 Field {
                     world_from_lead: f.world_from_lead * lead_from_scene,
                     ..f

@@ -211,6 +211,7 @@ impl Drive {
             time_s: self.world.now().seconds(),
             world_from_chase: iso(&self.world.vehicle_state(self.chase_id).world_from_vehicle),
             world_from_lead: iso(&self.world.vehicle_state(self.lead_id).world_from_vehicle),
+            world_from_actors: Vec::new(),
             camera_pan_rad: self.pan_angle_rad(),
         }
     }

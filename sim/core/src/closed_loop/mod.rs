@@ -492,7 +492,7 @@ fn tracking_of(
 /// The lead's lane from 10 m behind the chase's start to the lead's start, metre by metre:
 /// the lead's path before t = 0, so that the chase has a path from the first frame.
 fn lane_behind(route: &SceneRoute, s: &Scenario, chase_start_m: f64) -> DrivenPath {
-    let lateral = 0.5 * s.route.lane_width_m;
+    let lateral = s.route.lane_centre_m(1);
     let mut path = DrivenPath::new();
     for k in 0..=((s.lead_start_m - chase_start_m + 10.0) as usize) {
         let station = (chase_start_m - 10.0 + k as f64).max(0.0);

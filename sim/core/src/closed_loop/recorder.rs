@@ -84,6 +84,7 @@ impl Recorder {
                 &self.scene,
                 &captured.input.world_from_chase,
                 &captured.input.world_from_lead,
+                &captured.input.world_from_actors,
                 &world_from_camera,
                 captured.input.time_s,
             )

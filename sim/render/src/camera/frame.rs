@@ -4,7 +4,8 @@ use image::GrayImage;
 use nalgebra::Isometry3;
 use tracker::PixelRect;
 
-/// The inputs of one frame: the clock and the two vehicles' poses (from physics).
+/// The inputs of one frame: the clock, the two vehicles' poses (from physics) and the
+/// actors'.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FrameInput {
     /// Frame number; selects this frame's sensor noise, so frame k's noise does not depend
@@ -17,6 +18,11 @@ pub struct FrameInput {
     pub world_from_chase: Isometry3<f64>,
     /// The lead vehicle's pose, same convention.
     pub world_from_lead: Isometry3<f64>,
+    /// Each actor's pose (`SceneDescription::actors`, one each, in order): its body's
+    /// centre on the ground, x forward, y up, z right (the frame its shape is drawn in, as
+    /// the cars' are; the caller converts from the physics' frame). A count that is not
+    /// the description's is a [`RenderError::Actors`](crate::RenderError::Actors).
+    pub world_from_actors: Vec<Isometry3<f64>>,
     /// The camera's pan about the chase's vertical axis through the mount, radians
     /// (positive to the right; 0 for the paper's fixed camera): the pan head's true angle.
     pub camera_pan_rad: f64,
@@ -30,7 +36,7 @@ pub struct FrameInput {
 }
 
 /// The poses of one field of an interlaced frame (see [`FrameInput::earlier_field`]).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Field {
     /// Simulation time, seconds.
     pub time_s: f64,
@@ -38,6 +44,8 @@ pub struct Field {
     pub world_from_chase: Isometry3<f64>,
     /// The lead vehicle's pose.
     pub world_from_lead: Isometry3<f64>,
+    /// The actors' poses (see [`FrameInput::world_from_actors`]).
+    pub world_from_actors: Vec<Isometry3<f64>>,
     /// The camera's pan, radians.
     pub camera_pan_rad: f64,
 }
@@ -49,12 +57,20 @@ impl FrameInput {
             time_s: self.time_s,
             world_from_chase: self.world_from_chase,
             world_from_lead: self.world_from_lead,
+            world_from_actors: self.world_from_actors.clone(),
             camera_pan_rad: self.camera_pan_rad,
         }
     }
 
+    /// The frame with the actors at `world_from_actors` (see
+    /// [`FrameInput::world_from_actors`]).
+    pub fn with_actors(mut self, world_from_actors: Vec<Isometry3<f64>>) -> FrameInput {
+        self.world_from_actors = world_from_actors;
+        self
+    }
+
     /// Frame `frame_index` at `time_s` of a fixed camera (no pan) without automatic gain:
-    /// the paper's camera.
+    /// the paper's camera, with no actors ([`FrameInput::with_actors`] adds them).
     pub fn fixed_camera(
         frame_index: u64,
         time_s: f64,
@@ -66,6 +82,7 @@ impl FrameInput {
             time_s,
             world_from_chase,
             world_from_lead,
+            world_from_actors: Vec::new(),
             camera_pan_rad: 0.0,
             auto_gain: 1.0,
             earlier_field: None,

@@ -4,7 +4,7 @@
 //! Rays go from the camera's centre to a 3 × 3 grid of points over the board (its corners,
 //! edge middles and centre, 5 % inside the outline). A ray is blocked when it crosses a
 //! triangle of the scene's standing clutter (trees, poles, houses, buildings, parked
-//! vehicles) or of an oncoming vehicle before it reaches the board. Wires are too thin to
+//! vehicles), of an oncoming vehicle or of an actor before it reaches the board. Wires are too thin to
 //! hide a board and the ground is flat, so neither counts; the lead's own body is behind
 //! its board, and the chase's hood below the view. The board is occluded when more than half
 //! of the rays are blocked.
@@ -19,14 +19,23 @@ const INSET: f64 = 0.05;
 
 /// Whether more than half of the rays from the camera to the board are blocked by
 /// scenery (see the module notes), for the camera at `world_from_camera`, the lead at
-/// `world_from_lead` and oncoming traffic at `time_s`.
+/// `world_from_lead`, the actors at `world_from_actors` (as
+/// [`FrameInput::world_from_actors`](crate::FrameInput::world_from_actors); an actor
+/// without a pose is nowhere) and oncoming traffic at `time_s`.
 pub fn target_occluded(
     scene: &Scene,
     world_from_chase: &Isometry3<f64>,
     world_from_lead: &Isometry3<f64>,
+    world_from_actors: &[Isometry3<f64>],
     world_from_camera: &Isometry3<f64>,
     time_s: f64,
 ) -> bool {
+    let poses = Poses {
+        world_from_chase,
+        world_from_lead,
+        world_from_actors,
+        time_s,
+    };
     let target = &scene.description().target;
     let [(x0, x1), (y0, y1)] = {
         let corners = target.corners_m();
@@ -46,7 +55,7 @@ pub fn target_occluded(
     for i in 0..GRID {
         for j in 0..GRID {
             let p = world_from_target * Point3::new(at(i, x0, x1), at(j, y0, y1), 0.0);
-            if ray_blocked(scene, world_from_chase, world_from_lead, time_s, eye, p) {
+            if ray_blocked(scene, &poses, eye, p) {
                 blocked += 1;
             }
         }
@@ -54,16 +63,17 @@ pub fn target_occluded(
     2 * blocked > GRID * GRID
 }
 
-/// Whether the segment from `from` to `to` (world) crosses standing clutter or an
-/// oncoming vehicle.
-fn ray_blocked(
-    scene: &Scene,
-    world_from_chase: &Isometry3<f64>,
-    world_from_lead: &Isometry3<f64>,
+/// Where the moving objects are: the poses a frame gives.
+struct Poses<'a> {
+    world_from_chase: &'a Isometry3<f64>,
+    world_from_lead: &'a Isometry3<f64>,
+    world_from_actors: &'a [Isometry3<f64>],
     time_s: f64,
-    from: Point3<f64>,
-    to: Point3<f64>,
-) -> bool {
+}
+
+/// Whether the segment from `from` to `to` (world) crosses standing clutter, an oncoming
+/// vehicle or an actor.
+fn ray_blocked(scene: &Scene, poses: &Poses<'_>, from: Point3<f64>, to: Point3<f64>) -> bool {
     let hits = |piece: MeshPiece<'_>, object_from_world: &Isometry3<f64>| {
         let a = object_from_world * from;
         let b = object_from_world * to;
@@ -90,12 +100,16 @@ fn ray_blocked(
     let objects = scene.objects_geometry();
     let first = scene.objects_indices().start;
     for object in scene.objects() {
-        if !matches!(object.motion, Motion::Oncoming { .. }) {
+        if !matches!(object.motion, Motion::Oncoming { .. } | Motion::Actor(_)) {
             continue;
         }
-        let Some(world_from_object) =
-            scene.world_from_object(object, world_from_chase, world_from_lead, time_s)
-        else {
+        let Some(world_from_object) = scene.world_from_object(
+            object,
+            poses.world_from_chase,
+            poses.world_from_lead,
+            poses.world_from_actors,
+            poses.time_s,
+        ) else {
             continue;
         };
         let centre = world_from_object * Point3::from(object.centre);

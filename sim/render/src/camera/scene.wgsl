@@ -48,7 +48,7 @@ struct Globals {
 struct Objects {
     // Object slot → camera-relative world transform (slot 0, static geometry: a translation
     // by −origin).
-    world_from_object: array<mat4x4<f32>, 16>,
+    world_from_object: array<mat4x4<f32>, 32>,
 };
 
 @group(0) @binding(0) var<uniform> globals: Globals;

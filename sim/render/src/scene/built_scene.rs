@@ -122,25 +122,30 @@ impl Scene {
         mesh
     }
 
-    /// Where a dynamic object is at time `time_s`, given the two vehicles' poses. `None`
-    /// when it is off the route (an oncoming vehicle not yet or no longer on the road).
+    /// Where a dynamic object is at time `time_s`, given the two vehicles' poses and the
+    /// actors' (`world_from_actors`, one per description actor, in order). `None` when it
+    /// is off the route (an oncoming vehicle not yet or no longer on the road), or an actor
+    /// `world_from_actors` has no pose for.
     pub fn world_from_object(
         &self,
         object: &DynamicObject,
         world_from_chase: &Isometry3<f64>,
         world_from_lead: &Isometry3<f64>,
+        world_from_actors: &[Isometry3<f64>],
         time_s: f64,
     ) -> Option<Isometry3<f64>> {
         match object.motion {
             Motion::Chase => Some(*world_from_chase),
             Motion::Lead => Some(*world_from_lead),
+            Motion::Actor(k) => world_from_actors.get(k).copied(),
             Motion::Oncoming { start_m, speed_m_s } => {
                 let s = start_m - speed_m_s * time_s;
                 if !(-ROAD_RUNOUT_M..self.route.length_m() + ROAD_RUNOUT_M).contains(&s) {
                     return None;
                 }
-                let lane = self.description.route.lane_width_m;
-                let pose = self.route.pose_at(s, -0.5 * lane);
+                // Lane 1 of the oncoming side, beside the centre line.
+                let lateral = -self.description.route.lane_centre_m(1);
+                let pose = self.route.pose_at(s, lateral);
                 let turn =
                     UnitQuaternion::from_axis_angle(&Vector3::y_axis(), std::f64::consts::PI);
                 Some(Isometry3::from_parts(

@@ -38,6 +38,7 @@ pub fn builtin_description(target: TargetModel, seed: u64) -> SceneDescription {
             ],
             intersections_m: vec![110.0, 480.0],
             lane_width_m: 3.5,
+            lanes: 1,
         },
         densities: Densities::default(),
         placements: Vec::new(),
@@ -49,11 +50,12 @@ pub fn builtin_description(target: TargetModel, seed: u64) -> SceneDescription {
         ground: vehicle::GroundConfig::default(),
         road_surface: RoadSurface::default(),
         textures: Textures::default(),
+        actors: Vec::new(),
     }
 }
 
 /// `(world_from_chase, world_from_lead)` at time `time_s` in the built-in scene: both in the
-/// right lane, the chase at constant speed, the lead so that its board is
+/// right lane (lane 1, beside the centre line), the chase at constant speed, the lead so that its board is
 /// [`BUILTIN_GAP_M`] ahead of the camera along the route.
 pub fn builtin_poses(
     description: &SceneDescription,
@@ -61,7 +63,7 @@ pub fn builtin_poses(
     mount: &CameraMount,
     time_s: f64,
 ) -> (Isometry3<f64>, Isometry3<f64>) {
-    let lateral = 0.5 * description.route.lane_width_m;
+    let lateral = description.route.lane_centre_m(1);
     let chase_s = BUILTIN_START_M + BUILTIN_SPEED_M_S * time_s;
     let lead_s = chase_s + mount.forward_offset_m + BUILTIN_GAP_M + 0.5 * description.lead.length_m;
     (

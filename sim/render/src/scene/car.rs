@@ -17,6 +17,21 @@ const LAMP_ALBEDO: f64 = 0.85;
 pub(super) const CAR_HALF_LENGTH_M: f64 = 2.2;
 /// Half the width of a car over its wheels, metres.
 pub(super) const CAR_HALF_WIDTH_M: f64 = 0.9;
+/// The bumpers' bottom and top above the ground, metres.
+const BUMPER_Y_M: [f64; 2] = [0.26, 0.55];
+/// How far inside the body's sides the bumpers end, metres.
+const BUMPER_INSET_M: f64 = 0.05;
+/// The tail lamps' bottom and top above the ground, metres.
+const TAIL_LAMP_Y_M: [f64; 2] = [0.68, 0.86];
+/// The head lamps' bottom and top above the ground, metres.
+const HEAD_LAMP_Y_M: [f64; 2] = [0.66, 0.80];
+/// How far inside the body's side each lamp's inner and outer edges are, metres.
+const LAMP_INSET_M: [f64; 2] = [0.32, 0.06];
+/// How far inside the body's side the cabin's bottom and its roof are, metres.
+const CABIN_INSET_M: [f64; 2] = [0.06, 0.16];
+/// The windscreen's and the rear window's glass: its inset from the face's bottom and top,
+/// as a share of the face's height, and from its sides, metres.
+const GLASS_INSET: (f64, f64) = (0.1, 0.08);
 
 /// The shapes of car body.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -40,6 +55,66 @@ impl CarBody {
         } else {
             CarBody::Van
         }
+    }
+}
+
+/// What a car's back shows the camera behind it, metres in the car's frame (heights above
+/// the ground; half widths from the centre line, z): the numbers the car is built from,
+/// for the target model of its back (`back_model`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct CarBack {
+    /// The body's back face (x, negative), inside the bumper.
+    pub face_x: f64,
+    /// The body's half width.
+    pub side: f64,
+    /// The top of the body, where the cabin stands (the belt line).
+    pub belt: f64,
+    /// The roof's height.
+    pub roof: f64,
+    /// The cabin's half width at the belt and at the roof.
+    pub cabin: [f64; 2],
+    /// The rear window's glass: its bottom and top.
+    pub glass_y: [f64; 2],
+    /// Its half width at its bottom and at its top.
+    pub glass_half: [f64; 2],
+    /// The tail lamps' bottom and top.
+    pub lamp_y: [f64; 2],
+    /// Their inner and outer edges (half widths).
+    pub lamp_z: [f64; 2],
+    /// The bumper's bottom and top.
+    pub bumper_y: [f64; 2],
+    /// Its half width.
+    pub bumper_half: f64,
+}
+
+impl CarBack {
+    /// The back of `body`, from the shape [`car`] builds.
+    pub(super) fn of(body: CarBody) -> CarBack {
+        let shape = Shape::of(body, 0, 0.0);
+        let (cw0, cw1) = shape.cabin_widths();
+        let (v, inset) = GLASS_INSET;
+        let at = |t: f64| shape.belt + t * (shape.roof - shape.belt);
+        let half = |t: f64| cw0 + t * (cw1 - cw0) - inset;
+        CarBack {
+            face_x: -shape.end,
+            side: shape.side,
+            belt: shape.belt,
+            roof: shape.roof,
+            cabin: [cw0, cw1],
+            glass_y: [at(v), at(1.0 - v)],
+            glass_half: [half(v), half(1.0 - v)],
+            lamp_y: TAIL_LAMP_Y_M,
+            lamp_z: LAMP_INSET_M.map(|d| shape.side - d),
+            bumper_y: BUMPER_Y_M,
+            bumper_half: shape.side - BUMPER_INSET_M,
+        }
+    }
+}
+
+impl CarBody {
+    /// The drawn body's height over the ground (its roof), metres.
+    pub(super) fn height_m(self) -> f64 {
+        Shape::of(self, 0, 0.0).roof
     }
 }
 
@@ -150,21 +225,19 @@ impl Shape {
         );
         for sx in [-1.0, 1.0] {
             let (a, b) = if sx > 0.0 { (end, HL) } else { (-HL, -end) };
-            self.standing(
-                mesh,
-                [a, 0.26, -side + 0.05],
-                [b, 0.55, side - 0.05],
-                CAR_BUMPER_ALBEDO,
-            );
+            let [y0, y1] = BUMPER_Y_M;
+            let half = side - BUMPER_INSET_M;
+            self.standing(mesh, [a, y0, -half], [b, y1, half], CAR_BUMPER_ALBEDO);
         }
     }
 
     /// Lamps on the body's ends, above the bumpers: head lamps in front, tail lamps behind.
     fn lamps(&self, mesh: &mut Mesh) {
-        for (sx, y0, y1) in [(1.0, 0.66, 0.80), (-1.0, 0.68, 0.86)] {
+        for (sx, [y0, y1]) in [(1.0, HEAD_LAMP_Y_M), (-1.0, TAIL_LAMP_Y_M)] {
             for sz in [-1.0, 1.0] {
                 let x = sx * (self.end + 0.005);
-                let (z0, z1) = (sz * (self.side - 0.32), sz * (self.side - 0.06));
+                let [inner, outer] = LAMP_INSET_M;
+                let (z0, z1) = (sz * (self.side - inner), sz * (self.side - outer));
                 mesh.quad_with_normal(
                     [[x, y0, z0], [x, y0, z1], [x, y1, z1], [x, y1, z0]],
                     [sx, 0.0, 0.0],
@@ -177,7 +250,7 @@ impl Shape {
 
     /// The cabin's half widths at its bottom and at the roof.
     fn cabin_widths(&self) -> (f64, f64) {
-        (self.side - 0.06, self.side - 0.16)
+        (self.side - CABIN_INSET_M[0], self.side - CABIN_INSET_M[1])
     }
 
     /// The colour of the cabin's pillars.
@@ -226,9 +299,13 @@ impl Shape {
                 ]
             };
             // Inset: 10 % of the height at top and bottom, 8 cm at the sides.
-            let lo = [lerp(face[0], face[3], 0.1), lerp(face[1], face[2], 0.1)];
-            let hi = [lerp(face[0], face[3], 0.9), lerp(face[1], face[2], 0.9)];
-            let squeeze = |p: [f64; 3]| [p[0], p[1], p[2] - p[2].signum() * 0.08];
+            let (v, side) = GLASS_INSET;
+            let lo = [lerp(face[0], face[3], v), lerp(face[1], face[2], v)];
+            let hi = [
+                lerp(face[0], face[3], 1.0 - v),
+                lerp(face[1], face[2], 1.0 - v),
+            ];
+            let squeeze = |p: [f64; 3]| [p[0], p[1], p[2] - p[2].signum() * side];
             let glass = [
                 squeeze(lo[0]),
                 squeeze(lo[1]),

@@ -2,7 +2,9 @@
 //! [`crate::scene::Scene`] from it is deterministic for a given `seed`.
 
 use super::error::SceneError;
+use super::object_slot::ObjectSlot;
 use super::route::{RouteSegment, RouteSpec};
+use super::vehicle_kind::VehicleKind;
 use tracker::TargetModel;
 
 /// How much clutter to place along the route, per kilometre of route (both sides together
@@ -403,6 +405,17 @@ impl Default for Textures {
     }
 }
 
+/// A vehicle in traffic that the description places and the caller poses each frame
+/// (`FrameInput::world_from_actors`): what it looks like.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema)]
+pub struct ActorBody {
+    /// Its kind, and so its shape.
+    pub kind: VehicleKind,
+    /// Its paint's albedo, 0–1 (a truck's box and cab; its door is a shade darker).
+    #[schemars(extend("minimum" = 0.0, "maximum" = 1.0))]
+    pub albedo: f64,
+}
+
 /// Everything needed to build the world. Filled by the scenario code.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SceneDescription {
@@ -431,6 +444,11 @@ pub struct SceneDescription {
     pub road_surface: RoadSurface,
     /// Textures on the ground's surfaces.
     pub textures: Textures,
+    /// Vehicles in traffic, each drawn in its own object slot and posed each frame by the
+    /// caller, in this order (at most [`ObjectSlot::MAX_ACTORS`]; none when not given, and
+    /// then not written, so a description without them reads and writes as before).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub actors: Vec<ActorBody>,
 }
 
 impl SceneDescription {
@@ -477,6 +495,17 @@ impl SceneDescription {
             }
         }
         positive("route.lane_width_m", self.route.lane_width_m)?;
+        if !(1..=RouteSpec::MAX_LANES).contains(&self.route.lanes) {
+            return Err(SceneError::Invalid {
+                field: "route.lanes".into(),
+                reason: format!(
+                    "lanes in each direction must be 1–{}, got {}",
+                    RouteSpec::MAX_LANES,
+                    self.route.lanes
+                ),
+            });
+        }
+        self.validate_actors()?;
         let d = &self.densities;
         for (field, value) in [
             ("densities.trees_per_km", d.trees_per_km),
@@ -544,6 +573,31 @@ impl SceneDescription {
     }
 }
 
+impl SceneDescription {
+    /// Checks the actors: no more than the renderer has slots for, each albedo 0–1.
+    fn validate_actors(&self) -> Result<(), SceneError> {
+        let most = ObjectSlot::MAX_ACTORS as usize;
+        if self.actors.len() > most {
+            return Err(SceneError::Invalid {
+                field: "actors".into(),
+                reason: format!(
+                    "at most {most} actors (the renderer's slots for them), got {}",
+                    self.actors.len()
+                ),
+            });
+        }
+        for (i, actor) in self.actors.iter().enumerate() {
+            if !(0.0..=1.0).contains(&actor.albedo) {
+                return Err(SceneError::Invalid {
+                    field: format!("actors[{i}].albedo"),
+                    reason: format!("must be 0–1, got {}", actor.albedo),
+                });
+            }
+        }
+        Ok(())
+    }
+}
+
 impl Sun {
     /// Unit vector from the ground towards the sun, world frame.
     pub fn direction(&self) -> [f64; 3] {
@@ -552,5 +606,45 @@ impl Sun {
             self.elevation_deg.to_radians(),
         );
         [el.cos() * az.cos(), el.sin(), el.cos() * az.sin()]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{builtin_description, builtin_target};
+
+    /// Lanes outside 1–4, too many actors and an actor's albedo outside 0–1 are refused,
+    /// each naming its field.
+    #[test]
+    fn lanes_and_actors_out_of_range_are_refused_by_name() {
+        let refused = |edit: &dyn Fn(&mut SceneDescription)| {
+            let mut d = builtin_description(builtin_target(), 1);
+            edit(&mut d);
+            match d.validate() {
+                Err(SceneError::Invalid { field, .. }) => field,
+                other => panic!("{other:?}"),
+            }
+        };
+        let actor = |albedo| ActorBody {
+            kind: VehicleKind::Truck,
+            albedo,
+        };
+        assert_eq!(refused(&|d| d.route.lanes = 0), "route.lanes");
+        assert_eq!(refused(&|d| d.route.lanes = 5), "route.lanes");
+        assert_eq!(
+            refused(&|d| d.actors = vec![actor(0.5); ObjectSlot::MAX_ACTORS as usize + 1]),
+            "actors"
+        );
+        assert_eq!(
+            refused(&|d| d.actors = vec![actor(0.5), actor(f64::NAN)]),
+            "actors[1].albedo"
+        );
+        let mut d = builtin_description(builtin_target(), 1);
+        d.route.lanes = RouteSpec::MAX_LANES;
+        d.actors = vec![actor(1.0); ObjectSlot::MAX_ACTORS as usize];
+        let scene = crate::scene::Scene::build(d).expect("the most lanes and actors");
+        let slots: Vec<u32> = scene.objects().iter().map(|o| o.slot).collect();
+        assert_eq!(slots.last(), Some(&(ObjectSlot::COUNT - 1)));
     }
 }

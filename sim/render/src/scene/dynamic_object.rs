@@ -17,6 +17,9 @@ pub enum Motion {
         /// Speed, m/s.
         speed_m_s: f64,
     },
+    /// Actor `k` of the description (`SceneDescription::actors`), placed each frame where
+    /// the caller poses it (`FrameInput::world_from_actors`).
+    Actor(usize),
 }
 
 /// A moving object: geometry in its own frame (x forward, y up, z right, origin on the

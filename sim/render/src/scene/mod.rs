@@ -19,12 +19,16 @@
 //!   its own frame or placed by its footprint): `ground` (the grass; over bumps, the
 //!   road's surfaces draped on the height field), `road` (its surface, edge and centre
 //!   lines, crossing roads), `road_marks` (cracks, patches, pot holes), `verge`, `tree`,
-//!   `pole` and `pole_line`, `house`, `building`, `car` and `parked_car`, `overpass`,
+//!   `pole` and `pole_line`, `house`, `building`, `car` and `parked_car`, `truck`,
+//!   `vehicle_kind` (the kinds of vehicle in traffic, [`VehicleKind`]), `overpass`,
 //!   `placement` (the hand-placed clutter), `target_board`, `distractor`, `lead`, and
 //!   `vehicles` (the moving objects);
+//! - `back_model` ([`vehicle_back_model`]): the target model of each kind's back, from the
+//!   numbers its shape is built from;
 //! - `built_scene` ([`Scene`]), and on top `build` ([`Scene::build`], which reads as the
 //!   order of what it lays).
 
+mod back_model;
 mod bins;
 mod build;
 mod building;
@@ -61,17 +65,22 @@ mod terrain;
 #[cfg(test)]
 mod test_support;
 mod tree;
+mod truck;
+mod vehicle_kind;
 mod vehicles;
 mod verge;
 mod wall;
 
+pub use back_model::{
+    back_model_centre_m, body_from_back_model, vehicle_back_model, BACK_MODEL_NOMINAL_RANGE_M,
+};
 pub use built_scene::Scene;
 pub use builtin::{
     builtin_description, builtin_poses, builtin_target, BUILTIN_GAP_M, BUILTIN_SPEED_M_S,
 };
 pub use chunk::{Chunk, ChunkPart};
 pub use description::{
-    distractor_near_side, AutoGain, CameraMount, ChaseVehicle, Densities, Distractor,
+    distractor_near_side, ActorBody, AutoGain, CameraMount, ChaseVehicle, Densities, Distractor,
     DistractorKind, LeadVehicle, Placement, RoadSurface, SceneDescription, Sensor, Sun, Textures,
     FIELD_PERIOD_STEPS,
 };
@@ -89,3 +98,4 @@ pub use target_board::{
     STRIPE_WIDTH_M,
 };
 pub use terrain::Terrain;
+pub use vehicle_kind::VehicleKind;

@@ -14,8 +14,17 @@ impl ObjectSlot {
     pub const LEAD: u32 = 2;
     /// The first oncoming vehicle; the others follow.
     pub const FIRST_ONCOMING: u32 = 3;
-    /// How many slots the renderer provides (its uniform array's length).
-    pub const COUNT: u32 = 16;
+    /// The most oncoming vehicles a scene has (their slots run from
+    /// [`ObjectSlot::FIRST_ONCOMING`]): 13, the slots there were before the actors had any.
+    pub const MAX_ONCOMING: u32 = 13;
+    /// The first actor (a vehicle the description places in traffic and the caller
+    /// poses each frame); the others follow, in the description's order.
+    pub const FIRST_ACTOR: u32 = Self::FIRST_ONCOMING + Self::MAX_ONCOMING;
+    /// The most actors a scene has.
+    pub const MAX_ACTORS: u32 = 16;
+    /// How many slots the renderer provides (its uniform array's length, `scene.wgsl`'s
+    /// `Objects`).
+    pub const COUNT: u32 = Self::FIRST_ACTOR + Self::MAX_ACTORS;
     /// The bits of [`Vertex::object`] that hold the slot; the bits above hold the
     /// surface's [`Material`].
     ///

@@ -1,5 +1,5 @@
-//! The road: its surface along the route and past either end, the edge lines and the dashed
-//! centre line, and the crossing roads at intersections.
+//! The road: its surface along the route and past either end, the edge lines, the dashed
+//! centre line and lane lines, and the crossing roads at intersections.
 
 use super::bins::Bins;
 use super::description::RoadSurface;
@@ -67,9 +67,10 @@ pub(super) fn road_object(surface: RoadSurface) -> u32 {
         }
 }
 
-/// Lays the road strip, quad by quad, each with its pieces of the edge lines.
+/// Lays the road strip, quad by quad, each with its pieces of the edge lines (just beyond
+/// each direction's lanes).
 pub(super) fn lay_surface(site: &Site<'_>, bins: &mut Bins) {
-    let (route, lane, road_half) = (site.route, site.lane, site.road_half);
+    let (route, lanes_width, road_half) = (site.route, site.lanes_width, site.road_half);
     let road_object = road_object(site.description.road_surface);
     let paint_object = ObjectSlot::WORLD | Material::PAINT;
     for (s, s1) in quads(route, site.length) {
@@ -78,7 +79,7 @@ pub(super) fn lay_surface(site: &Site<'_>, bins: &mut Bins) {
         let lateral = [s, s1, -road_half, road_half];
         site.strip(mesh, lateral, ROAD_Y_M, ASPHALT, road_object);
         for side in [-1.0, 1.0] {
-            let l = side * (lane + 0.1);
+            let l = side * (lanes_width + 0.1);
             let mut a = s;
             // Edge lines stop across intersections: in short pieces near one, else in
             // one piece per road quad.
@@ -96,19 +97,35 @@ pub(super) fn lay_surface(site: &Site<'_>, bins: &mut Bins) {
     }
 }
 
-/// Lays the dashed centre line, stopping across intersections.
+/// Lays the dashed centre line, and with more than one lane each way the dashed lines
+/// between lanes (the same paint, dash and period, `k` lane widths either side of the
+/// centre line for k from 1 to `lanes` − 1), stopping across intersections. Each dash's
+/// lines are laid together, the centre line's first.
 pub(super) fn lay_centre_line(site: &Site<'_>, bins: &mut Bins) {
     let paint_object = ObjectSlot::WORLD | Material::PAINT;
+    let lanes = site.description.route.lanes;
     let mut s = -ROAD_RUNOUT_M;
     while s < site.length + ROAD_RUNOUT_M {
         if !site
             .route
             .near_intersection(s + 0.5 * DASH_M, site.road_half + 1.0)
         {
-            let mid = site.world(s + 0.5 * DASH_M, 0.0, 0.0);
-            let mesh = bins.at(mid[0], mid[2], Layer::Surface);
             let w = 0.5 * PAINT_WIDTH_M;
-            site.strip(mesh, [s, s + DASH_M, -w, w], MARK_Y_M, PAINT, paint_object);
+            let lines = (1..lanes).flat_map(|k| {
+                let l = f64::from(k) * site.lane;
+                [-l, l]
+            });
+            for l in std::iter::once(0.0).chain(lines) {
+                let mid = site.world(s + 0.5 * DASH_M, l, 0.0);
+                let mesh = bins.at(mid[0], mid[2], Layer::Surface);
+                site.strip(
+                    mesh,
+                    [s, s + DASH_M, l - w, l + w],
+                    MARK_Y_M,
+                    PAINT,
+                    paint_object,
+                );
+            }
         }
         s += DASH_PERIOD_M;
     }

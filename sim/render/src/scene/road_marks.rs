@@ -33,10 +33,10 @@ pub(super) fn lay(site: &Site<'_>, bins: &mut Bins) {
 }
 
 /// Where a mark is, drawn from `marks`: a station on the route and a lateral offset within
-/// the lanes.
+/// the lanes, of both directions.
 fn spot(site: &Site<'_>, marks: &mut ChaCha8Rng) -> (f64, f64) {
     let s = marks.random_range(0.0..site.length);
-    let l = marks.random_range(-site.lane..site.lane);
+    let l = marks.random_range(-site.lanes_width..site.lanes_width);
     (s, l)
 }
 

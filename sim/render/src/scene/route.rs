@@ -9,7 +9,7 @@
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 
 /// One piece of the centreline.
-#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema)]
 pub enum RouteSegment {
     /// A straight of the given length (metres).
     Straight {
@@ -25,15 +25,53 @@ pub enum RouteSegment {
     },
 }
 
-/// What the scenario says about the route.
-#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+/// What the scenario says about the route. The route is the road's centre line (its dashed
+/// paint); the road has [`RouteSpec::lanes`] lanes each way, ours to the right of it.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema)]
 pub struct RouteSpec {
     /// The centreline's pieces, in driving order.
     pub segments: Vec<RouteSegment>,
     /// Stations (metres along the centreline) where a road crosses at right angles.
     pub intersections_m: Vec<f64>,
-    /// Width of one lane, metres; the road has two, one each way.
+    /// Width of one lane, metres.
     pub lane_width_m: f64,
+    /// Lanes in each direction, 1–[`RouteSpec::MAX_LANES`] (1 when not given, and then
+    /// not written, so a description of one lane each way reads and writes as before).
+    /// Lane k (from 1) of our direction is centred [`RouteSpec::lane_centre_m`] to the right
+    /// of the centre line: lane 1 beside it (OpenDRIVE's lane −1), lane `lanes` by the
+    /// verge. The oncoming side mirrors ours.
+    #[serde(
+        default = "RouteSpec::one_lane",
+        skip_serializing_if = "RouteSpec::is_one_lane"
+    )]
+    #[schemars(extend("minimum" = 1, "maximum" = 4))]
+    pub lanes: u32,
+}
+
+impl RouteSpec {
+    /// The most lanes in each direction a road may have.
+    pub const MAX_LANES: u32 = 4;
+
+    /// The lateral offset of the centre of lane `lane` (1-based, counted from the centre
+    /// line) of our direction, metres to the right of the centre line:
+    /// `(lane − 0.5) · lane_width_m`. The oncoming side's lane k is at minus that. The rule
+    /// the planner's lane and the renderer's paint share.
+    pub fn lane_centre_m(&self, lane: u32) -> f64 {
+        (f64::from(lane) - 0.5) * self.lane_width_m
+    }
+
+    /// The width of our direction's lanes together, metres: the edge line is 0.1 m beyond.
+    pub fn lanes_width_m(&self) -> f64 {
+        f64::from(self.lanes) * self.lane_width_m
+    }
+
+    fn one_lane() -> u32 {
+        1
+    }
+
+    fn is_one_lane(lanes: &u32) -> bool {
+        *lanes == 1
+    }
 }
 
 /// One piece with its start state resolved.
@@ -193,6 +231,7 @@ mod tests {
             }],
             intersections_m: vec![],
             lane_width_m: 3.5,
+            lanes: 1,
         });
         // Heading +x, turning left (towards −z): a quarter circle ends at (10, −10) heading −z.
         let [x, z, h] = route.at(route.length_m());
@@ -204,5 +243,24 @@ mod tests {
         // Right of travel is +z at the start.
         let p = route.point(0.0, 2.0);
         assert!((p[1] - 2.0).abs() < 1e-12);
+    }
+}
+
+#[cfg(test)]
+mod lane_tests {
+    use super::*;
+
+    #[test]
+    fn lane_centres_count_from_the_centre_line() {
+        let spec = RouteSpec {
+            segments: vec![RouteSegment::Straight { length_m: 10.0 }],
+            intersections_m: vec![],
+            lane_width_m: 3.5,
+            lanes: 3,
+        };
+        assert_eq!(spec.lane_centre_m(1), 1.75);
+        assert_eq!(spec.lane_centre_m(2), 5.25);
+        assert_eq!(spec.lane_centre_m(3), 8.75);
+        assert_eq!(spec.lanes_width_m(), 10.5);
     }
 }

@@ -27,7 +27,10 @@ pub(super) struct Site<'a> {
     pub terrain: Option<&'a Terrain>,
     /// A lane's width, metres.
     pub lane: f64,
-    /// Half the paved road's width (a lane and its shoulder), metres.
+    /// The width of one direction's lanes together, metres (`lanes` lanes): the edge line
+    /// runs just beyond it.
+    pub lanes_width: f64,
+    /// Half the paved road's width (one direction's lanes and its shoulder), metres.
     pub road_half: f64,
     /// The route's length, metres.
     pub length: f64,
@@ -41,12 +44,14 @@ impl<'a> Site<'a> {
         terrain: Option<&'a Terrain>,
     ) -> Site<'a> {
         let lane = description.route.lane_width_m;
+        let lanes_width = description.route.lanes_width_m();
         Site {
             description,
             route,
             terrain,
             lane,
-            road_half: lane + SHOULDER_M,
+            lanes_width,
+            road_half: lanes_width + SHOULDER_M,
             length: route.length_m(),
         }
     }

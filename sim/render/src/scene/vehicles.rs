@@ -1,5 +1,5 @@
 //! The moving objects, each in its own frame and slot: the chase vehicle's hood, the lead
-//! with its board, and the oncoming traffic.
+//! with its board, the oncoming traffic, and the actors the description places.
 
 use super::car::{car, CarBody};
 use super::description::ChaseVehicle;
@@ -8,11 +8,13 @@ use super::lead::lead_vehicle;
 use super::mesh::Mesh;
 use super::object_slot::ObjectSlot;
 use super::site::Site;
+use super::vehicle_kind::vehicle;
 use rand::Rng;
 
 /// Appends the moving objects to `mesh`, in this order: the chase hood, the lead with its
-/// board, and the oncoming vehicles (as many as the description's density puts on the
-/// route and the next minute's driving, and the renderer has slots for).
+/// board, the oncoming vehicles (as many as the description's density puts on the
+/// route and the next minute's driving, at most [`ObjectSlot::MAX_ONCOMING`]), and the
+/// description's actors.
 pub(super) fn lay_objects(site: &Site<'_>, mesh: &mut Mesh) -> Vec<DynamicObject> {
     let description = site.description;
     let mut objects = vec![
@@ -32,7 +34,20 @@ pub(super) fn lay_objects(site: &Site<'_>, mesh: &mut Mesh) -> Vec<DynamicObject
         ),
     ];
     lay_oncoming(site, mesh, &mut objects);
+    lay_actors(site, mesh, &mut objects);
     objects
+}
+
+/// Appends the description's actors, actor k in slot [`ObjectSlot::FIRST_ACTOR`] + k,
+/// casting shadows, moved by [`Motion::Actor`].
+fn lay_actors(site: &Site<'_>, mesh: &mut Mesh, objects: &mut Vec<DynamicObject>) {
+    for (k, actor) in site.description.actors.iter().enumerate() {
+        let slot = ObjectSlot::FIRST_ACTOR + k as u32;
+        let mut part = Mesh::default();
+        vehicle(&mut part, slot, actor.albedo, actor.kind);
+        let motion = Motion::Actor(k);
+        objects.push(DynamicObject::appended(mesh, part, slot, true, motion));
+    }
 }
 
 /// The chase vehicle's hood, in the chase's frame.
@@ -62,8 +77,7 @@ fn lay_oncoming(site: &Site<'_>, mesh: &mut Mesh, objects: &mut Vec<DynamicObjec
     let mut oncoming = site.stream("oncoming-vehicles");
     let mut oncoming_bodies = site.stream("oncoming-vehicle-bodies");
     let span = site.length + d.oncoming_speed_m_s * 60.0;
-    let n = Site::count(d.oncoming_vehicles_per_km, span)
-        .min((ObjectSlot::COUNT - ObjectSlot::FIRST_ONCOMING) as usize);
+    let n = Site::count(d.oncoming_vehicles_per_km, span).min(ObjectSlot::MAX_ONCOMING as usize);
     for k in 0..n {
         let slot = ObjectSlot::FIRST_ONCOMING + k as u32;
         let mut part = Mesh::default();

@@ -101,6 +101,7 @@ pub(super) fn gather_items(
             object,
             &field.world_from_chase,
             &field.world_from_lead,
+            &field.world_from_actors,
             field.time_s,
         ) {
             world_from_object[object.slot as usize] =

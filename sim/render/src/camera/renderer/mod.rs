@@ -122,6 +122,17 @@ pub enum RenderError {
     /// The options are out of range.
     #[error("render options: {0}")]
     Options(String),
+    /// A frame's actor poses are not one per description actor.
+    #[error(
+        "the frame poses {got} actors, but the scene's description has {expected} \
+         (`FrameInput::world_from_actors` takes one pose per actor, in order)"
+    )]
+    Actors {
+        /// The description's actors.
+        expected: usize,
+        /// The poses given (the frame's, or its earlier field's).
+        got: usize,
+    },
     /// Reading the frame back failed.
     #[error("reading the frame back from the {backend} device failed: {reason}")]
     Readback {
@@ -353,6 +364,17 @@ impl Renderer {
         needed: Option<PixelRect>,
     ) -> Result<Frame, RenderError> {
         let description = self.scene.description();
+        let expected = description.actors.len();
+        let fields = std::iter::once(&input.world_from_actors)
+            .chain(input.earlier_field.as_ref().map(|f| &f.world_from_actors));
+        for poses in fields {
+            if poses.len() != expected {
+                return Err(RenderError::Actors {
+                    expected,
+                    got: poses.len(),
+                });
+            }
+        }
         let whole = PixelRect::whole(self.rig.width as usize, self.rig.height as usize);
         // With automatic gain control, its metering window is always exact too.
         let exact = match (needed, description.sensor.auto_gain) {

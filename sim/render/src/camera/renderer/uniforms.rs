@@ -311,3 +311,21 @@ pub(super) struct Placed {
     /// The target board's centre, world frame (`None` without a lead).
     pub board_centre: Option<Point3<f64>>,
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The shader's array of object transforms has a matrix for every slot, the actors'
+    /// included.
+    #[test]
+    fn the_shaders_object_array_holds_every_slot() {
+        let shader = include_str!("../scene.wgsl");
+        let array = format!(
+            "world_from_object: array<mat4x4<f32>, {}>",
+            ObjectSlot::COUNT
+        );
+        assert!(shader.contains(&array), "scene.wgsl lacks `{array}`");
+        assert_eq!(OBJECTS_BYTES, 64 * 32);
+    }
+}
