@@ -23,10 +23,10 @@ pub use recording::{
     REPLAY_CSV_COLUMNS,
 };
 pub use report::{
-    iso8601_utc, junit_xml, sigma2_column, write_junit, write_plots, Criterion, FramesCsv,
-    GapStats, JunitScenario, LateralError, OutputOptions, PlotTrace, RangeError, ReportError,
-    RunOutputs, Summary, SummaryBuilder, FRAMES_CSV_COLUMNS, GIF_DELAYS_CS, PLOT_FILES,
-    SCHEMA_VERSION, VIDEO_OUTPUTS,
+    iso8601_utc, junit_xml, sigma2_column, write_junit, write_plots, CollisionTime, Criterion,
+    EventTime, FramesCsv, GapStats, JunitScenario, LateralError, OutputOptions, PlotTrace,
+    RangeError, ReportError, RunOutputs, Summary, SummaryBuilder, TrafficSummary,
+    FRAMES_CSV_COLUMNS, GIF_DELAYS_CS, PLOT_FILES, SCHEMA_VERSION, TRAFFIC_COLUMNS, VIDEO_OUTPUTS,
 };
 pub use simulation::{RunError, Simulation, SimulationOptions};
 pub use sweep::{

@@ -198,6 +198,7 @@ impl Simulation {
                 video_stride,
                 expected_frames: Some(self.looped.frames()),
                 features: s.target.segments().len(),
+                traffic: s.has_traffic(),
                 ..OutputOptions::default()
             },
             &s.expect,

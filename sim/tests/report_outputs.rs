@@ -79,6 +79,7 @@ fn record(i: u64) -> FrameRecord {
         camera_pan_deg: 0.0,
         desired_gap_m: 10.0,
         false_alarm: false,
+        traffic: None,
     }
 }
 
@@ -117,6 +118,7 @@ fn expect() -> Expect {
         max_range_error_p95_m: None,
         max_loss_events: None,
         max_false_alarm_s: None,
+        ..Expect::default()
     }
 }
 
@@ -127,6 +129,7 @@ fn run(dir: &Path) -> sim::Summary {
         expected_frames: Some(FRAMES),
         plots: true,
         features: 10,
+        traffic: false,
     };
     let mut out = RunOutputs::create(dir, options, &expect()).unwrap();
     for i in 0..FRAMES {

@@ -109,6 +109,9 @@ scenario_test!(swerves, "swerves");
 scenario_test!(section4, "section4");
 scenario_test!(highway_90, "highway-90");
 scenario_test!(low_sun_trees, "low-sun-trees");
+scenario_test!(cut_in, "cut-in");
+scenario_test!(cut_out, "cut-out");
+scenario_test!(next_lane_traffic, "next-lane-traffic");
 
 macro_rules! robust_test {
     ($test:ident, $name:literal) => {
@@ -140,6 +143,9 @@ robust_test!(robust_tape_17min, "tape-17min");
 robust_test!(robust_intersections, "intersections");
 robust_test!(robust_stop_and_go, "stop-and-go");
 robust_test!(robust_highway_90, "highway-90");
+robust_test!(robust_cut_in, "cut-in");
+robust_test!(robust_cut_out, "cut-out");
+robust_test!(robust_next_lane_traffic, "next-lane-traffic");
 
 /// `low-sun-trees`: the low sun's long shadow brings the paper's mode to say `lost` early
 /// and lose the target for a moment, within the scenario's `[expect]`; robust mode, whose

@@ -407,7 +407,7 @@ impl EventScript {
                 i,
                 "trigger",
                 format!(
-                    "give exactly one of time_s, distance_m, gap_m, time_gap_s, ttc_s and \
+                    "must give exactly one of time_s, distance_m, gap_m, time_gap_s, ttc_s and \
                      after (given: {})",
                     if given.is_empty() {
                         "none".to_string()
@@ -517,7 +517,7 @@ fn action(i: usize, a: &ActionSpec) -> Result<Action, VehicleError> {
         return Err(invalid(
             i,
             "action",
-            "give exactly one of lane, speed_mps and stop".into(),
+            "must give exactly one of lane, speed_mps and stop".into(),
         ));
     }
     let f = |name: &str| format!("action.{name}");

@@ -30,6 +30,7 @@ mod render_thread;
 mod render_worker;
 mod scenario;
 mod target;
+mod traffic;
 
 pub use child::{Child, RASTER_THREADS_ENV};
 pub use closed_loop::{ClosedLoop, FrameOutput, FramePoses, LoopError, LoopOptions, LoopTiming};
@@ -40,18 +41,20 @@ pub use plugin::{
     ControllerChoice, Delivered, Drawn, Estimate, EstimateStatus, FrameTracker, PluginError,
     StepDetails, TrackerChoice, TrackerInput,
 };
-pub use record::{FrameRecord, LossCause, TrackerStatus};
+pub use record::{Contact, FrameRecord, LossCause, TrackerStatus, TrafficFrame, VehicleTruth};
 pub use render_worker::{fingerprint, receive_scene, send_scene, serve_frames};
+pub use scenario::MAX_ACTORS;
 pub use scenario::{
-    apply_override, from_toml_naming_field, locate as locate_field, scenario_schema_json,
-    shipped_scenarios, AutoGainFile, CameraFile, ChaseFile, ClutterFile, DistractorFile,
-    EnvironmentFile, Expect, LeadFile, LoopFile, OverpassFile, RoadFile, RouteFile, Scenario,
-    ScenarioError, ScenarioFile, ScenarioSpec, SegmentFile, SensorFile, SunFile, TexturesFile,
-    TrackerFile, BUILTIN_NAME, BUILTIN_TARGET_TEXT, FOCAL_LENGTH_MM, MAX_ARC_RADIUS_M,
-    MAX_BLUR_SIGMA_PX, MAX_BREADCRUMBS, MAX_INIT_OFFSET_PX, MAX_ROUTE_M, MIN_ARC_RADIUS_M,
-    SCHEMA_FILE_NAME,
+    apply_override, from_toml_naming_field, kind_albedo, kind_params, locate as locate_field,
+    scenario_schema_json, shipped_scenarios, ActorFile, ActorSpec, AutoGainFile, CameraFile,
+    ChaseFile, ClutterFile, DistractorFile, EnvironmentFile, Expect, LeadFile, LoopFile,
+    OverpassFile, RoadFile, RouteFile, Scenario, ScenarioError, ScenarioFile, ScenarioSpec,
+    SegmentFile, SensorFile, StartFile, SunFile, TexturesFile, TrackerFile, BUILTIN_NAME,
+    BUILTIN_TARGET_TEXT, FOCAL_LENGTH_MM, MAX_ARC_RADIUS_M, MAX_BLUR_SIGMA_PX, MAX_BREADCRUMBS,
+    MAX_INIT_OFFSET_PX, MAX_ROUTE_M, MIN_ARC_RADIUS_M, SCHEMA_FILE_NAME,
 };
 pub use target::{
     line_column, load as load_target, parse as parse_target, to_file_text as target_file_text,
     TargetFileError, MAX_CORNER_M, NOMINAL_RANGE_M,
 };
+pub use traffic::{Member, Place, Role, Vehicles};

@@ -11,6 +11,7 @@
 
 use crate::delayed::Delayed;
 use crate::scenario::{Scenario, ScenarioError};
+use crate::traffic::{Member, Road, Role, Vehicles};
 use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion};
 use sim_render::{
     ground_truth_of, Backend, CameraRig, ChaseVehicle, GroundTruth, LeadVehicle, RenderOptions,
@@ -19,8 +20,8 @@ use sim_render::{
 use std::sync::Arc;
 use tracker::Location;
 use vehicle::{
-    ChaseController, DelayLine, LeadDriver, PanHead, Pose, Route, Vector, VehicleId, VehicleParams,
-    World, WorldConfig,
+    ActorDriver, ChaseController, DelayLine, Events, Lanes, LeadDriver, LeadDriverConfig, PanHead,
+    Pose, Route, Vector, VehicleId, VehicleParams, World, WorldConfig,
 };
 
 /// Spacing of the points that turn the route's lane centre into the drivers' polyline,
@@ -119,7 +120,14 @@ fn scene_description(s: &Scenario, world: &WorldConfig) -> SceneDescription {
         ground: world.ground.clone(),
         road_surface: s.road_surface,
         textures: s.textures,
-        actors: Vec::new(),
+        actors: s
+            .actors
+            .iter()
+            .map(|a| sim_render::ActorBody {
+                kind: a.kind,
+                albedo: a.albedo,
+            })
+            .collect(),
     }
 }
 
@@ -164,7 +172,7 @@ fn lane_polyline(route: &SceneRoute, lateral_m: f64) -> (Vec<Vector>, f32) {
 
 /// Where the chase's rear axle starts, metres along the route: `initial_gap_m` from its
 /// camera to the lead's rear bumper, the lead's rear axle at `lead_start_m`.
-fn chase_start_m(lead_start_m: f64, initial_gap_m: f64, camera_forward_m: f32) -> f64 {
+pub(crate) fn chase_start_m(lead_start_m: f64, initial_gap_m: f64, camera_forward_m: f32) -> f64 {
     let lead_params = VehicleParams::pickup();
     lead_start_m + f64::from(lead_params.rear_bumper_x_m())
         - initial_gap_m
@@ -210,6 +218,21 @@ pub struct Plan {
     pub(crate) tracker_start: Location,
     /// Wall-clock seconds the plan took to build (for speed reports only).
     pub(crate) built_s: f64,
+    /// The other vehicles and the events, when the scenario has traffic.
+    pub(crate) traffic: Option<PlannedTraffic>,
+}
+
+/// The traffic of a plan: every vehicle in one list, the actors in the physics with their
+/// drivers, and the lead's events.
+pub(crate) struct PlannedTraffic {
+    pub(crate) vehicles: Vehicles,
+    /// The actors' physics, in the list's order after the chase and the lead.
+    pub(crate) actor_ids: Vec<VehicleId>,
+    pub(crate) actors: Vec<ActorDriver>,
+    /// The lead's events (none, when only the actors have traffic).
+    pub(crate) lead_events: Events,
+    /// Where the vehicles are on the road.
+    pub(crate) road: Road,
 }
 
 impl Plan {
@@ -230,6 +253,13 @@ impl Plan {
         let scene_route = SceneRoute::new(s.route.clone());
         let (points, reach_m) = lane_polyline(&scene_route, s.route.lane_centre_m(1));
         let route = Route::new(points).map_err(|e| invalid("route.segments", format!(": {e}")))?;
+        // The lead drives its own lane's centre (the same polyline in lane 1).
+        let lead_route = if s.lead_lane == 1 {
+            route.clone()
+        } else {
+            let (points, _) = lane_polyline(&scene_route, s.route.lane_centre_m(s.lead_lane));
+            Route::new(points).map_err(|e| invalid("route.segments", format!(": {e}")))?
+        };
         let chase_start_m = chase_start_m(
             s.lead_start_m,
             s.initial_gap_m,
@@ -252,8 +282,8 @@ impl Plan {
             ));
         }
         let world_config = world_config(&s.world, reach_m);
-        let (world, chase_id, lead_id) = start_world(s, &world_config, &route, chase_start_m)
-            .map_err(|e| match e {
+        let (mut world, chase_id, lead_id) =
+            start_world(s, &world_config, &lead_route, chase_start_m).map_err(|e| match e {
                 vehicle::VehicleError::InvalidParameter { field, .. }
                     if field.starts_with("bumps.") =>
                 {
@@ -264,8 +294,12 @@ impl Plan {
         let v0 = s.lead_initial_speed_mps as f32;
         let chase = ChaseController::new(s.chase.clone(), &VehicleParams::hmmwv_m998(), v0)
             .map_err(|e| vehicle_error("chase.controller", &e))?;
+        let traffic = s
+            .has_traffic()
+            .then(|| plan_traffic(s, &scene_route, &route, &mut world, chase_start_m))
+            .transpose()?;
         let lead = LeadDriver::new(
-            route,
+            lead_route,
             s.lead_profile.clone(),
             s.lead_driver.clone(),
             &VehicleParams::pickup(),
@@ -347,6 +381,7 @@ impl Plan {
             first_view,
             tracker_start,
             built_s: started.elapsed().as_secs_f64(),
+            traffic,
         })
     }
 
@@ -369,6 +404,12 @@ impl Plan {
     /// the initial gap and the camera mount; at least 0).
     pub fn chase_start_m(&self) -> f64 {
         self.chase_start_m
+    }
+
+    /// Every vehicle of the run, in order (the chase, the lead, the actors), when the
+    /// scenario has traffic.
+    pub fn vehicles(&self) -> Option<&Vehicles> {
+        self.traffic.as_ref().map(|t| &t.vehicles)
     }
 
     /// The scene's geometry.
@@ -441,4 +482,113 @@ fn start_world(
     let lead_id = world.add_vehicle(&VehicleParams::pickup(), pose_at(s.lead_start_m), v0)?;
     let chase_id = world.add_vehicle(&VehicleParams::hmmwv_m998(), pose_at(chase_start_m), v0)?;
     Ok((world, chase_id, lead_id))
+}
+
+/// The traffic of scenario `s`: the actors placed in `world` on their lanes (on the road of
+/// `scene_route`; `route` is lane 1's centre, the road's measure of stations) with their
+/// drivers, the lead's events, and every vehicle in one list.
+fn plan_traffic(
+    s: &Scenario,
+    scene_route: &SceneRoute,
+    route: &Route,
+    world: &mut World,
+    chase_start_m: f64,
+) -> Result<PlannedTraffic, ScenarioError> {
+    let src = &s.source;
+    let (lead_body, lead_from_scene) = lead_body();
+    let _ = lead_body;
+    let mut members = vec![
+        Member {
+            name: "chase".into(),
+            kind: "hmmwv".into(),
+            role: Role::Follower,
+            params: VehicleParams::hmmwv_m998(),
+            centre_x_m: 0.0,
+        },
+        Member {
+            name: "lead".into(),
+            kind: "pickup".into(),
+            role: Role::Lead,
+            params: VehicleParams::pickup(),
+            centre_x_m: lead_from_scene.translation.x,
+        },
+    ];
+    for a in &s.actors {
+        let params = crate::scenario::kind_params(a.kind);
+        members.push(Member {
+            name: a.name.clone(),
+            kind: a.kind.as_str().into(),
+            role: Role::Actor,
+            centre_x_m: f64::from(params.body_centre_x_m()),
+            params,
+        });
+    }
+    let vehicles = Vehicles::new(members);
+    let names: Vec<&str> = vehicles.members().iter().map(|m| m.name.as_str()).collect();
+    let lanes = |route_lane: u32| Lanes {
+        width_m: s.route.lane_width_m,
+        count: s.route.lanes,
+        route_lane,
+    };
+    let lead_events = Events::new(&s.lead_events, &names, lanes(s.lead_lane))
+        .map_err(|e| vehicle_field_error(src, "lead.events", &e))?;
+    let mut lane_routes: Vec<(u32, Route)> = Vec::new();
+    let mut actor_ids = Vec::new();
+    let mut actors = Vec::new();
+    let mut stations = vec![chase_start_m, s.lead_start_m];
+    for (i, (a, member)) in s.actors.iter().zip(&vehicles.members()[2..]).enumerate() {
+        let at = format!("actors[{i}]");
+        let lane_route = match lane_routes.iter().find(|(l, _)| *l == a.lane) {
+            Some((_, r)) => r.clone(),
+            None => {
+                let (points, _) = lane_polyline(scene_route, s.route.lane_centre_m(a.lane));
+                let r = Route::new(points)
+                    .map_err(|e| src.invalid("route.segments", format!(": {e}")))?;
+                lane_routes.push((a.lane, r.clone()));
+                r
+            }
+        };
+        // Its start: the station along the road, on its lane's centre.
+        let [x, z] = scene_route.point(a.start_m, s.route.lane_centre_m(a.lane));
+        let on_lane = lane_route.project(Vector::new(x as f32, 0.0, z as f32)).s_m;
+        let pose = Pose::from_parts(
+            lane_route.point_at(on_lane),
+            vehicle::Rotation::from_rotation_y(vehicle::direction_heading(
+                lane_route.tangent_at(on_lane),
+            )),
+        );
+        let id = world
+            .add_vehicle(&member.params, pose, a.initial_speed_mps as f32)
+            .map_err(|e| vehicle_field_error(src, &at, &e))?;
+        let driver = LeadDriver::new(
+            lane_route,
+            a.profile.clone(),
+            LeadDriverConfig::default(),
+            &member.params,
+        )
+        .map_err(|e| vehicle_field_error(src, &at, &e))?;
+        let events = Events::new(&a.events, &names, lanes(a.lane))
+            .map_err(|e| vehicle_field_error(src, &format!("{at}.events"), &e))?;
+        actor_ids.push(id);
+        actors.push(ActorDriver::new(driver, events));
+        stations.push(a.start_m);
+    }
+    let road = Road::new(route.clone(), s.route.lane_width_m, &stations);
+    Ok(PlannedTraffic {
+        vehicles,
+        actor_ids,
+        actors,
+        lead_events,
+        road,
+    })
+}
+
+/// A vehicle crate's error about the part of the scenario at `prefix`, placed in its file.
+fn vehicle_field_error(
+    src: &crate::scenario::Source,
+    prefix: &str,
+    e: &vehicle::VehicleError,
+) -> ScenarioError {
+    let (field, message) = crate::scenario::vehicle_error(prefix, e);
+    src.invalid(&field, message)
 }

@@ -170,4 +170,65 @@ pub struct FrameRecord {
     /// tracker's word brakes for nothing on such a frame.
     #[serde(default)]
     pub false_alarm: bool,
+    /// The traffic's truth at the frame, when the scenario has traffic (other vehicles, or
+    /// events): `None` otherwise, and then left out of every output.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub traffic: Option<TrafficFrame>,
+}
+
+/// The traffic's truth at a frame's capture, and what happened in the physics since the
+/// frame before (events, contacts).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct TrafficFrame {
+    /// The vehicle in the chase's path: the nearest ahead of it whose body reaches into the
+    /// chase's lane corridor (see `sim_core::PathCorridor`); `None` with the road clear.
+    pub path_vehicle: Option<String>,
+    /// The gap to it along the road, bumper to bumper, metres (NaN without one).
+    pub path_gap_m: f64,
+    /// The chase's speed towards it, m/s (positive closing; NaN without one).
+    pub path_closing_mps: f64,
+    /// Time to collision with it, seconds: the gap over the closing speed while closing
+    /// (infinite when not closing, NaN without one).
+    pub path_ttc_s: f64,
+    /// The vehicle whose target the tracker's estimate lies on, by the ground truth's
+    /// tolerance: the lead while it is not lost (the lead's is the one target in the world
+    /// so far); `None` otherwise.
+    pub tracked_vehicle: Option<String>,
+    /// Events that started or ended in the physics since the previous frame, in order, as
+    /// `vehicle/event:started` or `vehicle/event:ended`.
+    pub events: Vec<String>,
+    /// The first contacts of the chase with another vehicle since the previous frame.
+    pub contacts: Vec<Contact>,
+    /// Every vehicle, in the run's order (`chase`, `lead`, the actors).
+    pub vehicles: Vec<VehicleTruth>,
+}
+
+/// A contact's first step: what the chase touched, and how fast it was closing.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Contact {
+    /// The vehicle touched.
+    pub vehicle: String,
+    /// When, seconds.
+    pub t_s: f64,
+    /// The speed of the chase towards it along the road then, m/s.
+    pub closing_mps: f64,
+}
+
+/// One vehicle's truth at a frame's capture.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct VehicleTruth {
+    /// Its name (`chase`, `lead`, or the actor's).
+    pub name: String,
+    /// What it is (`hmmwv`, `pickup`, or the actor's kind).
+    pub kind: String,
+    /// Its rear axle on the ground (world x, z), metres.
+    pub xz: [f64; 2],
+    /// Its heading, radians (the world's yaw: positive turns left).
+    pub heading_rad: f64,
+    /// Its forward speed, m/s.
+    pub speed_mps: f64,
+    /// Its rear axle's station along the route, metres.
+    pub station_m: f64,
+    /// Its lateral offset from the route's lane 1 centre, metres (positive left).
+    pub offset_m: f64,
 }

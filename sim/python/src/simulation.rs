@@ -58,6 +58,11 @@ pub(crate) fn truth_dict<'py>(py: Python<'py>, r: &FrameRecord) -> PyResult<Boun
     d.set_item("false_alarm", r.false_alarm)?;
     d.set_item("collision", r.collision)?;
     d.set_item("lateral_deviation_m", r.lateral_deviation_m)?;
+    // With traffic: the vehicle in the chase's path and every vehicle (`vehicles`: name,
+    // kind, xz, heading_rad, speed_mps, station_m, offset_m), the events, the contacts.
+    if let Some(t) = &r.traffic {
+        d.set_item("traffic", to_python(py, t)?)?;
+    }
     Ok(d)
 }
 
@@ -176,7 +181,11 @@ impl Simulation {
         self.last(|out| out.map(|o| frame_array(py, &o.image)).transpose())
     }
 
-    /// The ground truth of the last frame (a dict; the plug-ins never see it).
+    /// The ground truth of the last frame (a dict; the plug-ins never see it). In a
+    /// scenario with traffic, its "traffic" entry lists every vehicle ("vehicles": the
+    /// chase, the lead and the actors, each with its name, kind, position, heading, speed
+    /// and place on the road), the vehicle in the chase's path with the gap and the time to
+    /// collision, the vehicle tracked, and the events and contacts since the last frame.
     #[getter]
     fn truth(&self, py: Python<'_>) -> PyResult<Option<Py<PyAny>>> {
         self.last(|out| {

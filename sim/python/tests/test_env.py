@@ -109,3 +109,13 @@ def test_async_vector_env_with_two_workers():
     assert np.array_equal(o[0], first)
     again.close()
     single.close()
+
+
+def test_follow_runs_a_traffic_scenario_and_reports_its_truth():
+    env = gym.make("carfollow/Follow-v0", scenario="cut-in", observation="estimate")
+    env.reset(seed=4)
+    for _ in range(20):
+        _, _, terminated, truncated, info = env.step(env.action_space.sample() * 0.0)
+        assert not (terminated or truncated)
+    assert [v["name"] for v in info["truth"]["traffic"]["vehicles"]] == ["chase", "lead", "van"]
+    env.close()

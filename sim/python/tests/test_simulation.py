@@ -126,3 +126,22 @@ def carfollow_scenarios():
     from conftest import SCENARIOS
 
     return SCENARIOS
+
+
+def test_the_truth_lists_every_vehicle_of_a_traffic_scenario():
+    sim = carfollow.Simulation("cut-in", overrides={"duration_s": 12.0})
+    assert sim.step()
+    traffic = sim.truth["traffic"]
+    names = [v["name"] for v in traffic["vehicles"]]
+    assert names == ["chase", "lead", "van"]
+    van = traffic["vehicles"][2]
+    assert van["kind"] == "van" and abs(van["speed_mps"] - 9.7) < 0.5
+    assert traffic["path_vehicle"] == "lead" and traffic["tracked_vehicle"] == "lead"
+    events = []
+    while sim.step():
+        events += sim.truth["traffic"]["events"]
+    assert events == ["van/cut-in:started"]
+    # Without traffic the truth has no such entry.
+    plain = carfollow.Simulation("nist-grounds", overrides=SHORT)
+    plain.step()
+    assert "traffic" not in plain.truth

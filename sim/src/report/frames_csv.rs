@@ -60,6 +60,19 @@ pub const FRAMES_CSV_COLUMNS: [&str; 42] = [
     "false_alarm",
 ];
 
+/// The columns after the σ² columns in a run with traffic (other vehicles or events; see
+/// `sim_core::TrafficFrame`): the vehicle in the chase's path (empty when the road ahead
+/// is clear), the gap to it and the time to collision with it (empty when not closing),
+/// the vehicle the tracker holds (empty when none), and the events that started or ended
+/// since the previous frame (`vehicle/event:started`, separated by `;`).
+pub const TRAFFIC_COLUMNS: [&str; 5] = [
+    "path_vehicle",
+    "path_gap_m",
+    "path_ttc_s",
+    "tracked_vehicle",
+    "event",
+];
+
 /// The name of the column after [`FRAMES_CSV_COLUMNS`] holding feature `j`'s σ² (eq. 13),
 /// one per segment of the target model: `sigma2_f0`, `sigma2_f1`, ...
 pub fn sigma2_column(j: usize) -> String {
@@ -73,26 +86,36 @@ pub struct FramesCsv {
     path: PathBuf,
     out: csv::Writer<File>,
     features: usize,
+    /// Whether the rows end with the [`TRAFFIC_COLUMNS`].
+    traffic: bool,
     /// The row being written, one field at a time, reused.
     row: Row,
 }
 
 impl FramesCsv {
     /// Creates (or truncates) the file and writes the header: [`FRAMES_CSV_COLUMNS`], then
-    /// one σ² column per feature of a model with `features` segments ([`sigma2_column`]).
-    pub fn create(path: impl AsRef<Path>, features: usize) -> Result<FramesCsv, ReportError> {
+    /// one σ² column per feature of a model with `features` segments ([`sigma2_column`]),
+    /// then, with `traffic`, the [`TRAFFIC_COLUMNS`].
+    pub fn create(
+        path: impl AsRef<Path>,
+        features: usize,
+        traffic: bool,
+    ) -> Result<FramesCsv, ReportError> {
         let path = path.as_ref().to_path_buf();
         let file = File::create(&path).map_err(ReportError::io(&path))?;
         let mut csv = FramesCsv {
             path,
             out: csv_writer(file),
             features,
+            traffic,
             row: Row::default(),
         };
+        let traffic_columns = if traffic { &TRAFFIC_COLUMNS[..] } else { &[] };
         let header: Vec<String> = FRAMES_CSV_COLUMNS
             .iter()
             .map(|c| c.to_string())
             .chain((0..features).map(sigma2_column))
+            .chain(traffic_columns.iter().map(|c| c.to_string()))
             .collect();
         csv.out
             .write_record(&header)
@@ -109,6 +132,9 @@ impl FramesCsv {
     /// Writes one row for `r` and flushes it to the file.
     pub fn write(&mut self, r: &FrameRecord) -> Result<(), ReportError> {
         self.row.fill(r, self.features);
+        if self.traffic {
+            self.row.traffic(r.traffic.as_ref());
+        }
         self.out
             .write_record(&self.row.fields)
             .map_err(|e| csv_error(&self.path, e))?;
@@ -205,6 +231,29 @@ impl Row {
         self.fields.truncate(self.next);
     }
 
+    /// The [`TRAFFIC_COLUMNS`] of a record (empty fields without its traffic).
+    fn traffic(&mut self, t: Option<&sim_core::TrafficFrame>) {
+        fn name(v: Option<&String>) -> &str {
+            v.map_or("", String::as_str)
+        }
+        match t {
+            Some(t) => {
+                self.text(name(t.path_vehicle.as_ref()));
+                self.num(t.path_gap_m);
+                self.num(t.path_ttc_s);
+                self.text(name(t.tracked_vehicle.as_ref()));
+                let events = t.events.join(";");
+                self.text(&events);
+            }
+            None => {
+                for _ in TRAFFIC_COLUMNS {
+                    self.text("");
+                }
+            }
+        }
+        self.fields.truncate(self.next);
+    }
+
     /// The next field, cleared.
     fn field(&mut self) -> &mut String {
         if self.next == self.fields.len() {
@@ -282,6 +331,7 @@ pub(crate) mod tests {
             camera_pan_deg: 0.0,
             desired_gap_m: 10.0,
             false_alarm: false,
+            traffic: None,
         }
     }
 
@@ -293,7 +343,7 @@ pub(crate) mod tests {
     fn header_then_one_flushed_row_per_frame() {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("frames.csv");
-        let mut csv = FramesCsv::create(&path, 3).unwrap();
+        let mut csv = FramesCsv::create(&path, 3, false).unwrap();
         csv.write(&record(0)).unwrap();
         let mut r = record(1);
         r.est_range_m = f64::NAN;
@@ -348,7 +398,7 @@ pub(crate) mod tests {
         r.chase_mode = "stop, \"now\"".into();
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("frames.csv");
-        let mut csv = FramesCsv::create(&path, 0).unwrap();
+        let mut csv = FramesCsv::create(&path, 0, false).unwrap();
         csv.write(&r).unwrap();
         let text = std::fs::read_to_string(&path).unwrap();
         let row = text.lines().nth(1).unwrap();
@@ -364,7 +414,7 @@ pub(crate) mod tests {
     fn create_names_the_file_on_error() {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("missing-dir").join("frames.csv");
-        let err = FramesCsv::create(&path, 3).unwrap_err();
+        let err = FramesCsv::create(&path, 3, false).unwrap_err();
         assert!(err.to_string().contains("frames.csv"), "{err}");
     }
 }

@@ -14,11 +14,12 @@ mod summary;
 mod video;
 
 pub use error::ReportError;
-pub use frames_csv::{csv_writer, sigma2_column, FramesCsv, FRAMES_CSV_COLUMNS};
+pub use frames_csv::{csv_writer, sigma2_column, FramesCsv, FRAMES_CSV_COLUMNS, TRAFFIC_COLUMNS};
 pub use junit::{iso8601_utc, junit_xml, write_junit, JunitScenario};
 pub use outputs::{OutputOptions, RunOutputs, VIDEO_OUTPUTS};
 pub use plots::{write_plots, PlotTrace, PLOT_FILES};
 pub use summary::{
-    Criterion, GapStats, LateralError, RangeError, Summary, SummaryBuilder, SCHEMA_VERSION,
+    CollisionTime, Criterion, EventTime, GapStats, LateralError, RangeError, Summary,
+    SummaryBuilder, TrafficSummary, SCHEMA_VERSION,
 };
 pub use video::{VideoWriter, GIF_DELAYS_CS};

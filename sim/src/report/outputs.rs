@@ -40,6 +40,9 @@ pub struct OutputOptions {
     pub plots: bool,
     /// Segments of the target model: `frames.csv` has a σ² column for each.
     pub features: usize,
+    /// The scenario has traffic (other vehicles, or events): `frames.csv` ends with the
+    /// traffic's columns ([`super::TRAFFIC_COLUMNS`]).
+    pub traffic: bool,
 }
 
 impl Default for OutputOptions {
@@ -50,6 +53,7 @@ impl Default for OutputOptions {
             expected_frames: None,
             plots: true,
             features: 0,
+            traffic: false,
         }
     }
 }
@@ -119,7 +123,7 @@ impl RunOutputs {
                 _ => {}
             }
         }
-        let csv = FramesCsv::create(dir.join("frames.csv"), options.features)?;
+        let csv = FramesCsv::create(dir.join("frames.csv"), options.features, options.traffic)?;
         let at_fraction = match options.expected_frames {
             Some(n) if options.video && n > 0 => vec![
                 (n / 4, "still_25pct.png"),

@@ -15,6 +15,8 @@ pub(super) struct Captured {
     pub(super) chase: VehicleState,
     pub(super) lead: VehicleState,
     pub(super) input: FrameInput,
+    /// Every vehicle's state, in the traffic's list order (`None` without traffic).
+    pub(super) traffic: Option<Vec<VehicleState>>,
     /// The pan head's encoder reading at capture, radians (0 without one).
     pub(super) pan_reading_rad: f64,
     /// The camera in the world (panned by the head's true angle).
@@ -34,17 +36,25 @@ impl Captured {
         let chase = drive.world.vehicle_state(drive.chase_id);
         let lead = drive.world.vehicle_state(drive.lead_id);
         let frame_index = now.0 / u64::from(STEPS_PER_FRAME);
+        let traffic = drive.traffic.as_ref().map(|t| t.states(&drive.world));
+        let world_from_actors = match (&drive.traffic, &traffic) {
+            (Some(t), Some(states)) => t.actor_poses(states),
+            _ => Vec::new(),
+        };
         let input = FrameInput {
             frame_index,
             time_s: now.seconds(),
             world_from_chase: iso(&chase.world_from_vehicle),
             world_from_lead: iso(&lead.world_from_vehicle) * lead_from_scene,
-            world_from_actors: Vec::new(),
+            world_from_actors,
             camera_pan_rad: drive.pan_angle_rad(),
             auto_gain: auto_gain.gain_for(frame_index),
             // Before the first frame the world stood still.
             earlier_field: drive.interlaced.then(|| {
-                let f = (drive.earlier_field.clone()).unwrap_or_else(|| drive.field_now());
+                let f = drive
+                    .earlier_field
+                    .clone()
+                    .unwrap_or_else(|| drive.field_now());
                 Field {
                     world_from_lead: f.world_from_lead * lead_from_scene,
                     ..f
@@ -58,6 +68,7 @@ impl Captured {
             chase,
             lead,
             input,
+            traffic,
             pan_reading_rad: drive.pan_reading_rad(),
             world_from_camera,
         }

@@ -1,6 +1,7 @@
 //! The physics side of the loop: both vehicles, their drivers and the delay line between
 //! the tracker and the chase controller, stepped eight 120 Hz steps to each camera frame.
 
+use super::traffic_drive::TrafficDrive;
 use crate::delayed::Delayed;
 use crate::plan::iso;
 use crate::plugin::{ControlInput, Controller, Delivered, Estimate, EstimateStatus, PluginError};
@@ -102,6 +103,8 @@ pub(super) struct Drive {
     /// The step at which the lead came within [`ROAD_END_M`] of its route's end, where its
     /// driver stops it.
     pub(super) lead_at_road_end: Option<Step>,
+    /// The other vehicles and the events, when the scenario has traffic.
+    pub(super) traffic: Option<TrafficDrive>,
 }
 
 /// How near its route's end the lead counts as having reached it, m: its driver stops it
@@ -123,6 +126,7 @@ impl Drive {
     pub(super) fn advance_frame(&mut self) -> Driven {
         self.advance_steps(None);
         let ahead = self.ahead.take().expect("the frame's steps have run");
+        let traffic_log = self.traffic.as_mut().map(TrafficDrive::take_log);
         let (chase_mode, desired_gap_m) = match self.builtin() {
             Some(c) => (Some(c.mode()), c.telemetry().desired_gap_m),
             None => (None, f32::NAN),
@@ -132,6 +136,7 @@ impl Drive {
             collision: ahead.collision,
             chase_mode,
             desired_gap_m,
+            traffic_log,
         }
     }
 
@@ -184,7 +189,10 @@ impl Drive {
             if let Some(pan) = &mut self.pan {
                 pan.step(pan_rate_rad_s);
             }
-            let lead_controls = self.lead.update(step_now, &lead);
+            let lead_controls = match &mut self.traffic {
+                None => self.lead.update(step_now, &lead),
+                Some(t) => t.drive(&mut self.world, &mut self.lead, step_now, &lead),
+            };
             if self.lead_at_road_end.is_none()
                 && self.lead.progress_m() >= self.lead.route().length_m() - ROAD_END_M
             {
@@ -193,7 +201,10 @@ impl Drive {
             self.world.set_controls(self.chase_id, ahead.controls);
             self.world.set_controls(self.lead_id, lead_controls);
             self.world.step();
-            ahead.collision |= self.world.vehicles_touch(self.chase_id, self.lead_id);
+            ahead.collision |= match &mut self.traffic {
+                None => self.world.vehicles_touch(self.chase_id, self.lead_id),
+                Some(t) => t.touching(&self.world),
+            };
             ahead.steps += 1;
         }
         self.ahead = Some(ahead);
@@ -211,9 +222,16 @@ impl Drive {
             time_s: self.world.now().seconds(),
             world_from_chase: iso(&self.world.vehicle_state(self.chase_id).world_from_vehicle),
             world_from_lead: iso(&self.world.vehicle_state(self.lead_id).world_from_vehicle),
-            world_from_actors: Vec::new(),
+            world_from_actors: self.actor_poses(),
             camera_pan_rad: self.pan_angle_rad(),
         }
+    }
+
+    /// The actors' poses now, as the renderer draws them (none without traffic).
+    pub(super) fn actor_poses(&self) -> Vec<nalgebra::Isometry3<f64>> {
+        self.traffic
+            .as_ref()
+            .map_or_else(Vec::new, |t| t.actor_poses(&t.states(&self.world)))
     }
 
     /// The pan head's true angle, radians (0 without one).
@@ -265,8 +283,8 @@ impl Drive {
 /// What the physics from a frame to the next leaves for the frame's record: the last
 /// controls, whether the vehicles touched, and the chase controller's mode and desired gap
 /// at its end (taken then: with two frames in flight the physics runs on before the
-/// record is made).
-#[derive(Clone, Copy, Debug)]
+/// record is made), and the traffic's events and contacts in it.
+#[derive(Clone, Debug)]
 pub(super) struct Driven {
     pub(super) controls: vehicle::Controls,
     pub(super) collision: bool,
@@ -274,4 +292,7 @@ pub(super) struct Driven {
     pub(super) chase_mode: Option<vehicle::ChaseMode>,
     /// The built-in controller's desired gap (NaN for another).
     pub(super) desired_gap_m: f32,
+    /// The traffic's events and the chase's contacts in these steps (`None` without
+    /// traffic).
+    pub(super) traffic_log: Option<(Vec<String>, Vec<crate::record::Contact>)>,
 }

@@ -14,6 +14,7 @@ mod recorder;
 mod renderers;
 mod schedule;
 mod tracking;
+mod traffic_drive;
 mod two_in_flight;
 
 pub use error::LoopError;
@@ -239,8 +240,12 @@ impl ClosedLoop {
             rig,
             lead_from_scene,
             tracker_start: init,
+            traffic,
             ..
         } = plan;
+        let recorder_traffic = traffic
+            .as_ref()
+            .map(|t| (t.road.clone(), t.vehicles.clone()));
         let options = render_options(backend);
         let renderer = Renderer::new(scene.clone(), rig.clone(), &options)?;
         let fingerprint = fingerprint(scene.description(), &rig, &options);
@@ -276,6 +281,7 @@ impl ClosedLoop {
             earlier_field: None,
             ahead: None,
             lead_at_road_end: None,
+            traffic: traffic.map(|t| traffic_drive::TrafficDrive::new(t, chase_id, lead_id)),
         };
         let recorder = Recorder {
             scene: scene.clone(),
@@ -286,6 +292,7 @@ impl ClosedLoop {
             lead_path: lane_behind(&scene_route, &s, chase_start_m),
             chase_distance_m: 0.0,
             last_chase_xz: xz(&drive.world.vehicle_state(chase_id).world_from_vehicle),
+            traffic: recorder_traffic,
         };
         let eye = Eye {
             parts: FrameParts::new(rig.width, rig.height, turning.then_some(rig.intrinsics)),
@@ -492,7 +499,7 @@ fn tracking_of(
 /// The lead's lane from 10 m behind the chase's start to the lead's start, metre by metre:
 /// the lead's path before t = 0, so that the chase has a path from the first frame.
 fn lane_behind(route: &SceneRoute, s: &Scenario, chase_start_m: f64) -> DrivenPath {
-    let lateral = s.route.lane_centre_m(1);
+    let lateral = s.route.lane_centre_m(s.lead_lane);
     let mut path = DrivenPath::new();
     for k in 0..=((s.lead_start_m - chase_start_m + 10.0) as usize) {
         let station = (chase_start_m - 10.0 + k as f64).max(0.0);

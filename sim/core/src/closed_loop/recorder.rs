@@ -6,6 +6,7 @@ use super::tracking::Tracked;
 use crate::driven_path::DrivenPath;
 use crate::plugin::{Estimate, EstimateStatus};
 use crate::record::{FrameRecord, LossCause, TrackerStatus};
+use crate::traffic::{self, Road, Vehicles};
 use sim_render::{target_occluded, Frame, GroundTruth, Scene};
 use std::sync::Arc;
 
@@ -46,6 +47,8 @@ pub(super) struct Recorder {
     pub(super) lead_path: DrivenPath,
     pub(super) chase_distance_m: f64,
     pub(super) last_chase_xz: [f64; 2],
+    /// The road and the vehicle list, when the scenario has traffic.
+    pub(super) traffic: Option<(Road, Vehicles)>,
 }
 
 impl Recorder {
@@ -63,6 +66,7 @@ impl Recorder {
             collision,
             chase_mode,
             desired_gap_m,
+            traffic_log,
         } = driven;
         let (chase_state, lead_state) = (&captured.chase, &captured.lead);
         let truth = frame.truth;
@@ -111,6 +115,18 @@ impl Recorder {
         self.last_chase_xz = chase_xz;
         self.lead_path.push(lead_xz);
         let lateral_deviation_m = self.lead_path.distance(chase_xz);
+        // The lead's target is the one target in the world: the estimate holds the lead
+        // when it is within the tolerance of it.
+        let traffic = match (&mut self.traffic, &captured.traffic) {
+            (Some((road, vehicles)), Some(states)) => Some(traffic::truth(
+                road,
+                vehicles,
+                states,
+                (!lost_truth).then_some(1),
+                traffic_log.unwrap_or_default(),
+            )),
+            _ => None,
+        };
         let track = tracked.out.as_ref();
         let known = |v: Option<f64>| v.unwrap_or(f64::NAN);
         FrameRecord {
@@ -163,6 +179,7 @@ impl Recorder {
             camera_pan_deg: captured.input.camera_pan_rad.to_degrees(),
             desired_gap_m: f64::from(desired_gap_m),
             false_alarm,
+            traffic,
         }
     }
 }

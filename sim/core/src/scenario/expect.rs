@@ -31,4 +31,23 @@ pub struct Expect {
     /// while its estimate is within the ground truth's tolerance of a target wholly in view
     /// and not hidden (the dual of a silent loss).
     pub max_false_alarm_s: Option<f64>,
+    // The traffic's criteria (below) are written only when given, so that a scenario
+    // without them resolves as it did before they existed.
+    /// Largest speed of the chase towards what it hit at its first contact with another
+    /// vehicle, km/h; 0 allows no contact at all.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_impact_speed_kph: Option<f64>,
+    /// Smallest time to collision with the vehicle in the chase's path, seconds.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub min_ttc_s: Option<f64>,
+    /// Longest total time the tracker may hold a vehicle that is not the one in the chase's
+    /// path, seconds.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_wrong_vehicle_s: Option<f64>,
+    /// The chase's hardest deceleration, m/s² (from its speed frame to frame).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_decel_mps2: Option<f64>,
+    /// The chase's largest jerk, m/s³ (from its accelerations frame to frame).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_jerk_mps3: Option<f64>,
 }

@@ -8,7 +8,8 @@
 use serde::{Deserialize, Serialize};
 use vehicle::{BumpsConfig, ChaseControllerConfig, LeadDriverConfig};
 
-use super::Expect;
+use super::traffic::{first_lane, is_first_lane};
+use super::{ActorFile, Expect};
 
 /// The whole file.
 #[derive(Clone, Debug, Deserialize, Serialize, schemars::JsonSchema)]
@@ -46,12 +47,20 @@ pub struct ScenarioFile {
     /// Pass/fail criteria.
     #[serde(default)]
     pub expect: Expect,
+    /// The other vehicles on the road (`[[actors]]`; none by default).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub actors: Vec<ActorFile>,
 }
 
 /// `[route]`.
 #[derive(Clone, Debug, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct RouteFile {
+    /// Lanes each way (default 1): 1–4. Lane 1 is next to the centre line (OpenDRIVE's lane
+    /// −1), lane `lanes` by the verge; dashed paint divides lanes that run the same way.
+    #[serde(default = "first_lane", skip_serializing_if = "is_first_lane")]
+    #[schemars(extend("minimum" = 1, "maximum" = 4))]
+    pub lanes: u32,
     /// Width of one lane, metres (default 3.5): 2–6.
     #[serde(default = "default_lane_width")]
     #[schemars(extend("minimum" = 2.0, "maximum" = 6.0))]
@@ -108,6 +117,15 @@ pub struct LeadFile {
     /// The driver's tuning (weaving, lateral acceleration in turns, ...).
     #[serde(default)]
     pub driver: LeadDriverConfig,
+    /// The lead's lane at the start (default 1; see `route.lanes`): the chase starts
+    /// behind it in the same lane.
+    #[serde(default = "first_lane", skip_serializing_if = "is_first_lane")]
+    #[schemars(extend("minimum" = 1, "maximum" = 4))]
+    pub lane: u32,
+    /// What happens to the lead, and when (`[[lead.events]]`, as `[[actors.events]]`): a
+    /// lead that changes lane, brakes or stops.
+    #[serde(default, skip_serializing_if = "vehicle::EventScript::is_empty")]
+    pub events: vehicle::EventScript,
 }
 
 fn default_lead_start() -> f64 {

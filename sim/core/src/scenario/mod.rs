@@ -8,6 +8,7 @@ mod file;
 mod library;
 mod overrides;
 mod schema;
+mod traffic;
 mod validate;
 
 pub use expect::Expect;
@@ -15,9 +16,10 @@ pub use file::*;
 pub use library::shipped_scenarios;
 pub use overrides::apply_override;
 pub use schema::{scenario_schema_json, SCHEMA_FILE_NAME};
+pub use traffic::{kind_albedo, kind_params, ActorFile, ActorSpec, StartFile};
 pub use validate::{
-    FOCAL_LENGTH_MM, MAX_ARC_RADIUS_M, MAX_BLUR_SIGMA_PX, MAX_BREADCRUMBS, MAX_INIT_OFFSET_PX,
-    MAX_ROUTE_M, MIN_ARC_RADIUS_M,
+    FOCAL_LENGTH_MM, MAX_ACTORS, MAX_ARC_RADIUS_M, MAX_BLUR_SIGMA_PX, MAX_BREADCRUMBS,
+    MAX_INIT_OFFSET_PX, MAX_ROUTE_M, MIN_ARC_RADIUS_M,
 };
 
 use sim_render::{Densities, RouteSpec, Sensor, Sun};
@@ -154,6 +156,12 @@ pub struct ScenarioSpec {
     pub lead_profile: SpeedProfile,
     /// Lead: the driver's tuning.
     pub lead_driver: LeadDriverConfig,
+    /// Lead: its lane at the start (1 is next to the centre line); the chase's too.
+    pub lead_lane: u32,
+    /// Lead: its events.
+    pub lead_events: vehicle::EventScript,
+    /// The other vehicles, in the file's order.
+    pub actors: Vec<ActorSpec>,
     /// Chase: camera-to-target distance at t = 0, metres.
     pub initial_gap_m: f64,
     /// Chase: the controller (its camera mount is the camera's).
@@ -510,6 +518,13 @@ impl Scenario {
             spec.path = Some(path.to_owned());
             Scenario::validated(spec)
         })
+    }
+
+    /// Whether the scenario has traffic: other vehicles, or events on the lead. Only then
+    /// do the outputs carry the traffic's truth and columns, so that a scenario without
+    /// any writes what it wrote before traffic existed.
+    pub fn has_traffic(&self) -> bool {
+        !self.actors.is_empty() || !self.lead_events.is_empty()
     }
 
     /// The camera frames of its run: its duration at the camera's rate, frame k at k / 15 s.

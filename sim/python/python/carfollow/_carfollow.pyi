@@ -222,7 +222,12 @@ class Simulation:
         first step."""
     @property
     def truth(self) -> Optional[dict[str, Any]]:
-        """The ground truth of the last frame (a dict; the plug-ins never see it)."""
+        """The ground truth of the last frame (a dict; the plug-ins never see it). In a
+        scenario with traffic, its "traffic" entry lists every vehicle ("vehicles": the
+        chase, the lead and the actors, each with its name, kind, position, heading, speed
+        and place on the road), the vehicle in the chase's path with the gap and the time to
+        collision, the vehicle tracked, and the events and contacts since the last frame.
+        """
     @property
     def estimate(self) -> Optional[dict[str, Any]]:
         """The tracker's estimate of the last frame (a dict; None when it had none)."""

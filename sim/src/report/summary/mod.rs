@@ -30,11 +30,13 @@
 
 mod range_errors;
 mod stream;
+mod traffic;
 
 use serde::Serialize;
 
 pub(crate) use stream::FramePeriod;
 pub use stream::SummaryBuilder;
+pub use traffic::{CollisionTime, EventTime, TrafficSummary};
 
 use sim_core::LoopTiming;
 use sim_core::{Expect, FrameRecord, LossCause};
@@ -135,8 +137,13 @@ pub struct Summary {
     pub range_error_m: RangeError,
     /// Chase vehicle's distance from the lead's path, metres.
     pub lateral_path_error_m: LateralError,
-    /// Number of collision events (maximal runs of frames with contact).
+    /// Number of collision events (maximal runs of frames with contact between the chase
+    /// and another vehicle).
     pub collisions: u64,
+    /// What the traffic came to (left out for a run without traffic that no traffic
+    /// criterion judges).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub traffic: Option<TrafficSummary>,
     /// Distance the chase vehicle drove, metres (the last record's `chase_distance_m`).
     pub distance_m: f64,
     /// Wall-clock time of the run, seconds (given by the caller).
@@ -303,7 +310,13 @@ impl Summary {
         wall_s: f64,
     ) -> Summary {
         debug_assert_eq!(builder.gap_band_m(), expect.gap_band_m);
-        let mut summary = builder.measured(scenario, seed, expect.gap_band_m, wall_s);
+        let mut summary = builder.measured(
+            scenario,
+            seed,
+            expect.gap_band_m,
+            wall_s,
+            traffic::asked(expect),
+        );
         summary.criteria = check(&summary, expect);
         summary.failures = summary
             .criteria
@@ -454,6 +467,7 @@ fn check(s: &Summary, expect: &Expect) -> Vec<Criterion> {
             ),
         });
     }
+    traffic::check(s, expect, &mut out);
     out
 }
 

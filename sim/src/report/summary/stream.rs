@@ -15,6 +15,7 @@ use sim_core::{FrameRecord, LossCause, TrackerStatus};
 use tracker::TrackEvent;
 
 use super::range_errors::RangeErrors;
+use super::traffic::TrafficStats;
 use super::{
     GapStats, LateralError, LossEvent, LostByCause, RangeError, Summary, TrackerEventTime,
     DEFAULT_FRAME_PERIOD_S, IMPRECISE_CENTRE_PX, IMPRECISE_SCALE, SCHEMA_VERSION,
@@ -220,6 +221,7 @@ pub struct SummaryBuilder {
     unresolved: Vec<TrackerEventTime>,
     range_errors: RangeErrors,
     distance_m: f64,
+    traffic: TrafficStats,
 }
 
 impl SummaryBuilder {
@@ -246,6 +248,7 @@ impl SummaryBuilder {
             unresolved: Vec::new(),
             range_errors: RangeErrors::default(),
             distance_m: 0.0,
+            traffic: TrafficStats::default(),
         }
     }
 
@@ -320,6 +323,7 @@ impl SummaryBuilder {
             }
         }
         self.distance_m = r.chase_distance_m;
+        self.traffic.push(r);
     }
 
     /// Adds a frame's values with its weight: `dt`, or one period when `None`.
@@ -341,6 +345,7 @@ impl SummaryBuilder {
         seed: u64,
         gap_band_m: Option<[f64; 2]>,
         wall_s: f64,
+        traffic_asked: bool,
     ) -> Summary {
         if let Some(p) = self.pending.take() {
             self.weigh(p, None);
@@ -408,6 +413,7 @@ impl SummaryBuilder {
             lateral_path_error_m,
             collisions: self.collision_runs.count,
             distance_m: self.distance_m,
+            traffic: self.traffic.finish(period, traffic_asked),
             wall_s,
             realtime_factor: (wall_s > 0.0).then(|| duration_s / wall_s),
             timing: None,

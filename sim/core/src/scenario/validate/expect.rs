@@ -25,6 +25,11 @@ pub(super) fn expect(x: &Expect, f: &Blame) -> Result<(), ScenarioError> {
         ("expect.min_distance_m", x.min_distance_m),
         ("expect.max_range_error_p95_m", x.max_range_error_p95_m),
         ("expect.max_false_alarm_s", x.max_false_alarm_s),
+        ("expect.max_impact_speed_kph", x.max_impact_speed_kph),
+        ("expect.min_ttc_s", x.min_ttc_s),
+        ("expect.max_wrong_vehicle_s", x.max_wrong_vehicle_s),
+        ("expect.max_decel_mps2", x.max_decel_mps2),
+        ("expect.max_jerk_mps3", x.max_jerk_mps3),
     ] {
         if let Some(v) = v {
             f.at(field, check(v.is_finite() && v >= 0.0, "must be ≥ 0", v))?;

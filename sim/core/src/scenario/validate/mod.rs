@@ -5,6 +5,7 @@
 //! controllers, the scene and the first view) is checked by building it, in
 //! [`crate::Plan::new`].
 
+mod actors;
 mod chase;
 mod distractors;
 mod environment;
@@ -13,6 +14,7 @@ mod lead;
 mod route;
 mod tracking;
 
+pub use actors::MAX_ACTORS;
 pub(crate) use route::length_m as route_length_m;
 
 use super::{Scenario, ScenarioError, ScenarioFile, ScenarioSpec};
@@ -62,6 +64,11 @@ pub(crate) fn vehicle_error(prefix: &str, e: &vehicle::VehicleError) -> (String,
                 ),
             },
         ),
+        // An event's field is dotted below the vehicle's `events` list: `events[2].trigger`.
+        vehicle::VehicleError::InvalidEvent { field, reason } => (
+            format!("{prefix}{}", field.trim_start_matches("events")),
+            reason.clone(),
+        ),
         other => (prefix.to_string(), format!(": {other}")),
     }
 }
@@ -69,6 +76,8 @@ pub(crate) fn vehicle_error(prefix: &str, e: &vehicle::VehicleError) -> (String,
 /// Whether the override `assignment` (`key=value`) set `field` or a table holding it, or
 /// a field inside it.
 pub(super) fn override_names(assignment: &str, field: &str) -> bool {
+    // An item of a list is `actors[0].lane` in an error and `actors.0.lane` in a `--set`.
+    let field = &field.replace('[', ".").replace(']', "");
     assignment.split_once('=').is_some_and(|(k, _)| {
         let k = k.trim();
         k == field
@@ -164,6 +173,12 @@ pub(super) fn validate(
     let placements = environment::overpasses(&raw.environment, length, f)?;
     expect::expect(&raw.expect, f)?;
     chase::tuning(&chase, &raw.lead.driver, f)?;
+    let chase_start_m = crate::plan::chase_start_m(
+        raw.lead.start_m,
+        initial_gap_m,
+        chase.camera_mount.forward_m,
+    );
+    let actors = actors::actors(&raw, length, chase_start_m, lead_initial_speed_mps, f)?;
     let mut world = WorldConfig::default();
     world.ground.bumps = raw.environment.bumps.clone();
     Ok(Scenario::validated(ScenarioSpec {
@@ -179,6 +194,9 @@ pub(super) fn validate(
         lead_initial_speed_mps,
         lead_profile,
         lead_driver: raw.lead.driver,
+        lead_lane: raw.lead.lane,
+        lead_events: raw.lead.events,
+        actors,
         initial_gap_m,
         chase,
         camera,

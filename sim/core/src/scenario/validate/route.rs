@@ -69,7 +69,7 @@ pub(super) fn route(r: &RouteFile, f: &Blame) -> Result<(RouteSpec, f64), Scenar
         segments,
         intersections_m: r.intersections_m.clone(),
         lane_width_m: r.lane_width_m,
-        lanes: 1,
+        lanes: r.lanes,
     };
     let length = length_m(&route);
     f.at(

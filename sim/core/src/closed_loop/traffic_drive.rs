@@ -1,0 +1,125 @@
+//! The traffic's side of the physics: at every step the lead's events and the actors'
+//! drivers (each with its events) run on the traffic as it stands, and after the step the
+//! chase's contacts with every other vehicle are checked. What happened goes into the log
+//! that the frame's record takes.
+
+use crate::plan::PlannedTraffic;
+use crate::record::Contact;
+use crate::traffic::{Contacts, Road, Vehicles};
+use nalgebra::{Isometry3, Translation3};
+use vehicle::{
+    ActorDriver, Controls, Events, Fired, FiredKind, LeadDriver, Step, VehicleId, VehicleState,
+    VehicleView, World,
+};
+
+/// The traffic's drivers and what they did.
+pub(super) struct TrafficDrive {
+    pub(super) vehicles: Vehicles,
+    /// Every vehicle's physics, in the list's order.
+    pub(super) ids: Vec<VehicleId>,
+    actors: Vec<ActorDriver>,
+    lead_events: Events,
+    road: Road,
+    contacts: Contacts,
+    /// Events started and ended since the log was last taken.
+    events: Vec<String>,
+}
+
+impl TrafficDrive {
+    /// The traffic of a plan whose chase and lead are `chase_id` and `lead_id`.
+    pub(super) fn new(planned: PlannedTraffic, chase_id: VehicleId, lead_id: VehicleId) -> Self {
+        let mut ids = vec![chase_id, lead_id];
+        ids.extend(planned.actor_ids);
+        TrafficDrive {
+            contacts: Contacts::new(ids.len()),
+            ids,
+            vehicles: planned.vehicles,
+            actors: planned.actors,
+            lead_events: planned.lead_events,
+            road: planned.road,
+            events: Vec::new(),
+        }
+    }
+
+    /// Step `now`'s drivers: the lead's events steer `lead`, whose controls are returned
+    /// for its vehicle in state `lead_state`; each actor's driver sets its controls.
+    pub(super) fn drive(
+        &mut self,
+        world: &mut World,
+        lead: &mut LeadDriver,
+        now: Step,
+        lead_state: &VehicleState,
+    ) -> Controls {
+        let states: Vec<VehicleState> =
+            self.ids.iter().map(|&id| world.vehicle_state(id)).collect();
+        let view: Vec<VehicleView> = self
+            .road
+            .places(&self.vehicles, &states)
+            .iter()
+            .map(|p| VehicleView {
+                station_m: p.station_m,
+                left_offset_m: p.offset_m,
+                speed_mps: p.speed_mps,
+                front_m: p.front_m,
+                rear_m: p.rear_m,
+            })
+            .collect();
+        if !self.lead_events.is_empty() {
+            let fired = self.lead_events.update(now, &view, 1);
+            lead.set_lateral_offset_m(self.lead_events.lateral_offset_m() as f32);
+            lead.set_speed_override(self.lead_events.speed_override());
+            self.log(1, fired);
+        }
+        let lead_controls = lead.update(now, lead_state);
+        for k in 0..self.actors.len() {
+            let me = 2 + k;
+            let (controls, fired) = self.actors[k].update(now, &states[me], &view, me);
+            world.set_controls(self.ids[me], controls);
+            self.log(me, fired);
+        }
+        lead_controls
+    }
+
+    /// Checks the world after a step: whether the chase touches any other vehicle.
+    pub(super) fn touching(&mut self, world: &World) -> bool {
+        self.contacts.check(world, &self.ids, &self.vehicles)
+    }
+
+    /// The events and the contacts since the log was last taken, emptied.
+    pub(super) fn take_log(&mut self) -> (Vec<String>, Vec<Contact>) {
+        (
+            std::mem::take(&mut self.events),
+            std::mem::take(&mut self.contacts.log),
+        )
+    }
+
+    /// Every vehicle's state now, in the list's order.
+    pub(super) fn states(&self, world: &World) -> Vec<VehicleState> {
+        self.ids.iter().map(|&id| world.vehicle_state(id)).collect()
+    }
+
+    /// The actors' poses as the renderer draws them (their bodies' centres), from every
+    /// vehicle's `states`.
+    pub(super) fn actor_poses(&self, states: &[VehicleState]) -> Vec<Isometry3<f64>> {
+        states
+            .iter()
+            .zip(self.vehicles.members())
+            .skip(2)
+            .map(|(s, m)| {
+                crate::plan::iso(&s.world_from_vehicle) * Translation3::new(m.centre_x_m, 0.0, 0.0)
+            })
+            .collect()
+    }
+
+    /// Logs what vehicle `me`'s events did.
+    fn log(&mut self, me: usize, fired: Vec<Fired>) {
+        let name = &self.vehicles.members()[me].name;
+        for f in fired {
+            let what = match f.kind {
+                FiredKind::Started => "started",
+                FiredKind::Ended => "ended",
+            };
+            self.events.push(format!("{name}/{}:{what}", f.name));
+        }
+    }
+}

@@ -1,0 +1,340 @@
+//! `[[actors]]`, `lead.lane` and the events: the other vehicles, where they start, and what
+//! their events name.
+
+use super::{check, lead::speed_profile, Blame};
+use crate::scenario::traffic::{kind_albedo, kind_params, ActorSpec};
+use crate::scenario::{ScenarioError, ScenarioFile};
+use sim_render::VehicleKind;
+use vehicle::VehicleParams;
+
+/// Most actors a scenario may have: the renderer's slots for them.
+pub const MAX_ACTORS: usize = sim_render::ObjectSlot::MAX_ACTORS as usize;
+/// The smallest room between two vehicles that start in the same lane, bumper to bumper,
+/// metres.
+const MIN_START_GAP_M: f64 = 0.5;
+
+/// A vehicle placed so far: its name, its lane, where its rear axle starts, its speed and
+/// its physics (for its bumpers).
+struct Placed {
+    name: String,
+    lane: u32,
+    start_m: f64,
+    speed_mps: f64,
+    params: VehicleParams,
+}
+
+impl Placed {
+    fn front_m(&self) -> f64 {
+        self.start_m + f64::from(self.params.front_bumper_x_m())
+    }
+    fn rear_m(&self) -> f64 {
+        self.start_m + f64::from(self.params.rear_bumper_x_m())
+    }
+}
+
+/// The lead's lane, and the actors, checked: names, kinds, lanes on the road, starts on the
+/// route and apart from each other, profiles, and events that name vehicles and lanes that
+/// exist. `chase_start_m` is where the chase's rear axle starts, `lead_initial_speed_mps`
+/// the speed both start at.
+pub(super) fn actors(
+    raw: &ScenarioFile,
+    route_length_m: f64,
+    chase_start_m: f64,
+    lead_initial_speed_mps: f64,
+    f: &Blame,
+) -> Result<Vec<ActorSpec>, ScenarioError> {
+    let lanes = raw.route.lanes;
+    f.at(
+        "route.lanes",
+        check(
+            (1..=4).contains(&lanes),
+            "must be 1–4 (lanes each way)",
+            lanes,
+        ),
+    )?;
+    let in_road = |lane: u32| (1..=lanes).contains(&lane);
+    f.at(
+        "lead.lane",
+        check(
+            in_road(raw.lead.lane),
+            &format!("must be a lane of the road, 1–{lanes} (route.lanes)"),
+            raw.lead.lane,
+        ),
+    )?;
+    f.at(
+        "actors",
+        check(
+            raw.actors.len() <= MAX_ACTORS,
+            &format!("at most {MAX_ACTORS} actors"),
+            raw.actors.len(),
+        ),
+    )?;
+    let mut placed = vec![
+        Placed {
+            name: "chase".into(),
+            lane: raw.lead.lane,
+            start_m: chase_start_m,
+            speed_mps: lead_initial_speed_mps,
+            params: VehicleParams::hmmwv_m998(),
+        },
+        Placed {
+            name: "lead".into(),
+            lane: raw.lead.lane,
+            start_m: raw.lead.start_m,
+            speed_mps: lead_initial_speed_mps,
+            params: VehicleParams::pickup(),
+        },
+    ];
+    let mut out = Vec::with_capacity(raw.actors.len());
+    for (i, a) in raw.actors.iter().enumerate() {
+        let at = |field: &str| format!("actors[{i}].{field}");
+        f.at(
+            &at("name"),
+            check(
+                !a.name.is_empty()
+                    && a.name
+                        .chars()
+                        .all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_'),
+                "must be non-empty: letters, digits, '-' or '_'",
+                format!("{:?}", a.name),
+            ),
+        )?;
+        f.at(
+            &at("name"),
+            check(
+                !placed.iter().any(|p| p.name == a.name),
+                "is taken: `chase`, `lead` and every actor need a name of their own",
+                format!("{:?}", a.name),
+            ),
+        )?;
+        let kind = VehicleKind::ALL
+            .into_iter()
+            .find(|k| k.as_str() == a.kind)
+            .ok_or_else(|| {
+                f.invalid(
+                    &at("kind"),
+                    format!(
+                        "= {:?}: must be one of {}",
+                        a.kind,
+                        VehicleKind::ALL
+                            .map(|k| format!("\"{}\"", k.as_str()))
+                            .join(", ")
+                    ),
+                )
+            })?;
+        f.at(
+            &at("lane"),
+            check(
+                in_road(a.lane),
+                &format!("must be a lane of the road, 1–{lanes} (route.lanes)"),
+                a.lane,
+            ),
+        )?;
+        let section = format!("actors[{i}]");
+        let profile = speed_profile(&section, &a.speed_basis, &a.speed_profile)
+            .map_err(|(field, message)| f.invalid(&field, message))?;
+        let speed = a
+            .initial_speed_mps
+            .unwrap_or_else(|| a.speed_profile.first().map_or(0.0, |k| k[1]));
+        f.at(
+            &at("initial_speed_mps"),
+            check(
+                speed.is_finite() && (0.0..=40.0).contains(&speed),
+                "must be 0–40 m/s",
+                speed,
+            ),
+        )?;
+        let albedo = a.albedo.unwrap_or_else(|| kind_albedo(kind));
+        f.at(
+            &at("albedo"),
+            check(
+                albedo.is_finite() && (0.02..=0.95).contains(&albedo),
+                "must be 0.02–0.95",
+                albedo,
+            ),
+        )?;
+        let params = kind_params(kind);
+        let start_m = start(i, a, &placed, &params, speed, f)?;
+        f.at(
+            &at("start"),
+            check(
+                start_m.is_finite()
+                    && start_m + f64::from(params.rear_bumper_x_m()) >= 0.0
+                    && start_m + f64::from(params.front_bumper_x_m()) <= route_length_m,
+                &format!("puts it off the route (0–{route_length_m:.0} m, bumper to bumper)"),
+                format!("{start_m:.1} m"),
+            ),
+        )?;
+        let me = Placed {
+            name: a.name.clone(),
+            lane: a.lane,
+            start_m,
+            speed_mps: speed,
+            params,
+        };
+        if let Some(other) = placed.iter().find(|p| {
+            p.lane == me.lane
+                && me.rear_m() < p.front_m() + MIN_START_GAP_M
+                && p.rear_m() < me.front_m() + MIN_START_GAP_M
+        }) {
+            return Err(f.invalid(
+                &at("start"),
+                format!(
+                    "puts it on `{}` in lane {} (its body {:.1}–{:.1} m along the route, \
+                     `{}`'s {:.1}–{:.1} m): leave at least {MIN_START_GAP_M} m between them",
+                    other.name,
+                    me.lane,
+                    me.rear_m(),
+                    me.front_m(),
+                    other.name,
+                    other.rear_m(),
+                    other.front_m()
+                ),
+            ));
+        }
+        placed.push(me);
+        out.push(ActorSpec {
+            name: a.name.clone(),
+            kind,
+            lane: a.lane,
+            start_m,
+            initial_speed_mps: speed,
+            profile,
+            albedo,
+            events: a.events.clone(),
+        });
+    }
+    let names: Vec<&str> = placed.iter().map(|p| p.name.as_str()).collect();
+    events("lead.events", &raw.lead.events, &names, lanes, f)?;
+    for (i, a) in raw.actors.iter().enumerate() {
+        events(&format!("actors[{i}].events"), &a.events, &names, lanes, f)?;
+    }
+    Ok(out)
+}
+
+/// Where actor `i` (`a`, with physics `params` and initial speed `speed`) starts, its rear
+/// axle's station: by station, or by gap or time gap to a vehicle placed before it.
+fn start(
+    i: usize,
+    a: &crate::scenario::ActorFile,
+    placed: &[Placed],
+    params: &VehicleParams,
+    speed: f64,
+    f: &Blame,
+) -> Result<f64, ScenarioError> {
+    let field = format!("actors[{i}].start");
+    let s = &a.start;
+    let say = |m: &str| f.invalid(&field, m.to_string());
+    match (s.station_m, s.gap_m, s.time_gap_s) {
+        (Some(station), None, None) => {
+            if s.ahead_of.is_some() || s.behind.is_some() {
+                return Err(say(
+                    "gives station_m with ahead_of or behind: a station is along the route, \
+                     a gap is to a vehicle",
+                ));
+            }
+            Ok(station)
+        }
+        (None, gap, time_gap) if gap.is_some() != time_gap.is_some() => {
+            let (to, ahead) = match (&s.ahead_of, &s.behind) {
+                (Some(to), None) => (to, true),
+                (None, Some(to)) => (to, false),
+                _ => {
+                    return Err(say(
+                        "gives a gap: name the vehicle with exactly one of ahead_of or behind",
+                    ))
+                }
+            };
+            let Some(other) = placed.iter().find(|p| &p.name == to) else {
+                let known: Vec<&str> = placed.iter().map(|p| p.name.as_str()).collect();
+                return Err(f.invalid(
+                    &format!("{field}.{}", if ahead { "ahead_of" } else { "behind" }),
+                    format!(
+                        "= {to:?}: no such vehicle before this actor (it may name {})",
+                        known.join(", ")
+                    ),
+                ));
+            };
+            let gap_m = match (gap, time_gap) {
+                (Some(g), None) => {
+                    f.at(
+                        &format!("{field}.gap_m"),
+                        check(
+                            g.is_finite() && (0.0..=1000.0).contains(&g),
+                            "must be 0–1000 m",
+                            g,
+                        ),
+                    )?;
+                    g
+                }
+                (None, Some(t)) => {
+                    f.at(
+                        &format!("{field}.time_gap_s"),
+                        check(
+                            t.is_finite() && (0.0..=60.0).contains(&t),
+                            "must be 0–60 s",
+                            t,
+                        ),
+                    )?;
+                    // The vehicle behind covers the gap.
+                    let behind_speed = if ahead { other.speed_mps } else { speed };
+                    if behind_speed <= 0.0 && t > 0.0 {
+                        return Err(f.invalid(
+                            &format!("{field}.time_gap_s"),
+                            format!(
+                                "= {t}: the vehicle behind starts standing, so a time gap has \
+                                 no length: give gap_m"
+                            ),
+                        ));
+                    }
+                    t * behind_speed
+                }
+                _ => unreachable!("exactly one of the two, by the match"),
+            };
+            Ok(if ahead {
+                other.front_m() + gap_m - f64::from(params.rear_bumper_x_m())
+            } else {
+                other.rear_m() - gap_m - f64::from(params.front_bumper_x_m())
+            })
+        }
+        _ => Err(say(
+            "must give exactly one of station_m, gap_m or time_gap_s (with ahead_of or \
+             behind for a gap)",
+        )),
+    }
+}
+
+/// The events of one vehicle (at `section`) checked: their own rules, then that every
+/// vehicle they name is in `names` and every lane they name is on the road.
+fn events(
+    section: &str,
+    script: &vehicle::EventScript,
+    names: &[&str],
+    lanes: u32,
+    f: &Blame,
+) -> Result<(), ScenarioError> {
+    script.validate().map_err(|e| {
+        let (field, message) = crate::scenario::vehicle_error(section, &e);
+        f.invalid(&field, message)
+    })?;
+    for (field, to) in script.vehicles_named() {
+        if !names.contains(&to) {
+            return Err(f.invalid(
+                &format!("{section}{}", field.trim_start_matches("events")),
+                format!(
+                    "= {to:?}: no such vehicle (the scenario has {})",
+                    names.join(", ")
+                ),
+            ));
+        }
+    }
+    for (field, lane) in script.lanes_named() {
+        if !(1..=lanes).contains(&lane) {
+            return Err(f.invalid(
+                &format!("{section}{}", field.trim_start_matches("events")),
+                format!("= {lane}: no such lane: the road has lanes 1–{lanes} (route.lanes)"),
+            ));
+        }
+    }
+    Ok(())
+}

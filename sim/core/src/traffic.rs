@@ -1,0 +1,259 @@
+//! The run's vehicles in one list, and the traffic's truth: where each vehicle is on the
+//! road, which one is in the chase's path, how far and how soon, and what the chase
+//! touched.
+//!
+//! The list ([`Vehicles`]) names every vehicle of the run, in a fixed order: the follower
+//! that carries the camera and the tracker (`chase`), the vehicle it follows (`lead`),
+//! then the actors in the scenario file's order. A vehicle's index in the list is its
+//! index everywhere (the truth's `vehicles`, the render's actor poses after the first
+//! two). The list says each one's role rather than assuming two, so that a run may later
+//! carry more than one follower (a platoon), each with its own camera and tracker.
+
+use crate::record::{Contact, TrafficFrame, VehicleTruth};
+use vehicle::{Route, VehicleId, VehicleParams, VehicleState};
+
+/// How far either side of its last station a vehicle is looked for on the road, metres.
+const PROJECTION_WINDOW_M: f32 = 25.0;
+/// How much of its width a vehicle must have inside the chase's lane corridor to be in
+/// its path, metres: a car astride the lane line is in it, one that has crossed is not.
+const PATH_OVERLAP_M: f64 = 0.3;
+
+/// What part a vehicle plays in the run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Role {
+    /// It carries the camera and the tracker, and its controller follows what the tracker
+    /// sees.
+    Follower,
+    /// The vehicle the follower is set to follow, driven by its script.
+    Lead,
+    /// Another vehicle of the traffic, driven by its script.
+    Actor,
+}
+
+/// One vehicle of the run.
+#[derive(Clone, Debug)]
+pub struct Member {
+    /// Its name: `chase`, `lead`, or the actor's.
+    pub name: String,
+    /// What it is: `hmmwv`, `pickup`, or the actor's kind.
+    pub kind: String,
+    /// Its part in the run.
+    pub role: Role,
+    /// Its physics.
+    pub params: VehicleParams,
+    /// Its body centre in its physics frame (the rear axle), metres along x: where the
+    /// renderer's body-centred shape sits.
+    pub centre_x_m: f64,
+}
+
+/// Every vehicle of the run, in order: the follower, the lead, then the actors.
+#[derive(Clone, Debug, Default)]
+pub struct Vehicles {
+    members: Vec<Member>,
+}
+
+impl Vehicles {
+    /// The list of a run with these members (the follower first, then the lead).
+    pub(crate) fn new(members: Vec<Member>) -> Vehicles {
+        debug_assert!(members.len() >= 2 && members[0].role == Role::Follower);
+        Vehicles { members }
+    }
+
+    /// Every member, in order.
+    pub fn members(&self) -> &[Member] {
+        &self.members
+    }
+
+    /// The member called `name`, and its index.
+    pub fn named(&self, name: &str) -> Option<(usize, &Member)> {
+        self.members
+            .iter()
+            .enumerate()
+            .find(|(_, m)| m.name == name)
+    }
+}
+
+/// A vehicle on the road: its station and its offset from lane 1's centre, its speed, and
+/// its bumpers' stations.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Place {
+    /// Its rear axle's station along the route, metres.
+    pub station_m: f64,
+    /// Its offset from lane 1's centre, metres (positive left).
+    pub offset_m: f64,
+    /// Its forward speed, m/s.
+    pub speed_mps: f64,
+    /// Its front bumper's station, metres.
+    pub front_m: f64,
+    /// Its rear bumper's station, metres.
+    pub rear_m: f64,
+}
+
+/// Where the vehicles are on the road, followed step by step (each one is looked for near
+/// where it was last).
+#[derive(Clone, Debug)]
+pub(crate) struct Road {
+    /// Lane 1's centre: the drivers' route.
+    route: Route,
+    lane_width_m: f64,
+    hints: Vec<f32>,
+}
+
+impl Road {
+    /// The road of `route` (lane 1's centre) with lanes `lane_width_m` wide, for vehicles
+    /// starting at these stations.
+    pub(crate) fn new(route: Route, lane_width_m: f64, stations_m: &[f64]) -> Road {
+        Road {
+            route,
+            lane_width_m,
+            hints: stations_m.iter().map(|&s| s as f32).collect(),
+        }
+    }
+
+    /// Where each vehicle is, from its state (in the list's order).
+    pub(crate) fn places(&mut self, vehicles: &Vehicles, states: &[VehicleState]) -> Vec<Place> {
+        states
+            .iter()
+            .zip(&vehicles.members)
+            .zip(&mut self.hints)
+            .map(|((state, member), hint)| {
+                let p = self.route.project_near(
+                    state.world_from_vehicle.translation,
+                    *hint,
+                    PROJECTION_WINDOW_M,
+                );
+                *hint = p.s_m;
+                let station_m = f64::from(p.s_m);
+                Place {
+                    station_m,
+                    offset_m: f64::from(p.left_offset_m),
+                    speed_mps: f64::from(state.forward_speed_mps),
+                    front_m: station_m + f64::from(member.params.front_bumper_x_m()),
+                    rear_m: station_m + f64::from(member.params.rear_bumper_x_m()),
+                }
+            })
+            .collect()
+    }
+
+    /// The vehicle in the path of the follower at `me`: the nearest ahead of it whose body
+    /// reaches [`PATH_OVERLAP_M`] into its lane corridor (a lane's width, centred on the
+    /// follower), and the gap to it, bumper to bumper.
+    pub(crate) fn in_path(
+        &self,
+        vehicles: &Vehicles,
+        places: &[Place],
+        me: usize,
+    ) -> Option<(usize, f64)> {
+        let mine = places[me];
+        places
+            .iter()
+            .enumerate()
+            .filter(|&(i, p)| {
+                let half_width = 0.5 * f64::from(vehicles.members[i].params.width_m);
+                i != me
+                    && p.rear_m > mine.station_m
+                    && (p.offset_m - mine.offset_m).abs()
+                        < 0.5 * self.lane_width_m + half_width - PATH_OVERLAP_M
+            })
+            .map(|(i, p)| (i, p.rear_m - mine.front_m))
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+    }
+}
+
+/// The traffic's truth at a frame: the vehicle in the chase's path, the gap and the time to
+/// collision, every vehicle's place, and what `tracked` (the vehicle whose target the
+/// estimate is on) is; `log` holds the events and contacts since the frame before.
+pub(crate) fn truth(
+    road: &mut Road,
+    vehicles: &Vehicles,
+    states: &[VehicleState],
+    tracked: Option<usize>,
+    log: (Vec<String>, Vec<Contact>),
+) -> TrafficFrame {
+    let places = road.places(vehicles, states);
+    let path = road.in_path(vehicles, &places, 0);
+    let (gap, closing) = path.map_or((f64::NAN, f64::NAN), |(i, gap)| {
+        (gap, places[0].speed_mps - places[i].speed_mps)
+    });
+    let ttc = if path.is_none() {
+        f64::NAN
+    } else if closing > 0.0 {
+        gap.max(0.0) / closing
+    } else {
+        f64::INFINITY
+    };
+    let name = |i: usize| vehicles.members[i].name.clone();
+    TrafficFrame {
+        path_vehicle: path.map(|(i, _)| name(i)),
+        path_gap_m: gap,
+        path_closing_mps: closing,
+        path_ttc_s: ttc,
+        tracked_vehicle: tracked.map(name),
+        events: log.0,
+        contacts: log.1,
+        vehicles: vehicles
+            .members
+            .iter()
+            .zip(states)
+            .zip(&places)
+            .map(|((m, s), p)| {
+                let t = s.world_from_vehicle.translation;
+                let forward = s.world_from_vehicle.rotation * vehicle::Vector::X;
+                VehicleTruth {
+                    name: m.name.clone(),
+                    kind: m.kind.clone(),
+                    xz: [f64::from(t.x), f64::from(t.z)],
+                    heading_rad: f64::from(vehicle::direction_heading(forward)),
+                    speed_mps: p.speed_mps,
+                    station_m: p.station_m,
+                    offset_m: p.offset_m,
+                }
+            })
+            .collect(),
+    }
+}
+
+/// The contacts of the follower (the first vehicle of the list) with the others: each
+/// vehicle it touches after a physics step and did not after the step before, with the
+/// speed it was closing at then.
+pub(crate) struct Contacts {
+    touching: Vec<bool>,
+    /// The contacts not yet taken into a frame's record.
+    pub(crate) log: Vec<Contact>,
+}
+
+impl Contacts {
+    /// No contact yet among `vehicles` vehicles.
+    pub(crate) fn new(vehicles: usize) -> Contacts {
+        Contacts {
+            touching: vec![false; vehicles],
+            log: Vec::new(),
+        }
+    }
+
+    /// Checks the world after a step (`ids` in the list's order); returns whether the
+    /// follower touches any vehicle.
+    pub(crate) fn check(
+        &mut self,
+        world: &vehicle::World,
+        ids: &[VehicleId],
+        vehicles: &Vehicles,
+    ) -> bool {
+        let mut any = false;
+        for (i, &id) in ids.iter().enumerate().skip(1) {
+            let touch = world.vehicles_touch(ids[0], id);
+            if touch && !self.touching[i] {
+                let mine = world.vehicle_state(ids[0]).forward_speed_mps;
+                let theirs = world.vehicle_state(id).forward_speed_mps;
+                self.log.push(Contact {
+                    vehicle: vehicles.members[i].name.clone(),
+                    t_s: world.now().seconds(),
+                    closing_mps: f64::from(mine - theirs),
+                });
+            }
+            self.touching[i] = touch;
+            any |= touch;
+        }
+        any
+    }
+}

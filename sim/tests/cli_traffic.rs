@@ -1,0 +1,140 @@
+//! Traffic end to end through `carfollow run`: the cut-in's van is driven, drawn and logged;
+//! its event and its contact with the chase reach `frames.csv`, `summary.json` and
+//! `junit.xml`; a rerun, and a run on two renderers (the second in a worker process that is
+//! sent the actors' poses), give the same bytes; and a scenario without traffic writes no
+//! trace of it. Run with `cargo test --release -p sim --test cli_traffic`.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn scenario(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("../scenarios/{name}.toml"))
+}
+
+fn run(out: &Path, name: &str, extra: &[&str]) -> Output {
+    let scenario = scenario(name);
+    let mut args = vec![
+        "run",
+        scenario.to_str().unwrap(),
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    args.extend(extra);
+    let output = Command::new(env!("CARGO_BIN_EXE_carfollow"))
+        .args(&args)
+        .output()
+        .unwrap();
+    assert!(
+        output.status.code() == Some(0) || output.status.code() == Some(1),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    output
+}
+
+fn text(dir: &Path, file: &str) -> String {
+    std::fs::read_to_string(dir.join(file)).unwrap()
+}
+
+/// `summary.json` without what differs from run to run (wall-clock times).
+fn summary(dir: &Path) -> serde_json::Value {
+    let mut s: serde_json::Value = serde_json::from_str(&text(dir, "summary.json")).unwrap();
+    for key in ["wall_s", "realtime_factor", "timing"] {
+        s.as_object_mut().unwrap().remove(key);
+    }
+    s
+}
+
+#[test]
+fn the_cut_in_is_logged_and_repeats_bit_for_bit_on_one_or_two_renderers() {
+    let dir = tempfile::tempdir().unwrap();
+    let dirs = ["one", "two", "again"].map(|d| dir.path().join(d));
+    // 16 s: the cut-in (from 11.4 s) and the contact (14.2 s).
+    let set = ["--set", "duration_s=16"];
+    for (out, renderers) in dirs.iter().zip(["1", "2", "2"]) {
+        let mut extra = vec!["--renderers", renderers];
+        extra.extend(set);
+        run(out, "cut-in", &extra);
+    }
+    let csv = text(&dirs[0], "frames.csv");
+    for other in &dirs[1..] {
+        assert!(csv == text(other, "frames.csv"), "frames.csv differs");
+        assert_eq!(summary(&dirs[0]), summary(other));
+    }
+
+    // The traffic's columns end the header; the event and the van in the path are logged.
+    let mut rows = csv.lines();
+    let header: Vec<&str> = rows.next().unwrap().split(',').collect();
+    assert_eq!(&header[header.len() - 5..], sim::TRAFFIC_COLUMNS);
+    let column = |name: &str| header.iter().position(|c| *c == name).unwrap();
+    let rows: Vec<Vec<&str>> = rows.map(|r| r.split(',').collect()).collect();
+    let events: Vec<(&str, &str)> = rows
+        .iter()
+        .filter(|r| !r[column("event")].is_empty())
+        .map(|r| (r[column("t_s")], r[column("event")]))
+        .collect();
+    assert_eq!(events.len(), 2, "{events:?}");
+    assert_eq!(events[0].1, "van/cut-in:started");
+    assert_eq!(events[1].1, "van/cut-in:ended");
+    let started: f64 = events[0].0.parse().unwrap();
+    let ended: f64 = events[1].0.parse().unwrap();
+    // A 2.5 s lane change (logged on the frame after the step it happened at).
+    assert!((ended - started - 2.5).abs() < 0.1, "{started} {ended}");
+    // The trigger: the van 12 m ahead of the chase's bumper, give or take a frame's closing.
+    let at_start = rows
+        .iter()
+        .position(|r| r[column("event")] == "van/cut-in:started")
+        .unwrap();
+    assert_eq!(rows[at_start - 1][column("path_vehicle")], "lead");
+    assert!(rows
+        .iter()
+        .any(|r| r[column("path_vehicle")] == "van" && r[column("tracked_vehicle")] == "lead"));
+
+    // The summary names what the chase hit; junit.xml carries the criterion.
+    let s = summary(&dirs[0]);
+    let t = &s["traffic"];
+    assert_eq!(t["collisions"][0]["vehicle"], "van");
+    assert!(t["impact_speed_kph"].as_f64().unwrap() <= 5.0);
+    assert!(t["wrong_vehicle_s"].as_f64().unwrap() > 0.0);
+    assert_eq!(t["events"].as_array().unwrap().len(), 2);
+    assert!(s["collisions"].as_u64().unwrap() >= 1);
+    let junit = text(&dirs[0], "junit.xml");
+    assert!(junit.contains("max_impact_speed"), "{junit}");
+}
+
+#[test]
+fn a_scenario_without_traffic_writes_no_trace_of_it() {
+    let dir = tempfile::tempdir().unwrap();
+    run(dir.path(), "nist-grounds", &["--set", "duration_s=1"]);
+    let csv = text(dir.path(), "frames.csv");
+    let header = csv.lines().next().unwrap();
+    for column in sim::TRAFFIC_COLUMNS {
+        assert!(!header.split(',').any(|c| c == column), "{header}");
+    }
+    let s = summary(dir.path());
+    assert!(s.get("traffic").is_none());
+    let resolved = s["resolved_scenario"].to_string();
+    assert!(!resolved.contains("\"actors\""), "{resolved}");
+}
+
+#[test]
+fn an_interlaced_camera_sees_the_actors_alike_on_two_renderers() {
+    let dir = tempfile::tempdir().unwrap();
+    let (one, two) = (dir.path().join("one"), dir.path().join("two"));
+    for (out, renderers) in [(&one, "1"), (&two, "2")] {
+        run(
+            out,
+            "next-lane-traffic",
+            &[
+                "--renderers",
+                renderers,
+                "--set",
+                "duration_s=3",
+                "--set",
+                "environment.sensor.interlaced=true",
+            ],
+        );
+    }
+    assert!(text(&one, "frames.csv") == text(&two, "frames.csv"));
+}
