@@ -138,3 +138,42 @@ fn an_interlaced_camera_sees_the_actors_alike_on_two_renderers() {
     }
     assert!(text(&one, "frames.csv") == text(&two, "frames.csv"));
 }
+
+#[test]
+fn the_recording_logs_the_traffics_events_and_shows_its_vehicles() {
+    use foxglove::Decode;
+    let dir = tempfile::tempdir().unwrap();
+    run(dir.path(), "cut-in", &["--set", "duration_s=15", "--mcap"]);
+    let bytes = std::fs::read(dir.path().join("run.mcap")).unwrap();
+    let (mut events, mut actors) = (Vec::new(), 0);
+    for m in mcap::MessageStream::new(&bytes).unwrap() {
+        let m = m.unwrap();
+        match m.channel.topic.as_str() {
+            "/events" => events.push(
+                foxglove::messages::Log::decode(&m.data[..])
+                    .unwrap()
+                    .message,
+            ),
+            "/scene" => {
+                let update = foxglove::messages::SceneUpdate::decode(&m.data[..]).unwrap();
+                actors += update
+                    .entities
+                    .iter()
+                    .filter(|e| e.id == "actor-van" && e.cubes.len() == 1)
+                    .count();
+            }
+            _ => {}
+        }
+    }
+    assert!(
+        events.iter().any(|e| e == "traffic: van/cut-in:started"),
+        "{events:?}"
+    );
+    assert!(
+        events
+            .iter()
+            .any(|e| e.starts_with("contact: the chase touched `van`")),
+        "{events:?}"
+    );
+    assert_eq!(actors, 225, "the van in every frame's scene");
+}

@@ -643,6 +643,7 @@ impl Writer {
             3.0,
         ));
         let mut entities = vec![chase_entity, lead_entity, crumbs];
+        entities.extend(actor_entities(r, ts));
         self.path.push(r.lead_xz);
         if r.frame % PATH_SEGMENT_FRAMES == PATH_SEGMENT_FRAMES - 1 {
             let mut segment = entity(
@@ -731,6 +732,22 @@ impl Writer {
         if r.collision && !self.last_collision {
             lines.push((Level::Error, "collision".into()));
         }
+        if let Some(t) = &r.traffic {
+            for e in &t.events {
+                lines.push((Level::Info, format!("traffic: {e}")));
+            }
+            for c in &t.contacts {
+                lines.push((
+                    Level::Error,
+                    format!(
+                        "contact: the chase touched `{}` at {:.2} s, closing at {:.1} km/h",
+                        c.vehicle,
+                        c.t_s,
+                        3.6 * c.closing_mps
+                    ),
+                ));
+            }
+        }
         self.last_collision = r.collision;
         for e in &data.controller_events {
             lines.push((Level::Warning, e.clone()));
@@ -794,4 +811,57 @@ impl Writer {
         std::io::Write::flush(&mut writer).map_err(|e| file_err(e.to_string()))?;
         Ok(())
     }
+}
+
+/// The traffic's actors as boxes in the world (a run with traffic; none otherwise), each
+/// its kind's drawn size at its body's centre, turned to its heading.
+fn actor_entities(r: &sim_core::FrameRecord, ts: Timestamp) -> Vec<SceneEntity> {
+    let Some(t) = &r.traffic else {
+        return Vec::new();
+    };
+    t.vehicles
+        .iter()
+        .skip(2)
+        .filter_map(|v| {
+            let kind = sim_render::VehicleKind::ALL
+                .into_iter()
+                .find(|k| k.as_str() == v.kind)?;
+            let (length, width, height) = kind.dimensions();
+            let centre = f64::from(sim_core::kind_params(kind).body_centre_x_m());
+            let (s, c) = v.heading_rad.sin_cos();
+            let (hs, hc) = (0.5 * v.heading_rad).sin_cos();
+            Some(SceneEntity {
+                timestamp: Some(ts),
+                frame_id: "world".into(),
+                id: format!("actor-{}", v.name),
+                cubes: vec![CubePrimitive {
+                    pose: Some(Pose {
+                        position: Some(Vector3 {
+                            x: v.xz[0] + centre * c,
+                            y: 0.5 * height,
+                            z: v.xz[1] - centre * s,
+                        }),
+                        orientation: Some(Quaternion {
+                            x: 0.0,
+                            y: hs,
+                            z: 0.0,
+                            w: hc,
+                        }),
+                    }),
+                    size: Some(Vector3 {
+                        x: length,
+                        y: height,
+                        z: width,
+                    }),
+                    color: Some(Color {
+                        r: 0.3,
+                        g: 0.5,
+                        b: 0.9,
+                        a: 0.8,
+                    }),
+                }],
+                ..SceneEntity::default()
+            })
+        })
+        .collect()
 }
