@@ -67,10 +67,23 @@ def slug(heading: str) -> str:
     return "".join(out)
 
 
+FENCE = re.compile(r"^```[^\n]*\n.*?^```[ \t]*$", re.S | re.M)
+
+
 def md_text(text: str, in_table: bool) -> str:
     """Doc-comment prose as Markdown: rustdoc's intra-doc links ([`X`]) as code, `*` and `<`
     escaped outside code, paragraphs kept (as <br><br> inside a table cell) and `|` escaped
-    inside one."""
+    inside one. A fenced example is kept as it is written, but left out of a table cell."""
+    blocks, last = [], 0
+    for m in FENCE.finditer(text):
+        blocks += [md_prose(text[last:m.start()], in_table), "" if in_table else m.group(0)]
+        last = m.end()
+    blocks.append(md_prose(text[last:], in_table))
+    return ("<br><br>" if in_table else "\n\n").join(b for b in blocks if b)
+
+
+def md_prose(text: str, in_table: bool) -> str:
+    """[`md_text`] of prose without fenced blocks."""
     text = re.sub(r"\[(`[^`\n]+`)\](?![(\[])", r"\1", text.strip())
     paragraphs = []
     for para in re.split(r"\n\s*\n", text):
