@@ -121,6 +121,15 @@ pub struct ChaseControllerConfig {
     /// missing frames after the 128 ms latency).
     #[schemars(extend("minimum" = 1.0, "maximum" = 60000.0))]
     pub estimate_timeout_ms: f64,
+    /// Whether the chase stops, as after a loss, as soon as the tracker says `coasting`, and
+    /// follows no coasting estimate (default false: a coasting estimate, the tracker's
+    /// prediction, is followed until the tracker says `lost`). In traffic, a target that
+    /// stops being measured may be hidden by a vehicle that has cut in: on, the chase
+    /// starts braking about `tracker.lost_after_s` sooner. It resumes on the next
+    /// `tracking` estimate. (Written only when on, so that a scenario without it resolves
+    /// as before it existed.)
+    #[serde(skip_serializing_if = "is_false")]
+    pub stop_on_coasting: bool,
     /// Deceleration of the stop after a loss, m/s² (default 3.5 m/s²: firm, controlled).
     #[schemars(extend("minimum" = 0.1, "maximum" = 15.0))]
     pub loss_decel_mps2: f32,
@@ -164,6 +173,10 @@ pub struct ChaseControllerConfig {
     pub range_gate_min_m: f32,
 }
 
+fn is_false(b: &bool) -> bool {
+    !*b
+}
+
 /// The range at which the range filters' tracking indices hold, m: the middle of the
 /// paper's 5–15 m.
 const REFERENCE_RANGE_M: f32 = 10.0;
@@ -194,6 +207,7 @@ impl Default for ChaseControllerConfig {
             gap_keeper: GapKeeperConfig::default(),
             speed_gains: SpeedGains::default(),
             estimate_timeout_ms: 500.0,
+            stop_on_coasting: false,
             loss_decel_mps2: 3.5,
             pose_history_ms: 2000.0,
             breadcrumb_spacing_m: 0.25,
@@ -510,7 +524,9 @@ impl ChaseController {
         for estimate in pending {
             self.last_arrival = Some(now);
             self.last_status = Some(estimate.status);
-            if estimate.status == TrackStatus::Lost {
+            if estimate.status == TrackStatus::Lost
+                || (self.config.stop_on_coasting && estimate.status == TrackStatus::Coasting)
+            {
                 continue;
             }
             let Some((world_from_chase, own)) = self.history.at(estimate.capture_step) else {
@@ -560,7 +576,8 @@ impl ChaseController {
 
         // Loss handling.
         let silent_steps = now.since(self.last_arrival.unwrap_or(started));
-        let lost = self.last_status == Some(TrackStatus::Lost);
+        let lost = self.last_status == Some(TrackStatus::Lost)
+            || (self.config.stop_on_coasting && self.last_status == Some(TrackStatus::Coasting));
         let timed_out = silent_steps > self.timeout_steps;
         match self.mode {
             ChaseMode::Following if lost || timed_out => {

@@ -371,11 +371,23 @@ fn one(trigger: &str, action: &str) -> String {
     )
 }
 
-/// Each malformed event is refused, naming the field; none panics.
+/// Each case's text is refused, naming its field; none panics.
+fn refused_naming(cases: Vec<(String, &str)>) {
+    for (text, field) in cases {
+        let err = script(&text).validate().unwrap_err();
+        match &err {
+            VehicleError::InvalidEvent { field: f, .. } => assert_eq!(f, field, "{text}"),
+            other => panic!("{text}: {other:?}"),
+        }
+        println!("{err}");
+    }
+}
+
+/// Each malformed trigger is refused, naming the field; none panics.
 #[test]
-fn bad_events_name_their_field() {
+fn bad_triggers_name_their_field() {
     let (ok_trigger, ok_action) = (OK_TRIGGER, OK_ACTION);
-    let cases = [
+    refused_naming(vec![
         (one("trigger = { }", ok_action), "events[1].trigger"),
         (
             one(
@@ -421,6 +433,14 @@ fn bad_events_name_their_field() {
             "events[1].trigger.ttc_s",
         ),
         (one(ok_trigger, "action = { }"), "events[1].action"),
+    ]);
+}
+
+/// Each malformed action or name is refused, naming the field; none panics.
+#[test]
+fn bad_actions_and_names_name_their_field() {
+    let (ok_trigger, ok_action) = (OK_TRIGGER, OK_ACTION);
+    refused_naming(vec![
         (
             one(
                 ok_trigger,
@@ -529,15 +549,7 @@ fn bad_events_name_their_field() {
             one(ok_trigger, ok_action).replace("\"b\"", "\" \""),
             "events[1].name",
         ),
-    ];
-    for (text, field) in cases {
-        let err = script(&text).validate().unwrap_err();
-        match &err {
-            VehicleError::InvalidEvent { field: f, .. } => assert_eq!(f, field, "{text}"),
-            other => panic!("{text}: {other:?}"),
-        }
-        println!("{err}");
-    }
+    ]);
 }
 
 /// The engine refuses a `to` that names no vehicle, a lane the road does not have and bad

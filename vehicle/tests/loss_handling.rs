@@ -106,3 +106,36 @@ fn tracking_again_resumes_following() {
         end.gap_m
     );
 }
+
+/// With `stop_on_coasting`, the first `coasting` estimate stops the chase as a loss does;
+/// without it, the chase follows the coasting estimates (the tracker's predictions).
+#[test]
+fn coasting_stops_the_chase_only_when_asked() {
+    let mut opts = RigOptions::straight(600.0, SpeedProfile::constant(10.0));
+    opts.sensor = Sensor::CoastingAfter(5.0);
+    opts.chase_config.stop_on_coasting = true;
+    let mut rig = Rig::new(opts);
+    rig.run_for(14.0);
+    let lost = rig
+        .chase
+        .events()
+        .iter()
+        .find(|e| e.kind == ControllerEventKind::TrackLost)
+        .expect("TrackLost logged");
+    let t = lost.step.seconds();
+    assert!((5.1..=5.26).contains(&t), "stopping from {t} s");
+    assert_eq!(rig.chase.mode(), ChaseMode::Stopped);
+    assert!(!rig.samples.iter().any(|s| s.touching));
+
+    let mut opts = RigOptions::straight(600.0, SpeedProfile::constant(10.0));
+    opts.sensor = Sensor::CoastingAfter(5.0);
+    let mut rig = Rig::new(opts);
+    rig.run_for(14.0);
+    assert_eq!(rig.chase.mode(), ChaseMode::Following);
+    let end = rig.samples.last().unwrap();
+    assert!(
+        end.chase.forward_speed_mps > 9.0,
+        "{}",
+        end.chase.forward_speed_mps
+    );
+}

@@ -495,8 +495,7 @@ fn plan_traffic(
     chase_start_m: f64,
 ) -> Result<PlannedTraffic, ScenarioError> {
     let src = &s.source;
-    let (lead_body, lead_from_scene) = lead_body();
-    let _ = lead_body;
+    let (_, lead_from_scene) = lead_body();
     let mut members = vec![
         Member {
             name: "chase".into(),

@@ -133,3 +133,79 @@ fn the_schemas_ranges_are_validations() {
         }
     }
 }
+
+/// The same for the fields of an actor (`[[actors]]`, an array of tables), set on the
+/// shipped `cut-in`'s van: a value just outside a field's range is refused, naming the van,
+/// and every kind and speed basis the schema lists is accepted. (An event's fields are the
+/// vehicle crate's, whose tests refuse each of them by name.)
+#[test]
+fn the_schemas_ranges_of_an_actor_are_validations() {
+    let schema: serde_json::Value =
+        serde_json::from_str(&sim_core::scenario_schema_json()).unwrap();
+    let item = &schema["$defs"]["ActorFile"];
+    let start = &schema["$defs"]["StartFile"];
+    let fields: Vec<(String, &serde_json::Value)> = [("", item), ("start.", start)]
+        .into_iter()
+        .flat_map(|(prefix, table)| {
+            table["properties"]
+                .as_object()
+                .unwrap()
+                .iter()
+                .map(move |(name, field)| (format!("{prefix}{name}"), field))
+        })
+        .collect();
+    let path = scenarios_dir().join("cut-in.toml");
+    let plan = |sets: &[String]| sim_core::Plan::load(&path, sets).map(|_| ());
+    let mut checked = 0;
+    for (name, field) in &fields {
+        let set = |value: String| format!("actors.0.{name}={value}");
+        let bound = |k: &str| field[k].as_f64();
+        let integer = field["type"] == "integer";
+        let outside = [
+            bound("maximum").map(|m| {
+                if integer {
+                    m + 1.0
+                } else {
+                    m + 1e-6 * m.abs().max(1.0)
+                }
+            }),
+            bound("minimum").map(|m| {
+                if integer {
+                    m - 1.0
+                } else {
+                    m - 1e-6 * m.abs().max(1.0)
+                }
+            }),
+        ];
+        for value in outside.into_iter().flatten() {
+            let value = if integer {
+                format!("{}", value as i64)
+            } else {
+                format!("{value:?}")
+            };
+            match plan(&[set(value.clone())]) {
+                Ok(()) => panic!(
+                    "`--set {}` is outside the schema's range but check accepts it",
+                    set(value)
+                ),
+                Err(e) => assert!(
+                    e.to_string().contains("actors[0]"),
+                    "`--set {}`: {e}",
+                    set(value)
+                ),
+            }
+            checked += 1;
+        }
+        for value in field["enum"].as_array().into_iter().flatten() {
+            let sets = [set(value.to_string())];
+            if let Err(e) = plan(&sets) {
+                panic!(
+                    "the schema allows `--set {}` but check refuses it: {e}",
+                    sets[0]
+                );
+            }
+            checked += 1;
+        }
+    }
+    assert!(checked >= 10, "{checked} bounds checked");
+}

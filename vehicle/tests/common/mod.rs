@@ -30,6 +30,9 @@ pub enum Sensor {
     LostAfter(f64),
     /// Perfect until this time (s), then nothing at all.
     SilentAfter(f64),
+    /// Perfect until this time (s), then every frame says `coasting` (with the true
+    /// position: a prediction).
+    CoastingAfter(f64),
 }
 
 /// How to set up a run.
@@ -171,6 +174,7 @@ impl Rig {
         let status = match self.sensor {
             Sensor::Perfect => TrackStatus::Tracking,
             Sensor::LostAfter(after) if t >= after => TrackStatus::Lost,
+            Sensor::CoastingAfter(after) if t >= after => TrackStatus::Coasting,
             Sensor::SilentAfter(after) if t >= after => return None,
             _ => TrackStatus::Tracking,
         };

@@ -87,122 +87,9 @@ pub(super) fn actors(
     ];
     let mut out = Vec::with_capacity(raw.actors.len());
     for (i, a) in raw.actors.iter().enumerate() {
-        let at = |field: &str| format!("actors[{i}].{field}");
-        f.at(
-            &at("name"),
-            check(
-                !a.name.is_empty()
-                    && a.name
-                        .chars()
-                        .all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_'),
-                "must be non-empty: letters, digits, '-' or '_'",
-                format!("{:?}", a.name),
-            ),
-        )?;
-        f.at(
-            &at("name"),
-            check(
-                !placed.iter().any(|p| p.name == a.name),
-                "is taken: `chase`, `lead` and every actor need a name of their own",
-                format!("{:?}", a.name),
-            ),
-        )?;
-        let kind = VehicleKind::ALL
-            .into_iter()
-            .find(|k| k.as_str() == a.kind)
-            .ok_or_else(|| {
-                f.invalid(
-                    &at("kind"),
-                    format!(
-                        "= {:?}: must be one of {}",
-                        a.kind,
-                        VehicleKind::ALL
-                            .map(|k| format!("\"{}\"", k.as_str()))
-                            .join(", ")
-                    ),
-                )
-            })?;
-        f.at(
-            &at("lane"),
-            check(
-                in_road(a.lane),
-                &format!("must be a lane of the road, 1–{lanes} (route.lanes)"),
-                a.lane,
-            ),
-        )?;
-        let section = format!("actors[{i}]");
-        let profile = speed_profile(&section, &a.speed_basis, &a.speed_profile)
-            .map_err(|(field, message)| f.invalid(&field, message))?;
-        let speed = a
-            .initial_speed_mps
-            .unwrap_or_else(|| a.speed_profile.first().map_or(0.0, |k| k[1]));
-        f.at(
-            &at("initial_speed_mps"),
-            check(
-                speed.is_finite() && (0.0..=40.0).contains(&speed),
-                "must be 0–40 m/s",
-                speed,
-            ),
-        )?;
-        let albedo = a.albedo.unwrap_or_else(|| kind_albedo(kind));
-        f.at(
-            &at("albedo"),
-            check(
-                albedo.is_finite() && (0.02..=0.95).contains(&albedo),
-                "must be 0.02–0.95",
-                albedo,
-            ),
-        )?;
-        let params = kind_params(kind);
-        let start_m = start(i, a, &placed, &params, speed, f)?;
-        f.at(
-            &at("start"),
-            check(
-                start_m.is_finite()
-                    && start_m + f64::from(params.rear_bumper_x_m()) >= 0.0
-                    && start_m + f64::from(params.front_bumper_x_m()) <= route_length_m,
-                &format!("puts it off the route (0–{route_length_m:.0} m, bumper to bumper)"),
-                format!("{start_m:.1} m"),
-            ),
-        )?;
-        let me = Placed {
-            name: a.name.clone(),
-            lane: a.lane,
-            start_m,
-            speed_mps: speed,
-            params,
-        };
-        if let Some(other) = placed.iter().find(|p| {
-            p.lane == me.lane
-                && me.rear_m() < p.front_m() + MIN_START_GAP_M
-                && p.rear_m() < me.front_m() + MIN_START_GAP_M
-        }) {
-            return Err(f.invalid(
-                &at("start"),
-                format!(
-                    "puts it on `{}` in lane {} (its body {:.1}–{:.1} m along the route, \
-                     `{}`'s {:.1}–{:.1} m): leave at least {MIN_START_GAP_M} m between them",
-                    other.name,
-                    me.lane,
-                    me.rear_m(),
-                    me.front_m(),
-                    other.name,
-                    other.rear_m(),
-                    other.front_m()
-                ),
-            ));
-        }
+        let (spec, me) = actor(i, a, lanes, route_length_m, &placed, f)?;
         placed.push(me);
-        out.push(ActorSpec {
-            name: a.name.clone(),
-            kind,
-            lane: a.lane,
-            start_m,
-            initial_speed_mps: speed,
-            profile,
-            albedo,
-            events: a.events.clone(),
-        });
+        out.push(spec);
     }
     let names: Vec<&str> = placed.iter().map(|p| p.name.as_str()).collect();
     events("lead.events", &raw.lead.events, &names, lanes, f)?;
@@ -210,6 +97,135 @@ pub(super) fn actors(
         events(&format!("actors[{i}].events"), &a.events, &names, lanes, f)?;
     }
     Ok(out)
+}
+
+/// Actor `i` (`a`) checked against the vehicles `placed` before it, on a road of `lanes`
+/// lanes each way and `route_length_m` metres: what the plan places, and its place.
+fn actor(
+    i: usize,
+    a: &crate::scenario::ActorFile,
+    lanes: u32,
+    route_length_m: f64,
+    placed: &[Placed],
+    f: &Blame,
+) -> Result<(ActorSpec, Placed), ScenarioError> {
+    let in_road = |lane: u32| (1..=lanes).contains(&lane);
+    let at = |field: &str| format!("actors[{i}].{field}");
+    f.at(
+        &at("name"),
+        check(
+            !a.name.is_empty()
+                && a.name
+                    .chars()
+                    .all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_'),
+            "must be non-empty: letters, digits, '-' or '_'",
+            format!("{:?}", a.name),
+        ),
+    )?;
+    f.at(
+        &at("name"),
+        check(
+            !placed.iter().any(|p| p.name == a.name),
+            "is taken: `chase`, `lead` and every actor need a name of their own",
+            format!("{:?}", a.name),
+        ),
+    )?;
+    let kind = VehicleKind::ALL
+        .into_iter()
+        .find(|k| k.as_str() == a.kind)
+        .ok_or_else(|| {
+            f.invalid(
+                &at("kind"),
+                format!(
+                    "= {:?}: must be one of {}",
+                    a.kind,
+                    VehicleKind::ALL
+                        .map(|k| format!("\"{}\"", k.as_str()))
+                        .join(", ")
+                ),
+            )
+        })?;
+    f.at(
+        &at("lane"),
+        check(
+            in_road(a.lane),
+            &format!("must be a lane of the road, 1–{lanes} (route.lanes)"),
+            a.lane,
+        ),
+    )?;
+    let section = format!("actors[{i}]");
+    let profile = speed_profile(&section, &a.speed_basis, &a.speed_profile)
+        .map_err(|(field, message)| f.invalid(&field, message))?;
+    let speed = a
+        .initial_speed_mps
+        .unwrap_or_else(|| a.speed_profile.first().map_or(0.0, |k| k[1]));
+    f.at(
+        &at("initial_speed_mps"),
+        check(
+            speed.is_finite() && (0.0..=40.0).contains(&speed),
+            "must be 0–40 m/s",
+            speed,
+        ),
+    )?;
+    let albedo = a.albedo.unwrap_or_else(|| kind_albedo(kind));
+    f.at(
+        &at("albedo"),
+        check(
+            albedo.is_finite() && (0.02..=0.95).contains(&albedo),
+            "must be 0.02–0.95",
+            albedo,
+        ),
+    )?;
+    let params = kind_params(kind);
+    let start_m = start(i, a, placed, &params, speed, f)?;
+    f.at(
+        &at("start"),
+        check(
+            start_m.is_finite()
+                && start_m + f64::from(params.rear_bumper_x_m()) >= 0.0
+                && start_m + f64::from(params.front_bumper_x_m()) <= route_length_m,
+            &format!("puts it off the route (0–{route_length_m:.0} m, bumper to bumper)"),
+            format!("{start_m:.1} m"),
+        ),
+    )?;
+    let me = Placed {
+        name: a.name.clone(),
+        lane: a.lane,
+        start_m,
+        speed_mps: speed,
+        params,
+    };
+    if let Some(other) = placed.iter().find(|p| {
+        p.lane == me.lane
+            && me.rear_m() < p.front_m() + MIN_START_GAP_M
+            && p.rear_m() < me.front_m() + MIN_START_GAP_M
+    }) {
+        return Err(f.invalid(
+            &at("start"),
+            format!(
+                "puts it on `{}` in lane {} (its body {:.1}–{:.1} m along the route, \
+                 `{}`'s {:.1}–{:.1} m): leave at least {MIN_START_GAP_M} m between them",
+                other.name,
+                me.lane,
+                me.rear_m(),
+                me.front_m(),
+                other.name,
+                other.rear_m(),
+                other.front_m()
+            ),
+        ));
+    }
+    let spec = ActorSpec {
+        name: a.name.clone(),
+        kind,
+        lane: a.lane,
+        start_m,
+        initial_speed_mps: speed,
+        profile,
+        albedo,
+        events: a.events.clone(),
+    };
+    Ok((spec, me))
 }
 
 /// Where actor `i` (`a`, with physics `params` and initial speed `speed`) starts, its rear

@@ -1,0 +1,83 @@
+//! What the renderer's test files share: the renderer on this machine's backend, the
+//! built-in scene's frames, a bare road, and the reference images.
+
+#![allow(dead_code)] // each test file uses some of these
+
+use image::GrayImage;
+use sim_render::{
+    builtin_description, builtin_poses, builtin_target, Backend, CameraRig, Densities, Frame,
+    FrameInput, RenderOptions, Renderer, RouteSegment, Scene, SceneDescription,
+};
+use std::path::PathBuf;
+
+pub fn options() -> RenderOptions {
+    RenderOptions {
+        backend: Backend::choose(None).expect("backend"),
+        ..RenderOptions::default()
+    }
+}
+
+pub fn renderer(description: SceneDescription, options: &RenderOptions) -> Renderer {
+    let scene = std::sync::Arc::new(Scene::build(description).expect("scene"));
+    Renderer::new(scene.clone(), CameraRig::default(), options).unwrap_or_else(|e| panic!("{e}"))
+}
+
+pub fn builtin_frame(renderer: &mut Renderer, time_s: f64) -> Frame {
+    builtin_frame_panned(renderer, time_s, 0.0)
+}
+
+/// The built-in scene at `time_s` with the camera panned by `camera_pan_rad` (right).
+pub fn builtin_frame_panned(renderer: &mut Renderer, time_s: f64, camera_pan_rad: f64) -> Frame {
+    let (world_from_chase, world_from_lead) = builtin_poses(
+        renderer.scene().description(),
+        renderer.scene().route(),
+        &renderer.rig().mount,
+        time_s,
+    );
+    renderer
+        .render(&FrameInput {
+            frame_index: (time_s * 15.0).round() as u64,
+            time_s,
+            world_from_chase,
+            world_from_lead,
+            world_from_actors: Vec::new(),
+            camera_pan_rad,
+            auto_gain: 1.0,
+            earlier_field: None,
+        })
+        .expect("frame")
+}
+
+/// A plain straight road with no clutter and no noise: only what a test puts there.
+pub fn bare(seed: u64) -> SceneDescription {
+    let mut d = builtin_description(builtin_target(), seed);
+    d.route.segments = vec![RouteSegment::Straight { length_m: 300.0 }];
+    d.route.intersections_m.clear();
+    d.densities = Densities {
+        trees_per_km: 0.0,
+        poles_per_km: 0.0,
+        houses_per_km: 0.0,
+        buildings_per_km: 0.0,
+        parked_vehicles_per_km: 0.0,
+        oncoming_vehicles_per_km: 0.0,
+        cracks_per_km: 0.0,
+        patches_per_km: 0.0,
+        potholes_per_km: 0.0,
+        ..Densities::default()
+    };
+    d.sensor.noise_sigma_grey = 0.0;
+    d
+}
+
+/// The folder of reference images, and the reference `name` in it; a missing one is written
+/// fresh from `image` (`None`).
+pub fn reference(name: &str, image: &GrayImage) -> (PathBuf, Option<GrayImage>) {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/golden");
+    let reference_path = dir.join(format!("{name}.png"));
+    let Ok(reference) = image::open(&reference_path) else {
+        image.save(&reference_path).expect("write reference");
+        eprintln!("wrote a fresh reference {}", reference_path.display());
+        return (dir, None);
+    };
+    (dir, Some(reference.to_luma8()))
+}
