@@ -15,44 +15,25 @@ use image::GrayImage;
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
 use sim_render::{
     body_from_back_model, builtin_description, builtin_target, vehicle_back_model, ActorBody,
-    Backend, CameraRig, Densities, FrameInput, RenderError, RenderOptions, Renderer, RouteSegment,
-    Scene, SceneDescription, VehicleKind,
+    CameraRig, FrameInput, RenderError, Renderer, Scene, SceneDescription, VehicleKind,
 };
-use std::sync::Arc;
+
+mod common;
 
 /// Where the chase's rear axle stands, metres along the (straight) route.
 const CHASE_S_M: f64 = 20.0;
 
-/// A straight road without clutter, noise or textures: only what a test puts there.
+/// A straight road of `lanes` lanes each way without clutter, noise or textures: only what
+/// a test puts there.
 fn bare(lanes: u32) -> SceneDescription {
-    let mut d = builtin_description(builtin_target(), 5);
-    d.route.segments = vec![RouteSegment::Straight { length_m: 300.0 }];
-    d.route.intersections_m.clear();
+    let mut d = common::bare(5);
     d.route.lanes = lanes;
-    d.densities = Densities {
-        trees_per_km: 0.0,
-        poles_per_km: 0.0,
-        houses_per_km: 0.0,
-        buildings_per_km: 0.0,
-        parked_vehicles_per_km: 0.0,
-        oncoming_vehicles_per_km: 0.0,
-        cracks_per_km: 0.0,
-        patches_per_km: 0.0,
-        potholes_per_km: 0.0,
-        ..Densities::default()
-    };
-    d.sensor.noise_sigma_grey = 0.0;
     d.textures.enabled = false;
     d
 }
 
 fn renderer(description: SceneDescription) -> Renderer {
-    let scene = Arc::new(Scene::build(description).expect("scene"));
-    let options = RenderOptions {
-        backend: Backend::choose(None).expect("backend"),
-        ..RenderOptions::default()
-    };
-    Renderer::new(scene, CameraRig::default(), &options).unwrap_or_else(|e| panic!("{e}"))
+    common::renderer(description, &common::options())
 }
 
 /// The ground pose at station `s_m`, `lateral_m` right of the centre line, heading along
