@@ -1,6 +1,7 @@
 //! The chase controller: from the tracker's delayed 3-D estimates and its own odometry, it
 //! steers along the lead's path (pure pursuit on breadcrumbs) and keeps the gap; when the
-//! lead is lost it brakes to a safe stop and says so.
+//! lead is lost it brakes to a safe stop and says so. With `lane_keeping` it steers along its
+//! own lane instead and follows only a target in that lane ([`ChaseController::set_lane`]).
 //!
 //! It never sees the ground truth or the image. Call [`ChaseController::receive`] with each
 //! estimate as it comes out of the delay line, then [`ChaseController::update`] once per
@@ -8,11 +9,11 @@
 
 use crate::breadcrumb_trail::{Breadcrumb, BreadcrumbTrail};
 use crate::camera_mount::CameraMount;
-use crate::clock::{ms_from_steps, steps_from_ms, Step, PHYSICS_DT_S};
+use crate::clock::{steps_from_ms, Step, PHYSICS_DT_S};
 use crate::controller_event::{ControllerEvent, ControllerEventKind};
 use crate::controls::Controls;
 use crate::error::{check_range, VehicleError};
-use crate::gap_keeper::{GapKeeper, GapKeeperConfig, Threat};
+use crate::gap_keeper::{GapKeeper, GapKeeperConfig};
 use crate::lead_estimate::{LeadEstimate, TrackStatus};
 use crate::pan_head::PanHeadConfig;
 use crate::pose_history::{OwnMotion, PoseHistory};
@@ -23,6 +24,10 @@ use crate::speed_profile::{ProfileBasis, SpeedProfile};
 use crate::vehicle_params::VehicleParams;
 use rapier3d::math::{Pose, Vector};
 use serde::{Deserialize, Serialize};
+
+mod lane_keeping;
+mod safety;
+pub use lane_keeping::{LANE_MARGIN_M, LEFT_LANE_ARRIVALS};
 
 /// Below this speed a stopping vehicle counts as stopped, m/s.
 const STOPPED_MPS: f32 = 0.1;
@@ -130,6 +135,18 @@ pub struct ChaseControllerConfig {
     /// as before it existed.)
     #[serde(skip_serializing_if = "is_false")]
     pub stop_on_coasting: bool,
+    /// Whether the chase steers by pure pursuit along its own lane's centre line
+    /// ([`ChaseController::set_lane`]), as a lane-keeping assist does, instead of along the
+    /// breadcrumbs (default false); the estimates then set only its speed, and only while
+    /// the target is in the lane ([`LEFT_LANE_ARRIVALS`]). (Written only when on.)
+    #[serde(skip_serializing_if = "is_false")]
+    pub lane_keeping: bool,
+    /// With `lane_keeping`, the speed driven at while no target in the lane is followed,
+    /// m/s, as an adaptive cruise control does (default none: stop as after a loss);
+    /// 0.5–70 m/s, refused without `lane_keeping`. (Written only when set.)
+    #[serde(skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("minimum" = 0.5, "maximum" = 70.0))]
+    pub cruise_speed_mps: Option<f32>,
     /// Deceleration of the stop after a loss, m/s² (default 3.5 m/s²: firm, controlled).
     #[schemars(extend("minimum" = 0.1, "maximum" = 15.0))]
     pub loss_decel_mps2: f32,
@@ -208,6 +225,8 @@ impl Default for ChaseControllerConfig {
             speed_gains: SpeedGains::default(),
             estimate_timeout_ms: 500.0,
             stop_on_coasting: false,
+            lane_keeping: false,
+            cruise_speed_mps: None,
             loss_decel_mps2: 3.5,
             pose_history_ms: 2000.0,
             breadcrumb_spacing_m: 0.25,
@@ -243,6 +262,8 @@ pub enum ChaseMode {
     Stopping,
     /// Stopped after a loss, waiting for the tracker.
     Stopped,
+    /// No target in the lane: driving at the cruise speed (`lane_keeping` only).
+    Cruising,
 }
 
 /// The controller's inner values for one step, for the recorder and plots.
@@ -264,7 +285,8 @@ pub struct ChaseTelemetry {
     pub curvature: f32,
     /// Whether the emergency brake is on.
     pub emergency: bool,
-    /// The largest curvature of the lead's path ahead (the breadcrumbs), 1/m.
+    /// The largest curvature of the lead's path ahead (the breadcrumbs; the lane with
+    /// `lane_keeping`), 1/m.
     pub curvature_ahead: f32,
     /// Where the pan head is aimed, radians (positive to the right; 0 without one).
     pub pan_aim_rad: f32,
@@ -296,6 +318,8 @@ pub struct ChaseController {
     /// When the current run of closing-only alarms began (see [`CLOSING_CONFIRM_MS`]).
     closing_since: Option<Step>,
     odometer_m: f32,
+    /// The lane and the target's place in it (`lane_keeping`).
+    lane: lane_keeping::LaneState,
     events: Vec<ControllerEvent>,
     telemetry: ChaseTelemetry,
 }
@@ -368,6 +392,7 @@ impl ChaseController {
         if let SpeedMode::Manual { profile } = &config.speed_mode {
             profile.validate()?;
         }
+        let mode = lane_keeping::validate_and_start(&config)?;
         let gap_keeper = GapKeeper::new(config.gap_keeper.clone(), speed_mps)?;
         let gate = RangeGate {
             fraction: config.range_gate_fraction,
@@ -398,16 +423,17 @@ impl ChaseController {
             gap_keeper,
             speed: SpeedController::new(params, config.speed_gains),
             timeout_steps: steps_from_ms(config.estimate_timeout_ms),
-            mode: ChaseMode::Following,
+            mode,
             started: None,
             last_arrival: None,
             last_status: None,
             stop_ref_mps: 0.0,
             closing_since: None,
             odometer_m: 0.0,
+            lane: lane_keeping::LaneState::new(speed_mps),
             events: Vec::new(),
             telemetry: ChaseTelemetry {
-                mode: ChaseMode::Following,
+                mode,
                 gap_m: None,
                 range_rate_mps: None,
                 desired_gap_m: 0.0,
@@ -516,8 +542,8 @@ impl ChaseController {
     }
 
     /// Places the pending estimates in the world; returns whether a tracked (or coasting)
-    /// estimate arrived.
-    fn absorb_pending(&mut self, now: Step) -> bool {
+    /// estimate of a target to follow (in the lane, with `lane_keeping`) arrived.
+    fn absorb_pending(&mut self, now: Step, speed_mps: f32) -> bool {
         let mut fresh = false;
         let mut pending = std::mem::take(&mut self.pending);
         pending.sort_by_key(|e| e.capture_step);
@@ -549,13 +575,18 @@ impl ChaseController {
             let gap =
                 ((in_vehicle.x - camera.x).powi(2) + (in_vehicle.z - camera.z).powi(2)).sqrt();
             let captured_s = estimate.capture_step.seconds();
-            self.range.update(captured_s, gap, own);
-            self.alarm_range.update(captured_s, gap, own);
+            let position_world_m = world_from_chase.transform_point(in_vehicle);
+            let chase_m = world_from_chase.translation;
+            let verdict = self.judge_target(now, &estimate, chase_m, position_world_m, speed_mps);
+            if verdict != lane_keeping::Verdict::Ignore {
+                self.range.update(captured_s, gap, own);
+                self.alarm_range.update(captured_s, gap, own);
+            }
             self.trail.drop_crumb(Breadcrumb {
                 capture_step: estimate.capture_step,
-                position_world_m: world_from_chase.transform_point(in_vehicle),
+                position_world_m,
             });
-            fresh = true;
+            fresh |= verdict == lane_keeping::Verdict::Follow;
         }
         fresh
     }
@@ -572,44 +603,19 @@ impl ChaseController {
             speed_mps: v,
         };
         self.history.push(now, odometry.world_from_chase, own);
-        let fresh = self.absorb_pending(now);
+        let fresh = self.absorb_pending(now, v);
 
-        // Loss handling.
-        let silent_steps = now.since(self.last_arrival.unwrap_or(started));
-        let lost = self.last_status == Some(TrackStatus::Lost)
-            || (self.config.stop_on_coasting && self.last_status == Some(TrackStatus::Coasting));
-        let timed_out = silent_steps > self.timeout_steps;
-        match self.mode {
-            ChaseMode::Following if lost || timed_out => {
-                let kind = if lost {
-                    ControllerEventKind::TrackLost
-                } else {
-                    ControllerEventKind::EstimateTimeout {
-                        silent_ms: ms_from_steps(silent_steps),
-                    }
-                };
-                self.log(now, kind);
-                self.mode = ChaseMode::Stopping;
-                self.stop_ref_mps = v.max(0.0);
-                self.range.reset();
-                self.alarm_range.reset();
-            }
-            ChaseMode::Stopping | ChaseMode::Stopped
-                if fresh && self.last_status == Some(TrackStatus::Tracking) =>
-            {
-                self.log(now, ControllerEventKind::Resumed);
-                self.mode = ChaseMode::Following;
-                self.gap_keeper.reset(v);
-                self.speed.reset();
-            }
-            _ => {}
-        }
+        self.handle_loss(now, started, v, fresh);
 
-        // Steering: pure pursuit on the breadcrumbs.
+        // Steering: pure pursuit on the breadcrumbs, or on the lane with lane keeping.
         let pose = odometry.world_from_chase;
         self.trail.eat_passed(&pose);
         let path = self.trail.positions();
-        let target = lookahead_point(&path, pose.translation, self.config.lookahead.distance_m(v));
+        let target = if self.config.lane_keeping {
+            self.lane_aim(&pose, v)
+        } else {
+            lookahead_point(&path, pose.translation, self.config.lookahead.distance_m(v))
+        };
         let curvature = target.map_or(0.0, |t| curvature_toward(&pose, t));
         let steer_rad = steer_for_curvature(curvature, self.wheelbase_m)
             .clamp(-self.max_steer_rad, self.max_steer_rad);
@@ -627,7 +633,11 @@ impl ChaseController {
 
         // Where the lead's path bends most between here and the lead, and what that allows
         // of the gap; the pan head's aim.
-        let curvature_ahead = max_curvature(&path, CURVATURE_CHORD_M);
+        let curvature_ahead = if self.config.lane_keeping {
+            self.lane_curvature_ahead(v)
+        } else {
+            max_curvature(&path, CURVATURE_CHORD_M)
+        };
         let view_limit_m = self
             .config
             .curve_aware_gap
@@ -635,28 +645,7 @@ impl ChaseController {
             .flatten();
         self.gap_keeper.set_view_limit(view_limit_m);
         let (pan_aim_rad, pan_rate_cmd_rad_s) = self.aim_pan_head(&pose, odometry.camera_pan_rad);
-        let threat = match carried(self.alarm_range.state()) {
-            (Some(gap), Some(rate)) => {
-                let noise = self.alarm_range.gains().rate_noise_ratio(gap);
-                let mut t = self.config.gap_keeper.threat_in_noise(gap, rate, v, noise);
-                // Beyond the alarm filter's reference range a closing alone must last
-                // CLOSING_CONFIRM_MS before it brakes fully: a small, far target's rate
-                // noise fakes a closing for a frame or two, a braking lead's lasts.
-                if t.closing_only && noise > 1.0 {
-                    let since = *self.closing_since.get_or_insert(now);
-                    if now.since(since) < steps_from_ms(CLOSING_CONFIRM_MS) {
-                        t.emergency = false;
-                    }
-                } else {
-                    self.closing_since = None;
-                }
-                t
-            }
-            _ => {
-                self.closing_since = None;
-                Threat::default()
-            }
-        };
+        let threat = self.alarm_threat(now, carried(self.alarm_range.state()), v);
 
         // Speed.
         let was_emergency = self.telemetry.emergency;
@@ -702,6 +691,7 @@ impl ChaseController {
                 (self.stop_ref_mps, accel)
             }
             ChaseMode::Stopped => (0.0, 0.0),
+            ChaseMode::Cruising => self.lane.cruise_ref(&self.config, dt),
         };
         if emergency && !was_emergency {
             self.log(

@@ -21,12 +21,20 @@ pub enum ControllerEventKind {
     },
     /// The vehicle came to a stop after a loss.
     Stopped,
-    /// Tracking came back: following again.
+    /// Tracking came back: following again. With lane keeping, also a target tracked in the
+    /// lane after cruising, the first one included.
     Resumed,
     /// An estimate was discarded: its capture time is older than the pose history.
     EstimateTooOld {
         /// Its capture step.
         capture_step: Step,
+    },
+    /// With lane keeping, the followed target's estimates lay outside the chase's lane for
+    /// `LEFT_LANE_ARRIVALS` arrivals in a row: it is no longer followed, and the chase cruises
+    /// or, without a cruise speed, brakes to a stop.
+    TargetLeftLane {
+        /// The last estimate's offset from the lane's centre line, m (positive to the left).
+        offset_m: f32,
     },
 }
 

@@ -11,7 +11,9 @@
 //!   turns each estimate into a breadcrumb of the lead's path through its own pose at the
 //!   frame's capture time, steers by pure pursuit on the breadcrumbs, keeps the gap
 //!   ([`GapKeeper`]) or replays a scripted speed ([`SpeedMode::Manual`]), and brakes to a
-//!   stop when the lead is lost ([`ControllerEvent`]).
+//!   stop when the lead is lost ([`ControllerEvent`]). With lane keeping it steers along its
+//!   own lane ([`ChaseController::set_lane`]), follows only a target in it and otherwise
+//!   cruises ([`ChaseMode::Cruising`]).
 //! - The **traffic** ([`ActorDriver`]): other vehicles ([`VehicleParams::sedan`],
 //!   [`VehicleParams::truck`], …) driven like the lead, each scripted by events
 //!   ([`EventScript`]: a trigger on time, distance, gap, time gap, time to collision or
@@ -92,7 +94,7 @@ pub use breadcrumb_trail::{Breadcrumb, BreadcrumbTrail};
 pub use camera_mount::CameraMount;
 pub use chase_controller::{
     ChaseController, ChaseControllerConfig, ChaseMode, ChaseTelemetry, Odometry, SpeedMode,
-    MAX_HALF_FOV_DEG, MIN_HALF_FOV_DEG,
+    LANE_MARGIN_M, LEFT_LANE_ARRIVALS, MAX_HALF_FOV_DEG, MIN_HALF_FOV_DEG,
 };
 pub use clock::{
     ms_from_steps, steps_from_ms, Step, CAMERA_HZ, PHYSICS_DT_S, PHYSICS_HZ, STEPS_PER_FRAME,

@@ -1,0 +1,77 @@
+//! The chase controller's safety: the stop after a loss or a timeout and the resumption, and
+//! the emergency brake's threat from the alarm range filter.
+
+use super::{ChaseController, ChaseMode, CLOSING_CONFIRM_MS};
+use crate::clock::{ms_from_steps, steps_from_ms, Step};
+use crate::controller_event::ControllerEventKind;
+use crate::gap_keeper::Threat;
+use crate::lead_estimate::TrackStatus;
+
+impl ChaseController {
+    /// Loss handling at step `now` (the controller started at `started`, drives at `v`,
+    /// m/s): following, a lost status or silence beyond the timeout starts the stop; stopping,
+    /// stopped or cruising, a `fresh` tracked estimate (one to follow) resumes following.
+    pub(super) fn handle_loss(&mut self, now: Step, started: Step, v: f32, fresh: bool) {
+        let silent_steps = now.since(self.last_arrival.unwrap_or(started));
+        let lost = self.last_status == Some(TrackStatus::Lost)
+            || (self.config.stop_on_coasting && self.last_status == Some(TrackStatus::Coasting));
+        let timed_out = silent_steps > self.timeout_steps;
+        match self.mode {
+            ChaseMode::Following if lost || timed_out => {
+                let kind = if lost {
+                    ControllerEventKind::TrackLost
+                } else {
+                    ControllerEventKind::EstimateTimeout {
+                        silent_ms: ms_from_steps(silent_steps),
+                    }
+                };
+                self.log(now, kind);
+                self.mode = ChaseMode::Stopping;
+                self.stop_ref_mps = v.max(0.0);
+                self.range.reset();
+                self.alarm_range.reset();
+            }
+            ChaseMode::Stopping | ChaseMode::Stopped | ChaseMode::Cruising
+                if fresh && self.last_status == Some(TrackStatus::Tracking) =>
+            {
+                self.log(now, ControllerEventKind::Resumed);
+                self.mode = ChaseMode::Following;
+                self.gap_keeper.reset(v);
+                self.speed.reset();
+            }
+            _ => {}
+        }
+    }
+
+    /// The emergency brake's threat from `alarm`, the alarm filter's gap and range rate now
+    /// (m, m/s), at own speed `v`, m/s.
+    pub(super) fn alarm_threat(
+        &mut self,
+        now: Step,
+        alarm: (Option<f32>, Option<f32>),
+        v: f32,
+    ) -> Threat {
+        match alarm {
+            (Some(gap), Some(rate)) => {
+                let noise = self.alarm_range.gains().rate_noise_ratio(gap);
+                let mut t = self.config.gap_keeper.threat_in_noise(gap, rate, v, noise);
+                // Beyond the alarm filter's reference range a closing alone must last
+                // CLOSING_CONFIRM_MS before it brakes fully: a small, far target's rate
+                // noise fakes a closing for a frame or two, a braking lead's lasts.
+                if t.closing_only && noise > 1.0 {
+                    let since = *self.closing_since.get_or_insert(now);
+                    if now.since(since) < steps_from_ms(CLOSING_CONFIRM_MS) {
+                        t.emergency = false;
+                    }
+                } else {
+                    self.closing_since = None;
+                }
+                t
+            }
+            _ => {
+                self.closing_since = None;
+                Threat::default()
+            }
+        }
+    }
+}
