@@ -2,7 +2,8 @@
 //! its event and its contact with the chase reach `frames.csv`, `summary.json` and
 //! `junit.xml`; a rerun, and a run on two renderers (the second in a worker process that is
 //! sent the actors' poses), give the same bytes; and a scenario without traffic writes no
-//! trace of it. Run with `cargo test --release -p sim --test cli_traffic`.
+//! trace of it. In traffic the tracker lets go of a lead that leaves the chase's lane, and
+//! a chase with nothing placed cruises until it acquires the vehicle in its lane. Run with `cargo test --release -p sim --test cli_traffic`.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -114,6 +115,7 @@ fn a_scenario_without_traffic_writes_no_trace_of_it() {
     }
     let s = summary(dir.path());
     assert!(s.get("traffic").is_none());
+    assert!(s["lost_by_cause_s"].get("left_path").is_none(), "{s}");
     let resolved = s["resolved_scenario"].to_string();
     assert!(!resolved.contains("\"actors\""), "{resolved}");
 }
@@ -176,4 +178,97 @@ fn the_recording_logs_the_traffics_events_and_shows_its_vehicles() {
         "{events:?}"
     );
     assert_eq!(actors, 225, "the van in every frame's scene");
+}
+
+/// `frames.csv`'s rows as maps from column to value.
+fn frames(dir: &Path) -> Vec<std::collections::BTreeMap<String, String>> {
+    let csv = text(dir, "frames.csv");
+    let mut lines = csv.lines();
+    let header: Vec<String> = lines.next().unwrap().split(',').map(String::from).collect();
+    lines
+        .map(|l| {
+            header
+                .iter()
+                .cloned()
+                .zip(l.split(',').map(String::from))
+                .collect()
+        })
+        .collect()
+}
+
+#[test]
+fn a_lead_that_leaves_the_lane_is_let_go_of_within_three_frames_in_both_modes() {
+    for mode in ["paper", "robust"] {
+        let dir = tempfile::tempdir().unwrap();
+        let set = ["--set", "duration_s=29", "--set"];
+        let mode_set = format!("tracker.mode={mode}");
+        run(
+            dir.path(),
+            "cut-out",
+            &[&set[..], &[mode_set.as_str()]].concat(),
+        );
+        let rows = frames(dir.path());
+        let left: Vec<usize> = (0..rows.len())
+            .filter(|&i| rows[i]["loss_cause"] == "left_path")
+            .collect();
+        assert!(!left.is_empty(), "{mode}: the lead never left the path");
+        // The lead held after it left the path is a silent loss only until the tracker
+        // lets go of it: then it says lost, and holds nothing.
+        let first = left[0];
+        let silent = rows[first..]
+            .iter()
+            .take_while(|r| r["status"] == "tracking")
+            .count();
+        assert!(
+            silent <= 3,
+            "{mode}: {silent} frames tracking a lead out of the path"
+        );
+        let after = &rows[first + silent];
+        assert_eq!(after["status"], "lost", "{mode}");
+        assert!(rows[first + silent + 1..]
+            .iter()
+            .all(|r| r["tracked_vehicle"] != "lead" || r["path_vehicle"] == "lead"));
+        assert!(rows.iter().all(|r| r["collision"] == "0"), "{mode}");
+    }
+}
+
+#[test]
+fn a_chase_with_nothing_placed_cruises_and_acquires_the_vehicle_in_its_lane() {
+    for mode in ["paper", "robust"] {
+        let dir = tempfile::tempdir().unwrap();
+        let mode_set = format!("tracker.mode={mode}");
+        run(
+            dir.path(),
+            "slow-vehicle-ahead",
+            &["--set", "duration_s=14", "--set", mode_set.as_str()],
+        );
+        let rows = frames(dir.path());
+        assert_eq!(rows[0]["chase_mode"], "cruising", "{mode}");
+        assert_eq!(
+            rows[0]["tracked_vehicle"], "",
+            "{mode}: placed at the start"
+        );
+        let acquired = rows
+            .iter()
+            .position(|r| r["status"] == "tracking")
+            .expect("the lead is acquired");
+        // Cruising up to the set speed (50 km/h) until then, following after.
+        let speed: f64 = rows[acquired]["chase_speed_mps"].parse().unwrap();
+        assert!((speed - 13.9).abs() < 0.5, "{mode}: {speed} m/s");
+        assert_eq!(rows[acquired]["tracked_vehicle"], "lead", "{mode}");
+        assert!(rows[acquired + 3..]
+            .iter()
+            .all(|r| r["chase_mode"] != "cruising"));
+        // Never the van passing in the next lane.
+        assert!(
+            rows.iter().all(|r| r["tracked_vehicle"] != "passing"),
+            "{mode}"
+        );
+        let s = summary(dir.path());
+        assert!(
+            s["traffic"]["acquisition_range_m"].as_f64().unwrap() > 10.0,
+            "{s}"
+        );
+        assert_eq!(s["lost_by_cause_s"]["wrong_vehicle"], 0.0, "{mode}");
+    }
 }

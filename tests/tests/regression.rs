@@ -112,6 +112,7 @@ scenario_test!(low_sun_trees, "low-sun-trees");
 scenario_test!(cut_in, "cut-in");
 scenario_test!(cut_out, "cut-out");
 scenario_test!(next_lane_traffic, "next-lane-traffic");
+scenario_test!(slow_vehicle_ahead, "slow-vehicle-ahead");
 
 macro_rules! robust_test {
     ($test:ident, $name:literal) => {
@@ -146,6 +147,7 @@ robust_test!(robust_highway_90, "highway-90");
 robust_test!(robust_cut_in, "cut-in");
 robust_test!(robust_cut_out, "cut-out");
 robust_test!(robust_next_lane_traffic, "next-lane-traffic");
+robust_test!(robust_slow_vehicle_ahead, "slow-vehicle-ahead");
 
 /// `low-sun-trees`: the low sun's long shadow brings the paper's mode to say `lost` early
 /// and lose the target for a moment, within the scenario's `[expect]`; robust mode, whose

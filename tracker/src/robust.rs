@@ -47,6 +47,7 @@
 
 use crate::config::TrackerConfig;
 use crate::edges::{EdgeExtractor, Edges};
+use crate::gate::AcquireGate;
 use crate::gray::GrayView;
 use crate::location::Location;
 use crate::model::{Feature, Orientation};
@@ -538,6 +539,30 @@ impl ChamferSearch {
         scales: [f64; 2],
         config: &TrackerConfig,
     ) -> Option<SearchHit> {
+        self.search_gated(
+            image,
+            region,
+            features,
+            half_extent_px,
+            scales,
+            config,
+            None,
+        )
+    }
+
+    /// [`ChamferSearch::search`], keeping only fits that `gate` admits.
+    #[allow(clippy::too_many_arguments)]
+    pub fn search_gated(
+        &mut self,
+        image: GrayView<'_>,
+        region: Window,
+        features: &[Feature],
+        half_extent_px: [f64; 2],
+        scales: [f64; 2],
+        config: &TrackerConfig,
+        gate: Option<&AcquireGate>,
+    ) -> Option<SearchHit> {
+        let admitted = |at: Location| gate.is_none_or(|g| g.admits(at));
         if region.is_empty() || !(scales[0] > 0.0 && scales[1] >= scales[0]) {
             return None;
         }
@@ -557,6 +582,10 @@ impl ChamferSearch {
                 let mut x = xs;
                 while x <= xe {
                     let at = Location::new(x as f64, y as f64, scale);
+                    if !admitted(at) {
+                        x += SEARCH_STEP_PX as i64;
+                        continue;
+                    }
                     let bound = if best.len() < SEARCH_REFINE {
                         f64::INFINITY
                     } else {
@@ -592,7 +621,7 @@ impl ChamferSearch {
                 let l = hit.location;
                 for (dx, dy, ds) in NEIGHBOURS {
                     let at = Location::new(l.c_x + dx, l.c_y + dy, l.scale * ds);
-                    if !self.inside(at, half_extent_px) {
+                    if !self.inside(at, half_extent_px) || !admitted(at) {
                         continue;
                     }
                     if let Some(score) = self.score(at, hit.score) {

@@ -14,6 +14,7 @@ use crate::camera::Camera;
 use crate::config::{TrackerConfig, TrackerMode};
 use crate::edges::{EdgeDiagnostic, EdgeExtractor, Edges};
 use crate::feature_location::{locate_features, FeatureLocation};
+use crate::gate::AcquireGate;
 use crate::gray::GrayView;
 use crate::householder::Row;
 use crate::location::Location;
@@ -102,6 +103,8 @@ pub struct Tracker {
     moved: Vec<PredictedFeature>,
     noise: NoiseEstimator,
     search: ChamferSearch,
+    /// Robust mode: where a whole-image search may lock on (none: anywhere).
+    gate: Option<AcquireGate>,
 }
 
 /// What stages 1–4 made of one window.
@@ -262,6 +265,7 @@ impl Tracker {
             moved: Vec::new(),
             noise: NoiseEstimator::default(),
             search: ChamferSearch::default(),
+            gate: None,
         })
     }
 
@@ -293,6 +297,32 @@ impl Tracker {
         self.motion = [MotionModel::new(self.config.lambda); 3];
         self.banks.fast = [MotionModel::new(FAST_LAMBDA.min(self.config.lambda)); 3];
         self.banks.error = [[0.0; 2]; 3];
+    }
+
+    /// Robust mode: lets go of the target, as at [`Tracker::new_searching`], so that the
+    /// next frames search the whole image (within the acquisition gate) for a target. The
+    /// paper's mode, which always holds its target (2.2), is not changed.
+    pub fn release(&mut self) {
+        if self.config.mode == TrackerMode::Robust {
+            self.locked = false;
+            self.ever_locked = false;
+            self.coast_cycles = 0;
+            self.coverage_reference.clear();
+            self.resolvability.clear();
+        }
+    }
+
+    /// Robust mode: where a whole-image search may lock on (`None`: anywhere, the
+    /// default). Not in the paper; see [`crate::gate`]. Searches near a held or lately
+    /// lost target are not gated.
+    pub fn set_acquire_gate(&mut self, gate: Option<AcquireGate>) {
+        self.gate = gate;
+    }
+
+    /// Robust mode: whether the tracker holds a target (else it searches). The paper's
+    /// mode always does.
+    pub fn is_locked(&self) -> bool {
+        self.locked
     }
 
     /// The settings.

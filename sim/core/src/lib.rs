@@ -38,8 +38,8 @@ pub use driven_path::DrivenPath;
 pub use plan::{lead_body_size_m, planning_key, render_options, Plan};
 pub use plugin::{
     BuiltinController, BuiltinTracker, CameraModel, Command, ControlInput, Controller,
-    ControllerChoice, Delivered, Drawn, Estimate, EstimateStatus, FrameTracker, PluginError,
-    StepDetails, TrackerChoice, TrackerInput,
+    ControllerChoice, Delivered, Drawn, Estimate, EstimateStatus, FrameTracker, LaneAhead,
+    PluginError, StepDetails, TrackerChoice, TrackerInput,
 };
 pub use record::{Contact, FrameRecord, LossCause, TrackerStatus, TrafficFrame, VehicleTruth};
 pub use render_worker::{fingerprint, receive_scene, send_scene, serve_frames};

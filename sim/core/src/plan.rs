@@ -292,8 +292,12 @@ impl Plan {
                 other => invalid("route.segments", format!(": the physics ground: {other}")),
             })?;
         let v0 = s.lead_initial_speed_mps as f32;
-        let chase = ChaseController::new(s.chase.clone(), &VehicleParams::hmmwv_m998(), v0)
+        let mut chase = ChaseController::new(s.chase.clone(), &VehicleParams::hmmwv_m998(), v0)
             .map_err(|e| vehicle_error("chase.controller", &e))?;
+        if s.chase.lane_keeping {
+            // The chase keeps the lane it starts in, the lead's.
+            chase.set_lane(lead_route.clone(), (0.5 * s.route.lane_width_m) as f32);
+        }
         let traffic = s
             .has_traffic()
             .then(|| plan_traffic(s, &scene_route, &route, &mut world, chase_start_m))
@@ -572,7 +576,12 @@ fn plan_traffic(
         actors.push(ActorDriver::new(driver, events));
         stations.push(a.start_m);
     }
-    let road = Road::new(route.clone(), s.route.lane_width_m, &stations);
+    let road = Road::new(
+        route.clone(),
+        s.route.lane_width_m,
+        s.route.lanes,
+        &stations,
+    );
     Ok(PlannedTraffic {
         vehicles,
         actor_ids,

@@ -51,6 +51,10 @@ pub enum LossCause {
     Occluded,
     /// The target is in view and not hidden: the tracker lost it.
     Tracker,
+    /// In traffic: the vehicle held was the one in the chase's path, and has left it.
+    LeftPath,
+    /// In traffic: the vehicle held has never been the one in the chase's path.
+    WrongVehicle,
 }
 
 impl LossCause {
@@ -61,14 +65,18 @@ impl LossCause {
             LossCause::OutOfView => "out_of_view",
             LossCause::Occluded => "occluded",
             LossCause::Tracker => "tracker",
+            LossCause::LeftPath => "left_path",
+            LossCause::WrongVehicle => "wrong_vehicle",
         }
     }
 
     /// The causes of a loss, in the order reports list them.
-    pub const ALL: [LossCause; 3] = [
+    pub const ALL: [LossCause; 5] = [
         LossCause::OutOfView,
         LossCause::Occluded,
         LossCause::Tracker,
+        LossCause::LeftPath,
+        LossCause::WrongVehicle,
     ];
 }
 
@@ -140,7 +148,8 @@ pub struct FrameRecord {
     pub lead_xz: [f64; 2],
     /// The vehicles touched during this frame.
     pub collision: bool,
-    /// The chase controller's mode ("following", "stopping", ...).
+    /// The chase controller's mode ("following", "stopping", "stopped", or with lane
+    /// keeping and a cruise speed "cruising").
     pub chase_mode: String,
     /// The share of the measured outline covered by edges, `[horizontal, vertical]`: the
     /// tracker's own check of its measurement (0 without one).
@@ -190,9 +199,9 @@ pub struct TrafficFrame {
     /// Time to collision with it, seconds: the gap over the closing speed while closing
     /// (infinite when not closing, NaN without one).
     pub path_ttc_s: f64,
-    /// The vehicle whose target the tracker's estimate lies on, by the ground truth's
-    /// tolerance: the lead while it is not lost (the lead's is the one target in the world
-    /// so far); `None` otherwise.
+    /// The vehicle whose target (the lead's board, an actor's back) the tracker's estimate
+    /// lies on, by the ground truth's tolerance (the nearest in the image, should two be);
+    /// `None` otherwise.
     pub tracked_vehicle: Option<String>,
     /// Events that started or ended in the physics since the previous frame, in order, as
     /// `vehicle/event:started` or `vehicle/event:ended`.

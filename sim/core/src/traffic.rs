@@ -9,6 +9,7 @@
 //! two). The list says each one's role rather than assuming two, so that a run may later
 //! carry more than one follower (a platoon), each with its own camera and tracker.
 
+use crate::plugin::LaneAhead;
 use crate::record::{Contact, TrafficFrame, VehicleTruth};
 use vehicle::{Route, VehicleId, VehicleParams, VehicleState};
 
@@ -17,6 +18,13 @@ const PROJECTION_WINDOW_M: f32 = 25.0;
 /// How much of its width a vehicle must have inside the chase's lane corridor to be in
 /// its path, metres: a car astride the lane line is in it, one that has crossed is not.
 const PATH_OVERLAP_M: f64 = 0.3;
+
+/// How far ahead of the follower its lane is given to its tracker, metres: beyond the
+/// range at which the smallest target a whole-image search can find (scale 0.4 of a 10 m
+/// nominal range) stands.
+const LANE_AHEAD_M: f32 = 150.0;
+/// The spacing of the lane's points given to the tracker, metres.
+const LANE_AHEAD_STEP_M: f32 = 2.0;
 
 /// What part a vehicle plays in the run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -96,23 +104,30 @@ pub(crate) struct Road {
     /// Lane 1's centre: the drivers' route.
     route: Route,
     lane_width_m: f64,
+    /// Lanes each way.
+    lanes: u32,
     hints: Vec<f32>,
+    /// The places of the last [`Road::places`].
+    last: Vec<Place>,
 }
 
 impl Road {
-    /// The road of `route` (lane 1's centre) with lanes `lane_width_m` wide, for vehicles
+    /// The road of `route` (lane 1's centre) with `lanes` lanes `lane_width_m` wide each
+    /// way, for vehicles
     /// starting at these stations.
-    pub(crate) fn new(route: Route, lane_width_m: f64, stations_m: &[f64]) -> Road {
+    pub(crate) fn new(route: Route, lane_width_m: f64, lanes: u32, stations_m: &[f64]) -> Road {
         Road {
             route,
             lane_width_m,
+            lanes,
             hints: stations_m.iter().map(|&s| s as f32).collect(),
+            last: Vec::new(),
         }
     }
 
     /// Where each vehicle is, from its state (in the list's order).
     pub(crate) fn places(&mut self, vehicles: &Vehicles, states: &[VehicleState]) -> Vec<Place> {
-        states
+        let places: Vec<Place> = states
             .iter()
             .zip(&vehicles.members)
             .zip(&mut self.hints)
@@ -132,7 +147,59 @@ impl Road {
                     rear_m: station_m + f64::from(member.params.rear_bumper_x_m()),
                 }
             })
-            .collect()
+            .collect();
+        self.last.clone_from(&places);
+        places
+    }
+
+    /// The places of the last [`Road::places`].
+    pub(crate) fn last_places(&self) -> &[Place] {
+        &self.last
+    }
+
+    /// Whether vehicle `i` at `places` reaches [`PATH_OVERLAP_M`] into the follower's
+    /// lane corridor (a lane's width, centred on the follower, the list's first), whether
+    /// ahead of it or not.
+    pub(crate) fn in_corridor(&self, vehicles: &Vehicles, places: &[Place], i: usize) -> bool {
+        let half_width = 0.5 * f64::from(vehicles.members[i].params.width_m);
+        (places[i].offset_m - places[0].offset_m).abs()
+            < 0.5 * self.lane_width_m + half_width - PATH_OVERLAP_M
+    }
+
+    /// The lane the follower at `position` is in (the one whose centre is nearest), ahead
+    /// of it to [`LANE_AHEAD_M`], in the frame of the camera at `world_from_camera`: what
+    /// the follower's tracker is told of its lane. Looked for near the follower's station
+    /// at the last [`Road::places`].
+    pub(crate) fn lane_ahead(
+        &self,
+        position: vehicle::Vector,
+        world_from_camera: &nalgebra::Isometry3<f64>,
+    ) -> LaneAhead {
+        let here = self
+            .route
+            .project_near(position, self.hints[0], PROJECTION_WINDOW_M);
+        let w = self.lane_width_m;
+        let lane = (1.0 - f64::from(here.left_offset_m) / w)
+            .round()
+            .clamp(1.0, f64::from(self.lanes));
+        // Lane k's centre is (k − 1) lane widths right of lane 1's.
+        let right_m = (lane - 1.0) * w;
+        let camera_from_world = world_from_camera.inverse();
+        let end_m = self.route.length_m();
+        let mut centre_m = Vec::new();
+        let mut s = here.s_m;
+        while s <= (here.s_m + LANE_AHEAD_M).min(end_m) {
+            let p = self.route.point_at(s) - self.route.left_at(s) * right_m as f32;
+            let c = camera_from_world * nalgebra::Point3::new(f64::from(p.x), 0.0, f64::from(p.z));
+            if c.z > 0.0 && centre_m.last().is_none_or(|l: &[f64; 2]| c.z > l[1]) {
+                centre_m.push([c.x, c.z]);
+            }
+            s += LANE_AHEAD_STEP_M;
+        }
+        LaneAhead {
+            centre_m,
+            half_width_m: 0.5 * w,
+        }
     }
 
     /// The vehicle in the path of the follower at `me`: the nearest ahead of it whose body

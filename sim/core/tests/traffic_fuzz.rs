@@ -22,15 +22,20 @@ fn cases() -> u32 {
 /// The shipped traffic scenarios, two seconds long.
 fn shipped() -> Vec<toml::Table> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios");
-    ["cut-in", "cut-out", "next-lane-traffic"]
-        .iter()
-        .map(|name| {
-            let text = std::fs::read_to_string(dir.join(format!("{name}.toml"))).unwrap();
-            let mut t: toml::Table = toml::from_str(&text).unwrap();
-            t.insert("duration_s".into(), toml::Value::Float(2.0));
-            t
-        })
-        .collect()
+    [
+        "cut-in",
+        "cut-out",
+        "next-lane-traffic",
+        "slow-vehicle-ahead",
+    ]
+    .iter()
+    .map(|name| {
+        let text = std::fs::read_to_string(dir.join(format!("{name}.toml"))).unwrap();
+        let mut t: toml::Table = toml::from_str(&text).unwrap();
+        t.insert("duration_s".into(), toml::Value::Float(2.0));
+        t
+    })
+    .collect()
 }
 
 /// Every leaf path under the traffic's fields (`actors.0.start.gap_m`, ...).

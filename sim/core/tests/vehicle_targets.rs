@@ -21,11 +21,12 @@ fn comment(kind: VehicleKind) -> String {
     let parts: &[&str] = match kind {
         VehicleKind::Truck => &[
             "the box's outline, the roll-up door, the rear bumper and the two tail lamps on",
-            "it.",
+            "it,",
         ],
         _ => &[
-            "the cabin (roof line and sides) on the belt line, the rear window's glass, the",
-            "body's sides down to the bumper's top, the bumper, and the two tail lamps.",
+            "the roof line, the belt line, the rear window's glass, the body's sides down to",
+            "the bumper's top, the bumper, and the two tail lamps (not the cabin's leaning",
+            "sides),",
         ],
     };
     let mut lines = vec![
@@ -38,6 +39,9 @@ fn comment(kind: VehicleKind) -> String {
     ];
     lines.extend(parts.iter().map(|p| p.to_string()));
     lines.extend([
+        "less each edge within 0.25 m of a longer parallel one, which it could not resolve"
+            .to_string(),
+        "at 25 m through an 8 mm lens.".to_string(),
         String::new(),
         "Written by sim_render::vehicle_back_model from the numbers the shape is built from;"
             .to_string(),
@@ -51,8 +55,7 @@ fn comment(kind: VehicleKind) -> String {
             "the centre is {y:.3} m above the ground on the body's back face, {:.3} m behind",
             -x
         ),
-        "the body's centre. Every segment bounds a region of the back: it paints with steps."
-            .to_string(),
+        "the body's centre.".to_string(),
     ]);
     lines.join("\n")
 }

@@ -78,6 +78,7 @@ impl PaperTracker {
                 t_s: t,
                 camera: &camera.inner,
                 gyro_rad: camera.gyro_rad,
+                lane: None,
             };
             inner
                 .track(&input)

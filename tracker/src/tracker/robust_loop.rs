@@ -135,19 +135,22 @@ impl Tracker {
         image: GrayView<'_>,
         region: Window,
         scales: [f64; 2],
+        gated: bool,
         diagnostics: Option<&mut Vec<EdgeDiagnostic>>,
     ) -> Option<Measured> {
         self.note_read(region, image.width(), image.height());
         let mut config = self.config.clone();
         let sigma = self.noise.sigma(image, region);
         config.edge_threshold = search_threshold(self.config.edge_threshold, sigma);
-        let hit = self.search.search(
+        let gate = self.gate.as_ref().filter(|_| gated);
+        let hit = self.search.search_gated(
             image,
             region,
             &self.features,
             self.half_extent_px,
             scales,
             &config,
+            gate,
         )?;
         if hit.score > CHAMFER_ACCEPT_PX {
             return None;
@@ -171,14 +174,20 @@ impl Tracker {
             // Searching: around the last location for a short loss, else everywhere.
             let lost_long = self.coast_cycles as f64 / self.config.rate_hz
                 >= 2.0 * self.config.lost_after_s.max(1.0 / self.config.rate_hz);
-            let (region, scales) = if self.ever_locked && !lost_long {
+            // The acquisition gate, when set, holds for the whole-image search only.
+            let (region, scales, gated) = if self.ever_locked && !lost_long {
                 let s = self.last_good.scale;
                 (
                     self.search_region(Some(self.last_good), self.reach_px(), width, height),
                     [s / 1.3, s * 1.3],
+                    false,
                 )
             } else {
-                (self.search_region(None, 0.0, width, height), ACQUIRE_SCALES)
+                (
+                    self.search_region(None, 0.0, width, height),
+                    ACQUIRE_SCALES,
+                    true,
+                )
             };
             // A whole-image search costs tens of milliseconds: after a long loss, one frame in
             // ACQUIRE_EVERY_FRAMES.
@@ -186,7 +195,7 @@ impl Tracker {
             let found = if skip {
                 None
             } else {
-                self.search_and_measure(image, region, scales, diagnostics.as_deref_mut())
+                self.search_and_measure(image, region, scales, gated, diagnostics.as_deref_mut())
             };
             if let Some(m) = found {
                 let meas = m.measurement.expect("a trusted measurement exists");
@@ -256,7 +265,7 @@ impl Tracker {
             let step = 1.0 + MAX_SCALE_STEP;
             // Only a strong fit will do (REACQUIRE_MIN_COVERAGE, on a peak of coverage).
             if let Some(found) =
-                self.search_and_measure(image, region, [s / step, s * step], diagnostics)
+                self.search_and_measure(image, region, [s / step, s * step], false, diagnostics)
             {
                 if found.coverage() > m.coverage() + SEARCH_MARGIN {
                     if !m.trusted(&self.coverage_reference) && self.coast_cycles > 0 {

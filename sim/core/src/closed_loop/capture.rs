@@ -4,6 +4,7 @@
 use super::drive::Drive;
 use crate::auto_gain::AutoGainControl;
 use crate::plan::iso;
+use crate::plugin::LaneAhead;
 use nalgebra::Isometry3;
 use sim_render::{CameraRig, Field, FrameInput};
 use std::time::{Duration, Instant};
@@ -21,6 +22,9 @@ pub(super) struct Captured {
     pub(super) pan_reading_rad: f64,
     /// The camera in the world (panned by the head's true angle).
     pub(super) world_from_camera: Isometry3<f64>,
+    /// The chase's lane ahead in the camera's frame, for the tracker (`None` without
+    /// traffic).
+    pub(super) lane: Option<LaneAhead>,
 }
 
 impl Captured {
@@ -63,8 +67,13 @@ impl Captured {
         };
         let world_from_camera =
             rig.world_from_camera_panned(&input.world_from_chase, input.camera_pan_rad);
+        let lane = drive
+            .traffic
+            .as_ref()
+            .map(|t| t.lane_ahead(&chase, &world_from_camera));
         Captured {
             now,
+            lane,
             chase,
             lead,
             input,

@@ -92,6 +92,7 @@ impl Eye {
                 input.time_s,
                 ego,
                 captured.pan_reading_rad,
+                captured.lane.as_ref(),
             )
         })
         .map_err(|f| match f {

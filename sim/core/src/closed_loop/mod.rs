@@ -15,6 +15,7 @@ mod renderers;
 mod schedule;
 mod tracking;
 mod traffic_drive;
+mod traffic_truth;
 mod two_in_flight;
 
 pub use error::LoopError;
@@ -27,6 +28,7 @@ use eye::Eye;
 use recorder::Recorder;
 use schedule::{Schedule, Shot, Spent};
 use tracking::Tracking;
+use traffic_truth::TrafficTruth;
 
 use crate::auto_gain::AutoGainControl;
 use crate::driven_path::DrivenPath;
@@ -243,9 +245,10 @@ impl ClosedLoop {
             traffic,
             ..
         } = plan;
+        let kinds: Vec<_> = s.actors.iter().map(|a| a.kind).collect();
         let recorder_traffic = traffic
             .as_ref()
-            .map(|t| (t.road.clone(), t.vehicles.clone()));
+            .map(|t| TrafficTruth::new(t.road.clone(), t.vehicles.clone(), rig.clone(), &kinds));
         let options = render_options(backend);
         let renderer = Renderer::new(scene.clone(), rig.clone(), &options)?;
         let fingerprint = fingerprint(scene.description(), &rig, &options);
@@ -485,8 +488,12 @@ fn tracking_of(
         pan_rad,
         target: s.target.clone(),
     };
+    // In traffic, the other vehicles' kinds' backs, which the tracker may come to hold.
+    if s.has_traffic() {
+        tracker.set_other_targets(&s.other_targets());
+    }
     tracker
-        .reset(&camera, Some(start))
+        .reset(&camera, (!s.search_start).then_some(start))
         .map_err(|error| LoopError::Plugin {
             what: "tracker",
             frame: None,

@@ -3,10 +3,10 @@
 use super::capture::{xz, Captured};
 use super::drive::Driven;
 use super::tracking::Tracked;
+use super::traffic_truth::{LeadTarget, TrafficTruth};
 use crate::driven_path::DrivenPath;
 use crate::plugin::{Estimate, EstimateStatus};
 use crate::record::{FrameRecord, LossCause, TrackerStatus};
-use crate::traffic::{self, Road, Vehicles};
 use sim_render::{target_occluded, Frame, GroundTruth, Scene};
 use std::sync::Arc;
 
@@ -14,7 +14,12 @@ use std::sync::Arc;
 /// more than a quarter of the target's width in the image (`width_px`) or by more than a
 /// quarter of its scale; for an estimate without an image location, the same in metres
 /// (a quarter of the target's width `width_m` beside it, a quarter of its range).
-fn wrong(estimate: Option<&Estimate>, truth: &GroundTruth, width_px: f64, width_m: f64) -> bool {
+pub(super) fn wrong(
+    estimate: Option<&Estimate>,
+    truth: &GroundTruth,
+    width_px: f64,
+    width_m: f64,
+) -> bool {
     let Some(e) = estimate else {
         return true;
     };
@@ -47,8 +52,8 @@ pub(super) struct Recorder {
     pub(super) lead_path: DrivenPath,
     pub(super) chase_distance_m: f64,
     pub(super) last_chase_xz: [f64; 2],
-    /// The road and the vehicle list, when the scenario has traffic.
-    pub(super) traffic: Option<(Road, Vehicles)>,
+    /// The judgement in traffic, when the scenario has traffic.
+    pub(super) traffic: Option<TrafficTruth>,
 }
 
 impl Recorder {
@@ -93,17 +98,37 @@ impl Recorder {
                 captured.input.time_s,
             )
         };
-        let loss_cause = if !lost_truth {
-            LossCause::None
-        } else if !truth.in_view {
-            LossCause::OutOfView
-        } else if occluded() {
-            LossCause::Occluded
-        } else {
-            LossCause::Tracker
-        };
-        let false_alarm =
-            !lost_truth && status != TrackerStatus::Tracking && truth.in_view && !occluded();
+        let (lost_truth, loss_cause, false_alarm, traffic) =
+            match (&mut self.traffic, &captured.traffic) {
+                (Some(judge), Some(states)) => {
+                    let lead = LeadTarget {
+                        truth: &truth,
+                        width_px: self.target_width_px,
+                        width_m: self.target_width_m,
+                        occluded,
+                    };
+                    let tracking = status == TrackerStatus::Tracking;
+                    let log = traffic_log.unwrap_or_default();
+                    let j = judge.judge(captured, states, estimate, tracking, lead, log);
+                    (j.lost, j.cause, j.false_alarm, Some(j.frame))
+                }
+                _ => {
+                    let cause = if !lost_truth {
+                        LossCause::None
+                    } else if !truth.in_view {
+                        LossCause::OutOfView
+                    } else if occluded() {
+                        LossCause::Occluded
+                    } else {
+                        LossCause::Tracker
+                    };
+                    let false_alarm = !lost_truth
+                        && status != TrackerStatus::Tracking
+                        && truth.in_view
+                        && !occluded();
+                    (lost_truth, cause, false_alarm, None)
+                }
+            };
         let cam = world_from_camera.translation.vector;
         let [tx, ty, tz] = truth.target_cam_m;
         let target_world = world_from_camera * nalgebra::Point3::new(tx, ty, tz);
@@ -115,18 +140,6 @@ impl Recorder {
         self.last_chase_xz = chase_xz;
         self.lead_path.push(lead_xz);
         let lateral_deviation_m = self.lead_path.distance(chase_xz);
-        // The lead's target is the one target in the world: the estimate holds the lead
-        // when it is within the tolerance of it.
-        let traffic = match (&mut self.traffic, &captured.traffic) {
-            (Some((road, vehicles)), Some(states)) => Some(traffic::truth(
-                road,
-                vehicles,
-                states,
-                (!lost_truth).then_some(1),
-                traffic_log.unwrap_or_default(),
-            )),
-            _ => None,
-        };
         let track = tracked.out.as_ref();
         let known = |v: Option<f64>| v.unwrap_or(f64::NAN);
         FrameRecord {

@@ -4,7 +4,9 @@
 //! tracks the frame again.
 
 use crate::frame_parts::RETRY_MARGIN_PX;
-use crate::plugin::{CameraModel, Drawn, Estimate, FrameTracker, PluginError, TrackerInput};
+use crate::plugin::{
+    CameraModel, Drawn, Estimate, FrameTracker, LaneAhead, PluginError, TrackerInput,
+};
 use sim_render::Frame;
 use tracker::{EdgeDiagnostic, EgoMotion, GrayView, PixelRect, TrackOutput};
 
@@ -51,6 +53,7 @@ impl Tracking {
         t_s: f64,
         ego: Option<EgoMotion>,
         pan_reading_rad: f64,
+        lane: Option<&LaneAhead>,
     ) -> Result<(Tracked, bool), TrackFailure<E>> {
         self.camera.pan_rad = pan_reading_rad;
         let (width, height) = (frame.image.width() as usize, frame.image.height() as usize);
@@ -64,6 +67,7 @@ impl Tracking {
                 t_s,
                 camera: &self.camera,
                 gyro_rad: ego.map(|e| e.rotation_rad),
+                lane,
             };
             let read = match self.tracker.track_drawn(&input, drawn) {
                 Ok(Drawn::Tracked(estimate)) => break estimate,
@@ -183,7 +187,7 @@ mod tests {
             render: impl FnMut(Option<PixelRect>) -> Result<Frame, RenderError>,
             time_s: f64,
         ) -> (TrackOutput, bool) {
-            let ok = tracking.track(frame, render, time_s, None, 0.0);
+            let ok = tracking.track(frame, render, time_s, None, 0.0, None);
             let (tracked, again) = ok.unwrap_or_else(|_| panic!("track"));
             (tracked.out.expect("the paper's tracker's output"), again)
         }

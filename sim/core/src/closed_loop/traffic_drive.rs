@@ -4,6 +4,7 @@
 //! that the frame's record takes.
 
 use crate::plan::PlannedTraffic;
+use crate::plugin::LaneAhead;
 use crate::record::Contact;
 use crate::traffic::{Contacts, Road, Vehicles};
 use nalgebra::{Isometry3, Translation3};
@@ -39,6 +40,17 @@ impl TrafficDrive {
             road: planned.road,
             events: Vec::new(),
         }
+    }
+
+    /// The chase's lane ahead, seen from the camera at `world_from_camera`, the chase in
+    /// state `chase` (see [`Road::lane_ahead`]).
+    pub(super) fn lane_ahead(
+        &self,
+        chase: &VehicleState,
+        world_from_camera: &Isometry3<f64>,
+    ) -> LaneAhead {
+        self.road
+            .lane_ahead(chase.world_from_vehicle.translation, world_from_camera)
     }
 
     /// Step `now`'s drivers: the lead's events steer `lead`, whose controls are returned

@@ -4,24 +4,36 @@
 //! plug-ins: a comparison, a wrapper in Python, a controller of one's own over the paper's
 //! tracker.
 
+use super::acquisition::{Acquisition, Stepped};
 use super::{
     CameraModel, Command, ControlInput, Controller, Delivered, Drawn, Estimate, EstimateStatus,
     FrameTracker, PluginError, StepDetails, TrackerInput,
 };
 use tracker::{
-    EdgeDiagnostic, EgoMotion, Location, PixelRect, TrackOutput, Tracker, TrackerConfig,
-    TrackerMode,
+    EdgeDiagnostic, EgoMotion, Location, PixelRect, TargetModel, TrackOutput, Tracker,
+    TrackerConfig, TrackerMode,
 };
 use vehicle::{
     ChaseController, ChaseControllerConfig, LeadEstimate, Odometry, Step, TrackStatus, Vector,
     VehicleParams,
 };
 
-/// The paper's tracker (stages 1–8), in the mode its settings give, as a plug-in.
+/// The paper's tracker (stages 1–8), in the mode its settings give, as a plug-in. In
+/// traffic (given other targets, or no start in the paper's mode) it also chooses what to
+/// hold: see the `acquisition` module.
 pub struct BuiltinTracker {
     config: TrackerConfig,
+    /// The tracker of the target held (without acquisition: the one tracker).
     tracker: Option<Tracker>,
+    /// Traffic's acquisition, when on.
+    acquisition: Option<Acquisition>,
+    /// The other vehicles' targets ([`FrameTracker::set_other_targets`]).
+    others: Vec<TargetModel>,
     last: Option<TrackOutput>,
+    /// The last estimate given.
+    last_estimate: Option<Estimate>,
+    /// The pixels the last step read.
+    read: Option<PixelRect>,
     /// Whether each step records its edge points' fates.
     diagnostics: bool,
     /// The last step's edge points' fates, with diagnostics on.
@@ -34,13 +46,17 @@ impl BuiltinTracker {
         BuiltinTracker {
             config,
             tracker: None,
+            acquisition: None,
+            others: Vec::new(),
             last: None,
+            last_estimate: None,
+            read: None,
             diagnostics: false,
             edges: Vec::new(),
         }
     }
 
-    /// The tracker itself, once reset.
+    /// The tracker of the target held, once reset (`None` while it searches in traffic).
     pub fn tracker(&self) -> Option<&Tracker> {
         self.tracker.as_ref()
     }
@@ -49,6 +65,70 @@ impl BuiltinTracker {
     /// [`FrameTracker::take_details`] takes it.
     pub fn last_output(&self) -> Option<&TrackOutput> {
         self.last.as_ref()
+    }
+
+    /// In traffic, which target it holds: 0 for the lead's ([`CameraModel::target`]), k
+    /// for the k-th of [`FrameTracker::set_other_targets`]; `None` while it searches, and
+    /// always without traffic.
+    pub fn held_target(&self) -> Option<usize> {
+        self.acquisition.as_ref().and_then(|a| a.held)
+    }
+
+    /// Steps `tracker` on `input`'s frame, with the gyro in robust mode.
+    fn step(
+        diagnostics: bool,
+        tracker: &mut Tracker,
+        input: &TrackerInput<'_>,
+    ) -> (TrackOutput, Vec<EdgeDiagnostic>) {
+        // Robust mode's prediction turns with the camera, by the gyro (the paper's ignores it).
+        let ego = (tracker.config().mode == TrackerMode::Robust)
+            .then_some(input.gyro_rad)
+            .flatten()
+            .map(|rotation_rad| EgoMotion { rotation_rad });
+        let (frame, t_s) = (input.frame, input.t_s);
+        match (ego, diagnostics) {
+            (Some(ego), true) => tracker.step_aided_with_diagnostics(frame, t_s, ego),
+            (Some(ego), false) => (tracker.step_aided(frame, t_s, ego), Vec::new()),
+            (None, true) => tracker.step_with_diagnostics(frame, t_s),
+            (None, false) => (tracker.step(frame, t_s), Vec::new()),
+        }
+    }
+
+    /// A frame in traffic: the held target's tracker steps and is judged against the
+    /// lane, or, holding nothing, the next model's search.
+    fn track_in_traffic(
+        &mut self,
+        input: &TrackerInput<'_>,
+    ) -> Result<Option<(TrackOutput, Vec<EdgeDiagnostic>, bool)>, PluginError> {
+        let acquisition = self.acquisition.as_mut().expect("in traffic");
+        let diagnostics = self.diagnostics;
+        if acquisition.resting() {
+            acquisition.rest();
+            self.read = None;
+            return Ok(None);
+        }
+        if acquisition.searching() {
+            let mut edges = Vec::new();
+            let (out, stepped) = acquisition
+                .search(input.lane, |t| {
+                    let (out, e) = Self::step(diagnostics, t, input);
+                    edges = e;
+                    self.read = Some(t.last_read());
+                    out
+                })
+                .map_err(|e| PluginError::Failed(e.to_string()))?;
+            if let Stepped::Searched(Some(holder)) = stepped {
+                self.tracker = Some(*holder);
+            }
+            return Ok(Some((out, edges, false)));
+        }
+        let tracker = self.tracker.as_mut().expect("a held target has a tracker");
+        let (out, edges) = Self::step(diagnostics, tracker, input);
+        self.read = Some(tracker.last_read());
+        let Stepped::Held { released } = acquisition.judge_held(&out, input.lane) else {
+            unreachable!("a held step is judged as held")
+        };
+        Ok(Some((out, edges, released)))
     }
 }
 
@@ -71,6 +151,10 @@ impl FrameTracker for BuiltinTracker {
         format!("paper tracker ({} mode)", self.config.mode.as_str())
     }
 
+    fn set_other_targets(&mut self, targets: &[TargetModel]) {
+        self.others = targets.to_vec();
+    }
+
     fn reset(&mut self, camera: &CameraModel, start: Option<&Estimate>) -> Result<(), PluginError> {
         let (model, config) = (camera.target.clone(), self.config.clone());
         let placed = start.map(|s| match (s.cx, s.cy, s.scale) {
@@ -81,39 +165,70 @@ impl FrameTracker for BuiltinTracker {
                     .into(),
             )),
         });
-        let tracker = match placed.transpose()? {
-            Some(init) => Tracker::new(model, camera.intrinsics, config, init),
-            None => Tracker::new_searching(model, camera.intrinsics, config),
+        let placed = placed.transpose()?;
+        let failed = |e: tracker::TrackerError| PluginError::Failed(e.to_string());
+        // Traffic's acquisition: with other targets to hold, or the paper's mode with no
+        // start, which it takes from robust mode's search.
+        let acquire =
+            !self.others.is_empty() || (placed.is_none() && config.mode == TrackerMode::Paper);
+        self.acquisition = if acquire {
+            let mut models = vec![model.clone()];
+            models.extend(self.others.iter().cloned());
+            Some(
+                Acquisition::new(models, camera.intrinsics, config.clone(), placed.is_some())
+                    .map_err(failed)?,
+            )
+        } else {
+            None
         };
-        let mut tracker = tracker.map_err(|e| PluginError::Failed(e.to_string()))?;
+        let tracker = match placed {
+            Some(init) => Some(Tracker::new(model, camera.intrinsics, config, init)),
+            None if acquire => None,
+            None => Some(Tracker::new_searching(model, camera.intrinsics, config)),
+        };
+        self.tracker = tracker.transpose().map_err(failed)?;
         // The overlay and recordings draw associated and rejected points only.
-        tracker.set_association_fates_only(true);
-        self.tracker = Some(tracker);
+        if let Some(t) = &mut self.tracker {
+            t.set_association_fates_only(true);
+        }
         self.last = None;
+        self.last_estimate = None;
+        self.read = None;
         self.edges.clear();
         Ok(())
     }
 
     fn track(&mut self, input: &TrackerInput<'_>) -> Result<Option<Estimate>, PluginError> {
-        let tracker = self
-            .tracker
-            .as_mut()
-            .ok_or_else(|| PluginError::Failed("track before reset".into()))?;
-        // Robust mode's prediction turns with the camera, by the gyro (the paper's ignores it).
-        let ego = (self.config.mode == TrackerMode::Robust)
-            .then_some(input.gyro_rad)
-            .flatten()
-            .map(|rotation_rad| EgoMotion { rotation_rad });
-        let (frame, t_s) = (input.frame, input.t_s);
-        let (out, edges) = match (ego, self.diagnostics) {
-            (Some(ego), true) => tracker.step_aided_with_diagnostics(frame, t_s, ego),
-            (Some(ego), false) => (tracker.step_aided(frame, t_s, ego), Vec::new()),
-            (None, true) => tracker.step_with_diagnostics(frame, t_s),
-            (None, false) => (tracker.step(frame, t_s), Vec::new()),
+        let (out, edges, released) = if self.acquisition.is_some() {
+            match self.track_in_traffic(input)? {
+                Some(stepped) => stepped,
+                None => {
+                    // A frame the search rests: still nothing held.
+                    self.last = None;
+                    self.edges.clear();
+                    return Ok(self.last_estimate.map(|e| Estimate {
+                        status: EstimateStatus::Lost,
+                        ..e
+                    }));
+                }
+            }
+        } else {
+            let tracker = self
+                .tracker
+                .as_mut()
+                .ok_or_else(|| PluginError::Failed("track before reset".into()))?;
+            let (out, edges) = Self::step(self.diagnostics, tracker, input);
+            self.read = Some(tracker.last_read());
+            (out, edges, false)
         };
-        let estimate = estimate_of(&out);
+        let mut estimate = estimate_of(&out);
+        if released {
+            // Let go of: the controller hears it lost.
+            estimate.status = EstimateStatus::Lost;
+        }
         self.last = Some(out);
         self.edges = edges;
+        self.last_estimate = Some(estimate);
         Ok(Some(estimate))
     }
 
@@ -125,16 +240,29 @@ impl FrameTracker for BuiltinTracker {
         input: &TrackerInput<'_>,
         drawn: PixelRect,
     ) -> Result<Drawn, PluginError> {
-        if drawn == PixelRect::whole(input.frame.width(), input.frame.height()) {
+        let whole = PixelRect::whole(input.frame.width(), input.frame.height());
+        if drawn == whole {
             return self.track(input).map(Drawn::Tracked);
         }
-        let before = self.tracker.clone();
+        if self
+            .acquisition
+            .as_ref()
+            .is_some_and(|a| a.searching() && !a.resting())
+        {
+            // A search reads the whole image.
+            return Ok(Drawn::Needs(whole));
+        }
+        // Holding a target, a step changes only the held tracker and the hold's counters.
+        let held = self.acquisition.as_ref().map(Acquisition::hold);
+        let before = (self.tracker.clone(), self.read);
         let last = self.last.take();
         let estimate = self.track(input)?;
-        let read = self.tracker.as_ref().map(Tracker::last_read);
-        match read {
+        match self.read {
             Some(read) if !drawn.contains(&read) => {
-                self.tracker = before;
+                (self.tracker, self.read) = before;
+                if let (Some(a), Some(h)) = (&mut self.acquisition, held) {
+                    a.restore(h);
+                }
                 self.last = last;
                 self.edges.clear();
                 Ok(Drawn::Needs(read))
@@ -155,7 +283,7 @@ impl FrameTracker for BuiltinTracker {
         Some(StepDetails {
             // Taken, not copied: the loop takes it every frame.
             output: self.last.take()?,
-            read: self.tracker.as_ref()?.last_read(),
+            read: self.read?,
             edges: std::mem::take(&mut self.edges),
         })
     }

@@ -17,17 +17,20 @@
 //! records ([`FrameTracker::take_details`]); a controller may hear every estimate the
 //! delay line delivers ([`Controller::receive`]).
 
+mod acquisition;
 mod builtin;
+mod lane;
 mod types;
 
 pub use builtin::{BuiltinController, BuiltinTracker};
+pub use lane::LaneAhead;
 pub use types::{
     CameraModel, Command, ControlInput, Delivered, Drawn, Estimate, EstimateStatus, StepDetails,
     TrackerInput,
 };
 
 use thiserror::Error;
-use tracker::PixelRect;
+use tracker::{PixelRect, TargetModel};
 use vehicle::ChaseController;
 
 /// A plug-in's failure, which ends the run (see [`crate::LoopError::Plugin`]).
@@ -55,6 +58,14 @@ pub trait FrameTracker: Send {
     fn reset(&mut self, camera: &CameraModel, start: Option<&Estimate>) -> Result<(), PluginError> {
         let _ = (camera, start);
         Ok(())
+    }
+
+    /// Before [`FrameTracker::reset`], in traffic: the targets of the other vehicles that
+    /// may come to be in the chase's path (each kind's back, `scenarios/targets/`), besides
+    /// [`CameraModel::target`]. A tracker may acquire any of them when it holds nothing;
+    /// the default ignores them.
+    fn set_other_targets(&mut self, targets: &[TargetModel]) {
+        let _ = targets;
     }
 
     /// One frame: the estimate, or `None` for no estimate this frame (coasting: the

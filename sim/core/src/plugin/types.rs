@@ -1,6 +1,6 @@
 //! What passes between the loop and its plug-ins.
 
-use super::PluginError;
+use super::{LaneAhead, PluginError};
 use tracker::{Camera, EdgeDiagnostic, GrayView, PixelRect, TargetModel, TrackOutput};
 
 /// What a tracker knows of its camera and its target: the intrinsics (those of stage 8,
@@ -158,6 +158,9 @@ pub struct TrackerInput<'a> {
     /// as a rotation vector in the previous camera frame (+y turns the camera right, +x
     /// tilts it up), with the gyro's bias and noise; `None` on the first frame.
     pub gyro_rad: Option<[f64; 3]>,
+    /// The chase's own lane ahead at capture, in traffic (`None` without traffic): where a
+    /// tracker should look for the vehicle to follow.
+    pub lane: Option<&'a LaneAhead>,
 }
 
 /// One physics step, for a controller.

@@ -230,6 +230,14 @@ pub struct TrackerFile {
     /// dscale in (-0.5, 1].
     #[serde(default, deserialize_with = "exact::optional")]
     pub init_offset: Option<[f64; 3]>,
+    /// Where the tracker starts: `"operator"` (the default), placed on the target at t = 0
+    /// as the paper's teleoperator did (2.2), with `init_offset`'s error; or `"search"`,
+    /// nothing placed: it searches the whole image (robust mode's search, which the
+    /// paper's mode takes its start from), in traffic for a vehicle in the chase's lane.
+    /// (Written only when given.)
+    #[schemars(extend("enum" = ["operator", "search", null]))]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub start: Option<String>,
 }
 
 /// `[loop]`.

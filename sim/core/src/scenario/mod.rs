@@ -174,6 +174,8 @@ pub struct ScenarioSpec {
     pub target: TargetModel,
     /// The teleoperator's placement error `[dx_px, dy_px, dscale]`.
     pub init_offset: [f64; 3],
+    /// Whether the tracker starts with nothing placed, searching (`tracker.start`).
+    pub search_start: bool,
     /// The delay line.
     pub delay: DelayLineConfig,
     /// Physics world (ground, bumps).
@@ -525,6 +527,22 @@ impl Scenario {
     /// any writes what it wrote before traffic existed.
     pub fn has_traffic(&self) -> bool {
         !self.actors.is_empty() || !self.lead_events.is_empty()
+    }
+
+    /// The targets of the actors' kinds, each kind once in the order the actors first
+    /// name it: the backs the follower's tracker may acquire besides the lead's target
+    /// ([`crate::FrameTracker::set_other_targets`]).
+    pub fn other_targets(&self) -> Vec<tracker::TargetModel> {
+        let mut kinds: Vec<sim_render::VehicleKind> = Vec::new();
+        for a in &self.actors {
+            if !kinds.contains(&a.kind) {
+                kinds.push(a.kind);
+            }
+        }
+        kinds
+            .into_iter()
+            .map(sim_render::vehicle_back_model)
+            .collect()
     }
 
     /// The camera frames of its run: its duration at the camera's rate, frame k at k / 15 s.

@@ -6,9 +6,11 @@
 //! The model's frame is a target's (`tracker::model`): metres from the model's centre, x
 //! right and y up as the chase camera sees the back. Its centre is the middle of the
 //! outline's bounding box on the body's back face ([`back_model_centre_m`]); its x is the
-//! vehicle's z. Every segment bounds a closed region of the back (a car's cabin, rear window,
-//! body, bumper and tail lamps; the truck's box, door, bumper and lamps), so the model
-//! paints with step edges, as the paper's target does.
+//! vehicle's z. It keeps the edges that are resolved where a whole-image search looks
+//! ([`MIN_FEATURE_SPACING_M`]): of two parallel edges closer than that, the longer; a car's
+//! cabin and window sides, which lean, are left out. The model paints with step edges, as
+//! the paper's target does, where every segment kept still bounds a closed region of the
+//! back, and with stripes otherwise.
 //!
 //! It is a plane's model of a back that is not quite plane: on a car the bumper stands
 //! 0.15 m behind the body's back face and the cabin leans forward of it (a sedan's rear
@@ -28,6 +30,14 @@ use tracker::TargetModel;
 /// The models' nominal range, metres: the range at which their image scale is 1, the
 /// shipped board target's.
 pub const BACK_MODEL_NOMINAL_RANGE_M: f64 = 10.0;
+
+/// The least spacing of two parallel features of a back's model whose extents meet, metres.
+/// Two edges closer than `tracker::resolvability::EDGE_SEPARATION_PX` (3 px) merge in stage
+/// 1, and a model with such a pair is unresolved (2.3, 2.4): its measurements are never
+/// trusted and a search never acquires it. 0.25 m is 3.2 px at 25 m through an 8 mm lens
+/// (the library's widest), where the whole-image search's smallest scale (0.4) puts a model
+/// of [`BACK_MODEL_NOMINAL_RANGE_M`]. Of two features closer than this, the longer is kept.
+pub const MIN_FEATURE_SPACING_M: f64 = 0.25;
 
 /// A segment from one point to another of the back: (lateral, height) each, metres in the
 /// vehicle's frame (z right, y up from the ground).
@@ -53,13 +63,58 @@ pub fn vehicle_back_model(kind: VehicleKind) -> TargetModel {
         }
     };
     let segments: Vec<[usize; 2]> = edges.iter().map(|&[a, b]| [corner(a), corner(b)]).collect();
-    TargetModel::new(
+    let model = TargetModel::new(
         format!("{}-back", kind.as_str()),
         BACK_MODEL_NOMINAL_RANGE_M,
         corners,
         segments,
     )
-    .expect("every kind's back is a valid model (`back_model`'s tests)")
+    .expect("every kind's back is a valid model (`back_model`'s tests)");
+    // Painted with steps where every segment still bounds a region, else as stripes (the
+    // paint is what a board of this model would carry; the renderer draws the vehicle).
+    if tracker::paint::layout(&model).is_ok() {
+        model
+    } else {
+        model.with_paint(tracker::paint::Paint::Stripes)
+    }
+}
+
+/// Whether two axis-aligned edges are parallel, meet along their direction (touching ends
+/// count: association compares a point with every feature whose extent spans it, eq. 8,
+/// 10), and lie closer than [`MIN_FEATURE_SPACING_M`].
+fn too_close(a: &Edge, b: &Edge) -> bool {
+    let horizontal = |e: &Edge| e[0][1] == e[1][1];
+    if horizontal(a) != horizontal(b) {
+        return false;
+    }
+    let (along, across) = if horizontal(a) { (0, 1) } else { (1, 0) };
+    let span = |e: &Edge| {
+        let (p, q) = (e[0][along], e[1][along]);
+        (p.min(q), p.max(q))
+    };
+    let ((a0, a1), (b0, b1)) = (span(a), span(b));
+    a0.max(b0) <= a1.min(b1) && (a[0][across] - b[0][across]).abs() < MIN_FEATURE_SPACING_M
+}
+
+/// The edges a model can resolve: longest first, each kept unless it is [`too_close`] to
+/// one kept before it; in their first order.
+fn resolvable(edges: Vec<Edge>) -> Vec<Edge> {
+    let length = |e: &Edge| (e[1][0] - e[0][0]).hypot(e[1][1] - e[0][1]);
+    let mut order: Vec<usize> = (0..edges.len()).collect();
+    order.sort_by(|&a, &b| {
+        length(&edges[b])
+            .total_cmp(&length(&edges[a]))
+            .then(a.cmp(&b))
+    });
+    let mut kept = vec![false; edges.len()];
+    for i in order {
+        kept[i] = !(0..edges.len()).any(|j| kept[j] && too_close(&edges[i], &edges[j]));
+    }
+    edges
+        .into_iter()
+        .zip(kept)
+        .filter_map(|(e, k)| k.then_some(e))
+        .collect()
 }
 
 /// The centre of [`vehicle_back_model`]`(kind)` in the vehicle's body frame (x forward, y
@@ -94,12 +149,12 @@ pub fn body_from_back_model(kind: VehicleKind) -> Isometry3<f64> {
     )
 }
 
-/// The back's edges of `kind`.
+/// The back's edges of `kind` that a model can resolve ([`resolvable`]).
 fn edges(kind: VehicleKind) -> Vec<Edge> {
-    match kind.car_body() {
+    resolvable(match kind.car_body() {
         Some(body) => car_edges(body),
         None => truck_edges(),
-    }
+    })
 }
 
 /// The four sides of the rectangle from lateral `z0` to `z1` and height `y0` to `y1`.
@@ -112,21 +167,37 @@ fn rectangle([z0, z1]: [f64; 2], [y0, y1]: [f64; 2]) -> [Edge; 4] {
     ]
 }
 
-/// A car's back: the cabin (roof line and sides) on the belt line, the rear window's glass,
-/// the body's sides down to the bumper's top, the bumper, and the two tail lamps.
+/// A car's back: the roof line, the belt line, the rear window's glass, the body's sides
+/// down to the bumper's top, the bumper, and the two tail lamps. The cabin's and the
+/// window's sides lean in towards the roof, so they are no vertical features: they are
+/// left out, unless the cabin stands upright.
 fn car_edges(body: CarBody) -> Vec<Edge> {
     let b = CarBack::of(body);
     let s = b.side;
-    let cabin = 0.5 * (b.cabin[0] + b.cabin[1]);
-    let glass = 0.5 * (b.glass_half[0] + b.glass_half[1]);
     let [bumper_bottom, bumper_top] = b.bumper_y;
+    let upright = |[bottom, top]: [f64; 2]| (bottom - top).abs() < 1e-9;
     let mut edges = vec![
-        [[-cabin, b.roof], [cabin, b.roof]],
-        [[-cabin, b.belt], [-cabin, b.roof]],
-        [[cabin, b.belt], [cabin, b.roof]],
+        [[-b.cabin[1], b.roof], [b.cabin[1], b.roof]],
         [[-s, b.belt], [s, b.belt]],
     ];
-    edges.extend(rectangle([-glass, glass], b.glass_y));
+    if upright(b.cabin) {
+        edges.extend([
+            [[-b.cabin[1], b.belt], [-b.cabin[1], b.roof]],
+            [[b.cabin[1], b.belt], [b.cabin[1], b.roof]],
+        ]);
+    }
+    let [glass_bottom, glass_top] = b.glass_y;
+    if upright(b.glass_half) {
+        edges.extend(rectangle([-b.glass_half[1], b.glass_half[1]], b.glass_y));
+    } else {
+        edges.extend([
+            [
+                [-b.glass_half[0], glass_bottom],
+                [b.glass_half[0], glass_bottom],
+            ],
+            [[-b.glass_half[1], glass_top], [b.glass_half[1], glass_top]],
+        ]);
+    }
     edges.extend([
         [[-s, bumper_top], [-s, b.belt]],
         [[s, bumper_top], [s, b.belt]],
@@ -176,16 +247,27 @@ mod tests {
         for kind in VehicleKind::ALL {
             let model = vehicle_back_model(kind);
             assert_eq!(model.name(), format!("{}-back", kind.as_str()));
-            assert_eq!(model.paint(), Paint::Steps);
-            assert!(
-                layout(&model).is_ok(),
-                "{kind:?}: every segment bounds a region"
+            // Steps where every segment bounds a region, else stripes.
+            assert_eq!(
+                model.paint() == Paint::Steps,
+                layout(&model.clone().with_paint(Paint::Steps)).is_ok(),
+                "{kind:?}"
             );
             let horizontal = model
                 .orientations()
                 .filter(|&o| o == Orientation::Horizontal)
                 .count();
-            assert!(horizontal >= 4 && model.segments().len() - horizontal >= 4);
+            assert!(horizontal >= 3 && model.segments().len() - horizontal >= 2);
+            // Resolved where the whole-image search looks: no two parallel features whose
+            // extents meet closer than 3 px at scale 0.4 through an 8 mm lens.
+            let spacing_px = MIN_FEATURE_SPACING_M * 320.0 * 0.4 / BACK_MODEL_NOMINAL_RANGE_M;
+            assert!(spacing_px >= tracker::resolvability::EDGE_SEPARATION_PX);
+            let edges = edges(kind);
+            for (i, a) in edges.iter().enumerate() {
+                for b in &edges[i + 1..] {
+                    assert!(!too_close(a, b), "{kind:?}: {a:?} and {b:?}");
+                }
+            }
             // The model spans the back: as wide as the body, from the bumper to the top.
             let (_, width, height) = kind.dimensions();
             let [w, h] = model.size_m();

@@ -98,7 +98,9 @@ pub struct Summary {
     /// Number of ground-truth loss events (maximal runs of lost frames).
     pub tracking_loss_events: u64,
     /// `tracking_lost_s` by cause, seconds: `out_of_view` (the target outside the image),
-    /// `occluded` (hidden by scenery) and `tracker` (in view, not hidden, and lost).
+    /// `occluded` (hidden by scenery, or in traffic behind the vehicle in the path) and
+    /// `tracker` (in view, not hidden, and lost); in traffic also `left_path` and
+    /// `wrong_vehicle`.
     pub lost_by_cause_s: LostByCause,
     /// Time with the target partly out of view (some of it in the image, not all),
     /// seconds, whether or not it was lost then.
@@ -169,6 +171,14 @@ pub struct LostByCause {
     pub occluded: f64,
     /// The target in view and not hidden: the tracker's own loss.
     pub tracker: f64,
+    /// In traffic: holding a vehicle that has left the chase's path (written only in
+    /// traffic).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub left_path: Option<f64>,
+    /// In traffic: holding a vehicle that was never in the chase's path (written only in
+    /// traffic).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub wrong_vehicle: Option<f64>,
 }
 
 impl LostByCause {
@@ -177,6 +187,8 @@ impl LostByCause {
             LossCause::OutOfView => self.out_of_view,
             LossCause::Occluded => self.occluded,
             LossCause::Tracker => self.tracker,
+            LossCause::LeftPath => self.left_path.unwrap_or(0.0),
+            LossCause::WrongVehicle => self.wrong_vehicle.unwrap_or(0.0),
             LossCause::None => 0.0,
         }
     }

@@ -73,7 +73,9 @@ const GAP: usize = 8;
 const LATERAL: usize = 9;
 const DURATION: usize = 10;
 const FALSE_ALARM: usize = 11;
-const SLOTS: usize = 12;
+const LOST_LEFT_PATH: usize = 12;
+const LOST_WRONG_VEHICLE: usize = 13;
+const SLOTS: usize = 14;
 
 /// Time-weighted sums: over frames of known step, and over frames that stand for a period.
 #[derive(Clone, Debug, Default)]
@@ -93,7 +95,7 @@ impl Weighted {
 #[derive(Clone, Copy, Debug)]
 struct OpenLoss {
     event: LossEvent,
-    counts: [u64; 3],
+    counts: [u64; LossCause::ALL.len()],
 }
 
 /// The ground-truth loss events, followed frame by frame.
@@ -109,7 +111,7 @@ impl LossEvents {
         let index = LossCause::ALL.iter().position(|&a| a == r.loss_cause);
         match (&mut self.open, r.lost_truth) {
             (None, true) => {
-                let mut counts = [0; 3];
+                let mut counts = [0; LossCause::ALL.len()];
                 if let Some(k) = index {
                     counts[k] += 1;
                 }
@@ -141,7 +143,7 @@ impl LossEvents {
 
     fn close(&mut self) {
         if let Some(OpenLoss { mut event, counts }) = self.open.take() {
-            let most = (0..3).fold(0, |m, k| if counts[k] > counts[m] { k } else { m });
+            let most = (0..counts.len()).fold(0, |m, k| if counts[k] > counts[m] { k } else { m });
             // A lost frame without a cause (records from before causes were kept) is the
             // tracker's.
             event.cause = if counts[most] > 0 {
@@ -222,6 +224,8 @@ pub struct SummaryBuilder {
     range_errors: RangeErrors,
     distance_m: f64,
     traffic: TrafficStats,
+    /// Whether any record had traffic (the causes of traffic are then written).
+    traffic_seen: bool,
 }
 
 impl SummaryBuilder {
@@ -249,6 +253,7 @@ impl SummaryBuilder {
             range_errors: RangeErrors::default(),
             distance_m: 0.0,
             traffic: TrafficStats::default(),
+            traffic_seen: false,
         }
     }
 
@@ -260,6 +265,7 @@ impl SummaryBuilder {
     /// Takes the next record (records come in frame order).
     pub fn push(&mut self, r: &FrameRecord) {
         self.frames += 1;
+        self.traffic_seen |= r.traffic.is_some();
         self.period.push(r.t_s);
         let lost_as = |cause: bool| f64::from(u8::from(r.lost_truth && cause));
         let mut values = [0.0; SLOTS];
@@ -274,6 +280,8 @@ impl SummaryBuilder {
         // tracker's.
         values[LOST_TRACKER] =
             lost_as(matches!(r.loss_cause, LossCause::Tracker | LossCause::None));
+        values[LOST_LEFT_PATH] = lost_as(r.loss_cause == LossCause::LeftPath);
+        values[LOST_WRONG_VEHICLE] = lost_as(r.loss_cause == LossCause::WrongVehicle);
         values[SAYS_LOST] = f64::from(u8::from(r.status == TrackerStatus::Lost));
         values[SAYS_COASTING] = f64::from(u8::from(r.status == TrackerStatus::Coasting));
         values[PARTLY_OUT] = f64::from(u8::from(r.target_partly_out_of_view));
@@ -393,6 +401,8 @@ impl SummaryBuilder {
                 out_of_view: time(LOST_OUT_OF_VIEW),
                 occluded: time(LOST_OCCLUDED),
                 tracker: time(LOST_TRACKER),
+                left_path: self.traffic_seen.then(|| time(LOST_LEFT_PATH)),
+                wrong_vehicle: self.traffic_seen.then(|| time(LOST_WRONG_VEHICLE)),
             },
             partly_out_of_view_s: time(PARTLY_OUT),
             imprecise_share: (self.whole_in_view > 0)

@@ -158,7 +158,7 @@ pub(super) fn validate(
     let (route, length) = route::route(&raw.route, f)?;
     let (lead_profile, lead_initial_speed_mps) = lead::lead(&raw.lead, length, f)?;
     let (chase, camera, initial_gap_m) = chase::chase_and_camera(&raw, f)?;
-    let (tracker, init_offset, target) = tracking::tracker(&raw, f, load_target)?;
+    let (tracker, init_offset, target, search_start) = tracking::tracker(&raw, f, load_target)?;
     let delay = tracking::delay(&raw, f)?;
     let e = environment::environment(&raw.environment, f)?;
     let distractors = distractors::distractors(
@@ -203,6 +203,7 @@ pub(super) fn validate(
         tracker,
         target,
         init_offset,
+        search_start,
         delay,
         world,
         sun: e.sun,

@@ -6,12 +6,13 @@ use crate::scenario::{ScenarioError, ScenarioFile};
 use tracker::{TargetModel, TrackerConfig, TrackerMode};
 use vehicle::DelayLineConfig;
 
-/// The tracker's settings, the placement error `[dx_px, dy_px, dscale]` and the target.
+/// The tracker's settings, the placement error `[dx_px, dy_px, dscale]`, the target, and
+/// whether the tracker starts by searching (`tracker.start = "search"`).
 pub(super) fn tracker(
     raw: &ScenarioFile,
     f: &Blame,
     load_target: impl Fn(&str) -> Result<TargetModel, ScenarioError>,
-) -> Result<(TrackerConfig, [f64; 3], TargetModel), ScenarioError> {
+) -> Result<(TrackerConfig, [f64; 3], TargetModel, bool), ScenarioError> {
     let t = &raw.tracker;
     let mut tracker = TrackerConfig::default();
     if let Some(v) = t.lambda {
@@ -72,8 +73,18 @@ pub(super) fn tracker(
             format!("{init_offset:?}"),
         ),
     )?;
+    let search = match t.start.as_deref() {
+        None | Some("operator") => false,
+        Some("search") => true,
+        Some(v) => {
+            return Err(f.invalid(
+                "tracker.start",
+                format!("= {v:?}: must be \"operator\" or \"search\""),
+            ))
+        }
+    };
     let target = load_target(&t.target)?;
-    Ok((tracker, init_offset, target))
+    Ok((tracker, init_offset, target, search))
 }
 
 /// The delay line of `[loop]`.

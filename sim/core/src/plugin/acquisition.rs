@@ -1,0 +1,227 @@
+//! The built-in tracker in traffic: which target it holds, how it acquires one, and when it
+//! lets go.
+//!
+//! Not in the paper, whose teleoperator placed the target once (2.2). In traffic the
+//! vehicle in the chase's lane changes: a car cuts in, the lead cuts out. When the tracker
+//! holds nothing, it searches the whole image for one model a frame, in turn (the lead's
+//! target, then each other kind's back), keeping only fits whose centre lies in the chase's
+//! lane ([`LaneAhead`], through [`tracker::AcquireGate`]); this is robust mode's
+//! whole-image search, which the paper's mode also takes its start from. It lets go of a
+//! target the tracker says is lost, and of one that has left the lane for
+//! [`LEFT_LANE_FRAMES`] frames. Holding nothing for long, it searches on one frame in three
+//! ([`SEARCH_EVERY_FRAME_FOR`]).
+
+use super::LaneAhead;
+use tracker::robust::{ACQUIRE_EVERY_FRAMES, ACQUIRE_SCALES};
+use tracker::{
+    AcquireGate, Camera, Status, TargetModel, TrackOutput, Tracker, TrackerConfig, TrackerError,
+    TrackerMode,
+};
+
+/// How far beyond half its lane's width a held target's centre may stray before it counts
+/// as out of the lane, metres: a car astride the lane line is still in it (the truth's path
+/// corridor keeps a vehicle with 0.3 m of its width inside the lane, a centre about 0.6 m
+/// beyond half the lane for a car), and the estimate's lateral noise at 40 m is a few
+/// tenths of a metre.
+pub const LANE_MARGIN_M: f64 = 0.5;
+
+/// How many frames in a row a held target's centre must lie out of the lane before the
+/// tracker lets go of it: 3 frames (0.2 s at 15 Hz), so that one noisy estimate does not
+/// drop a target, while a target that has left is let go of well within the 15 frames a
+/// silent loss may last.
+pub const LEFT_LANE_FRAMES: u32 = 3;
+
+/// How many frames in a row the tracker searches once it holds nothing, before it searches
+/// on one frame in [`tracker::robust::ACQUIRE_EVERY_FRAMES`] only, as robust mode does after
+/// a long loss: 15 frames (1 s), each model searched several times while a target just let
+/// go of or hidden may still be near. A whole-image search costs tens of milliseconds.
+pub const SEARCH_EVERY_FRAME_FOR: u64 = 15;
+
+/// How many scales the acquisition gate is given at, spaced evenly in log scale across the
+/// whole-image search's range.
+const GATE_ROWS: usize = 32;
+
+/// Which target the built-in tracker holds in traffic, and the searchers that find one.
+#[derive(Clone, Debug)]
+pub(crate) struct Acquisition {
+    /// The targets it may hold: the lead's first, then each other kind's.
+    models: Vec<TargetModel>,
+    /// One robust-mode tracker a model, searching the whole image.
+    searchers: Vec<Tracker>,
+    /// The camera.
+    camera: Camera,
+    /// The tracker's own settings (its mode for a target once acquired).
+    config: TrackerConfig,
+    /// The model of the target held, if any.
+    pub(crate) held: Option<usize>,
+    /// The model the next search tries.
+    next: usize,
+    /// Frames in a row the held target's centre has been out of the lane.
+    out_of_lane: u32,
+    /// Frames since it last held a target (or since the start).
+    idle: u64,
+}
+
+/// The hold's state while a target is held: which, and its frames out of the lane.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Hold {
+    held: Option<usize>,
+    next: usize,
+    out_of_lane: u32,
+    idle: u64,
+}
+
+/// What a frame's step of the acquisition did.
+pub(crate) enum Stepped {
+    /// The held tracker stepped (and may have let go: `released`).
+    Held {
+        /// Whether the target was let go of at this frame.
+        released: bool,
+    },
+    /// A searcher stepped; `Some(tracker)` when it acquired a target, which is then held
+    /// by `tracker`.
+    Searched(Option<Box<Tracker>>),
+}
+
+impl Acquisition {
+    /// Acquisition over `models` (the lead's target first) through `camera`, for a tracker
+    /// with `config`; `held` says whether the tracker starts holding the lead's target.
+    pub(crate) fn new(
+        models: Vec<TargetModel>,
+        camera: Camera,
+        config: TrackerConfig,
+        held: bool,
+    ) -> Result<Acquisition, TrackerError> {
+        let searching = TrackerConfig {
+            mode: TrackerMode::Robust,
+            ..config.clone()
+        };
+        let searchers = models
+            .iter()
+            .map(|m| Tracker::new_searching(m.clone(), camera, searching.clone()))
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok(Acquisition {
+            models,
+            searchers,
+            camera,
+            config,
+            held: held.then_some(0),
+            next: 0,
+            out_of_lane: 0,
+            idle: 0,
+        })
+    }
+
+    /// The hold's state, for going back to it.
+    pub(crate) fn hold(&self) -> Hold {
+        Hold {
+            held: self.held,
+            next: self.next,
+            out_of_lane: self.out_of_lane,
+            idle: self.idle,
+        }
+    }
+
+    /// Goes back to `hold` (taken while a target was held, so the searchers are as then).
+    pub(crate) fn restore(&mut self, hold: Hold) {
+        (self.held, self.next, self.out_of_lane, self.idle) =
+            (hold.held, hold.next, hold.out_of_lane, hold.idle);
+    }
+
+    /// Whether this frame, holding nothing, it rests instead of searching (see
+    /// [`SEARCH_EVERY_FRAME_FOR`]).
+    pub(crate) fn resting(&self) -> bool {
+        let n = self.idle;
+        self.searching()
+            && n >= SEARCH_EVERY_FRAME_FOR
+            && !(n - SEARCH_EVERY_FRAME_FOR).is_multiple_of(ACQUIRE_EVERY_FRAMES)
+    }
+
+    /// A frame rested: counted, nothing stepped.
+    pub(crate) fn rest(&mut self) {
+        self.idle += 1;
+    }
+
+    /// Whether it searches (holds nothing): the step then reads the whole image.
+    pub(crate) fn searching(&self) -> bool {
+        self.held.is_none()
+    }
+
+    /// Judges the held target's step `out` against `lane`: lets go of it when the tracker
+    /// says it is lost or its centre has been out of the lane for [`LEFT_LANE_FRAMES`]
+    /// frames.
+    pub(crate) fn judge_held(&mut self, out: &TrackOutput, lane: Option<&LaneAhead>) -> Stepped {
+        let [x, _, z] = out.position_3d;
+        let out_now = out.status == Status::Tracking
+            && lane.is_some_and(|l| {
+                l.offset_m(x, z)
+                    .is_some_and(|d| d.abs() > l.half_width_m + LANE_MARGIN_M)
+            });
+        self.out_of_lane = if out_now { self.out_of_lane + 1 } else { 0 };
+        let released = out.status == Status::Lost || self.out_of_lane >= LEFT_LANE_FRAMES;
+        if released {
+            self.held = None;
+            self.out_of_lane = 0;
+            self.idle = 0;
+        }
+        Stepped::Held { released }
+    }
+
+    /// One frame's search, with the next model in turn: its output, and the tracker that
+    /// holds what it acquired. `step` steps a tracker on the frame.
+    pub(crate) fn search(
+        &mut self,
+        lane: Option<&LaneAhead>,
+        step: impl FnOnce(&mut Tracker) -> TrackOutput,
+    ) -> Result<(TrackOutput, Stepped), TrackerError> {
+        let k = self.next;
+        let gate = lane.map(|l| self.gate(k, l));
+        let searcher = &mut self.searchers[k];
+        searcher.set_acquire_gate(gate);
+        let out = step(searcher);
+        self.idle += 1;
+        if out.status != Status::Tracking {
+            self.next = (k + 1) % self.models.len();
+            return Ok((out, Stepped::Searched(None)));
+        }
+        // Acquired: robust mode holds it with the searcher's state; the paper's mode starts
+        // its own tracker there, as from a teleoperator's placement.
+        let holder = match self.config.mode {
+            TrackerMode::Robust => {
+                let mut holder = searcher.clone();
+                holder.set_acquire_gate(None);
+                holder
+            }
+            TrackerMode::Paper => Tracker::new(
+                self.models[k].clone(),
+                self.camera,
+                self.config.clone(),
+                out.estimate,
+            )?,
+        };
+        searcher.release();
+        self.held = Some(k);
+        self.out_of_lane = 0;
+        self.next = 0;
+        Ok((out, Stepped::Searched(Some(Box::new(holder)))))
+    }
+
+    /// The image columns of the lane for model `k`'s target: at each scale, its range
+    /// (the model's nominal range over the scale, eq. 36) and there the lane's width.
+    fn gate(&self, k: usize, lane: &LaneAhead) -> AcquireGate {
+        let nominal = self.models[k].nominal_range_m();
+        let [lo, hi] = [ACQUIRE_SCALES[0] / 1.1, ACQUIRE_SCALES[1] * 1.1];
+        let rows = (0..GATE_ROWS)
+            .filter_map(|i| {
+                let scale = lo * (hi / lo).powf(i as f64 / (GATE_ROWS - 1) as f64);
+                let z = nominal / scale;
+                let centre = lane.centre_x_m(z)?;
+                let column = |x: f64| self.camera.project([x, 0.0, z]).map(|[u, _]| u);
+                let left = column(centre - lane.half_width_m)?;
+                let right = column(centre + lane.half_width_m)?;
+                Some([scale, left, right])
+            })
+            .collect();
+        AcquireGate::new(rows)
+    }
+}
