@@ -210,3 +210,21 @@ fn a_scenario_without_traffic_resolves_as_before() {
         assert!(!resolved.contains(key), "{key} in {resolved}");
     }
 }
+
+#[test]
+fn a_cruise_speed_without_lane_keeping_is_refused_saying_why() {
+    let e = refused(
+        "initial_gap_m = 10.0\n",
+        "initial_gap_m = 10.0\ncontroller = { cruise_speed_mps = 12.0 }\n",
+        "chase.controller.cruise_speed_mps",
+        Some("cruise_speed_mps"),
+    );
+    assert!(e.contains("needs lane_keeping"), "{e}");
+    // With lane keeping on, the same speed is taken.
+    let text = traffic_text().replacen(
+        "initial_gap_m = 10.0\n",
+        "initial_gap_m = 10.0\ncontroller = { lane_keeping = true, cruise_speed_mps = 12.0 }\n",
+        1,
+    );
+    load(&text).unwrap();
+}

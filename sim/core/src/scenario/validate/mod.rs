@@ -50,7 +50,7 @@ pub(crate) fn vehicle_error(prefix: &str, e: &vehicle::VehicleError) -> (String,
             field,
             value,
             allowed,
-            ..
+            reason,
         } => (
             format!("{prefix}.{field}"),
             match allowed {
@@ -58,10 +58,7 @@ pub(crate) fn vehicle_error(prefix: &str, e: &vehicle::VehicleError) -> (String,
                     "= {}: must be finite and within {min}–{max}",
                     short(value.to_string())
                 ),
-                None => format!(
-                    "= {}: out of its allowed range, or not finite",
-                    short(value.to_string())
-                ),
+                None => format!("= {}: {reason}", short(value.to_string())),
             },
         ),
         // An event's field is dotted below the vehicle's `events` list: `events[2].trigger`.
