@@ -528,31 +528,10 @@ pub struct ChamferSearch {
 impl ChamferSearch {
     /// Searches `region` of `image` for the model `features` (at scale 1, about the object
     /// centre) at scales in `scales`, and returns the best fit if any position fits the
-    /// target wholly inside the region. `config` gives the edge settings (with the
-    /// threshold already adapted).
-    pub fn search(
-        &mut self,
-        image: GrayView<'_>,
-        region: Window,
-        features: &[Feature],
-        half_extent_px: [f64; 2],
-        scales: [f64; 2],
-        config: &TrackerConfig,
-    ) -> Option<SearchHit> {
-        self.search_gated(
-            image,
-            region,
-            features,
-            half_extent_px,
-            scales,
-            config,
-            None,
-        )
-    }
-
-    /// [`ChamferSearch::search`], keeping only fits that `gate` admits.
+    /// target wholly inside the region, keeping only fits that `gate` admits (none: any).
+    /// `config` gives the edge settings (with the threshold already adapted).
     #[allow(clippy::too_many_arguments)]
-    pub fn search_gated(
+    pub fn search(
         &mut self,
         image: GrayView<'_>,
         region: Window,
@@ -573,19 +552,28 @@ impl ChamferSearch {
         let mut worst_kept = f64::INFINITY;
         loop {
             let (hw, hh) = (half_extent_px[0] * scale, half_extent_px[1] * scale);
-            let xs = (region.x0 as f64 + hw).ceil() as i64;
-            let xe = (region.x1 as f64 - 1.0 - hw).floor() as i64;
+            let mut xs = (region.x0 as f64 + hw).ceil() as i64;
+            let mut xe = (region.x1 as f64 - 1.0 - hw).floor() as i64;
             let ys = (region.y0 as f64 + hh).ceil() as i64;
             let ye = (region.y1 as f64 - 1.0 - hh).floor() as i64;
+            // The gate's columns at this scale, once: the grid's positions inside them.
+            match gate.map(|g| g.columns(scale)) {
+                Some(None) => xe = xs - 1,
+                Some(Some([lo, hi])) => {
+                    let step = SEARCH_STEP_PX as i64;
+                    let lo = lo.ceil() as i64;
+                    if lo > xs {
+                        xs += (lo - xs + step - 1) / step * step;
+                    }
+                    xe = xe.min(hi.floor() as i64);
+                }
+                None => {}
+            }
             let mut y = ys;
             while y <= ye {
                 let mut x = xs;
                 while x <= xe {
                     let at = Location::new(x as f64, y as f64, scale);
-                    if !admitted(at) {
-                        x += SEARCH_STEP_PX as i64;
-                        continue;
-                    }
                     let bound = if best.len() < SEARCH_REFINE {
                         f64::INFINITY
                     } else {

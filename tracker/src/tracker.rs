@@ -196,8 +196,7 @@ impl Tracker {
         let somewhere = Location::new(0.0, 0.0, 1.0);
         let mut tracker = Self::build(model, camera, config, somewhere)?;
         tracker.reinitialize(somewhere)?;
-        tracker.locked = false;
-        tracker.ever_locked = false;
+        tracker.release();
         Ok(tracker)
     }
 
@@ -299,9 +298,10 @@ impl Tracker {
         self.banks.error = [[0.0; 2]; 3];
     }
 
-    /// Robust mode: lets go of the target, as at [`Tracker::new_searching`], so that the
-    /// next frames search the whole image (within the acquisition gate) for a target. The
-    /// paper's mode, which always holds its target (2.2), is not changed.
+    /// Robust mode: lets go of the target (its motion and last estimate kept), so that the
+    /// next frames search the whole image (within the acquisition gate) for a target, as
+    /// after [`Tracker::new_searching`]. The paper's mode, which always holds its target
+    /// (2.2), is not changed.
     pub fn release(&mut self) {
         if self.config.mode == TrackerMode::Robust {
             self.locked = false;

@@ -13,6 +13,7 @@ use crate::clock::{steps_from_ms, Step, PHYSICS_DT_S};
 use crate::controller_event::{ControllerEvent, ControllerEventKind};
 use crate::controls::Controls;
 use crate::error::{check_range, VehicleError};
+use crate::event_spec::is_false;
 use crate::gap_keeper::{GapKeeper, GapKeeperConfig};
 use crate::lead_estimate::{LeadEstimate, TrackStatus};
 use crate::pan_head::PanHeadConfig;
@@ -188,10 +189,6 @@ pub struct ChaseControllerConfig {
     /// The smallest gate, m (default 0.5 m).
     #[schemars(extend("minimum" = 0.0, "maximum" = 1000.0))]
     pub range_gate_min_m: f32,
-}
-
-fn is_false(b: &bool) -> bool {
-    !*b
 }
 
 /// The range at which the range filters' tracking indices hold, m: the middle of the
@@ -541,8 +538,16 @@ impl ChaseController {
         self.events.push(ControllerEvent { step, kind });
     }
 
-    /// Places the pending estimates in the world; returns whether a tracked (or coasting)
-    /// estimate of a target to follow (in the lane, with `lane_keeping`) arrived.
+    /// Whether an estimate of `status` is not followed and, following, starts the stop:
+    /// `lost`, or with `stop_on_coasting` `coasting` too.
+    fn stops_on(&self, status: TrackStatus) -> bool {
+        status == TrackStatus::Lost
+            || (self.config.stop_on_coasting && status == TrackStatus::Coasting)
+    }
+
+    /// Places the pending estimates in the world; returns whether a tracked (or, without
+    /// `stop_on_coasting`, coasting) estimate of a target to follow (in the lane, with
+    /// `lane_keeping`) arrived.
     fn absorb_pending(&mut self, now: Step, speed_mps: f32) -> bool {
         let mut fresh = false;
         let mut pending = std::mem::take(&mut self.pending);
@@ -550,9 +555,7 @@ impl ChaseController {
         for estimate in pending {
             self.last_arrival = Some(now);
             self.last_status = Some(estimate.status);
-            if estimate.status == TrackStatus::Lost
-                || (self.config.stop_on_coasting && estimate.status == TrackStatus::Coasting)
-            {
+            if self.stops_on(estimate.status) {
                 continue;
             }
             let Some((world_from_chase, own)) = self.history.at(estimate.capture_step) else {
@@ -610,11 +613,18 @@ impl ChaseController {
         // Steering: pure pursuit on the breadcrumbs, or on the lane with lane keeping.
         let pose = odometry.world_from_chase;
         self.trail.eat_passed(&pose);
-        let path = self.trail.positions();
-        let target = if self.config.lane_keeping {
-            self.lane_aim(&pose, v)
+        // With it, where the path bends most between here and the lead (or the lane ahead),
+        // for the gap below.
+        let (target, curvature_ahead) = if self.config.lane_keeping {
+            let target = self.lane_aim(&pose, v);
+            (target, self.lane_curvature_ahead(v))
         } else {
-            lookahead_point(&path, pose.translation, self.config.lookahead.distance_m(v))
+            let path = self.trail.positions();
+            let lookahead_m = self.config.lookahead.distance_m(v);
+            (
+                lookahead_point(&path, pose.translation, lookahead_m),
+                max_curvature(&path, CURVATURE_CHORD_M),
+            )
         };
         let curvature = target.map_or(0.0, |t| curvature_toward(&pose, t));
         let steer_rad = steer_for_curvature(curvature, self.wheelbase_m)
@@ -631,13 +641,7 @@ impl ChaseController {
         };
         let (gap_m, range_rate) = carried(self.range.state());
 
-        // Where the lead's path bends most between here and the lead, and what that allows
-        // of the gap; the pan head's aim.
-        let curvature_ahead = if self.config.lane_keeping {
-            self.lane_curvature_ahead(v)
-        } else {
-            max_curvature(&path, CURVATURE_CHORD_M)
-        };
+        // What the path's bend allows of the gap; the pan head's aim.
         let view_limit_m = self
             .config
             .curve_aware_gap

@@ -66,7 +66,8 @@ pub struct EventSpec {
     pub repeat: bool,
 }
 
-fn is_false(b: &bool) -> bool {
+/// For `skip_serializing_if`: a flag written only when on.
+pub(crate) fn is_false(b: &bool) -> bool {
     !*b
 }
 

@@ -107,8 +107,6 @@ pub(crate) struct Road {
     /// Lanes each way.
     lanes: u32,
     hints: Vec<f32>,
-    /// The places of the last [`Road::places`].
-    last: Vec<Place>,
 }
 
 impl Road {
@@ -121,13 +119,12 @@ impl Road {
             lane_width_m,
             lanes,
             hints: stations_m.iter().map(|&s| s as f32).collect(),
-            last: Vec::new(),
         }
     }
 
     /// Where each vehicle is, from its state (in the list's order).
     pub(crate) fn places(&mut self, vehicles: &Vehicles, states: &[VehicleState]) -> Vec<Place> {
-        let places: Vec<Place> = states
+        states
             .iter()
             .zip(&vehicles.members)
             .zip(&mut self.hints)
@@ -147,22 +144,20 @@ impl Road {
                     rear_m: station_m + f64::from(member.params.rear_bumper_x_m()),
                 }
             })
-            .collect();
-        self.last.clone_from(&places);
-        places
+            .collect()
     }
 
-    /// The places of the last [`Road::places`].
-    pub(crate) fn last_places(&self) -> &[Place] {
-        &self.last
-    }
-
-    /// Whether vehicle `i` at `places` reaches [`PATH_OVERLAP_M`] into the follower's
-    /// lane corridor (a lane's width, centred on the follower, the list's first), whether
-    /// ahead of it or not.
-    pub(crate) fn in_corridor(&self, vehicles: &Vehicles, places: &[Place], i: usize) -> bool {
+    /// Whether vehicle `i` at `places` reaches [`PATH_OVERLAP_M`] into the lane corridor of
+    /// the follower `me` (a lane's width, centred on it), whether ahead of it or not.
+    pub(crate) fn in_corridor(
+        &self,
+        vehicles: &Vehicles,
+        places: &[Place],
+        me: usize,
+        i: usize,
+    ) -> bool {
         let half_width = 0.5 * f64::from(vehicles.members[i].params.width_m);
-        (places[i].offset_m - places[0].offset_m).abs()
+        (places[i].offset_m - places[me].offset_m).abs()
             < 0.5 * self.lane_width_m + half_width - PATH_OVERLAP_M
     }
 
@@ -216,15 +211,19 @@ impl Road {
             .iter()
             .enumerate()
             .filter(|&(i, p)| {
-                let half_width = 0.5 * f64::from(vehicles.members[i].params.width_m);
-                i != me
-                    && p.rear_m > mine.station_m
-                    && (p.offset_m - mine.offset_m).abs()
-                        < 0.5 * self.lane_width_m + half_width - PATH_OVERLAP_M
+                i != me && p.rear_m > mine.station_m && self.in_corridor(vehicles, places, me, i)
             })
             .map(|(i, p)| (i, p.rear_m - mine.front_m))
             .min_by(|a, b| a.1.total_cmp(&b.1))
     }
+}
+
+/// The traffic's truth at a frame, and the index of the vehicle in the chase's path and
+/// every vehicle's place, from which it was made.
+pub(crate) struct FrameTruth {
+    pub(crate) frame: TrafficFrame,
+    pub(crate) path: Option<usize>,
+    pub(crate) places: Vec<Place>,
 }
 
 /// The traffic's truth at a frame: the vehicle in the chase's path, the gap and the time to
@@ -236,7 +235,7 @@ pub(crate) fn truth(
     states: &[VehicleState],
     tracked: Option<usize>,
     log: (Vec<String>, Vec<Contact>),
-) -> TrafficFrame {
+) -> FrameTruth {
     let places = road.places(vehicles, states);
     let path = road.in_path(vehicles, &places, 0);
     let (gap, closing) = path.map_or((f64::NAN, f64::NAN), |(i, gap)| {
@@ -250,7 +249,7 @@ pub(crate) fn truth(
         f64::INFINITY
     };
     let name = |i: usize| vehicles.members[i].name.clone();
-    TrafficFrame {
+    let frame = TrafficFrame {
         path_vehicle: path.map(|(i, _)| name(i)),
         path_gap_m: gap,
         path_closing_mps: closing,
@@ -277,6 +276,11 @@ pub(crate) fn truth(
                 }
             })
             .collect(),
+    };
+    FrameTruth {
+        frame,
+        path: path.map(|(i, _)| i),
+        places,
     }
 }
 

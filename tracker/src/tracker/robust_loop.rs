@@ -127,9 +127,10 @@ impl Tracker {
         LOCAL_SEARCH_PX + LOCAL_SEARCH_GROWTH_PX * self.coast_cycles as f64
     }
 
-    /// Searches `region` at scales `scales` and measures at the best fit; the measurement
-    /// when the fit and the measurement both pass their checks, the measurement's the
-    /// strong one (REACQUIRE_MIN_COVERAGE, on a peak of coverage).
+    /// Searches `region` at scales `scales` (within the acquisition gate when `gated`) and
+    /// measures at the best fit; the measurement when the fit and the measurement both pass
+    /// their checks, the measurement's the strong one (REACQUIRE_MIN_COVERAGE, on a peak of
+    /// coverage).
     fn search_and_measure(
         &mut self,
         image: GrayView<'_>,
@@ -143,7 +144,7 @@ impl Tracker {
         let sigma = self.noise.sigma(image, region);
         config.edge_threshold = search_threshold(self.config.edge_threshold, sigma);
         let gate = self.gate.as_ref().filter(|_| gated);
-        let hit = self.search.search_gated(
+        let hit = self.search.search(
             image,
             region,
             &self.features,

@@ -9,12 +9,12 @@ use crate::lead_estimate::TrackStatus;
 
 impl ChaseController {
     /// Loss handling at step `now` (the controller started at `started`, drives at `v`,
-    /// m/s): following, a lost status or silence beyond the timeout starts the stop; stopping,
+    /// m/s): following, a lost status (or with `stop_on_coasting` a coasting one) or silence
+    /// beyond the timeout starts the stop; stopping,
     /// stopped or cruising, a `fresh` tracked estimate (one to follow) resumes following.
     pub(super) fn handle_loss(&mut self, now: Step, started: Step, v: f32, fresh: bool) {
         let silent_steps = now.since(self.last_arrival.unwrap_or(started));
-        let lost = self.last_status == Some(TrackStatus::Lost)
-            || (self.config.stop_on_coasting && self.last_status == Some(TrackStatus::Coasting));
+        let lost = self.last_status.is_some_and(|s| self.stops_on(s));
         let timed_out = silent_steps > self.timeout_steps;
         match self.mode {
             ChaseMode::Following if lost || timed_out => {

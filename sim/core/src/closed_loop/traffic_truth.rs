@@ -138,20 +138,18 @@ impl TrafficTruth {
             .filter_map(|i| holds(i).map(|d| (i, d)))
             .min_by(|a, b| a.1.total_cmp(&b.1))
             .map(|(i, _)| i);
-        let frame = traffic::truth(&mut self.road, &self.vehicles, states, tracked, log);
-        let path = frame
-            .path_vehicle
-            .as_ref()
-            .and_then(|n| self.vehicles.named(n))
-            .map(|(i, _)| i);
+        let traffic::FrameTruth {
+            frame,
+            path,
+            places,
+        } = traffic::truth(&mut self.road, &self.vehicles, states, tracked, log);
         let in_view = |i: usize| match i {
             1 => lead.truth.in_view,
             _ => actor_truth[i - 2].in_view,
         };
         let behind = |held: usize, p: usize| {
-            let places = self.road.last_places();
             places[held].station_m > places[p].station_m
-                && self.road.in_corridor(&self.vehicles, places, held)
+                && self.road.in_corridor(&self.vehicles, &places, 0, held)
         };
         let (lost, cause) = match (path, tracked) {
             (Some(p), Some(t)) if p == t => (false, LossCause::None),

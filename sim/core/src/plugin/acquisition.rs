@@ -8,7 +8,7 @@
 //! lane ([`LaneAhead`], through [`tracker::AcquireGate`]); this is robust mode's
 //! whole-image search, which the paper's mode also takes its start from. It lets go of a
 //! target the tracker says is lost, and of one that has left the lane for
-//! [`LEFT_LANE_FRAMES`] frames. Holding nothing for long, it searches on one frame in three
+//! `vehicle::LEFT_LANE_ARRIVALS` frames, as the chase controller judges a target in its lane. Holding nothing for long, it searches on one frame in three
 //! ([`SEARCH_EVERY_FRAME_FOR`]).
 
 use super::LaneAhead;
@@ -18,18 +18,10 @@ use tracker::{
     TrackerMode,
 };
 
-/// How far beyond half its lane's width a held target's centre may stray before it counts
-/// as out of the lane, metres: a car astride the lane line is still in it (the truth's path
-/// corridor keeps a vehicle with 0.3 m of its width inside the lane, a centre about 0.6 m
-/// beyond half the lane for a car), and the estimate's lateral noise at 40 m is a few
-/// tenths of a metre.
-pub const LANE_MARGIN_M: f64 = 0.5;
-
-/// How many frames in a row a held target's centre must lie out of the lane before the
-/// tracker lets go of it: 3 frames (0.2 s at 15 Hz), so that one noisy estimate does not
-/// drop a target, while a target that has left is let go of well within the 15 frames a
-/// silent loss may last.
-pub const LEFT_LANE_FRAMES: u32 = 3;
+// A held target is out of the lane when its centre lies more than half the lane's width
+// and `vehicle::LANE_MARGIN_M` from the lane's centre, and has left it after
+// `vehicle::LEFT_LANE_ARRIVALS` frames out in a row: the chase controller's own test of a
+// target in its lane, so that the two agree.
 
 /// How many frames in a row the tracker searches once it holds nothing, before it searches
 /// on one frame in [`tracker::robust::ACQUIRE_EVERY_FRAMES`] only, as robust mode does after
@@ -40,6 +32,19 @@ pub const SEARCH_EVERY_FRAME_FOR: u64 = 15;
 /// How many scales the acquisition gate is given at, spaced evenly in log scale across the
 /// whole-image search's range.
 const GATE_ROWS: usize = 32;
+
+/// What the acquisition holds, and how long it has been out of the lane or searching.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct Hold {
+    /// The model of the target held, if any.
+    held: Option<usize>,
+    /// The model the next search tries.
+    next: usize,
+    /// Frames in a row the held target's centre has been out of the lane.
+    out_of_lane: u32,
+    /// Frames since it last held a target (or since the start).
+    idle: u64,
+}
 
 /// Which target the built-in tracker holds in traffic, and the searchers that find one.
 #[derive(Clone, Debug)]
@@ -52,35 +57,8 @@ pub(crate) struct Acquisition {
     camera: Camera,
     /// The tracker's own settings (its mode for a target once acquired).
     config: TrackerConfig,
-    /// The model of the target held, if any.
-    pub(crate) held: Option<usize>,
-    /// The model the next search tries.
-    next: usize,
-    /// Frames in a row the held target's centre has been out of the lane.
-    out_of_lane: u32,
-    /// Frames since it last held a target (or since the start).
-    idle: u64,
-}
-
-/// The hold's state while a target is held: which, and its frames out of the lane.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Hold {
-    held: Option<usize>,
-    next: usize,
-    out_of_lane: u32,
-    idle: u64,
-}
-
-/// What a frame's step of the acquisition did.
-pub(crate) enum Stepped {
-    /// The held tracker stepped (and may have let go: `released`).
-    Held {
-        /// Whether the target was let go of at this frame.
-        released: bool,
-    },
-    /// A searcher stepped; `Some(tracker)` when it acquired a target, which is then held
-    /// by `tracker`.
-    Searched(Option<Box<Tracker>>),
+    /// What it holds.
+    hold: Hold,
 }
 
 impl Acquisition {
@@ -105,33 +83,32 @@ impl Acquisition {
             searchers,
             camera,
             config,
-            held: held.then_some(0),
-            next: 0,
-            out_of_lane: 0,
-            idle: 0,
+            hold: Hold {
+                held: held.then_some(0),
+                ..Hold::default()
+            },
         })
     }
 
-    /// The hold's state, for going back to it.
+    /// What it holds, for going back to it.
     pub(crate) fn hold(&self) -> Hold {
-        Hold {
-            held: self.held,
-            next: self.next,
-            out_of_lane: self.out_of_lane,
-            idle: self.idle,
-        }
+        self.hold
     }
 
     /// Goes back to `hold` (taken while a target was held, so the searchers are as then).
     pub(crate) fn restore(&mut self, hold: Hold) {
-        (self.held, self.next, self.out_of_lane, self.idle) =
-            (hold.held, hold.next, hold.out_of_lane, hold.idle);
+        self.hold = hold;
+    }
+
+    /// The model of the target held, if any.
+    pub(crate) fn held(&self) -> Option<usize> {
+        self.hold.held
     }
 
     /// Whether this frame, holding nothing, it rests instead of searching (see
     /// [`SEARCH_EVERY_FRAME_FOR`]).
     pub(crate) fn resting(&self) -> bool {
-        let n = self.idle;
+        let n = self.hold.idle;
         self.searching()
             && n >= SEARCH_EVERY_FRAME_FOR
             && !(n - SEARCH_EVERY_FRAME_FOR).is_multiple_of(ACQUIRE_EVERY_FRAMES)
@@ -139,32 +116,32 @@ impl Acquisition {
 
     /// A frame rested: counted, nothing stepped.
     pub(crate) fn rest(&mut self) {
-        self.idle += 1;
+        self.hold.idle += 1;
     }
 
     /// Whether it searches (holds nothing): the step then reads the whole image.
     pub(crate) fn searching(&self) -> bool {
-        self.held.is_none()
+        self.hold.held.is_none()
     }
 
     /// Judges the held target's step `out` against `lane`: lets go of it when the tracker
-    /// says it is lost or its centre has been out of the lane for [`LEFT_LANE_FRAMES`]
-    /// frames.
-    pub(crate) fn judge_held(&mut self, out: &TrackOutput, lane: Option<&LaneAhead>) -> Stepped {
+    /// says it is lost or its centre has been out of the lane for
+    /// `vehicle::LEFT_LANE_ARRIVALS` frames. Returns whether it let go.
+    pub(crate) fn judge_held(&mut self, out: &TrackOutput, lane: Option<&LaneAhead>) -> bool {
         let [x, _, z] = out.position_3d;
+        let margin_m = f64::from(vehicle::LANE_MARGIN_M);
         let out_now = out.status == Status::Tracking
             && lane.is_some_and(|l| {
                 l.offset_m(x, z)
-                    .is_some_and(|d| d.abs() > l.half_width_m + LANE_MARGIN_M)
+                    .is_some_and(|d| d.abs() > l.half_width_m + margin_m)
             });
-        self.out_of_lane = if out_now { self.out_of_lane + 1 } else { 0 };
-        let released = out.status == Status::Lost || self.out_of_lane >= LEFT_LANE_FRAMES;
+        let h = &mut self.hold;
+        h.out_of_lane = if out_now { h.out_of_lane + 1 } else { 0 };
+        let released = out.status == Status::Lost || h.out_of_lane >= vehicle::LEFT_LANE_ARRIVALS;
         if released {
-            self.held = None;
-            self.out_of_lane = 0;
-            self.idle = 0;
+            (h.held, h.out_of_lane, h.idle) = (None, 0, 0);
         }
-        Stepped::Held { released }
+        released
     }
 
     /// One frame's search, with the next model in turn: its output, and the tracker that
@@ -173,16 +150,16 @@ impl Acquisition {
         &mut self,
         lane: Option<&LaneAhead>,
         step: impl FnOnce(&mut Tracker) -> TrackOutput,
-    ) -> Result<(TrackOutput, Stepped), TrackerError> {
-        let k = self.next;
+    ) -> Result<(TrackOutput, Option<Tracker>), TrackerError> {
+        let k = self.hold.next;
         let gate = lane.map(|l| self.gate(k, l));
         let searcher = &mut self.searchers[k];
         searcher.set_acquire_gate(gate);
         let out = step(searcher);
-        self.idle += 1;
+        self.hold.idle += 1;
         if out.status != Status::Tracking {
-            self.next = (k + 1) % self.models.len();
-            return Ok((out, Stepped::Searched(None)));
+            self.hold.next = (k + 1) % self.models.len();
+            return Ok((out, None));
         }
         // Acquired: robust mode holds it with the searcher's state; the paper's mode starts
         // its own tracker there, as from a teleoperator's placement.
@@ -200,10 +177,8 @@ impl Acquisition {
             )?,
         };
         searcher.release();
-        self.held = Some(k);
-        self.out_of_lane = 0;
-        self.next = 0;
-        Ok((out, Stepped::Searched(Some(Box::new(holder)))))
+        (self.hold.held, self.hold.out_of_lane, self.hold.next) = (Some(k), 0, 0);
+        Ok((out, Some(holder)))
     }
 
     /// The image columns of the lane for model `k`'s target: at each scale, its range

@@ -4,7 +4,7 @@
 //! plug-ins: a comparison, a wrapper in Python, a controller of one's own over the paper's
 //! tracker.
 
-use super::acquisition::{Acquisition, Stepped};
+use super::acquisition::Acquisition;
 use super::{
     CameraModel, Command, ControlInput, Controller, Delivered, Drawn, Estimate, EstimateStatus,
     FrameTracker, PluginError, StepDetails, TrackerInput,
@@ -71,7 +71,7 @@ impl BuiltinTracker {
     /// for the k-th of [`FrameTracker::set_other_targets`]; `None` while it searches, and
     /// always without traffic.
     pub fn held_target(&self) -> Option<usize> {
-        self.acquisition.as_ref().and_then(|a| a.held)
+        self.acquisition.as_ref().and_then(Acquisition::held)
     }
 
     /// Steps `tracker` on `input`'s frame, with the gyro in robust mode.
@@ -109,7 +109,7 @@ impl BuiltinTracker {
         }
         if acquisition.searching() {
             let mut edges = Vec::new();
-            let (out, stepped) = acquisition
+            let (out, acquired) = acquisition
                 .search(input.lane, |t| {
                     let (out, e) = Self::step(diagnostics, t, input);
                     edges = e;
@@ -117,17 +117,15 @@ impl BuiltinTracker {
                     out
                 })
                 .map_err(|e| PluginError::Failed(e.to_string()))?;
-            if let Stepped::Searched(Some(holder)) = stepped {
-                self.tracker = Some(*holder);
+            if let Some(holder) = acquired {
+                self.tracker = Some(holder);
             }
             return Ok(Some((out, edges, false)));
         }
         let tracker = self.tracker.as_mut().expect("a held target has a tracker");
         let (out, edges) = Self::step(diagnostics, tracker, input);
         self.read = Some(tracker.last_read());
-        let Stepped::Held { released } = acquisition.judge_held(&out, input.lane) else {
-            unreachable!("a held step is judged as held")
-        };
+        let released = acquisition.judge_held(&out, input.lane);
         Ok(Some((out, edges, released)))
     }
 }

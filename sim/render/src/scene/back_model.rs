@@ -45,7 +45,8 @@ type Edge = [[f64; 2]; 2];
 
 /// The target model of the back of a vehicle of `kind`: its strong horizontal and vertical
 /// edges (see the module notes), named `"{kind}-back"`, at
-/// [`BACK_MODEL_NOMINAL_RANGE_M`], painted with step edges. Its corners are rounded to the
+/// [`BACK_MODEL_NOMINAL_RANGE_M`], painted with step edges where every segment bounds a
+/// region and with stripes otherwise. Its corners are rounded to the
 /// micrometre, so that they read as the numbers they are in a target file.
 pub fn vehicle_back_model(kind: VehicleKind) -> TargetModel {
     let edges = edges(kind);
@@ -101,11 +102,8 @@ fn too_close(a: &Edge, b: &Edge) -> bool {
 fn resolvable(edges: Vec<Edge>) -> Vec<Edge> {
     let length = |e: &Edge| (e[1][0] - e[0][0]).hypot(e[1][1] - e[0][1]);
     let mut order: Vec<usize> = (0..edges.len()).collect();
-    order.sort_by(|&a, &b| {
-        length(&edges[b])
-            .total_cmp(&length(&edges[a]))
-            .then(a.cmp(&b))
-    });
+    // A stable sort: edges of one length keep their first order.
+    order.sort_by(|&a, &b| length(&edges[b]).total_cmp(&length(&edges[a])));
     let mut kept = vec![false; edges.len()];
     for i in order {
         kept[i] = !(0..edges.len()).any(|j| kept[j] && too_close(&edges[i], &edges[j]));
@@ -167,37 +165,24 @@ fn rectangle([z0, z1]: [f64; 2], [y0, y1]: [f64; 2]) -> [Edge; 4] {
     ]
 }
 
-/// A car's back: the roof line, the belt line, the rear window's glass, the body's sides
-/// down to the bumper's top, the bumper, and the two tail lamps. The cabin's and the
-/// window's sides lean in towards the roof, so they are no vertical features: they are
-/// left out, unless the cabin stands upright.
+/// A car's back: the roof line, the belt line, the rear window's glass (its top and
+/// bottom), the body's sides down to the bumper's top, the bumper, and the two tail lamps.
+/// The cabin's and the window's sides lean in towards the roof (`car`'s insets), so they
+/// are no vertical features and are left out.
 fn car_edges(body: CarBody) -> Vec<Edge> {
     let b = CarBack::of(body);
     let s = b.side;
     let [bumper_bottom, bumper_top] = b.bumper_y;
-    let upright = |[bottom, top]: [f64; 2]| (bottom - top).abs() < 1e-9;
+    let [glass_bottom, glass_top] = b.glass_y;
     let mut edges = vec![
         [[-b.cabin[1], b.roof], [b.cabin[1], b.roof]],
         [[-s, b.belt], [s, b.belt]],
+        [
+            [-b.glass_half[0], glass_bottom],
+            [b.glass_half[0], glass_bottom],
+        ],
+        [[-b.glass_half[1], glass_top], [b.glass_half[1], glass_top]],
     ];
-    if upright(b.cabin) {
-        edges.extend([
-            [[-b.cabin[1], b.belt], [-b.cabin[1], b.roof]],
-            [[b.cabin[1], b.belt], [b.cabin[1], b.roof]],
-        ]);
-    }
-    let [glass_bottom, glass_top] = b.glass_y;
-    if upright(b.glass_half) {
-        edges.extend(rectangle([-b.glass_half[1], b.glass_half[1]], b.glass_y));
-    } else {
-        edges.extend([
-            [
-                [-b.glass_half[0], glass_bottom],
-                [b.glass_half[0], glass_bottom],
-            ],
-            [[-b.glass_half[1], glass_top], [b.glass_half[1], glass_top]],
-        ]);
-    }
     edges.extend([
         [[-s, bumper_top], [-s, b.belt]],
         [[s, bumper_top], [s, b.belt]],

@@ -224,8 +224,6 @@ pub struct SummaryBuilder {
     range_errors: RangeErrors,
     distance_m: f64,
     traffic: TrafficStats,
-    /// Whether any record had traffic (the causes of traffic are then written).
-    traffic_seen: bool,
 }
 
 impl SummaryBuilder {
@@ -253,7 +251,6 @@ impl SummaryBuilder {
             range_errors: RangeErrors::default(),
             distance_m: 0.0,
             traffic: TrafficStats::default(),
-            traffic_seen: false,
         }
     }
 
@@ -265,7 +262,6 @@ impl SummaryBuilder {
     /// Takes the next record (records come in frame order).
     pub fn push(&mut self, r: &FrameRecord) {
         self.frames += 1;
-        self.traffic_seen |= r.traffic.is_some();
         self.period.push(r.t_s);
         let lost_as = |cause: bool| f64::from(u8::from(r.lost_truth && cause));
         let mut values = [0.0; SLOTS];
@@ -401,8 +397,8 @@ impl SummaryBuilder {
                 out_of_view: time(LOST_OUT_OF_VIEW),
                 occluded: time(LOST_OCCLUDED),
                 tracker: time(LOST_TRACKER),
-                left_path: self.traffic_seen.then(|| time(LOST_LEFT_PATH)),
-                wrong_vehicle: self.traffic_seen.then(|| time(LOST_WRONG_VEHICLE)),
+                left_path: self.traffic.seen().then(|| time(LOST_LEFT_PATH)),
+                wrong_vehicle: self.traffic.seen().then(|| time(LOST_WRONG_VEHICLE)),
             },
             partly_out_of_view_s: time(PARTLY_OUT),
             imprecise_share: (self.whole_in_view > 0)

@@ -31,7 +31,7 @@ pub struct TrafficSummary {
     pub acquisition_range_m: Option<f64>,
     /// Time the tracker held a vehicle that was not the one in the chase's path, seconds.
     pub wrong_vehicle_s: f64,
-    /// The chase's hardest deceleration, m/s², from its speed frame to frame (1/15 s).
+    /// The chase's hardest deceleration, m/s², from its speed record to record.
     pub max_decel_mps2: f64,
     /// The chase's largest jerk, m/s³, from those accelerations frame to frame.
     pub max_jerk_mps3: f64,
@@ -55,7 +55,7 @@ pub struct CollisionTime {
 pub struct EventTime {
     /// The frame whose physics it happened in (it is logged on the next frame's record).
     pub frame: u64,
-    /// That frame's capture time, seconds.
+    /// The capture time of the record that logged it (the next frame's), seconds.
     pub t_s: f64,
     /// `vehicle/event:started` or `vehicle/event:ended`.
     pub event: String,
@@ -127,6 +127,11 @@ impl TrafficStats {
                 event: e.clone(),
             });
         }
+    }
+
+    /// Whether any record carried traffic.
+    pub fn seen(&self) -> bool {
+        self.seen
     }
 
     /// The summary, when any record carried traffic or `asked` (the run is judged by a
