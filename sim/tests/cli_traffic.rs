@@ -3,7 +3,9 @@
 //! `junit.xml`; a rerun, and a run on two renderers (the second in a worker process that is
 //! sent the actors' poses), give the same bytes; and a scenario without traffic writes no
 //! trace of it. In traffic the tracker lets go of a lead that leaves the chase's lane, and
-//! a chase with nothing placed cruises until it acquires the vehicle in its lane. Run with `cargo test --release -p sim --test cli_traffic`.
+//! a chase with nothing placed cruises until it acquires the vehicle in its lane; the frames
+//! its search rests on are not rendered, and change nothing. Run with `cargo test --release
+//! -p sim --test cli_traffic`.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -102,6 +104,31 @@ fn the_cut_in_is_logged_and_repeats_bit_for_bit_on_one_or_two_renderers() {
     assert!(s["collisions"].as_u64().unwrap() >= 1);
     let junit = text(&dirs[0], "junit.xml");
     assert!(junit.contains("max_impact_speed"), "{junit}");
+}
+
+/// Holding nothing, the built-in tracker searches one frame in three after its first
+/// second, and the loop renders none of the frames between (`FrameTracker::will_rest`): the
+/// estimates are those of whole frames, and no frame needed rendering again for it.
+#[test]
+fn the_frames_a_search_rests_on_are_not_rendered_and_change_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let [parts, whole] = ["parts", "whole"].map(|d| dir.path().join(d));
+    // 19 s: the lead is let go of at about 14.3 s, and the search rests from about 15.3 s.
+    run(&parts, "cut-in", &["--set", "duration_s=19"]);
+    run(
+        &whole,
+        "cut-in",
+        &["--set", "duration_s=19", "--renderers", "1", "--video"],
+    );
+    assert!(text(&parts, "frames.csv") == text(&whole, "frames.csv"));
+    let rested = frames(&parts)
+        .iter()
+        .filter(|r| r["t_s"].parse::<f64>().unwrap() > 15.5 && r["status"] == "lost")
+        .count();
+    assert!(rested > 40, "{rested} frames lost after 15.5 s");
+    let s: serde_json::Value = serde_json::from_str(&text(&parts, "summary.json")).unwrap();
+    let again = s["timing"]["rerendered_frames"].as_u64().unwrap();
+    assert!(again < 20, "{again} frames rendered again");
 }
 
 #[test]

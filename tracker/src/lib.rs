@@ -20,6 +20,7 @@
 
 pub mod association;
 pub mod camera;
+pub mod chamfer;
 pub mod config;
 pub mod edges;
 pub mod feature_location;
@@ -43,7 +44,7 @@ pub use camera::Camera;
 pub use config::{ConfigError, TrackerConfig, TrackerMode};
 pub use edges::{EdgeDiagnostic, EdgeFate, EdgePoint, Edges};
 pub use feature_location::FeatureLocation;
-pub use gate::AcquireGate;
+pub use gate::{AcquireGate, GateRow};
 pub use gray::{GrayView, ImageError};
 pub use location::Location;
 pub use model::{Feature, Orientation, TargetError, TargetModel};

@@ -20,7 +20,7 @@ fn searching() -> (Tracker, tracker::Location, Vec<u8>) {
 
 /// A gate of the columns `[lo, hi]` at every scale the search tries.
 fn columns(lo: f64, hi: f64) -> AcquireGate {
-    AcquireGate::new(vec![[0.1, lo, hi], [10.0, lo, hi]])
+    AcquireGate::columns(lo, hi, [0.1, 10.0])
 }
 
 #[test]

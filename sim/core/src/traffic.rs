@@ -186,8 +186,8 @@ impl Road {
         while s <= (here.s_m + LANE_AHEAD_M).min(end_m) {
             let p = self.route.point_at(s) - self.route.left_at(s) * right_m as f32;
             let c = camera_from_world * nalgebra::Point3::new(f64::from(p.x), 0.0, f64::from(p.z));
-            if c.z > 0.0 && centre_m.last().is_none_or(|l: &[f64; 2]| c.z > l[1]) {
-                centre_m.push([c.x, c.z]);
+            if c.z > 0.0 && centre_m.last().is_none_or(|l: &[f64; 3]| c.z > l[2]) {
+                centre_m.push([c.x, c.y, c.z]);
             }
             s += LANE_AHEAD_STEP_M;
         }

@@ -36,6 +36,14 @@ pub(super) struct Eye {
     pub(super) last_ego: Option<EgoMotion>,
 }
 
+/// No pixels: the part rendered of a frame the tracker will not read.
+const NOTHING: PixelRect = PixelRect {
+    x0: 0,
+    y0: 0,
+    x1: 0,
+    y1: 0,
+};
+
 impl Eye {
     /// Step 1, the capture: the world of `drive` at the start of a frame, and the camera's
     /// input for it.
@@ -48,6 +56,9 @@ impl Eye {
     pub(super) fn needed(&self, captured: &Captured) -> Option<PixelRect> {
         if self.parts.whole_frames {
             return None;
+        }
+        if self.tracking.will_rest(1) {
+            return Some(NOTHING);
         }
         self.parts
             .needed(
@@ -62,6 +73,9 @@ impl Eye {
     /// on; a tracker that gives no details gets whole frames, since what it said it will
     /// read is of the next frame.
     pub(super) fn needed_ahead(&self, captured: &Captured) -> Option<PixelRect> {
+        if !self.parts.whole_frames && self.tracking.will_rest(2) {
+            return Some(NOTHING);
+        }
         self.parts.needed(
             captured.input.frame_index,
             &captured.world_from_camera.rotation,

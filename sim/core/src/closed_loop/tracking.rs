@@ -109,6 +109,11 @@ impl Tracking {
         self.tracker.will_read()
     }
 
+    /// Whether the tracker said its step `ahead` frames on will read nothing.
+    pub(super) fn will_rest(&self, ahead: u64) -> bool {
+        self.tracker.will_rest(ahead)
+    }
+
     /// The tracker's name, for reports.
     pub(super) fn name(&self) -> String {
         self.tracker.name()

@@ -14,8 +14,8 @@
 use super::LaneAhead;
 use tracker::robust::{ACQUIRE_EVERY_FRAMES, ACQUIRE_SCALES};
 use tracker::{
-    AcquireGate, Camera, Status, TargetModel, TrackOutput, Tracker, TrackerConfig, TrackerError,
-    TrackerMode,
+    AcquireGate, Camera, GateRow, Status, TargetModel, TrackOutput, Tracker, TrackerConfig,
+    TrackerError, TrackerMode,
 };
 
 // A held target is out of the lane when its centre lies more than half the lane's width
@@ -32,6 +32,15 @@ pub const SEARCH_EVERY_FRAME_FOR: u64 = 15;
 /// How many scales the acquisition gate is given at, spaced evenly in log scale across the
 /// whole-image search's range.
 const GATE_ROWS: usize = 32;
+
+/// The heights above the road a target's centre may take, metres: from a low car's back
+/// (its centre about 0.6 m up) to a tall truck's (about 2 m) and a board mounted high on
+/// one, with room to spare.
+const CENTRE_HEIGHT_M: [f64; 2] = [0.3, 3.0];
+
+/// The margin about the gate's rows, pixels: the road's image is exact, and a target's
+/// centre found by the search is within a pixel or two of its own.
+const GATE_MARGIN_PX: f64 = 3.0;
 
 /// What the acquisition holds, and how long it has been out of the lane or searching.
 #[derive(Clone, Copy, Debug, Default)]
@@ -108,7 +117,12 @@ impl Acquisition {
     /// Whether this frame, holding nothing, it rests instead of searching (see
     /// [`SEARCH_EVERY_FRAME_FOR`]).
     pub(crate) fn resting(&self) -> bool {
-        let n = self.hold.idle;
+        self.rests_in(1)
+    }
+
+    /// Whether it will rest `ahead` frames on (1: this frame), holding nothing until then.
+    pub(crate) fn rests_in(&self, ahead: u64) -> bool {
+        let n = self.hold.idle + ahead.saturating_sub(1);
         self.searching()
             && n >= SEARCH_EVERY_FRAME_FOR
             && !(n - SEARCH_EVERY_FRAME_FOR).is_multiple_of(ACQUIRE_EVERY_FRAMES)
@@ -181,8 +195,11 @@ impl Acquisition {
         Ok((out, Some(holder)))
     }
 
-    /// The image columns of the lane for model `k`'s target: at each scale, its range
-    /// (the model's nominal range over the scale, eq. 36) and there the lane's width.
+    /// Where model `k`'s target may be centred in the image: at each scale, its range (the
+    /// model's nominal range over the scale, eq. 36), there the lane's columns, and the rows
+    /// of a point [`CENTRE_HEIGHT_M`] above the lane's centre, with [`GATE_MARGIN_PX`] about
+    /// them. Above is taken along the camera's −y: the camera's pitch moves those rows by
+    /// well under the margin.
     fn gate(&self, k: usize, lane: &LaneAhead) -> AcquireGate {
         let nominal = self.models[k].nominal_range_m();
         let [lo, hi] = [ACQUIRE_SCALES[0] / 1.1, ACQUIRE_SCALES[1] * 1.1];
@@ -190,11 +207,16 @@ impl Acquisition {
             .filter_map(|i| {
                 let scale = lo * (hi / lo).powf(i as f64 / (GATE_ROWS - 1) as f64);
                 let z = nominal / scale;
-                let centre = lane.centre_x_m(z)?;
-                let column = |x: f64| self.camera.project([x, 0.0, z]).map(|[u, _]| u);
-                let left = column(centre - lane.half_width_m)?;
-                let right = column(centre + lane.half_width_m)?;
-                Some([scale, left, right])
+                let [x, ground_y] = lane.centre_at(z)?;
+                let at = |x: f64, y: f64| self.camera.project([x, y, z]);
+                let [left, top] = at(x - lane.half_width_m, ground_y - CENTRE_HEIGHT_M[1])?;
+                let [right, bottom] = at(x + lane.half_width_m, ground_y - CENTRE_HEIGHT_M[0])?;
+                let m = GATE_MARGIN_PX;
+                Some(GateRow {
+                    scale,
+                    c_x: [left, right],
+                    c_y: [top - m, bottom + m],
+                })
             })
             .collect();
         AcquireGate::new(rows)

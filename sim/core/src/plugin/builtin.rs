@@ -269,6 +269,12 @@ impl FrameTracker for BuiltinTracker {
         }
     }
 
+    /// In traffic, holding nothing, on the frames its search rests (the next frame's
+    /// search may still acquire a target, and then asks for its pixels).
+    fn will_rest(&self, ahead: u64) -> bool {
+        self.acquisition.as_ref().is_some_and(|a| a.rests_in(ahead))
+    }
+
     fn reads_gyro(&self) -> bool {
         self.config.mode == TrackerMode::Robust
     }

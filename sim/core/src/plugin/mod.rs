@@ -80,6 +80,15 @@ pub trait FrameTracker: Send {
         None
     }
 
+    /// Whether the step `ahead` frames on (1: the next frame's) will read no pixels at
+    /// all, if it can say: the loop then renders none of that frame but the automatic gain
+    /// control's metering window. A tracker that turns out to read some after all asks for
+    /// them ([`FrameTracker::track_drawn`]). The default: `false`.
+    fn will_rest(&self, ahead: u64) -> bool {
+        let _ = ahead;
+        false
+    }
+
     /// Whether the tracker reads [`TrackerInput::gyro_rad`] (the default): the loop reads
     /// the chase's gyro only for a tracker that does.
     fn reads_gyro(&self) -> bool {
