@@ -53,11 +53,14 @@ fn frame(renderer: &mut Renderer, gap_m: f64) -> (GrayImage, GroundTruth) {
     (frame.image, frame.truth)
 }
 
+/// Pixel positions, (x, y).
+type Pixels = Vec<(u32, u32)>;
+
 /// The board's light and dark pixels in `clear` (the board's box from the truth, the
 /// shipped target being 1.6 m × 1.0 m): the pixels within 35 % of the box's range of its
 /// brightest and darkest grey whose four neighbours are of the same kind, so that no pixel
 /// mixes paint and stripe.
-fn light_and_dark(clear: &GrayImage, truth: &GroundTruth) -> (Vec<(u32, u32)>, Vec<(u32, u32)>) {
+fn light_and_dark(clear: &GrayImage, truth: &GroundTruth) -> (Pixels, Pixels) {
     // Pixels per metre on the board: the focal length over its depth.
     let per_m = 320.0 / truth.target_cam_m[2];
     let (x0, x1) = (truth.c_x - 0.75 * per_m, truth.c_x + 0.75 * per_m);
