@@ -113,6 +113,7 @@ scenario_test!(cut_in, "cut-in");
 scenario_test!(cut_out, "cut-out");
 scenario_test!(next_lane_traffic, "next-lane-traffic");
 scenario_test!(slow_vehicle_ahead, "slow-vehicle-ahead");
+scenario_test!(fog, "fog");
 
 macro_rules! robust_test {
     ($test:ident, $name:literal) => {
@@ -148,6 +149,7 @@ robust_test!(robust_cut_in, "cut-in");
 robust_test!(robust_cut_out, "cut-out");
 robust_test!(robust_next_lane_traffic, "next-lane-traffic");
 robust_test!(robust_slow_vehicle_ahead, "slow-vehicle-ahead");
+robust_test!(robust_fog, "fog");
 
 /// `low-sun-trees`: the low sun's long shadow brings the paper's mode to say `lost` early
 /// and lose the target for a moment, within the scenario's `[expect]`; robust mode, whose

@@ -128,6 +128,7 @@ fn scene_description(s: &Scenario, world: &WorldConfig) -> SceneDescription {
                 albedo: a.albedo,
             })
             .collect(),
+        fog: s.fog,
     }
 }
 

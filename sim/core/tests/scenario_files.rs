@@ -679,3 +679,42 @@ fn a_duplicate_key_is_named() {
     let e = load(&text, &[]).unwrap_err().to_string();
     assert!(e.contains(":13:1: duplicate key `duration_s`"), "{e}");
 }
+
+/// `[environment.fog]`: off by default (and then absent from the resolved scenario, so a
+/// scenario without it writes what it wrote before fog existed); its visual range is set by
+/// the file or by `--set`, and a bad one is refused with the file, line and field.
+#[test]
+fn fog_is_off_by_default_set_by_its_path_and_checked() {
+    let s = load(&text(), &[]).unwrap();
+    assert_eq!(s.fog, None);
+    assert!(s.resolved_json().pointer("/environment/fog").is_none());
+    let s = load(&text(), &["environment.fog.visual_range_m=60"]).unwrap();
+    let fog = s.fog.expect("fog");
+    assert_eq!(fog.visual_range_m, 60.0);
+    assert!((fog.extinction_per_m() - 3.912 / 60.0).abs() < 1e-15);
+    assert_eq!(
+        s.resolved_json().pointer("/environment/fog/visual_range_m"),
+        Some(&serde_json::json!(60.0))
+    );
+    for bad in ["0.5", "-3", "nan", "inf", "1e6"] {
+        let e = load(&text(), &[&format!("environment.fog.visual_range_m={bad}")]).unwrap_err();
+        assert!(
+            e.contains("`environment.fog.visual_range_m`") && e.contains("must be 1–100000 m"),
+            "{bad}: {e}"
+        );
+    }
+    let t = text().replace(
+        "sensor = { noise_sigma_grey = 2.0 }",
+        "sensor = { noise_sigma_grey = 2.0 }\nfog = { visual_range_m = 0.0 }",
+    );
+    let e = load(&t, &[]).unwrap_err();
+    assert!(
+        e.starts_with(&format!(
+            "/bad.toml:{}:",
+            line_of(&t, "fog = { visual_range_m")
+        )) && e.contains("`environment.fog.visual_range_m` = 0: must be 1–100000 m"),
+        "{e}"
+    );
+    let e = load(&text(), &["environment.fog.visibility_m=60"]).unwrap_err();
+    assert!(e.contains("unknown field `visibility_m`"), "{e}");
+}

@@ -45,6 +45,7 @@ fn an_override() -> impl Strategy<Value = String> {
         f("environment.sensor.noise_sigma_grey", 0.0, 80.0),
         f("environment.sensor.gain", 0.0, 25.0),
         f("environment.sun.elevation_deg", -10.0, 100.0),
+        f("environment.fog.visual_range_m", -5.0, 500.0),
         f("environment.clutter.trees_per_km", 0.0, 1200.0),
         f("lead.driver.weave_amplitude_m", -1.0, 6.0),
         f("chase.controller.gap_keeper.min_gap_m", 0.0, 20.0),

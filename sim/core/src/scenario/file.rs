@@ -285,6 +285,26 @@ pub struct EnvironmentFile {
     /// Procedural textures on the ground (`[environment.textures]`).
     #[serde(default)]
     pub textures: TexturesFile,
+    /// Fog (`[environment.fog]`; none by default, and then not written, so a scenario
+    /// without it reads and writes as before).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fog: Option<FogFile>,
+}
+
+/// `[environment.fog]`: fog between the camera and everything it sees, by Koschmieder's
+/// law. A surface `d` metres from the camera keeps `exp(−β d)` of its light, `β = 3.912 / V`
+/// per metre, and takes the rest from the fog's own luminance, `ambient + strength / 4` of
+/// `[environment.sun]` (a white medium scattering the sunlight equally in every direction,
+/// bathed in the ambient light); the sky is the fog's luminance alone. Applied before the
+/// sensor, whose gain, noise and automatic gain act on it as on any light.
+#[derive(Clone, Debug, Deserialize, Serialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct FogFile {
+    /// The meteorological optical range V, metres: 1–100000, the distance at which a black
+    /// object's contrast against the fog falls to 2 % (dense fog under 50 m, fog under
+    /// 1000 m, haze beyond).
+    #[schemars(extend("minimum" = 1.0, "maximum" = 100000.0))]
+    pub visual_range_m: f64,
 }
 
 /// `[environment.road]`.

@@ -194,6 +194,8 @@ pub struct ScenarioSpec {
     pub road_surface: sim_render::RoadSurface,
     /// Textures on the ground.
     pub textures: sim_render::Textures,
+    /// Fog (`None`: clear air).
+    pub fog: Option<sim_render::Fog>,
     /// Pass/fail criteria.
     pub expect: Expect,
     /// The scenario as resolved: the file with the `--set` overrides applied and every

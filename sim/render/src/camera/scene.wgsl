@@ -43,6 +43,9 @@ struct Globals {
     // The texture coordinates (u0, v0, u1, v1) the map answers for; outside, the sun
     // shines.
     lookup_bounds: vec4<f32>,
+    // Fog (read only with `fog_on`): x: the extinction β (1/m); y: the fog's luminance
+    // times the sensor's brightness; z, w: unused.
+    fog: vec4<f32>,
 };
 
 struct Objects {
@@ -86,6 +89,8 @@ struct VertexOut {
     @location(2) ground: vec2<f32>,
     // Where the (normal-offset) point falls in the board's shadow map.
     @location(3) board: vec3<f32>,
+    // The point relative to the camera (world axes), for the fog.
+    @location(5) eye: vec3<f32>,
 };
 
 // A ground surface's vertex: `VertexOut`'s fields, and its texture.
@@ -97,6 +102,7 @@ struct GroundOut {
     @location(3) board: vec3<f32>,
     // x: the texture's layer; y: its strength; z: 1 / its tile's side (1/m).
     @location(4) @interpolate(flat) texture: vec3<f32>,
+    @location(5) eye: vec3<f32>,
 };
 
 // A canopy's vertex: `VertexOut`'s fields, and the world height (with `ground`, the
@@ -108,6 +114,7 @@ struct FoliageOut {
     @location(2) ground: vec2<f32>,
     @location(3) board: vec3<f32>,
     @location(4) height: f32,
+    @location(5) eye: vec3<f32>,
 };
 
 // A canopy's vertex in the shadow passes: its world position, for the leaf pattern.
@@ -185,6 +192,7 @@ fn vs_main_of(v: VertexIn) -> VertexOut {
     out.ground = world.xz + globals.origin.xz;
     let b = globals.board_view_proj * vec4<f32>(world.xyz + normal * (1.5 * globals.board.z), 1.0);
     out.board = vec3<f32>(b.x * 0.5 + 0.5, 0.5 - b.y * 0.5, b.z);
+    out.eye = world.xyz;
     return out;
 }
 
@@ -197,6 +205,7 @@ fn vs_ground(v: VertexIn) -> GroundOut {
     out.shadow = o.shadow;
     out.ground = o.ground;
     out.board = o.board;
+    out.eye = o.eye;
     // Material → layer and strength: asphalt, grass, gravel, and paint (asphalt, faint).
     var layer = 0u;
     var strength = 0.0;
@@ -220,6 +229,7 @@ fn vs_foliage(v: VertexIn) -> FoliageOut {
     out.shadow = o.shadow;
     out.ground = o.ground;
     out.board = o.board;
+    out.eye = o.eye;
     let world = objects.world_from_object[v.object & 0xffu] * vec4<f32>(v.position, 1.0);
     out.height = world.y + globals.origin.y;
     return out;
@@ -308,6 +318,23 @@ fn grass(xz: vec2<f32>) -> f32 {
     return globals.ground.y + globals.ground.z * mix(a, b, f.y);
 }
 
+// Whether the scene lies in fog (the pipeline's constant): without it, `fogged` passes
+// the grey through untouched, so a scene without fog is drawn as before fog existed, bit
+// for bit, and pays nothing for it.
+override fog_on: bool = false;
+
+// The colour of a surface of radiance `grey` (times the sensor's brightness) at `eye`
+// from the camera, seen through the fog (Koschmieder): it keeps exp(−β d) of its own
+// radiance and takes the rest from the fog's luminance, `fog + (grey − fog) · exp(−β d)`.
+fn fogged(grey: f32, eye: vec3<f32>) -> vec4<f32> {
+    var g = grey;
+    if (fog_on) {
+        let t = exp(-globals.fog.x * length(eye));
+        g = globals.fog.y + (grey - globals.fog.y) * t;
+    }
+    return vec4<f32>(g, g, g, 1.0);
+}
+
 @fragment
 fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     var albedo = in.light.x;
@@ -318,8 +345,7 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     if (in.light.z > 0.0) {
         light += in.light.z * sunlight(in.shadow);
     }
-    let grey = albedo * light;
-    return vec4<f32>(grey, grey, grey, 1.0);
+    return fogged(albedo * light, in.eye);
 }
 
 // As `fs_main`, with soft shadows on the target: receivers within the board's fine map
@@ -341,8 +367,7 @@ fn fs_main_soft(in: VertexOut) -> @location(0) vec4<f32> {
         }
         light += in.light.z * sun;
     }
-    let grey = albedo * light;
-    return vec4<f32>(grey, grey, grey, 1.0);
+    return fogged(albedo * light, in.eye);
 }
 
 // The detail factor of a ground surface at world (x, z): one trilinear sample of its
@@ -392,15 +417,13 @@ fn ground_albedo(in: GroundOut) -> f32 {
 // Textured ground: `fs_main` with the albedo modulated by the surface's texture.
 @fragment
 fn fs_ground(in: GroundOut) -> @location(0) vec4<f32> {
-    let grey = ground_albedo(in) * lit(in.light, in.shadow);
-    return vec4<f32>(grey, grey, grey, 1.0);
+    return fogged(ground_albedo(in) * lit(in.light, in.shadow), in.eye);
 }
 
 // `fs_ground` with soft shadows on the target.
 @fragment
 fn fs_ground_soft(in: GroundOut) -> @location(0) vec4<f32> {
-    let grey = ground_albedo(in) * lit_soft(in.light, in.shadow, in.board);
-    return vec4<f32>(grey, grey, grey, 1.0);
+    return fogged(ground_albedo(in) * lit_soft(in.light, in.shadow, in.board), in.eye);
 }
 
 // Leaf pattern: two trilinear value noises over the canopy's surface, on lattices of
@@ -452,15 +475,13 @@ fn leaf_albedo(in: FoliageOut) -> f32 {
 // A canopy from the camera: holes discarded, leaves shaded as `fs_main`.
 @fragment
 fn fs_foliage(in: FoliageOut) -> @location(0) vec4<f32> {
-    let grey = leaf_albedo(in) * lit(in.light, in.shadow);
-    return vec4<f32>(grey, grey, grey, 1.0);
+    return fogged(leaf_albedo(in) * lit(in.light, in.shadow), in.eye);
 }
 
 // `fs_foliage` with soft shadows on the target.
 @fragment
 fn fs_foliage_soft(in: FoliageOut) -> @location(0) vec4<f32> {
-    let grey = leaf_albedo(in) * lit_soft(in.light, in.shadow, in.board);
-    return vec4<f32>(grey, grey, grey, 1.0);
+    return fogged(leaf_albedo(in) * lit_soft(in.light, in.shadow, in.board), in.eye);
 }
 
 // A canopy from the sun: the holes let the light through. The only fragment stage of

@@ -51,6 +51,7 @@ pub fn builtin_description(target: TargetModel, seed: u64) -> SceneDescription {
         road_surface: RoadSurface::default(),
         textures: Textures::default(),
         actors: Vec::new(),
+        fog: None,
     }
 }
 

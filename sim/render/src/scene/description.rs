@@ -172,6 +172,53 @@ impl Default for Sun {
     }
 }
 
+/// Fog: a uniform, white, scattering medium between the camera and what it sees, by
+/// Koschmieder's law. A surface at distance `d` from the camera keeps `exp(−β d)` of its
+/// radiance ([`Fog::transmittance`]) and takes the rest from the fog's own luminance
+/// ([`Fog::luminance`], the airlight), so its contrast against its background falls by
+/// `exp(−β d)`; the sky, at infinite distance, is the fog's luminance alone. Applied to the
+/// scene's radiance before the sensor, so that its gain, noise and automatic gain act on
+/// it as on any light.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Fog {
+    /// The meteorological optical range V, metres: the distance at which a black object's
+    /// contrast against the fog falls to 2 % (the extinction is `β = 3.912 / V`).
+    pub visual_range_m: f64,
+}
+
+impl Fog {
+    /// Koschmieder's constant, `−ln 0.02`: the extinction times the visual range.
+    pub const KOSCHMIEDER: f64 = 3.912;
+    /// The least visual range a scene takes, metres.
+    pub const MIN_VISUAL_RANGE_M: f64 = 1.0;
+    /// The share of the sun's irradiance a white medium scattering equally in every
+    /// direction sends towards the camera, relative to what a white, matte surface facing
+    /// the sun sends: the isotropic phase function `1 / 4π` against a Lambertian surface's
+    /// `1 / π`.
+    pub const SUN_SHARE: f64 = 0.25;
+
+    /// The extinction coefficient β, per metre: `3.912 / V`.
+    pub fn extinction_per_m(&self) -> f64 {
+        Self::KOSCHMIEDER / self.visual_range_m
+    }
+
+    /// The share of a surface's radiance that reaches the camera from `distance_m` away,
+    /// `exp(−β d)`.
+    pub fn transmittance(&self, distance_m: f64) -> f64 {
+        (-self.extinction_per_m() * distance_m).exp()
+    }
+
+    /// The fog's own luminance (the airlight of an infinite path) under `sun`, in the
+    /// sun's units: `ambient + strength / 4`. The droplets scatter without absorbing, the
+    /// sunlight equally in every direction (a quarter of what a white, matte surface facing
+    /// the sun returns, [`Fog::SUN_SHARE`]), and the ambient light bathes the fog from every
+    /// side, as it does any surface. Under the default sun (0.75, 0.25) it is 0.44, a
+    /// mid-grey between the road and the board's white paint.
+    pub fn luminance(&self, sun: &Sun) -> f64 {
+        sun.ambient + Self::SUN_SHARE * sun.strength
+    }
+}
+
 /// The CCD sensor's response and noise (all applied per frame, seeded).
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Sensor {
@@ -449,6 +496,11 @@ pub struct SceneDescription {
     /// then not written, so a description without them reads and writes as before).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub actors: Vec<ActorBody>,
+    /// Fog between the camera and everything it sees (`None`: clear air, the frames drawn
+    /// before fog existed, bit for bit; then not written, so a description without it reads
+    /// and writes as before).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fog: Option<Fog>,
 }
 
 impl SceneDescription {
@@ -527,6 +579,18 @@ impl SceneDescription {
             ("sensor.noise_sigma_grey", self.sensor.noise_sigma_grey),
         ] {
             non_negative(field, value)?;
+        }
+        if let Some(fog) = &self.fog {
+            if !(fog.visual_range_m.is_finite() && fog.visual_range_m >= Fog::MIN_VISUAL_RANGE_M) {
+                return Err(SceneError::Invalid {
+                    field: "fog.visual_range_m".into(),
+                    reason: format!(
+                        "must be at least {} m and finite, got {}",
+                        Fog::MIN_VISUAL_RANGE_M,
+                        fog.visual_range_m
+                    ),
+                });
+            }
         }
         if !(self.sun.elevation_deg > 0.0 && self.sun.elevation_deg <= 90.0) {
             return Err(SceneError::Invalid {

@@ -81,8 +81,8 @@ pub use builtin::{
 pub use chunk::{Chunk, ChunkPart};
 pub use description::{
     distractor_near_side, ActorBody, AutoGain, CameraMount, ChaseVehicle, Densities, Distractor,
-    DistractorKind, LeadVehicle, Placement, RoadSurface, SceneDescription, Sensor, Sun, Textures,
-    FIELD_PERIOD_STEPS,
+    DistractorKind, Fog, LeadVehicle, Placement, RoadSurface, SceneDescription, Sensor, Sun,
+    Textures, FIELD_PERIOD_STEPS,
 };
 pub use dynamic_object::{DynamicObject, Motion};
 pub use error::{SceneError, MAX_BUFFER_BYTES};

@@ -1,9 +1,9 @@
 //! `[environment]`: the sun, the clutter's densities, the overpasses, the sensor, the road's
-//! surface and the ground's textures.
+//! surface, the ground's textures and the fog.
 
 use super::{check, Blame, MAX_BLUR_SIGMA_PX};
 use crate::scenario::{EnvironmentFile, ScenarioError};
-use sim_render::{AutoGain, Densities, Placement, RoadSurface, Sensor, Sun, Textures};
+use sim_render::{AutoGain, Densities, Fog, Placement, RoadSurface, Sensor, Sun, Textures};
 
 /// The environment as validated (the distractors and overpasses are checked on their own).
 pub(super) struct Environment {
@@ -12,9 +12,10 @@ pub(super) struct Environment {
     pub(super) sensor: Sensor,
     pub(super) road_surface: RoadSurface,
     pub(super) textures: Textures,
+    pub(super) fog: Option<Fog>,
 }
 
-/// The environment's sun, clutter, sensor, road and textures.
+/// The environment's sun, clutter, sensor, road, textures and fog.
 pub(super) fn environment(e: &EnvironmentFile, f: &Blame) -> Result<Environment, ScenarioError> {
     let sun = sun(e, f)?;
     let mut densities = Densities::default();
@@ -96,13 +97,37 @@ pub(super) fn environment(e: &EnvironmentFile, f: &Blame) -> Result<Environment,
         ),
     )?;
 
+    let fog = fog(e, f)?;
+
     Ok(Environment {
         sun,
         densities,
         sensor,
         road_surface,
         textures,
+        fog,
     })
+}
+
+/// The largest visual range `[environment.fog]` takes, metres: beyond it the air is clear
+/// for any distance the camera resolves a target at.
+const MAX_VISUAL_RANGE_M: f64 = 100_000.0;
+
+/// `[environment.fog]`.
+fn fog(e: &EnvironmentFile, f: &Blame) -> Result<Option<Fog>, ScenarioError> {
+    let Some(fog) = &e.fog else {
+        return Ok(None);
+    };
+    let v = fog.visual_range_m;
+    f.at(
+        "environment.fog.visual_range_m",
+        check(
+            v.is_finite() && (Fog::MIN_VISUAL_RANGE_M..=MAX_VISUAL_RANGE_M).contains(&v),
+            &format!("must be {}–{MAX_VISUAL_RANGE_M} m", Fog::MIN_VISUAL_RANGE_M),
+            v,
+        ),
+    )?;
+    Ok(Some(Fog { visual_range_m: v }))
 }
 
 /// `[[environment.overpasses]]` on a route `length` metres long.

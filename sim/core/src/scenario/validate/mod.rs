@@ -210,6 +210,7 @@ pub(super) fn validate(
         sensor: e.sensor,
         road_surface: e.road_surface,
         textures: e.textures,
+        fog: e.fog,
         expect: raw.expect,
         source,
     }))

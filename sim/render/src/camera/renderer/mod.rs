@@ -269,7 +269,7 @@ impl Renderer {
         // Passes, each with its pipelines, bind group and uniforms: the frame's uniforms
         // (the main pass's, which the passes from the sun bind too), and the same for each
         // of the draws into the static shadow tiles' slots.
-        let builder = Builder::new(device, options.msaa_samples);
+        let builder = Builder::new(device, options.msaa_samples, description.fog.is_some());
         let lookups = builder.lookups(&maps, &surfaces, &samplers);
         let frame_uniforms = Uniforms::new(device, "frame uniforms");
         let frame_group = builder.frame_bind_group(&frame_uniforms);
@@ -427,7 +427,13 @@ impl Renderer {
         let sun = self.fit_sun(&view, placed.board_centre, scissor);
         // The sensor's brightness, with the automatic gain: the shading's and the sky's.
         let brightness = description.sensor.brightness() * auto_gain;
-        let sky = (description.sun.sky * brightness).clamp(0.0, 1.0);
+        // In fog, a ray that meets nothing crosses an infinite path of it: the sky is the
+        // fog's own luminance.
+        let sky_light = match &description.fog {
+            Some(fog) => fog.luminance(&description.sun),
+            None => description.sun.sky,
+        };
+        let sky = (sky_light * brightness).clamp(0.0, 1.0);
         // Culling: what each pass draws; the geometry it draws made resident.
         let slot_work = self.cull(&view, &sun, scissor);
         if sun.window.is_some() {

@@ -126,6 +126,9 @@ pub(super) struct Builder<'d> {
     shader: wgpu::ShaderModule,
     /// The main pass's samples (MSAA).
     samples: u32,
+    /// Whether the main pass's pipelines fog what they shade (the `fog_on` override): only a
+    /// scene in fog pays for it, and a scene without draws what it drew before fog existed.
+    fog: bool,
     /// Group 0 of the frame's passes: the globals and the object transforms.
     frame_layout: wgpu::BindGroupLayout,
     /// Group 1 of the main pass: the shadow lookups and the ground's textures.
@@ -138,8 +141,8 @@ pub(super) struct Builder<'d> {
 }
 
 impl<'d> Builder<'d> {
-    /// The shader and the layouts, for a main pass of `samples` samples.
-    pub fn new(device: &'d wgpu::Device, samples: u32) -> Builder<'d> {
+    /// The shader and the layouts, for a main pass of `samples` samples, in `fog` or not.
+    pub fn new(device: &'d wgpu::Device, samples: u32, fog: bool) -> Builder<'d> {
         let uniform_entry = |binding, has_dynamic_offset| wgpu::BindGroupLayoutEntry {
             binding,
             visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
@@ -181,6 +184,7 @@ impl<'d> Builder<'d> {
             device,
             shader,
             samples,
+            fog,
             frame_layout,
             lookup_layout,
             slot_layout,
@@ -445,7 +449,10 @@ impl<'d> Builder<'d> {
         grass: bool,
         soft: bool,
     ) -> wgpu::RenderPipeline {
-        let constants = [("grass_faces", f64::from(u8::from(grass)))];
+        let constants = [
+            ("grass_faces", f64::from(u8::from(grass))),
+            ("fog_on", f64::from(u8::from(self.fog))),
+        ];
         self.device
             .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(label),

@@ -27,6 +27,7 @@ pub(super) struct Globals {
     lookup_view_proj: [[f32; 4]; 4],
     lookup_scale: [f32; 4],
     lookup_bounds: [f32; 4],
+    fog: [f32; 4],
 }
 
 /// The strength of the paint's texture relative to the other materials': paint fills the
@@ -124,6 +125,7 @@ impl Globals {
             lookup_view_proj,
             lookup_scale,
             lookup_bounds,
+            fog: fog_params(description, brightness),
         }
     }
 
@@ -138,6 +140,21 @@ impl Globals {
             ground,
             ..Globals::zeroed()
         }
+    }
+}
+
+/// The fog's parameters in [`Globals`]: the extinction β (per metre) and the fog's
+/// luminance times the sensor's `brightness` (with the automatic gain); zeros without fog,
+/// whose pipelines never read them.
+fn fog_params(description: &SceneDescription, brightness: f64) -> [f32; 4] {
+    match &description.fog {
+        Some(fog) => [
+            fog.extinction_per_m() as f32,
+            (fog.luminance(&description.sun) * brightness) as f32,
+            0.0,
+            0.0,
+        ],
+        None => [0.0; 4],
     }
 }
 
