@@ -47,11 +47,11 @@ pub use scenario::MAX_ACTORS;
 pub use scenario::{
     apply_override, from_toml_naming_field, kind_albedo, kind_params, locate as locate_field,
     scenario_schema_json, shipped_scenarios, ActorFile, ActorSpec, AutoGainFile, CameraFile,
-    ChaseFile, ClutterFile, DistractorFile, EnvironmentFile, Expect, LeadFile, LoopFile,
-    OverpassFile, RoadFile, RouteFile, Scenario, ScenarioError, ScenarioFile, ScenarioSpec,
-    SegmentFile, SensorFile, StartFile, SunFile, TexturesFile, TrackerFile, BUILTIN_NAME,
-    BUILTIN_TARGET_TEXT, FOCAL_LENGTH_MM, MAX_ARC_RADIUS_M, MAX_BLUR_SIGMA_PX, MAX_BREADCRUMBS,
-    MAX_INIT_OFFSET_PX, MAX_ROUTE_M, MIN_ARC_RADIUS_M, SCHEMA_FILE_NAME,
+    ChaseFile, ClutterFile, DistractorFile, EnvironmentFile, Expect, HeadlampsFile, LeadFile,
+    LoopFile, OverpassFile, RoadFile, RouteFile, Scenario, ScenarioError, ScenarioFile,
+    ScenarioSpec, SegmentFile, SensorFile, StartFile, SunFile, TexturesFile, TrackerFile,
+    BUILTIN_NAME, BUILTIN_TARGET_TEXT, FOCAL_LENGTH_MM, MAX_ARC_RADIUS_M, MAX_BLUR_SIGMA_PX,
+    MAX_BREADCRUMBS, MAX_INIT_OFFSET_PX, MAX_ROUTE_M, MIN_ARC_RADIUS_M, SCHEMA_FILE_NAME,
 };
 pub use target::{
     line_column, load as load_target, parse as parse_target, to_file_text as target_file_text,

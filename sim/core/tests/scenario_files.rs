@@ -718,3 +718,55 @@ fn fog_is_off_by_default_set_by_its_path_and_checked() {
     let e = load(&text(), &["environment.fog.visibility_m=60"]).unwrap_err();
     assert!(e.contains("unknown field `visibility_m`"), "{e}");
 }
+
+/// `[chase.headlamps]`: off by default (and then absent from the resolved scenario); the
+/// beam is set by the file or by `--set`, and a bad one is refused with the file, line and
+/// field.
+#[test]
+fn headlamps_are_off_by_default_set_by_their_path_and_checked() {
+    let s = load(&text(), &[]).unwrap();
+    assert_eq!(s.headlamps, None);
+    assert!(s.resolved_json().pointer("/chase/headlamps").is_none());
+    for (beam, want) in [
+        ("off", None),
+        ("low", Some(sim_render::Beam::Low)),
+        ("high", Some(sim_render::Beam::High)),
+    ] {
+        let s = load(&text(), &[&format!("chase.headlamps.beam={beam}")]).unwrap();
+        assert_eq!(s.headlamps, want, "{beam}");
+    }
+    let e = load(&text(), &["chase.headlamps.beam=full"]).unwrap_err();
+    assert!(
+        e.contains("`chase.headlamps.beam` = \"full\": must be \"off\", \"low\" or \"high\""),
+        "{e}"
+    );
+    let t = text().replace(
+        "initial_gap_m = 10.0\n",
+        "initial_gap_m = 10.0\nheadlamps = { beam = \"dipped\" }\n",
+    );
+    let e = load(&t, &[]).unwrap_err();
+    assert!(
+        e.starts_with(&format!("/bad.toml:{}:", line_of(&t, "headlamps = {"))),
+        "{e}"
+    );
+    let e = load(&text(), &["chase.headlamps.dip=low"]).unwrap_err();
+    assert!(e.contains("unknown field `dip`"), "{e}");
+}
+
+/// `[environment.sun] elevation_deg` takes the sun down to 18° below the horizon (night),
+/// and no lower; a shadow distractor needs the sun above the horizon.
+#[test]
+fn the_sun_sets_down_to_minus_18_degrees() {
+    for ok in ["0", "-6", "-10", "-18"] {
+        let s = load(&text(), &[&format!("environment.sun.elevation_deg={ok}")])
+            .unwrap_or_else(|e| panic!("{ok}: {e}"));
+        assert_eq!(s.sun.elevation_deg, ok.parse::<f64>().unwrap());
+    }
+    for bad in ["-18.5", "-90", "91", "nan"] {
+        let e = load(&text(), &[&format!("environment.sun.elevation_deg={bad}")]).unwrap_err();
+        assert!(
+            e.contains("`environment.sun.elevation_deg`") && e.contains("must be -18–90 degrees"),
+            "{bad}: {e}"
+        );
+    }
+}

@@ -158,6 +158,21 @@ pub struct ChaseFile {
     /// mount comes from `[camera.mount]`.
     #[serde(default)]
     pub controller: ChaseControllerConfig,
+    /// The chase's headlamps (`[chase.headlamps]`; off by default, and then not written, so
+    /// a scenario without them reads and writes as before).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub headlamps: Option<HeadlampsFile>,
+}
+
+/// `[chase.headlamps]`: two spot lights at the chase's front corners, lighting the scene
+/// with an inverse-square fall-off (see the book's "Night").
+#[derive(Clone, Debug, Deserialize, Serialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct HeadlampsFile {
+    /// The beam: `"off"` (the default), `"low"` (dipped: aimed 1° down, cut off above the
+    /// lamps' horizontal) or `"high"` (main beam: level, brighter, wider, no cut-off).
+    #[schemars(extend("enum" = ["off", "low", "high"]))]
+    pub beam: String,
 }
 
 /// A file without `[chase]` has the defaults of an empty `[chase]`: the same as serde's
@@ -169,6 +184,7 @@ impl Default for ChaseFile {
             speed_profile: None,
             speed_basis: default_basis(),
             controller: ChaseControllerConfig::default(),
+            headlamps: None,
         }
     }
 }
@@ -380,8 +396,11 @@ pub struct SunFile {
     /// Compass direction the sunlight comes from, degrees: -360–360.
     #[schemars(extend("minimum" = -360.0, "maximum" = 360.0))]
     pub azimuth_deg: Option<f64>,
-    /// Height above the horizon, degrees: (0, 90].
-    #[schemars(extend("exclusiveMinimum" = 0.0, "maximum" = 90.0))]
+    /// Height above the horizon, degrees: -18–90. At or below 0 the sun has set: no direct
+    /// light and no sun shadow, and the ambient light and the sky's brightness fall through
+    /// civil (0 to -6), nautical (-6 to -12) and astronomical (-12 to -18) twilight to
+    /// night's (see the book's "Night").
+    #[schemars(extend("minimum" = -18.0, "maximum" = 90.0))]
     pub elevation_deg: Option<f64>,
     /// Direct light, 0–2 (1 is full sun).
     #[schemars(extend("minimum" = 0.0, "maximum" = 2.0))]

@@ -196,6 +196,8 @@ pub struct ScenarioSpec {
     pub textures: sim_render::Textures,
     /// Fog (`None`: clear air).
     pub fog: Option<sim_render::Fog>,
+    /// The chase's headlamps' beam (`None`: off).
+    pub headlamps: Option<sim_render::Beam>,
     /// Pass/fail criteria.
     pub expect: Expect,
     /// The scenario as resolved: the file with the `--set` overrides applied and every

@@ -46,6 +46,12 @@ struct Globals {
     // Fog (read only with `fog_on`): x: the extinction β (1/m); y: the fog's luminance
     // times the sensor's brightness; z, w: unused.
     fog: vec4<f32>,
+    // The headlamps (read only with `headlamps_on`): [0], [1] each lamp's position
+    // relative to the camera (world axes), [0].w the peak intensity times the sensor's
+    // brightness (scene units × m²); [2] the chase's forward axis, w 1/σh (per radian);
+    // [3] its up axis, w 1/σv; [4] x the aim, y the cut-off (radians), z the stray share,
+    // w 1 / the cut-off's width (per radian).
+    lamps: array<vec4<f32>, 5>,
 };
 
 struct Objects {
@@ -335,6 +341,46 @@ fn fogged(grey: f32, eye: vec3<f32>) -> vec4<f32> {
     return vec4<f32>(g, g, g, 1.0);
 }
 
+// Whether the chase's headlamps are on (the pipeline's constant): without them, `lamp_lit`
+// is the sun's and the sky's light alone, as before headlamps existed, bit for bit.
+override headlamps_on: bool = false;
+
+// One headlamp at `lamp` (relative to the camera) lighting a surface at `eye` with unit
+// normal `n`: I(h, v) cos(incidence) / d², I a Gaussian hot spot about the lamp's aim,
+// cut off above (a low beam) to a stray share over a smoothstep.
+fn headlamp(lamp: vec3<f32>, eye: vec3<f32>, n: vec3<f32>) -> f32 {
+    let v = eye - lamp;
+    let d2 = max(dot(v, v), 1e-4);
+    let dir = v * inverseSqrt(d2);
+    let ahead = dot(dir, globals.lamps[2].xyz);
+    if (ahead <= 0.0) {
+        return 0.0;
+    }
+    let side = dot(dir, cross(globals.lamps[3].xyz, globals.lamps[2].xyz));
+    let h = atan2(side, ahead);
+    let e = asin(clamp(dot(dir, globals.lamps[3].xyz), -1.0, 1.0));
+    let dh = h * globals.lamps[2].w;
+    let dv = (e - globals.lamps[4].x) * globals.lamps[3].w;
+    let cut = smoothstep(0.0, 1.0, (e - globals.lamps[4].y) * globals.lamps[4].w);
+    let i = globals.lamps[0].w * exp(-0.5 * (dh * dh + dv * dv)) * mix(1.0, globals.lamps[4].z, cut);
+    return i * max(dot(n, -dir), 0.0) / d2;
+}
+
+// `albedo` times the scene's `light`, with the headlamps' light added when they are on.
+// The surface's normal is the flat one of its triangle, from the position's derivatives,
+// turned towards the camera.
+fn lamp_lit(albedo: f32, light: f32, eye: vec3<f32>) -> f32 {
+    if (headlamps_on) {
+        var n = normalize(cross(dpdx(eye), dpdy(eye)));
+        if (dot(n, eye) > 0.0) {
+            n = -n;
+        }
+        let lamps = headlamp(globals.lamps[0].xyz, eye, n) + headlamp(globals.lamps[1].xyz, eye, n);
+        return albedo * (light + lamps);
+    }
+    return albedo * light;
+}
+
 @fragment
 fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     var albedo = in.light.x;
@@ -345,7 +391,7 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     if (in.light.z > 0.0) {
         light += in.light.z * sunlight(in.shadow);
     }
-    return fogged(albedo * light, in.eye);
+    return fogged(lamp_lit(albedo, light, in.eye), in.eye);
 }
 
 // As `fs_main`, with soft shadows on the target: receivers within the board's fine map
@@ -367,7 +413,7 @@ fn fs_main_soft(in: VertexOut) -> @location(0) vec4<f32> {
         }
         light += in.light.z * sun;
     }
-    return fogged(albedo * light, in.eye);
+    return fogged(lamp_lit(albedo, light, in.eye), in.eye);
 }
 
 // The detail factor of a ground surface at world (x, z): one trilinear sample of its
@@ -417,13 +463,13 @@ fn ground_albedo(in: GroundOut) -> f32 {
 // Textured ground: `fs_main` with the albedo modulated by the surface's texture.
 @fragment
 fn fs_ground(in: GroundOut) -> @location(0) vec4<f32> {
-    return fogged(ground_albedo(in) * lit(in.light, in.shadow), in.eye);
+    return fogged(lamp_lit(ground_albedo(in), lit(in.light, in.shadow), in.eye), in.eye);
 }
 
 // `fs_ground` with soft shadows on the target.
 @fragment
 fn fs_ground_soft(in: GroundOut) -> @location(0) vec4<f32> {
-    return fogged(ground_albedo(in) * lit_soft(in.light, in.shadow, in.board), in.eye);
+    return fogged(lamp_lit(ground_albedo(in), lit_soft(in.light, in.shadow, in.board), in.eye), in.eye);
 }
 
 // Leaf pattern: two trilinear value noises over the canopy's surface, on lattices of
@@ -475,13 +521,13 @@ fn leaf_albedo(in: FoliageOut) -> f32 {
 // A canopy from the camera: holes discarded, leaves shaded as `fs_main`.
 @fragment
 fn fs_foliage(in: FoliageOut) -> @location(0) vec4<f32> {
-    return fogged(leaf_albedo(in) * lit(in.light, in.shadow), in.eye);
+    return fogged(lamp_lit(leaf_albedo(in), lit(in.light, in.shadow), in.eye), in.eye);
 }
 
 // `fs_foliage` with soft shadows on the target.
 @fragment
 fn fs_foliage_soft(in: FoliageOut) -> @location(0) vec4<f32> {
-    return fogged(leaf_albedo(in) * lit_soft(in.light, in.shadow, in.board), in.eye);
+    return fogged(lamp_lit(leaf_albedo(in), lit_soft(in.light, in.shadow, in.board), in.eye), in.eye);
 }
 
 // A canopy from the sun: the holes let the light through. The only fragment stage of

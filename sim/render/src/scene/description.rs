@@ -2,6 +2,7 @@
 //! [`crate::scene::Scene`] from it is deterministic for a given `seed`.
 
 use super::error::SceneError;
+use super::night::{Beam, MIN_SUN_ELEVATION_DEG};
 use super::object_slot::ObjectSlot;
 use super::route::{RouteSegment, RouteSpec};
 use super::vehicle_kind::VehicleKind;
@@ -140,7 +141,8 @@ pub struct Sun {
     /// Azimuth, degrees, measured in the ground plane from world +x towards world +z.
     /// The direction towards the sun is `(cos el · cos az, sin el, cos el · sin az)`.
     pub azimuth_deg: f64,
-    /// Elevation above the horizon, degrees (0, 90].
+    /// Elevation above the horizon, degrees, −18 to 90: at or below 0 the sun has set, and
+    /// the scene is lit by the twilight sky alone ([`Sun::lighting`]).
     pub elevation_deg: f64,
     /// Irradiance of direct sunlight on a surface facing the sun, relative units (the
     /// brightness of a white, sunlit, sun-facing surface at gain 1 and nominal exposure).
@@ -501,6 +503,11 @@ pub struct SceneDescription {
     /// and writes as before).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fog: Option<Fog>,
+    /// The chase's headlamps' beam (`None`: off, the frames drawn before headlamps existed,
+    /// bit for bit; then not written, so a description without them reads and writes as
+    /// before).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub headlamps: Option<Beam>,
 }
 
 impl SceneDescription {
@@ -592,10 +599,13 @@ impl SceneDescription {
                 });
             }
         }
-        if !(self.sun.elevation_deg > 0.0 && self.sun.elevation_deg <= 90.0) {
+        if !(self.sun.elevation_deg >= MIN_SUN_ELEVATION_DEG && self.sun.elevation_deg <= 90.0) {
             return Err(SceneError::Invalid {
                 field: "sun.elevation_deg".into(),
-                reason: format!("must be in (0, 90], got {}", self.sun.elevation_deg),
+                reason: format!(
+                    "must be in [{MIN_SUN_ELEVATION_DEG}, 90], got {}",
+                    self.sun.elevation_deg
+                ),
             });
         }
         positive("sun.azimuth_deg (finite)", self.sun.azimuth_deg.abs() + 1.0)?;

@@ -3,7 +3,7 @@
 
 use super::lead::speed_profile;
 use super::{check, vehicle_error, Blame, FOCAL_LENGTH_MM, MAX_BREADCRUMBS};
-use crate::scenario::{ScenarioError, ScenarioFile};
+use crate::scenario::{ChaseFile, ScenarioError, ScenarioFile};
 use tracker::Camera;
 use vehicle::ChaseControllerConfig;
 
@@ -224,4 +224,23 @@ pub(super) fn tuning(
         f.invalid(&field, message)
     })?;
     Ok(())
+}
+
+/// `[chase.headlamps]`: the beam, or `None` with them off.
+pub(super) fn headlamps(
+    c: &ChaseFile,
+    f: &Blame,
+) -> Result<Option<sim_render::Beam>, ScenarioError> {
+    let Some(h) = &c.headlamps else {
+        return Ok(None);
+    };
+    match h.beam.as_str() {
+        "off" => Ok(None),
+        "low" => Ok(Some(sim_render::Beam::Low)),
+        "high" => Ok(Some(sim_render::Beam::High)),
+        other => Err(f.invalid(
+            "chase.headlamps.beam",
+            format!("= {other:?}: must be \"off\", \"low\" or \"high\""),
+        )),
+    }
 }

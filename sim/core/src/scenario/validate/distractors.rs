@@ -132,6 +132,14 @@ pub(super) fn distractors(
             let s = (lead_rotation * board_rotation).inverse()
                 * nalgebra::Vector3::from(sun.direction());
             let field = format!("environment.distractors[{i}].kind");
+            if sun.elevation_deg <= 0.0 {
+                return Err(f.invalid(
+                    &field,
+                    ": a shadow on the board needs the sun above the horizon \
+                     (environment.sun.elevation_deg > 0)"
+                        .into(),
+                ));
+            }
             if s.z < 0.05 {
                 return Err(f.invalid(
                     &field,

@@ -3,7 +3,9 @@
 
 use super::{check, Blame, MAX_BLUR_SIGMA_PX};
 use crate::scenario::{EnvironmentFile, ScenarioError};
-use sim_render::{AutoGain, Densities, Fog, Placement, RoadSurface, Sensor, Sun, Textures};
+use sim_render::{
+    AutoGain, Densities, Fog, Placement, RoadSurface, Sensor, Sun, Textures, MIN_SUN_ELEVATION_DEG,
+};
 
 /// The environment as validated (the distractors and overpasses are checked on their own).
 pub(super) struct Environment {
@@ -197,8 +199,8 @@ fn sun(e: &EnvironmentFile, f: &Blame) -> Result<Sun, ScenarioError> {
     f.at(
         "environment.sun.elevation_deg",
         check(
-            sun.elevation_deg > 0.0 && sun.elevation_deg <= 90.0,
-            "must be in (0, 90] degrees",
+            (MIN_SUN_ELEVATION_DEG..=90.0).contains(&sun.elevation_deg),
+            "must be -18–90 degrees (at or below 0 the sun has set)",
             sun.elevation_deg,
         ),
     )?;

@@ -158,6 +158,7 @@ pub(super) fn validate(
     let (tracker, init_offset, target, search_start) = tracking::tracker(&raw, f, load_target)?;
     let delay = tracking::delay(&raw, f)?;
     let e = environment::environment(&raw.environment, f)?;
+    let headlamps = chase::headlamps(&raw.chase, f)?;
     let distractors = distractors::distractors(
         &raw.environment.distractors,
         &target,
@@ -211,6 +212,7 @@ pub(super) fn validate(
         road_surface: e.road_surface,
         textures: e.textures,
         fog: e.fog,
+        headlamps,
         expect: raw.expect,
         source,
     }))

@@ -46,7 +46,7 @@ impl Renderer {
         board_centre: Option<Point3<f64>>,
         part: PixelRect,
     ) -> Sunlight {
-        let sun = &self.scene.description().sun;
+        let sun = &self.scene.description().sun.lighting();
         let tiles = &self.slots.tiles;
         Sunlight::fit(
             &self.rig,

@@ -269,7 +269,12 @@ impl Renderer {
         // Passes, each with its pipelines, bind group and uniforms: the frame's uniforms
         // (the main pass's, which the passes from the sun bind too), and the same for each
         // of the draws into the static shadow tiles' slots.
-        let builder = Builder::new(device, options.msaa_samples, description.fog.is_some());
+        let builder = Builder::new(
+            device,
+            options.msaa_samples,
+            description.fog.is_some(),
+            description.headlamps.is_some(),
+        );
         let lookups = builder.lookups(&maps, &surfaces, &samplers);
         let frame_uniforms = Uniforms::new(device, "frame uniforms");
         let frame_group = builder.frame_bind_group(&frame_uniforms);
@@ -278,7 +283,7 @@ impl Renderer {
             ShadowPass::new(&builder, frame_group.clone(), SunMap::Board, maps.board);
         let ground = ground_params(scene.grass_key());
         let tiles = TileFrame::new(
-            Light::axes(description.sun.direction()),
+            Light::axes(description.sun.lighting().direction()),
             scene.chunks().iter().map(|c| (c.centre, c.radius)),
         );
         let slot_uniforms = SlotUniforms::new(device);
@@ -429,9 +434,11 @@ impl Renderer {
         let brightness = description.sensor.brightness() * auto_gain;
         // In fog, a ray that meets nothing crosses an infinite path of it: the sky is the
         // fog's own luminance.
+        // Below the horizon, the sky's light is the twilight's (`Sun::lighting`).
+        let sun_light = description.sun.lighting();
         let sky_light = match &description.fog {
-            Some(fog) => fog.luminance(&description.sun),
-            None => description.sun.sky,
+            Some(fog) => fog.luminance(&sun_light),
+            None => sun_light.sky,
         };
         let sky = (sky_light * brightness).clamp(0.0, 1.0);
         // Culling: what each pass draws; the geometry it draws made resident.

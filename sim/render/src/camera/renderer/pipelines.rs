@@ -129,6 +129,9 @@ pub(super) struct Builder<'d> {
     /// Whether the main pass's pipelines fog what they shade (the `fog_on` override): only a
     /// scene in fog pays for it, and a scene without draws what it drew before fog existed.
     fog: bool,
+    /// Whether the main pass's pipelines add the chase's headlamps' light (the
+    /// `headlamps_on` override): off, a scene is drawn as before headlamps existed.
+    headlamps: bool,
     /// Group 0 of the frame's passes: the globals and the object transforms.
     frame_layout: wgpu::BindGroupLayout,
     /// Group 1 of the main pass: the shadow lookups and the ground's textures.
@@ -141,8 +144,9 @@ pub(super) struct Builder<'d> {
 }
 
 impl<'d> Builder<'d> {
-    /// The shader and the layouts, for a main pass of `samples` samples, in `fog` or not.
-    pub fn new(device: &'d wgpu::Device, samples: u32, fog: bool) -> Builder<'d> {
+    /// The shader and the layouts, for a main pass of `samples` samples, in `fog` or not,
+    /// with the `headlamps` on or not.
+    pub fn new(device: &'d wgpu::Device, samples: u32, fog: bool, headlamps: bool) -> Builder<'d> {
         let uniform_entry = |binding, has_dynamic_offset| wgpu::BindGroupLayoutEntry {
             binding,
             visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
@@ -185,6 +189,7 @@ impl<'d> Builder<'d> {
             shader,
             samples,
             fog,
+            headlamps,
             frame_layout,
             lookup_layout,
             slot_layout,
@@ -452,6 +457,7 @@ impl<'d> Builder<'d> {
         let constants = [
             ("grass_faces", f64::from(u8::from(grass))),
             ("fog_on", f64::from(u8::from(self.fog))),
+            ("headlamps_on", f64::from(u8::from(self.headlamps))),
         ];
         self.device
             .create_render_pipeline(&wgpu::RenderPipelineDescriptor {

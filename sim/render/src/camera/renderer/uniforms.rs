@@ -6,7 +6,7 @@ use super::view::CameraView;
 use super::Renderer;
 use crate::camera::shadow_tiles::{self, TileFrame};
 use crate::camera::textures::TILE_M;
-use crate::scene::{ObjectSlot, SceneDescription, GRASS_ALBEDO_RANGE, GROUND_CELL_M};
+use crate::scene::{Headlamps, ObjectSlot, SceneDescription, GRASS_ALBEDO_RANGE, GROUND_CELL_M};
 use bytemuck::{Pod, Zeroable};
 use nalgebra::{Matrix4, Point3, Translation3, Vector3};
 
@@ -28,6 +28,7 @@ pub(super) struct Globals {
     lookup_scale: [f32; 4],
     lookup_bounds: [f32; 4],
     fog: [f32; 4],
+    lamps: [[f32; 4]; 5],
 }
 
 /// The strength of the paint's texture relative to the other materials': paint fills the
@@ -89,7 +90,7 @@ impl Globals {
                 [0.0, 0.0, 1.0, 1.0],
             ),
         };
-        let sun_light = &description.sun;
+        let sun_light = &description.sun.lighting();
         let towards_sun = sun_light.direction();
         Globals {
             view_proj: to_f32(&view.view_proj),
@@ -126,6 +127,7 @@ impl Globals {
             lookup_scale,
             lookup_bounds,
             fog: fog_params(description, brightness),
+            lamps: lamp_params(view, description, brightness),
         }
     }
 
@@ -150,12 +152,62 @@ fn fog_params(description: &SceneDescription, brightness: f64) -> [f32; 4] {
     match &description.fog {
         Some(fog) => [
             fog.extinction_per_m() as f32,
-            (fog.luminance(&description.sun) * brightness) as f32,
+            (fog.luminance(&description.sun.lighting()) * brightness) as f32,
             0.0,
             0.0,
         ],
         None => [0.0; 4],
     }
+}
+
+/// The headlamps' parameters in [`Globals`]: each lamp's position relative to the camera
+/// (world axes) with, in the first's w, its peak intensity in the scene's units (candela
+/// over [`Headlamps::LUX_PER_UNIT`]) times the sensor's `brightness`; the chase's forward
+/// and up axes with, in w, the reciprocals of the hot spot's horizontal and vertical
+/// standard deviations (per radian); the aim and the cut-off's elevation (radians; the
+/// cut-off far above without one), the stray share and the reciprocal of the cut-off's
+/// width (per radian). Zeros with the lamps off, whose pipelines never read them.
+fn lamp_params(
+    view: &CameraView,
+    description: &SceneDescription,
+    brightness: f64,
+) -> [[f32; 4]; 5] {
+    let Some(beam) = description.headlamps else {
+        return [[0.0; 4]; 5];
+    };
+    let lamp = Headlamps::of(beam);
+    let chase = &view.world_from_chase;
+    let at = |p: [f64; 3]| {
+        let w = chase * Point3::new(p[0], p[1], p[2]);
+        w.coords - view.eye
+    };
+    let [left, right] = Headlamps::positions(&description.chase);
+    let (a, b) = (at(left), at(right));
+    let forward = chase * Vector3::x();
+    let up = chase * Vector3::y();
+    let peak = lamp.peak_cd / Headlamps::LUX_PER_UNIT * brightness;
+    [
+        [a.x as f32, a.y as f32, a.z as f32, peak as f32],
+        [b.x as f32, b.y as f32, b.z as f32, 0.0],
+        [
+            forward.x as f32,
+            forward.y as f32,
+            forward.z as f32,
+            (1.0 / lamp.sigma_h_deg.to_radians()) as f32,
+        ],
+        [
+            up.x as f32,
+            up.y as f32,
+            up.z as f32,
+            (1.0 / lamp.sigma_v_deg.to_radians()) as f32,
+        ],
+        [
+            lamp.aim_deg.to_radians() as f32,
+            lamp.cut_off_deg.unwrap_or(90.0).to_radians() as f32,
+            lamp.stray as f32,
+            (1.0 / Headlamps::CUT_OFF_RAMP_DEG.to_radians()) as f32,
+        ],
+    ]
 }
 
 /// The grass's parameters in [`Globals`]: lattice frequency, albedo range, hash key (the

@@ -20,6 +20,8 @@ pub(super) struct CameraView {
     pub relative_from_world: Matrix4<f64>,
     /// Camera-relative positions to the camera's clip space.
     pub view_proj: Matrix4<f64>,
+    /// The chase vehicle's pose (its headlamps ride on it).
+    pub world_from_chase: Isometry3<f64>,
 }
 
 impl CameraView {
@@ -40,6 +42,7 @@ impl CameraView {
             world_from_relative,
             relative_from_world,
             view_proj,
+            world_from_chase: field.world_from_chase,
         }
     }
 }
