@@ -163,14 +163,14 @@ fn night_without_headlamps_is_black() {
     assert!(dusk > night && dusk < day, "dusk {dusk}");
 }
 
-/// The high beam on the board at 20 and 40 m ahead: each mean grey of the light paint
-/// within 6 % of the model's prediction (intensity × cosine / d², the pixels lying a few
+/// The high beam on the board at 20 and 40 m ahead (17.2 and 37.2 m from the camera), at
+/// gain 4: each mean grey of the light paint within 6 % of the model's prediction (intensity × cosine / d², the pixels lying a few
 /// centimetres off the board's centre and each mean rounded to whole levels), and the
 /// ratio of the two within 10 % of the inverse square of the distances (the beam's pattern
 /// changes little over the 1° between them). A fall as 1/d (or none) misses by far more.
 #[test]
 fn the_high_beam_falls_as_the_inverse_square() {
-    let gain = 8.0;
+    let gain = 4.0;
     let (near, near_predicted, d_near) = board_at_night(Beam::High, gain, 20.0);
     let (far, far_predicted, d_far) = board_at_night(Beam::High, gain, 40.0);
     let ratio = near / far;
@@ -201,7 +201,7 @@ fn the_low_beam_is_cut_off_and_the_high_beam_reaches_farther() {
     for gap_m in [15.0, 30.0] {
         let (got, want, d) = board_at_night(Beam::Low, gain, gap_m);
         eprintln!("low beam: {got:.2} at {d:.2} m (predicted {want:.2})");
-        assert!(got > 5.0 && got < 250.0, "{got}");
+        assert!(got > 2.0 && got < 250.0, "{got}");
         assert!((got / want - 1.0).abs() < 0.06, "{got:.2} for {want:.2}");
     }
     let (low, _, _) = board_at_night(Beam::Low, 4.0, 30.0);

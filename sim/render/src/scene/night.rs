@@ -21,6 +21,9 @@ pub const TWILIGHT_LUX: [(f64, f64); 4] =
 /// (civil dusk), 2e-5 at −12° (nautical) and 2.5e-6 at −18° (astronomical, night). Below
 /// −18° it stays at night's level; above 0° it is 1.
 pub fn twilight_factor(elevation_deg: f64) -> f64 {
+    if elevation_deg >= 0.0 {
+        return 1.0;
+    }
     let e = elevation_deg.clamp(MIN_SUN_ELEVATION_DEG, 0.0);
     let l0 = TWILIGHT_LUX[0].1;
     for pair in TWILIGHT_LUX.windows(2) {
