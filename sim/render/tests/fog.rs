@@ -7,10 +7,10 @@
 //! Run: `cargo test -p sim-render --release --test fog`.
 
 use image::GrayImage;
-use sim_render::{Fog, FrameInput, GroundTruth, Renderer, SceneDescription};
+use sim_render::{Fog, GroundTruth, Renderer, SceneDescription};
 
 mod common;
-use common::{bare, options, renderer};
+use common::{bare_plain_sensor, lead_ahead, options, renderer};
 
 /// The fog's visual range in the contrast test, metres (β = 0.078 per metre).
 const VISUAL_RANGE_M: f64 = 50.0;
@@ -25,32 +25,9 @@ const REL_TOLERANCE: f64 = 0.03;
 /// A bare straight road, no noise, no vignetting, no automatic gain (the sensor's gain
 /// fixed), in fog of visual range `visual_range_m` (`None`: clear).
 fn description(visual_range_m: Option<f64>) -> SceneDescription {
-    let mut d = bare(5);
-    d.sensor.noise_sigma_grey = 0.0;
-    d.sensor.vignetting = 0.0;
-    d.sensor.blur_sigma_px = None;
-    d.sensor.auto_gain = None;
+    let mut d = bare_plain_sensor(5);
     d.fog = visual_range_m.map(|visual_range_m| Fog { visual_range_m });
     d
-}
-
-/// The frame with the chase in the right lane at station 40 m and the lead `gap_m` ahead
-/// of it, and the truth.
-fn frame(renderer: &mut Renderer, gap_m: f64) -> (GrayImage, GroundTruth) {
-    let route = renderer.scene().route();
-    let lane = renderer.scene().description().route.lane_width_m;
-    let chase_s = 40.0;
-    let world_from_chase = route.pose_at(chase_s, 0.5 * lane);
-    let world_from_lead = route.pose_at(chase_s + gap_m, 0.5 * lane);
-    let frame = renderer
-        .render(&FrameInput::fixed_camera(
-            0,
-            0.0,
-            world_from_chase,
-            world_from_lead,
-        ))
-        .expect("frame");
-    (frame.image, frame.truth)
 }
 
 /// Pixel positions, (x, y).
@@ -115,8 +92,8 @@ fn mean(image: &GrayImage, pixels: &[(u32, u32)]) -> f64 {
 /// paint's mean grey minus the stripes', on the same pixels), at `gap_m`; and the camera's
 /// distance to the board's centre.
 fn contrast_ratio(clear: &mut Renderer, fogged: &mut Renderer, gap_m: f64) -> (f64, f64) {
-    let (clear_image, truth) = frame(clear, gap_m);
-    let (fog_image, fog_truth) = frame(fogged, gap_m);
+    let (clear_image, truth) = lead_ahead(clear, gap_m);
+    let (fog_image, fog_truth) = lead_ahead(fogged, gap_m);
     assert_eq!(truth.target_cam_m, fog_truth.target_cam_m);
     let (light, dark) = light_and_dark(&clear_image, &truth);
     assert!(
@@ -178,7 +155,7 @@ fn the_sky_in_fog_is_the_fogs_luminance() {
     let expected = fog.luminance(&d.sun) * d.sensor.brightness() * 255.0;
     let sky_clear = d.sun.sky * d.sensor.brightness() * 255.0;
     let mut fogged = renderer(d, &options());
-    let (image, _) = frame(&mut fogged, 15.0);
+    let (image, _) = lead_ahead(&mut fogged, 15.0);
     // The top row: sky alone, the camera pitched down 3°.
     for x in [0, 128, 255] {
         let v = f64::from(image.get_pixel(x, 0)[0]);
@@ -187,10 +164,10 @@ fn the_sky_in_fog_is_the_fogs_luminance() {
             "sky in fog {v}, the fog's luminance {expected:.1} (clear sky {sky_clear:.1})"
         );
     }
-    let (again, _) = frame(&mut fogged, 15.0);
+    let (again, _) = lead_ahead(&mut fogged, 15.0);
     assert_eq!(image, again, "fog is deterministic");
     let mut clear = renderer(description(None), &options());
-    let (clear_image, _) = frame(&mut clear, 15.0);
+    let (clear_image, _) = lead_ahead(&mut clear, 15.0);
     let v = f64::from(clear_image.get_pixel(128, 0)[0]);
     assert!((v - sky_clear.min(255.0)).abs() <= 1.0, "clear sky {v}");
 }
@@ -209,7 +186,7 @@ fn thicker_fog_moves_the_road_towards_the_fogs_luminance() {
             * d.sensor.brightness()
             * 255.0;
         let mut r = renderer(d, &options());
-        let (image, _) = frame(&mut r, 200.0);
+        let (image, _) = lead_ahead(&mut r, 200.0);
         let (mut sum, mut n) = (0.0, 0.0);
         for y in 140..210 {
             for x in 110..146 {

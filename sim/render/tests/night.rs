@@ -8,44 +8,20 @@
 
 use image::GrayImage;
 use sim_render::{
-    twilight_factor, Beam, CameraRig, FrameInput, GroundTruth, Headlamps, Renderer,
-    SceneDescription, BOARD_ALBEDO,
+    twilight_factor, Beam, CameraRig, GroundTruth, Headlamps, SceneDescription, BOARD_ALBEDO,
 };
 
 mod common;
-use common::{bare, options, renderer};
+use common::{bare_plain_sensor, lead_ahead, options, renderer};
 
 /// A bare straight road, no noise, no vignetting, no automatic gain (the sensor's gain
 /// fixed at `gain`), the sun at `elevation_deg`, the headlamps on `beam`.
 fn description(elevation_deg: f64, beam: Option<Beam>, gain: f64) -> SceneDescription {
-    let mut d = bare(5);
-    d.sensor.noise_sigma_grey = 0.0;
-    d.sensor.vignetting = 0.0;
-    d.sensor.blur_sigma_px = None;
-    d.sensor.auto_gain = None;
+    let mut d = bare_plain_sensor(5);
     d.sensor.gain = gain;
     d.sun.elevation_deg = elevation_deg;
     d.headlamps = beam;
     d
-}
-
-/// The frame with the chase in the right lane at station 40 m and the lead `gap_m` ahead
-/// of it, and the truth.
-fn frame(renderer: &mut Renderer, gap_m: f64) -> (GrayImage, GroundTruth) {
-    let route = renderer.scene().route();
-    let lane = renderer.scene().description().route.lane_width_m;
-    let chase_s = 40.0;
-    let world_from_chase = route.pose_at(chase_s, 0.5 * lane);
-    let world_from_lead = route.pose_at(chase_s + gap_m, 0.5 * lane);
-    let frame = renderer
-        .render(&FrameInput::fixed_camera(
-            0,
-            0.0,
-            world_from_chase,
-            world_from_lead,
-        ))
-        .expect("frame");
-    (frame.image, frame.truth)
 }
 
 /// Mean grey of `image`.
@@ -130,13 +106,13 @@ fn predicted_irradiance(beam: Beam, truth: &GroundTruth, d: &SceneDescription) -
 /// the predicted grey (irradiance × albedo × gain × 255) and the board's distance.
 fn board_at_night(beam: Beam, gain: f64, gap_m: f64) -> (f64, f64, f64) {
     let mut day = renderer(description(40.0, None, 1.0), &options());
-    let (day_image, truth) = frame(&mut day, gap_m);
+    let (day_image, truth) = lead_ahead(&mut day, gap_m);
     let pixels = light_paint(&day_image, &truth);
     assert!(pixels.len() >= 8, "at {gap_m} m: {} pixels", pixels.len());
     let d = description(-18.0, Some(beam), gain);
     let predicted = predicted_irradiance(beam, &truth, &d) * BOARD_ALBEDO * gain * 255.0;
     let mut night = renderer(d, &options());
-    let (image, night_truth) = frame(&mut night, gap_m);
+    let (image, night_truth) = lead_ahead(&mut night, gap_m);
     assert_eq!(truth.target_cam_m, night_truth.target_cam_m);
     let [x, y, z] = truth.target_cam_m;
     (
@@ -154,7 +130,7 @@ fn night_without_headlamps_is_black() {
     assert!(twilight_factor(-18.0) < 3e-6);
     let mean_at = |elevation_deg: f64| {
         let mut r = renderer(description(elevation_deg, None, 1.0), &options());
-        frame_mean(&frame(&mut r, 15.0).0)
+        frame_mean(&lead_ahead(&mut r, 15.0).0)
     };
     let (day, dusk, night) = (mean_at(40.0), mean_at(-3.0), mean_at(-18.0));
     eprintln!("mean grey: day {day:.2}, dusk (-3 deg) {dusk:.2}, night (-18 deg) {night:.3}");
@@ -214,8 +190,8 @@ fn the_low_beam_is_cut_off_and_the_high_beam_reaches_farther() {
 #[test]
 fn headlamps_are_deterministic() {
     let mut r = renderer(description(-18.0, Some(Beam::Low), 20.0), &options());
-    let (a, _) = frame(&mut r, 15.0);
-    let (b, _) = frame(&mut r, 15.0);
+    let (a, _) = lead_ahead(&mut r, 15.0);
+    let (b, _) = lead_ahead(&mut r, 15.0);
     assert_eq!(a, b);
     assert!(frame_mean(&a) > 0.5);
 }

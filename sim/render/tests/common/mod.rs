@@ -6,7 +6,7 @@
 use image::GrayImage;
 use sim_render::{
     builtin_description, builtin_poses, builtin_target, Backend, CameraRig, Densities, Frame,
-    FrameInput, RenderOptions, Renderer, RouteSegment, Scene, SceneDescription,
+    FrameInput, GroundTruth, RenderOptions, Renderer, RouteSegment, Scene, SceneDescription,
 };
 use std::path::PathBuf;
 
@@ -67,6 +67,36 @@ pub fn bare(seed: u64) -> SceneDescription {
     };
     d.sensor.noise_sigma_grey = 0.0;
     d
+}
+
+/// [`bare`] seen by a plain sensor: no noise, no vignetting, no blur, no automatic gain
+/// (the gain fixed), so a pixel's grey is the light that reached it.
+pub fn bare_plain_sensor(seed: u64) -> SceneDescription {
+    let mut d = bare(seed);
+    d.sensor.noise_sigma_grey = 0.0;
+    d.sensor.vignetting = 0.0;
+    d.sensor.blur_sigma_px = None;
+    d.sensor.auto_gain = None;
+    d
+}
+
+/// The frame with the chase in the right lane at station 40 m and the lead `gap_m` ahead
+/// of it, and the truth.
+pub fn lead_ahead(renderer: &mut Renderer, gap_m: f64) -> (GrayImage, GroundTruth) {
+    let route = renderer.scene().route();
+    let lane = renderer.scene().description().route.lane_width_m;
+    let chase_s = 40.0;
+    let world_from_chase = route.pose_at(chase_s, 0.5 * lane);
+    let world_from_lead = route.pose_at(chase_s + gap_m, 0.5 * lane);
+    let frame = renderer
+        .render(&FrameInput::fixed_camera(
+            0,
+            0.0,
+            world_from_chase,
+            world_from_lead,
+        ))
+        .expect("frame");
+    (frame.image, frame.truth)
 }
 
 /// The folder of reference images, and the reference `name` in it; a missing one is written

@@ -6,7 +6,9 @@ use super::view::CameraView;
 use super::Renderer;
 use crate::camera::shadow_tiles::{self, TileFrame};
 use crate::camera::textures::TILE_M;
-use crate::scene::{Headlamps, ObjectSlot, SceneDescription, GRASS_ALBEDO_RANGE, GROUND_CELL_M};
+use crate::scene::{
+    Headlamps, ObjectSlot, SceneDescription, Sun, GRASS_ALBEDO_RANGE, GROUND_CELL_M,
+};
 use bytemuck::{Pod, Zeroable};
 use nalgebra::{Matrix4, Point3, Translation3, Vector3};
 
@@ -126,7 +128,7 @@ impl Globals {
             lookup_view_proj,
             lookup_scale,
             lookup_bounds,
-            fog: fog_params(description, brightness),
+            fog: fog_params(description, sun_light, brightness),
             lamps: lamp_params(view, description, brightness),
         }
     }
@@ -146,13 +148,14 @@ impl Globals {
 }
 
 /// The fog's parameters in [`Globals`]: the extinction β (per metre) and the fog's
-/// luminance times the sensor's `brightness` (with the automatic gain); zeros without fog,
-/// whose pipelines never read them.
-fn fog_params(description: &SceneDescription, brightness: f64) -> [f32; 4] {
+/// luminance under `sun_light` (the sun as it lights the scene) times the sensor's
+/// `brightness` (with the automatic gain); zeros without fog, whose pipelines never read
+/// them.
+fn fog_params(description: &SceneDescription, sun_light: &Sun, brightness: f64) -> [f32; 4] {
     match &description.fog {
         Some(fog) => [
             fog.extinction_per_m() as f32,
-            (fog.luminance(&description.sun.lighting()) * brightness) as f32,
+            (fog.luminance(sun_light) * brightness) as f32,
             0.0,
             0.0,
         ],
