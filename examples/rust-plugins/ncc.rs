@@ -74,6 +74,7 @@ impl NccTracker {
             cy: Some(cy),
             scale: Some(scale),
             status,
+            vehicle: None,
         }
     }
 

@@ -457,6 +457,7 @@ impl Plan {
             cy: Some(at.c_y),
             scale: Some(at.scale),
             status: crate::plugin::EstimateStatus::Tracking,
+            vehicle: None,
         }
     }
 

@@ -16,7 +16,8 @@ pub struct Estimate {
 #[pymethods]
 impl Estimate {
     #[new]
-    #[pyo3(signature = (range_m, lateral_m, cx=None, cy=None, scale=None, status="tracking", vertical_m=None))]
+    #[pyo3(signature = (range_m, lateral_m, cx=None, cy=None, scale=None, status="tracking", vertical_m=None, vehicle=None))]
+    #[allow(clippy::too_many_arguments)]
     fn new(
         range_m: f64,
         lateral_m: f64,
@@ -25,6 +26,7 @@ impl Estimate {
         scale: Option<f64>,
         status: &str,
         vertical_m: Option<f64>,
+        vehicle: Option<usize>,
     ) -> PyResult<Estimate> {
         let status = EstimateStatus::parse(status).ok_or_else(|| {
             PyValueError::new_err(format!(
@@ -39,6 +41,7 @@ impl Estimate {
             cy,
             scale,
             status,
+            vehicle,
         };
         inner
             .validate()
@@ -88,17 +91,26 @@ impl Estimate {
         self.inner.status.as_str()
     }
 
+    /// The vehicle the tracker says it holds: its index in the truth's "vehicles" list
+    /// (1 the lead, 2 on the actors), or None when it does not say.
+    #[getter]
+    fn vehicle(&self) -> Option<usize> {
+        self.inner.vehicle
+    }
+
     fn __repr__(&self) -> String {
         let e = &self.inner;
         let opt = |v: Option<f64>| v.map_or("None".to_string(), |v| format!("{v}"));
         format!(
-            "Estimate(range_m={}, lateral_m={}, cx={}, cy={}, scale={}, status={:?})",
+            "Estimate(range_m={}, lateral_m={}, cx={}, cy={}, scale={}, status={:?}{})",
             e.range_m,
             e.lateral_m,
             opt(e.cx),
             opt(e.cy),
             opt(e.scale),
-            e.status.as_str()
+            e.status.as_str(),
+            e.vehicle
+                .map_or(String::new(), |v| format!(", vehicle={v}"))
         )
     }
 }

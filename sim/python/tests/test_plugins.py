@@ -201,3 +201,57 @@ def test_steering_and_yaw_rate_turn_positive_to_the_right():
     assert c.last.heading_rad > c.first.heading_rad + 0.1, (c.first, c.last)
     # The lead drives straight on: it is now to the left of the camera.
     assert sim.truth["lateral_m"] < -0.5, sim.truth
+
+
+class Claims(Wrapped):
+    """The paper's tracker on `cut-in`, saying it holds vehicle `vehicle` (an index in the
+    truth's "vehicles" list, or None)."""
+
+    def __init__(self, vehicle):
+        super().__init__("cut-in")
+        self.vehicle = vehicle
+
+    def track(self, frame, t, camera):
+        e = self.inner.track(frame, t, camera)
+        if e is None:
+            return None
+        return carfollow.Estimate(
+            e.range_m, e.lateral_m, e.cx, e.cy, e.scale, e.status, e.vertical_m, vehicle=self.vehicle
+        )
+
+
+def held_in_cut_in(vehicle, seconds=5.0):
+    """Each frame's (tracked_vehicle, lost) for `Claims(vehicle)` on the first seconds of
+    `cut-in`, before the van leaves its lane."""
+    sim = carfollow.Simulation("cut-in", overrides={"duration_s": seconds}, tracker=Claims(vehicle))
+    held = []
+    while sim.step():
+        truth = sim.truth
+        held.append((truth["traffic"]["tracked_vehicle"], truth["lost"]))
+    return sim, held
+
+
+def test_a_tracker_that_says_which_vehicle_it_holds_is_judged_by_its_word():
+    sim, unsaid = held_in_cut_in(None)
+    names = [v["name"] for v in sim.truth["traffic"]["vehicles"]]
+    assert names[:2] == ["chase", "lead"] and "van" in names
+    assert unsaid and all(held == ("lead", False) for held in unsaid)
+    # Saying it holds the lead, which it does: judged the same as saying nothing.
+    assert held_in_cut_in(names.index("lead"))[1] == unsaid
+    # Saying it holds the van while its estimate is on the lead's board: it holds nothing,
+    # and the lead in its path is lost.
+    said_van = held_in_cut_in(names.index("van"))[1]
+    assert len(said_van) == len(unsaid)
+    assert all(held == (None, True) for held in said_van)
+    e = carfollow.Estimate(10.0, 0.0, vehicle=2)
+    assert e.vehicle == 2 and "vehicle=2" in repr(e)
+    assert carfollow.Estimate(10.0, 0.0).vehicle is None
+
+
+def test_a_vehicle_the_scenario_does_not_have_ends_the_run_naming_it():
+    with pytest.raises(Exception, match=r"vehicle = 9: no such target \(1 is the lead, 2 the one actor\)"):
+        held_in_cut_in(9, seconds=1.0)
+    with pytest.raises(Exception, match=r"vehicle = 0: no such target"):
+        carfollow.Simulation("nist-grounds", overrides=SHORT, tracker=Claims(0)).step()
+    with pytest.raises(OverflowError):
+        carfollow.Estimate(10.0, 0.0, vehicle=-1)

@@ -500,7 +500,12 @@ fn tracking_of(
             t_s: None,
             error,
         })?;
-    Ok((Tracking { tracker, camera }, paper.target_width_px()))
+    let tracking = Tracking {
+        tracker,
+        camera,
+        targets: 1 + s.actors.len(),
+    };
+    Ok((tracking, paper.target_width_px()))
 }
 
 /// The lead's lane from 10 m behind the chase's start to the lead's start, metre by metre:

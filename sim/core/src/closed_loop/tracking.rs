@@ -15,6 +15,8 @@ pub(super) struct Tracking {
     pub(super) tracker: Box<dyn FrameTracker>,
     /// The camera, its pan reading set for each frame.
     pub(super) camera: CameraModel,
+    /// How many vehicles an estimate may say it holds: the lead and the actors.
+    pub(super) targets: usize,
 }
 
 /// What the tracker made of one frame.
@@ -87,6 +89,8 @@ impl Tracking {
         };
         if let Some(e) = &estimate {
             e.validate().map_err(TrackFailure::Plugin)?;
+            self.check_vehicle(e.vehicle)
+                .map_err(TrackFailure::Plugin)?;
         }
         let details = self.tracker.take_details();
         let position_m = estimate.map_or([f64::NAN; 3], |e| e.position_m(&self.camera.intrinsics));
@@ -102,6 +106,23 @@ impl Tracking {
             edges,
         };
         Ok((tracked, again))
+    }
+
+    /// Checks that the vehicle an estimate says it holds is one of the scenario's.
+    fn check_vehicle(&self, vehicle: Option<usize>) -> Result<(), PluginError> {
+        match vehicle {
+            Some(v) if v == 0 || v > self.targets => {
+                let actors = match self.targets {
+                    1 => "no actors".to_string(),
+                    2 => "2 the one actor".to_string(),
+                    n => format!("2-{n} the actors"),
+                };
+                Err(PluginError::Invalid(format!(
+                    "vehicle = {v}: no such target (1 is the lead, {actors})"
+                )))
+            }
+            _ => Ok(()),
+        }
     }
 
     /// The part of the next frame the tracker said it will read (`None`: it did not say).
@@ -184,6 +205,7 @@ mod tests {
             Tracking {
                 tracker: Box::new(tracker),
                 camera: model,
+                targets: 1,
             }
         };
         fn track(

@@ -134,10 +134,15 @@ impl TrafficTruth {
                 }
             })
         };
-        let tracked = (1..self.vehicles.members().len())
-            .filter_map(|i| holds(i).map(|d| (i, d)))
-            .min_by(|a, b| a.1.total_cmp(&b.1))
-            .map(|(i, _)| i);
+        // A tracker that says which vehicle it holds is taken at its word only where the
+        // estimate lies on that vehicle's target.
+        let tracked = match estimate.and_then(|e| e.vehicle) {
+            Some(said) => holds(said).map(|_| said),
+            None => (1..self.vehicles.members().len())
+                .filter_map(|i| holds(i).map(|d| (i, d)))
+                .min_by(|a, b| a.1.total_cmp(&b.1))
+                .map(|(i, _)| i),
+        };
         let traffic::FrameTruth {
             frame,
             path,

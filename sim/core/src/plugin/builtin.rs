@@ -141,6 +141,7 @@ pub(crate) fn estimate_of(out: &TrackOutput) -> Estimate {
         cy: Some(out.estimate.c_y),
         scale: Some(out.estimate.scale),
         status: out.status.into(),
+        vehicle: None,
     }
 }
 

@@ -90,6 +90,11 @@ pub struct Estimate {
     pub scale: Option<f64>,
     /// How sure the tracker is.
     pub status: EstimateStatus,
+    /// Which vehicle the tracker says it holds, where it knows: its place in the scenario's
+    /// vehicle list, 1 for the lead and 2 + k for the k-th `[[actors]]` entry (the order of
+    /// the truth's `vehicles`; 0, the chase, is never a target). `None`: the tracker does
+    /// not say, and the loop's truth takes the vehicle whose target the estimate lies on.
+    pub vehicle: Option<usize>,
 }
 
 impl Estimate {
@@ -103,6 +108,7 @@ impl Estimate {
             cy: None,
             scale: None,
             status: EstimateStatus::Tracking,
+            vehicle: None,
         }
     }
 

@@ -27,6 +27,7 @@ class Estimate:
         scale: Optional[float] = None,
         status: Status = "tracking",
         vertical_m: Optional[float] = None,
+        vehicle: Optional[int] = None,
     ) -> None: ...
     @property
     def range_m(self) -> float:
@@ -49,6 +50,10 @@ class Estimate:
     @property
     def status(self) -> Status:
         """"tracking", "coasting" or "lost"."""
+    @property
+    def vehicle(self) -> Optional[int]:
+        """The vehicle the tracker says it holds: its index in the truth's "vehicles" list
+        (1 the lead, 2 on the actors), or None when it does not say."""
     def __eq__(self, other: object) -> bool: ...
 
 class Command:
