@@ -156,8 +156,8 @@ impl Rain {
     }
 
     /// Water's Fresnel reflectance seen at `cos_incidence` from the normal (Schlick's
-    /// approximation, `F0 + (1 − F0)(1 − cos θ)⁵`): 0.02 looking straight down, 0.5 at 5°
-    /// from grazing, where the camera sees the road 15 m ahead.
+    /// approximation, `F0 + (1 − F0)(1 − cos θ)⁵`): 0.02 looking straight down, 0.5 at 7.6°
+    /// from grazing, where a camera 2 m up sees the road 15 m ahead.
     pub fn water_reflectance(cos_incidence: f64) -> f64 {
         let c = 1.0 - cos_incidence.clamp(0.0, 1.0);
         Self::WATER_F0 + (1.0 - Self::WATER_F0) * c.powi(5)
