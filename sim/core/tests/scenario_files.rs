@@ -749,10 +749,8 @@ fn rain_is_off_by_default_set_by_its_path_and_checked() {
     );
     let e = load(&t, &[]).unwrap_err();
     assert!(
-        e.starts_with(&format!(
-            "/bad.toml:{}:",
-            line_of(&t, "rain = { rate_mm_h")
-        )) && e.contains("`environment.rain.rate_mm_h` = -1: must be 0–200 mm/h"),
+        e.starts_with(&format!("/bad.toml:{}:", line_of(&t, "rain = { rate_mm_h")))
+            && e.contains("`environment.rain.rate_mm_h` = -1: must be 0–200 mm/h"),
         "{e}"
     );
     let e = load(&text(), &["environment.rain.intensity=16"]).unwrap_err();
