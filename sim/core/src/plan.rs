@@ -129,6 +129,7 @@ fn scene_description(s: &Scenario, world: &WorldConfig) -> SceneDescription {
             })
             .collect(),
         fog: s.fog,
+        rain: s.rain,
         headlamps: s.headlamps,
     }
 }

@@ -65,7 +65,7 @@ use std::thread::JoinHandle;
 use tracker::PixelRect;
 
 /// Bytes of one request before its actors' poses.
-const REQUEST_BYTES: usize = 41 * 8;
+const REQUEST_BYTES: usize = 42 * 8;
 /// Bytes of one pose in a request.
 const POSE_BYTES: usize = 7 * 8;
 /// Bytes of the ground truth and the exact pixels before the image's rows.
@@ -150,6 +150,7 @@ fn encode_request(input: &FrameInput, part: PixelRect) -> Vec<u8> {
     for count in [input.world_from_actors.len(), earlier_actors.len()] {
         out.extend_from_slice(&(count as u64).to_le_bytes());
     }
+    out.extend_from_slice(&input.chase_speed_mps.to_le_bytes());
     for pose in input.world_from_actors.iter().chain(earlier_actors) {
         put_pose(&mut out, pose);
     }
@@ -193,6 +194,7 @@ fn decode_request(bytes: &[u8; REQUEST_BYTES], poses: &[u8]) -> (FrameInput, Pix
             world_from_actors: actors(own, earlier),
             camera_pan_rad: get_f64(bytes, 38),
         }),
+        chase_speed_mps: get_f64(bytes, 41),
     };
     (input, get_rect(bytes, 18))
 }
@@ -632,6 +634,7 @@ mod tests {
                     world_from_actors: actors(earlier, -0.4),
                     camera_pan_rad: -0.29,
                 }),
+                chase_speed_mps: 17.0 + 1.0 / 3.0,
             };
             let encoded = encode_request(&input, part);
             let bytes: [u8; REQUEST_BYTES] = encoded[..REQUEST_BYTES].try_into().unwrap();

@@ -719,6 +719,44 @@ fn fog_is_off_by_default_set_by_its_path_and_checked() {
     assert!(e.contains("unknown field `visibility_m`"), "{e}");
 }
 
+/// `[environment.rain]`: off by default (and then absent from the resolved scenario, so a
+/// scenario without it writes what it wrote before rain existed); its rate is set by the
+/// file or by `--set`, and a bad one (negative, too large, not a number, an unknown key) is
+/// refused with the file, line and field.
+#[test]
+fn rain_is_off_by_default_set_by_its_path_and_checked() {
+    let s = load(&text(), &[]).unwrap();
+    assert_eq!(s.rain, None);
+    assert!(s.resolved_json().pointer("/environment/rain").is_none());
+    let s = load(&text(), &["environment.rain.rate_mm_h=16"]).unwrap();
+    let rain = s.rain.expect("rain");
+    assert_eq!(rain.rate_mm_h, 16.0);
+    assert_eq!(rain.band(), sim_render::RainBand::Heavy);
+    assert_eq!(
+        s.resolved_json().pointer("/environment/rain/rate_mm_h"),
+        Some(&serde_json::json!(16.0))
+    );
+    for bad in ["-0.5", "-3", "nan", "inf", "201"] {
+        let e = load(&text(), &[&format!("environment.rain.rate_mm_h={bad}")]).unwrap_err();
+        assert!(
+            e.contains("`environment.rain.rate_mm_h`") && e.contains("must be 0–200 mm/h"),
+            "{bad}: {e}"
+        );
+    }
+    let t = text().replace(
+        "sensor = { noise_sigma_grey = 2.0 }",
+        "sensor = { noise_sigma_grey = 2.0 }\nrain = { rate_mm_h = -1.0 }",
+    );
+    let e = load(&t, &[]).unwrap_err();
+    assert!(
+        e.starts_with(&format!("/bad.toml:{}:", line_of(&t, "rain = { rate_mm_h")))
+            && e.contains("`environment.rain.rate_mm_h` = -1: must be 0–200 mm/h"),
+        "{e}"
+    );
+    let e = load(&text(), &["environment.rain.intensity=16"]).unwrap_err();
+    assert!(e.contains("unknown field `intensity`"), "{e}");
+}
+
 /// `[chase.headlamps]`: off by default (and then absent from the resolved scenario); the
 /// beam is set by the file or by `--set`, and a bad one is refused with the file, line and
 /// field.

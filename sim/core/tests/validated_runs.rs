@@ -46,6 +46,7 @@ fn an_override() -> impl Strategy<Value = String> {
         f("environment.sensor.gain", 0.0, 25.0),
         f("environment.sun.elevation_deg", -10.0, 100.0),
         f("environment.fog.visual_range_m", -5.0, 500.0),
+        f("environment.rain.rate_mm_h", -5.0, 250.0),
         f("environment.clutter.trees_per_km", 0.0, 1200.0),
         f("lead.driver.weave_amplitude_m", -1.0, 6.0),
         f("chase.controller.gap_keeper.min_gap_m", 0.0, 20.0),

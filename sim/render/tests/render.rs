@@ -206,6 +206,7 @@ fn a_part_of_a_frame_is_the_whole_frame_there() {
                 camera_pan_rad,
                 auto_gain: 1.0,
                 earlier_field: None,
+                chase_speed_mps: 0.0,
             };
             let partial = r.render_part(&input, Some(part)).expect("frame");
             assert_eq!(partial.exact, part, "{name}");

@@ -64,6 +64,7 @@ impl Captured {
                     ..f
                 }
             }),
+            chase_speed_mps: f64::from(chase.forward_speed_mps),
         };
         let world_from_camera =
             rig.world_from_camera_panned(&input.world_from_chase, input.camera_pan_rad);

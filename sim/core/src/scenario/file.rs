@@ -305,6 +305,30 @@ pub struct EnvironmentFile {
     /// without it reads and writes as before).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fog: Option<FogFile>,
+    /// Rain (`[environment.rain]`; none by default, and then not written, so a scenario
+    /// without it reads and writes as before).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rain: Option<RainFile>,
+}
+
+/// `[environment.rain]`: rain falling on the scene, and what it does to the camera's view.
+/// The drops' sizes follow Marshall–Palmer (`N(D) = N0 e^(−ΛD)`, N0 = 8000 m⁻³ mm⁻¹,
+/// `Λ = 4.1 R^−0.21` per mm) and fall at Gunn–Kinzer's speeds (Atlas's fit,
+/// `9.65 − 10.3 e^(−0.6 D)` m/s). The air: their extinction, `β = π N0 / (2Λ³)`
+/// (`0.18 R^0.63` per km), is added to any fog's, by Koschmieder's law, and the sky is the
+/// airlight (an overcast). Streaks: each drop imaged at least a quarter of a pixel wide is
+/// a line, its motion relative to the camera over the exposure, lit by the sky and the
+/// scene, a new draw each frame. The wet road: the asphalt's and the paint's albedo times
+/// `1 − 0.4 w` (Lekner & Dorf; w = min(1, R / 2.5)), and a water film over
+/// `w R / (R + 7.6)` of it mirroring the sky by water's Fresnel reflectance. Applied to the
+/// scene's light before the sensor, whose gain, noise and automatic gain act on it.
+#[derive(Clone, Debug, Deserialize, Serialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct RainFile {
+    /// The rain rate R, mm of water an hour: 0–200 (0 is dry, as without the table). The
+    /// usual bands: light under 2.5 mm/h, moderate 2.5–7.6, heavy over 7.6.
+    #[schemars(extend("minimum" = 0.0, "maximum" = 200.0))]
+    pub rate_mm_h: f64,
 }
 
 /// `[environment.fog]`: fog between the camera and everything it sees, by Koschmieder's

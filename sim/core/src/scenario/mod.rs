@@ -196,6 +196,8 @@ pub struct ScenarioSpec {
     pub textures: sim_render::Textures,
     /// Fog (`None`: clear air).
     pub fog: Option<sim_render::Fog>,
+    /// Rain (`None`: dry).
+    pub rain: Option<sim_render::Rain>,
     /// The chase's headlamps' beam (`None`: off).
     pub headlamps: Option<sim_render::Beam>,
     /// Pass/fail criteria.

@@ -33,6 +33,9 @@ pub struct FrameInput {
     /// frame's other field was exposed, one field period earlier: the frame's odd rows show
     /// it, its even rows the world above. `None` for a progressive camera.
     pub earlier_field: Option<Field>,
+    /// The chase's forward speed, m/s: the rain's streaks are the drops' motion relative to
+    /// the camera (read only when rain falls; 0 in [`FrameInput::fixed_camera`]).
+    pub chase_speed_mps: f64,
 }
 
 /// The poses of one field of an interlaced frame (see [`FrameInput::earlier_field`]).
@@ -86,6 +89,7 @@ impl FrameInput {
             camera_pan_rad: 0.0,
             auto_gain: 1.0,
             earlier_field: None,
+            chase_speed_mps: 0.0,
         }
     }
 }

@@ -8,6 +8,7 @@
 mod backend;
 mod frame;
 mod occlusion;
+mod rain_streaks;
 mod renderer;
 mod rig;
 mod sensor;

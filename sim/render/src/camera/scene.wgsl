@@ -52,6 +52,10 @@ struct Globals {
     // [3] its up axis, w 1/σv; [4] x the aim, y the cut-off (radians), z the stray share,
     // w 1 / the cut-off's width (per radian).
     lamps: array<vec4<f32>, 5>,
+    // Rain on the road (read only with `rain_on`): x: the factor on the road's albedo;
+    // y: the share of the road a water film covers; z: the sky's grey (times the sensor's
+    // brightness) the film mirrors; w: water's reflectance at normal incidence.
+    rain: vec4<f32>,
 };
 
 struct Objects {
@@ -460,16 +464,34 @@ fn ground_albedo(in: GroundOut) -> f32 {
     return albedo * d;
 }
 
+// Whether rain falls on the scene (the pipeline's constant): without it, `wet` passes the
+// grey through untouched, so a dry scene is drawn as before rain existed, bit for bit.
+override rain_on: bool = false;
+
+// A ground surface's grey `grey` (its albedo times its light) in rain: the road's asphalt
+// and paint (texture layer 0) darkened by the wet albedo's factor, plus the sky mirrored in
+// the share of it a water film covers, by water's Fresnel reflectance at the angle the
+// camera sees it (Schlick: F0 + (1 − F0)(1 − cos θ)⁵, the road's normal straight up).
+fn wet(grey: f32, in: GroundOut) -> f32 {
+    if (rain_on && in.texture.x < 0.5) {
+        let c = 1.0 - abs(in.eye.y) / max(length(in.eye), 1e-6);
+        let c2 = c * c;
+        let fresnel = globals.rain.w + (1.0 - globals.rain.w) * c2 * c2 * c;
+        return grey * globals.rain.x + globals.rain.y * fresnel * globals.rain.z;
+    }
+    return grey;
+}
+
 // Textured ground: `fs_main` with the albedo modulated by the surface's texture.
 @fragment
 fn fs_ground(in: GroundOut) -> @location(0) vec4<f32> {
-    return fogged(lamp_lit(ground_albedo(in), lit(in.light, in.shadow), in.eye), in.eye);
+    return fogged(wet(lamp_lit(ground_albedo(in), lit(in.light, in.shadow), in.eye), in), in.eye);
 }
 
 // `fs_ground` with soft shadows on the target.
 @fragment
 fn fs_ground_soft(in: GroundOut) -> @location(0) vec4<f32> {
-    return fogged(lamp_lit(ground_albedo(in), lit_soft(in.light, in.shadow, in.board), in.eye), in.eye);
+    return fogged(wet(lamp_lit(ground_albedo(in), lit_soft(in.light, in.shadow, in.board), in.eye), in), in.eye);
 }
 
 // Leaf pattern: two trilinear value noises over the canopy's surface, on lattices of

@@ -304,6 +304,22 @@ mod tests {
         }
     }
 
+    /// Rain draws from no stream the scene's builders use: the cluttered scene (every
+    /// builder) in heavy rain builds the same scene, bit for bit, as dry.
+    #[test]
+    fn rain_moves_no_draw_of_the_scene() {
+        for (name, d) in fingerprinted_descriptions() {
+            let dry = fingerprint(&Scene::build(d.clone()).expect("scene"));
+            let mut wet = d;
+            wet.rain = Some(crate::scene::Rain { rate_mm_h: 16.0 });
+            assert_eq!(
+                fingerprint(&Scene::build(wet).expect("scene")),
+                dry,
+                "{name}"
+            );
+        }
+    }
+
     /// A scene built a district at a time, or in groups of a few, or all at once, is the
     /// same scene, bit for bit; and asked for again after its groups were let go, the same
     /// geometry comes back, while no more than [`CACHED_GROUPS`] groups are kept.

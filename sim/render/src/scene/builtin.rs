@@ -52,6 +52,7 @@ pub fn builtin_description(target: TargetModel, seed: u64) -> SceneDescription {
         textures: Textures::default(),
         actors: Vec::new(),
         fog: None,
+        rain: None,
         headlamps: None,
     }
 }

@@ -4,6 +4,7 @@
 use super::error::SceneError;
 use super::night::{Beam, MIN_SUN_ELEVATION_DEG};
 use super::object_slot::ObjectSlot;
+use super::rain::Rain;
 use super::route::{RouteSegment, RouteSpec};
 use super::vehicle_kind::VehicleKind;
 use tracker::TargetModel;
@@ -508,9 +509,42 @@ pub struct SceneDescription {
     /// before).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub headlamps: Option<Beam>,
+    /// Rain on the scene (`None`, or a rate of 0: dry, the frames drawn before rain existed,
+    /// bit for bit; `None` is not written, so a description without it reads and writes as
+    /// before).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rain: Option<Rain>,
 }
 
 impl SceneDescription {
+    /// The rain that falls, if any (a rate of 0 is none).
+    pub fn raining(&self) -> Option<Rain> {
+        self.rain.filter(Rain::falls)
+    }
+
+    /// The extinction of the air, per metre, and whether any (fog's and falling rain's,
+    /// added: the two are independent scatterers). `None` in clear air: the frames are then
+    /// drawn without it, as before either existed.
+    pub fn extinction_per_m(&self) -> Option<f64> {
+        match (&self.fog, self.raining()) {
+            (None, None) => None,
+            (Some(fog), None) => Some(fog.extinction_per_m()),
+            (None, Some(rain)) => Some(rain.extinction_per_m()),
+            (Some(fog), Some(rain)) => Some(fog.extinction_per_m() + rain.extinction_per_m()),
+        }
+    }
+
+    /// The sky's light under `sun_light` (the sun as it lights the scene): in fog or rain, a
+    /// ray that meets nothing crosses an endless path of them, and the sky is their airlight
+    /// ([`Fog::luminance`]); in clear air, the sun's sky.
+    pub fn sky_light(&self, sun_light: &Sun) -> f64 {
+        if self.extinction_per_m().is_some() {
+            Rain::airlight(sun_light)
+        } else {
+            sun_light.sky
+        }
+    }
+
     /// Checks the numbers a scene cannot be built from; each error names the field.
     pub fn validate(&self) -> Result<(), SceneError> {
         let positive = |field: &str, value: f64| {
@@ -596,6 +630,15 @@ impl SceneDescription {
                         Fog::MIN_VISUAL_RANGE_M,
                         fog.visual_range_m
                     ),
+                });
+            }
+        }
+        if let Some(rain) = &self.rain {
+            let r = rain.rate_mm_h;
+            if !(r.is_finite() && (0.0..=Rain::MAX_RATE_MM_H).contains(&r)) {
+                return Err(SceneError::Invalid {
+                    field: "rain.rate_mm_h".into(),
+                    reason: format!("must be 0–{} mm/h, got {r}", Rain::MAX_RATE_MM_H),
                 });
             }
         }

@@ -55,6 +55,7 @@ mod parked_car;
 mod placement;
 mod pole;
 mod pole_line;
+mod rain;
 mod rng;
 mod road;
 mod road_marks;
@@ -93,6 +94,7 @@ pub use material::Material;
 pub use mesh::{Mesh, MeshPiece, Vertex};
 pub use night::{twilight_factor, Beam, Headlamps, MIN_SUN_ELEVATION_DEG, TWILIGHT_LUX};
 pub use object_slot::ObjectSlot;
+pub use rain::{Rain, RainBand};
 pub use rng::stream;
 pub use route::{Route, RouteSegment, RouteSpec};
 pub use target_board::{

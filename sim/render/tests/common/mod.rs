@@ -44,6 +44,7 @@ pub fn builtin_frame_panned(renderer: &mut Renderer, time_s: f64, camera_pan_rad
             camera_pan_rad,
             auto_gain: 1.0,
             earlier_field: None,
+            chase_speed_mps: 0.0,
         })
         .expect("frame")
 }

@@ -1,10 +1,11 @@
 //! `[environment]`: the sun, the clutter's densities, the overpasses, the sensor, the road's
-//! surface, the ground's textures and the fog.
+//! surface, the ground's textures, the fog and the rain.
 
 use super::{check, Blame, MAX_BLUR_SIGMA_PX};
 use crate::scenario::{EnvironmentFile, ScenarioError};
 use sim_render::{
-    AutoGain, Densities, Fog, Placement, RoadSurface, Sensor, Sun, Textures, MIN_SUN_ELEVATION_DEG,
+    AutoGain, Densities, Fog, Placement, Rain, RoadSurface, Sensor, Sun, Textures,
+    MIN_SUN_ELEVATION_DEG,
 };
 
 /// The environment as validated (the distractors and overpasses are checked on their own).
@@ -15,6 +16,7 @@ pub(super) struct Environment {
     pub(super) road_surface: RoadSurface,
     pub(super) textures: Textures,
     pub(super) fog: Option<Fog>,
+    pub(super) rain: Option<Rain>,
 }
 
 /// The environment's sun, clutter, sensor, road, textures and fog.
@@ -100,6 +102,7 @@ pub(super) fn environment(e: &EnvironmentFile, f: &Blame) -> Result<Environment,
     )?;
 
     let fog = fog(e, f)?;
+    let rain = rain(e, f)?;
 
     Ok(Environment {
         sun,
@@ -108,6 +111,7 @@ pub(super) fn environment(e: &EnvironmentFile, f: &Blame) -> Result<Environment,
         road_surface,
         textures,
         fog,
+        rain,
     })
 }
 
@@ -130,6 +134,23 @@ fn fog(e: &EnvironmentFile, f: &Blame) -> Result<Option<Fog>, ScenarioError> {
         ),
     )?;
     Ok(Some(Fog { visual_range_m: v }))
+}
+
+/// `[environment.rain]`.
+fn rain(e: &EnvironmentFile, f: &Blame) -> Result<Option<Rain>, ScenarioError> {
+    let Some(rain) = &e.rain else {
+        return Ok(None);
+    };
+    let r = rain.rate_mm_h;
+    f.at(
+        "environment.rain.rate_mm_h",
+        check(
+            r.is_finite() && (0.0..=Rain::MAX_RATE_MM_H).contains(&r),
+            &format!("must be 0–{} mm/h", Rain::MAX_RATE_MM_H),
+            r,
+        ),
+    )?;
+    Ok(Some(Rain { rate_mm_h: r }))
 }
 
 /// `[[environment.overpasses]]` on a route `length` metres long.

@@ -212,6 +212,7 @@ pub(super) fn validate(
         road_surface: e.road_surface,
         textures: e.textures,
         fog: e.fog,
+        rain: e.rain,
         headlamps,
         expect: raw.expect,
         source,

@@ -29,13 +29,15 @@
 //! - `shadow_pass`: the casters into the frame's own map and the board's fine map;
 //! - `slots_pass`: the static shadow tiles' slots, and the vehicles drawn over them;
 //! - `main_pass`: the frame, front to back, with the hood's rows scissored away;
-//! - `readback`: the staging buffer, map and read, interlacing and the sensor.
+//! - `readback`: the staging buffer, map and read, interlacing and the sensor;
+//! - `rain`: the rain's streaks on the frame read back, before the sensor.
 
 mod culling;
 mod device;
 mod light;
 mod main_pass;
 mod pipelines;
+mod rain;
 mod readback;
 mod resident;
 mod resources;
@@ -272,8 +274,9 @@ impl Renderer {
         let builder = Builder::new(
             device,
             options.msaa_samples,
-            description.fog.is_some(),
+            description.extinction_per_m().is_some(),
             description.headlamps.is_some(),
+            description.raining().is_some(),
         );
         let lookups = builder.lookups(&maps, &surfaces, &samplers);
         let frame_uniforms = Uniforms::new(device, "frame uniforms");
@@ -396,6 +399,7 @@ impl Renderer {
             let other = self.draw_field(earlier, input.auto_gain, scissor)?;
             interlace(&mut image, &other);
         }
+        self.draw_rain(&mut image, input);
         self.apply_sensor(&mut image, input.frame_index, scissor.y0..scissor.y1);
         let truth = self.ground_truth(
             &input.world_from_chase,
@@ -432,14 +436,10 @@ impl Renderer {
         let sun = self.fit_sun(&view, placed.board_centre, scissor);
         // The sensor's brightness, with the automatic gain: the shading's and the sky's.
         let brightness = description.sensor.brightness() * auto_gain;
-        // In fog, a ray that meets nothing crosses an infinite path of it: the sky is the
-        // fog's own luminance.
-        // Below the horizon, the sky's light is the twilight's (`Sun::lighting`).
+        // In fog or rain, a ray that meets nothing crosses an infinite path of it: the sky
+        // is their airlight (`SceneDescription::sky_light`). Below the horizon, the sky's light is the twilight's (`Sun::lighting`).
         let sun_light = description.sun.lighting();
-        let sky_light = match &description.fog {
-            Some(fog) => fog.luminance(&sun_light),
-            None => sun_light.sky,
-        };
+        let sky_light = description.sky_light(&sun_light);
         let sky = (sky_light * brightness).clamp(0.0, 1.0);
         // Culling: what each pass draws; the geometry it draws made resident.
         let slot_work = self.cull(&view, &sun, scissor);

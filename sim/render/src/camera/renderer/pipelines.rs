@@ -132,6 +132,9 @@ pub(super) struct Builder<'d> {
     /// Whether the main pass's pipelines add the chase's headlamps' light (the
     /// `headlamps_on` override): off, a scene is drawn as before headlamps existed.
     headlamps: bool,
+    /// Whether the main pass's pipelines wet the road (the `rain_on` override): off, a
+    /// scene is drawn as before rain existed.
+    rain: bool,
     /// Group 0 of the frame's passes: the globals and the object transforms.
     frame_layout: wgpu::BindGroupLayout,
     /// Group 1 of the main pass: the shadow lookups and the ground's textures.
@@ -144,9 +147,16 @@ pub(super) struct Builder<'d> {
 }
 
 impl<'d> Builder<'d> {
-    /// The shader and the layouts, for a main pass of `samples` samples, in `fog` or not,
-    /// with the `headlamps` on or not.
-    pub fn new(device: &'d wgpu::Device, samples: u32, fog: bool, headlamps: bool) -> Builder<'d> {
+    /// The shader and the layouts, for a main pass of `samples` samples, in `fog` (any
+    /// extinction of the air: fog's or rain's) or not, with the `headlamps` on or not, and
+    /// `rain` wetting the road or not.
+    pub fn new(
+        device: &'d wgpu::Device,
+        samples: u32,
+        fog: bool,
+        headlamps: bool,
+        rain: bool,
+    ) -> Builder<'d> {
         let uniform_entry = |binding, has_dynamic_offset| wgpu::BindGroupLayoutEntry {
             binding,
             visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
@@ -190,6 +200,7 @@ impl<'d> Builder<'d> {
             samples,
             fog,
             headlamps,
+            rain,
             frame_layout,
             lookup_layout,
             slot_layout,
@@ -458,6 +469,7 @@ impl<'d> Builder<'d> {
             ("grass_faces", f64::from(u8::from(grass))),
             ("fog_on", f64::from(u8::from(self.fog))),
             ("headlamps_on", f64::from(u8::from(self.headlamps))),
+            ("rain_on", f64::from(u8::from(self.rain))),
         ];
         self.device
             .create_render_pipeline(&wgpu::RenderPipelineDescriptor {

@@ -7,7 +7,7 @@ use super::Renderer;
 use crate::camera::shadow_tiles::{self, TileFrame};
 use crate::camera::textures::TILE_M;
 use crate::scene::{
-    Headlamps, ObjectSlot, SceneDescription, Sun, GRASS_ALBEDO_RANGE, GROUND_CELL_M,
+    Headlamps, ObjectSlot, Rain, SceneDescription, Sun, GRASS_ALBEDO_RANGE, GROUND_CELL_M,
 };
 use bytemuck::{Pod, Zeroable};
 use nalgebra::{Matrix4, Point3, Translation3, Vector3};
@@ -31,6 +31,7 @@ pub(super) struct Globals {
     lookup_bounds: [f32; 4],
     fog: [f32; 4],
     lamps: [[f32; 4]; 5],
+    rain: [f32; 4],
 }
 
 /// The strength of the paint's texture relative to the other materials': paint fills the
@@ -130,6 +131,10 @@ impl Globals {
             lookup_bounds,
             fog: fog_params(description, sun_light, brightness),
             lamps: lamp_params(view, description, brightness),
+            rain: rain_params(
+                description,
+                (description.sky_light(sun_light) * brightness).clamp(0.0, 1.0),
+            ),
         }
     }
 
@@ -147,17 +152,33 @@ impl Globals {
     }
 }
 
-/// The fog's parameters in [`Globals`]: the extinction β (per metre) and the fog's
-/// luminance under `sun_light` (the sun as it lights the scene) times the sensor's
-/// `brightness` (with the automatic gain); zeros without fog, whose pipelines never read
-/// them.
+/// The air's parameters in [`Globals`] (the fog's and the rain's, see
+/// [`SceneDescription::extinction_per_m`]): the extinction β (per metre) and the airlight
+/// under `sun_light` (the sun as it lights the scene) times the sensor's `brightness` (with
+/// the automatic gain); zeros in clear air, whose pipelines never read them.
 fn fog_params(description: &SceneDescription, sun_light: &Sun, brightness: f64) -> [f32; 4] {
-    match &description.fog {
-        Some(fog) => [
-            fog.extinction_per_m() as f32,
-            (fog.luminance(sun_light) * brightness) as f32,
+    match description.extinction_per_m() {
+        Some(beta) => [
+            beta as f32,
+            (Rain::airlight(sun_light) * brightness) as f32,
             0.0,
             0.0,
+        ],
+        None => [0.0; 4],
+    }
+}
+
+/// The wet road's parameters in [`Globals`]: the factor on the road's albedo, the share a
+/// water film covers, the sky's grey it mirrors (the sky drawn: `sky`, the sky's light
+/// times the sensor's brightness, clamped to white) and water's reflectance at normal
+/// incidence; zeros when no rain falls, whose pipelines never read them.
+fn rain_params(description: &SceneDescription, sky: f64) -> [f32; 4] {
+    match description.raining() {
+        Some(rain) => [
+            rain.wet_albedo_factor() as f32,
+            rain.film_share() as f32,
+            sky as f32,
+            Rain::WATER_F0 as f32,
         ],
         None => [0.0; 4],
     }
