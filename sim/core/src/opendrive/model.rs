@@ -58,6 +58,9 @@ pub struct Road {
     pub superelevations: Vec<Poly3Record>,
     /// `<laneSection>`s, in file order.
     pub lane_sections: Vec<LaneSection>,
+    /// The first object, signal or surface description the road holds, if any (carfollow
+    /// places and draws its own: refused on import).
+    pub scenery: Option<Place>,
     /// Where it stands.
     pub at: Place,
 }
@@ -88,8 +91,10 @@ pub struct Geometry {
     pub length: f64,
     /// Its shape.
     pub kind: GeometryKind,
-    /// Where its shape's element stands (`<spiral ...>`).
+    /// Where the `<geometry>` stands.
     pub at: Place,
+    /// Where its shape's element stands (`<spiral ...>`).
+    pub shape_at: Place,
 }
 
 /// The shape of a `<geometry>`.

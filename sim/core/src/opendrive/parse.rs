@@ -145,7 +145,11 @@ impl<'a, 'input> Reader<'a, 'input> {
         let mut road = Road {
             id: node.attribute("id").unwrap_or_default().to_string(),
             length: self.number(node, "length")?,
-            junction: node.attribute("junction").unwrap_or("-1").trim().to_string(),
+            junction: node
+                .attribute("junction")
+                .unwrap_or("-1")
+                .trim()
+                .to_string(),
             rule: node.attribute("rule").unwrap_or("RHT").to_string(),
             links: Vec::new(),
             geometries: Vec::new(),
@@ -153,6 +157,7 @@ impl<'a, 'input> Reader<'a, 'input> {
             elevations: Vec::new(),
             superelevations: Vec::new(),
             lane_sections: Vec::new(),
+            scenery: None,
             at: self.place(node),
         };
         for child in self.elements(node) {
@@ -175,11 +180,7 @@ impl<'a, 'input> Reader<'a, 'input> {
                 "lanes" => self.lanes(child, &mut road)?,
                 "objects" | "signals" | "surface" => {
                     if let Some(item) = self.elements(child).find(|e| !is_not_drawn(e)) {
-                        return Err(self.refuse(
-                            item,
-                            "a road's objects, signals and surface data are refused: carfollow \
-                             places and draws its own",
-                        ));
+                        road.scenery = road.scenery.take().or(Some(self.place(item)));
                     }
                 }
                 "type" | "userData" | "dataQuality" => {}
@@ -200,7 +201,9 @@ impl<'a, 'input> Reader<'a, 'input> {
                     at: self.place(l),
                 }),
                 "userData" => {}
-                _ => return Err(self.refuse(l, "neighbours are refused: carfollow follows one road")),
+                _ => {
+                    return Err(self.refuse(l, "neighbours are refused: carfollow follows one road"))
+                }
             }
         }
         Ok(links)
@@ -210,7 +213,10 @@ impl<'a, 'input> Reader<'a, 'input> {
     fn geometry(&self, node: Node) -> Result<Geometry, OpenDriveError> {
         let mut shapes = self.elements(node).filter(|e| !is_not_drawn(e));
         let Some(shape) = shapes.next() else {
-            return Err(self.refuse(node, "a geometry needs one of line, arc, spiral, poly3, paramPoly3"));
+            return Err(self.refuse(
+                node,
+                "a geometry needs one of line, arc, spiral, poly3, paramPoly3",
+            ));
         };
         if let Some(extra) = shapes.next() {
             return Err(self.refuse(extra, "a geometry holds one shape"));
@@ -229,9 +235,7 @@ impl<'a, 'input> Reader<'a, 'input> {
                 normalized: match shape.attribute("pRange").unwrap_or("arcLength") {
                     "arcLength" => false,
                     "normalized" => true,
-                    _ => {
-                        return Err(self.refuse(shape, "`pRange` must be arcLength or normalized"))
-                    }
+                    _ => return Err(self.refuse(shape, "`pRange` must be arcLength or normalized")),
                 },
             },
             _ => return Err(self.refuse(shape, "not a geometry carfollow reads")),
@@ -243,7 +247,8 @@ impl<'a, 'input> Reader<'a, 'input> {
             hdg: self.number(node, "hdg")?,
             length: self.number(node, "length")?,
             kind,
-            at: self.place(shape),
+            at: self.place(node),
+            shape_at: self.place(shape),
         })
     }
 

@@ -717,28 +717,35 @@ impl Scenario {
             load: &load_road,
             gives: &gives,
         };
-        validate(raw, overrides, source.clone(), &Blame(&invalid), |target| {
-            load_target(target).map_err(|source| {
-                // A target given by `--set` is the override's fault, not the file's.
-                if let Some(assignment) = overrides
-                    .iter()
-                    .rev()
-                    .find(|a| override_names(a, "tracker.target"))
-                {
-                    return ScenarioError::Override {
-                        assignment: assignment.clone(),
-                        message: format!("`tracker.target`: {source}"),
-                    };
-                }
-                let (line, column) = line_column(text, locate(text, "tracker.target"));
-                ScenarioError::Target {
-                    path: path.to_owned(),
-                    line,
-                    column,
-                    source: Box::new(source),
-                }
-            })
-        }, &roads)
+        validate(
+            raw,
+            overrides,
+            source.clone(),
+            &Blame(&invalid),
+            |target| {
+                load_target(target).map_err(|source| {
+                    // A target given by `--set` is the override's fault, not the file's.
+                    if let Some(assignment) = overrides
+                        .iter()
+                        .rev()
+                        .find(|a| override_names(a, "tracker.target"))
+                    {
+                        return ScenarioError::Override {
+                            assignment: assignment.clone(),
+                            message: format!("`tracker.target`: {source}"),
+                        };
+                    }
+                    let (line, column) = line_column(text, locate(text, "tracker.target"));
+                    ScenarioError::Target {
+                        path: path.to_owned(),
+                        line,
+                        column,
+                        source: Box::new(source),
+                    }
+                })
+            },
+            &roads,
+        )
     }
 }
 
