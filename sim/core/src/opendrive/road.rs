@@ -145,7 +145,7 @@ fn segments(
     let mut station = 0.0;
     let mut end: Option<[f64; 3]> = None;
     for g in &road.geometries {
-        if !(g.length > 0.0) {
+        if g.length.is_nan() || g.length <= 0.0 {
             return Err(g.at.refuse(
                 path,
                 format!("its geometry's length {} must be positive", g.length),

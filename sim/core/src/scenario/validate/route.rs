@@ -241,8 +241,11 @@ pub(crate) fn segment_problem(seg: &RouteSegment) -> Option<String> {
                 .find_map(|s| {
                     let kappa = route.curvature_at(s);
                     let [x, z, h] = route.at(s);
-                    let bad = !(kappa.abs() <= max_curvature)
-                        || !(x.is_finite() && z.is_finite() && h.is_finite());
+                    let fine = kappa.abs() <= max_curvature
+                        && x.is_finite()
+                        && z.is_finite()
+                        && h.is_finite();
+                    let bad = !fine;
                     bad.then(|| {
                         format!(
                             "its curvature at {s:.2} m into it is {kappa:.4} per metre: at most \
