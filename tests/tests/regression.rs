@@ -116,6 +116,7 @@ scenario_test!(slow_vehicle_ahead, "slow-vehicle-ahead");
 scenario_test!(fog, "fog");
 scenario_test!(night, "night");
 scenario_test!(rain, "rain");
+scenario_test!(opendrive_curves, "opendrive-curves");
 
 macro_rules! robust_test {
     ($test:ident, $name:literal) => {
@@ -154,6 +155,7 @@ robust_test!(robust_slow_vehicle_ahead, "slow-vehicle-ahead");
 robust_test!(robust_fog, "fog");
 robust_test!(robust_night, "night");
 robust_test!(robust_rain, "rain");
+robust_test!(robust_opendrive_curves, "opendrive-curves");
 
 /// `low-sun-trees`: the low sun's long shadow brings the paper's mode to say `lost` early
 /// and lose the target for a moment, within the scenario's `[expect]`; robust mode, whose

@@ -7,6 +7,7 @@ mod expect;
 mod file;
 mod library;
 mod overrides;
+mod road_file;
 mod schema;
 mod traffic;
 mod validate;
@@ -86,6 +87,18 @@ pub enum ScenarioError {
         assignment: String,
         /// What is wrong.
         message: String,
+    },
+    /// The road file named by `route.opendrive`.
+    #[error("{path}:{line}:{column}: `route.opendrive`: {source}")]
+    Road {
+        /// The scenario file.
+        path: PathBuf,
+        /// 1-based line of `route.opendrive`.
+        line: usize,
+        /// 1-based column.
+        column: usize,
+        /// The road file's own error, naming its line and element.
+        source: Box<crate::opendrive::OpenDriveError>,
     },
     /// The target file named by `tracker.target`.
     #[error("{path}:{line}:{column}: `tracker.target`: {source}")]
@@ -249,6 +262,14 @@ impl Source {
             field: field.to_string(),
             message,
         }
+    }
+
+    /// Whether the scenario gives `field` (dotted) itself: the file writes it, or a
+    /// `--set` does.
+    pub(crate) fn gives(&self, field: &str) -> bool {
+        let parent = field.rsplit_once('.').map_or("", |(p, _)| p);
+        self.overrides.iter().any(|a| override_names(a, field))
+            || locate(&self.text, field) != locate(&self.text, parent)
     }
 
     /// The first of `fields` (which together decide something found wrong) that an
@@ -692,28 +713,41 @@ impl Scenario {
             overrides: overrides.to_vec(),
         };
         let invalid = |field: &str, message: String| source.invalid(field, message);
-        validate(raw, overrides, source.clone(), &Blame(&invalid), |target| {
-            load_target(target).map_err(|source| {
-                // A target given by `--set` is the override's fault, not the file's.
-                if let Some(assignment) = overrides
-                    .iter()
-                    .rev()
-                    .find(|a| override_names(a, "tracker.target"))
-                {
-                    return ScenarioError::Override {
-                        assignment: assignment.clone(),
-                        message: format!("`tracker.target`: {source}"),
-                    };
-                }
-                let (line, column) = line_column(text, locate(text, "tracker.target"));
-                ScenarioError::Target {
-                    path: path.to_owned(),
-                    line,
-                    column,
-                    source: Box::new(source),
-                }
-            })
-        })
+        let load_road = |od: &OpenDriveFile| road_file::load(od, path, text, overrides);
+        let gives = |field: &str| source.gives(field);
+        let roads = validate::RoadSource {
+            load: &load_road,
+            gives: &gives,
+        };
+        validate(
+            raw,
+            overrides,
+            source.clone(),
+            &Blame(&invalid),
+            |target| {
+                load_target(target).map_err(|source| {
+                    // A target given by `--set` is the override's fault, not the file's.
+                    if let Some(assignment) = overrides
+                        .iter()
+                        .rev()
+                        .find(|a| override_names(a, "tracker.target"))
+                    {
+                        return ScenarioError::Override {
+                            assignment: assignment.clone(),
+                            message: format!("`tracker.target`: {source}"),
+                        };
+                    }
+                    let (line, column) = line_column(text, locate(text, "tracker.target"));
+                    ScenarioError::Target {
+                        path: path.to_owned(),
+                        line,
+                        column,
+                        source: Box::new(source),
+                    }
+                })
+            },
+            &roads,
+        )
     }
 }
 

@@ -60,6 +60,7 @@ mod rng;
 mod road;
 mod road_marks;
 mod route;
+mod route_curve;
 mod site;
 mod standing;
 mod target_board;
@@ -96,7 +97,7 @@ pub use night::{twilight_factor, Beam, Headlamps, MIN_SUN_ELEVATION_DEG, TWILIGH
 pub use object_slot::ObjectSlot;
 pub use rain::{Rain, RainBand};
 pub use rng::stream;
-pub use route::{Route, RouteSegment, RouteSpec};
+pub use route::{PRange, Route, RouteSegment, RouteSpec};
 pub use target_board::{
     lead_from_target_of, BOARD_ALBEDO, BOARD_MARGIN_M, STRIPE_ALBEDO, STRIPE_OVERRUN_M,
     STRIPE_WIDTH_M,
