@@ -24,10 +24,10 @@ mod camera;
 mod scene;
 
 pub use camera::{
-    apply_sensor, blur_reach_px, ground_truth_of, shift_noise, target_occluded, Backend,
-    BackendError, CameraRig, DrawStats, Field, Frame, FrameInput, GroundTextures, GroundTruth,
-    RenderError, RenderOptions, Renderer, SoftwareContext, TextureLayer, FAR_M, LAYERS, NEAR_M,
-    TEXTURE_SIZE, TILE_M,
+    apply_sensor, blur_reach_px, ground_truth_of, sensor_noise_sigma_grey, shift_noise,
+    target_occluded, Backend, BackendError, CameraRig, DrawStats, Field, Frame, FrameInput,
+    GroundTextures, GroundTruth, RenderError, RenderOptions, Renderer, SoftwareContext,
+    TextureLayer, FAR_M, LAYERS, NEAR_M, TEXTURE_SIZE, TILE_M,
 };
 pub use scene::{
     back_model_centre_m, body_from_back_model, builtin_description, builtin_poses, builtin_target,

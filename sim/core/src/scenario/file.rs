@@ -465,6 +465,13 @@ pub struct SensorFile {
     /// Shot noise: the full-well capacity, electrons, at grey 255: 100–10⁷ (absent: off).
     #[schemars(extend("minimum" = 100.0, "maximum" = 10000000.0))]
     pub shot_noise_full_well_e: Option<f64>,
+    /// Read noise of the sensor before the gain, electrons rms: 0–1000 (absent: off). It
+    /// needs `shot_noise_full_well_e`, and counts the sensor's noise at the frame's gain
+    /// (`gain` times the automatic gain): a pixel of grey v has noise variance
+    /// 255·G·v/full_well + (255·G·read_noise_e/full_well)² grey levels², so a dark frame
+    /// brought up by the gain is noisier, not just darker.
+    #[schemars(extend("minimum" = 0.0, "maximum" = 1000.0))]
+    pub read_noise_e: Option<f64>,
     /// Automatic gain control (absent: off).
     pub auto_gain: Option<AutoGainFile>,
     /// An interlaced video camera: each frame's odd rows exposed one field (1/60 s)

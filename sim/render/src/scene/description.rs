@@ -239,6 +239,19 @@ pub struct Sensor {
     /// grey level of 255 collects. A pixel of grey `v` then has Poisson noise of standard
     /// deviation `sqrt(255 · v / full_well_e)` grey levels (Gaussian approximation).
     pub shot_noise_full_well_e: Option<f64>,
+    /// Optional read noise of the sensor's output amplifier, electrons (rms), before the
+    /// gain; it needs [`Sensor::shot_noise_full_well_e`]. Set, the shot noise too is
+    /// counted at the frame's electronic gain `G` (`gain` times the automatic gain), so a
+    /// dark frame brought up by the gain is noisier, not just darker: a pixel of grey `v`
+    /// collected `N = v · full_well_e / (255 G)` electrons, and has Gaussian noise of
+    /// variance `(255 G / full_well_e)² · (N + read_noise_e²)`, that is
+    /// `255 G v / full_well_e + (255 G read_noise_e / full_well_e)²` grey levels² (the
+    /// EMVA 1288 standard's linear camera model: photon shot noise, Poisson, plus a
+    /// signal-independent dark noise, both amplified by the gain). `None`: the shot noise
+    /// at gain 1, as [`Sensor::shot_noise_full_well_e`] says, and no read noise but
+    /// `noise_sigma_grey` (the frame grabber's, after the gain).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub read_noise_e: Option<f64>,
     /// Optional automatic gain control (off: the fixed `gain`).
     pub auto_gain: Option<AutoGain>,
     /// An interlaced video camera, as the 1990s CCDs were: each frame is two fields, its
@@ -312,6 +325,7 @@ impl Default for Sensor {
             blur_sigma_px: None,
             vignetting: 0.0,
             shot_noise_full_well_e: None,
+            read_noise_e: None,
             auto_gain: None,
             interlaced: false,
         }
@@ -622,6 +636,15 @@ impl SceneDescription {
         }
         if let Some(e) = self.sensor.shot_noise_full_well_e {
             positive("sensor.shot_noise_full_well_e", e)?;
+        }
+        if let Some(e) = self.sensor.read_noise_e {
+            non_negative("sensor.read_noise_e", e)?;
+            if self.sensor.shot_noise_full_well_e.is_none() {
+                return Err(SceneError::Invalid {
+                    field: "sensor.read_noise_e".into(),
+                    reason: "needs sensor.shot_noise_full_well_e".into(),
+                });
+            }
         }
         if let Some(a) = self.sensor.auto_gain {
             positive("sensor.auto_gain.target_grey", a.target_grey)?;

@@ -396,7 +396,12 @@ impl Renderer {
             let other = self.draw_field(earlier, input.auto_gain, scissor)?;
             interlace(&mut image, &other);
         }
-        self.apply_sensor(&mut image, input.frame_index, scissor.y0..scissor.y1);
+        self.apply_sensor(
+            &mut image,
+            input.frame_index,
+            input.auto_gain,
+            scissor.y0..scissor.y1,
+        );
         let truth = self.ground_truth(
             &input.world_from_chase,
             &input.world_from_lead,
