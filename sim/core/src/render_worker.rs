@@ -56,7 +56,7 @@ use sim_render::{
     Backend, CameraRig, Field, Frame, FrameInput, GroundTruth, RenderOptions, Renderer,
     SoftwareContext,
 };
-use sim_render::{ObjectSlot, Scene, SceneDescription};
+use sim_render::{Braking, ObjectSlot, Scene, SceneDescription};
 use std::io::{BufReader, BufWriter, Read, Write};
 use std::process::Command;
 use std::sync::mpsc::{channel, Receiver, Sender};
@@ -65,7 +65,7 @@ use std::thread::JoinHandle;
 use tracker::PixelRect;
 
 /// Bytes of one request before its actors' poses.
-const REQUEST_BYTES: usize = 41 * 8;
+const REQUEST_BYTES: usize = 42 * 8;
 /// Bytes of one pose in a request.
 const POSE_BYTES: usize = 7 * 8;
 /// Bytes of the ground truth and the exact pixels before the image's rows.
@@ -150,6 +150,7 @@ fn encode_request(input: &FrameInput, part: PixelRect) -> Vec<u8> {
     for count in [input.world_from_actors.len(), earlier_actors.len()] {
         out.extend_from_slice(&(count as u64).to_le_bytes());
     }
+    out.extend_from_slice(&input.braking.0.to_le_bytes());
     for pose in input.world_from_actors.iter().chain(earlier_actors) {
         put_pose(&mut out, pose);
     }
@@ -186,6 +187,7 @@ fn decode_request(bytes: &[u8; REQUEST_BYTES], poses: &[u8]) -> (FrameInput, Pix
         world_from_actors: actors(0, own),
         camera_pan_rad: get_f64(bytes, 16),
         auto_gain: get_f64(bytes, 17),
+        braking: Braking(get_u64(bytes, 41)),
         earlier_field: (get_u64(bytes, 22) != 0).then(|| Field {
             time_s: get_f64(bytes, 23),
             world_from_chase: get_pose(bytes, 24),
@@ -625,6 +627,7 @@ mod tests {
                 world_from_actors: actors(own, 0.2),
                 camera_pan_rad: -0.3 - 1e-12,
                 auto_gain: 1.0 / 3.0,
+                braking: Braking(0b1011),
                 earlier_field: interlaced.then(|| Field {
                     time_s: 8.2 + 1.0 / 7.0,
                     world_from_chase: pose(0.69, [1.0 / 7.0, 0.21, -1e5 + 0.1]),

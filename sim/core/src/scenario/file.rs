@@ -126,6 +126,29 @@ pub struct LeadFile {
     /// lead that changes lane, brakes or stops.
     #[serde(default, skip_serializing_if = "vehicle::EventScript::is_empty")]
     pub events: vehicle::EventScript,
+    /// The lead's lamps (`[lead.lamps]`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lamps: Option<LampsFile>,
+}
+
+/// `[lead.lamps]`, and an actor's `lamps`: a vehicle's own lamps, which glow whatever
+/// lights the scene.
+#[derive(Clone, Debug, Default, Deserialize, Serialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct LampsFile {
+    /// Its tail lamps lit: two red lamps at its back's corners (5 cd each, SAE J585), the
+    /// brake lamps in them (80 cd more, SAE J586) while its brake is applied (default: lit
+    /// with the sun at or below the horizon, `environment.sun.elevation_deg` ≤ 0, and off
+    /// by day). The lead's are drawn below its target board.
+    pub tail: Option<bool>,
+}
+
+/// Whether a vehicle's tail lamps are lit, from its `lamps` (default: at night, with the
+/// sun at `sun_elevation_deg` at or below the horizon).
+pub(crate) fn tail_lamps_lit(lamps: Option<&LampsFile>, sun_elevation_deg: f64) -> bool {
+    lamps
+        .and_then(|l| l.tail)
+        .unwrap_or(sun_elevation_deg <= 0.0)
 }
 
 fn default_lead_start() -> f64 {

@@ -345,6 +345,10 @@ pub struct LeadVehicle {
     pub board_centre_height_m: f64,
     /// Controlled distractors that move with it.
     pub distractors: Vec<Distractor>,
+    /// Whether its tail lamps are lit ([`crate::scene::TailLamps`]; false: no lamps drawn,
+    /// and not written, so a description without them reads and writes as before).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub tail_lamps: bool,
 }
 
 impl Default for LeadVehicle {
@@ -358,6 +362,7 @@ impl Default for LeadVehicle {
             height_m: 2.7,
             board_centre_height_m: 1.6,
             distractors: Vec::new(),
+            tail_lamps: false,
         }
     }
 }
@@ -477,6 +482,10 @@ pub struct ActorBody {
     /// Its paint's albedo, 0–1 (a truck's box and cab; its door is a shade darker).
     #[schemars(extend("minimum" = 0.0, "maximum" = 1.0))]
     pub albedo: f64,
+    /// Whether its tail lamps are lit ([`crate::scene::TailLamps`]; false: no lamps drawn,
+    /// and not written, so a description without them reads and writes as before).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub tail_lamps: bool,
 }
 
 /// Everything needed to build the world. Filled by the scenario code.
@@ -525,6 +534,11 @@ pub struct SceneDescription {
 }
 
 impl SceneDescription {
+    /// Whether any vehicle's tail lamps are lit (the lead's or an actor's).
+    pub fn has_tail_lamps(&self) -> bool {
+        self.lead.tail_lamps || self.actors.iter().any(|a| a.tail_lamps)
+    }
+
     /// Checks the numbers a scene cannot be built from; each error names the field.
     pub fn validate(&self) -> Result<(), SceneError> {
         let positive = |field: &str, value: f64| {
@@ -726,6 +740,7 @@ mod tests {
         let actor = |albedo| ActorBody {
             kind: VehicleKind::Truck,
             albedo,
+            tail_lamps: false,
         };
         assert_eq!(refused(&|d| d.route.lanes = 0), "route.lanes");
         assert_eq!(refused(&|d| d.route.lanes = 5), "route.lanes");

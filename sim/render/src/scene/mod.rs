@@ -61,6 +61,7 @@ mod road_marks;
 mod route;
 mod site;
 mod standing;
+mod tail_lamps;
 mod target_board;
 mod terrain;
 #[cfg(test)]
@@ -95,6 +96,7 @@ pub use night::{twilight_factor, Beam, Headlamps, MIN_SUN_ELEVATION_DEG, TWILIGH
 pub use object_slot::ObjectSlot;
 pub use rng::stream;
 pub use route::{Route, RouteSegment, RouteSpec};
+pub use tail_lamps::{Braking, TailLamps};
 pub use target_board::{
     lead_from_target_of, BOARD_ALBEDO, BOARD_MARGIN_M, STRIPE_ALBEDO, STRIPE_OVERRUN_M,
     STRIPE_WIDTH_M,
