@@ -493,6 +493,7 @@ pub struct SensorFile {
     /// (`gain` times the automatic gain): a pixel of grey v has noise variance
     /// 255·G·v/full_well + (255·G·read_noise_e/full_well)² grey levels², so a dark frame
     /// brought up by the gain is noisier, not just darker.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schemars(extend("minimum" = 0.0, "maximum" = 1000.0))]
     pub read_noise_e: Option<f64>,
     /// Automatic gain control (absent: off).
