@@ -126,13 +126,13 @@ pub struct LeadFile {
     /// lead that changes lane, brakes or stops.
     #[serde(default, skip_serializing_if = "vehicle::EventScript::is_empty")]
     pub events: vehicle::EventScript,
-    /// The lead's lamps (`[lead.lamps]`).
+    /// The lead's own lamps: its tail and brake lamps (default: lit at night).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub lamps: Option<LampsFile>,
 }
 
-/// `[lead.lamps]`, and an actor's `lamps`: a vehicle's own lamps, which glow whatever
-/// lights the scene.
+/// A vehicle's own lamps, which glow whatever lights the scene: the lead's
+/// (`[lead.lamps]`) or an actor's (`lamps` in `[[actors]]`).
 #[derive(Clone, Debug, Default, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct LampsFile {
