@@ -45,6 +45,7 @@ fn lead_body() -> (LeadVehicle, Isometry3<f64>) {
         height_m: LEAD_BODY_HEIGHT_M,
         board_centre_height_m: BOARD_CENTRE_HEIGHT_M,
         distractors: Vec::new(),
+        tail_lamps: false,
     };
     let lead_from_scene = Isometry3::translation(
         0.5 * f64::from(lead_params.length_m) - f64::from(lead_params.rear_overhang_m),
@@ -114,6 +115,7 @@ fn scene_description(s: &Scenario, world: &WorldConfig) -> SceneDescription {
         target: s.target.clone(),
         lead: LeadVehicle {
             distractors: s.distractors.clone(),
+            tail_lamps: s.lead_tail_lamps,
             ..lead_body
         },
         chase: hood,
@@ -126,6 +128,7 @@ fn scene_description(s: &Scenario, world: &WorldConfig) -> SceneDescription {
             .map(|a| sim_render::ActorBody {
                 kind: a.kind,
                 albedo: a.albedo,
+                tail_lamps: a.tail_lamps,
             })
             .collect(),
         fog: s.fog,

@@ -28,14 +28,15 @@
 //!   worker plans nothing: it builds the scene it is given;
 //! - the worker then writes that scene's fingerprint ([`fingerprint`]), a `u64`, which the
 //!   loop checks against its own;
-//! - each request is 41 `u64`-sized fields: the frame index (`u64`), the time, then each of
+//! - each request is 43 `u64`-sized fields: the frame index (`u64`), the time, then each of
 //!   the chase's and the lead's poses as translation x, y, z and rotation quaternion i, j,
 //!   k, w (`f64`, exact bits, so the worker renders exactly the loop's poses), the camera's
 //!   pan and the automatic gain (`f64`), then the part of the frame to render, x0, y0, x1,
 //!   y1 (`u64`, see [`Renderer::render_part`]), then for an interlaced camera's earlier
 //!   field a flag (`u64`, 1 when there is one), its time, the two poses and the pan, as
 //!   above, then how many actor poses the frame and its earlier field have (`u64` each, at
-//!   most [`ObjectSlot::MAX_ACTORS`]); then those poses, the frame's and then the earlier
+//!   most [`ObjectSlot::MAX_ACTORS`]), the chase's speed (`f64`, for the rain's streaks) and
+//!   the braking flags (`u64`, a bit per vehicle, for the brake lamps); then those poses, the frame's and then the earlier
 //!   field's, seven `f64` each as above;
 //! - each answer is the ground truth: c_x, c_y, scale, the target centre in the camera
 //!   frame x, y, z (`f64`), and in view (one byte, 0 or 1), then the frame's exact pixels
@@ -56,7 +57,7 @@ use sim_render::{
     Backend, CameraRig, Field, Frame, FrameInput, GroundTruth, RenderOptions, Renderer,
     SoftwareContext,
 };
-use sim_render::{ObjectSlot, Scene, SceneDescription};
+use sim_render::{Braking, ObjectSlot, Scene, SceneDescription};
 use std::io::{BufReader, BufWriter, Read, Write};
 use std::process::Command;
 use std::sync::mpsc::{channel, Receiver, Sender};
@@ -65,7 +66,7 @@ use std::thread::JoinHandle;
 use tracker::PixelRect;
 
 /// Bytes of one request before its actors' poses.
-const REQUEST_BYTES: usize = 42 * 8;
+const REQUEST_BYTES: usize = 43 * 8;
 /// Bytes of one pose in a request.
 const POSE_BYTES: usize = 7 * 8;
 /// Bytes of the ground truth and the exact pixels before the image's rows.
@@ -151,6 +152,7 @@ fn encode_request(input: &FrameInput, part: PixelRect) -> Vec<u8> {
         out.extend_from_slice(&(count as u64).to_le_bytes());
     }
     out.extend_from_slice(&input.chase_speed_mps.to_le_bytes());
+    out.extend_from_slice(&input.braking.0.to_le_bytes());
     for pose in input.world_from_actors.iter().chain(earlier_actors) {
         put_pose(&mut out, pose);
     }
@@ -187,6 +189,7 @@ fn decode_request(bytes: &[u8; REQUEST_BYTES], poses: &[u8]) -> (FrameInput, Pix
         world_from_actors: actors(0, own),
         camera_pan_rad: get_f64(bytes, 16),
         auto_gain: get_f64(bytes, 17),
+        braking: Braking(get_u64(bytes, 42)),
         earlier_field: (get_u64(bytes, 22) != 0).then(|| Field {
             time_s: get_f64(bytes, 23),
             world_from_chase: get_pose(bytes, 24),
@@ -627,6 +630,7 @@ mod tests {
                 world_from_actors: actors(own, 0.2),
                 camera_pan_rad: -0.3 - 1e-12,
                 auto_gain: 1.0 / 3.0,
+                braking: Braking(0b1011),
                 earlier_field: interlaced.then(|| Field {
                     time_s: 8.2 + 1.0 / 7.0,
                     world_from_chase: pose(0.69, [1.0 / 7.0, 0.21, -1e5 + 0.1]),

@@ -808,3 +808,56 @@ fn the_sun_sets_down_to_minus_18_degrees() {
         );
     }
 }
+
+/// `[lead.lamps] tail`: lit by default with the sun at or below the horizon and off by day
+/// (and absent from the resolved scenario unless given); set by the file or by `--set`;
+/// a bad value is refused naming the field.
+#[test]
+fn tail_lamps_are_lit_at_night_by_default_and_set_by_their_path() {
+    let s = load(&text(), &[]).unwrap();
+    assert!(!s.lead_tail_lamps);
+    assert!(s.resolved_json().pointer("/lead/lamps").is_none());
+    let night = load(&text(), &["environment.sun.elevation_deg=-10"]).unwrap();
+    assert!(night.lead_tail_lamps);
+    let s = load(
+        &text(),
+        &["environment.sun.elevation_deg=-10", "lead.lamps.tail=false"],
+    )
+    .unwrap();
+    assert!(!s.lead_tail_lamps);
+    let s = load(&text(), &["lead.lamps.tail=true"]).unwrap();
+    assert!(s.lead_tail_lamps);
+    let e = load(&text(), &["lead.lamps.tail=7"]).unwrap_err();
+    assert!(
+        e.contains("lead.lamps.tail") || e.contains("expected a boolean"),
+        "{e}"
+    );
+    let e = load(&text(), &["lead.lamps.brake=true"]).unwrap_err();
+    assert!(e.contains("unknown field `brake`"), "{e}");
+}
+
+/// `[environment.sensor] read_noise_e`: off by default (and absent from the resolved
+/// scenario); 0–1000 electrons; it needs `shot_noise_full_well_e`.
+#[test]
+fn read_noise_in_electrons_needs_the_full_well_and_is_checked() {
+    let s = load(&text(), &[]).unwrap();
+    assert_eq!(s.sensor.read_noise_e, None);
+    assert!(s
+        .resolved_json()
+        .pointer("/environment/sensor/read_noise_e")
+        .is_none());
+    let full = "environment.sensor.shot_noise_full_well_e=20000";
+    let s = load(&text(), &[full, "environment.sensor.read_noise_e=20"]).unwrap();
+    assert_eq!(s.sensor.read_noise_e, Some(20.0));
+    let e = load(&text(), &[full, "environment.sensor.read_noise_e=-1"]).unwrap_err();
+    assert!(
+        e.contains("`environment.sensor.read_noise_e`") && e.contains("must be 0–1000 electrons"),
+        "{e}"
+    );
+    let e = load(&text(), &["environment.sensor.read_noise_e=20"]).unwrap_err();
+    assert!(
+        e.contains("`environment.sensor.read_noise_e`")
+            && e.contains("needs environment.sensor.shot_noise_full_well_e"),
+        "{e}"
+    );
+}

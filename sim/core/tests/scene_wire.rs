@@ -66,6 +66,7 @@ fn actors_and_lanes_cross_the_wire_exactly() {
         .map(|(k, &kind)| ActorBody {
             kind,
             albedo: 0.1 + k as f64 / 7.0,
+            tail_lamps: k % 2 == 0,
         })
         .collect();
     let mut wire = Vec::new();

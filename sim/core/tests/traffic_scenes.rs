@@ -23,7 +23,11 @@ fn shipped_scenes_with_actors_out_of_view_render_as_without() {
         let mut traffic = description.clone();
         traffic.actors = VehicleKind::ALL
             .iter()
-            .map(|&kind| ActorBody { kind, albedo: 0.4 })
+            .map(|&kind| ActorBody {
+                kind,
+                albedo: 0.4,
+                tail_lamps: false,
+            })
             .collect();
         let mut without =
             Renderer::new(plan.scene().clone(), plan.rig().clone(), &options).expect("renderer");

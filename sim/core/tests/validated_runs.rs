@@ -47,6 +47,10 @@ fn an_override() -> impl Strategy<Value = String> {
         f("environment.sun.elevation_deg", -10.0, 100.0),
         f("environment.fog.visual_range_m", -5.0, 500.0),
         f("environment.rain.rate_mm_h", -5.0, 250.0),
+        (50.0..2e5f64, -5.0..1200.0f64).prop_map(|(full_well, read)| format!(
+            "environment.sensor={{ shot_noise_full_well_e = {full_well}, read_noise_e = {read} }}"
+        )),
+        any::<bool>().prop_map(|tail| format!("lead.lamps.tail={tail}")),
         f("environment.clutter.trees_per_km", 0.0, 1200.0),
         f("lead.driver.weave_amplitude_m", -1.0, 6.0),
         f("chase.controller.gap_keeper.min_gap_m", 0.0, 20.0),

@@ -24,20 +24,20 @@ mod camera;
 mod scene;
 
 pub use camera::{
-    apply_sensor, blur_reach_px, ground_truth_of, shift_noise, target_occluded, Backend,
-    BackendError, CameraRig, DrawStats, Field, Frame, FrameInput, GroundTextures, GroundTruth,
-    RenderError, RenderOptions, Renderer, SoftwareContext, TextureLayer, FAR_M, LAYERS, NEAR_M,
-    TEXTURE_SIZE, TILE_M,
+    apply_sensor, blur_reach_px, ground_truth_of, sensor_noise_sigma_grey, shift_noise,
+    target_occluded, Backend, BackendError, CameraRig, DrawStats, Field, Frame, FrameInput,
+    GroundTextures, GroundTruth, RenderError, RenderOptions, Renderer, SoftwareContext,
+    TextureLayer, FAR_M, LAYERS, NEAR_M, TEXTURE_SIZE, TILE_M,
 };
 pub use scene::{
     back_model_centre_m, body_from_back_model, builtin_description, builtin_poses, builtin_target,
     distractor_near_side, lead_from_target_of, stream, twilight_factor, vehicle_back_model,
-    ActorBody, AutoGain, Beam, CameraMount, ChaseVehicle, Chunk, ChunkPart, Densities, Distractor,
-    DistractorKind, DynamicObject, Fog, Headlamps, Layer, LeadVehicle, Material, Mesh, MeshPiece,
-    Motion, ObjectSlot, PRange, Placement, Rain, RainBand, RoadSurface, Route, RouteSegment,
-    RouteSpec, Scene, SceneDescription, SceneError, Sensor, Sun, Terrain, Textures, VehicleKind,
-    Vertex, BACK_MODEL_NOMINAL_RANGE_M, BOARD_ALBEDO, BOARD_MARGIN_M, BUILTIN_GAP_M,
-    BUILTIN_SPEED_M_S, FIELD_PERIOD_STEPS, GRASS_ALBEDO, GRASS_ALBEDO_RANGE, GROUND_CELL_M,
-    MAX_BUFFER_BYTES, MIN_SUN_ELEVATION_DEG, STRIPE_ALBEDO, STRIPE_OVERRUN_M, STRIPE_WIDTH_M,
-    TWILIGHT_LUX,
+    ActorBody, AutoGain, Beam, Braking, CameraMount, ChaseVehicle, Chunk, ChunkPart, Densities,
+    Distractor, DistractorKind, DynamicObject, Fog, Headlamps, Layer, LeadVehicle, Material, Mesh,
+    MeshPiece, Motion, ObjectSlot, PRange, Placement, Rain, RainBand, RoadSurface, Route,
+    RouteSegment, RouteSpec, Scene, SceneDescription, SceneError, Sensor, Sun, TailLamps, Terrain,
+    Textures, VehicleKind, Vertex, BACK_MODEL_NOMINAL_RANGE_M, BOARD_ALBEDO, BOARD_MARGIN_M,
+    BUILTIN_GAP_M, BUILTIN_SPEED_M_S, FIELD_PERIOD_STEPS, GRASS_ALBEDO, GRASS_ALBEDO_RANGE,
+    GROUND_CELL_M, MAX_BUFFER_BYTES, MIN_SUN_ELEVATION_DEG, STRIPE_ALBEDO, STRIPE_OVERRUN_M,
+    STRIPE_WIDTH_M, TWILIGHT_LUX,
 };

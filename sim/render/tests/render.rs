@@ -205,6 +205,7 @@ fn a_part_of_a_frame_is_the_whole_frame_there() {
                 world_from_actors: Vec::new(),
                 camera_pan_rad,
                 auto_gain: 1.0,
+                braking: Default::default(),
                 earlier_field: None,
                 chase_speed_mps: 0.0,
             };

@@ -156,6 +156,7 @@ fn an_actor_is_drawn_where_its_pose_puts_it_and_casts_a_shadow() {
     d.actors = vec![ActorBody {
         kind: VehicleKind::Sedan,
         albedo: 0.6,
+        tail_lamps: false,
     }];
     // The sun overhead: the car's shadow lies under it, unseen.
     d.sun.elevation_deg = 90.0;
@@ -211,6 +212,7 @@ fn an_actor_between_the_camera_and_the_board_hides_it() {
     d.actors = vec![ActorBody {
         kind: VehicleKind::Truck,
         albedo: 0.7,
+        tail_lamps: false,
     }];
     let lane = d.route.lane_centre_m(1);
     let chase = on_road(CHASE_S_M, lane);
@@ -255,7 +257,11 @@ fn an_actor_out_of_view_leaves_the_frame_bit_for_bit() {
     };
     d.actors = VehicleKind::ALL
         .iter()
-        .map(|&kind| ActorBody { kind, albedo: 0.5 })
+        .map(|&kind| ActorBody {
+            kind,
+            albedo: 0.5,
+            tail_lamps: false,
+        })
         .collect();
     let mut r = renderer(d);
     let (frame, input) = without;
@@ -296,7 +302,11 @@ fn each_kinds_back_model_lies_on_the_edges_of_its_drawn_back() {
     let rig = CameraRig::default();
     for kind in VehicleKind::ALL {
         let mut d = bare(1);
-        d.actors = vec![ActorBody { kind, albedo: 0.5 }];
+        d.actors = vec![ActorBody {
+            kind,
+            albedo: 0.5,
+            tail_lamps: false,
+        }];
         let (chase, _) = poses(&d);
         let model = vehicle_back_model(kind);
         let body_from_model = body_from_back_model(kind);

@@ -6,7 +6,7 @@ use crate::auto_gain::AutoGainControl;
 use crate::plan::iso;
 use crate::plugin::LaneAhead;
 use nalgebra::Isometry3;
-use sim_render::{CameraRig, Field, FrameInput};
+use sim_render::{Braking, CameraRig, Field, FrameInput};
 use std::time::{Duration, Instant};
 use vehicle::{DelayLine, Pose, Step, VehicleState, STEPS_PER_FRAME};
 
@@ -53,6 +53,12 @@ impl Captured {
             world_from_actors,
             camera_pan_rad: drive.pan_angle_rad(),
             auto_gain: auto_gain.gain_for(frame_index),
+            // The lead's and the actors' brake actuators (the traffic's list: the follower,
+            // the lead, then the actors).
+            braking: Braking::of(
+                f64::from(lead.brake),
+                traffic.iter().flatten().skip(2).map(|s| f64::from(s.brake)),
+            ),
             // Before the first frame the world stood still.
             earlier_field: drive.interlaced.then(|| {
                 let f = drive

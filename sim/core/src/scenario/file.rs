@@ -185,6 +185,29 @@ pub struct LeadFile {
     /// lead that changes lane, brakes or stops.
     #[serde(default, skip_serializing_if = "vehicle::EventScript::is_empty")]
     pub events: vehicle::EventScript,
+    /// The lead's own lamps: its tail and brake lamps (default: lit at night).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lamps: Option<LampsFile>,
+}
+
+/// A vehicle's own lamps, which glow whatever lights the scene: the lead's
+/// (`[lead.lamps]`) or an actor's (`lamps` in `[[actors]]`).
+#[derive(Clone, Debug, Default, Deserialize, Serialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct LampsFile {
+    /// Its tail lamps lit: two red lamps at its back's corners (5 cd each, SAE J585), the
+    /// brake lamps in them (80 cd more, SAE J586) while its brake is applied (default: lit
+    /// with the sun at or below the horizon, `environment.sun.elevation_deg` ≤ 0, and off
+    /// by day). The lead's are drawn below its target board.
+    pub tail: Option<bool>,
+}
+
+/// Whether a vehicle's tail lamps are lit, from its `lamps` (default: at night, with the
+/// sun at `sun_elevation_deg` at or below the horizon).
+pub(crate) fn tail_lamps_lit(lamps: Option<&LampsFile>, sun_elevation_deg: f64) -> bool {
+    lamps
+        .and_then(|l| l.tail)
+        .unwrap_or(sun_elevation_deg <= 0.0)
 }
 
 fn default_lead_start() -> f64 {
@@ -548,6 +571,14 @@ pub struct SensorFile {
     /// Shot noise: the full-well capacity, electrons, at grey 255: 100–10⁷ (absent: off).
     #[schemars(extend("minimum" = 100.0, "maximum" = 10000000.0))]
     pub shot_noise_full_well_e: Option<f64>,
+    /// Read noise of the sensor before the gain, electrons rms: 0–1000 (absent: off). It
+    /// needs `shot_noise_full_well_e`, and counts the sensor's noise at the frame's gain
+    /// (`gain` times the automatic gain): a pixel of grey v has noise variance
+    /// 255·G·v/full_well + (255·G·read_noise_e/full_well)² grey levels², so a dark frame
+    /// brought up by the gain is noisier, not just darker.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("minimum" = 0.0, "maximum" = 1000.0))]
+    pub read_noise_e: Option<f64>,
     /// Automatic gain control (absent: off).
     pub auto_gain: Option<AutoGainFile>,
     /// An interlaced video camera: each frame's odd rows exposed one field (1/60 s)

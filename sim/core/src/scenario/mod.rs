@@ -213,6 +213,8 @@ pub struct ScenarioSpec {
     pub rain: Option<sim_render::Rain>,
     /// The chase's headlamps' beam (`None`: off).
     pub headlamps: Option<sim_render::Beam>,
+    /// Whether the lead's tail lamps are lit.
+    pub lead_tail_lamps: bool,
     /// Pass/fail criteria.
     pub expect: Expect,
     /// The scenario as resolved: the file with the `--set` overrides applied and every

@@ -62,6 +62,9 @@ pub struct ActorFile {
     /// What happens to it, and when (`[[actors.events]]`: see `[[lead.events]]`).
     #[serde(default, skip_serializing_if = "EventScript::is_empty")]
     pub events: EventScript,
+    /// Its lamps, as `[lead.lamps]`: `lamps = { tail = true }` (default: lit at night).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lamps: Option<super::file::LampsFile>,
 }
 
 /// An actor's start: by station, or by a gap or a time gap to another vehicle.
@@ -118,6 +121,8 @@ pub struct ActorSpec {
     pub albedo: f64,
     /// Its events.
     pub events: EventScript,
+    /// Whether its tail lamps are lit.
+    pub tail_lamps: bool,
 }
 
 /// The physics of a vehicle of `kind`.

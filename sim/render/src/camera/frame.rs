@@ -1,5 +1,6 @@
 //! What the renderer takes and gives per frame.
 
+use crate::scene::Braking;
 use image::GrayImage;
 use nalgebra::Isometry3;
 use tracker::PixelRect;
@@ -29,6 +30,9 @@ pub struct FrameInput {
     /// The automatic gain control's gain for this frame, a factor on the sensor's
     /// brightness (1 without it; see [`crate::scene::AutoGain`]).
     pub auto_gain: f64,
+    /// Which vehicles brake, so that their brake lamps are lit (read only for vehicles
+    /// whose tail lamps are: [`crate::scene::TailLamps`]).
+    pub braking: Braking,
     /// With an interlaced camera (`environment.sensor.interlaced`), the world when the
     /// frame's other field was exposed, one field period earlier: the frame's odd rows show
     /// it, its even rows the world above. `None` for a progressive camera.
@@ -88,6 +92,7 @@ impl FrameInput {
             world_from_actors: Vec::new(),
             camera_pan_rad: 0.0,
             auto_gain: 1.0,
+            braking: Braking::default(),
             earlier_field: None,
             chase_speed_mps: 0.0,
         }

@@ -22,6 +22,6 @@ pub use frame::{Field, Frame, FrameInput, GroundTruth};
 pub use occlusion::target_occluded;
 pub use renderer::{ground_truth_of, DrawStats, RenderError, RenderOptions, Renderer};
 pub use rig::{CameraRig, FAR_M, NEAR_M};
-pub use sensor::{apply_sensor, blur_reach_px, shift_noise};
+pub use sensor::{apply_sensor, blur_reach_px, sensor_noise_sigma_grey, shift_noise};
 pub use software_device::SoftwareContext;
 pub use textures::{GroundTextures, TextureLayer, LAYERS, TEXTURE_SIZE, TILE_M};

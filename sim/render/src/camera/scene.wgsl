@@ -56,6 +56,9 @@ struct Globals {
     // y: the share of the road a water film covers; z: the sky's grey (times the sensor's
     // brightness) the film mirrors; w: water's reflectance at normal incidence.
     rain: vec4<f32>,
+    // The tail lamps (read only with `tail_lamps_on`): slot s's lens radiance times the
+    // sensor's brightness over the lens's albedo, at [s / 4][s % 4] (0: no lamp lit).
+    glow: array<vec4<f32>, 8>,
 };
 
 struct Objects {
@@ -185,6 +188,14 @@ fn vs_main(v: VertexIn) -> VertexOut {
     return vs_main_of(v);
 }
 
+// Whether a scene has tail lamps (the pipeline's constant): without them, `vs_main_of`
+// shades every vertex as before tail lamps existed, bit for bit.
+override tail_lamps_on: bool = false;
+// The albedo from which a vertex is a tail lamp's (`TailLamps::MARK_MIN`), and the lens's
+// own albedo (`TailLamps::LENS_ALBEDO`).
+const LAMP_MARK_MIN: f32 = 4.0;
+const LAMP_LENS_ALBEDO: f32 = 0.1;
+
 // What `vs_main` computes, for the vertex stages that add to it.
 fn vs_main_of(v: VertexIn) -> VertexOut {
     let m = objects.world_from_object[v.object & 0xffu];
@@ -196,6 +207,13 @@ fn vs_main_of(v: VertexIn) -> VertexOut {
     let facing = max(dot(normal, globals.sun.xyz), 0.0);
     let brightness = globals.params.y;
     out.light = vec3<f32>(v.albedo, globals.params.x * brightness, globals.sun.w * facing * brightness);
+    if (tail_lamps_on && v.albedo >= LAMP_MARK_MIN) {
+        // A lamp's lens: its albedo times the light that falls on it, plus its own glow
+        // (added to the light, over the albedo that multiplies it).
+        let slot = v.object & 0xffu;
+        out.light.x = LAMP_LENS_ALBEDO;
+        out.light.y += globals.glow[slot / 4u][slot % 4u];
+    }
     let p = globals.lookup_view_proj * vec4<f32>(world.xyz + normal * globals.params.z, 1.0);
     let s = globals.lookup_scale;
     out.shadow = vec3<f32>(p.x * s.x + s.z, p.y * s.y + s.w, p.z);

@@ -240,6 +240,19 @@ pub struct Sensor {
     /// grey level of 255 collects. A pixel of grey `v` then has Poisson noise of standard
     /// deviation `sqrt(255 · v / full_well_e)` grey levels (Gaussian approximation).
     pub shot_noise_full_well_e: Option<f64>,
+    /// Optional read noise of the sensor's output amplifier, electrons (rms), before the
+    /// gain; it needs [`Sensor::shot_noise_full_well_e`]. Set, the shot noise too is
+    /// counted at the frame's electronic gain `G` (`gain` times the automatic gain), so a
+    /// dark frame brought up by the gain is noisier, not just darker: a pixel of grey `v`
+    /// collected `N = v · full_well_e / (255 G)` electrons, and has Gaussian noise of
+    /// variance `(255 G / full_well_e)² · (N + read_noise_e²)`, that is
+    /// `255 G v / full_well_e + (255 G read_noise_e / full_well_e)²` grey levels² (the
+    /// EMVA 1288 standard's linear camera model: photon shot noise, Poisson, plus a
+    /// signal-independent dark noise, both amplified by the gain). `None`: the shot noise
+    /// at gain 1, as [`Sensor::shot_noise_full_well_e`] says, and no read noise but
+    /// `noise_sigma_grey` (the frame grabber's, after the gain).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub read_noise_e: Option<f64>,
     /// Optional automatic gain control (off: the fixed `gain`).
     pub auto_gain: Option<AutoGain>,
     /// An interlaced video camera, as the 1990s CCDs were: each frame is two fields, its
@@ -313,6 +326,7 @@ impl Default for Sensor {
             blur_sigma_px: None,
             vignetting: 0.0,
             shot_noise_full_well_e: None,
+            read_noise_e: None,
             auto_gain: None,
             interlaced: false,
         }
@@ -332,6 +346,10 @@ pub struct LeadVehicle {
     pub board_centre_height_m: f64,
     /// Controlled distractors that move with it.
     pub distractors: Vec<Distractor>,
+    /// Whether its tail lamps are lit ([`crate::scene::TailLamps`]; false: no lamps drawn,
+    /// and not written, so a description without them reads and writes as before).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub tail_lamps: bool,
 }
 
 impl Default for LeadVehicle {
@@ -345,6 +363,7 @@ impl Default for LeadVehicle {
             height_m: 2.7,
             board_centre_height_m: 1.6,
             distractors: Vec::new(),
+            tail_lamps: false,
         }
     }
 }
@@ -464,6 +483,10 @@ pub struct ActorBody {
     /// Its paint's albedo, 0–1 (a truck's box and cab; its door is a shade darker).
     #[schemars(extend("minimum" = 0.0, "maximum" = 1.0))]
     pub albedo: f64,
+    /// Whether its tail lamps are lit ([`crate::scene::TailLamps`]; false: no lamps drawn,
+    /// and not written, so a description without them reads and writes as before).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub tail_lamps: bool,
 }
 
 /// Everything needed to build the world. Filled by the scenario code.
@@ -543,6 +566,11 @@ impl SceneDescription {
         } else {
             sun_light.sky
         }
+    }
+
+    /// Whether any vehicle's tail lamps are lit (the lead's or an actor's).
+    pub fn has_tail_lamps(&self) -> bool {
+        self.lead.tail_lamps || self.actors.iter().any(|a| a.tail_lamps)
     }
 
     /// Checks the numbers a scene cannot be built from; each error names the field.
@@ -693,6 +721,15 @@ impl SceneDescription {
         if let Some(e) = self.sensor.shot_noise_full_well_e {
             positive("sensor.shot_noise_full_well_e", e)?;
         }
+        if let Some(e) = self.sensor.read_noise_e {
+            non_negative("sensor.read_noise_e", e)?;
+            if self.sensor.shot_noise_full_well_e.is_none() {
+                return Err(SceneError::Invalid {
+                    field: "sensor.read_noise_e".into(),
+                    reason: "needs sensor.shot_noise_full_well_e".into(),
+                });
+            }
+        }
         if let Some(a) = self.sensor.auto_gain {
             positive("sensor.auto_gain.target_grey", a.target_grey)?;
             positive("sensor.auto_gain.time_constant_s", a.time_constant_s)?;
@@ -773,6 +810,7 @@ mod tests {
         let actor = |albedo| ActorBody {
             kind: VehicleKind::Truck,
             albedo,
+            tail_lamps: false,
         };
         assert_eq!(refused(&|d| d.route.lanes = 0), "route.lanes");
         assert_eq!(refused(&|d| d.route.lanes = 5), "route.lanes");

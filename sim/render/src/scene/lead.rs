@@ -5,6 +5,7 @@ use super::description::SceneDescription;
 use super::distractor::distractors;
 use super::mesh::Mesh;
 use super::object_slot::ObjectSlot;
+use super::tail_lamps::TailLamps;
 use super::target_board::{lead_from_target_of, paint};
 
 /// The lead vehicle (a box truck) with the target board on its back door, painted by the
@@ -39,5 +40,8 @@ pub(super) fn lead_vehicle(description: &SceneDescription) -> Mesh {
     paint(&mut mesh, &to_lead, &description.target);
     // Controlled distractors, just in front of the board.
     distractors(&mut mesh, lead, &to_lead, &description.target);
+    if lead.tail_lamps {
+        TailLamps::add_to_lead(&mut mesh, slot, lead, &description.target);
+    }
     mesh
 }

@@ -63,6 +63,7 @@ mod route;
 mod route_curve;
 mod site;
 mod standing;
+mod tail_lamps;
 mod target_board;
 mod terrain;
 #[cfg(test)]
@@ -98,6 +99,7 @@ pub use object_slot::ObjectSlot;
 pub use rain::{Rain, RainBand};
 pub use rng::stream;
 pub use route::{PRange, Route, RouteSegment, RouteSpec};
+pub use tail_lamps::{Braking, TailLamps};
 pub use target_board::{
     lead_from_target_of, BOARD_ALBEDO, BOARD_MARGIN_M, STRIPE_ALBEDO, STRIPE_OVERRUN_M,
     STRIPE_WIDTH_M,

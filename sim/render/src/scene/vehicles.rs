@@ -8,6 +8,7 @@ use super::lead::lead_vehicle;
 use super::mesh::Mesh;
 use super::object_slot::ObjectSlot;
 use super::site::Site;
+use super::tail_lamps::TailLamps;
 use super::vehicle_kind::vehicle;
 use rand::Rng;
 
@@ -45,6 +46,9 @@ fn lay_actors(site: &Site<'_>, mesh: &mut Mesh, objects: &mut Vec<DynamicObject>
         let slot = ObjectSlot::FIRST_ACTOR + k as u32;
         let mut part = Mesh::default();
         vehicle(&mut part, slot, actor.albedo, actor.kind);
+        if actor.tail_lamps {
+            TailLamps::add_to_kind(&mut part, slot, actor.kind);
+        }
         let motion = Motion::Actor(k);
         objects.push(DynamicObject::appended(mesh, part, slot, true, motion));
     }

@@ -43,6 +43,7 @@ pub fn builtin_frame_panned(renderer: &mut Renderer, time_s: f64, camera_pan_rad
             world_from_actors: Vec::new(),
             camera_pan_rad,
             auto_gain: 1.0,
+            braking: Default::default(),
             earlier_field: None,
             chase_speed_mps: 0.0,
         })

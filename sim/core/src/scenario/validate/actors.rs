@@ -224,6 +224,8 @@ fn actor(
         profile,
         albedo,
         events: a.events.clone(),
+        // Set with the sun's elevation (`validate`).
+        tail_lamps: false,
     };
     Ok((spec, me))
 }

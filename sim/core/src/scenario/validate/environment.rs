@@ -303,6 +303,26 @@ fn sensor(e: &EnvironmentFile, f: &Blame) -> Result<Sensor, ScenarioError> {
             ),
         )?;
     }
+    sensor.read_noise_e = e.sensor.read_noise_e;
+    if let Some(read_e) = sensor.read_noise_e {
+        let field = "environment.sensor.read_noise_e";
+        f.at(
+            field,
+            check(
+                (0.0..=1000.0).contains(&read_e),
+                "must be 0–1000 electrons",
+                read_e,
+            ),
+        )?;
+        f.at(
+            field,
+            check(
+                sensor.shot_noise_full_well_e.is_some(),
+                "needs environment.sensor.shot_noise_full_well_e (the electrons at grey 255)",
+                read_e,
+            ),
+        )?;
+    }
     if let Some(a) = &e.sensor.auto_gain {
         let mut auto_gain = AutoGain::default();
         for (field, value, into, lo, hi, unit) in [

@@ -18,6 +18,7 @@ pub use actors::MAX_ACTORS;
 pub(crate) use route::length_m as route_length_m;
 pub(crate) use route::{segment_problem, RoadSource};
 
+use super::file::tail_lamps_lit;
 use super::{Scenario, ScenarioError, ScenarioFile, ScenarioSpec};
 use tracker::TargetModel;
 use vehicle::WorldConfig;
@@ -178,7 +179,12 @@ pub(super) fn validate(
         initial_gap_m,
         chase.camera_mount.forward_m,
     );
-    let actors = actors::actors(&raw, length, chase_start_m, lead_initial_speed_mps, f)?;
+    let mut actors = actors::actors(&raw, length, chase_start_m, lead_initial_speed_mps, f)?;
+    let night = e.sun.elevation_deg;
+    for (spec, file) in actors.iter_mut().zip(&raw.actors) {
+        spec.tail_lamps = tail_lamps_lit(file.lamps.as_ref(), night);
+    }
+    let lead_tail_lamps = tail_lamps_lit(raw.lead.lamps.as_ref(), night);
     let mut world = WorldConfig::default();
     world.ground.bumps = raw.environment.bumps.clone();
     Ok(Scenario::validated(ScenarioSpec {
@@ -216,6 +222,7 @@ pub(super) fn validate(
         fog: e.fog,
         rain: e.rain,
         headlamps,
+        lead_tail_lamps,
         expect: raw.expect,
         source,
     }))

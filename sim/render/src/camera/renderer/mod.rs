@@ -51,7 +51,7 @@ use super::frame::{Field, Frame, FrameInput, GroundTruth};
 use super::rig::CameraRig;
 use super::sensor::blur_reach_px;
 use super::shadow_tiles::TileFrame;
-use crate::scene::{AutoGain, Scene};
+use crate::scene::{AutoGain, Braking, Scene};
 use culling::{gather_items, DrawItem};
 use device::{display_lock, Gpu};
 use image::GrayImage;
@@ -277,6 +277,7 @@ impl Renderer {
             description.extinction_per_m().is_some(),
             description.headlamps.is_some(),
             description.raining().is_some(),
+            description.has_tail_lamps(),
         );
         let lookups = builder.lookups(&maps, &surfaces, &samplers);
         let frame_uniforms = Uniforms::new(device, "frame uniforms");
@@ -393,14 +394,19 @@ impl Renderer {
                 .intersection(&whole),
         };
         let scissor = exact.grown(blur_reach_px(&description.sensor), whole.x1, whole.y1);
-        let mut image = self.draw_field(&input.field(), input.auto_gain, scissor)?;
+        let mut image = self.draw_field(&input.field(), input.auto_gain, input.braking, scissor)?;
         if let Some(earlier) = &input.earlier_field {
             // An interlaced camera: the odd rows are the earlier field's.
-            let other = self.draw_field(earlier, input.auto_gain, scissor)?;
+            let other = self.draw_field(earlier, input.auto_gain, input.braking, scissor)?;
             interlace(&mut image, &other);
         }
         self.draw_rain(&mut image, input);
-        self.apply_sensor(&mut image, input.frame_index, scissor.y0..scissor.y1);
+        self.apply_sensor(
+            &mut image,
+            input.frame_index,
+            input.auto_gain,
+            scissor.y0..scissor.y1,
+        );
         let truth = self.ground_truth(
             &input.world_from_chase,
             &input.world_from_lead,
@@ -413,13 +419,15 @@ impl Renderer {
         })
     }
 
-    /// Draws the scene as it stands in `field`, with the automatic gain `auto_gain`, in the
+    /// Draws the scene as it stands in `field`, with the automatic gain `auto_gain` and the
+    /// brake lamps of the vehicles `braking` lit, in the
     /// pixels `scissor` of the frame, and reads back the rows `scissor` spans (the other
     /// rows are zero, and the pixels of those rows outside `scissor` the sky's grey).
     fn draw_field(
         &mut self,
         field: &Field,
         auto_gain: f64,
+        braking: Braking,
         scissor: PixelRect,
     ) -> Result<GrayImage, RenderError> {
         let description = self.scene.description();
@@ -455,7 +463,7 @@ impl Renderer {
         }
         self.hold_drawn(&sun, &view.eye);
         // Uniforms: the frame's, written once.
-        self.write_uniforms(&view, &sun, &placed, brightness);
+        self.write_uniforms(&view, &sun, &placed, brightness, braking);
 
         // One encoder: the passes from the sun, the main pass, the copy to the staging
         // buffer; one submission.

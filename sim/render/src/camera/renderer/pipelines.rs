@@ -135,6 +135,9 @@ pub(super) struct Builder<'d> {
     /// Whether the main pass's pipelines wet the road (the `rain_on` override): off, a
     /// scene is drawn as before rain existed.
     rain: bool,
+    /// Whether the main pass's pipelines let tail lamps glow (the `tail_lamps_on`
+    /// override): off, a scene is drawn as before tail lamps existed.
+    tail_lamps: bool,
     /// Group 0 of the frame's passes: the globals and the object transforms.
     frame_layout: wgpu::BindGroupLayout,
     /// Group 1 of the main pass: the shadow lookups and the ground's textures.
@@ -148,14 +151,15 @@ pub(super) struct Builder<'d> {
 
 impl<'d> Builder<'d> {
     /// The shader and the layouts, for a main pass of `samples` samples, in `fog` (any
-    /// extinction of the air: fog's or rain's) or not, with the `headlamps` on or not, and
-    /// `rain` wetting the road or not.
+    /// extinction of the air: fog's or rain's) or not, with the `headlamps` on or not,
+    /// `rain` wetting the road or not, and `tail_lamps` or not.
     pub fn new(
         device: &'d wgpu::Device,
         samples: u32,
         fog: bool,
         headlamps: bool,
         rain: bool,
+        tail_lamps: bool,
     ) -> Builder<'d> {
         let uniform_entry = |binding, has_dynamic_offset| wgpu::BindGroupLayoutEntry {
             binding,
@@ -201,6 +205,7 @@ impl<'d> Builder<'d> {
             fog,
             headlamps,
             rain,
+            tail_lamps,
             frame_layout,
             lookup_layout,
             slot_layout,
@@ -471,11 +476,18 @@ impl<'d> Builder<'d> {
             ("headlamps_on", f64::from(u8::from(self.headlamps))),
             ("rain_on", f64::from(u8::from(self.rain))),
         ];
+        // The tail lamps are the vertex stage's (a lamp's vertices carry its mark); without
+        // them the vertex stage is compiled as before they existed.
+        let lamp_constants = [("tail_lamps_on", 1.0)];
+        let mut vertex_state = self.vertex_state(vertex);
+        if self.tail_lamps {
+            vertex_state.compilation_options.constants = &lamp_constants;
+        }
         self.device
             .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(label),
                 layout: Some(&self.main_pipeline_layout),
-                vertex: self.vertex_state(vertex),
+                vertex: vertex_state,
                 // Every closed mesh is wound counter-clockwise seen from outside
                 // (`Mesh::orient_faces`), open ones are two-sided: back faces never show
                 // (canopies' do, through their holes).

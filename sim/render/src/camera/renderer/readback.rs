@@ -127,12 +127,24 @@ impl Readback {
 
 impl Renderer {
     /// The sensor: blur and noise, seeded per frame (`frame_index`), the read noise only on
-    /// the rows drawn, `rows` (the only ones read back).
-    pub(super) fn apply_sensor(&self, image: &mut GrayImage, frame_index: u64, rows: Range<usize>) {
+    /// the rows drawn, `rows` (the only ones read back); with the sensor's read noise in
+    /// electrons, its noise counted at the frame's gain (times the automatic gain,
+    /// `auto_gain`).
+    pub(super) fn apply_sensor(
+        &self,
+        image: &mut GrayImage,
+        frame_index: u64,
+        auto_gain: f64,
+        rows: Range<usize>,
+    ) {
         let description = self.scene.description();
+        let mut sensor = std::borrow::Cow::Borrowed(&description.sensor);
+        if sensor.read_noise_e.is_some() {
+            sensor.to_mut().gain *= auto_gain;
+        }
         apply_sensor_to_rows(
             image,
-            &description.sensor,
+            &sensor,
             &self.rig.intrinsics,
             description.seed,
             frame_index,

@@ -7,7 +7,8 @@ use super::Renderer;
 use crate::camera::shadow_tiles::{self, TileFrame};
 use crate::camera::textures::TILE_M;
 use crate::scene::{
-    Headlamps, ObjectSlot, Rain, SceneDescription, Sun, GRASS_ALBEDO_RANGE, GROUND_CELL_M,
+    Braking, Headlamps, ObjectSlot, Rain, SceneDescription, Sun, TailLamps, GRASS_ALBEDO_RANGE,
+    GROUND_CELL_M,
 };
 use bytemuck::{Pod, Zeroable};
 use nalgebra::{Matrix4, Point3, Translation3, Vector3};
@@ -32,7 +33,11 @@ pub(super) struct Globals {
     fog: [f32; 4],
     lamps: [[f32; 4]; 5],
     rain: [f32; 4],
+    glow: [[f32; 4]; GLOW_VEC4S],
 }
+
+/// `vec4`s of `Globals::glow`: a radiance for every object slot, four to a `vec4`.
+const GLOW_VEC4S: usize = ObjectSlot::COUNT as usize / 4;
 
 /// The strength of the paint's texture relative to the other materials': paint fills the
 /// asphalt's pores, so its grain is faint.
@@ -41,13 +46,15 @@ const PAINT_DETAIL: f64 = 0.3;
 impl Renderer {
     /// Writes the frame's uniforms (the main pass's, which the passes from the sun bind
     /// too): the camera's `view`, the `sun`'s maps, the moving objects as `placed`, and
-    /// the sensor's `brightness` (with the automatic gain).
+    /// the sensor's `brightness` (with the automatic gain), and the brake lamps of the
+    /// vehicles `braking` lit.
     pub(super) fn write_uniforms(
         &self,
         view: &CameraView,
         sun: &Sunlight,
         placed: &Placed,
         brightness: f64,
+        braking: Braking,
     ) {
         let globals = Globals::of_frame(
             view,
@@ -58,6 +65,10 @@ impl Renderer {
             self.options.shadow_map_size,
             self.ground,
         );
+        let globals = Globals {
+            glow: glow_params(self.scene.description(), brightness, braking),
+            ..globals
+        };
         self.main
             .write_uniforms(&self.gpu.queue, &globals, &placed.world_from_object);
     }
@@ -135,6 +146,7 @@ impl Globals {
                 description,
                 (description.sky_light(sun_light) * brightness).clamp(0.0, 1.0),
             ),
+            glow: [[0.0; 4]; GLOW_VEC4S],
         }
     }
 
@@ -232,6 +244,32 @@ fn lamp_params(
             (1.0 / Headlamps::CUT_OFF_RAMP_DEG.to_radians()) as f32,
         ],
     ]
+}
+
+/// The tail lamps' radiance in [`Globals`], per object slot (slot `s` at `[s / 4][s % 4]`):
+/// a lit lamp's lens's [`TailLamps::radiance`] (its brake lamp's too for a vehicle of
+/// `braking`) times the sensor's `brightness`, over the lens's albedo (the shader adds it
+/// to the light the lens's albedo multiplies). Zeros for slots without lamps, and all zeros
+/// in a scene without them, whose pipelines never read them.
+fn glow_params(
+    description: &SceneDescription,
+    brightness: f64,
+    braking: Braking,
+) -> [[f32; 4]; GLOW_VEC4S] {
+    let mut glow = [[0.0; 4]; GLOW_VEC4S];
+    let mut set = |slot: u32, braking: bool| {
+        let value = TailLamps::radiance(braking) * brightness / TailLamps::LENS_ALBEDO;
+        glow[slot as usize / 4][slot as usize % 4] = value as f32;
+    };
+    if description.lead.tail_lamps {
+        set(ObjectSlot::LEAD, braking.lead());
+    }
+    for (k, actor) in description.actors.iter().enumerate() {
+        if actor.tail_lamps {
+            set(ObjectSlot::FIRST_ACTOR + k as u32, braking.actor(k));
+        }
+    }
+    glow
 }
 
 /// The grass's parameters in [`Globals`]: lattice frequency, albedo range, hash key (the
