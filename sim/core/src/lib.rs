@@ -23,6 +23,7 @@ mod closed_loop;
 mod delayed;
 mod driven_path;
 mod frame_parts;
+pub mod openscenario;
 mod plan;
 mod plugin;
 mod record;

@@ -185,6 +185,7 @@ pub(super) fn validate(
         name: raw.name,
         description: raw.description,
         path: None,
+        import_warnings: Vec::new(),
         duration_s: raw.duration_s,
         seed: raw.seed,
         route,
