@@ -1,18 +1,19 @@
-//! Compiles the shipped scenario library (`scenarios/*.toml` and `scenarios/targets/*.toml`)
+//! Compiles the shipped scenario library (`scenarios/*.toml`, `scenarios/targets/*.toml`
+//! and the OpenDRIVE roads `scenarios/roads/*.xodr`)
 //! into the library, so that a scenario can be named (`nist-grounds`, `weave`) from any
 //! folder, and from the Python package, wherever it is installed.
 
 use std::fmt::Write as _;
 use std::path::Path;
 
-/// `(name, absolute path)` of the `.toml` files in `dir`, sorted by name.
-fn tomls(dir: &Path) -> Vec<(String, String)> {
+/// `(name, absolute path)` of the files in `dir` ending `.{extension}`, sorted by name.
+fn files(dir: &Path, extension: &str) -> Vec<(String, String)> {
     let mut found: Vec<(String, String)> = std::fs::read_dir(dir)
         .map(|entries| {
             entries
                 .filter_map(Result::ok)
                 .map(|e| e.path())
-                .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+                .filter(|p| p.extension().is_some_and(|x| x == extension))
                 .filter_map(|p| {
                     let name = p.file_stem()?.to_str()?.to_string();
                     let path = p.canonicalize().ok()?.to_str()?.to_string();
@@ -28,12 +29,18 @@ fn tomls(dir: &Path) -> Vec<(String, String)> {
 fn main() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios");
     let targets = root.join("targets");
+    let roads = root.join("roads");
     println!("cargo:rerun-if-changed={}", root.display());
     println!("cargo:rerun-if-changed={}", targets.display());
+    println!("cargo:rerun-if-changed={}", roads.display());
     let mut out = String::new();
-    for (list, dir) in [("SCENARIOS", &root), ("TARGETS", &targets)] {
+    for (list, dir, extension) in [
+        ("SCENARIOS", &root, "toml"),
+        ("TARGETS", &targets, "toml"),
+        ("ROADS", &roads, "xodr"),
+    ] {
         let _ = writeln!(out, "pub(crate) const {list}: &[(&str, &str)] = &[");
-        for (name, path) in tomls(dir) {
+        for (name, path) in files(dir, extension) {
             println!("cargo:rerun-if-changed={path}");
             let _ = writeln!(out, "    ({name:?}, include_str!({path:?})),");
         }

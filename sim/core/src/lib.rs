@@ -23,6 +23,7 @@ mod closed_loop;
 mod delayed;
 mod driven_path;
 mod frame_parts;
+pub mod opendrive;
 pub mod openscenario;
 mod plan;
 mod plugin;

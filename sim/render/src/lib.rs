@@ -34,7 +34,7 @@ pub use scene::{
     distractor_near_side, lead_from_target_of, stream, twilight_factor, vehicle_back_model,
     ActorBody, AutoGain, Beam, CameraMount, ChaseVehicle, Chunk, ChunkPart, Densities, Distractor,
     DistractorKind, DynamicObject, Fog, Headlamps, Layer, LeadVehicle, Material, Mesh, MeshPiece,
-    Motion, ObjectSlot, Placement, RoadSurface, Route, RouteSegment, RouteSpec, Scene,
+    Motion, ObjectSlot, PRange, Placement, RoadSurface, Route, RouteSegment, RouteSpec, Scene,
     SceneDescription, SceneError, Sensor, Sun, Terrain, Textures, VehicleKind, Vertex,
     BACK_MODEL_NOMINAL_RANGE_M, BOARD_ALBEDO, BOARD_MARGIN_M, BUILTIN_GAP_M, BUILTIN_SPEED_M_S,
     FIELD_PERIOD_STEPS, GRASS_ALBEDO, GRASS_ALBEDO_RANGE, GROUND_CELL_M, MAX_BUFFER_BYTES,

@@ -69,16 +69,41 @@ pub struct RouteFile {
     #[serde(default)]
     pub intersections_m: Vec<f64>,
     /// The centreline, in driving order: at least one segment, at most
-    /// 50 000 m in all.
+    /// 50 000 m in all. Give either `segments` or `opendrive`.
+    #[serde(default)]
     pub segments: Vec<SegmentFile>,
+    /// The road of an OpenDRIVE file instead of `segments`:
+    /// `opendrive = { file = "roads/x.xodr", road = "1" }`. Its reference line becomes the
+    /// centreline, its station 0 the route's start at the origin heading +x, and its
+    /// driving lanes `lanes` and `lane_width_m` (so the scenario gives neither). What the
+    /// file holds beyond the subset carfollow drives is refused, naming its line.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub opendrive: Option<OpenDriveFile>,
+}
+
+/// `route.opendrive`: a road of an OpenDRIVE file.
+#[derive(Clone, Debug, Deserialize, Serialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct OpenDriveFile {
+    /// The `.xodr` file, relative to the scenario file's folder (as `tracker.target` is).
+    pub file: String,
+    /// The `id` of the road to follow (default: the file's one road). The file must hold
+    /// that road alone.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub road: Option<String>,
 }
 
 fn default_lane_width() -> f64 {
     3.5
 }
 
-/// One piece of the route: `{ straight_m = L }` or `{ arc_radius_m = R, arc_angle_deg = A }`
-/// (A positive turns left).
+/// One piece of the route: `{ straight_m = L }`, `{ arc_radius_m = R, arc_angle_deg = A }`
+/// (A positive turns left), a clothoid `{ spiral_m = L, curvature_start = K0,
+/// curvature_end = K1 }`, OpenDRIVE's cubic `{ poly3_m = L, poly3 = [a, b, c, d] }` or its
+/// parametric cubic `{ param_poly3_m = L, u = [aU, bU, cU, dU], v = [aV, bV, cV, dV],
+/// p_range = "arc_length" }`. Each piece starts where the one before ends, along its end's
+/// heading; the cubics' u runs along that heading and v to its left. Every curve must be
+/// one the vehicles can drive: curvature at most 1/8 per metre everywhere.
 #[derive(Clone, Debug, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SegmentFile {
@@ -91,6 +116,40 @@ pub struct SegmentFile {
     /// Turn of an arc, degrees (positive left): non-zero, at most 360 either way.
     #[schemars(extend("minimum" = -360.0, "maximum" = 360.0))]
     pub arc_angle_deg: Option<f64>,
+    /// Length of a clothoid (Euler spiral), metres: (0, 50 000].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("exclusiveMinimum" = 0.0, "maximum" = 50000.0))]
+    pub spiral_m: Option<f64>,
+    /// A clothoid's curvature at its start, 1/metres (positive turns left): −0.125–0.125.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("minimum" = -0.125, "maximum" = 0.125))]
+    pub curvature_start: Option<f64>,
+    /// A clothoid's curvature at its end, 1/metres (positive turns left): −0.125–0.125.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("minimum" = -0.125, "maximum" = 0.125))]
+    pub curvature_end: Option<f64>,
+    /// Arc length of a cubic `v(u)` (OpenDRIVE's `poly3`), metres: (0, 50 000].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("exclusiveMinimum" = 0.0, "maximum" = 50000.0))]
+    pub poly3_m: Option<f64>,
+    /// The cubic's `[a, b, c, d]`: `v = a + b·u + c·u² + d·u³`, metres to the left.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub poly3: Option<[f64; 4]>,
+    /// Station length of a parametric cubic (OpenDRIVE's `paramPoly3`), metres:
+    /// (0, 50 000].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("exclusiveMinimum" = 0.0, "maximum" = 50000.0))]
+    pub param_poly3_m: Option<f64>,
+    /// The parametric cubic's `[aU, bU, cU, dU]` (forward).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub u: Option<[f64; 4]>,
+    /// The parametric cubic's `[aV, bV, cV, dV]` (to the left).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub v: Option<[f64; 4]>,
+    /// What the parametric cubic's `p` runs over: `arc_length` (0 to its length, the
+    /// default) or `normalized` (0 to 1).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub p_range: Option<sim_render::PRange>,
 }
 
 /// `[lead]`.

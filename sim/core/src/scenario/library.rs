@@ -23,6 +23,16 @@ fn shipped_target(target: &str) -> Option<&'static str> {
         .map(|(_, text)| *text)
 }
 
+/// The shipped road file a scenario names as `route.opendrive.file` (`roads/NAME.xodr`).
+pub(super) fn shipped_road(file: &str) -> Option<&'static str> {
+    let name = Path::new(file).file_stem()?.to_str()?;
+    let under_roads = Path::new(file).parent() == Some(Path::new("roads"));
+    compiled::ROADS
+        .iter()
+        .find(|(n, _)| under_roads && *n == name)
+        .map(|(_, text)| *text)
+}
+
 impl Scenario {
     /// A shipped scenario by name (`scenarios/NAME.toml`, as compiled in), with `--set`
     /// overrides; `None` when no shipped scenario has that name. Errors name the file as

@@ -7,6 +7,7 @@ mod expect;
 mod file;
 mod library;
 mod overrides;
+mod road_file;
 mod schema;
 mod traffic;
 mod validate;
@@ -86,6 +87,18 @@ pub enum ScenarioError {
         assignment: String,
         /// What is wrong.
         message: String,
+    },
+    /// The road file named by `route.opendrive`.
+    #[error("{path}:{line}:{column}: `route.opendrive`: {source}")]
+    Road {
+        /// The scenario file.
+        path: PathBuf,
+        /// 1-based line of `route.opendrive`.
+        line: usize,
+        /// 1-based column.
+        column: usize,
+        /// The road file's own error, naming its line and element.
+        source: Box<crate::opendrive::OpenDriveError>,
     },
     /// The target file named by `tracker.target`.
     #[error("{path}:{line}:{column}: `tracker.target`: {source}")]
@@ -261,6 +274,14 @@ impl Source {
             field: field.to_string(),
             message,
         }
+    }
+
+    /// Whether the scenario gives `field` (dotted) itself: the file writes it, or a
+    /// `--set` does.
+    pub(crate) fn gives(&self, field: &str) -> bool {
+        let parent = field.rsplit_once('.').map_or("", |(p, _)| p);
+        self.overrides.iter().any(|a| override_names(a, field))
+            || locate(&self.text, field) != locate(&self.text, parent)
     }
 
     /// The first of `fields` (which together decide something found wrong) that an
@@ -743,6 +764,12 @@ impl Scenario {
             overrides: overrides.to_vec(),
         };
         let invalid = |field: &str, message: String| source.invalid(field, message);
+        let load_road = |od: &OpenDriveFile| road_file::load(od, path, text, overrides);
+        let gives = |field: &str| source.gives(field);
+        let roads = validate::RoadSource {
+            load: &load_road,
+            gives: &gives,
+        };
         validate(raw, overrides, source.clone(), &Blame(&invalid), |target| {
             load_target(target).map_err(|source| {
                 // A target given by `--set` is the override's fault, not the file's.
@@ -764,7 +791,7 @@ impl Scenario {
                     source: Box::new(source),
                 }
             })
-        })
+        }, &roads)
     }
 }
 

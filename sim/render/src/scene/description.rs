@@ -533,6 +533,13 @@ impl SceneDescription {
                 })
             }
         };
+        let finite = |field: &str, values: &[f64]| match values.iter().find(|v| !v.is_finite()) {
+            None => Ok(()),
+            Some(value) => Err(SceneError::Invalid {
+                field: field.to_string(),
+                reason: format!("must be finite, got {value}"),
+            }),
+        };
         if self.route.segments.is_empty() {
             return Err(SceneError::Invalid {
                 field: "route.segments".into(),
@@ -550,6 +557,23 @@ impl SceneDescription {
                 } => {
                     positive(&format!("route.segments[{i}].radius_m"), radius_m)?;
                     positive(&format!("route.segments[{i}].|angle_deg|"), angle_deg.abs())?;
+                }
+                RouteSegment::Spiral {
+                    length_m,
+                    curvature_start,
+                    curvature_end,
+                } => {
+                    positive(&format!("route.segments[{i}].length_m"), length_m)?;
+                    finite(&format!("route.segments[{i}].curvature"), &[curvature_start, curvature_end])?;
+                }
+                RouteSegment::Poly3 { length_m, v } => {
+                    positive(&format!("route.segments[{i}].length_m"), length_m)?;
+                    finite(&format!("route.segments[{i}].v"), &v)?;
+                }
+                RouteSegment::ParamPoly3 { length_m, u, v, .. } => {
+                    positive(&format!("route.segments[{i}].length_m"), length_m)?;
+                    finite(&format!("route.segments[{i}].u"), &u)?;
+                    finite(&format!("route.segments[{i}].v"), &v)?;
                 }
             }
         }

@@ -59,6 +59,7 @@ mod rng;
 mod road;
 mod road_marks;
 mod route;
+mod route_curve;
 mod site;
 mod standing;
 mod target_board;
@@ -94,7 +95,7 @@ pub use mesh::{Mesh, MeshPiece, Vertex};
 pub use night::{twilight_factor, Beam, Headlamps, MIN_SUN_ELEVATION_DEG, TWILIGHT_LUX};
 pub use object_slot::ObjectSlot;
 pub use rng::stream;
-pub use route::{Route, RouteSegment, RouteSpec};
+pub use route::{PRange, Route, RouteSegment, RouteSpec};
 pub use target_board::{
     lead_from_target_of, BOARD_ALBEDO, BOARD_MARGIN_M, STRIPE_ALBEDO, STRIPE_OVERRUN_M,
     STRIPE_WIDTH_M,

@@ -1,5 +1,6 @@
-//! The route's centreline: straights and circular arcs laid end to end on the ground, with
-//! crossing roads at intersections.
+//! The route's centreline: straights, circular arcs, clothoids and cubics laid end to end
+//! on the ground, with crossing roads at intersections. Each piece starts where the one
+//! before ends, heading along its end's tangent (the varying pieces are in `route_curve`).
 //!
 //! The route starts at the world origin heading along world +x. Heading ψ is the rotation
 //! about world +y (right-handed), so the direction of travel is `(cos ψ, 0, −sin ψ)` and a
@@ -7,6 +8,8 @@
 //! the vehicle frame's +z.
 
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
+
+use super::route_curve::Curve;
 
 /// One piece of the centreline.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema)]
@@ -23,6 +26,64 @@ pub enum RouteSegment {
         /// Turn angle, degrees; positive is a left turn.
         angle_deg: f64,
     },
+    /// A clothoid (Euler spiral, OpenDRIVE's `spiral`): curvature linear in length, from
+    /// `curvature_start` to `curvature_end` (1/metres, positive turning left).
+    Spiral {
+        /// Length, metres.
+        length_m: f64,
+        /// Curvature at the start, 1/metres (positive turns left).
+        curvature_start: f64,
+        /// Curvature at the end, 1/metres (positive turns left).
+        curvature_end: f64,
+    },
+    /// OpenDRIVE's `poly3`: in the piece's frame (u along the heading it starts with, v to
+    /// the left), `v = a + b·u + c·u² + d·u³`, for `length_m` metres of arc length.
+    Poly3 {
+        /// Arc length, metres.
+        length_m: f64,
+        /// `[a, b, c, d]`: metres, 1, 1/metres, 1/metres².
+        v: [f64; 4],
+    },
+    /// OpenDRIVE's `paramPoly3`: in the piece's frame, `u = aU + bU·p + cU·p² + dU·p³` and
+    /// `v` likewise, `p` running over `p_range` as the station runs over `length_m` metres.
+    ParamPoly3 {
+        /// The station's length, metres.
+        length_m: f64,
+        /// `[aU, bU, cU, dU]`.
+        u: [f64; 4],
+        /// `[aV, bV, cV, dV]`.
+        v: [f64; 4],
+        /// What `p` runs over.
+        p_range: PRange,
+    },
+}
+
+/// What a [`RouteSegment::ParamPoly3`]'s parameter runs over (OpenDRIVE's `pRange`).
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize, schemars::JsonSchema,
+)]
+#[serde(rename_all = "snake_case")]
+pub enum PRange {
+    /// `p` is the station from the piece's start, 0 to its length (`arcLength`).
+    ArcLength,
+    /// `p` runs from 0 to 1 (`normalized`).
+    Normalized,
+}
+
+impl RouteSegment {
+    /// The piece's length along the centreline, metres (a `paramPoly3`'s station length).
+    pub fn length_m(&self) -> f64 {
+        match *self {
+            RouteSegment::Straight { length_m }
+            | RouteSegment::Spiral { length_m, .. }
+            | RouteSegment::Poly3 { length_m, .. }
+            | RouteSegment::ParamPoly3 { length_m, .. } => length_m,
+            RouteSegment::Arc {
+                radius_m,
+                angle_deg,
+            } => radius_m * angle_deg.to_radians().abs(),
+        }
+    }
 }
 
 /// What the scenario says about the route. The route is the road's centre line (its dashed
@@ -75,14 +136,17 @@ impl RouteSpec {
 }
 
 /// One piece with its start state resolved.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 struct Piece {
     start_m: f64,
     length_m: f64,
     x0: f64,
     z0: f64,
     heading0: f64,
+    /// The constant curvature of a straight or arc (0 for a varying piece).
     curvature: f64,
+    /// A piece whose curvature varies.
+    curve: Option<Curve>,
 }
 
 /// The resolved centreline: position and heading at any station.
@@ -100,14 +164,37 @@ impl Route {
         let mut pieces = Vec::with_capacity(spec.segments.len());
         let (mut s, mut x, mut z, mut heading) = (0.0, 0.0, 0.0, 0.0);
         for segment in &spec.segments {
-            let (length_m, curvature) = match *segment {
-                RouteSegment::Straight { length_m } => (length_m, 0.0),
+            let (length_m, curvature, curve) = match *segment {
+                RouteSegment::Straight { length_m } => (length_m, 0.0, None),
                 RouteSegment::Arc {
                     radius_m,
                     angle_deg,
                 } => (
                     radius_m * angle_deg.to_radians().abs(),
                     angle_deg.signum() / radius_m,
+                    None,
+                ),
+                RouteSegment::Spiral {
+                    length_m,
+                    curvature_start,
+                    curvature_end,
+                } => (
+                    length_m,
+                    0.0,
+                    Some(Curve::spiral(length_m, curvature_start, curvature_end)),
+                ),
+                RouteSegment::Poly3 { length_m, v } => {
+                    (length_m, 0.0, Some(Curve::poly3(length_m, v)))
+                }
+                RouteSegment::ParamPoly3 {
+                    length_m,
+                    u,
+                    v,
+                    p_range,
+                } => (
+                    length_m,
+                    0.0,
+                    Some(Curve::param_poly3(length_m, u, v, p_range)),
                 ),
             };
             let piece = Piece {
@@ -117,6 +204,7 @@ impl Route {
                 z0: z,
                 heading0: heading,
                 curvature,
+                curve,
             };
             [x, z, heading] = piece.at(length_m);
             s += length_m;
@@ -189,7 +277,10 @@ impl Route {
             .pieces
             .partition_point(|p| p.start_m <= s_m)
             .saturating_sub(1);
-        self.pieces.get(index).map_or(0.0, |p| p.curvature)
+        self.pieces.get(index).map_or(0.0, |p| match &p.curve {
+            None => p.curvature,
+            Some(curve) => curve.at((s_m - p.start_m).min(p.length_m))[3],
+        })
     }
 
     /// Whether a curve point is within `margin_m` of an intersection's station.
@@ -205,6 +296,16 @@ impl Piece {
     /// `[x, z, heading]` at `local` metres into the piece (closed form for arcs).
     fn at(&self, local: f64) -> [f64; 3] {
         let h0 = self.heading0;
+        if let Some(curve) = &self.curve {
+            // The local frame: u along the start's heading, v to its left.
+            let [u, v, theta, _] = curve.at(local);
+            let (sin, cos) = h0.sin_cos();
+            return [
+                self.x0 + u * cos - v * sin,
+                self.z0 - u * sin - v * cos,
+                h0 + theta,
+            ];
+        }
         if self.curvature == 0.0 {
             return [self.x0 + local * h0.cos(), self.z0 - local * h0.sin(), h0];
         }

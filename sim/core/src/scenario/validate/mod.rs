@@ -16,6 +16,7 @@ mod tracking;
 
 pub use actors::MAX_ACTORS;
 pub(crate) use route::length_m as route_length_m;
+pub(crate) use route::{segment_problem, RoadSource};
 
 use super::{Scenario, ScenarioError, ScenarioFile, ScenarioSpec};
 use tracker::TargetModel;
@@ -120,13 +121,14 @@ fn check(ok: bool, allowed: &str, value: impl std::fmt::Display) -> Result<(), S
 }
 
 /// Checks every field of `raw` (given with `overrides` applied) and builds the scenario;
-/// `f` places an error, `load_target` reads `tracker.target`.
+/// `f` places an error, `load_target` reads `tracker.target`, `roads` `route.opendrive`.
 pub(super) fn validate(
     raw: ScenarioFile,
     overrides: &[String],
     source: super::Source,
     f: &Blame,
     load_target: impl Fn(&str) -> Result<TargetModel, ScenarioError>,
+    roads: &RoadSource,
 ) -> Result<Scenario, ScenarioError> {
     f.at(
         "name",
@@ -152,7 +154,7 @@ pub(super) fn validate(
         ),
     )?;
 
-    let (route, length) = route::route(&raw.route, f)?;
+    let (route, length) = route::route(&raw.route, f, roads)?;
     let (lead_profile, lead_initial_speed_mps) = lead::lead(&raw.lead, length, f)?;
     let (chase, camera, initial_gap_m) = chase::chase_and_camera(&raw, f)?;
     let (tracker, init_offset, target, search_start) = tracking::tracker(&raw, f, load_target)?;

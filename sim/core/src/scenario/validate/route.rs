@@ -1,11 +1,84 @@
-//! `[route]`: the segments, the lane and the intersections.
+//! `[route]`: the segments (or an OpenDRIVE road), the lane and the intersections.
 
 use super::{check, Blame, MAX_ARC_RADIUS_M, MAX_ROUTE_M, MIN_ARC_RADIUS_M};
-use crate::scenario::{RouteFile, ScenarioError};
-use sim_render::{RouteSegment, RouteSpec};
+use crate::opendrive::ImportedRoad;
+use crate::scenario::{OpenDriveFile, RouteFile, ScenarioError, SegmentFile};
+use sim_render::{PRange, Route, RouteSegment, RouteSpec};
+
+/// Spacing of the stations a varying piece's curvature is checked at, metres: the drivers'
+/// polyline samples the route every metre.
+const CURVATURE_CHECK_M: f64 = 0.25;
+
+/// What reads `route.opendrive`'s road, and whether the file (or a `--set`) gives a field.
+pub(crate) struct RoadSource<'a> {
+    /// Reads and imports the road file.
+    pub(crate) load: &'a dyn Fn(&OpenDriveFile) -> Result<ImportedRoad, ScenarioError>,
+    /// Whether the scenario gives the dotted field itself.
+    pub(crate) gives: &'a dyn Fn(&str) -> bool,
+}
 
 /// The route, and its length in metres.
-pub(super) fn route(r: &RouteFile, f: &Blame) -> Result<(RouteSpec, f64), ScenarioError> {
+pub(super) fn route(
+    r: &RouteFile,
+    f: &Blame,
+    roads: &RoadSource,
+) -> Result<(RouteSpec, f64), ScenarioError> {
+    let route = match &r.opendrive {
+        Some(od) => {
+            if !r.segments.is_empty() {
+                return Err(f.invalid(
+                    "route.segments",
+                    "cannot be given with `route.opendrive`: give one or the other".into(),
+                ));
+            }
+            for field in ["route.lanes", "route.lane_width_m"] {
+                if (roads.gives)(field) {
+                    return Err(f.invalid(
+                        field,
+                        "cannot be given with `route.opendrive`: the road file's lanes give it"
+                            .into(),
+                    ));
+                }
+            }
+            let road = (roads.load)(od)?;
+            RouteSpec {
+                segments: road.segments,
+                intersections_m: r.intersections_m.clone(),
+                lane_width_m: road.lane_width_m,
+                lanes: road.lanes,
+            }
+        }
+        None => RouteSpec {
+            segments: segments(r, f)?,
+            intersections_m: r.intersections_m.clone(),
+            lane_width_m: r.lane_width_m,
+            lanes: r.lanes,
+        },
+    };
+    let length = length_m(&route);
+    f.at(
+        "route.segments",
+        check(
+            length <= MAX_ROUTE_M,
+            &format!("the route must be at most {MAX_ROUTE_M} m long"),
+            format!("{length:.0} m in all"),
+        ),
+    )?;
+    for &x in &route.intersections_m {
+        f.at(
+            "route.intersections_m",
+            check(
+                x.is_finite() && x >= 0.0 && x <= length,
+                &format!("stations must lie on the route, 0–{length:.0} m"),
+                x,
+            ),
+        )?;
+    }
+    Ok((route, length))
+}
+
+/// `route.segments`, each checked.
+fn segments(r: &RouteFile, f: &Blame) -> Result<Vec<RouteSegment>, ScenarioError> {
     let finite_pos = |v: f64| v.is_finite() && v > 0.0;
     f.at(
         "route.lane_width_m",
@@ -22,6 +95,14 @@ pub(super) fn route(r: &RouteFile, f: &Blame) -> Result<(RouteSpec, f64), Scenar
     let mut segments = Vec::new();
     for (i, s) in r.segments.iter().enumerate() {
         let field = "route.segments";
+        if let Some(seg) = varying(s) {
+            let seg = seg.map_err(|m| f.invalid(field, format!("segment {i}: {m}")))?;
+            if let Some(problem) = segment_problem(&seg) {
+                return Err(f.invalid(field, format!("segment {i}: {problem}")));
+            }
+            segments.push(seg);
+            continue;
+        }
         let seg = match (s.straight_m, s.arc_radius_m, s.arc_angle_deg) {
             (Some(length_m), None, None) => {
                 f.at(
@@ -60,50 +141,115 @@ pub(super) fn route(r: &RouteFile, f: &Blame) -> Result<(RouteSpec, f64), Scenar
                 }
             }
             _ => {
-                return Err(f.invalid(field, format!("segment {i}: give either `straight_m`, or both `arc_radius_m` and `arc_angle_deg`")));
+                return Err(f.invalid(field, format!("segment {i}: {ONE_KIND}")));
             }
         };
         segments.push(seg);
     }
-    let route = RouteSpec {
-        segments,
-        intersections_m: r.intersections_m.clone(),
-        lane_width_m: r.lane_width_m,
-        lanes: r.lanes,
-    };
-    let length = length_m(&route);
-    f.at(
-        "route.segments",
-        check(
-            length <= MAX_ROUTE_M,
-            &format!("the route must be at most {MAX_ROUTE_M} m long"),
-            format!("{length:.0} m in all"),
-        ),
-    )?;
-    for &x in &route.intersections_m {
-        f.at(
-            "route.intersections_m",
-            check(
-                x.is_finite() && x >= 0.0 && x <= length,
-                &format!("stations must lie on the route, 0–{length:.0} m"),
-                x,
-            ),
-        )?;
+    Ok(segments)
+}
+
+/// What a segment must give.
+const ONE_KIND: &str = "give one kind: `straight_m`; `arc_radius_m` and `arc_angle_deg`; \
+    `spiral_m`, `curvature_start` and `curvature_end`; `poly3_m` and `poly3`; or \
+    `param_poly3_m`, `u` and `v` (and `p_range`)";
+
+/// A clothoid or cubic segment, when `s` gives one (`Err` when it mixes kinds).
+fn varying(s: &SegmentFile) -> Option<Result<RouteSegment, String>> {
+    let spiral = [s.spiral_m, s.curvature_start, s.curvature_end];
+    let constant = s.straight_m.is_some() || s.arc_radius_m.is_some() || s.arc_angle_deg.is_some();
+    let kinds = [
+        spiral.iter().any(Option::is_some),
+        s.poly3_m.is_some() || s.poly3.is_some(),
+        s.param_poly3_m.is_some() || s.u.is_some() || s.v.is_some() || s.p_range.is_some(),
+    ];
+    let given = kinds.iter().filter(|&&k| k).count();
+    if given == 0 {
+        return None;
     }
-    Ok((route, length))
+    if given > 1 || constant {
+        return Some(Err(ONE_KIND.into()));
+    }
+    Some(match (spiral, (s.poly3_m, s.poly3), (s.param_poly3_m, s.u, s.v)) {
+        ([Some(length_m), Some(curvature_start), Some(curvature_end)], _, _) => {
+            Ok(RouteSegment::Spiral {
+                length_m,
+                curvature_start,
+                curvature_end,
+            })
+        }
+        (_, (Some(length_m), Some(v)), _) => Ok(RouteSegment::Poly3 { length_m, v }),
+        (_, _, (Some(length_m), Some(u), Some(v))) => Ok(RouteSegment::ParamPoly3 {
+            length_m,
+            u,
+            v,
+            p_range: s.p_range.unwrap_or(PRange::ArcLength),
+        }),
+        _ => Err(ONE_KIND.into()),
+    })
+}
+
+/// What is wrong with a segment the vehicles cannot drive, if anything: its numbers
+/// finite, its length (0, [`MAX_ROUTE_M`]], an arc's radius within the scenario's bounds,
+/// and a varying piece's curvature at most 1/[`MIN_ARC_RADIUS_M`] at every
+/// [`CURVATURE_CHECK_M`] (the vehicles' turning circles). The OpenDRIVE importer asks the
+/// same of every geometry.
+pub(crate) fn segment_problem(seg: &RouteSegment) -> Option<String> {
+    let numbers: Vec<f64> = match *seg {
+        RouteSegment::Straight { length_m } => vec![length_m],
+        RouteSegment::Arc {
+            radius_m,
+            angle_deg,
+        } => vec![radius_m, angle_deg],
+        RouteSegment::Spiral {
+            length_m,
+            curvature_start,
+            curvature_end,
+        } => vec![length_m, curvature_start, curvature_end],
+        RouteSegment::Poly3 { length_m, v } => [&[length_m][..], &v].concat(),
+        RouteSegment::ParamPoly3 { length_m, u, v, .. } => [&[length_m][..], &u, &v].concat(),
+    };
+    if numbers.iter().any(|v| !v.is_finite()) {
+        return Some("its numbers must be finite".into());
+    }
+    let length = seg.length_m();
+    if !(length > 0.0 && length <= MAX_ROUTE_M) {
+        return Some(format!("its length {length} m must be > 0 and at most {MAX_ROUTE_M} m"));
+    }
+    let max_curvature = 1.0 / MIN_ARC_RADIUS_M;
+    match *seg {
+        RouteSegment::Straight { .. } => None,
+        RouteSegment::Arc { radius_m, .. } => (!(MIN_ARC_RADIUS_M..=MAX_ARC_RADIUS_M)
+            .contains(&radius_m))
+        .then(|| format!("its radius {radius_m} m must be {MIN_ARC_RADIUS_M}–{MAX_ARC_RADIUS_M} m")),
+        _ => {
+            let route = Route::new(RouteSpec {
+                segments: vec![seg.clone()],
+                intersections_m: vec![],
+                lane_width_m: 3.5,
+                lanes: 1,
+            });
+            let n = (length / CURVATURE_CHECK_M).ceil() as usize;
+            (0..=n)
+                .map(|k| (k as f64 * CURVATURE_CHECK_M).min(length))
+                .find_map(|s| {
+                    let kappa = route.curvature_at(s);
+                    let [x, z, h] = route.at(s);
+                    let bad = !(kappa.abs() <= max_curvature)
+                        || !(x.is_finite() && z.is_finite() && h.is_finite());
+                    bad.then(|| {
+                        format!(
+                            "its curvature at {s:.2} m into it is {kappa:.4} per metre: at most \
+                             {max_curvature} (a radius of {MIN_ARC_RADIUS_M} m, the vehicles' \
+                             turning circles)"
+                        )
+                    })
+                })
+        }
+    }
 }
 
 /// The length of a route's centreline, metres.
 pub(crate) fn length_m(route: &RouteSpec) -> f64 {
-    route
-        .segments
-        .iter()
-        .map(|s| match s {
-            RouteSegment::Straight { length_m } => *length_m,
-            RouteSegment::Arc {
-                radius_m,
-                angle_deg,
-            } => radius_m * angle_deg.abs().to_radians(),
-        })
-        .sum()
+    route.segments.iter().map(RouteSegment::length_m).sum()
 }

@@ -1,0 +1,171 @@
+//! One road of a file as carfollow's route: its reference line's geometries as route
+//! segments, laid from carfollow's origin heading +x (the road's station 0 is the route's
+//! start), and its lanes. Whatever the subset cannot follow is refused here.
+
+use super::geometry::{geometry_end, segment};
+use super::model::{OpenDrive, Poly3Record, Road};
+use super::OpenDriveError;
+use sim_render::RouteSegment;
+
+/// How far a geometry's start may lie from where the one before ends, metres: a millimetre,
+/// far above the rounding of files written with 16 digits, far below anything visible.
+pub const JOIN_POSITION_M: f64 = 1e-3;
+/// How far a geometry's start heading may turn from the one before's end, radians: 0.1
+/// mrad, 1 mm of sideways drift over 10 m of the next piece.
+pub const JOIN_HEADING_RAD: f64 = 1e-4;
+/// How far the stations may disagree with the lengths, metres (`s` of each geometry
+/// against the sum of the lengths before it, and the road's `length`).
+const STATION_M: f64 = 1e-3;
+
+/// A road as carfollow drives it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ImportedRoad {
+    /// The road's `id`.
+    pub id: String,
+    /// The reference line, in carfollow's segments.
+    pub segments: Vec<RouteSegment>,
+    /// Driving lanes each way.
+    pub lanes: u32,
+    /// Their width, metres.
+    pub lane_width_m: f64,
+}
+
+/// The road `road_id` of `file` (the file's one road when `None`), as carfollow's route;
+/// `check_segment` says what is wrong with a segment carfollow cannot drive (too tight a
+/// curve), if anything.
+pub fn import(
+    file: &OpenDrive,
+    road_id: Option<&str>,
+    check_segment: impl Fn(&RouteSegment) -> Option<String>,
+) -> Result<ImportedRoad, OpenDriveError> {
+    let path = &file.path;
+    let road = match road_id {
+        Some(id) => file.roads.iter().find(|r| r.id == id).ok_or_else(|| {
+            OpenDriveError::Refused {
+                path: path.clone(),
+                line: 1,
+                element: "<OpenDRIVE>".into(),
+                reason: format!("no road with id {id:?}"),
+            }
+        })?,
+        None => file.roads.first().ok_or_else(|| OpenDriveError::Refused {
+            path: path.clone(),
+            line: 1,
+            element: "<OpenDRIVE>".into(),
+            reason: "the file holds no road".into(),
+        })?,
+    };
+    if let Some(other) = file.roads.iter().find(|r| r.id != road.id) {
+        return Err(other.at.refuse(
+            path,
+            "a second road is refused: carfollow's route follows one road, and draws no other",
+        ));
+    }
+    refuse_what_the_road_cannot_be(road, path)?;
+    let segments = segments(road, path, check_segment)?;
+    let (lanes, lane_width_m) = super::lanes::lanes(road, path)?;
+    Ok(ImportedRoad {
+        id: road.id.clone(),
+        segments,
+        lanes,
+        lane_width_m,
+    })
+}
+
+/// Refuses junctions, links to other roads, left-hand traffic, a lane offset, a ground
+/// that is not flat.
+fn refuse_what_the_road_cannot_be(road: &Road, path: &std::path::Path) -> Result<(), OpenDriveError> {
+    if road.junction != "-1" {
+        return Err(road.at.refuse(path, "a road inside a junction is refused"));
+    }
+    if road.rule != "RHT" {
+        return Err(road.at.refuse(path, "left-hand traffic is refused: carfollow drives on the right"));
+    }
+    for link in &road.links {
+        // A road that links to itself is a loop: the route drives it once.
+        if !(link.element_type == "road" && link.element_id == road.id) {
+            return Err(link.at.refuse(
+                path,
+                "a link to another road or a junction is refused: carfollow's route follows one road",
+            ));
+        }
+    }
+    let zero = |r: &Poly3Record| r.coefficients.iter().all(|&c| c == 0.0);
+    if let Some(r) = road.lane_offsets.iter().find(|r| !zero(r)) {
+        return Err(r.at.refuse(path, "a lane offset is refused: carfollow's lanes lie beside the reference line"));
+    }
+    // A constant height is flat ground; anything else is not.
+    let level = road.elevations.first().map_or(0.0, |r| r.coefficients[0]);
+    if let Some(r) = road.elevations.iter().find(|r| {
+        let [a, b, c, d] = r.coefficients;
+        a != level || b != 0.0 || c != 0.0 || d != 0.0
+    }) {
+        return Err(r.at.refuse(path, "an elevation that changes is refused: carfollow's ground is flat"));
+    }
+    if let Some(r) = road.superelevations.iter().find(|r| !zero(r)) {
+        return Err(r.at.refuse(path, "superelevation is refused: carfollow's road is flat across"));
+    }
+    Ok(())
+}
+
+/// The reference line as segments, each geometry checked against the one before.
+fn segments(
+    road: &Road,
+    path: &std::path::Path,
+    check_segment: impl Fn(&RouteSegment) -> Option<String>,
+) -> Result<Vec<RouteSegment>, OpenDriveError> {
+    if road.geometries.is_empty() {
+        return Err(road.at.refuse(path, "the road has no geometry"));
+    }
+    let mut out = Vec::with_capacity(road.geometries.len());
+    let mut station = 0.0;
+    let mut end: Option<[f64; 3]> = None;
+    for g in &road.geometries {
+        if !(g.length > 0.0) {
+            return Err(g.at.refuse(path, format!("its geometry's length {} must be positive", g.length)));
+        }
+        if (g.s - station).abs() > STATION_M {
+            return Err(g.at.refuse(
+                path,
+                format!("its geometry starts at s = {} where the lengths before end at {station}", g.s),
+            ));
+        }
+        if let Some([x, y, hdg]) = end {
+            let gap = (g.x - x).hypot(g.y - y);
+            let turn = angle_between(g.hdg, hdg);
+            if gap > JOIN_POSITION_M || turn > JOIN_HEADING_RAD {
+                return Err(g.at.refuse(
+                    path,
+                    format!(
+                        "its geometry starts {gap:.3e} m and {turn:.3e} rad from where the one \
+                         before ends: at most {JOIN_POSITION_M} m and {JOIN_HEADING_RAD} rad"
+                    ),
+                ));
+            }
+        }
+        let seg = segment(g);
+        if let Some(problem) = check_segment(&seg) {
+            return Err(g.at.refuse(path, problem));
+        }
+        let e = geometry_end(g);
+        if !e.iter().all(|v| v.is_finite()) {
+            return Err(g.at.refuse(path, "the geometry does not end anywhere finite"));
+        }
+        end = Some(e);
+        station += g.length;
+        out.push(seg);
+    }
+    if (road.length - station).abs() > STATION_M {
+        return Err(road.at.refuse(
+            path,
+            format!("its length {} differs from its geometries' {station}", road.length),
+        ));
+    }
+    Ok(out)
+}
+
+/// The angle between two headings, radians, 0–π.
+fn angle_between(a: f64, b: f64) -> f64 {
+    let d = (a - b).rem_euclid(std::f64::consts::TAU);
+    d.min(std::f64::consts::TAU - d)
+}
