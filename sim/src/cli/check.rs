@@ -1,6 +1,7 @@
 //! `carfollow check`: validate scenario files without running them.
 
 use clap::Args;
+use sim_core::openscenario::OscError;
 use sim_core::{Plan, Scenario, ScenarioError};
 use std::path::PathBuf;
 
@@ -45,7 +46,15 @@ pub fn run_check(args: CheckArgs) -> anyhow::Result<()> {
             Ok(plan) => ok(&path.display().to_string(), plan.scenario()),
             // A `--set` that cannot apply is the command's error, not the file's: said once
             // (by `main`), with no count of invalid files.
-            Err(e) if matches!(e.downcast_ref(), Some(ScenarioError::Override { .. })) => {
+            Err(e)
+                if matches!(
+                    e.downcast_ref(),
+                    Some(
+                        ScenarioError::Override { .. }
+                            | ScenarioError::OpenScenario(OscError::Param { .. })
+                    )
+                ) =>
+            {
                 return Err(e)
             }
             Err(e) => {

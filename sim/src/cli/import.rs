@@ -98,13 +98,14 @@ pub fn run_import(args: ImportArgs) -> anyhow::Result<()> {
     options.duration_s = args.duration;
     let imported = import(&args.file, &options)?;
     // What `check` would say of the written file, before it is written.
-    let scenario = Scenario::from_text(&imported.text, &args.out, &out_dir, &[]).map_err(|e| match e {
-        ScenarioError::Invalid { field, message, .. } => ScenarioError::Imported {
-            path: args.file.clone(),
-            message: format!("`{field}` {message}"),
-        },
-        other => other,
-    })?;
+    let scenario =
+        Scenario::from_text(&imported.text, &args.out, &out_dir, &[]).map_err(|e| match e {
+            ScenarioError::Invalid { field, message, .. } => ScenarioError::Imported {
+                path: args.file.clone(),
+                message: format!("`{field}` {message}"),
+            },
+            other => other,
+        })?;
     Plan::new(&scenario)?;
     for warning in &imported.warnings {
         eprintln!("warning: {}: {warning}", args.file.display());

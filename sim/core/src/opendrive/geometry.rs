@@ -53,5 +53,9 @@ pub fn geometry_end(g: &Geometry) -> [f64; 3] {
     let [u, z, theta] = route.at(route.length_m());
     let v = -z;
     let (sin, cos) = g.hdg.sin_cos();
-    [g.x + u * cos - v * sin, g.y + u * sin + v * cos, g.hdg + theta]
+    [
+        g.x + u * cos - v * sin,
+        g.y + u * sin + v * cos,
+        g.hdg + theta,
+    ]
 }

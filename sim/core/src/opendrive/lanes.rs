@@ -38,7 +38,10 @@ fn section(s: &LaneSection, path: &Path) -> Result<(u32, f64), OpenDriveError> {
         return Err(s.at.refuse(path, "single-sided lane sections are refused"));
     }
     let Some(right) = side(&s.right, -1, path)? else {
-        return Err(s.at.refuse(path, "no driving lane −1 on the right: carfollow drives on the right"));
+        return Err(s.at.refuse(
+            path,
+            "no driving lane −1 on the right: carfollow drives on the right",
+        ));
     };
     let Some(left) = side(&s.left, 1, path)? else {
         return Err(s.at.refuse(
@@ -71,7 +74,10 @@ fn side(lanes: &[Lane], sign: i32, path: &Path) -> Result<Option<(u32, f64)>, Op
         if lane.id != sign * (k as i32 + 1) {
             return Err(lane.at.refuse(
                 path,
-                format!("expected lane id {} here: ids count out from the centre", sign * (k as i32 + 1)),
+                format!(
+                    "expected lane id {} here: ids count out from the centre",
+                    sign * (k as i32 + 1)
+                ),
             ));
         }
         if lane.kind != "driving" {
@@ -100,7 +106,10 @@ fn side(lanes: &[Lane], sign: i32, path: &Path) -> Result<Option<(u32, f64)>, Op
     if count > RouteSpec::MAX_LANES {
         return Err(sorted[0].at.refuse(
             path,
-            format!("{count} driving lanes on one side: at most {}", RouteSpec::MAX_LANES),
+            format!(
+                "{count} driving lanes on one side: at most {}",
+                RouteSpec::MAX_LANES
+            ),
         ));
     }
     Ok(width.map(|w| (count, w)))
@@ -125,7 +134,10 @@ fn constant_width(lane: &Lane, path: &Path) -> Result<f64, OpenDriveError> {
     if !(LANE_WIDTH_M[0]..=LANE_WIDTH_M[1]).contains(&w) {
         return Err(first.at.refuse(
             path,
-            format!("a width of {w} m: carfollow's lanes are {}–{} m wide", LANE_WIDTH_M[0], LANE_WIDTH_M[1]),
+            format!(
+                "a width of {w} m: carfollow's lanes are {}–{} m wide",
+                LANE_WIDTH_M[0], LANE_WIDTH_M[1]
+            ),
         ));
     }
     Ok(w)

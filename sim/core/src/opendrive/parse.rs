@@ -145,7 +145,11 @@ impl<'a, 'input> Reader<'a, 'input> {
         let mut road = Road {
             id: node.attribute("id").unwrap_or_default().to_string(),
             length: self.number(node, "length")?,
-            junction: node.attribute("junction").unwrap_or("-1").trim().to_string(),
+            junction: node
+                .attribute("junction")
+                .unwrap_or("-1")
+                .trim()
+                .to_string(),
             rule: node.attribute("rule").unwrap_or("RHT").to_string(),
             links: Vec::new(),
             geometries: Vec::new(),
@@ -200,7 +204,9 @@ impl<'a, 'input> Reader<'a, 'input> {
                     at: self.place(l),
                 }),
                 "userData" => {}
-                _ => return Err(self.refuse(l, "neighbours are refused: carfollow follows one road")),
+                _ => {
+                    return Err(self.refuse(l, "neighbours are refused: carfollow follows one road"))
+                }
             }
         }
         Ok(links)
@@ -210,7 +216,10 @@ impl<'a, 'input> Reader<'a, 'input> {
     fn geometry(&self, node: Node) -> Result<Geometry, OpenDriveError> {
         let mut shapes = self.elements(node).filter(|e| !is_not_drawn(e));
         let Some(shape) = shapes.next() else {
-            return Err(self.refuse(node, "a geometry needs one of line, arc, spiral, poly3, paramPoly3"));
+            return Err(self.refuse(
+                node,
+                "a geometry needs one of line, arc, spiral, poly3, paramPoly3",
+            ));
         };
         if let Some(extra) = shapes.next() {
             return Err(self.refuse(extra, "a geometry holds one shape"));
@@ -229,9 +238,7 @@ impl<'a, 'input> Reader<'a, 'input> {
                 normalized: match shape.attribute("pRange").unwrap_or("arcLength") {
                     "arcLength" => false,
                     "normalized" => true,
-                    _ => {
-                        return Err(self.refuse(shape, "`pRange` must be arcLength or normalized"))
-                    }
+                    _ => return Err(self.refuse(shape, "`pRange` must be arcLength or normalized")),
                 },
             },
             _ => return Err(self.refuse(shape, "not a geometry carfollow reads")),

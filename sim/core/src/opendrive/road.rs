@@ -40,14 +40,17 @@ pub fn import(
 ) -> Result<ImportedRoad, OpenDriveError> {
     let path = &file.path;
     let road = match road_id {
-        Some(id) => file.roads.iter().find(|r| r.id == id).ok_or_else(|| {
-            OpenDriveError::Refused {
-                path: path.clone(),
-                line: 1,
-                element: "<OpenDRIVE>".into(),
-                reason: format!("no road with id {id:?}"),
-            }
-        })?,
+        Some(id) => {
+            file.roads
+                .iter()
+                .find(|r| r.id == id)
+                .ok_or_else(|| OpenDriveError::Refused {
+                    path: path.clone(),
+                    line: 1,
+                    element: "<OpenDRIVE>".into(),
+                    reason: format!("no road with id {id:?}"),
+                })?
+        }
         None => file.roads.first().ok_or_else(|| OpenDriveError::Refused {
             path: path.clone(),
             line: 1,
@@ -74,12 +77,18 @@ pub fn import(
 
 /// Refuses junctions, links to other roads, left-hand traffic, a lane offset, a ground
 /// that is not flat.
-fn refuse_what_the_road_cannot_be(road: &Road, path: &std::path::Path) -> Result<(), OpenDriveError> {
+fn refuse_what_the_road_cannot_be(
+    road: &Road,
+    path: &std::path::Path,
+) -> Result<(), OpenDriveError> {
     if road.junction != "-1" {
         return Err(road.at.refuse(path, "a road inside a junction is refused"));
     }
     if road.rule != "RHT" {
-        return Err(road.at.refuse(path, "left-hand traffic is refused: carfollow drives on the right"));
+        return Err(road.at.refuse(
+            path,
+            "left-hand traffic is refused: carfollow drives on the right",
+        ));
     }
     for link in &road.links {
         // A road that links to itself is a loop: the route drives it once.
@@ -92,7 +101,10 @@ fn refuse_what_the_road_cannot_be(road: &Road, path: &std::path::Path) -> Result
     }
     let zero = |r: &Poly3Record| r.coefficients.iter().all(|&c| c == 0.0);
     if let Some(r) = road.lane_offsets.iter().find(|r| !zero(r)) {
-        return Err(r.at.refuse(path, "a lane offset is refused: carfollow's lanes lie beside the reference line"));
+        return Err(r.at.refuse(
+            path,
+            "a lane offset is refused: carfollow's lanes lie beside the reference line",
+        ));
     }
     // A constant height is flat ground; anything else is not.
     let level = road.elevations.first().map_or(0.0, |r| r.coefficients[0]);
@@ -100,10 +112,16 @@ fn refuse_what_the_road_cannot_be(road: &Road, path: &std::path::Path) -> Result
         let [a, b, c, d] = r.coefficients;
         a != level || b != 0.0 || c != 0.0 || d != 0.0
     }) {
-        return Err(r.at.refuse(path, "an elevation that changes is refused: carfollow's ground is flat"));
+        return Err(r.at.refuse(
+            path,
+            "an elevation that changes is refused: carfollow's ground is flat",
+        ));
     }
     if let Some(r) = road.superelevations.iter().find(|r| !zero(r)) {
-        return Err(r.at.refuse(path, "superelevation is refused: carfollow's road is flat across"));
+        return Err(r.at.refuse(
+            path,
+            "superelevation is refused: carfollow's road is flat across",
+        ));
     }
     Ok(())
 }
@@ -122,12 +140,18 @@ fn segments(
     let mut end: Option<[f64; 3]> = None;
     for g in &road.geometries {
         if !(g.length > 0.0) {
-            return Err(g.at.refuse(path, format!("its geometry's length {} must be positive", g.length)));
+            return Err(g.at.refuse(
+                path,
+                format!("its geometry's length {} must be positive", g.length),
+            ));
         }
         if (g.s - station).abs() > STATION_M {
             return Err(g.at.refuse(
                 path,
-                format!("its geometry starts at s = {} where the lengths before end at {station}", g.s),
+                format!(
+                    "its geometry starts at s = {} where the lengths before end at {station}",
+                    g.s
+                ),
             ));
         }
         if let Some([x, y, hdg]) = end {
@@ -149,7 +173,9 @@ fn segments(
         }
         let e = geometry_end(g);
         if !e.iter().all(|v| v.is_finite()) {
-            return Err(g.at.refuse(path, "the geometry does not end anywhere finite"));
+            return Err(g
+                .at
+                .refuse(path, "the geometry does not end anywhere finite"));
         }
         end = Some(e);
         station += g.length;
@@ -158,7 +184,10 @@ fn segments(
     if (road.length - station).abs() > STATION_M {
         return Err(road.at.refuse(
             path,
-            format!("its length {} differs from its geometries' {station}", road.length),
+            format!(
+                "its length {} differs from its geometries' {station}",
+                road.length
+            ),
         ));
     }
     Ok(out)

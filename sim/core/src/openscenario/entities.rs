@@ -48,7 +48,10 @@ impl Catalogs {
         if let Some(locations) = child(xml.doc.root_element(), "CatalogLocations") {
             for catalog in elements(locations) {
                 let Some(directory) = child(catalog, "Directory") else {
-                    return Err(xml.at(catalog, format!("<{}> has no <Directory>", catalog.tag_name().name())));
+                    return Err(xml.at(
+                        catalog,
+                        format!("<{}> has no <Directory>", catalog.tag_name().name()),
+                    ));
                 };
                 let path = xml.req(directory, "path")?;
                 dirs.insert(catalog.tag_name().name().to_string(), dir.join(path));
@@ -76,7 +79,10 @@ pub fn read_entities(xml: &Xml, catalogs: &Catalogs) -> Result<Vec<Entity>, OscE
         }
         let name = xml.req(object, "name")?;
         if out.iter().any(|e| e.name == name) {
-            return Err(xml.at(object, format!("<ScenarioObject name=\"{name}\">: a second entity of that name")));
+            return Err(xml.at(
+                object,
+                format!("<ScenarioObject name=\"{name}\">: a second entity of that name"),
+            ));
         }
         let mut kind = None;
         let mut controlled = false;
@@ -86,12 +92,21 @@ pub fn read_entities(xml: &Xml, catalogs: &Catalogs) -> Result<Vec<Entity>, OscE
                 "CatalogReference" => kind = Some(catalog_vehicle(xml, element, catalogs)?),
                 "ObjectController" => controlled = true,
                 "Pedestrian" | "MiscObject" | "ExternalObjectReference" => {
-                    return Err(xml.unsupported(element, "entity", "carfollow's entities are vehicles"))
+                    return Err(xml.unsupported(
+                        element,
+                        "entity",
+                        "carfollow's entities are vehicles",
+                    ))
                 }
                 _ => return Err(xml.unsupported(element, "element", "")),
             }
         }
-        let kind = kind.ok_or_else(|| xml.at(object, format!("<ScenarioObject name=\"{name}\"> has no vehicle")))?;
+        let kind = kind.ok_or_else(|| {
+            xml.at(
+                object,
+                format!("<ScenarioObject name=\"{name}\"> has no vehicle"),
+            )
+        })?;
         out.push(Entity {
             name,
             kind,
@@ -111,7 +126,10 @@ fn vehicle_kind(xml: &Xml, vehicle: Node) -> Result<&'static str, OscError> {
     let length = xml.num(dimensions, "length")?;
     let height = xml.num(dimensions, "height")?;
     if !(length > 0.0 && height > 0.0) {
-        return Err(xml.at(dimensions, "<Dimensions>: length and height must be positive"));
+        return Err(xml.at(
+            dimensions,
+            "<Dimensions>: length and height must be positive",
+        ));
     }
     kind_of(&category, length, height).ok_or_else(|| {
         xml.at(
@@ -124,7 +142,11 @@ fn vehicle_kind(xml: &Xml, vehicle: Node) -> Result<&'static str, OscError> {
 /// The kind of the vehicle a `CatalogReference` names: the catalog file in the
 /// `VehicleCatalog` folder whose `<Catalog name>` is `catalogName`, its `<Vehicle>` named
 /// `entryName`, with the reference's `ParameterAssignments` over the entry's defaults.
-fn catalog_vehicle(xml: &Xml, reference: Node, catalogs: &Catalogs) -> Result<&'static str, OscError> {
+fn catalog_vehicle(
+    xml: &Xml,
+    reference: Node,
+    catalogs: &Catalogs,
+) -> Result<&'static str, OscError> {
     let catalog_name = xml.req(reference, "catalogName")?;
     let entry = xml.req(reference, "entryName")?;
     let dir = catalogs.dir("VehicleCatalog").ok_or_else(|| {
@@ -133,13 +155,22 @@ fn catalog_vehicle(xml: &Xml, reference: Node, catalogs: &Catalogs) -> Result<&'
     let mut given = BTreeMap::new();
     if let Some(assignments) = child(reference, "ParameterAssignments") {
         for a in children(assignments, "ParameterAssignment") {
-            given.insert(xml.req(a, "parameterRef")?, xml.req(a, "value")?);
+            // A name, not a value: written `Name` (or, in older files, `$Name`).
+            let name = a
+                .attribute("parameterRef")
+                .ok_or_else(|| xml.at(a, "<ParameterAssignment> has no `parameterRef`"))?;
+            given.insert(
+                name.trim_start_matches('$').to_string(),
+                xml.req(a, "value")?,
+            );
         }
     }
     let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
-        .map_err(|source| OscError::Io {
-            path: dir.to_owned(),
-            source,
+        .map_err(|e| {
+            xml.at(
+                reference,
+                format!("<CatalogReference catalogName=\"{catalog_name}\">: cannot read the VehicleCatalog folder {}: {e}", dir.display()),
+            )
         })?
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| p.extension().is_some_and(|x| x == "xosc"))

@@ -68,7 +68,9 @@ fn tokenize(text: &str) -> Result<Vec<Token>, String> {
         let c = chars[i];
         if c.is_whitespace() {
             i += 1;
-        } else if c.is_ascii_digit() || (c == '.' && chars.get(i + 1).is_some_and(char::is_ascii_digit)) {
+        } else if c.is_ascii_digit()
+            || (c == '.' && chars.get(i + 1).is_some_and(char::is_ascii_digit))
+        {
             let start = i;
             while i < chars.len() && (chars[i].is_ascii_digit() || chars[i] == '.') {
                 i += 1;
@@ -87,7 +89,9 @@ fn tokenize(text: &str) -> Result<Vec<Token>, String> {
                 }
             }
             let s: String = chars[start..i].iter().collect();
-            let v = s.parse::<f64>().map_err(|_| format!("`{s}` is not a number"))?;
+            let v = s
+                .parse::<f64>()
+                .map_err(|_| format!("`{s}` is not a number"))?;
             out.push(Token::Number(v));
         } else if c == '$' || c.is_alphabetic() || c == '_' {
             let start = if c == '$' { i + 1 } else { i };
@@ -130,10 +134,12 @@ impl Parser<'_> {
     }
 
     fn eat_op(&mut self, op: &str) -> bool {
-        if self.peek() == Some(&Token::Op(match OPERATORS.iter().find(|o| **o == op) {
-            Some(o) => o,
-            None => return false,
-        })) {
+        if self.peek()
+            == Some(&Token::Op(match OPERATORS.iter().find(|o| **o == op) {
+                Some(o) => o,
+                None => return false,
+            }))
+        {
             self.at += 1;
             true
         } else {
@@ -252,7 +258,10 @@ impl Parser<'_> {
     }
 
     fn primary(&mut self) -> Result<f64, String> {
-        let token = self.peek().cloned().ok_or("ends where a value was expected")?;
+        let token = self
+            .peek()
+            .cloned()
+            .ok_or("ends where a value was expected")?;
         self.at += 1;
         match token {
             Token::Number(v) => Ok(v),
@@ -308,7 +317,9 @@ fn apply(name: &str, args: &[f64]) -> Result<f64, String> {
     };
     let two = |f: fn(f64, f64) -> f64| -> Result<f64, String> {
         match args {
-            [x, y] => finite(f(*x, *y)).map_err(|_| format!("{name}({x}, {y}) is outside its domain")),
+            [x, y] => {
+                finite(f(*x, *y)).map_err(|_| format!("{name}({x}, {y}) is outside its domain"))
+            }
             _ => Err(format!("{name}() takes two arguments, not {}", args.len())),
         }
     };
@@ -326,10 +337,20 @@ fn apply(name: &str, args: &[f64]) -> Result<f64, String> {
         "acos" => one(f64::acos),
         "atan" => one(f64::atan),
         "abs" => one(f64::abs),
-        "sign" => one(|x| if x > 0.0 { 1.0 } else if x < 0.0 { -1.0 } else { 0.0 }),
+        "sign" => one(|x| {
+            if x > 0.0 {
+                1.0
+            } else if x < 0.0 {
+                -1.0
+            } else {
+                0.0
+            }
+        }),
         "max" => two(f64::max),
         "min" => two(f64::min),
-        _ => Err(format!("`{name}` is not a function of OpenSCENARIO's expressions")),
+        _ => Err(format!(
+            "`{name}` is not a function of OpenSCENARIO's expressions"
+        )),
     }
 }
 
@@ -353,7 +374,10 @@ mod tests {
         assert_eq!(eval("-2 * -$Two").unwrap(), 4.0);
         assert_eq!(eval("7 % 4").unwrap(), 3.0);
         assert_eq!(eval("pow($Two, 10)").unwrap(), 1024.0);
-        assert_eq!(eval("round(2.5) + floor(-0.5) + ceil(0.2)").unwrap(), 3.0 - 1.0 + 1.0);
+        assert_eq!(
+            eval("round(2.5) + floor(-0.5) + ceil(0.2)").unwrap(),
+            3.0 - 1.0 + 1.0
+        );
         assert_eq!(eval("max(1, min(5, 3))").unwrap(), 3.0);
         assert_eq!(eval("sign(-3) * abs(-4)").unwrap(), -4.0);
         assert_eq!(eval("1.5e1").unwrap(), 15.0);

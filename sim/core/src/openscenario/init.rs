@@ -58,7 +58,8 @@ struct Relative<'a, 'b> {
 /// and not applied).
 pub fn read_init(xml: &Xml, road: &RoadLanes, ego: &str) -> Result<Init, OscError> {
     let root = xml.doc.root_element();
-    let storyboard = child(root, "Storyboard").ok_or_else(|| xml.at(root, "<OpenSCENARIO> has no <Storyboard>"))?;
+    let storyboard = child(root, "Storyboard")
+        .ok_or_else(|| xml.at(root, "<OpenSCENARIO> has no <Storyboard>"))?;
     let mut init = Init::default();
     let Some(actions) = child(storyboard, "Init").and_then(|i| child(i, "Actions")) else {
         return Ok(init);
@@ -73,13 +74,17 @@ pub fn read_init(xml: &Xml, road: &RoadLanes, ego: &str) -> Result<Init, OscErro
                     private_action(xml, road, ego, &entity, action, &mut init, &mut relative)?;
                 }
             }
-            "GlobalAction" => return Err(xml.unsupported(only_element(xml, element)?, "global action", "")),
+            "GlobalAction" => {
+                return Err(xml.unsupported(only_element(xml, element)?, "global action", ""))
+            }
             _ => return Err(xml.unsupported(element, "init action", "")),
         }
     }
     // Relative positions, each once the vehicle it is relative to is placed.
     while !relative.is_empty() {
-        let ready = relative.iter().position(|r: &Relative| init.placed.contains_key(&r.to));
+        let ready = relative
+            .iter()
+            .position(|r: &Relative| init.placed.contains_key(&r.to));
         let Some(i) = ready else {
             let r = &relative[0];
             return Err(xml.at(r.node, format!("<{}>: `{}` is placed by no <TeleportAction> (or the positions refer to each other in a loop)", r.node.tag_name().name(), r.to)));
@@ -108,7 +113,8 @@ fn private_action<'a, 'b>(
     let inner = only_element(xml, action)?;
     match inner.tag_name().name() {
         "TeleportAction" => {
-            let position = child(inner, "Position").ok_or_else(|| xml.at(inner, "<TeleportAction> has no <Position>"))?;
+            let position = child(inner, "Position")
+                .ok_or_else(|| xml.at(inner, "<TeleportAction> has no <Position>"))?;
             let p = only_element(xml, position)?;
             match p.tag_name().name() {
                 "LanePosition" | "RoadPosition" => {
@@ -120,18 +126,30 @@ fn private_action<'a, 'b>(
                     node: p,
                     to: xml.req(p, "entityRef")?,
                 }),
-                _ => return Err(xml.unsupported(p, "position", "carfollow places vehicles on lanes of its road")),
+                _ => {
+                    return Err(xml.unsupported(
+                        p,
+                        "position",
+                        "carfollow places vehicles on lanes of its road",
+                    ))
+                }
             }
         }
         "LongitudinalAction" => {
             let speed = only_element(xml, inner)?;
-            init.speed_mps.insert(entity.to_string(), initial_speed(xml, speed)?);
+            init.speed_mps
+                .insert(entity.to_string(), initial_speed(xml, speed)?);
         }
-        "ControllerAction" | "ActivateControllerAction" if entity == ego => init.warnings.push(format!(
+        // Activating the default controller of a vehicle none is assigned to: its
+        // storyboard drives it, as carfollow's events do.
+        "ActivateControllerAction" if entity != ego => {}
+        "ControllerAction" | "ActivateControllerAction" if entity == ego => {
+            init.warnings.push(format!(
             "line {}: <{}> of the ego `{ego}` is not applied: carfollow's loop drives the chase",
             xml.line(inner),
             inner.tag_name().name()
-        )),
+        ))
+        }
         _ => return Err(xml.unsupported(inner, "init action", "")),
     }
     Ok(())
@@ -149,7 +167,8 @@ fn initial_speed(xml: &Xml, speed: Node) -> Result<f64, OscError> {
             return Err(xml.at(dynamics, format!("<SpeedActionDynamics dynamicsShape=\"{shape}\">: Init sets each speed at once (a step)")));
         }
     }
-    let target = child(speed, "SpeedActionTarget").ok_or_else(|| xml.at(speed, "<SpeedAction> has no <SpeedActionTarget>"))?;
+    let target = child(speed, "SpeedActionTarget")
+        .ok_or_else(|| xml.at(speed, "<SpeedAction> has no <SpeedActionTarget>"))?;
     let absolute = only_element(xml, target)?;
     if absolute.tag_name().name() != "AbsoluteTargetSpeed" {
         return Err(xml.unsupported(absolute, "init speed", "Init sets absolute speeds"));
@@ -165,8 +184,8 @@ fn initial_speed(xml: &Xml, speed: Node) -> Result<f64, OscError> {
 fn lane_of_id(xml: &Xml, road: &RoadLanes, node: Node, id: i64) -> Result<u32, OscError> {
     if id >= 0 || -id > i64::from(road.lanes) {
         return Err(xml.at(node, format!(
-            "<{}>: lane {id} is not a lane of road {} (its driving lanes are −1 to −{}, on the right of its reference line)",
-            node.tag_name().name(), road.id, road.lanes
+            "<{}>: lane {id} is not a lane carfollow drives on road {} ({}: the lanes on the right of its reference line)",
+            node.tag_name().name(), road.id, lanes_named(road.lanes)
         )));
     }
     Ok((-id) as u32)
@@ -188,24 +207,40 @@ fn lane_at(xml: &Xml, road: &RoadLanes, node: Node, t_m: f64) -> Result<u32, Osc
 fn check_road(xml: &Xml, road: &RoadLanes, node: Node) -> Result<(), OscError> {
     let id = xml.req(node, "roadId")?;
     if id != road.id {
-        return Err(xml.at(node, format!("<{} roadId=\"{id}\">: carfollow's route is road {} alone", node.tag_name().name(), road.id)));
+        return Err(xml.at(
+            node,
+            format!(
+                "<{} roadId=\"{id}\">: carfollow's route is road {} alone",
+                node.tag_name().name(),
+                road.id
+            ),
+        ));
     }
     Ok(())
 }
 
 fn no_offset(xml: &Xml, node: Node) -> Result<(), OscError> {
     match xml.opt_num(node, "offset")? {
-        Some(o) if o.abs() > LANE_CENTRE_TOLERANCE_M => Err(xml.at(node, format!(
-            "<{} offset=\"{o}\">: carfollow's vehicles start on their lane's centre",
-            node.tag_name().name()
-        ))),
+        Some(o) if o.abs() > LANE_CENTRE_TOLERANCE_M => Err(xml.at(
+            node,
+            format!(
+                "<{} offset=\"{o}\">: carfollow's vehicles start on their lane's centre",
+                node.tag_name().name()
+            ),
+        )),
         _ => Ok(()),
     }
 }
 
 fn check_s(xml: &Xml, node: Node, s: f64) -> Result<f64, OscError> {
     if s < 0.0 {
-        return Err(xml.at(node, format!("<{}>: s = {s} m is before the road's start", node.tag_name().name())));
+        return Err(xml.at(
+            node,
+            format!(
+                "<{}>: s = {s} m is before the road's start",
+                node.tag_name().name()
+            ),
+        ));
     }
     Ok(s)
 }
@@ -217,7 +252,10 @@ fn absolute_position(xml: &Xml, road: &RoadLanes, p: Node) -> Result<Placed, Osc
     let lane = if p.tag_name().name() == "LanePosition" {
         no_offset(xml, p)?;
         let id = xml.req(p, "laneId")?;
-        let id = id.trim().parse::<i64>().map_err(|_| xml.at(p, format!("<LanePosition laneId=\"{id}\">: not a lane id")))?;
+        let id = id
+            .trim()
+            .parse::<i64>()
+            .map_err(|_| xml.at(p, format!("<LanePosition laneId=\"{id}\">: not a lane id")))?;
         lane_of_id(xml, road, p, id)?
     } else {
         lane_at(xml, road, p, xml.num(p, "t")?)?
@@ -227,18 +265,31 @@ fn absolute_position(xml: &Xml, road: &RoadLanes, p: Node) -> Result<Placed, Osc
 
 /// A `RelativeLanePosition` (`dLane`, `ds` or from 1.1 `dsLane`) or `RelativeRoadPosition`
 /// (`ds`, `dt`) from `base`.
-fn relative_position(xml: &Xml, road: &RoadLanes, p: Node, base: Placed) -> Result<Placed, OscError> {
+fn relative_position(
+    xml: &Xml,
+    road: &RoadLanes,
+    p: Node,
+    base: Placed,
+) -> Result<Placed, OscError> {
     let ds = match (xml.opt_num(p, "ds")?, xml.opt_num(p, "dsLane")?) {
         (Some(ds), None) | (None, Some(ds)) => ds,
         (None, None) => return Err(xml.at(p, format!("<{}> has no `ds`", p.tag_name().name()))),
-        (Some(_), Some(_)) => return Err(xml.at(p, format!("<{}> has both `ds` and `dsLane`", p.tag_name().name()))),
+        (Some(_), Some(_)) => {
+            return Err(xml.at(
+                p,
+                format!("<{}> has both `ds` and `dsLane`", p.tag_name().name()),
+            ))
+        }
     };
     let s_m = check_s(xml, p, base.s_m + ds)?;
     let lane = if p.tag_name().name() == "RelativeLanePosition" {
         no_offset(xml, p)?;
         let d = xml.num(p, "dLane")?;
         if d.fract() != 0.0 || d.abs() > 100.0 {
-            return Err(xml.at(p, format!("<RelativeLanePosition dLane=\"{d}\">: not a whole number of lanes")));
+            return Err(xml.at(
+                p,
+                format!("<RelativeLanePosition dLane=\"{d}\">: not a whole number of lanes"),
+            ));
         }
         // Lane ids grow to the left: lane k is id −k.
         lane_of_id(xml, road, p, -i64::from(base.lane) + d as i64)?
@@ -247,4 +298,12 @@ fn relative_position(xml: &Xml, road: &RoadLanes, p: Node, base: Placed) -> Resu
         lane_at(xml, road, p, t_base + xml.num(p, "dt")?)?
     };
     Ok(Placed { s_m, lane })
+}
+
+/// The driving lanes on the right of a road with `lanes` of them, as ids.
+pub fn lanes_named(lanes: u32) -> String {
+    match lanes {
+        1 => "−1".to_string(),
+        n => format!("−1 to −{n}"),
+    }
 }

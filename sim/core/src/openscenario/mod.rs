@@ -62,7 +62,8 @@ pub struct Imported {
 
 /// Whether `path` names an OpenSCENARIO file (`.xosc`).
 pub fn is_openscenario(path: &Path) -> bool {
-    path.extension().is_some_and(|e| e.eq_ignore_ascii_case("xosc"))
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("xosc"))
 }
 
 /// Reads the OpenSCENARIO file at `path`.
@@ -72,11 +73,23 @@ pub fn import(path: &Path, options: &ImportOptions) -> Result<Imported, OscError
     give_params(&mut xml, &options.params)?;
     let root = xml.doc.root_element();
     if root.tag_name().name() != "OpenSCENARIO" {
-        return Err(xml.at(root, format!("<{}>: not an OpenSCENARIO file (its root is <OpenSCENARIO>)", root.tag_name().name())));
+        return Err(xml.at(
+            root,
+            format!(
+                "<{}>: not an OpenSCENARIO file (its root is <OpenSCENARIO>)",
+                root.tag_name().name()
+            ),
+        ));
     }
     version(&xml)?;
-    if child(root, "ParameterValueDistribution").is_some() || child(root, "CatalogDefinition").is_some() || child(root, "Catalog").is_some() {
-        return Err(xml.at(root, "<OpenSCENARIO>: a catalog or a parameter distribution, not a scenario"));
+    if child(root, "ParameterValueDistribution").is_some()
+        || child(root, "CatalogDefinition").is_some()
+        || child(root, "Catalog").is_some()
+    {
+        return Err(xml.at(
+            root,
+            "<OpenSCENARIO>: a catalog or a parameter distribution, not a scenario",
+        ));
     }
     let dir = path.parent().unwrap_or(Path::new(".")).to_path_buf();
     let catalogs = entities::Catalogs::read(&xml, &dir)?;
@@ -91,17 +104,30 @@ pub fn import(path: &Path, options: &ImportOptions) -> Result<Imported, OscError
 fn give_params(xml: &mut Xml, params: &[String]) -> Result<(), OscError> {
     let root = xml.doc.root_element();
     let declared: Vec<String> = child(root, "ParameterDeclarations")
-        .map(|d| xml::children(d, "ParameterDeclaration").filter_map(|p| p.attribute("name").map(str::to_string)).collect())
+        .map(|d| {
+            xml::children(d, "ParameterDeclaration")
+                .filter_map(|p| p.attribute("name").map(str::to_string))
+                .collect()
+        })
         .unwrap_or_default();
     for assignment in params {
-        let param = |message: String| OscError::Param { assignment: assignment.clone(), message };
+        let param = |message: String| OscError::Param {
+            assignment: assignment.clone(),
+            message,
+        };
         let Some((name, value)) = assignment.split_once('=') else {
             return Err(param("expected NAME=VALUE".into()));
         };
         let name = name.trim();
         if !declared.iter().any(|d| d == name) {
-            let known = if declared.is_empty() { "none".to_string() } else { declared.join(", ") };
-            return Err(param(format!("the file declares no parameter `{name}` (it declares: {known})")));
+            let known = if declared.is_empty() {
+                "none".to_string()
+            } else {
+                declared.join(", ")
+            };
+            return Err(param(format!(
+                "the file declares no parameter `{name}` (it declares: {known})"
+            )));
         }
         xml.given.insert(name.to_string(), value.to_string());
     }
@@ -111,7 +137,8 @@ fn give_params(xml: &mut Xml, params: &[String]) -> Result<(), OscError> {
 /// Refuses a version other than 1.0–1.3.
 fn version(xml: &Xml) -> Result<(), OscError> {
     let root = xml.doc.root_element();
-    let header = child(root, "FileHeader").ok_or_else(|| xml.at(root, "<OpenSCENARIO> has no <FileHeader>"))?;
+    let header = child(root, "FileHeader")
+        .ok_or_else(|| xml.at(root, "<OpenSCENARIO> has no <FileHeader>"))?;
     let major = xml.num(header, "revMajor")?;
     let minor = xml.num(header, "revMinor")?;
     if major != 1.0 || !(0.0..=3.0).contains(&minor) || minor.fract() != 0.0 {
@@ -121,21 +148,40 @@ fn version(xml: &Xml) -> Result<(), OscError> {
 }
 
 /// The entity that is the chase.
-fn choose_ego(xml: &Xml, vehicles: &[entities::Entity], given: Option<&str>) -> Result<String, OscError> {
+fn choose_ego(
+    xml: &Xml,
+    vehicles: &[entities::Entity],
+    given: Option<&str>,
+) -> Result<String, OscError> {
     let named = |n: &str| vehicles.iter().any(|v| v.name == n);
     match given {
         Some(name) if named(name) => Ok(name.to_string()),
         Some(name) => Err(OscError::File {
             path: xml.path.clone(),
-            message: format!("--ego {name}: no vehicle of that name (the file's: {})", names(vehicles)),
+            message: format!(
+                "--ego {name}: no vehicle of that name (the file's: {})",
+                names(vehicles)
+            ),
         }),
-        None => EGO_NAMES.iter().find(|n| named(n)).map(|n| n.to_string()).ok_or_else(|| OscError::File {
-            path: xml.path.clone(),
-            message: format!("no ego: no vehicle is named {} (name one with --ego; the file's: {})", EGO_NAMES.join(", "), names(vehicles)),
-        }),
+        None => EGO_NAMES
+            .iter()
+            .find(|n| named(n))
+            .map(|n| n.to_string())
+            .ok_or_else(|| OscError::File {
+                path: xml.path.clone(),
+                message: format!(
+                    "no ego: no vehicle is named {} (name one with --ego; the file's: {})",
+                    EGO_NAMES.join(", "),
+                    names(vehicles)
+                ),
+            }),
     }
 }
 
 fn names(vehicles: &[entities::Entity]) -> String {
-    vehicles.iter().map(|v| v.name.as_str()).collect::<Vec<_>>().join(", ")
+    vehicles
+        .iter()
+        .map(|v| v.name.as_str())
+        .collect::<Vec<_>>()
+        .join(", ")
 }

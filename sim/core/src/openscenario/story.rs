@@ -31,7 +31,13 @@ struct Found {
 }
 
 /// Reads every `Story` of the storyboard.
-pub fn read_stories(xml: &Xml, names: &Names, init: &Init, road: &RoadLanes, ego: &str) -> Result<Stories, OscError> {
+pub fn read_stories(
+    xml: &Xml,
+    names: &Names,
+    init: &Init,
+    road: &RoadLanes,
+    ego: &str,
+) -> Result<Stories, OscError> {
     let root = xml.doc.root_element();
     let Some(storyboard) = child(root, "Storyboard") else {
         return Ok(Stories::default());
@@ -52,15 +58,28 @@ pub fn read_stories(xml: &Xml, names: &Names, init: &Init, road: &RoadLanes, ego
                 k += 1;
             }
             used.push(name.clone());
-            found.entry(base).or_insert(Found { owner: owner.clone(), name });
+            found.entry(base).or_insert(Found {
+                owner: owner.clone(),
+                name,
+            });
             for action in children(event, "Action") {
-                if action.descendants().any(|d| d.has_tag_name("LaneChangeAction")) {
+                if action
+                    .descendants()
+                    .any(|d| d.has_tag_name("LaneChangeAction"))
+                {
                     *lane_changes.entry(owner.clone()).or_default() += 1;
                 }
             }
         }
     }
-    let context = Context { xml, names, init, road, found: &found, lane_changes: &lane_changes };
+    let context = Context {
+        xml,
+        names,
+        init,
+        road,
+        found: &found,
+        lane_changes: &lane_changes,
+    };
     let mut stories = Stories::default();
     for (event, owners) in events(xml, storyboard)? {
         for owner in owners {
@@ -77,7 +96,10 @@ pub fn read_stories(xml: &Xml, names: &Names, init: &Init, road: &RoadLanes, ego
 
 /// Every `Event` of the stories, with the vehicles its maneuver group acts on; the acts'
 /// and groups' own settings checked on the way.
-fn events<'a, 'b>(xml: &Xml, storyboard: Node<'a, 'b>) -> Result<Vec<(Node<'a, 'b>, Vec<String>)>, OscError> {
+fn events<'a, 'b>(
+    xml: &Xml,
+    storyboard: Node<'a, 'b>,
+) -> Result<Vec<(Node<'a, 'b>, Vec<String>)>, OscError> {
     let mut out = Vec::new();
     for story in elements(storyboard) {
         match story.tag_name().name() {
@@ -93,17 +115,23 @@ fn events<'a, 'b>(xml: &Xml, storyboard: Node<'a, 'b>) -> Result<Vec<(Node<'a, '
             }
             act_trigger(xml, act)?;
             for group in children(act, "ManeuverGroup") {
-                if xml.opt_num(group, "maximumExecutionCount")?.is_some_and(|n| n != 1.0) {
+                if xml
+                    .opt_num(group, "maximumExecutionCount")?
+                    .is_some_and(|n| n != 1.0)
+                {
                     return Err(xml.at(group, "<ManeuverGroup maximumExecutionCount>: carfollow runs each maneuver group once"));
                 }
                 if let Some(c) = child(group, "CatalogReference") {
                     return Err(xml.unsupported(c, "maneuver", "maneuver catalogs are not read"));
                 }
-                let actors = child(group, "Actors").ok_or_else(|| xml.at(group, "<ManeuverGroup> has no <Actors>"))?;
+                let actors = child(group, "Actors")
+                    .ok_or_else(|| xml.at(group, "<ManeuverGroup> has no <Actors>"))?;
                 if xml.attr(actors, "selectTriggeringEntities")?.as_deref() == Some("true") {
                     return Err(xml.at(actors, "<Actors selectTriggeringEntities=\"true\">: carfollow's events name their vehicles"));
                 }
-                let owners = children(actors, "EntityRef").map(|e| xml.req(e, "entityRef")).collect::<Result<Vec<_>, _>>()?;
+                let owners = children(actors, "EntityRef")
+                    .map(|e| xml.req(e, "entityRef"))
+                    .collect::<Result<Vec<_>, _>>()?;
                 for maneuver in children(group, "Maneuver") {
                     out.extend(children(maneuver, "Event").map(|e| (e, owners.clone())));
                 }
@@ -116,7 +144,11 @@ fn events<'a, 'b>(xml: &Xml, storyboard: Node<'a, 'b>) -> Result<Vec<(Node<'a, '
 /// An act must start at once: no `StartTrigger`, or one at simulation time 0.
 fn act_trigger(xml: &Xml, act: Node) -> Result<(), OscError> {
     if let Some(stop) = child(act, "StopTrigger") {
-        return Err(xml.unsupported(stop, "act stop trigger", "carfollow's events run to their end"));
+        return Err(xml.unsupported(
+            stop,
+            "act stop trigger",
+            "carfollow's events run to their end",
+        ));
     }
     let Some(trigger) = child(act, "StartTrigger") else {
         return Ok(());
@@ -141,11 +173,24 @@ fn act_trigger(xml: &Xml, act: Node) -> Result<(), OscError> {
 fn one_condition<'a, 'b>(xml: &Xml, trigger: Node<'a, 'b>) -> Result<Node<'a, 'b>, OscError> {
     let groups: Vec<_> = children(trigger, "ConditionGroup").collect();
     let [group] = groups.as_slice() else {
-        return Err(xml.at(trigger, format!("<{}> with {} condition groups: carfollow's triggers are one condition", trigger.tag_name().name(), groups.len())));
+        return Err(xml.at(
+            trigger,
+            format!(
+                "<{}> with {} condition groups: carfollow's triggers are one condition",
+                trigger.tag_name().name(),
+                groups.len()
+            ),
+        ));
     };
     let conditions: Vec<_> = children(*group, "Condition").collect();
     let [condition] = conditions.as_slice() else {
-        return Err(xml.at(*group, format!("<ConditionGroup> of {} conditions: carfollow's triggers are one condition", conditions.len())));
+        return Err(xml.at(
+            *group,
+            format!(
+                "<ConditionGroup> of {} conditions: carfollow's triggers are one condition",
+                conditions.len()
+            ),
+        ));
     };
     Ok(*condition)
 }
@@ -162,7 +207,12 @@ struct Context<'c, 'a> {
 impl Context<'_, '_> {
     /// carfollow's name of the vehicle the file calls `name`.
     fn name(&self, node: Node, name: &str) -> Result<String, OscError> {
-        self.names.get(name).cloned().ok_or_else(|| self.xml.at(node, format!("<{}>: no entity is named `{name}`", node.tag_name().name())))
+        self.names.get(name).cloned().ok_or_else(|| {
+            self.xml.at(
+                node,
+                format!("<{}>: no entity is named `{name}`", node.tag_name().name()),
+            )
+        })
     }
 
     /// The events of `event` on `owner` (one per action), named from `taken`'s names.
@@ -173,14 +223,27 @@ impl Context<'_, '_> {
             None | Some("overwrite") | Some("override") => {}
             Some(p) => return Err(xml.at(event, format!("<Event priority=\"{p}\">: carfollow's events override what runs (\"override\", 1.0's \"overwrite\")"))),
         }
-        if xml.opt_num(event, "maximumExecutionCount")?.is_some_and(|n| n != 1.0) {
-            return Err(xml.at(event, "<Event maximumExecutionCount>: carfollow runs each event once"));
+        if xml
+            .opt_num(event, "maximumExecutionCount")?
+            .is_some_and(|n| n != 1.0)
+        {
+            return Err(xml.at(
+                event,
+                "<Event maximumExecutionCount>: carfollow runs each event once",
+            ));
         }
         let trigger = match child(event, "StartTrigger") {
             Some(t) => self.trigger(t, owner)?,
-            None => TriggerSpec { time_s: Some(0.0), ..TriggerSpec::default() },
+            None => TriggerSpec {
+                time_s: Some(0.0),
+                ..TriggerSpec::default()
+            },
         };
-        let name = self.found.get(&base).filter(|f| f.owner == owner).map_or(base.clone(), |f| f.name.clone());
+        let name = self
+            .found
+            .get(&base)
+            .filter(|f| f.owner == owner)
+            .map_or(base.clone(), |f| f.name.clone());
         let actions: Vec<_> = children(event, "Action").collect();
         if actions.is_empty() {
             return Err(xml.at(event, "<Event> has no <Action>"));
@@ -190,7 +253,11 @@ impl Context<'_, '_> {
             .enumerate()
             .map(|(i, &a)| {
                 Ok(EventSpec {
-                    name: if i == 0 { name.clone() } else { format!("{name}/{}", i + 1) },
+                    name: if i == 0 {
+                        name.clone()
+                    } else {
+                        format!("{name}/{}", i + 1)
+                    },
                     trigger: trigger.clone(),
                     action: self.action(a, owner)?,
                     repeat: false,
@@ -225,7 +292,13 @@ impl Context<'_, '_> {
         match self.xml.req(node, "rule")?.as_str() {
             "lessThan" | "lessOrEqual" => Ok(Rule::Less),
             "greaterThan" | "greaterOrEqual" => Ok(Rule::Greater),
-            r => Err(self.xml.at(node, format!("<{} rule=\"{r}\">: carfollow's triggers compare by less or greater", node.tag_name().name()))),
+            r => Err(self.xml.at(
+                node,
+                format!(
+                    "<{} rule=\"{r}\">: carfollow's triggers compare by less or greater",
+                    node.tag_name().name()
+                ),
+            )),
         }
     }
 
@@ -241,14 +314,23 @@ impl Context<'_, '_> {
                 let kind = xml.req(c, "storyboardElementType")?;
                 let state = xml.req(c, "state")?;
                 let reference = xml.req(c, "storyboardElementRef")?;
-                if !matches!(kind.as_str(), "event" | "action") || !matches!(state.as_str(), "endTransition" | "completeState") {
+                if !matches!(kind.as_str(), "event" | "action")
+                    || !matches!(state.as_str(), "endTransition" | "completeState")
+                {
                     return Err(xml.at(c, format!("<StoryboardElementStateCondition storyboardElementType=\"{kind}\" state=\"{state}\">: carfollow waits for an event's end (an event or action, endTransition or completeState)")));
                 }
-                let event = if kind == "action" { self.event_of_action(c, &reference)? } else { reference };
+                let event = if kind == "action" {
+                    self.event_of_action(c, &reference)?
+                } else {
+                    reference
+                };
                 let found = self.found.get(&event).filter(|f| f.owner == owner).ok_or_else(|| {
                     xml.at(c, format!("<StoryboardElementStateCondition storyboardElementRef=\"{event}\">: not an event of `{owner}` (carfollow's events wait for their own vehicle's)"))
                 })?;
-                Ok(TriggerSpec { after: Some(found.name.clone()), ..TriggerSpec::default() })
+                Ok(TriggerSpec {
+                    after: Some(found.name.clone()),
+                    ..TriggerSpec::default()
+                })
             }
             "ParameterCondition" => {
                 // No action here sets a parameter, so the condition is the same throughout:
@@ -261,11 +343,19 @@ impl Context<'_, '_> {
                     (Ok(a), Ok(b)) => compare(&rule, a.total_cmp(&b)),
                     _ => compare(&rule, have.cmp(&want)),
                 }
-                .ok_or_else(|| xml.at(c, format!("<ParameterCondition rule=\"{rule}\">: not a rule of the standard")))?;
+                .ok_or_else(|| {
+                    xml.at(
+                        c,
+                        format!("<ParameterCondition rule=\"{rule}\">: not a rule of the standard"),
+                    )
+                })?;
                 if !holds {
                     return Err(xml.at(c, format!("<ParameterCondition parameterRef=\"{name}\">: never holds (`{name}` is \"{have}\" throughout), so its event would never start")));
                 }
-                Ok(TriggerSpec { time_s: Some(0.0), ..TriggerSpec::default() })
+                Ok(TriggerSpec {
+                    time_s: Some(0.0),
+                    ..TriggerSpec::default()
+                })
             }
             _ => Err(xml.unsupported(c, "condition", "")),
         }
@@ -280,31 +370,49 @@ impl Context<'_, '_> {
             .and_then(|a| a.parent())
             .and_then(|e| e.attribute("name"))
             .map(str::to_string)
-            .ok_or_else(|| xml.at(c, format!("<StoryboardElementStateCondition>: no action is named `{action}`")))
+            .ok_or_else(|| {
+                xml.at(
+                    c,
+                    format!("<StoryboardElementStateCondition>: no action is named `{action}`"),
+                )
+            })
     }
 
     fn by_entity(&self, c: Node, owner: &str) -> Result<TriggerSpec, OscError> {
         let xml = self.xml;
-        let triggering = child(c, "TriggeringEntities").ok_or_else(|| xml.at(c, "<ByEntityCondition> has no <TriggeringEntities>"))?;
+        let triggering = child(c, "TriggeringEntities")
+            .ok_or_else(|| xml.at(c, "<ByEntityCondition> has no <TriggeringEntities>"))?;
         let refs: Vec<_> = children(triggering, "EntityRef").collect();
         let [one] = refs.as_slice() else {
             return Err(xml.at(triggering, format!("<TriggeringEntities> of {} entities: carfollow's triggers are about one vehicle", refs.len())));
         };
         let subject = xml.req(*one, "entityRef")?;
-        let condition = child(c, "EntityCondition").ok_or_else(|| xml.at(c, "<ByEntityCondition> has no <EntityCondition>"))?;
+        let condition = child(c, "EntityCondition")
+            .ok_or_else(|| xml.at(c, "<ByEntityCondition> has no <EntityCondition>"))?;
         let e = only_element(xml, condition)?;
         let name = e.tag_name().name();
         if name == "TraveledDistanceCondition" {
             if subject != owner {
                 return Err(xml.at(e, format!("<TraveledDistanceCondition> of `{subject}` on an event of `{owner}`: carfollow's distance triggers are the moving vehicle's own")));
             }
-            return Ok(TriggerSpec { distance_m: Some(xml.num(e, "value")?), rule: Some(Rule::Greater), ..TriggerSpec::default() });
+            return Ok(TriggerSpec {
+                distance_m: Some(xml.num(e, "value")?),
+                rule: Some(Rule::Greater),
+                ..TriggerSpec::default()
+            });
         }
         let other = match name {
             "TimeToCollisionCondition" => {
-                let target = child(e, "TimeToCollisionConditionTarget").map(|t| only_element(xml, t)).transpose()?.ok_or_else(|| xml.at(e, "<TimeToCollisionCondition> has no target"))?;
+                let target = child(e, "TimeToCollisionConditionTarget")
+                    .map(|t| only_element(xml, t))
+                    .transpose()?
+                    .ok_or_else(|| xml.at(e, "<TimeToCollisionCondition> has no target"))?;
                 if target.tag_name().name() != "EntityRef" {
-                    return Err(xml.unsupported(target, "time-to-collision target", "carfollow's are vehicles"));
+                    return Err(xml.unsupported(
+                        target,
+                        "time-to-collision target",
+                        "carfollow's are vehicles",
+                    ));
                 }
                 xml.req(target, "entityRef")?
             }
@@ -331,9 +439,24 @@ impl Context<'_, '_> {
         let value = Some(xml.num(e, "value")?);
         let rule = Some(self.rule(e)?);
         Ok(match name {
-            "TimeToCollisionCondition" => TriggerSpec { ttc_s: value, to, rule, ..TriggerSpec::default() },
-            "TimeHeadwayCondition" => TriggerSpec { time_gap_s: value, to, rule, ..TriggerSpec::default() },
-            _ => TriggerSpec { gap_m: value, to, rule, ..TriggerSpec::default() },
+            "TimeToCollisionCondition" => TriggerSpec {
+                ttc_s: value,
+                to,
+                rule,
+                ..TriggerSpec::default()
+            },
+            "TimeHeadwayCondition" => TriggerSpec {
+                time_gap_s: value,
+                to,
+                rule,
+                ..TriggerSpec::default()
+            },
+            _ => TriggerSpec {
+                gap_m: value,
+                to,
+                rule,
+                ..TriggerSpec::default()
+            },
         })
     }
 
@@ -342,7 +465,11 @@ impl Context<'_, '_> {
         let xml = self.xml;
         let private = only_element(xml, action)?;
         if private.tag_name().name() != "PrivateAction" {
-            return Err(xml.unsupported(private, "action", "carfollow's events move their own vehicle"));
+            return Err(xml.unsupported(
+                private,
+                "action",
+                "carfollow's events move their own vehicle",
+            ));
         }
         let kind = only_element(xml, private)?;
         let inner = only_element(xml, kind)?;
@@ -355,16 +482,27 @@ impl Context<'_, '_> {
 
     fn speed(&self, speed: Node) -> Result<ActionSpec, OscError> {
         let xml = self.xml;
-        let dynamics = child(speed, "SpeedActionDynamics").ok_or_else(|| xml.at(speed, "<SpeedAction> has no <SpeedActionDynamics>"))?;
-        let target = child(speed, "SpeedActionTarget").map(|t| only_element(xml, t)).transpose()?.ok_or_else(|| xml.at(speed, "<SpeedAction> has no <SpeedActionTarget>"))?;
+        let dynamics = child(speed, "SpeedActionDynamics")
+            .ok_or_else(|| xml.at(speed, "<SpeedAction> has no <SpeedActionDynamics>"))?;
+        let target = child(speed, "SpeedActionTarget")
+            .map(|t| only_element(xml, t))
+            .transpose()?
+            .ok_or_else(|| xml.at(speed, "<SpeedAction> has no <SpeedActionTarget>"))?;
         if target.tag_name().name() != "AbsoluteTargetSpeed" {
-            return Err(xml.unsupported(target, "speed target", "carfollow's speed actions go to a speed"));
+            return Err(xml.unsupported(
+                target,
+                "speed target",
+                "carfollow's speed actions go to a speed",
+            ));
         }
         let speed_mps = xml.num(target, "value")?;
         let shape = xml.req(dynamics, "dynamicsShape")?;
         let dimension = xml.req(dynamics, "dynamicsDimension")?;
         let value = xml.num(dynamics, "value")?;
-        let mut spec = ActionSpec { speed_mps: Some(speed_mps), ..ActionSpec::default() };
+        let mut spec = ActionSpec {
+            speed_mps: Some(speed_mps),
+            ..ActionSpec::default()
+        };
         match (shape.as_str(), dimension.as_str()) {
             ("step", _) => spec.shape = Some(Shape::Step),
             (_, "time") if value == 0.0 => spec.shape = Some(Shape::Step),
@@ -384,15 +522,31 @@ impl Context<'_, '_> {
 
     fn lane_change(&self, change: Node, owner: &str) -> Result<ActionSpec, OscError> {
         let xml = self.xml;
-        if xml.opt_num(change, "targetLaneOffset")?.is_some_and(|o| o != 0.0) {
+        if xml
+            .opt_num(change, "targetLaneOffset")?
+            .is_some_and(|o| o != 0.0)
+        {
             return Err(xml.at(change, "<LaneChangeAction targetLaneOffset>: carfollow's lane changes end on the lane's centre"));
         }
-        let dynamics = child(change, "LaneChangeActionDynamics").ok_or_else(|| xml.at(change, "<LaneChangeAction> has no <LaneChangeActionDynamics>"))?;
-        let target = child(change, "LaneChangeTarget").map(|t| only_element(xml, t)).transpose()?.ok_or_else(|| xml.at(change, "<LaneChangeAction> has no <LaneChangeTarget>"))?;
+        let dynamics = child(change, "LaneChangeActionDynamics").ok_or_else(|| {
+            xml.at(
+                change,
+                "<LaneChangeAction> has no <LaneChangeActionDynamics>",
+            )
+        })?;
+        let target = child(change, "LaneChangeTarget")
+            .map(|t| only_element(xml, t))
+            .transpose()?
+            .ok_or_else(|| xml.at(change, "<LaneChangeAction> has no <LaneChangeTarget>"))?;
         let id = match target.tag_name().name() {
             "AbsoluteTargetLane" => {
                 let v = xml.req(target, "value")?;
-                v.trim().parse::<i64>().map_err(|_| xml.at(target, format!("<AbsoluteTargetLane value=\"{v}\">: not a lane id")))?
+                v.trim().parse::<i64>().map_err(|_| {
+                    xml.at(
+                        target,
+                        format!("<AbsoluteTargetLane value=\"{v}\">: not a lane id"),
+                    )
+                })?
             }
             "RelativeTargetLane" => {
                 let of = xml.req(target, "entityRef")?;
@@ -400,22 +554,46 @@ impl Context<'_, '_> {
                 if !(changes == 0 || (of == owner && changes == 1)) {
                     return Err(xml.at(target, format!("<RelativeTargetLane entityRef=\"{of}\">: `{of}` changes lane in the stories, so its lane when this starts is not known before the run")));
                 }
-                let lane = self.init.placed.get(&of).ok_or_else(|| xml.at(target, format!("<RelativeTargetLane>: `{of}` is not placed in <Init>")))?.lane;
+                let lane = self
+                    .init
+                    .placed
+                    .get(&of)
+                    .ok_or_else(|| {
+                        xml.at(
+                            target,
+                            format!("<RelativeTargetLane>: `{of}` is not placed in <Init>"),
+                        )
+                    })?
+                    .lane;
                 let d = xml.num(target, "value")?;
                 if d.fract() != 0.0 || d.abs() > 100.0 {
-                    return Err(xml.at(target, format!("<RelativeTargetLane value=\"{d}\">: not a whole number of lanes")));
+                    return Err(xml.at(
+                        target,
+                        format!("<RelativeTargetLane value=\"{d}\">: not a whole number of lanes"),
+                    ));
                 }
                 -i64::from(lane) + d as i64
             }
             _ => return Err(xml.unsupported(target, "lane change target", "")),
         };
         if id >= 0 || -id > i64::from(self.road.lanes) {
-            return Err(xml.at(target, format!("<{}>: lane {id} is not a driving lane of road {} (−1 to −{})", target.tag_name().name(), self.road.id, self.road.lanes)));
+            return Err(xml.at(
+                target,
+                format!(
+                    "<{}>: lane {id} is not a lane carfollow drives on road {} ({})",
+                    target.tag_name().name(),
+                    self.road.id,
+                    super::init::lanes_named(self.road.lanes)
+                ),
+            ));
         }
         let shape = xml.req(dynamics, "dynamicsShape")?;
         let dimension = xml.req(dynamics, "dynamicsDimension")?;
         let value = xml.num(dynamics, "value")?;
-        let mut spec = ActionSpec { lane: Some((-id) as u32), ..ActionSpec::default() };
+        let mut spec = ActionSpec {
+            lane: Some((-id) as u32),
+            ..ActionSpec::default()
+        };
         spec.shape = match shape.as_str() {
             "sinusoidal" => Some(Shape::Sinusoidal),
             "cubic" => Some(Shape::Cubic),

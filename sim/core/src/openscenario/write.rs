@@ -8,7 +8,9 @@ use super::story::{read_stories, Names};
 use super::xml::{child, children, elements, only_element, Xml};
 use super::{ImportOptions, Imported};
 use std::path::{Component, Path, PathBuf};
-use toml::{Table, Value};
+
+/// The lead's target: the NIST board, shipped with carfollow.
+const TARGET: &str = "targets/nist-ten-segment.toml";
 
 /// The road of the file's `RoadNetwork/LogicFile`.
 pub struct Road {
@@ -25,7 +27,13 @@ pub fn read_road(xml: &Xml, dir: &Path) -> Result<Road, OscError> {
         .and_then(|n| child(n, "LogicFile"))
         .ok_or_else(|| xml.at(root, "<OpenSCENARIO> has no <RoadNetwork><LogicFile>: carfollow's route is the road of an OpenDRIVE file"))?;
     let file = dir.join(xml.req(logic, "filepath")?);
-    let opendrive = crate::opendrive::load(&file)?;
+    let opendrive = crate::opendrive::load(&file).map_err(|e| match e {
+        crate::opendrive::OpenDriveError::Io { source, .. } => xml.at(
+            logic,
+            format!("<LogicFile>: cannot read {}: {source}", file.display()),
+        ),
+        other => other.into(),
+    })?;
     let road = crate::opendrive::import(&opendrive, None, |_| None)?;
     Ok(Road {
         lanes: RoadLanes {
@@ -49,8 +57,22 @@ fn carfollow_names(vehicles: &[Entity], ego: &str, lead: &str) -> Names {
         } else if v.name == lead {
             "lead".to_string()
         } else {
-            let base: String = v.name.chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '_' { c } else { '-' }).collect();
-            let base = if base.is_empty() { "actor".to_string() } else { base };
+            let base: String = v
+                .name
+                .chars()
+                .map(|c| {
+                    if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
+                        c
+                    } else {
+                        '-'
+                    }
+                })
+                .collect();
+            let base = if base.is_empty() {
+                "actor".to_string()
+            } else {
+                base
+            };
             let mut name = base.clone();
             let mut k = 2;
             while used.contains(&name) {
@@ -66,11 +88,20 @@ fn carfollow_names(vehicles: &[Entity], ego: &str, lead: &str) -> Names {
 }
 
 /// The lead: `given`, or the nearest vehicle ahead of the ego in its lane at t = 0.
-fn choose_lead(xml: &Xml, vehicles: &[Entity], init: &Init, ego: &str, given: Option<&str>) -> Result<String, OscError> {
+fn choose_lead(
+    xml: &Xml,
+    vehicles: &[Entity],
+    init: &Init,
+    ego: &str,
+    given: Option<&str>,
+) -> Result<String, OscError> {
     let at_ego = init.placed[ego];
     if let Some(name) = given {
         if name == ego || !vehicles.iter().any(|v| v.name == name) {
-            return Err(OscError::File { path: xml.path.clone(), message: format!("--lead {name}: no vehicle of that name other than the ego") });
+            return Err(OscError::File {
+                path: xml.path.clone(),
+                message: format!("--lead {name}: no vehicle of that name other than the ego"),
+            });
         }
         return Ok(name.to_string());
     }
@@ -101,10 +132,20 @@ fn duration(xml: &Xml) -> Result<f64, OscError> {
         let [condition] = conditions.as_slice() else {
             return Err(xml.at(group, format!("<StopTrigger> group of {} conditions: carfollow ends a run at a time (or give it with --set duration_s=SECONDS)", conditions.len())));
         };
-        let time = child(*condition, "ByValueCondition").map(|v| only_element(xml, v)).transpose()?.filter(|c| c.has_tag_name("SimulationTimeCondition"));
+        let time = child(*condition, "ByValueCondition")
+            .map(|v| only_element(xml, v))
+            .transpose()?
+            .filter(|c| c.has_tag_name("SimulationTimeCondition"));
         let Some(time) = time else {
-            let what = elements(*condition).next().and_then(|c| elements(c).next()).unwrap_or(*condition);
-            return Err(xml.unsupported(what, "stop condition", "carfollow ends a run at a time; or give it with --set duration_s=SECONDS"));
+            let what = elements(*condition)
+                .next()
+                .and_then(|c| elements(c).next())
+                .unwrap_or(*condition);
+            return Err(xml.unsupported(
+                what,
+                "stop condition",
+                "carfollow ends a run at a time; or give it with --set duration_s=SECONDS",
+            ));
         };
         let delay = xml.opt_num(*condition, "delay")?.unwrap_or(0.0).max(0.0);
         earliest = earliest.min(xml.num(time, "value")?.max(0.0) + delay);
@@ -144,12 +185,80 @@ fn relative(path: &Path, base: &Path) -> PathBuf {
     out
 }
 
-fn profile(speed: f64) -> Value {
-    Value::Array(vec![Value::Array(vec![Value::Float(0.0), Value::Float(speed)])])
+/// The scenario file written, its tables in the order a person writes them.
+#[derive(serde::Serialize)]
+struct Doc {
+    name: String,
+    description: String,
+    duration_s: f64,
+    route: RouteOut,
+    lead: LeadOut,
+    chase: ChaseOut,
+    camera: CameraOut,
+    tracker: TrackerOut,
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    actors: Vec<ActorOut>,
 }
 
-fn events_value(xml: &Xml, events: &[vehicle::EventSpec]) -> Result<Value, OscError> {
-    Value::try_from(events).map_err(|e| OscError::File { path: xml.path.clone(), message: format!("cannot write the events: {e}") })
+#[derive(serde::Serialize)]
+struct RouteOut {
+    opendrive: OpenDriveOut,
+}
+
+#[derive(serde::Serialize)]
+struct OpenDriveOut {
+    file: String,
+    road: String,
+}
+
+#[derive(serde::Serialize)]
+struct LeadOut {
+    start_m: f64,
+    lane: u32,
+    initial_speed_mps: f64,
+    speed_profile: Vec<[f64; 2]>,
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    events: Vec<vehicle::EventSpec>,
+}
+
+#[derive(serde::Serialize)]
+struct ChaseOut {
+    initial_gap_m: f64,
+    controller: ControllerOut,
+}
+
+#[derive(serde::Serialize)]
+struct ControllerOut {
+    lane_keeping: bool,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    cruise_speed_mps: Option<f64>,
+}
+
+#[derive(serde::Serialize)]
+struct CameraOut {
+    focal_length_mm: f64,
+}
+
+#[derive(serde::Serialize)]
+struct TrackerOut {
+    target: String,
+}
+
+#[derive(serde::Serialize)]
+struct ActorOut {
+    name: String,
+    kind: String,
+    lane: u32,
+    start: StartOut,
+    initial_speed_mps: f64,
+    speed_profile: Vec<[f64; 2]>,
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    events: Vec<vehicle::EventSpec>,
+}
+
+#[derive(serde::Serialize)]
+struct StartOut {
+    station_m: f64,
 }
 
 /// The scenario of the file as carfollow's scenario text.
@@ -166,7 +275,14 @@ pub fn scenario(
     let mut warnings = init.warnings.clone();
     for v in vehicles {
         if !init.placed.contains_key(&v.name) {
-            return Err(OscError::At { path: xml.path.clone(), line: v.line, message: format!("<ScenarioObject name=\"{}\"> is placed by no <TeleportAction> in <Init>", v.name) });
+            return Err(OscError::At {
+                path: xml.path.clone(),
+                line: v.line,
+                message: format!(
+                    "<ScenarioObject name=\"{}\"> is placed by no <TeleportAction> in <Init>",
+                    v.name
+                ),
+            });
         }
         if v.controlled && v.name != ego {
             return Err(OscError::At { path: xml.path.clone(), line: v.line, message: format!("unsupported <ObjectController> of `{}` (carfollow drives its vehicles by their events)", v.name) });
@@ -186,7 +302,10 @@ pub fn scenario(
             if ego_controlled { " and its controller" } else { "" }
         ));
     }
-    let lead_kind = vehicles.iter().find(|v| v.name == lead).map_or("", |v| v.kind);
+    let lead_kind = vehicles
+        .iter()
+        .find(|v| v.name == lead)
+        .map_or("", |v| v.kind);
     warnings.push(format!(
         "the lead `{lead}` (a {lead_kind} in the file) is carfollow's lead vehicle, the pickup with the tracker's target board"
     ));
@@ -212,68 +331,83 @@ pub fn scenario(
             speed(&lead), ego_speed, ego_speed
         ));
     }
-    let base = options.relative_to.clone().unwrap_or_else(|| dir.to_path_buf());
+    let base = options
+        .relative_to
+        .clone()
+        .unwrap_or_else(|| dir.to_path_buf());
     let header = child(xml.doc.root_element(), "FileHeader");
-    let description = header.and_then(|h| h.attribute("description")).unwrap_or("").to_string();
-    let stem = xml.path.file_stem().map_or("imported".into(), |s| s.to_string_lossy().into_owned());
+    let description = header
+        .and_then(|h| h.attribute("description"))
+        .unwrap_or("")
+        .to_string();
+    let stem = xml
+        .path
+        .file_stem()
+        .map_or("imported".into(), |s| s.to_string_lossy().into_owned());
 
-    let mut doc = Table::new();
-    doc.insert("name".into(), Value::String(stem));
-    doc.insert("description".into(), Value::String(description));
-    doc.insert("duration_s".into(), Value::Float(duration_s));
-    let mut opendrive = Table::new();
-    opendrive.insert("file".into(), Value::String(relative(&road.file, &base).to_string_lossy().replace('\\', "/")));
-    opendrive.insert("road".into(), Value::String(road.lanes.id.clone()));
-    let mut route = Table::new();
-    route.insert("opendrive".into(), Value::Table(opendrive));
-    doc.insert("route".into(), Value::Table(route));
-
-    let mut lead_table = Table::new();
-    lead_table.insert("start_m".into(), Value::Float(at_lead.s_m));
-    lead_table.insert("initial_speed_mps".into(), Value::Float(speed(&lead)));
-    lead_table.insert("speed_profile".into(), profile(speed(&lead)));
-    lead_table.insert("lane".into(), Value::Integer(i64::from(at_lead.lane)));
-    if let Some(events) = stories.events.get(&lead) {
-        lead_table.insert("events".into(), events_value(xml, events)?);
-    }
-    doc.insert("lead".into(), Value::Table(lead_table));
-
-    let mut controller = Table::new();
-    controller.insert("lane_keeping".into(), Value::Boolean(true));
-    if ego_speed >= 0.5 {
-        controller.insert("cruise_speed_mps".into(), Value::Float(ego_speed));
-    }
-    let mut chase = Table::new();
-    chase.insert("initial_gap_m".into(), Value::Float(gap_m));
-    chase.insert("controller".into(), Value::Table(controller));
-    doc.insert("chase".into(), Value::Table(chase));
-
-    let mut tracker = Table::new();
-    tracker.insert("target".into(), Value::String("targets/nist-ten-segment.toml".into()));
-    doc.insert("tracker".into(), Value::Table(tracker));
-
-    let mut actors = Vec::new();
-    for v in vehicles.iter().filter(|v| v.name != ego && v.name != lead) {
-        let at = init.placed[&v.name];
-        let mut actor = Table::new();
-        actor.insert("name".into(), Value::String(names[&v.name].clone()));
-        actor.insert("kind".into(), Value::String(v.kind.into()));
-        actor.insert("lane".into(), Value::Integer(i64::from(at.lane)));
-        let mut start = Table::new();
-        start.insert("station_m".into(), Value::Float(at.s_m));
-        actor.insert("start".into(), Value::Table(start));
-        actor.insert("initial_speed_mps".into(), Value::Float(speed(&v.name)));
-        actor.insert("speed_profile".into(), profile(speed(&v.name)));
-        if let Some(events) = stories.events.get(&v.name) {
-            actor.insert("events".into(), events_value(xml, events)?);
-        }
-        actors.push(Value::Table(actor));
-    }
-    if !actors.is_empty() {
-        doc.insert("actors".into(), Value::Array(actors));
-    }
-    let body = toml::to_string(&doc).map_err(|e| OscError::File { path: xml.path.clone(), message: format!("cannot write the scenario: {e}") })?;
-    let source = xml.path.file_name().map_or(String::new(), |f| f.to_string_lossy().into_owned());
-    let text = format!("# Imported from the OpenSCENARIO file {source} by `carfollow import`.\n{body}");
+    // The camera sees the target at the initial gap as the default 8 mm lens sees it at
+    // the target's nominal range, or larger.
+    let nominal_m = crate::parse_target(crate::BUILTIN_TARGET_TEXT, Path::new(TARGET))
+        .map_or(10.0, |t| t.nominal_range_m());
+    let focal_length_mm = (8.0 * gap_m / nominal_m).max(8.0);
+    let focal_length_mm = (focal_length_mm * 10.0).round() / 10.0;
+    let gap_m = (gap_m * 1e6).round() / 1e6;
+    let doc = Doc {
+        name: stem,
+        description,
+        duration_s,
+        route: RouteOut {
+            opendrive: OpenDriveOut {
+                file: relative(&road.file, &base)
+                    .to_string_lossy()
+                    .replace('\\', "/"),
+                road: road.lanes.id.clone(),
+            },
+        },
+        lead: LeadOut {
+            start_m: at_lead.s_m,
+            lane: at_lead.lane,
+            initial_speed_mps: speed(&lead),
+            speed_profile: vec![[0.0, speed(&lead)]],
+            events: stories.events.get(&lead).cloned().unwrap_or_default(),
+        },
+        chase: ChaseOut {
+            initial_gap_m: gap_m,
+            controller: ControllerOut {
+                lane_keeping: true,
+                cruise_speed_mps: (ego_speed >= 0.5).then_some(ego_speed),
+            },
+        },
+        camera: CameraOut { focal_length_mm },
+        tracker: TrackerOut {
+            target: TARGET.into(),
+        },
+        actors: vehicles
+            .iter()
+            .filter(|v| v.name != ego && v.name != lead)
+            .map(|v| {
+                let at = init.placed[&v.name];
+                ActorOut {
+                    name: names[&v.name].clone(),
+                    kind: v.kind.into(),
+                    lane: at.lane,
+                    start: StartOut { station_m: at.s_m },
+                    initial_speed_mps: speed(&v.name),
+                    speed_profile: vec![[0.0, speed(&v.name)]],
+                    events: stories.events.get(&v.name).cloned().unwrap_or_default(),
+                }
+            })
+            .collect(),
+    };
+    let body = toml::to_string(&doc).map_err(|e| OscError::File {
+        path: xml.path.clone(),
+        message: format!("cannot write the scenario: {e}"),
+    })?;
+    let source = xml
+        .path
+        .file_name()
+        .map_or(String::new(), |f| f.to_string_lossy().into_owned());
+    let text =
+        format!("# Imported from the OpenSCENARIO file {source} by `carfollow import`.\n{body}");
     Ok(Imported { text, warnings })
 }

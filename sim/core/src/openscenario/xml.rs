@@ -25,7 +25,9 @@ pub fn read_text(path: &Path) -> Result<String, OscError> {
     if len > MAX_FILE_BYTES {
         return Err(OscError::File {
             path: path.to_owned(),
-            message: format!("{len} bytes: larger than the {MAX_FILE_BYTES} an OpenSCENARIO file may be here"),
+            message: format!(
+                "{len} bytes: larger than the {MAX_FILE_BYTES} an OpenSCENARIO file may be here"
+            ),
         });
     }
     std::fs::read_to_string(path).map_err(io)
@@ -95,17 +97,22 @@ impl<'a> Xml<'a> {
     pub fn attr(&self, node: Node, name: &str) -> Result<Option<String>, OscError> {
         match node.attribute(name) {
             None => Ok(None),
-            Some(raw) => self
-                .resolve(node, raw, 0)
-                .map(Some)
-                .map_err(|why| self.at(node, format!("<{} {name}=\"{raw}\">: {why}", node.tag_name().name()))),
+            Some(raw) => self.resolve(node, raw, 0).map(Some).map_err(|why| {
+                self.at(
+                    node,
+                    format!("<{} {name}=\"{raw}\">: {why}", node.tag_name().name()),
+                )
+            }),
         }
     }
 
     /// The attribute `name`, which must be there.
     pub fn req(&self, node: Node, name: &str) -> Result<String, OscError> {
         self.attr(node, name)?.ok_or_else(|| {
-            self.at(node, format!("<{}> has no `{name}`", node.tag_name().name()))
+            self.at(
+                node,
+                format!("<{}> has no `{name}`", node.tag_name().name()),
+            )
         })
     }
 
@@ -118,7 +125,10 @@ impl<'a> Xml<'a> {
             Ok(v) if v.is_finite() => Ok(Some(v)),
             _ => Err(self.at(
                 node,
-                format!("<{} {name}=\"{text}\">: not a finite number", node.tag_name().name()),
+                format!(
+                    "<{} {name}=\"{text}\">: not a finite number",
+                    node.tag_name().name()
+                ),
             )),
         }
     }
@@ -126,20 +136,26 @@ impl<'a> Xml<'a> {
     /// The attribute `name` as a finite number, which must be there.
     pub fn num(&self, node: Node, name: &str) -> Result<f64, OscError> {
         self.opt_num(node, name)?.ok_or_else(|| {
-            self.at(node, format!("<{}> has no `{name}`", node.tag_name().name()))
+            self.at(
+                node,
+                format!("<{}> has no `{name}`", node.tag_name().name()),
+            )
         })
     }
 
     /// The value of parameter `name` as seen from `node`.
     pub fn param_value(&self, node: Node, name: &str) -> Result<String, OscError> {
-        self.param(node, name, 0).map_err(|why| self.at(node, format!("<{}>: {why}", node.tag_name().name())))
+        self.param(node, name, 0)
+            .map_err(|why| self.at(node, format!("<{}>: {why}", node.tag_name().name())))
     }
 
     /// A value as written (`raw`, at `node`) with its parameter reference or expression
     /// resolved.
     fn resolve(&self, node: Node, raw: &str, depth: usize) -> Result<String, String> {
         if depth > MAX_REFERENCE_DEPTH {
-            return Err(format!("parameters refer to one another more than {MAX_REFERENCE_DEPTH} deep (a loop?)"));
+            return Err(format!(
+                "parameters refer to one another more than {MAX_REFERENCE_DEPTH} deep (a loop?)"
+            ));
         }
         let trimmed = raw.trim();
         if let Some(body) = trimmed.strip_prefix("${").and_then(|b| b.strip_suffix('}')) {
@@ -168,8 +184,8 @@ impl<'a> Xml<'a> {
             let Some(decls) = child(scope, "ParameterDeclarations") else {
                 continue;
             };
-            let Some(decl) = children(decls, "ParameterDeclaration")
-                .find(|d| d.attribute("name") == Some(name))
+            let Some(decl) =
+                children(decls, "ParameterDeclaration").find(|d| d.attribute("name") == Some(name))
             else {
                 continue;
             };
@@ -179,7 +195,9 @@ impl<'a> Xml<'a> {
                     return Ok(v.clone());
                 }
             }
-            let raw = decl.attribute("value").ok_or_else(|| format!("parameter `{name}` has no value"))?;
+            let raw = decl
+                .attribute("value")
+                .ok_or_else(|| format!("parameter `{name}` has no value"))?;
             return self.resolve(decl, raw, depth);
         }
         Err(format!("no parameter `{name}` is declared"))
@@ -187,7 +205,10 @@ impl<'a> Xml<'a> {
 }
 
 /// The element children of `node` named `name`.
-pub fn children<'a, 'b>(node: Node<'a, 'b>, name: &'static str) -> impl Iterator<Item = Node<'a, 'b>> {
+pub fn children<'a, 'b>(
+    node: Node<'a, 'b>,
+    name: &'static str,
+) -> impl Iterator<Item = Node<'a, 'b>> {
     node.children()
         .filter(move |c| c.is_element() && c.tag_name().name() == name)
 }

@@ -591,7 +591,7 @@ impl Scenario {
     ) -> Result<Scenario, ScenarioError> {
         let dir = path.parent().unwrap_or(Path::new("."));
         Self::parse(text, path, overrides, |target| {
-            crate::target::load(&dir.join(target))
+            library::target_in(dir, target)
         })
         .map(|s| {
             let mut spec = Arc::unwrap_or_clone(s.0);
@@ -770,28 +770,35 @@ impl Scenario {
             load: &load_road,
             gives: &gives,
         };
-        validate(raw, overrides, source.clone(), &Blame(&invalid), |target| {
-            load_target(target).map_err(|source| {
-                // A target given by `--set` is the override's fault, not the file's.
-                if let Some(assignment) = overrides
-                    .iter()
-                    .rev()
-                    .find(|a| override_names(a, "tracker.target"))
-                {
-                    return ScenarioError::Override {
-                        assignment: assignment.clone(),
-                        message: format!("`tracker.target`: {source}"),
-                    };
-                }
-                let (line, column) = line_column(text, locate(text, "tracker.target"));
-                ScenarioError::Target {
-                    path: path.to_owned(),
-                    line,
-                    column,
-                    source: Box::new(source),
-                }
-            })
-        }, &roads)
+        validate(
+            raw,
+            overrides,
+            source.clone(),
+            &Blame(&invalid),
+            |target| {
+                load_target(target).map_err(|source| {
+                    // A target given by `--set` is the override's fault, not the file's.
+                    if let Some(assignment) = overrides
+                        .iter()
+                        .rev()
+                        .find(|a| override_names(a, "tracker.target"))
+                    {
+                        return ScenarioError::Override {
+                            assignment: assignment.clone(),
+                            message: format!("`tracker.target`: {source}"),
+                        };
+                    }
+                    let (line, column) = line_column(text, locate(text, "tracker.target"));
+                    ScenarioError::Target {
+                        path: path.to_owned(),
+                        line,
+                        column,
+                        source: Box::new(source),
+                    }
+                })
+            },
+            &roads,
+        )
     }
 }
 

@@ -564,7 +564,10 @@ impl SceneDescription {
                     curvature_end,
                 } => {
                     positive(&format!("route.segments[{i}].length_m"), length_m)?;
-                    finite(&format!("route.segments[{i}].curvature"), &[curvature_start, curvature_end])?;
+                    finite(
+                        &format!("route.segments[{i}].curvature"),
+                        &[curvature_start, curvature_end],
+                    )?;
                 }
                 RouteSegment::Poly3 { length_m, v } => {
                     positive(&format!("route.segments[{i}].length_m"), length_m)?;

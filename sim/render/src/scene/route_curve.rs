@@ -72,7 +72,11 @@ pub(super) enum Curve {
     /// `v = a + b u + c u² + d u³`; `knots[j]` is `[s, u]`.
     Poly3 { v: [f64; 4], knots: Vec<[f64; 2]> },
     /// `u(p)`, `v(p)` cubics, `p = scale · s`.
-    ParamPoly3 { u: [f64; 4], v: [f64; 4], scale: f64 },
+    ParamPoly3 {
+        u: [f64; 4],
+        v: [f64; 4],
+        scale: f64,
+    },
 }
 
 impl Curve {

@@ -178,7 +178,14 @@ pub(super) fn validate(
         initial_gap_m,
         chase.camera_mount.forward_m,
     );
-    let actors = actors::actors(&raw, length, chase_start_m, lead_initial_speed_mps, f)?;
+    let actors = actors::actors(
+        &raw,
+        route.lanes,
+        length,
+        chase_start_m,
+        lead_initial_speed_mps,
+        f,
+    )?;
     let mut world = WorldConfig::default();
     world.ground.bumps = raw.environment.bumps.clone();
     Ok(Scenario::validated(ScenarioSpec {

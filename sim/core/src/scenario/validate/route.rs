@@ -170,23 +170,25 @@ fn varying(s: &SegmentFile) -> Option<Result<RouteSegment, String>> {
     if given > 1 || constant {
         return Some(Err(ONE_KIND.into()));
     }
-    Some(match (spiral, (s.poly3_m, s.poly3), (s.param_poly3_m, s.u, s.v)) {
-        ([Some(length_m), Some(curvature_start), Some(curvature_end)], _, _) => {
-            Ok(RouteSegment::Spiral {
+    Some(
+        match (spiral, (s.poly3_m, s.poly3), (s.param_poly3_m, s.u, s.v)) {
+            ([Some(length_m), Some(curvature_start), Some(curvature_end)], _, _) => {
+                Ok(RouteSegment::Spiral {
+                    length_m,
+                    curvature_start,
+                    curvature_end,
+                })
+            }
+            (_, (Some(length_m), Some(v)), _) => Ok(RouteSegment::Poly3 { length_m, v }),
+            (_, _, (Some(length_m), Some(u), Some(v))) => Ok(RouteSegment::ParamPoly3 {
                 length_m,
-                curvature_start,
-                curvature_end,
-            })
-        }
-        (_, (Some(length_m), Some(v)), _) => Ok(RouteSegment::Poly3 { length_m, v }),
-        (_, _, (Some(length_m), Some(u), Some(v))) => Ok(RouteSegment::ParamPoly3 {
-            length_m,
-            u,
-            v,
-            p_range: s.p_range.unwrap_or(PRange::ArcLength),
-        }),
-        _ => Err(ONE_KIND.into()),
-    })
+                u,
+                v,
+                p_range: s.p_range.unwrap_or(PRange::ArcLength),
+            }),
+            _ => Err(ONE_KIND.into()),
+        },
+    )
 }
 
 /// What is wrong with a segment the vehicles cannot drive, if anything: its numbers
@@ -214,14 +216,18 @@ pub(crate) fn segment_problem(seg: &RouteSegment) -> Option<String> {
     }
     let length = seg.length_m();
     if !(length > 0.0 && length <= MAX_ROUTE_M) {
-        return Some(format!("its length {length} m must be > 0 and at most {MAX_ROUTE_M} m"));
+        return Some(format!(
+            "its length {length} m must be > 0 and at most {MAX_ROUTE_M} m"
+        ));
     }
     let max_curvature = 1.0 / MIN_ARC_RADIUS_M;
     match *seg {
         RouteSegment::Straight { .. } => None,
-        RouteSegment::Arc { radius_m, .. } => (!(MIN_ARC_RADIUS_M..=MAX_ARC_RADIUS_M)
-            .contains(&radius_m))
-        .then(|| format!("its radius {radius_m} m must be {MIN_ARC_RADIUS_M}–{MAX_ARC_RADIUS_M} m")),
+        RouteSegment::Arc { radius_m, .. } => {
+            (!(MIN_ARC_RADIUS_M..=MAX_ARC_RADIUS_M).contains(&radius_m)).then(|| {
+                format!("its radius {radius_m} m must be {MIN_ARC_RADIUS_M}–{MAX_ARC_RADIUS_M} m")
+            })
+        }
         _ => {
             let route = Route::new(RouteSpec {
                 segments: vec![seg.clone()],
