@@ -16,6 +16,7 @@ macro_rules! say {
 mod cli {
     pub mod check;
     pub mod exit;
+    pub mod import;
     pub mod paths;
     pub mod render;
     pub mod render_worker;
@@ -46,6 +47,8 @@ enum Commands {
     Sweep(cli::sweep::SweepArgs),
     /// Validate scenario files without running them.
     Check(cli::check::CheckArgs),
+    /// Write an OpenSCENARIO file (.xosc) as a carfollow scenario file.
+    Import(cli::import::ImportArgs),
     /// Render one camera frame at time T, of a scenario's run or of the built-in scene.
     Render(cli::render::RenderArgs),
     /// Run the tracker on a folder of recorded frames.
@@ -78,6 +81,7 @@ fn main() -> ExitCode {
         Commands::Run(args) => cli::run::run_run(args),
         Commands::Sweep(args) => cli::sweep::run_sweep(args),
         Commands::Check(args) => cli::check::run_check(args).map(|()| ExitCode::SUCCESS),
+        Commands::Import(args) => cli::import::run_import(args).map(|()| ExitCode::SUCCESS),
         Commands::Render(args) => cli::render::run(args).map(|()| ExitCode::SUCCESS),
         Commands::Track(args) => cli::track::run_track(args).map(|()| ExitCode::SUCCESS),
         Commands::Target(args) => cli::target::run_target(args).map(|()| ExitCode::SUCCESS),

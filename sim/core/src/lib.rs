@@ -24,6 +24,7 @@ mod delayed;
 mod driven_path;
 mod frame_parts;
 pub mod opendrive;
+pub mod openscenario;
 mod plan;
 mod plugin;
 mod record;

@@ -1,6 +1,7 @@
 //! `carfollow check`: validate scenario files without running them.
 
 use clap::Args;
+use sim_core::openscenario::OscError;
 use sim_core::{Plan, Scenario, ScenarioError};
 use std::path::PathBuf;
 
@@ -13,6 +14,8 @@ pub struct CheckArgs {
     /// Override a field by its dotted path, e.g. --set tracker.lambda=0.7 (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
+    #[command(flatten)]
+    pub openscenario: super::import::OpenScenarioArgs,
 }
 
 /// Runs the subcommand: every file is checked, every error printed (one line each).
@@ -39,13 +42,23 @@ pub fn run_check(args: CheckArgs) -> anyhow::Result<()> {
     }
     let mut bad = 0;
     for path in &args.scenarios {
-        match Plan::load(path, &args.set) {
+        match args.openscenario.plan(path, &args.set) {
             Ok(plan) => ok(&path.display().to_string(), plan.scenario()),
             // A `--set` that cannot apply is the command's error, not the file's: said once
             // (by `main`), with no count of invalid files.
-            Err(e @ ScenarioError::Override { .. }) => return Err(e.into()),
+            Err(e)
+                if matches!(
+                    e.downcast_ref(),
+                    Some(
+                        ScenarioError::Override { .. }
+                            | ScenarioError::OpenScenario(OscError::Param { .. })
+                    )
+                ) =>
+            {
+                return Err(e)
+            }
             Err(e) => {
-                eprintln!("error: {e}");
+                eprintln!("error: {}", super::exit::one_line(&e));
                 if is_sweep_file(path) {
                     eprintln!(
                         "note: {} is a sweep file: check it, and every point of it, with \

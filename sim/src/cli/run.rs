@@ -44,6 +44,8 @@ pub struct RunArgs {
     /// Override a field by its dotted path, e.g. --set tracker.lambda=0.7 (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
+    #[command(flatten)]
+    pub openscenario: super::import::OpenScenarioArgs,
     /// Also write the camera view with the tracker's overlay (video.gif) and PNG stills.
     #[arg(long)]
     pub video: bool,
@@ -96,7 +98,7 @@ pub fn run_run(args: RunArgs) -> anyhow::Result<ExitCode> {
     } else {
         args.scenarios
             .iter()
-            .map(|p| Plan::load(p, &args.set))
+            .map(|p| args.openscenario.plan(p, &args.set))
             .collect::<Result<_, _>>()?
     };
     let scenarios: Vec<Scenario> = plans.iter().map(|p| p.scenario().clone()).collect();

@@ -58,12 +58,19 @@ impl Scenario {
         dir: &Path,
         overrides: &[String],
     ) -> Result<Scenario, ScenarioError> {
-        Scenario::parse(text, origin, overrides, |target| {
-            let file: PathBuf = dir.join(target);
-            match (file.is_file(), shipped_target(target)) {
-                (false, Some(text)) => crate::target::parse(text, &file),
-                _ => crate::target::load(&file),
-            }
-        })
+        Scenario::parse(text, origin, overrides, |target| target_in(dir, target))
+    }
+}
+
+/// The target file `target` relative to `dir`, or, when no such file is there, the shipped
+/// target of that name (`targets/NAME.toml`).
+pub(super) fn target_in(
+    dir: &Path,
+    target: &str,
+) -> Result<tracker::TargetModel, crate::target::TargetFileError> {
+    let file: PathBuf = dir.join(target);
+    match (file.is_file(), shipped_target(target)) {
+        (false, Some(text)) => crate::target::parse(text, &file),
+        _ => crate::target::load(&file),
     }
 }

@@ -112,6 +112,17 @@ pub enum ScenarioError {
         /// The target file's own error (boxed: it is large and rare).
         source: Box<crate::target::TargetFileError>,
     },
+    /// An OpenSCENARIO file refused as it is read.
+    #[error(transparent)]
+    OpenScenario(#[from] crate::openscenario::OscError),
+    /// An OpenSCENARIO file read, and what it became refused by carfollow's checks.
+    #[error("{path}: as carfollow reads it: {message}")]
+    Imported {
+        /// The OpenSCENARIO file.
+        path: PathBuf,
+        /// What is wrong, naming carfollow's field.
+        message: String,
+    },
 }
 
 /// A validated scenario: everything the closed loop needs, with defaults filled in. Only
@@ -155,6 +166,9 @@ pub struct ScenarioSpec {
     pub description: String,
     /// Where it was read from (`None` for the built-in one).
     pub path: Option<PathBuf>,
+    /// What reading an OpenSCENARIO file left unapplied, a line each (`check` and `run`
+    /// say them among the warnings).
+    pub import_warnings: Vec<String>,
     /// Simulated time, seconds.
     pub duration_s: f64,
     /// The seed.
@@ -524,13 +538,52 @@ impl Scenario {
         }
     }
 
-    /// Reads a scenario file and applies `--set` overrides.
+    /// Reads a scenario file and applies `--set` overrides. An OpenSCENARIO file
+    /// (`.xosc`) is read as [`Scenario::load_openscenario`] reads it, with its defaults.
     pub fn load(path: &Path, overrides: &[String]) -> Result<Scenario, ScenarioError> {
+        if crate::openscenario::is_openscenario(path) {
+            let options = crate::openscenario::ImportOptions::default();
+            return Self::load_openscenario(path, overrides, &options);
+        }
         let text = std::fs::read_to_string(path).map_err(|source| ScenarioError::Io {
             path: path.to_owned(),
             source,
         })?;
         Self::from_file_text(&text, path, overrides)
+    }
+
+    /// Reads an OpenSCENARIO file as the scenario `carfollow import` writes of it, with
+    /// `--set` overrides applied to that (a `duration_s` among them stands in for the
+    /// file's `StopTrigger`). What carfollow's checks refuse in it is said as the field
+    /// of the scenario it became.
+    pub fn load_openscenario(
+        path: &Path,
+        overrides: &[String],
+        options: &crate::openscenario::ImportOptions,
+    ) -> Result<Scenario, ScenarioError> {
+        let mut options = options.clone();
+        if overrides.iter().any(|a| override_names(a, "duration_s")) {
+            // Any length: the override replaces it.
+            options.duration_s.get_or_insert(1.0);
+        }
+        let imported = crate::openscenario::import(path, &options)?;
+        let dir = path.parent().unwrap_or(Path::new("."));
+        let as_read = |e: ScenarioError| match e {
+            ScenarioError::Invalid { field, message, .. } => ScenarioError::Imported {
+                path: path.to_owned(),
+                message: format!("`{field}` {message}"),
+            },
+            ScenarioError::Parse { message, .. } => ScenarioError::Imported {
+                path: path.to_owned(),
+                message,
+            },
+            other => other,
+        };
+        let s = Self::from_text(&imported.text, path, dir, overrides).map_err(as_read)?;
+        let mut spec = Arc::unwrap_or_clone(s.0);
+        spec.path = Some(path.to_owned());
+        spec.import_warnings = imported.warnings;
+        Ok(Scenario::validated(spec))
     }
 
     /// [`Scenario::load`] with the file's text already read (`text`, of the file at
@@ -542,7 +595,7 @@ impl Scenario {
     ) -> Result<Scenario, ScenarioError> {
         let dir = path.parent().unwrap_or(Path::new("."));
         Self::parse(text, path, overrides, |target| {
-            crate::target::load(&dir.join(target))
+            library::target_in(dir, target)
         })
         .map(|s| {
             let mut spec = Arc::unwrap_or_clone(s.0);
@@ -584,7 +637,7 @@ impl Scenario {
     /// will drive (`chase.controller.gap_keeper.max_speed_mps`), so that the gap can only
     /// open.
     pub fn warnings(&self) -> Vec<String> {
-        let mut out = Vec::new();
+        let mut out = self.import_warnings.clone();
         let lead_max = self
             .lead_profile
             .knots

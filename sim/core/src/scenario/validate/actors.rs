@@ -34,16 +34,17 @@ impl Placed {
 
 /// The lead's lane, and the actors, checked: names, kinds, lanes on the road, starts on the
 /// route and apart from each other, profiles, and events that name vehicles and lanes that
-/// exist. `chase_start_m` is where the chase's rear axle starts, `lead_initial_speed_mps`
-/// the speed both start at.
+/// exist. `lanes` is the road's lanes each way (`route.lanes`, or its road file's),
+/// `chase_start_m` is where the chase's rear axle starts, `lead_initial_speed_mps` the speed
+/// both start at.
 pub(super) fn actors(
     raw: &ScenarioFile,
+    lanes: u32,
     route_length_m: f64,
     chase_start_m: f64,
     lead_initial_speed_mps: f64,
     f: &Blame,
 ) -> Result<Vec<ActorSpec>, ScenarioError> {
-    let lanes = raw.route.lanes;
     f.at(
         "route.lanes",
         check(

@@ -179,7 +179,14 @@ pub(super) fn validate(
         initial_gap_m,
         chase.camera_mount.forward_m,
     );
-    let mut actors = actors::actors(&raw, length, chase_start_m, lead_initial_speed_mps, f)?;
+    let mut actors = actors::actors(
+        &raw,
+        route.lanes,
+        length,
+        chase_start_m,
+        lead_initial_speed_mps,
+        f,
+    )?;
     let night = e.sun.elevation_deg;
     for (spec, file) in actors.iter_mut().zip(&raw.actors) {
         spec.tail_lamps = tail_lamps_lit(file.lamps.as_ref(), night);
@@ -193,6 +200,7 @@ pub(super) fn validate(
         name: raw.name,
         description: raw.description,
         path: None,
+        import_warnings: Vec::new(),
         duration_s: raw.duration_s,
         seed: raw.seed,
         route,

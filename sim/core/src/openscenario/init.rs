@@ -1,0 +1,309 @@
+//! `Storyboard/Init`: where each vehicle starts (a `TeleportAction`) and at what speed (a
+//! `SpeedAction` with a step), on the scenario's one road.
+
+use super::error::OscError;
+use super::xml::{child, elements, only_element, Xml};
+use roxmltree::Node;
+use std::collections::BTreeMap;
+
+/// The fastest a carfollow vehicle drives, m/s (a speed profile's bound).
+pub const MAX_SPEED_MPS: f64 = 40.0;
+
+/// How far a lateral position may lie from a lane's centre and still be in that lane's
+/// centre, m: carfollow's vehicles start on their lane's centre line.
+const LANE_CENTRE_TOLERANCE_M: f64 = 0.05;
+
+/// The road the scenario's vehicles are placed on, as far as placing them needs: its id,
+/// and its lanes on the right of its reference line (OpenDRIVE's −1, −2, ...).
+#[derive(Clone, Debug)]
+pub struct RoadLanes {
+    /// The road's id.
+    pub id: String,
+    /// Lanes on the right of the reference line.
+    pub lanes: u32,
+    /// Each lane's width, m.
+    pub lane_width_m: f64,
+}
+
+/// Where a vehicle starts.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Placed {
+    /// Its reference point's (the rear axle's) station along the road, m.
+    pub s_m: f64,
+    /// Its lane: 1 next to the reference line (OpenDRIVE's −1).
+    pub lane: u32,
+}
+
+/// What `Init` says of each vehicle.
+#[derive(Debug, Default)]
+pub struct Init {
+    /// Where each starts, by entity name.
+    pub placed: BTreeMap<String, Placed>,
+    /// Each one's speed at t = 0, m/s (0 when `Init` sets none).
+    pub speed_mps: BTreeMap<String, f64>,
+    /// The line of each one's `Private`, for errors about its start.
+    pub line: BTreeMap<String, u32>,
+    /// Lines the importer warns about: what it reads and does not apply.
+    pub warnings: Vec<String>,
+}
+
+/// A position still to be placed, relative to another vehicle's.
+struct Relative<'a, 'b> {
+    entity: String,
+    node: Node<'a, 'b>,
+    to: String,
+}
+
+/// Reads `Init`; `ego` is the entity carfollow drives (its controller assignments are read
+/// and not applied).
+pub fn read_init(xml: &Xml, road: &RoadLanes, ego: &str) -> Result<Init, OscError> {
+    let root = xml.doc.root_element();
+    let storyboard = child(root, "Storyboard")
+        .ok_or_else(|| xml.at(root, "<OpenSCENARIO> has no <Storyboard>"))?;
+    let mut init = Init::default();
+    let Some(actions) = child(storyboard, "Init").and_then(|i| child(i, "Actions")) else {
+        return Ok(init);
+    };
+    let mut relative = Vec::new();
+    for element in elements(actions) {
+        match element.tag_name().name() {
+            "Private" => {
+                let entity = xml.req(element, "entityRef")?;
+                init.line.insert(entity.clone(), xml.line(element));
+                for action in elements(element) {
+                    private_action(xml, road, ego, &entity, action, &mut init, &mut relative)?;
+                }
+            }
+            "GlobalAction" => {
+                return Err(xml.unsupported(only_element(xml, element)?, "global action", ""))
+            }
+            _ => return Err(xml.unsupported(element, "init action", "")),
+        }
+    }
+    // Relative positions, each once the vehicle it is relative to is placed.
+    while !relative.is_empty() {
+        let ready = relative
+            .iter()
+            .position(|r: &Relative| init.placed.contains_key(&r.to));
+        let Some(i) = ready else {
+            let r = &relative[0];
+            return Err(xml.at(r.node, format!("<{}>: `{}` is placed by no <TeleportAction> (or the positions refer to each other in a loop)", r.node.tag_name().name(), r.to)));
+        };
+        let r = relative.remove(i);
+        let base = init.placed[&r.to];
+        let placed = relative_position(xml, road, r.node, base)?;
+        init.placed.insert(r.entity, placed);
+    }
+    Ok(init)
+}
+
+/// One `PrivateAction` of `entity` in `Init`.
+fn private_action<'a, 'b>(
+    xml: &Xml,
+    road: &RoadLanes,
+    ego: &str,
+    entity: &str,
+    action: Node<'a, 'b>,
+    init: &mut Init,
+    relative: &mut Vec<Relative<'a, 'b>>,
+) -> Result<(), OscError> {
+    if action.tag_name().name() != "PrivateAction" {
+        return Err(xml.unsupported(action, "element", ""));
+    }
+    let inner = only_element(xml, action)?;
+    match inner.tag_name().name() {
+        "TeleportAction" => {
+            let position = child(inner, "Position")
+                .ok_or_else(|| xml.at(inner, "<TeleportAction> has no <Position>"))?;
+            let p = only_element(xml, position)?;
+            match p.tag_name().name() {
+                "LanePosition" | "RoadPosition" => {
+                    let placed = absolute_position(xml, road, p)?;
+                    init.placed.insert(entity.to_string(), placed);
+                }
+                "RelativeLanePosition" | "RelativeRoadPosition" => relative.push(Relative {
+                    entity: entity.to_string(),
+                    node: p,
+                    to: xml.req(p, "entityRef")?,
+                }),
+                _ => {
+                    return Err(xml.unsupported(
+                        p,
+                        "position",
+                        "carfollow places vehicles on lanes of its road",
+                    ))
+                }
+            }
+        }
+        "LongitudinalAction" => {
+            let speed = only_element(xml, inner)?;
+            init.speed_mps
+                .insert(entity.to_string(), initial_speed(xml, speed)?);
+        }
+        // Activating the default controller of a vehicle none is assigned to: its
+        // storyboard drives it, as carfollow's events do.
+        "ActivateControllerAction" if entity != ego => {}
+        "ControllerAction" | "ActivateControllerAction" if entity == ego => {
+            init.warnings.push(format!(
+            "line {}: <{}> of the ego `{ego}` is not applied: carfollow's loop drives the chase",
+            xml.line(inner),
+            inner.tag_name().name()
+        ))
+        }
+        _ => return Err(xml.unsupported(inner, "init action", "")),
+    }
+    Ok(())
+}
+
+/// A `SpeedAction` of `Init`: a step to an absolute speed.
+fn initial_speed(xml: &Xml, speed: Node) -> Result<f64, OscError> {
+    if speed.tag_name().name() != "SpeedAction" {
+        return Err(xml.unsupported(speed, "init action", "Init sets a speed by <SpeedAction>"));
+    }
+    if let Some(dynamics) = child(speed, "SpeedActionDynamics") {
+        let shape = xml.req(dynamics, "dynamicsShape")?;
+        let value = xml.opt_num(dynamics, "value")?.unwrap_or(0.0);
+        if shape != "step" && value != 0.0 {
+            return Err(xml.at(dynamics, format!("<SpeedActionDynamics dynamicsShape=\"{shape}\">: Init sets each speed at once (a step)")));
+        }
+    }
+    let target = child(speed, "SpeedActionTarget")
+        .ok_or_else(|| xml.at(speed, "<SpeedAction> has no <SpeedActionTarget>"))?;
+    let absolute = only_element(xml, target)?;
+    if absolute.tag_name().name() != "AbsoluteTargetSpeed" {
+        return Err(xml.unsupported(absolute, "init speed", "Init sets absolute speeds"));
+    }
+    let v = xml.num(absolute, "value")?;
+    if !(0.0..=MAX_SPEED_MPS).contains(&v) {
+        return Err(xml.at(absolute, format!("<AbsoluteTargetSpeed value=\"{v}\">: carfollow's vehicles drive forward at 0–{} m/s", MAX_SPEED_MPS)));
+    }
+    Ok(v)
+}
+
+/// The lane of a lane id (`−k` is lane `k`).
+fn lane_of_id(xml: &Xml, road: &RoadLanes, node: Node, id: i64) -> Result<u32, OscError> {
+    if id >= 0 || -id > i64::from(road.lanes) {
+        return Err(xml.at(node, format!(
+            "<{}>: lane {id} is not a lane carfollow drives on road {} ({}: the lanes on the right of its reference line)",
+            node.tag_name().name(), road.id, lanes_named(road.lanes)
+        )));
+    }
+    Ok((-id) as u32)
+}
+
+/// The lane whose centre is `t_m` from the reference line (negative to the right).
+fn lane_at(xml: &Xml, road: &RoadLanes, node: Node, t_m: f64) -> Result<u32, OscError> {
+    let k = (-t_m / road.lane_width_m + 0.5).round();
+    let centre = -(k - 0.5) * road.lane_width_m;
+    if k < 1.0 || k > f64::from(road.lanes) || (t_m - centre).abs() > LANE_CENTRE_TOLERANCE_M {
+        return Err(xml.at(node, format!(
+            "<{}>: t = {t_m} m is not the centre of a lane of road {} (lanes of {} m on the right: t = −{} m, ...): carfollow's vehicles start on their lane's centre",
+            node.tag_name().name(), road.id, road.lane_width_m, road.lane_width_m / 2.0
+        )));
+    }
+    Ok(k as u32)
+}
+
+fn check_road(xml: &Xml, road: &RoadLanes, node: Node) -> Result<(), OscError> {
+    let id = xml.req(node, "roadId")?;
+    if id != road.id {
+        return Err(xml.at(
+            node,
+            format!(
+                "<{} roadId=\"{id}\">: carfollow's route is road {} alone",
+                node.tag_name().name(),
+                road.id
+            ),
+        ));
+    }
+    Ok(())
+}
+
+fn no_offset(xml: &Xml, node: Node) -> Result<(), OscError> {
+    match xml.opt_num(node, "offset")? {
+        Some(o) if o.abs() > LANE_CENTRE_TOLERANCE_M => Err(xml.at(
+            node,
+            format!(
+                "<{} offset=\"{o}\">: carfollow's vehicles start on their lane's centre",
+                node.tag_name().name()
+            ),
+        )),
+        _ => Ok(()),
+    }
+}
+
+fn check_s(xml: &Xml, node: Node, s: f64) -> Result<f64, OscError> {
+    if s < 0.0 {
+        return Err(xml.at(
+            node,
+            format!(
+                "<{}>: s = {s} m is before the road's start",
+                node.tag_name().name()
+            ),
+        ));
+    }
+    Ok(s)
+}
+
+/// A `LanePosition` or `RoadPosition`.
+fn absolute_position(xml: &Xml, road: &RoadLanes, p: Node) -> Result<Placed, OscError> {
+    check_road(xml, road, p)?;
+    let s_m = check_s(xml, p, xml.num(p, "s")?)?;
+    let lane = if p.tag_name().name() == "LanePosition" {
+        no_offset(xml, p)?;
+        let id = xml.req(p, "laneId")?;
+        let id = id
+            .trim()
+            .parse::<i64>()
+            .map_err(|_| xml.at(p, format!("<LanePosition laneId=\"{id}\">: not a lane id")))?;
+        lane_of_id(xml, road, p, id)?
+    } else {
+        lane_at(xml, road, p, xml.num(p, "t")?)?
+    };
+    Ok(Placed { s_m, lane })
+}
+
+/// A `RelativeLanePosition` (`dLane`, `ds` or from 1.1 `dsLane`) or `RelativeRoadPosition`
+/// (`ds`, `dt`) from `base`.
+fn relative_position(
+    xml: &Xml,
+    road: &RoadLanes,
+    p: Node,
+    base: Placed,
+) -> Result<Placed, OscError> {
+    let ds = match (xml.opt_num(p, "ds")?, xml.opt_num(p, "dsLane")?) {
+        (Some(ds), None) | (None, Some(ds)) => ds,
+        (None, None) => return Err(xml.at(p, format!("<{}> has no `ds`", p.tag_name().name()))),
+        (Some(_), Some(_)) => {
+            return Err(xml.at(
+                p,
+                format!("<{}> has both `ds` and `dsLane`", p.tag_name().name()),
+            ))
+        }
+    };
+    let s_m = check_s(xml, p, base.s_m + ds)?;
+    let lane = if p.tag_name().name() == "RelativeLanePosition" {
+        no_offset(xml, p)?;
+        let d = xml.num(p, "dLane")?;
+        if d.fract() != 0.0 || d.abs() > 100.0 {
+            return Err(xml.at(
+                p,
+                format!("<RelativeLanePosition dLane=\"{d}\">: not a whole number of lanes"),
+            ));
+        }
+        // Lane ids grow to the left: lane k is id −k.
+        lane_of_id(xml, road, p, -i64::from(base.lane) + d as i64)?
+    } else {
+        let t_base = -(f64::from(base.lane) - 0.5) * road.lane_width_m;
+        lane_at(xml, road, p, t_base + xml.num(p, "dt")?)?
+    };
+    Ok(Placed { s_m, lane })
+}
+
+/// The driving lanes on the right of a road with `lanes` of them, as ids.
+pub fn lanes_named(lanes: u32) -> String {
+    match lanes {
+        1 => "−1".to_string(),
+        n => format!("−1 to −{n}"),
+    }
+}

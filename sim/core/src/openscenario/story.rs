@@ -1,0 +1,624 @@
+//! `Storyboard`'s stories: each `Event` of a vehicle's maneuvers as one of carfollow's
+//! events on that vehicle (`[[actors.events]]`, `[[lead.events]]`): its `StartTrigger` as
+//! the event's trigger, its action as the event's action. What carfollow cannot run as the
+//! standard defines it is refused, naming the element; nothing is dropped.
+
+use super::error::OscError;
+use super::init::{Init, RoadLanes};
+use super::xml::{child, children, elements, only_element, Xml};
+use roxmltree::Node;
+use std::collections::BTreeMap;
+use vehicle::{ActionSpec, EventSpec, Rule, Shape, TriggerSpec};
+
+/// What the stories give: each vehicle's events (by its name in the file), and what is
+/// read and not applied (the ego's actions).
+#[derive(Debug, Default)]
+pub struct Stories {
+    /// Each vehicle's events, in the order written.
+    pub events: BTreeMap<String, Vec<EventSpec>>,
+    /// How many actions of the ego the stories hold (read, and not applied).
+    pub ego_actions: usize,
+}
+
+/// The vehicles as carfollow names them (`chase`, `lead`, the actors' names), by the
+/// names the file gives them.
+pub type Names = BTreeMap<String, String>;
+
+/// One `Event` found in the stories: whose it is and its name as carfollow gives it.
+struct Found {
+    owner: String,
+    name: String,
+}
+
+/// Reads every `Story` of the storyboard.
+pub fn read_stories(
+    xml: &Xml,
+    names: &Names,
+    init: &Init,
+    road: &RoadLanes,
+    ego: &str,
+) -> Result<Stories, OscError> {
+    let root = xml.doc.root_element();
+    let Some(storyboard) = child(root, "Storyboard") else {
+        return Ok(Stories::default());
+    };
+    // First the events' owners and names (an `after` may name a later event), and how
+    // many lane changes each vehicle makes.
+    let mut found: BTreeMap<String, Found> = BTreeMap::new();
+    let mut lane_changes: BTreeMap<String, usize> = BTreeMap::new();
+    let mut taken: BTreeMap<String, Vec<String>> = BTreeMap::new();
+    for (event, owners) in events(xml, storyboard)? {
+        for owner in &owners {
+            let base = xml.req(event, "name")?;
+            let used = taken.entry(owner.clone()).or_default();
+            let mut name = base.clone();
+            let mut k = 2;
+            while used.contains(&name) {
+                name = format!("{base}-{k}");
+                k += 1;
+            }
+            used.push(name.clone());
+            found.entry(base).or_insert(Found {
+                owner: owner.clone(),
+                name,
+            });
+            for action in children(event, "Action") {
+                if action
+                    .descendants()
+                    .any(|d| d.has_tag_name("LaneChangeAction"))
+                {
+                    *lane_changes.entry(owner.clone()).or_default() += 1;
+                }
+            }
+        }
+    }
+    let context = Context {
+        xml,
+        names,
+        init,
+        road,
+        found: &found,
+        lane_changes: &lane_changes,
+    };
+    let mut stories = Stories::default();
+    for (event, owners) in events(xml, storyboard)? {
+        for owner in owners {
+            if owner == ego {
+                stories.ego_actions += children(event, "Action").count();
+                continue;
+            }
+            let specs = context.event(event, &owner)?;
+            stories.events.entry(owner).or_default().extend(specs);
+        }
+    }
+    Ok(stories)
+}
+
+/// Every `Event` of the stories, with the vehicles its maneuver group acts on; the acts'
+/// and groups' own settings checked on the way.
+fn events<'a, 'b>(
+    xml: &Xml,
+    storyboard: Node<'a, 'b>,
+) -> Result<Vec<(Node<'a, 'b>, Vec<String>)>, OscError> {
+    let mut out = Vec::new();
+    for story in elements(storyboard) {
+        match story.tag_name().name() {
+            "Init" | "StopTrigger" => continue,
+            "Story" => {}
+            _ => return Err(xml.unsupported(story, "element", "")),
+        }
+        for act in elements(story) {
+            match act.tag_name().name() {
+                "ParameterDeclarations" => continue,
+                "Act" => {}
+                _ => return Err(xml.unsupported(act, "element", "")),
+            }
+            act_trigger(xml, act)?;
+            for group in children(act, "ManeuverGroup") {
+                if xml
+                    .opt_num(group, "maximumExecutionCount")?
+                    .is_some_and(|n| n != 1.0)
+                {
+                    return Err(xml.at(group, "<ManeuverGroup maximumExecutionCount>: carfollow runs each maneuver group once"));
+                }
+                if let Some(c) = child(group, "CatalogReference") {
+                    return Err(xml.unsupported(c, "maneuver", "maneuver catalogs are not read"));
+                }
+                let actors = child(group, "Actors")
+                    .ok_or_else(|| xml.at(group, "<ManeuverGroup> has no <Actors>"))?;
+                if xml.attr(actors, "selectTriggeringEntities")?.as_deref() == Some("true") {
+                    return Err(xml.at(actors, "<Actors selectTriggeringEntities=\"true\">: carfollow's events name their vehicles"));
+                }
+                let owners = children(actors, "EntityRef")
+                    .map(|e| xml.req(e, "entityRef"))
+                    .collect::<Result<Vec<_>, _>>()?;
+                for maneuver in children(group, "Maneuver") {
+                    out.extend(children(maneuver, "Event").map(|e| (e, owners.clone())));
+                }
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// An act must start at once: no `StartTrigger`, or one at simulation time 0.
+fn act_trigger(xml: &Xml, act: Node) -> Result<(), OscError> {
+    if let Some(stop) = child(act, "StopTrigger") {
+        return Err(xml.unsupported(
+            stop,
+            "act stop trigger",
+            "carfollow's events run to their end",
+        ));
+    }
+    let Some(trigger) = child(act, "StartTrigger") else {
+        return Ok(());
+    };
+    let condition = one_condition(xml, trigger)?;
+    let at_start = child(condition, "ByValueCondition")
+        .and_then(|v| child(v, "SimulationTimeCondition"))
+        .map(|t| -> Result<bool, OscError> {
+            let rule = xml.req(t, "rule")?;
+            let value = xml.num(t, "value")?;
+            Ok(value <= 0.0 && matches!(rule.as_str(), "greaterThan" | "greaterOrEqual"))
+        })
+        .transpose()?
+        .unwrap_or(false);
+    if !at_start || xml.opt_num(condition, "delay")?.is_some_and(|d| d != 0.0) {
+        return Err(xml.at(condition, "<Act> starts on a condition: carfollow's acts start at t = 0 (put the condition on the events)"));
+    }
+    Ok(())
+}
+
+/// The one condition of a trigger: carfollow's triggers are single conditions.
+fn one_condition<'a, 'b>(xml: &Xml, trigger: Node<'a, 'b>) -> Result<Node<'a, 'b>, OscError> {
+    let groups: Vec<_> = children(trigger, "ConditionGroup").collect();
+    let [group] = groups.as_slice() else {
+        return Err(xml.at(
+            trigger,
+            format!(
+                "<{}> with {} condition groups: carfollow's triggers are one condition",
+                trigger.tag_name().name(),
+                groups.len()
+            ),
+        ));
+    };
+    let conditions: Vec<_> = children(*group, "Condition").collect();
+    let [condition] = conditions.as_slice() else {
+        return Err(xml.at(
+            *group,
+            format!(
+                "<ConditionGroup> of {} conditions: carfollow's triggers are one condition",
+                conditions.len()
+            ),
+        ));
+    };
+    Ok(*condition)
+}
+
+struct Context<'c, 'a> {
+    xml: &'c Xml<'a>,
+    names: &'c Names,
+    init: &'c Init,
+    road: &'c RoadLanes,
+    found: &'c BTreeMap<String, Found>,
+    lane_changes: &'c BTreeMap<String, usize>,
+}
+
+impl Context<'_, '_> {
+    /// carfollow's name of the vehicle the file calls `name`.
+    fn name(&self, node: Node, name: &str) -> Result<String, OscError> {
+        self.names.get(name).cloned().ok_or_else(|| {
+            self.xml.at(
+                node,
+                format!("<{}>: no entity is named `{name}`", node.tag_name().name()),
+            )
+        })
+    }
+
+    /// The events of `event` on `owner` (one per action), named from `taken`'s names.
+    fn event(&self, event: Node, owner: &str) -> Result<Vec<EventSpec>, OscError> {
+        let xml = self.xml;
+        let base = xml.req(event, "name")?;
+        match xml.attr(event, "priority")?.as_deref() {
+            None | Some("overwrite") | Some("override") => {}
+            Some(p) => return Err(xml.at(event, format!("<Event priority=\"{p}\">: carfollow's events override what runs (\"override\", 1.0's \"overwrite\")"))),
+        }
+        if xml
+            .opt_num(event, "maximumExecutionCount")?
+            .is_some_and(|n| n != 1.0)
+        {
+            return Err(xml.at(
+                event,
+                "<Event maximumExecutionCount>: carfollow runs each event once",
+            ));
+        }
+        let trigger = match child(event, "StartTrigger") {
+            Some(t) => self.trigger(t, owner)?,
+            None => TriggerSpec {
+                time_s: Some(0.0),
+                ..TriggerSpec::default()
+            },
+        };
+        let name = self
+            .found
+            .get(&base)
+            .filter(|f| f.owner == owner)
+            .map_or(base.clone(), |f| f.name.clone());
+        let actions: Vec<_> = children(event, "Action").collect();
+        if actions.is_empty() {
+            return Err(xml.at(event, "<Event> has no <Action>"));
+        }
+        actions
+            .iter()
+            .enumerate()
+            .map(|(i, &a)| {
+                Ok(EventSpec {
+                    name: if i == 0 {
+                        name.clone()
+                    } else {
+                        format!("{name}/{}", i + 1)
+                    },
+                    trigger: trigger.clone(),
+                    action: self.action(a, owner)?,
+                    repeat: false,
+                })
+            })
+            .collect()
+    }
+
+    /// A `StartTrigger` as a trigger of an event on `owner`.
+    fn trigger(&self, trigger: Node, owner: &str) -> Result<TriggerSpec, OscError> {
+        let xml = self.xml;
+        let condition = one_condition(xml, trigger)?;
+        match xml.attr(condition, "conditionEdge")?.as_deref() {
+            Some("none") | Some("rising") | None => {}
+            Some(edge) => return Err(xml.at(condition, format!("<Condition conditionEdge=\"{edge}\">: carfollow's events fire when their condition holds (\"none\", \"rising\")"))),
+        }
+        let delay = xml.opt_num(condition, "delay")?.filter(|&d| d != 0.0);
+        if delay.is_some_and(|d| d < 0.0) {
+            return Err(xml.at(condition, "<Condition delay>: must not be negative"));
+        }
+        let inner = only_element(xml, condition)?;
+        let mut spec = match inner.tag_name().name() {
+            "ByValueCondition" => self.by_value(only_element(xml, inner)?, owner)?,
+            "ByEntityCondition" => self.by_entity(inner, owner)?,
+            _ => return Err(xml.unsupported(inner, "condition", "")),
+        };
+        spec.delay_s = delay;
+        Ok(spec)
+    }
+
+    fn rule(&self, node: Node) -> Result<Rule, OscError> {
+        match self.xml.req(node, "rule")?.as_str() {
+            "lessThan" | "lessOrEqual" => Ok(Rule::Less),
+            "greaterThan" | "greaterOrEqual" => Ok(Rule::Greater),
+            r => Err(self.xml.at(
+                node,
+                format!(
+                    "<{} rule=\"{r}\">: carfollow's triggers compare by less or greater",
+                    node.tag_name().name()
+                ),
+            )),
+        }
+    }
+
+    fn by_value(&self, c: Node, owner: &str) -> Result<TriggerSpec, OscError> {
+        let xml = self.xml;
+        match c.tag_name().name() {
+            "SimulationTimeCondition" => Ok(TriggerSpec {
+                time_s: Some(xml.num(c, "value")?.max(0.0)),
+                rule: Some(self.rule(c)?),
+                ..TriggerSpec::default()
+            }),
+            "StoryboardElementStateCondition" => {
+                let kind = xml.req(c, "storyboardElementType")?;
+                let state = xml.req(c, "state")?;
+                let reference = xml.req(c, "storyboardElementRef")?;
+                if !matches!(kind.as_str(), "event" | "action")
+                    || !matches!(state.as_str(), "endTransition" | "completeState")
+                {
+                    return Err(xml.at(c, format!("<StoryboardElementStateCondition storyboardElementType=\"{kind}\" state=\"{state}\">: carfollow waits for an event's end (an event or action, endTransition or completeState)")));
+                }
+                let event = if kind == "action" {
+                    self.event_of_action(c, &reference)?
+                } else {
+                    reference
+                };
+                let found = self.found.get(&event).filter(|f| f.owner == owner).ok_or_else(|| {
+                    xml.at(c, format!("<StoryboardElementStateCondition storyboardElementRef=\"{event}\">: not an event of `{owner}` (carfollow's events wait for their own vehicle's)"))
+                })?;
+                Ok(TriggerSpec {
+                    after: Some(found.name.clone()),
+                    ..TriggerSpec::default()
+                })
+            }
+            "ParameterCondition" => {
+                // No action here sets a parameter, so the condition is the same throughout:
+                // true, the event starts at once; false, it never would.
+                let name = xml.req(c, "parameterRef")?;
+                let have = xml.param_value(c, &name)?;
+                let want = xml.req(c, "value")?;
+                let rule = xml.req(c, "rule")?;
+                let holds = match (have.trim().parse::<f64>(), want.trim().parse::<f64>()) {
+                    (Ok(a), Ok(b)) => compare(&rule, a.total_cmp(&b)),
+                    _ => compare(&rule, have.cmp(&want)),
+                }
+                .ok_or_else(|| {
+                    xml.at(
+                        c,
+                        format!("<ParameterCondition rule=\"{rule}\">: not a rule of the standard"),
+                    )
+                })?;
+                if !holds {
+                    return Err(xml.at(c, format!("<ParameterCondition parameterRef=\"{name}\">: never holds (`{name}` is \"{have}\" throughout), so its event would never start")));
+                }
+                Ok(TriggerSpec {
+                    time_s: Some(0.0),
+                    ..TriggerSpec::default()
+                })
+            }
+            _ => Err(xml.unsupported(c, "condition", "")),
+        }
+    }
+
+    /// The event holding the action named `action`.
+    fn event_of_action(&self, c: Node, action: &str) -> Result<String, OscError> {
+        let xml = self.xml;
+        xml.doc
+            .descendants()
+            .find(|n| n.has_tag_name("Action") && n.attribute("name") == Some(action))
+            .and_then(|a| a.parent())
+            .and_then(|e| e.attribute("name"))
+            .map(str::to_string)
+            .ok_or_else(|| {
+                xml.at(
+                    c,
+                    format!("<StoryboardElementStateCondition>: no action is named `{action}`"),
+                )
+            })
+    }
+
+    fn by_entity(&self, c: Node, owner: &str) -> Result<TriggerSpec, OscError> {
+        let xml = self.xml;
+        let triggering = child(c, "TriggeringEntities")
+            .ok_or_else(|| xml.at(c, "<ByEntityCondition> has no <TriggeringEntities>"))?;
+        let refs: Vec<_> = children(triggering, "EntityRef").collect();
+        let [one] = refs.as_slice() else {
+            return Err(xml.at(triggering, format!("<TriggeringEntities> of {} entities: carfollow's triggers are about one vehicle", refs.len())));
+        };
+        let subject = xml.req(*one, "entityRef")?;
+        let condition = child(c, "EntityCondition")
+            .ok_or_else(|| xml.at(c, "<ByEntityCondition> has no <EntityCondition>"))?;
+        let e = only_element(xml, condition)?;
+        let name = e.tag_name().name();
+        if name == "TraveledDistanceCondition" {
+            if subject != owner {
+                return Err(xml.at(e, format!("<TraveledDistanceCondition> of `{subject}` on an event of `{owner}`: carfollow's distance triggers are the moving vehicle's own")));
+            }
+            return Ok(TriggerSpec {
+                distance_m: Some(xml.num(e, "value")?),
+                rule: Some(Rule::Greater),
+                ..TriggerSpec::default()
+            });
+        }
+        let other = match name {
+            "TimeToCollisionCondition" => {
+                let target = child(e, "TimeToCollisionConditionTarget")
+                    .map(|t| only_element(xml, t))
+                    .transpose()?
+                    .ok_or_else(|| xml.at(e, "<TimeToCollisionCondition> has no target"))?;
+                if target.tag_name().name() != "EntityRef" {
+                    return Err(xml.unsupported(
+                        target,
+                        "time-to-collision target",
+                        "carfollow's are vehicles",
+                    ));
+                }
+                xml.req(target, "entityRef")?
+            }
+            "TimeHeadwayCondition" | "RelativeDistanceCondition" => xml.req(e, "entityRef")?,
+            _ => return Err(xml.unsupported(e, "condition", "")),
+        };
+        if xml.attr(e, "freespace")?.as_deref() != Some("true") {
+            return Err(xml.at(e, format!("<{name} freespace=\"false\">: carfollow measures gaps bumper to bumper (freespace=\"true\")")));
+        }
+        if name == "RelativeDistanceCondition" {
+            let kind = xml.req(e, "relativeDistanceType")?;
+            if kind != "longitudinal" {
+                return Err(xml.at(e, format!("<RelativeDistanceCondition relativeDistanceType=\"{kind}\">: carfollow's gaps are longitudinal")));
+            }
+        }
+        let to = if subject == owner {
+            other
+        } else if other == owner {
+            subject
+        } else {
+            return Err(xml.at(e, format!("<{name}> between `{subject}` and `{other}` on an event of `{owner}`: carfollow's triggers are about the vehicle the event moves")));
+        };
+        let to = Some(self.name(e, &to)?);
+        let value = Some(xml.num(e, "value")?);
+        let rule = Some(self.rule(e)?);
+        Ok(match name {
+            "TimeToCollisionCondition" => TriggerSpec {
+                ttc_s: value,
+                to,
+                rule,
+                ..TriggerSpec::default()
+            },
+            "TimeHeadwayCondition" => TriggerSpec {
+                time_gap_s: value,
+                to,
+                rule,
+                ..TriggerSpec::default()
+            },
+            _ => TriggerSpec {
+                gap_m: value,
+                to,
+                rule,
+                ..TriggerSpec::default()
+            },
+        })
+    }
+
+    /// An `Action` of an event on `owner`.
+    fn action(&self, action: Node, owner: &str) -> Result<ActionSpec, OscError> {
+        let xml = self.xml;
+        let private = only_element(xml, action)?;
+        if private.tag_name().name() != "PrivateAction" {
+            return Err(xml.unsupported(
+                private,
+                "action",
+                "carfollow's events move their own vehicle",
+            ));
+        }
+        let kind = only_element(xml, private)?;
+        let inner = only_element(xml, kind)?;
+        match (kind.tag_name().name(), inner.tag_name().name()) {
+            ("LongitudinalAction", "SpeedAction") => self.speed(inner),
+            ("LateralAction", "LaneChangeAction") => self.lane_change(inner, owner),
+            _ => Err(xml.unsupported(inner, "action", "")),
+        }
+    }
+
+    fn speed(&self, speed: Node) -> Result<ActionSpec, OscError> {
+        let xml = self.xml;
+        let dynamics = child(speed, "SpeedActionDynamics")
+            .ok_or_else(|| xml.at(speed, "<SpeedAction> has no <SpeedActionDynamics>"))?;
+        let target = child(speed, "SpeedActionTarget")
+            .map(|t| only_element(xml, t))
+            .transpose()?
+            .ok_or_else(|| xml.at(speed, "<SpeedAction> has no <SpeedActionTarget>"))?;
+        if target.tag_name().name() != "AbsoluteTargetSpeed" {
+            return Err(xml.unsupported(
+                target,
+                "speed target",
+                "carfollow's speed actions go to a speed",
+            ));
+        }
+        let speed_mps = xml.num(target, "value")?;
+        let shape = xml.req(dynamics, "dynamicsShape")?;
+        let dimension = xml.req(dynamics, "dynamicsDimension")?;
+        let value = xml.num(dynamics, "value")?;
+        let mut spec = ActionSpec {
+            speed_mps: Some(speed_mps),
+            ..ActionSpec::default()
+        };
+        match (shape.as_str(), dimension.as_str()) {
+            ("step", _) => spec.shape = Some(Shape::Step),
+            (_, "time") if value == 0.0 => spec.shape = Some(Shape::Step),
+            ("linear", "time") => {
+                spec.duration_s = Some(value);
+                spec.shape = Some(Shape::Linear);
+            }
+            ("cubic", "time") => {
+                spec.duration_s = Some(value);
+                spec.shape = Some(Shape::Cubic);
+            }
+            ("linear", "rate") => spec.rate_mps2 = Some(value.abs()),
+            _ => return Err(xml.at(dynamics, format!("<SpeedActionDynamics dynamicsShape=\"{shape}\" dynamicsDimension=\"{dimension}\">: carfollow's speed changes are a step, linear over a time or at a rate, or cubic over a time"))),
+        }
+        Ok(spec)
+    }
+
+    fn lane_change(&self, change: Node, owner: &str) -> Result<ActionSpec, OscError> {
+        let xml = self.xml;
+        if xml
+            .opt_num(change, "targetLaneOffset")?
+            .is_some_and(|o| o != 0.0)
+        {
+            return Err(xml.at(change, "<LaneChangeAction targetLaneOffset>: carfollow's lane changes end on the lane's centre"));
+        }
+        let dynamics = child(change, "LaneChangeActionDynamics").ok_or_else(|| {
+            xml.at(
+                change,
+                "<LaneChangeAction> has no <LaneChangeActionDynamics>",
+            )
+        })?;
+        let target = child(change, "LaneChangeTarget")
+            .map(|t| only_element(xml, t))
+            .transpose()?
+            .ok_or_else(|| xml.at(change, "<LaneChangeAction> has no <LaneChangeTarget>"))?;
+        let id = match target.tag_name().name() {
+            "AbsoluteTargetLane" => {
+                let v = xml.req(target, "value")?;
+                v.trim().parse::<i64>().map_err(|_| {
+                    xml.at(
+                        target,
+                        format!("<AbsoluteTargetLane value=\"{v}\">: not a lane id"),
+                    )
+                })?
+            }
+            "RelativeTargetLane" => {
+                let of = xml.req(target, "entityRef")?;
+                let changes = self.lane_changes.get(&of).copied().unwrap_or(0);
+                if !(changes == 0 || (of == owner && changes == 1)) {
+                    return Err(xml.at(target, format!("<RelativeTargetLane entityRef=\"{of}\">: `{of}` changes lane in the stories, so its lane when this starts is not known before the run")));
+                }
+                let lane = self
+                    .init
+                    .placed
+                    .get(&of)
+                    .ok_or_else(|| {
+                        xml.at(
+                            target,
+                            format!("<RelativeTargetLane>: `{of}` is not placed in <Init>"),
+                        )
+                    })?
+                    .lane;
+                let d = xml.num(target, "value")?;
+                if d.fract() != 0.0 || d.abs() > 100.0 {
+                    return Err(xml.at(
+                        target,
+                        format!("<RelativeTargetLane value=\"{d}\">: not a whole number of lanes"),
+                    ));
+                }
+                -i64::from(lane) + d as i64
+            }
+            _ => return Err(xml.unsupported(target, "lane change target", "")),
+        };
+        if id >= 0 || -id > i64::from(self.road.lanes) {
+            return Err(xml.at(
+                target,
+                format!(
+                    "<{}>: lane {id} is not a lane carfollow drives on road {} ({})",
+                    target.tag_name().name(),
+                    self.road.id,
+                    super::init::lanes_named(self.road.lanes)
+                ),
+            ));
+        }
+        let shape = xml.req(dynamics, "dynamicsShape")?;
+        let dimension = xml.req(dynamics, "dynamicsDimension")?;
+        let value = xml.num(dynamics, "value")?;
+        let mut spec = ActionSpec {
+            lane: Some((-id) as u32),
+            ..ActionSpec::default()
+        };
+        spec.shape = match shape.as_str() {
+            "sinusoidal" => Some(Shape::Sinusoidal),
+            "cubic" => Some(Shape::Cubic),
+            _ => return Err(xml.at(dynamics, format!("<LaneChangeActionDynamics dynamicsShape=\"{shape}\">: carfollow's lane changes are cubic or sinusoidal"))),
+        };
+        match dimension.as_str() {
+            "time" => spec.duration_s = Some(value),
+            "rate" => spec.lateral_speed_mps = Some(value.abs()),
+            _ => return Err(xml.at(dynamics, format!("<LaneChangeActionDynamics dynamicsDimension=\"{dimension}\">: carfollow's lane changes take a time or a lateral rate"))),
+        }
+        Ok(spec)
+    }
+}
+
+/// Whether `ordering` (the value's against the condition's) meets the standard's `rule`;
+/// `None` for a rule that is not the standard's.
+fn compare(rule: &str, ordering: std::cmp::Ordering) -> Option<bool> {
+    use std::cmp::Ordering::{Equal, Greater, Less};
+    Some(match rule {
+        "lessThan" => ordering == Less,
+        "lessOrEqual" => ordering != Greater,
+        "equalTo" => ordering == Equal,
+        "notEqualTo" => ordering != Equal,
+        "greaterThan" => ordering == Greater,
+        "greaterOrEqual" => ordering != Less,
+        _ => return None,
+    })
+}

@@ -1,0 +1,413 @@
+//! The scenario as carfollow writes it: the road, the chase, the lead, the actors with
+//! their events, and the duration, as a scenario file's TOML.
+
+use super::entities::Entity;
+use super::error::OscError;
+use super::init::{Init, Placed, RoadLanes};
+use super::story::{read_stories, Names};
+use super::xml::{child, children, elements, only_element, Xml};
+use super::{ImportOptions, Imported};
+use std::path::{Component, Path, PathBuf};
+
+/// The lead's target: the NIST board, shipped with carfollow.
+const TARGET: &str = "targets/nist-ten-segment.toml";
+
+/// The road of the file's `RoadNetwork/LogicFile`.
+pub struct Road {
+    /// Its id and lanes.
+    pub lanes: RoadLanes,
+    /// The OpenDRIVE file.
+    pub file: PathBuf,
+}
+
+/// Reads the road of `RoadNetwork/LogicFile` (relative to `dir`, the scenario's folder).
+pub fn read_road(xml: &Xml, dir: &Path) -> Result<Road, OscError> {
+    let root = xml.doc.root_element();
+    let logic = child(root, "RoadNetwork")
+        .and_then(|n| child(n, "LogicFile"))
+        .ok_or_else(|| xml.at(root, "<OpenSCENARIO> has no <RoadNetwork><LogicFile>: carfollow's route is the road of an OpenDRIVE file"))?;
+    let file = dir.join(xml.req(logic, "filepath")?);
+    let opendrive = crate::opendrive::load(&file).map_err(|e| match e {
+        crate::opendrive::OpenDriveError::Io { source, .. } => xml.at(
+            logic,
+            format!("<LogicFile>: cannot read {}: {source}", file.display()),
+        ),
+        other => other.into(),
+    })?;
+    let road = crate::opendrive::import(&opendrive, None, |_| None)?;
+    Ok(Road {
+        lanes: RoadLanes {
+            id: road.id,
+            lanes: road.lanes,
+            lane_width_m: road.lane_width_m,
+        },
+        file,
+    })
+}
+
+/// carfollow's names for the vehicles: `chase`, `lead`, and each other vehicle's name with
+/// what an actor's name may not hold (anything but letters, digits, `-` and `_`) made
+/// `-`, unique.
+fn carfollow_names(vehicles: &[Entity], ego: &str, lead: &str) -> Names {
+    let mut names = Names::new();
+    let mut used: Vec<String> = vec!["chase".into(), "lead".into()];
+    for v in vehicles {
+        let name = if v.name == ego {
+            "chase".to_string()
+        } else if v.name == lead {
+            "lead".to_string()
+        } else {
+            let base: String = v
+                .name
+                .chars()
+                .map(|c| {
+                    if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
+                        c
+                    } else {
+                        '-'
+                    }
+                })
+                .collect();
+            let base = if base.is_empty() {
+                "actor".to_string()
+            } else {
+                base
+            };
+            let mut name = base.clone();
+            let mut k = 2;
+            while used.contains(&name) {
+                name = format!("{base}-{k}");
+                k += 1;
+            }
+            used.push(name.clone());
+            name
+        };
+        names.insert(v.name.clone(), name);
+    }
+    names
+}
+
+/// The lead: `given`, or the nearest vehicle ahead of the ego in its lane at t = 0.
+fn choose_lead(
+    xml: &Xml,
+    vehicles: &[Entity],
+    init: &Init,
+    ego: &str,
+    given: Option<&str>,
+) -> Result<String, OscError> {
+    let at_ego = init.placed[ego];
+    if let Some(name) = given {
+        if name == ego || !vehicles.iter().any(|v| v.name == name) {
+            return Err(OscError::File {
+                path: xml.path.clone(),
+                message: format!("--lead {name}: no vehicle of that name other than the ego"),
+            });
+        }
+        return Ok(name.to_string());
+    }
+    vehicles
+        .iter()
+        .filter(|v| v.name != ego)
+        .filter_map(|v| init.placed.get(&v.name).map(|p| (v, p)))
+        .filter(|(_, p)| p.lane == at_ego.lane && p.s_m > at_ego.s_m)
+        .min_by(|a, b| a.1.s_m.total_cmp(&b.1.s_m))
+        .map(|(v, _)| v.name.clone())
+        .ok_or_else(|| OscError::File {
+            path: xml.path.clone(),
+            message: format!("no vehicle is ahead of the ego `{ego}` in its lane at t = 0, and carfollow's chase follows a lead (name one with --lead)"),
+        })
+}
+
+/// The scenario's duration: its `StopTrigger`'s simulation time (the earliest of its
+/// condition groups, each a `SimulationTimeCondition`).
+fn duration(xml: &Xml) -> Result<f64, OscError> {
+    let root = xml.doc.root_element();
+    let stop = child(root, "Storyboard").and_then(|s| child(s, "StopTrigger"));
+    let Some(stop) = stop.filter(|s| elements(*s).next().is_some()) else {
+        return Err(xml.at(root, "<Storyboard> has no <StopTrigger>: give the run's length with --set duration_s=SECONDS"));
+    };
+    let mut earliest = f64::INFINITY;
+    for group in children(stop, "ConditionGroup") {
+        let conditions: Vec<_> = children(group, "Condition").collect();
+        let [condition] = conditions.as_slice() else {
+            return Err(xml.at(group, format!("<StopTrigger> group of {} conditions: carfollow ends a run at a time (or give it with --set duration_s=SECONDS)", conditions.len())));
+        };
+        let time = child(*condition, "ByValueCondition")
+            .map(|v| only_element(xml, v))
+            .transpose()?
+            .filter(|c| c.has_tag_name("SimulationTimeCondition"));
+        let Some(time) = time else {
+            let what = elements(*condition)
+                .next()
+                .and_then(|c| elements(c).next())
+                .unwrap_or(*condition);
+            return Err(xml.unsupported(
+                what,
+                "stop condition",
+                "carfollow ends a run at a time; or give it with --set duration_s=SECONDS",
+            ));
+        };
+        let delay = xml.opt_num(*condition, "delay")?.unwrap_or(0.0).max(0.0);
+        earliest = earliest.min(xml.num(time, "value")?.max(0.0) + delay);
+    }
+    if !earliest.is_finite() {
+        return Err(xml.at(stop, "<StopTrigger> has no <ConditionGroup>: give the run's length with --set duration_s=SECONDS"));
+    }
+    Ok(earliest)
+}
+
+/// `path` relative to the folder `base` (both made absolute; `..` where they part).
+fn relative(path: &Path, base: &Path) -> PathBuf {
+    // The parts of an absolute path, with `.` dropped and `..` taken back.
+    let parts = |p: &Path| -> Vec<std::ffi::OsString> {
+        let abs = std::path::absolute(p).unwrap_or_else(|_| p.to_path_buf());
+        let mut out: Vec<std::ffi::OsString> = Vec::new();
+        for c in abs.components() {
+            match c {
+                Component::CurDir => {}
+                Component::ParentDir => {
+                    out.pop();
+                }
+                c => out.push(c.as_os_str().to_os_string()),
+            }
+        }
+        out
+    };
+    let (p, b) = (parts(path), parts(base));
+    let common = p.iter().zip(&b).take_while(|(x, y)| x == y).count();
+    let mut out = PathBuf::new();
+    for _ in common..b.len() {
+        out.push("..");
+    }
+    for c in &p[common..] {
+        out.push(c);
+    }
+    out
+}
+
+/// The scenario file written, its tables in the order a person writes them.
+#[derive(serde::Serialize)]
+struct Doc {
+    name: String,
+    description: String,
+    duration_s: f64,
+    route: RouteOut,
+    lead: LeadOut,
+    chase: ChaseOut,
+    camera: CameraOut,
+    tracker: TrackerOut,
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    actors: Vec<ActorOut>,
+}
+
+#[derive(serde::Serialize)]
+struct RouteOut {
+    opendrive: OpenDriveOut,
+}
+
+#[derive(serde::Serialize)]
+struct OpenDriveOut {
+    file: String,
+    road: String,
+}
+
+#[derive(serde::Serialize)]
+struct LeadOut {
+    start_m: f64,
+    lane: u32,
+    initial_speed_mps: f64,
+    speed_profile: Vec<[f64; 2]>,
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    events: Vec<vehicle::EventSpec>,
+}
+
+#[derive(serde::Serialize)]
+struct ChaseOut {
+    initial_gap_m: f64,
+    controller: ControllerOut,
+}
+
+#[derive(serde::Serialize)]
+struct ControllerOut {
+    lane_keeping: bool,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    cruise_speed_mps: Option<f64>,
+}
+
+#[derive(serde::Serialize)]
+struct CameraOut {
+    focal_length_mm: f64,
+}
+
+#[derive(serde::Serialize)]
+struct TrackerOut {
+    target: String,
+}
+
+#[derive(serde::Serialize)]
+struct ActorOut {
+    name: String,
+    kind: String,
+    lane: u32,
+    start: StartOut,
+    initial_speed_mps: f64,
+    speed_profile: Vec<[f64; 2]>,
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    events: Vec<vehicle::EventSpec>,
+}
+
+#[derive(serde::Serialize)]
+struct StartOut {
+    station_m: f64,
+}
+
+/// The scenario of the file as carfollow's scenario text.
+#[allow(clippy::too_many_arguments)]
+pub fn scenario(
+    xml: &Xml,
+    vehicles: &[Entity],
+    road: &Road,
+    ego: &str,
+    init: Init,
+    options: &ImportOptions,
+    dir: &Path,
+) -> Result<Imported, OscError> {
+    let mut warnings = init.warnings.clone();
+    for v in vehicles {
+        if !init.placed.contains_key(&v.name) {
+            return Err(OscError::At {
+                path: xml.path.clone(),
+                line: v.line,
+                message: format!(
+                    "<ScenarioObject name=\"{}\"> is placed by no <TeleportAction> in <Init>",
+                    v.name
+                ),
+            });
+        }
+        if v.controlled && v.name != ego {
+            return Err(OscError::At { path: xml.path.clone(), line: v.line, message: format!("unsupported <ObjectController> of `{}` (carfollow drives its vehicles by their events)", v.name) });
+        }
+    }
+    let lead = choose_lead(xml, vehicles, &init, ego, options.lead.as_deref())?;
+    let names = carfollow_names(vehicles, ego, &lead);
+    let stories = read_stories(xml, &names, &init, &road.lanes, ego)?;
+    let speed = |name: &str| init.speed_mps.get(name).copied().unwrap_or(0.0);
+    let at_ego: Placed = init.placed[ego];
+    let at_lead: Placed = init.placed[&lead];
+    let ego_controlled = vehicles.iter().any(|v| v.name == ego && v.controlled);
+    if stories.ego_actions > 0 || ego_controlled {
+        warnings.push(format!(
+            "the ego `{ego}`'s {} storyboard action(s){} are not applied: carfollow's loop drives the chase",
+            stories.ego_actions,
+            if ego_controlled { " and its controller" } else { "" }
+        ));
+    }
+    let lead_kind = vehicles
+        .iter()
+        .find(|v| v.name == lead)
+        .map_or("", |v| v.kind);
+    warnings.push(format!(
+        "the lead `{lead}` (a {lead_kind} in the file) is carfollow's lead vehicle, the pickup with the tracker's target board"
+    ));
+    // The chase starts its camera `initial_gap_m` from the lead's rear bumper.
+    let camera_forward_m = f64::from(vehicle::CameraMount::default().forward_m);
+    let rear_bumper_m = f64::from(vehicle::VehicleParams::pickup().rear_bumper_x_m());
+    let gap_m = at_lead.s_m + rear_bumper_m - camera_forward_m - at_ego.s_m;
+    if !(3.0..=60.0).contains(&gap_m) {
+        return Err(OscError::At {
+            path: xml.path.clone(),
+            line: init.line.get(ego).copied().unwrap_or(1),
+            message: format!("the ego `{ego}` starts with its camera {gap_m:.1} m behind the lead `{lead}`'s back: carfollow's chase starts 3–60 m behind the target it follows"),
+        });
+    }
+    let duration_s = match options.duration_s {
+        Some(d) => d,
+        None => duration(xml)?,
+    };
+    let ego_speed = speed(ego);
+    if (ego_speed - speed(&lead)).abs() > 1e-9 {
+        warnings.push(format!(
+            "the ego `{ego}` starts at the lead's speed, {} m/s, not its own {} m/s (carfollow's chase starts at the lead's speed); {} m/s is its cruising speed",
+            speed(&lead), ego_speed, ego_speed
+        ));
+    }
+    let base = options
+        .relative_to
+        .clone()
+        .unwrap_or_else(|| dir.to_path_buf());
+    let header = child(xml.doc.root_element(), "FileHeader");
+    let description = header
+        .and_then(|h| h.attribute("description"))
+        .unwrap_or("")
+        .to_string();
+    let stem = xml
+        .path
+        .file_stem()
+        .map_or("imported".into(), |s| s.to_string_lossy().into_owned());
+
+    // The camera sees the target at the initial gap as the default 8 mm lens sees it at
+    // the target's nominal range, or larger.
+    let nominal_m = crate::parse_target(crate::BUILTIN_TARGET_TEXT, Path::new(TARGET))
+        .map_or(10.0, |t| t.nominal_range_m());
+    let focal_length_mm = (8.0 * gap_m / nominal_m).max(8.0);
+    let focal_length_mm = (focal_length_mm * 10.0).round() / 10.0;
+    let gap_m = (gap_m * 1e6).round() / 1e6;
+    let doc = Doc {
+        name: stem,
+        description,
+        duration_s,
+        route: RouteOut {
+            opendrive: OpenDriveOut {
+                file: relative(&road.file, &base)
+                    .to_string_lossy()
+                    .replace('\\', "/"),
+                road: road.lanes.id.clone(),
+            },
+        },
+        lead: LeadOut {
+            start_m: at_lead.s_m,
+            lane: at_lead.lane,
+            initial_speed_mps: speed(&lead),
+            speed_profile: vec![[0.0, speed(&lead)]],
+            events: stories.events.get(&lead).cloned().unwrap_or_default(),
+        },
+        chase: ChaseOut {
+            initial_gap_m: gap_m,
+            controller: ControllerOut {
+                lane_keeping: true,
+                cruise_speed_mps: (ego_speed >= 0.5).then_some(ego_speed),
+            },
+        },
+        camera: CameraOut { focal_length_mm },
+        tracker: TrackerOut {
+            target: TARGET.into(),
+        },
+        actors: vehicles
+            .iter()
+            .filter(|v| v.name != ego && v.name != lead)
+            .map(|v| {
+                let at = init.placed[&v.name];
+                ActorOut {
+                    name: names[&v.name].clone(),
+                    kind: v.kind.into(),
+                    lane: at.lane,
+                    start: StartOut { station_m: at.s_m },
+                    initial_speed_mps: speed(&v.name),
+                    speed_profile: vec![[0.0, speed(&v.name)]],
+                    events: stories.events.get(&v.name).cloned().unwrap_or_default(),
+                }
+            })
+            .collect(),
+    };
+    let body = toml::to_string(&doc).map_err(|e| OscError::File {
+        path: xml.path.clone(),
+        message: format!("cannot write the scenario: {e}"),
+    })?;
+    let source = xml
+        .path
+        .file_name()
+        .map_or(String::new(), |f| f.to_string_lossy().into_owned());
+    let text =
+        format!("# Imported from the OpenSCENARIO file {source} by `carfollow import`.\n{body}");
+    Ok(Imported { text, warnings })
+}
