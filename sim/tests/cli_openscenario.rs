@@ -1,0 +1,229 @@
+//! OpenSCENARIO files through the command line: `carfollow import` writes a scenario file
+//! that runs bit for bit as `carfollow run FILE.xosc` does; `--param` sets the file's own
+//! parameters; what carfollow cannot run as the standard defines it is refused in one line
+//! naming the file, the line and the element, with exit status 2, and a refused file writes
+//! nothing. The files are carfollow's own (`sim/core/tests/data/openscenario/`) and
+//! esmini's (MPL-2.0, `sim/core/tests/data/openscenario/esmini/`). Run with
+//! `cargo test --release -p sim --test cli_openscenario`.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn data() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../sim/core/tests/data/openscenario")
+}
+
+fn carfollow(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_carfollow"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// A copy of the test files in a temporary folder, with `cut-in.xosc`'s text changed by
+/// `edit` and written as `mutant.xosc`.
+fn mutant(edit: impl Fn(&str) -> String) -> (tempfile::TempDir, PathBuf) {
+    let dir = tempfile::tempdir().unwrap();
+    for name in ["two-lanes.xodr", "catalogs/VehicleCatalog.xosc"] {
+        let to = dir.path().join(name);
+        std::fs::create_dir_all(to.parent().unwrap()).unwrap();
+        std::fs::copy(data().join(name), to).unwrap();
+    }
+    let text = std::fs::read_to_string(data().join("cut-in.xosc")).unwrap();
+    let path = dir.path().join("mutant.xosc");
+    std::fs::write(&path, edit(&text)).unwrap();
+    (dir, path)
+}
+
+#[test]
+fn an_imported_file_runs_as_the_file_does_bit_for_bit() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = data().join("cut-in.xosc");
+    let toml = dir.path().join("imported/cut-in.toml");
+    std::fs::create_dir_all(toml.parent().unwrap()).unwrap();
+    let o = carfollow(&[
+        "import",
+        file.to_str().unwrap(),
+        "-o",
+        toml.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let text = std::fs::read_to_string(&toml).unwrap();
+    for expected in [
+        "[route.opendrive]",
+        "kind = \"van\"",
+        "name = \"Cutter\"",
+        "gap_m = 12.0",
+        "to = \"chase\"",
+        "after = \"cut-in\"",
+        "shape = \"sinusoidal\"",
+        "duration_s = 25.0",
+    ] {
+        assert!(text.contains(expected), "{expected} not in:\n{text}");
+    }
+    let frames = |scenario: &Path, out: &str| {
+        let out = dir.path().join(out);
+        let o = carfollow(&[
+            "run",
+            scenario.to_str().unwrap(),
+            "--quiet",
+            "--set",
+            "duration_s=16",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(matches!(o.status.code(), Some(0 | 1)), "{}", stderr(&o));
+        std::fs::read_to_string(out.join("frames.csv")).unwrap()
+    };
+    let from_xosc = frames(&file, "xosc");
+    let from_toml = frames(&toml, "toml");
+    assert!(
+        from_xosc == from_toml,
+        "the imported scenario runs differently"
+    );
+    assert!(
+        from_xosc.contains("Cutter/cut-in:started"),
+        "the storyboard's event did not fire"
+    );
+}
+
+#[test]
+fn parameters_of_the_file_are_set_from_the_command_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = data().join("cut-in.xosc");
+    let out = dir.path().join("p.toml");
+    let o = carfollow(&[
+        "import",
+        file.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--param",
+        "CutInGap=20",
+        "--param",
+        "LeadSpeed=36",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(text.contains("gap_m = 20.0"), "{text}");
+    // `${$LeadSpeed / 3.6}` of 36 km/h.
+    assert!(text.contains("initial_speed_mps = 10.0"), "{text}");
+    let bad = dir.path().join("bad.toml");
+    let o = carfollow(&[
+        "import",
+        file.to_str().unwrap(),
+        "-o",
+        bad.to_str().unwrap(),
+        "--param",
+        "Nope=1",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    let e = stderr(&o);
+    assert_eq!(e.lines().count(), 1, "{e}");
+    assert!(
+        e.contains("--param Nope=1") && e.contains("CutInGap"),
+        "{e}"
+    );
+    assert!(!bad.exists(), "a refused file wrote something");
+    let o = carfollow(&["check", file.to_str().unwrap(), "--param", "Nope=1"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert_eq!(stderr(&o).lines().count(), 1, "{}", stderr(&o));
+}
+
+#[test]
+fn what_carfollow_cannot_run_is_refused_at_its_line() {
+    // (text replaced, its replacement, what the error says, a text on the line it names)
+    let cases: [(&str, &str, &str, &str); 13] = [
+        ("dynamicsShape=\"sinusoidal\"", "dynamicsShape=\"linear\"", "lane changes are cubic or sinusoidal", "LaneChangeActionDynamics"),
+        ("relativeDistanceType=\"longitudinal\"", "relativeDistanceType=\"lateral\"", "gaps are longitudinal", "RelativeDistanceCondition"),
+        ("freespace=\"true\"", "freespace=\"false\"", "bumper to bumper", "RelativeDistanceCondition"),
+        ("name=\"close\" delay=\"0\" conditionEdge=\"rising\"", "name=\"close\" delay=\"0\" conditionEdge=\"falling\"", "conditionEdge=\"falling\"", "name=\"close\""),
+        ("revMinor=\"1\"", "revMinor=\"4\"", "1.0 to 1.3", "<FileHeader"),
+        ("laneId=\"-2\"", "laneId=\"-3\"", "lane -3 is not a lane carfollow drives", "laneId=\"-3\""),
+        ("<SimulationTimeCondition value=\"25\"", "<SimulationTimeCondition value=\"${25 / 0}\"", "divides by zero", "${25 / 0}"),
+        ("entryName=\"$VanKind\"", "entryName=\"bus_blue\"", "no such vehicle", "bus_blue"),
+        ("<RelativeTargetLane entityRef=\"Ego\" value=\"0\"/>", "<AbsoluteTargetLane value=\"1\"/>", "lane 1 is not a lane carfollow drives", "AbsoluteTargetLane"),
+        ("priority=\"overwrite\" maximumExecutionCount=\"1\"", "priority=\"parallel\" maximumExecutionCount=\"1\"", "priority=\"parallel\"", "priority=\"parallel\""),
+        ("<AbsoluteTargetSpeed value=\"5\"/>", "<RelativeTargetSpeed entityRef=\"Ego\" value=\"0\" speedTargetValueType=\"delta\" continuous=\"false\"/>", "unsupported speed target <RelativeTargetSpeed>", "RelativeTargetSpeed"),
+        ("ds=\"30\"", "ds=\"300\"", "3–60 m behind", "<Private entityRef=\"Ego\">"),
+        ("<LaneChangeAction>", "<LaneChangeAction targetLaneOffset=\"0.5\">", "targetLaneOffset", "targetLaneOffset"),
+    ];
+    for (from, to, says, on_line_of) in cases {
+        let (dir, path) = mutant(|text| {
+            assert!(text.contains(from), "{from} is not in the test file");
+            text.replacen(from, to, 1)
+        });
+        let text = std::fs::read_to_string(&path).unwrap();
+        let line = 1 + text.lines().position(|l| l.contains(on_line_of)).unwrap();
+        let out = dir.path().join("out.toml");
+        let o = carfollow(&[
+            "import",
+            path.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        let e = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{to}: {e}");
+        assert_eq!(e.lines().count(), 1, "{to}: more than one line: {e}");
+        assert!(e.contains(says), "{to}: `{says}` not in {e}");
+        assert!(
+            e.contains(&format!("mutant.xosc:{line}")),
+            "{to}: not at line {line}: {e}"
+        );
+        assert!(!out.exists(), "{to}: a refused file wrote something");
+        // `check` and `run` refuse it alike.
+        for command in [&["check"][..], &["run", "--quiet"]] {
+            let o = carfollow(&[command, &[path.to_str().unwrap()]].concat());
+            assert_eq!(o.status.code(), Some(2), "{command:?} {to}: {}", stderr(&o));
+            assert!(
+                stderr(&o).contains(says),
+                "{command:?} {to}: {}",
+                stderr(&o)
+            );
+        }
+    }
+    // Not XML at all.
+    let (_dir, path) = mutant(|text| text.replace("</OpenSCENARIO>", ""));
+    let o = carfollow(&["check", path.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("not well-formed XML"), "{}", stderr(&o));
+}
+
+#[test]
+fn esminis_files_are_refused_in_one_line_naming_what_carfollow_does_not_run() {
+    let esmini = data().join("esmini");
+    let cases = [
+        (
+            "xosc/cut-in_simple.xosc",
+            "cut-in_simple.xosc:69",
+            "not the centre of a lane",
+        ),
+        (
+            "xosc/acc-test.xosc",
+            "acc-test.xosc:124",
+            "lane 0 is not a lane carfollow drives",
+        ),
+        (
+            "xosc/straight_500m.xosc",
+            "straight_500m.xosc:55",
+            "296.6 m behind the lead",
+        ),
+        (
+            "xosc/slow-lead-vehicle.xosc",
+            "straight_500m_signs.xodr:105",
+            "objects, signals",
+        ),
+    ];
+    for (file, at, says) in cases {
+        let path = esmini.join(file);
+        let o = carfollow(&["check", path.to_str().unwrap()]);
+        let e = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{file}: {e}");
+        // The error, and the count of files refused.
+        assert_eq!(e.lines().count(), 2, "{file}: {e}");
+        assert!(e.contains(at) && e.contains(says), "{file}: {e}");
+    }
+}
