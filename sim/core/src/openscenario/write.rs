@@ -185,6 +185,21 @@ fn relative(path: &Path, base: &Path) -> PathBuf {
     out
 }
 
+/// The actor `v` is, as written.
+fn actor_out(v: &Entity, init: &Init, names: &Names, stories: &super::story::Stories) -> ActorOut {
+    let at = init.placed[&v.name];
+    let speed = init.speed_mps.get(&v.name).copied().unwrap_or(0.0);
+    ActorOut {
+        name: names[&v.name].clone(),
+        kind: v.kind.into(),
+        lane: at.lane,
+        start: StartOut { station_m: at.s_m },
+        initial_speed_mps: speed,
+        speed_profile: vec![[0.0, speed]],
+        events: stories.events.get(&v.name).cloned().unwrap_or_default(),
+    }
+}
+
 /// The scenario file written, its tables in the order a person writes them.
 #[derive(serde::Serialize)]
 struct Doc {
@@ -385,18 +400,7 @@ pub fn scenario(
         actors: vehicles
             .iter()
             .filter(|v| v.name != ego && v.name != lead)
-            .map(|v| {
-                let at = init.placed[&v.name];
-                ActorOut {
-                    name: names[&v.name].clone(),
-                    kind: v.kind.into(),
-                    lane: at.lane,
-                    start: StartOut { station_m: at.s_m },
-                    initial_speed_mps: speed(&v.name),
-                    speed_profile: vec![[0.0, speed(&v.name)]],
-                    events: stories.events.get(&v.name).cloned().unwrap_or_default(),
-                }
-            })
+            .map(|v| actor_out(v, &init, &names, &stories))
             .collect(),
     };
     let body = toml::to_string(&doc).map_err(|e| OscError::File {
