@@ -213,8 +213,8 @@ fn esminis_files_are_refused_in_one_line_naming_what_carfollow_does_not_run() {
         ),
         (
             "xosc/slow-lead-vehicle.xosc",
-            "straight_500m_signs.xodr:105",
-            "objects, signals",
+            "slow-lead-vehicle.xosc:32",
+            "146.6 m behind the lead",
         ),
     ];
     for (file, at, says) in cases {
@@ -226,4 +226,67 @@ fn esminis_files_are_refused_in_one_line_naming_what_carfollow_does_not_run() {
         assert_eq!(e.lines().count(), 2, "{file}: {e}");
         assert!(e.contains(at) && e.contains(says), "{file}: {e}");
     }
+}
+
+#[test]
+fn an_environment_in_init_is_the_scenarios_environment() {
+    let environment = r#"<GlobalAction><EnvironmentAction><Environment name="wet">
+          <TimeOfDay animation="false" dateTime="2026-11-27T17:00:00"/>
+          <Weather fractionalCloudCover="sevenOktas">
+            <Sun azimuth="3.14159265358979" elevation="0.2" illuminance="20000"/>
+            <Fog visualRange="80"/>
+            <Precipitation precipitationType="rain" precipitationIntensity="6"/>
+          </Weather>
+        </Environment></EnvironmentAction></GlobalAction>
+        <Private entityRef="Ego">"#;
+    let (dir, path) = mutant(|text| text.replacen("<Private entityRef=\"Ego\">", environment, 1));
+    let out = dir.path().join("env.toml");
+    let o = carfollow(&[
+        "import",
+        path.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let text = std::fs::read_to_string(&out).unwrap();
+    for expected in [
+        "[environment.sun]",
+        "strength = 0.2",
+        "[environment.fog]\nvisual_range_m = 80.0",
+        "[environment.rain]\nrate_mm_h = 6.0",
+    ] {
+        assert!(text.contains(expected), "{expected} not in:\n{text}");
+    }
+    let number = |key: &str| -> f64 {
+        text.lines()
+            .find_map(|l| l.strip_prefix(key))
+            .unwrap()
+            .parse()
+            .unwrap()
+    };
+    // 0.2 rad above the horizon.
+    assert!((number("elevation_deg = ") - 0.2f64.to_degrees()).abs() < 1e-9);
+    // The sun in the south over a road heading east: to the road's right, carfollow's +z
+    // (azimuth 90°).
+    let azimuth = number("azimuth_deg = ");
+    assert!((azimuth - 90.0).abs() < 1e-9, "{azimuth}");
+    let e = stderr(&o);
+    assert!(
+        e.contains("<TimeOfDay>") && e.contains("`fractionalCloudCover`"),
+        "{e}"
+    );
+    // In a story, refused.
+    let (_dir, path) = mutant(|text| {
+        // The brake event's action becomes an environment's.
+        let start = text.find("<Action name=\"BrakeAction\">").unwrap();
+        let end = start + text[start..].find("</Action>").unwrap();
+        format!(
+            "{}<Action name=\"BrakeAction\"><GlobalAction><EnvironmentAction><Environment name=\"x\"/></EnvironmentAction></GlobalAction>{}",
+            &text[..start],
+            &text[end..]
+        )
+    });
+    let o = carfollow(&["check", path.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("fixed for the run"), "{}", stderr(&o));
 }

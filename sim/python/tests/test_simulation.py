@@ -145,3 +145,19 @@ def test_the_truth_lists_every_vehicle_of_a_traffic_scenario():
     plain = carfollow.Simulation("nist-grounds", overrides=SHORT)
     plain.step()
     assert "traffic" not in plain.truth
+
+
+def test_an_openscenario_file_runs_as_any_scenario():
+    from conftest import REPO
+
+    path = REPO / "sim" / "core" / "tests" / "data" / "openscenario" / "cut-in.xosc"
+    sim = carfollow.Simulation(str(path), overrides={"duration_s": 2.0})
+    frames = 0
+    while sim.step():
+        frames += 1
+    assert frames == 30
+    names = [v["name"] for v in sim.truth["traffic"]["vehicles"]]
+    assert names == ["chase", "lead", "Cutter"]
+    bad = REPO / "sim" / "core" / "tests" / "data" / "openscenario" / "catalogs" / "VehicleCatalog.xosc"
+    with pytest.raises(ValueError, match="a catalog or a parameter distribution, not a scenario"):
+        carfollow.Simulation(str(bad))

@@ -28,6 +28,9 @@ pub struct ImportedRoad {
     pub lanes: u32,
     /// Their width, metres.
     pub lane_width_m: f64,
+    /// What the file holds that carfollow reads past and does not draw, a line each
+    /// (`check` and `run` say these as warnings).
+    pub unapplied: Vec<String>,
 }
 
 /// The road `road_id` of `file` (the file's one road when `None`), as carfollow's route;
@@ -67,11 +70,26 @@ pub fn import(
     refuse_what_the_road_cannot_be(road, path)?;
     let segments = segments(road, path, check_segment)?;
     let (lanes, lane_width_m) = super::lanes::lanes(road, path)?;
+    // The road's objects, signals and surface data: scenery, which carfollow places and
+    // draws its own of; said, not refused.
+    let unapplied = road
+        .scenery
+        .iter()
+        .map(|item| {
+            format!(
+                "{}:{}: {}: the road's objects, signals and surface data are not drawn (carfollow places and draws its own scenery)",
+                path.display(),
+                item.line,
+                item.element
+            )
+        })
+        .collect();
     Ok(ImportedRoad {
         id: road.id.clone(),
         segments,
         lanes,
         lane_width_m,
+        unapplied,
     })
 }
 
@@ -81,12 +99,6 @@ fn refuse_what_the_road_cannot_be(
     road: &Road,
     path: &std::path::Path,
 ) -> Result<(), OpenDriveError> {
-    if let Some(item) = &road.scenery {
-        return Err(item.refuse(
-            path,
-            "a road's objects, signals and surface data are refused: carfollow places and draws its own",
-        ));
-    }
     if road.junction != "-1" {
         return Err(road.at.refuse(path, "a road inside a junction is refused"));
     }

@@ -139,18 +139,41 @@ fn vehicle_kind(xml: &Xml, vehicle: Node) -> Result<&'static str, OscError> {
     })
 }
 
-/// The kind of the vehicle a `CatalogReference` names: the catalog file in the
-/// `VehicleCatalog` folder whose `<Catalog name>` is `catalogName`, its `<Vehicle>` named
-/// `entryName`, with the reference's `ParameterAssignments` over the entry's defaults.
+/// The kind of the vehicle a `CatalogReference` names (see [`catalog_entry`]).
 fn catalog_vehicle(
     xml: &Xml,
     reference: Node,
     catalogs: &Catalogs,
 ) -> Result<&'static str, OscError> {
+    catalog_entry(
+        xml,
+        reference,
+        catalogs,
+        "VehicleCatalog",
+        "Vehicle",
+        vehicle_kind,
+    )
+}
+
+/// `read` of the entry a `CatalogReference` names: the element `element` named `entryName`
+/// in the file of the `kind` folder (`VehicleCatalog`, `EnvironmentCatalog`) whose
+/// `<Catalog name>` is `catalogName`, read with the reference's `ParameterAssignments`
+/// over the entry's own declarations.
+pub fn catalog_entry<T>(
+    xml: &Xml,
+    reference: Node,
+    catalogs: &Catalogs,
+    kind: &str,
+    element: &'static str,
+    read: impl FnOnce(&Xml, Node) -> Result<T, OscError>,
+) -> Result<T, OscError> {
     let catalog_name = xml.req(reference, "catalogName")?;
     let entry = xml.req(reference, "entryName")?;
-    let dir = catalogs.dir("VehicleCatalog").ok_or_else(|| {
-        xml.at(reference, format!("<CatalogReference catalogName=\"{catalog_name}\">: no <VehicleCatalog> in <CatalogLocations>"))
+    let dir = catalogs.dir(kind).ok_or_else(|| {
+        xml.at(
+            reference,
+            format!("<CatalogReference catalogName=\"{catalog_name}\">: no <{kind}> in <CatalogLocations>"),
+        )
     })?;
     let mut given = BTreeMap::new();
     if let Some(assignments) = child(reference, "ParameterAssignments") {
@@ -169,7 +192,10 @@ fn catalog_vehicle(
         .map_err(|e| {
             xml.at(
                 reference,
-                format!("<CatalogReference catalogName=\"{catalog_name}\">: cannot read the VehicleCatalog folder {}: {e}", dir.display()),
+                format!(
+                    "<CatalogReference catalogName=\"{catalog_name}\">: cannot read the {kind} folder {}: {e}",
+                    dir.display()
+                ),
             )
         })?
         .filter_map(|e| e.ok().map(|e| e.path()))
@@ -185,16 +211,20 @@ fn catalog_vehicle(
         if c.attribute("name") != Some(catalog_name.as_str()) {
             continue;
         }
-        let found = children(c, "Vehicle").find(|v| v.attribute("name") == Some(entry.as_str()));
-        if let Some(vehicle) = found {
+        let found = children(c, element).find(|v| v.attribute("name") == Some(entry.as_str()));
+        if let Some(node) = found {
             catalog.given = given;
             catalog.given_anywhere = true;
-            return vehicle_kind(&catalog, vehicle);
+            return read(&catalog, node);
         }
     }
     Err(xml.at(
         reference,
-        format!("<CatalogReference catalogName=\"{catalog_name}\" entryName=\"{entry}\">: no such vehicle in {}", dir.display()),
+        format!(
+            "<CatalogReference catalogName=\"{catalog_name}\" entryName=\"{entry}\">: no such {} in {}",
+            element.to_lowercase(),
+            dir.display()
+        ),
     ))
 }
 

@@ -17,6 +17,9 @@ const LANE_CENTRE_TOLERANCE_M: f64 = 0.05;
 /// and its lanes on the right of its reference line (OpenDRIVE's −1, −2, ...).
 #[derive(Clone, Debug)]
 pub struct RoadLanes {
+    /// Its first heading in the file's frame, radians counter-clockwise from +x (carfollow's
+    /// +x): for the sun's compass.
+    pub heading_rad: f64,
     /// The road's id.
     pub id: String,
     /// Lanes on the right of the reference line.
@@ -45,6 +48,8 @@ pub struct Init {
     pub line: BTreeMap<String, u32>,
     /// Lines the importer warns about: what it reads and does not apply.
     pub warnings: Vec<String>,
+    /// The environment `Init` sets, if any.
+    pub environment: Option<super::environment::EnvironmentOut>,
 }
 
 /// A position still to be placed, relative to another vehicle's.
@@ -54,9 +59,14 @@ struct Relative<'a, 'b> {
     to: String,
 }
 
-/// Reads `Init`; `ego` is the entity carfollow drives (its controller assignments are read
+/// Reads `Init` (environments from `catalogs`); `ego` is the entity carfollow drives (its controller assignments are read
 /// and not applied).
-pub fn read_init(xml: &Xml, road: &RoadLanes, ego: &str) -> Result<Init, OscError> {
+pub fn read_init(
+    xml: &Xml,
+    road: &RoadLanes,
+    ego: &str,
+    catalogs: &super::entities::Catalogs,
+) -> Result<Init, OscError> {
     let root = xml.doc.root_element();
     let storyboard = child(root, "Storyboard")
         .ok_or_else(|| xml.at(root, "<OpenSCENARIO> has no <Storyboard>"))?;
@@ -75,7 +85,17 @@ pub fn read_init(xml: &Xml, road: &RoadLanes, ego: &str) -> Result<Init, OscErro
                 }
             }
             "GlobalAction" => {
-                return Err(xml.unsupported(only_element(xml, element)?, "global action", ""))
+                let action = only_element(xml, element)?;
+                if action.tag_name().name() != "EnvironmentAction" || init.environment.is_some() {
+                    return Err(xml.unsupported(action, "global action", ""));
+                }
+                init.environment = Some(super::environment::environment(
+                    xml,
+                    action,
+                    catalogs,
+                    road.heading_rad,
+                    &mut init.warnings,
+                )?);
             }
             _ => return Err(xml.unsupported(element, "init action", "")),
         }

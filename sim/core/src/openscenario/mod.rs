@@ -19,6 +19,7 @@
 //! file, the line and the element; nothing is dropped silently.
 
 mod entities;
+mod environment;
 mod error;
 mod expr;
 mod init;
@@ -96,7 +97,7 @@ pub fn import(path: &Path, options: &ImportOptions) -> Result<Imported, OscError
     let vehicles = entities::read_entities(&xml, &catalogs)?;
     let road = write::read_road(&xml, &dir)?;
     let ego = choose_ego(&xml, &vehicles, options.ego.as_deref())?;
-    let init = init::read_init(&xml, &road.lanes, &ego)?;
+    let init = init::read_init(&xml, &road.lanes, &ego, &catalogs)?;
     write::scenario(&xml, &vehicles, &road, &ego, init, options, &dir)
 }
 

@@ -464,6 +464,14 @@ impl Context<'_, '_> {
     fn action(&self, action: Node, owner: &str) -> Result<ActionSpec, OscError> {
         let xml = self.xml;
         let private = only_element(xml, action)?;
+        if private.has_tag_name("GlobalAction")
+            && super::xml::elements(private).any(|e| e.has_tag_name("EnvironmentAction"))
+        {
+            return Err(xml.at(
+                private,
+                "unsupported action <EnvironmentAction> in a story: carfollow's environment is fixed for the run (set it in <Init>)",
+            ));
+        }
         if private.tag_name().name() != "PrivateAction" {
             return Err(xml.unsupported(
                 private,

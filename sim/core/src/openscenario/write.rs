@@ -37,6 +37,12 @@ pub fn read_road(xml: &Xml, dir: &Path) -> Result<Road, OscError> {
     let road = crate::opendrive::import(&opendrive, None, |_| None)?;
     Ok(Road {
         lanes: RoadLanes {
+            heading_rad: opendrive
+                .roads
+                .iter()
+                .find(|r| r.id == road.id)
+                .and_then(|r| r.geometries.first())
+                .map_or(0.0, |g| g.hdg),
             id: road.id,
             lanes: road.lanes,
             lane_width_m: road.lane_width_m,
@@ -211,6 +217,8 @@ struct Doc {
     chase: ChaseOut,
     camera: CameraOut,
     tracker: TrackerOut,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    environment: Option<super::environment::EnvironmentOut>,
     #[serde(skip_serializing_if = "Vec::is_empty")]
     actors: Vec<ActorOut>,
 }
@@ -397,6 +405,7 @@ pub fn scenario(
         tracker: TrackerOut {
             target: TARGET.into(),
         },
+        environment: init.environment.clone(),
         actors: vehicles
             .iter()
             .filter(|v| v.name != ego && v.name != lead)

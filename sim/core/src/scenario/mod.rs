@@ -166,8 +166,8 @@ pub struct ScenarioSpec {
     pub description: String,
     /// Where it was read from (`None` for the built-in one).
     pub path: Option<PathBuf>,
-    /// What reading an OpenSCENARIO file left unapplied, a line each (`check` and `run`
-    /// say them among the warnings).
+    /// What reading an OpenSCENARIO file or an OpenDRIVE road left unapplied, a line each
+    /// (`check` and `run` say them among the warnings).
     pub import_warnings: Vec<String>,
     /// Simulated time, seconds.
     pub duration_s: f64,
@@ -582,7 +582,7 @@ impl Scenario {
         let s = Self::from_text(&imported.text, path, dir, overrides).map_err(as_read)?;
         let mut spec = Arc::unwrap_or_clone(s.0);
         spec.path = Some(path.to_owned());
-        spec.import_warnings = imported.warnings;
+        spec.import_warnings.splice(0..0, imported.warnings);
         Ok(Scenario::validated(spec))
     }
 

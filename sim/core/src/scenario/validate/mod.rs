@@ -155,7 +155,7 @@ pub(super) fn validate(
         ),
     )?;
 
-    let (route, length) = route::route(&raw.route, f, roads)?;
+    let (route, length, road_warnings) = route::route(&raw.route, f, roads)?;
     let (lead_profile, lead_initial_speed_mps) = lead::lead(&raw.lead, length, f)?;
     let (chase, camera, initial_gap_m) = chase::chase_and_camera(&raw, f)?;
     let (tracker, init_offset, target, search_start) = tracking::tracker(&raw, f, load_target)?;
@@ -200,7 +200,7 @@ pub(super) fn validate(
         name: raw.name,
         description: raw.description,
         path: None,
-        import_warnings: Vec::new(),
+        import_warnings: road_warnings,
         duration_s: raw.duration_s,
         seed: raw.seed,
         route,

@@ -17,12 +17,14 @@ pub(crate) struct RoadSource<'a> {
     pub(crate) gives: &'a dyn Fn(&str) -> bool,
 }
 
-/// The route, and its length in metres.
+/// The route, its length in metres, and what its road file holds that is not drawn (a
+/// warning line each).
 pub(super) fn route(
     r: &RouteFile,
     f: &Blame,
     roads: &RoadSource,
-) -> Result<(RouteSpec, f64), ScenarioError> {
+) -> Result<(RouteSpec, f64, Vec<String>), ScenarioError> {
+    let mut unapplied = Vec::new();
     let route = match &r.opendrive {
         Some(od) => {
             if !r.segments.is_empty() {
@@ -41,6 +43,7 @@ pub(super) fn route(
                 }
             }
             let road = (roads.load)(od)?;
+            unapplied = road.unapplied;
             RouteSpec {
                 segments: road.segments,
                 intersections_m: r.intersections_m.clone(),
@@ -74,7 +77,7 @@ pub(super) fn route(
             ),
         )?;
     }
-    Ok((route, length))
+    Ok((route, length, unapplied))
 }
 
 /// `route.segments`, each checked.
