@@ -117,6 +117,9 @@ scenario_test!(fog, "fog");
 scenario_test!(night, "night");
 scenario_test!(rain, "rain");
 scenario_test!(opendrive_curves, "opendrive-curves");
+scenario_test!(ncap_ccrs, "ncap-ccrs");
+scenario_test!(ncap_ccrm, "ncap-ccrm");
+scenario_test!(ncap_ccrb, "ncap-ccrb");
 
 macro_rules! robust_test {
     ($test:ident, $name:literal) => {
@@ -156,6 +159,9 @@ robust_test!(robust_fog, "fog");
 robust_test!(robust_night, "night");
 robust_test!(robust_rain, "rain");
 robust_test!(robust_opendrive_curves, "opendrive-curves");
+robust_test!(robust_ncap_ccrs, "ncap-ccrs");
+robust_test!(robust_ncap_ccrm, "ncap-ccrm");
+robust_test!(robust_ncap_ccrb, "ncap-ccrb");
 
 /// `low-sun-trees`: the low sun's long shadow brings the paper's mode to say `lost` early
 /// and lose the target for a moment, within the scenario's `[expect]`; robust mode, whose
