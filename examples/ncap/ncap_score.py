@@ -37,7 +37,13 @@ What decided a loss (a test with contact), from the run's own figures:
     the estimate is on its way (the loop's latency, one frame, and half the brake's
     build-up to 7 m/s^2 at 12 m/s^3);
   - "braking": acquired in time, or held from the start (CCRb); the brake came late or
-    too softly.
+    too softly;
+  - "sped up": the contact was faster than the no-braking reference: the gap keeper,
+    taking the target for a faster one, accelerated towards it.
+
+A test without contact in which the tracker never held the target (the chase stopped
+short for something else) keeps its points by the rule, and is marked "no contact, target
+never held".
 """
 
 import argparse
@@ -46,12 +52,16 @@ import json
 import math
 import os
 import sys
+import tomllib
 
 #: The braking the chase counts on in an emergency, m/s² (the gap keeper's
 #: `own_emergency_decel_mps2` default, 7.0 m/s²).
 EMERGENCY_DECEL_MPS2 = 7.0
 #: The chase's brake build-up rate, m/s³ (the gap keeper's `max_brake_jerk_mps3`, 12).
 BRAKE_JERK_MPS3 = 12.0
+#: How much faster than the no-braking reference a contact must be to say that the chase
+#: sped up, km/h (1 km/h: well above the speed loop's ripple).
+SPED_UP_MARGIN_KPH = 1.0
 #: One camera frame, s (15 Hz).
 FRAME_S = 1.0 / 15.0
 #: Points a test is worth unless `AVAILABLE_POINTS` says otherwise: 1, so that a total is
@@ -62,6 +72,8 @@ DEFAULT_POINTS = 1.0
 AVAILABLE_POINTS = {"CCRs": {}, "CCRm": {}, "CCRb": {}}
 
 KPH_PER_MPS = 3.6
+#: The scenario library, whose files a sweep's rows name.
+SCENARIOS_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scenarios")
 
 
 def reference_speed_kph(test_type, v_test_kph, v_target_kph, gap_m=None, decel_mps2=None):
@@ -110,39 +122,70 @@ def test_type_of(scenario_name):
     return None
 
 
-def row_of(summary):
-    """One test's figures from a run's summary.json."""
-    sc = summary["resolved_scenario"]
-    name = sc["name"]
-    test_type = test_type_of(name)
+def scenario_of(summary, scenarios_dir):
+    """The scenario a run ran, as a dict: its `resolved_scenario` (a single run's
+    summary.json), or the library's file of that name with the run's `overrides` applied (a
+    sweep's rows, which carry only the overrides)."""
+    if "resolved_scenario" in summary:
+        return summary["resolved_scenario"]
+    with open(os.path.join(scenarios_dir, summary["scenario"] + ".toml"), "rb") as fh:
+        sc = tomllib.load(fh)
+    for o in summary.get("overrides", []):
+        path, value = o.split("=", 1)
+        value = tomllib.loads("v = " + value)["v"]
+        node = sc
+        keys = path.split(".")
+        for k in keys[:-1]:
+            node = node[int(k)] if isinstance(node, list) else node.setdefault(k, {})
+        if isinstance(node, list):
+            node[int(keys[-1])] = value
+        else:
+            node[keys[-1]] = value
+    return sc
+
+
+def row_of(summary, scenarios_dir=None):
+    """One test's figures from a run's summary (a summary.json or a sweep row's)."""
+    sc = scenario_of(summary, scenarios_dir or SCENARIOS_DIR)
+    test_type = test_type_of(sc["name"])
     if test_type is None:
         return None
     chase, lead = sc["chase"], sc["lead"]
-    v_test = chase.get("initial_speed_mps", lead["initial_speed_mps"]) * KPH_PER_MPS
-    v_target = lead["initial_speed_mps"] * KPH_PER_MPS
+    v_target = lead.get("initial_speed_mps", lead["speed_profile"][0][1]) * KPH_PER_MPS
+    if chase.get("start_at_cruise_speed"):
+        v_test = chase["controller"]["cruise_speed_mps"] * KPH_PER_MPS
+    elif chase.get("speed_profile"):
+        v_test = chase["speed_profile"][0][1] * KPH_PER_MPS
+    else:
+        v_test = v_target
     gap_m = decel = None
     if test_type == "CCRb":
-        gap_m = summary_gap_at_start(summary)
+        gap_m = chase["initial_gap_m"] - CCRB_GAP_OFFSET_M
         decel = lead["events"][0]["action"]["rate_mps2"]
     traffic = summary.get("traffic") or {}
     collisions = traffic.get("collisions") or []
-    v_impact = collisions[0]["closing_kph"] if collisions else 0.0
+    v_impact = max(0.0, collisions[0]["closing_kph"]) if collisions else 0.0
     v_ref = reference_speed_kph(test_type, v_test, v_target, gap_m, decel)
-    test_key = round(v_test)
-    available = AVAILABLE_POINTS[test_type].get(test_key, DEFAULT_POINTS)
+    available = AVAILABLE_POINTS[test_type].get(round(v_test), DEFAULT_POINTS)
     got = points(v_impact, v_ref, available)
-    start = sc.get("tracker", {}).get("start", "operator")
+    tracker = sc.get("tracker", {})
     cause = ""
-    if collisions:
+    if collisions and v_impact > v_ref + SPED_UP_MARGIN_KPH:
+        cause = "sped up"
+    elif not collisions and traffic.get("acquisition_range_m") is None:
+        # Full points by the rule, but not for holding the target: the chase stopped
+        # short for something else (a search that fixed on the scenery).
+        cause = "no contact, target never held"
+    elif collisions:
         cause = loss_cause(
             v_test - v_target,
             traffic.get("acquisition_range_m"),
             sc.get("loop", {}).get("latency_ms", 128.0) / 1000.0,
-            held_from_start=start != "search",
+            held_from_start=tracker.get("start", "operator") != "search",
         )
     return {
         "type": test_type,
-        "mode": sc.get("tracker", {}).get("mode", "paper"),
+        "mode": tracker.get("mode", "paper"),
         "lens_mm": sc["camera"]["focal_length_mm"],
         "v_test_kph": v_test,
         "v_target_kph": v_target,
@@ -156,12 +199,6 @@ def row_of(summary):
         "available": available,
         "cause": cause,
     }
-
-
-def summary_gap_at_start(summary):
-    """CCRb's gap at the start, bumper to bumper, m: the file's gap less the
-    camera-to-bumper offsets (`CCRB_GAP_OFFSET_M`)."""
-    return summary["resolved_scenario"]["chase"]["initial_gap_m"] - CCRB_GAP_OFFSET_M
 
 
 #: Camera-to-target distance less the bumper-to-bumper gap at the start, m: the chase's
@@ -196,7 +233,7 @@ def fmt(v, digits=1):
 def report(rows):
     out = []
     out.append("| test | mode | lens | test speed | target | acquired at | impact | "
-               "no-brake impact | points | lost to |")
+               "no-brake impact | points | lost to, or note |")
     out.append("|---|---|---|---|---|---|---|---|---|---|")
     order = {"CCRs": 0, "CCRm": 1, "CCRb": 2}
     rows = sorted(rows, key=lambda r: (order[r["type"]], r["mode"], r["lens_mm"],
@@ -212,7 +249,7 @@ def report(rows):
             f"{r['cause'] or '—'} |"
         )
     out.append("")
-    out.append("| test | mode | lens | tests | avoided | points | share | lost to |")
+    out.append("| test | mode | lens | tests | avoided | points | share | lost to, and notes |")
     out.append("|---|---|---|---|---|---|---|---|")
     groups = {}
     for r in rows:

@@ -71,5 +71,58 @@ class Causes(unittest.TestCase):
         self.assertEqual(ns.loss_cause(50.0, None, 0.128, True), "braking")
 
 
+class SweepRows(unittest.TestCase):
+    """A sweep's row carries the overrides only: the library's file supplies the rest."""
+
+    def row(self, overrides, collisions, acquisition_range_m=20.0):
+        return {
+            "scenario": "ncap-ccrs",
+            "seed": 1,
+            "overrides": overrides,
+            "traffic": {
+                "collisions": collisions,
+                "acquisition_range_m": acquisition_range_m,
+            },
+        }
+
+    def test_a_ccrs_row_is_read_at_its_test_speed_mode_and_lens(self):
+        r = ns.row_of(self.row(
+            ["chase.controller.cruise_speed_mps=8.33", 'tracker.mode="robust"',
+             "camera.focal_length_mm=16.0"],
+            [{"vehicle": "lead", "t_s": 9.0, "closing_kph": 12.0}],
+        ))
+        self.assertEqual((r["type"], r["mode"], r["lens_mm"]), ("CCRs", "robust", 16.0))
+        self.assertAlmostEqual(r["v_test_kph"], 29.988)
+        self.assertAlmostEqual(r["points"], 1.0 - 12.0 / 29.988)
+        # 8.33 m/s: 5.0 m to stop at 7 m/s²; 20 m is beyond that and the latency's 4.1 m.
+        self.assertEqual(r["cause"], "braking")
+
+    def test_faster_than_the_test_speed_is_no_points_and_says_so(self):
+        r = ns.row_of(self.row(
+            ["chase.controller.cruise_speed_mps=9.72"],
+            [{"vehicle": "lead", "t_s": 5.0, "closing_kph": 52.6}],
+        ))
+        self.assertEqual(r["points"], 0.0)
+        self.assertEqual(r["cause"], "sped up")
+
+    def test_no_contact_without_the_target_is_marked(self):
+        r = ns.row_of(self.row(["chase.controller.cruise_speed_mps=2.78"], [], None))
+        self.assertEqual(r["points"], 1.0)
+        self.assertEqual(r["cause"], "no contact, target never held")
+
+    def test_a_ccrb_row_takes_its_gap_and_braking_from_the_file_and_the_axes(self):
+        row = self.row(["chase.initial_gap_m=41.74", "lead.events.0.action.rate_mps2=6.0"],
+                       [{"vehicle": "lead", "t_s": 5.0, "closing_kph": 25.0}])
+        row["scenario"] = "ncap-ccrb"
+        r = ns.row_of(row)
+        self.assertEqual(r["type"], "CCRb")
+        self.assertAlmostEqual(r["gap_m"], 40.0)
+        self.assertEqual(r["decel_mps2"], 6.0)
+        # 40 m at 6 m/s²: the target has stopped; the reference is the full 50 km/h.
+        self.assertAlmostEqual(r["reference_kph"], 13.89 * 3.6)
+        self.assertAlmostEqual(r["points"], 1.0 - 25.0 / (13.89 * 3.6))
+        self.assertEqual(r["cause"], "braking")
+
+
 if __name__ == "__main__":
     unittest.main()
