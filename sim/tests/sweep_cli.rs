@@ -679,9 +679,18 @@ fn a_dry_run_checks_every_point_and_writes_nothing() {
 fn the_ncap_sweeps_plan_every_point() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenarios/sweeps");
     for (file, points) in [
-        ("ncap-ccr.toml", "valid: 36 points (1 scenario × 1 seed × 36 combinations"),
-        ("ncap-ccrm.toml", "valid: 44 points (1 scenario × 1 seed × 44 combinations"),
-        ("ncap-ccrb.toml", "valid: 16 points (1 scenario × 1 seed × 16 combinations"),
+        (
+            "ncap-ccr.toml",
+            "valid: 36 points (1 scenario × 1 seed × 36 combinations",
+        ),
+        (
+            "ncap-ccrm.toml",
+            "valid: 44 points (1 scenario × 1 seed × 44 combinations",
+        ),
+        (
+            "ncap-ccrb.toml",
+            "valid: 16 points (1 scenario × 1 seed × 16 combinations",
+        ),
     ] {
         let path = root.join(file);
         let out = ok(carfollow(&["sweep", s(&path), "--dry-run"]));

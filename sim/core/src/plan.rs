@@ -492,8 +492,11 @@ fn start_world(
     let v0 = s.lead_initial_speed_mps as f32;
     let lead_id = world.add_vehicle(&VehicleParams::pickup(), pose_at(s.lead_start_m), v0)?;
     let chase_v0 = s.chase_initial_speed_mps as f32;
-    let chase_id =
-        world.add_vehicle(&VehicleParams::hmmwv_m998(), pose_at(chase_start_m), chase_v0)?;
+    let chase_id = world.add_vehicle(
+        &VehicleParams::hmmwv_m998(),
+        pose_at(chase_start_m),
+        chase_v0,
+    )?;
     Ok((world, chase_id, lead_id))
 }
 
