@@ -672,3 +672,29 @@ fn a_dry_run_checks_every_point_and_writes_nothing() {
     assert!(err.contains("out of the camera's view"), "{err}");
     assert!(!out_dir.exists());
 }
+
+/// The Euro NCAP car-to-car rear sweeps as shipped plan every point (checked, not run: the
+/// three are 96 runs), each the protocol's grid in both modes and through both lenses.
+#[test]
+fn the_ncap_sweeps_plan_every_point() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenarios/sweeps");
+    for (file, points) in [
+        (
+            "ncap-ccr.toml",
+            "valid: 36 points (1 scenario × 1 seed × 36 combinations",
+        ),
+        (
+            "ncap-ccrm.toml",
+            "valid: 44 points (1 scenario × 1 seed × 44 combinations",
+        ),
+        (
+            "ncap-ccrb.toml",
+            "valid: 16 points (1 scenario × 1 seed × 16 combinations",
+        ),
+    ] {
+        let path = root.join(file);
+        let out = ok(carfollow(&["sweep", s(&path), "--dry-run"]));
+        let said = String::from_utf8_lossy(&out.stdout);
+        assert!(said.contains(points), "{file}: {said}");
+    }
+}

@@ -55,7 +55,7 @@ fn the_builtins_behind_the_traits_drive_as_the_builtins() {
     let direct = rows(name, TrackerChoice::Builtin, ControllerChoice::Builtin);
     let tracker = TrackerChoice::Plugin(Box::new(BuiltinTracker::new(scenario.tracker.clone())));
     let controller = ControllerChoice::Plugin(Box::new(
-        BuiltinController::new(scenario.chase.clone(), scenario.lead_initial_speed_mps).unwrap(),
+        BuiltinController::new(scenario.chase.clone(), scenario.chase_initial_speed_mps).unwrap(),
     ));
     let traits = rows(name, tracker, controller);
     assert_eq!(direct.len(), traits.len());

@@ -117,6 +117,9 @@ scenario_test!(fog, "fog");
 scenario_test!(night, "night");
 scenario_test!(rain, "rain");
 scenario_test!(opendrive_curves, "opendrive-curves");
+scenario_test!(ncap_ccrs, "ncap-ccrs");
+scenario_test!(ncap_ccrm, "ncap-ccrm");
+scenario_test!(ncap_ccrb, "ncap-ccrb");
 
 macro_rules! robust_test {
     ($test:ident, $name:literal) => {
@@ -156,6 +159,9 @@ robust_test!(robust_fog, "fog");
 robust_test!(robust_night, "night");
 robust_test!(robust_rain, "rain");
 robust_test!(robust_opendrive_curves, "opendrive-curves");
+robust_test!(robust_ncap_ccrs, "ncap-ccrs");
+robust_test!(robust_ncap_ccrm, "ncap-ccrm");
+robust_test!(robust_ncap_ccrb, "ncap-ccrb");
 
 /// `low-sun-trees`: the low sun's long shadow brings the paper's mode to say `lost` early
 /// and lose the target for a moment, within the scenario's `[expect]`; robust mode, whose
@@ -339,4 +345,32 @@ fn at_90_kmh_with_the_8_mm_lens_a_loss_brings_a_controlled_stop_in_both_modes() 
             "{mode}: the chase did not stop"
         );
     }
+}
+
+/// A contact's closing speed is the speed the chase came in at, not what the physics step
+/// that made the contact left of it: in `ncap-ccrs` the chase hits the standing car still
+/// doing most of its speed of the frame before (until 2026-11-27 this read -4.7 km/h).
+#[test]
+fn a_contact_is_measured_at_the_speed_the_chase_came_in_at() {
+    let plan = Plan::load(&scenario_path("ncap-ccrs"), &[]).unwrap_or_else(|e| panic!("{e}"));
+    let mut looped = ClosedLoop::new(plan, Backend::choose(None).unwrap(), false).unwrap();
+    let mut before_kph = None;
+    let mut contact = None;
+    while let Some(out) = looped.step().unwrap() {
+        let r = out.record;
+        let first = r.traffic.as_ref().and_then(|t| t.contacts.first().cloned());
+        if let Some(c) = first {
+            contact = Some(c);
+            break;
+        }
+        before_kph = Some(r.chase_speed_mps * 3.6);
+    }
+    let contact = contact.expect("ncap-ccrs ends in contact in paper mode");
+    let before_kph = before_kph.unwrap();
+    let closing_kph = contact.closing_mps * 3.6;
+    // At most a frame of braking at 8.1 m/s² (2.0 km/h) between the two.
+    assert!(
+        closing_kph > before_kph - 3.0 && closing_kph <= before_kph + 0.5,
+        "contact closing at {closing_kph:.1} km/h; the frame before, {before_kph:.1} km/h"
+    );
 }

@@ -297,7 +297,7 @@ impl Plan {
                 }
                 other => invalid("route.segments", format!(": the physics ground: {other}")),
             })?;
-        let v0 = s.lead_initial_speed_mps as f32;
+        let v0 = s.chase_initial_speed_mps as f32;
         let mut chase = ChaseController::new(s.chase.clone(), &VehicleParams::hmmwv_m998(), v0)
             .map_err(|e| vehicle_error("chase.controller", &e))?;
         if s.chase.lane_keeping {
@@ -473,8 +473,8 @@ impl Plan {
 }
 
 /// The physics world of scenario `s` at step 0: the ground of `config`, and both vehicles
-/// on it, the lead at `lead.start_m`, the chase at `chase_start_m`, facing along `route`
-/// at the lead's initial speed. Returns the world and the chase's and lead's ids.
+/// on it, the lead at `lead.start_m`, the chase at `chase_start_m`, facing along `route`,
+/// each at its initial speed. Returns the world and the chase's and lead's ids.
 fn start_world(
     s: &Scenario,
     config: &WorldConfig,
@@ -491,7 +491,12 @@ fn start_world(
     let mut world = World::new(config)?;
     let v0 = s.lead_initial_speed_mps as f32;
     let lead_id = world.add_vehicle(&VehicleParams::pickup(), pose_at(s.lead_start_m), v0)?;
-    let chase_id = world.add_vehicle(&VehicleParams::hmmwv_m998(), pose_at(chase_start_m), v0)?;
+    let chase_v0 = s.chase_initial_speed_mps as f32;
+    let chase_id = world.add_vehicle(
+        &VehicleParams::hmmwv_m998(),
+        pose_at(chase_start_m),
+        chase_v0,
+    )?;
     Ok((world, chase_id, lead_id))
 }
 

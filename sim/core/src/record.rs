@@ -219,7 +219,8 @@ pub struct Contact {
     pub vehicle: String,
     /// When, seconds.
     pub t_s: f64,
-    /// The speed of the chase towards it along the road then, m/s.
+    /// The speed of the chase towards it along the road as they came into contact (at the
+    /// start of the physics step that made it), m/s.
     pub closing_mps: f64,
 }
 

@@ -861,3 +861,39 @@ fn read_noise_in_electrons_needs_the_full_well_and_is_checked() {
         "{e}"
     );
 }
+
+/// `chase.start_at_cruise_speed` starts the chase at its cruise speed; off, the chase starts
+/// at the lead's speed; on without a cruise speed it is refused at its line.
+#[test]
+fn the_chase_starts_at_its_cruise_speed_only_when_asked() {
+    let base = text();
+    let s = load(&base, &[]).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(s.chase_initial_speed_mps, s.lead_initial_speed_mps);
+    let cruising = base.replace(
+        "[chase]\ninitial_gap_m = 10.0\n",
+        "[chase]\ninitial_gap_m = 10.0\nstart_at_cruise_speed = true\n\
+         controller = { lane_keeping = true, cruise_speed_mps = 12.5 }\n",
+    );
+    assert_ne!(cruising, base);
+    let s = load(&cruising, &[]).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(s.chase_initial_speed_mps, 12.5);
+    // A sweep's axis over the cruise speed moves the start with it.
+    let s = load(&cruising, &["chase.controller.cruise_speed_mps=4.25"]).unwrap();
+    assert_eq!(s.chase_initial_speed_mps, 4.25);
+
+    let without = base.replace(
+        "[chase]\ninitial_gap_m = 10.0\n",
+        "[chase]\ninitial_gap_m = 10.0\nstart_at_cruise_speed = true\n",
+    );
+    let e = load(&without, &[]).unwrap_err();
+    let line = line_of(&without, "start_at_cruise_speed");
+    assert!(
+        e.starts_with(&format!("/bad.toml:{line}:"))
+            && e.contains("`chase.start_at_cruise_speed`")
+            && e.contains("cruise_speed_mps"),
+        "{e}"
+    );
+    // Reachable by --set, and refused the same way there.
+    let e = load(&base, &["chase.start_at_cruise_speed=true"]).unwrap_err();
+    assert!(e.contains("chase.start_at_cruise_speed"), "{e}");
+}

@@ -185,7 +185,7 @@ impl GymCore {
         let steering = match self.kind {
             ActionKind::Drive => None,
             ActionKind::Longitudinal => Some(
-                BuiltinController::new(s.chase.clone(), s.lead_initial_speed_mps)
+                BuiltinController::new(s.chase.clone(), s.chase_initial_speed_mps)
                     .map_err(|e| PyValueError::new_err(e.to_string()))?,
             ),
         };

@@ -225,6 +225,14 @@ pub struct ChaseFile {
     /// the camera's view.
     #[schemars(extend("minimum" = 3.0, "maximum" = 60.0))]
     pub initial_gap_m: Option<f64>,
+    /// Whether the chase starts at its cruise speed, `controller.cruise_speed_mps` (which
+    /// this needs), instead of the lead's initial speed (default false, as every
+    /// car-following run starts). A chase that starts at its cruise speed behind a slower
+    /// or standing lead closes on it from the first step, at the speed it holds until it
+    /// finds a target, as Euro NCAP's car-to-car rear tests start the car under test at its
+    /// test speed; a sweep over the cruise speed then moves both. (Written only when on.)
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub start_at_cruise_speed: bool,
     /// The paper's manual throttle ("throttle was controlled manually"): with a profile, the
     /// chase's speed follows this scripted driver, as `[lead] speed_profile` is written
     /// (`[[key, speed_mps], ...]`), and only steering is closed-loop; the emergency brake
@@ -263,6 +271,7 @@ impl Default for ChaseFile {
     fn default() -> Self {
         ChaseFile {
             initial_gap_m: None,
+            start_at_cruise_speed: false,
             speed_profile: None,
             speed_basis: default_basis(),
             controller: ChaseControllerConfig::default(),

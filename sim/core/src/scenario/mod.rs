@@ -191,6 +191,8 @@ pub struct ScenarioSpec {
     pub actors: Vec<ActorSpec>,
     /// Chase: camera-to-target distance at t = 0, metres.
     pub initial_gap_m: f64,
+    /// Chase: speed at t = 0, m/s (the lead's initial speed unless the file sets it).
+    pub chase_initial_speed_mps: f64,
     /// Chase: the controller (its camera mount is the camera's).
     pub chase: ChaseControllerConfig,
     /// Camera intrinsics, shared with the tracker's stage 8.

@@ -35,14 +35,14 @@ impl Placed {
 /// The lead's lane, and the actors, checked: names, kinds, lanes on the road, starts on the
 /// route and apart from each other, profiles, and events that name vehicles and lanes that
 /// exist. `lanes` is the road's lanes each way (`route.lanes`, or its road file's),
-/// `chase_start_m` is where the chase's rear axle starts, `lead_initial_speed_mps` the speed
-/// both start at.
+/// `chase_start_m` is where the chase's rear axle starts, `[chase, lead]` the speeds the
+/// chase and the lead start at.
 pub(super) fn actors(
     raw: &ScenarioFile,
     lanes: u32,
     route_length_m: f64,
     chase_start_m: f64,
-    lead_initial_speed_mps: f64,
+    [chase_initial_speed_mps, lead_initial_speed_mps]: [f64; 2],
     f: &Blame,
 ) -> Result<Vec<ActorSpec>, ScenarioError> {
     f.at(
@@ -75,7 +75,7 @@ pub(super) fn actors(
             name: "chase".into(),
             lane: raw.lead.lane,
             start_m: chase_start_m,
-            speed_mps: lead_initial_speed_mps,
+            speed_mps: chase_initial_speed_mps,
             params: VehicleParams::hmmwv_m998(),
         },
         Placed {

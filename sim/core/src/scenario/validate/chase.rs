@@ -56,6 +56,26 @@ fn check_speed_gains(g: &vehicle::SpeedGains) -> Result<(), (&'static str, Strin
 
 /// The chase's controller (with the camera's mount, pan head and field of view), the
 /// camera, and the gap at the start, metres.
+/// The chase's speed at t = 0, m/s: its cruise speed with `[chase] start_at_cruise_speed`
+/// (refused without a `controller.cruise_speed_mps`), else the lead's initial speed
+/// `lead_initial_speed_mps`.
+pub(super) fn initial_speed(
+    c: &ChaseFile,
+    lead_initial_speed_mps: f64,
+    f: &Blame,
+) -> Result<f64, ScenarioError> {
+    if !c.start_at_cruise_speed {
+        return Ok(lead_initial_speed_mps);
+    }
+    match c.controller.cruise_speed_mps {
+        Some(v) => Ok(f64::from(v)),
+        None => Err(f.invalid(
+            "chase.start_at_cruise_speed",
+            "needs a cruise speed to start at (chase.controller.cruise_speed_mps)".into(),
+        )),
+    }
+}
+
 pub(super) fn chase_and_camera(
     raw: &ScenarioFile,
     f: &Blame,

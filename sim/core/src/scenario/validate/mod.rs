@@ -158,6 +158,7 @@ pub(super) fn validate(
     let (route, length, road_warnings) = route::route(&raw.route, f, roads)?;
     let (lead_profile, lead_initial_speed_mps) = lead::lead(&raw.lead, length, f)?;
     let (chase, camera, initial_gap_m) = chase::chase_and_camera(&raw, f)?;
+    let chase_initial_speed_mps = chase::initial_speed(&raw.chase, lead_initial_speed_mps, f)?;
     let (tracker, init_offset, target, search_start) = tracking::tracker(&raw, f, load_target)?;
     let delay = tracking::delay(&raw, f)?;
     let e = environment::environment(&raw.environment, f)?;
@@ -184,7 +185,7 @@ pub(super) fn validate(
         route.lanes,
         length,
         chase_start_m,
-        lead_initial_speed_mps,
+        [chase_initial_speed_mps, lead_initial_speed_mps],
         f,
     )?;
     let night = e.sun.elevation_deg;
@@ -212,6 +213,7 @@ pub(super) fn validate(
         lead_events: raw.lead.events,
         actors,
         initial_gap_m,
+        chase_initial_speed_mps,
         chase,
         camera,
         tracker,
