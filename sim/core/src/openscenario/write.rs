@@ -247,6 +247,8 @@ struct LeadOut {
 #[derive(serde::Serialize)]
 struct ChaseOut {
     initial_gap_m: f64,
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    start_at_cruise_speed: bool,
     controller: ControllerOut,
 }
 
@@ -348,10 +350,10 @@ pub fn scenario(
         None => duration(xml)?,
     };
     let ego_speed = speed(ego);
-    if (ego_speed - speed(&lead)).abs() > 1e-9 {
+    if (ego_speed - speed(&lead)).abs() > 1e-9 && ego_speed < 0.5 {
         warnings.push(format!(
-            "the ego `{ego}` starts at the lead's speed, {} m/s, not its own {} m/s (carfollow's chase starts at the lead's speed); {} m/s is its cruising speed",
-            speed(&lead), ego_speed, ego_speed
+            "the ego `{ego}` starts at the lead's speed, {} m/s, not its own {ego_speed} m/s: carfollow's chase cruises at 0.5 m/s or more",
+            speed(&lead)
         ));
     }
     let base = options
@@ -396,6 +398,9 @@ pub fn scenario(
         },
         chase: ChaseOut {
             initial_gap_m: gap_m,
+            // The ego starts at its own speed where it has one carfollow's chase can cruise
+            // at, else at the lead's.
+            start_at_cruise_speed: ego_speed >= 0.5 && (ego_speed - speed(&lead)).abs() > 1e-9,
             controller: ControllerOut {
                 lane_keeping: true,
                 cruise_speed_mps: (ego_speed >= 0.5).then_some(ego_speed),
