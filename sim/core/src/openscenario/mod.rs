@@ -179,6 +179,19 @@ fn choose_ego(
     }
 }
 
+/// `base`, or `base-2`, `base-3`, ... if `used` has it, added to `used`: names made
+/// unique among the vehicles or among one vehicle's events.
+fn unique(base: &str, used: &mut Vec<String>) -> String {
+    let mut name = base.to_string();
+    let mut k = 2;
+    while used.contains(&name) {
+        name = format!("{base}-{k}");
+        k += 1;
+    }
+    used.push(name.clone());
+    name
+}
+
 fn names(vehicles: &[entities::Entity]) -> String {
     vehicles
         .iter()

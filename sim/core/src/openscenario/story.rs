@@ -50,14 +50,7 @@ pub fn read_stories(
     for (event, owners) in events(xml, storyboard)? {
         for owner in &owners {
             let base = xml.req(event, "name")?;
-            let used = taken.entry(owner.clone()).or_default();
-            let mut name = base.clone();
-            let mut k = 2;
-            while used.contains(&name) {
-                name = format!("{base}-{k}");
-                k += 1;
-            }
-            used.push(name.clone());
+            let name = super::unique(&base, taken.entry(owner.clone()).or_default());
             found.entry(base).or_insert(Found {
                 owner: owner.clone(),
                 name,

@@ -79,14 +79,7 @@ fn carfollow_names(vehicles: &[Entity], ego: &str, lead: &str) -> Names {
             } else {
                 base
             };
-            let mut name = base.clone();
-            let mut k = 2;
-            while used.contains(&name) {
-                name = format!("{base}-{k}");
-                k += 1;
-            }
-            used.push(name.clone());
-            name
+            super::unique(&base, &mut used)
         };
         names.insert(v.name.clone(), name);
     }
