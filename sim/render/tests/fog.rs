@@ -6,11 +6,10 @@
 //!
 //! Run: `cargo test -p sim-render --release --test fog`.
 
-use image::GrayImage;
-use sim_render::{Fog, GroundTruth, Renderer, SceneDescription};
+use sim_render::{Fog, Renderer, SceneDescription};
 
 mod common;
-use common::{bare_plain_sensor, lead_ahead, options, renderer};
+use common::{bare_plain_sensor, board_paint, lead_ahead, mean, options, renderer};
 
 /// The fog's visual range in the contrast test, metres (β = 0.078 per metre).
 const VISUAL_RANGE_M: f64 = 50.0;
@@ -30,64 +29,6 @@ fn description(visual_range_m: Option<f64>) -> SceneDescription {
     d
 }
 
-/// Pixel positions, (x, y).
-type Pixels = Vec<(u32, u32)>;
-
-/// The board's light and dark pixels in `clear` (the board's box from the truth, the
-/// shipped target being 1.6 m × 1.0 m): the pixels within 35 % of the box's range of its
-/// brightest and darkest grey whose four neighbours are of the same kind, so that no pixel
-/// mixes paint and stripe.
-fn light_and_dark(clear: &GrayImage, truth: &GroundTruth) -> (Pixels, Pixels) {
-    // Pixels per metre on the board: the focal length over its depth.
-    let per_m = 320.0 / truth.target_cam_m[2];
-    let (x0, x1) = (truth.c_x - 0.75 * per_m, truth.c_x + 0.75 * per_m);
-    let (y0, y1) = (truth.c_y - 0.45 * per_m, truth.c_y + 0.45 * per_m);
-    let at = |x: u32, y: u32| f64::from(clear.get_pixel(x, y)[0]);
-    let xs = x0.ceil() as u32..=x1.floor() as u32;
-    let ys = y0.ceil() as u32..=y1.floor() as u32;
-    let (mut lo, mut hi) = (f64::MAX, f64::MIN);
-    for y in ys.clone() {
-        for x in xs.clone() {
-            lo = lo.min(at(x, y));
-            hi = hi.max(at(x, y));
-        }
-    }
-    let kind = |x: u32, y: u32| {
-        let v = at(x, y);
-        if v >= hi - 0.35 * (hi - lo) {
-            1
-        } else if v <= lo + 0.35 * (hi - lo) {
-            -1
-        } else {
-            0
-        }
-    };
-    let (mut light, mut dark) = (Vec::new(), Vec::new());
-    for y in ys.clone() {
-        for x in xs.clone() {
-            let k = kind(x, y);
-            let interior = [(0i32, 1i32), (0, -1), (1, 0), (-1, 0)]
-                .iter()
-                .all(|&(dx, dy)| kind((x as i32 + dx) as u32, (y as i32 + dy) as u32) == k);
-            match (k, interior) {
-                (1, true) => light.push((x, y)),
-                (-1, true) => dark.push((x, y)),
-                _ => {}
-            }
-        }
-    }
-    (light, dark)
-}
-
-/// Mean grey of `image` over `pixels`.
-fn mean(image: &GrayImage, pixels: &[(u32, u32)]) -> f64 {
-    let sum: f64 = pixels
-        .iter()
-        .map(|&(x, y)| f64::from(image.get_pixel(x, y)[0]))
-        .sum();
-    sum / pixels.len() as f64
-}
-
 /// The board's contrast in fog over its contrast in the clear (`C_fog / C_clear`, light
 /// paint's mean grey minus the stripes', on the same pixels), at `gap_m`; and the camera's
 /// distance to the board's centre.
@@ -95,7 +36,7 @@ fn contrast_ratio(clear: &mut Renderer, fogged: &mut Renderer, gap_m: f64) -> (f
     let (clear_image, truth) = lead_ahead(clear, gap_m);
     let (fog_image, fog_truth) = lead_ahead(fogged, gap_m);
     assert_eq!(truth.target_cam_m, fog_truth.target_cam_m);
-    let (light, dark) = light_and_dark(&clear_image, &truth);
+    let (light, dark) = board_paint(&clear_image, &truth, 0.35);
     assert!(
         light.len() >= 8 && dark.len() >= 8,
         "at {gap_m} m: {} light and {} dark pixels",

@@ -12,7 +12,7 @@ use sim_render::{
 };
 
 mod common;
-use common::{bare_plain_sensor, lead_ahead, options, renderer};
+use common::{bare_plain_sensor, board_paint, lead_ahead, mean, options, renderer};
 
 /// A bare straight road, no noise, no vignetting, no automatic gain (the sensor's gain
 /// fixed at `gain`), the sun at `elevation_deg`, the headlamps on `beam`.
@@ -27,49 +27,6 @@ fn description(elevation_deg: f64, beam: Option<Beam>, gain: f64) -> SceneDescri
 /// Mean grey of `image`.
 fn frame_mean(image: &GrayImage) -> f64 {
     image.pixels().map(|p| f64::from(p[0])).sum::<f64>() / (image.width() * image.height()) as f64
-}
-
-/// The board's light-paint pixels in a daylight frame `day` (within 25 % of the board
-/// box's range of its brightest grey, with four neighbours of the same kind), the board's
-/// box from the truth (the shipped target is 1.6 m × 1.0 m).
-fn light_paint(day: &GrayImage, truth: &GroundTruth) -> Vec<(u32, u32)> {
-    let per_m = 320.0 / truth.target_cam_m[2];
-    let (x0, x1) = (truth.c_x - 0.75 * per_m, truth.c_x + 0.75 * per_m);
-    let (y0, y1) = (truth.c_y - 0.45 * per_m, truth.c_y + 0.45 * per_m);
-    let at = |x: u32, y: u32| f64::from(day.get_pixel(x, y)[0]);
-    let xs = x0.ceil() as u32..=x1.floor() as u32;
-    let ys = y0.ceil() as u32..=y1.floor() as u32;
-    let (mut lo, mut hi) = (f64::MAX, f64::MIN);
-    for y in ys.clone() {
-        for x in xs.clone() {
-            lo = lo.min(at(x, y));
-            hi = hi.max(at(x, y));
-        }
-    }
-    let light = |x: u32, y: u32| at(x, y) >= hi - 0.25 * (hi - lo);
-    let mut out = Vec::new();
-    for y in ys.clone() {
-        for x in xs.clone() {
-            if light(x, y)
-                && light(x + 1, y)
-                && light(x - 1, y)
-                && light(x, y + 1)
-                && light(x, y - 1)
-            {
-                out.push((x, y));
-            }
-        }
-    }
-    out
-}
-
-/// Mean grey of `image` over `pixels`.
-fn mean(image: &GrayImage, pixels: &[(u32, u32)]) -> f64 {
-    let sum: f64 = pixels
-        .iter()
-        .map(|&(x, y)| f64::from(image.get_pixel(x, y)[0]))
-        .sum();
-    sum / pixels.len() as f64
 }
 
 /// The headlamps' irradiance (scene units) on the board's centre, from the model's own
@@ -107,7 +64,7 @@ fn predicted_irradiance(beam: Beam, truth: &GroundTruth, d: &SceneDescription) -
 fn board_at_night(beam: Beam, gain: f64, gap_m: f64) -> (f64, f64, f64) {
     let mut day = renderer(description(40.0, None, 1.0), &options());
     let (day_image, truth) = lead_ahead(&mut day, gap_m);
-    let pixels = light_paint(&day_image, &truth);
+    let (pixels, _) = board_paint(&day_image, &truth, 0.25);
     assert!(pixels.len() >= 8, "at {gap_m} m: {} pixels", pixels.len());
     let d = description(-18.0, Some(beam), gain);
     let predicted = predicted_irradiance(beam, &truth, &d) * BOARD_ALBEDO * gain * 255.0;

@@ -47,15 +47,16 @@ pub fn read_stories(
     let mut found: BTreeMap<String, Found> = BTreeMap::new();
     let mut lane_changes: BTreeMap<String, usize> = BTreeMap::new();
     let mut taken: BTreeMap<String, Vec<String>> = BTreeMap::new();
-    for (event, owners) in events(xml, storyboard)? {
-        for owner in &owners {
-            let base = xml.req(event, "name")?;
+    let all = events(xml, storyboard)?;
+    for (event, owners) in &all {
+        for owner in owners {
+            let base = xml.req(*event, "name")?;
             let name = super::unique(&base, taken.entry(owner.clone()).or_default());
             found.entry(base).or_insert(Found {
                 owner: owner.clone(),
                 name,
             });
-            for action in children(event, "Action") {
+            for action in children(*event, "Action") {
                 if action
                     .descendants()
                     .any(|d| d.has_tag_name("LaneChangeAction"))
@@ -74,7 +75,7 @@ pub fn read_stories(
         lane_changes: &lane_changes,
     };
     let mut stories = Stories::default();
-    for (event, owners) in events(xml, storyboard)? {
+    for (event, owners) in all {
         for owner in owners {
             if owner == ego {
                 stories.ego_actions += children(event, "Action").count();

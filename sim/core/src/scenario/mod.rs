@@ -301,6 +301,26 @@ impl Source {
     }
 }
 
+/// The error of the file a scenario's `field` names (`tracker.target`, `route.opendrive`),
+/// which says `source`: the override's, when a `--set` gave the field, else `placed` at the
+/// field's line and column in the scenario's `text`.
+pub(super) fn file_error<E: std::fmt::Display>(
+    overrides: &[String],
+    text: &str,
+    field: &str,
+    source: E,
+    placed: impl FnOnce(usize, usize, E) -> ScenarioError,
+) -> ScenarioError {
+    if let Some(assignment) = overrides.iter().rev().find(|a| override_names(a, field)) {
+        return ScenarioError::Override {
+            assignment: assignment.clone(),
+            message: format!("`{field}`: {source}"),
+        };
+    }
+    let (line, column) = line_column(text, locate(text, field));
+    placed(line, column, source)
+}
+
 /// 1-based (line, column) of a byte offset.
 fn line_column(text: &str, offset: usize) -> (usize, usize) {
     crate::target::line_column(text, offset)
@@ -783,24 +803,18 @@ impl Scenario {
             &Blame(&invalid),
             |target| {
                 load_target(target).map_err(|source| {
-                    // A target given by `--set` is the override's fault, not the file's.
-                    if let Some(assignment) = overrides
-                        .iter()
-                        .rev()
-                        .find(|a| override_names(a, "tracker.target"))
-                    {
-                        return ScenarioError::Override {
-                            assignment: assignment.clone(),
-                            message: format!("`tracker.target`: {source}"),
-                        };
-                    }
-                    let (line, column) = line_column(text, locate(text, "tracker.target"));
-                    ScenarioError::Target {
-                        path: path.to_owned(),
-                        line,
-                        column,
-                        source: Box::new(source),
-                    }
+                    file_error(
+                        overrides,
+                        text,
+                        "tracker.target",
+                        source,
+                        |line, column, source| ScenarioError::Target {
+                            path: path.to_owned(),
+                            line,
+                            column,
+                            source: Box::new(source),
+                        },
+                    )
                 })
             },
             &roads,

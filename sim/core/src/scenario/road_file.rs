@@ -2,7 +2,7 @@
 //! scenario, from the shipped roads), imported, and its error placed at the field.
 
 use super::validate::segment_problem;
-use super::{line_column, locate, override_names, OpenDriveFile, ScenarioError};
+use super::{file_error, OpenDriveFile, ScenarioError};
 use crate::opendrive::{self, ImportedRoad};
 use std::path::Path;
 
@@ -22,23 +22,17 @@ pub(super) fn load(
     };
     read.and_then(|doc| opendrive::import(&doc, od.road.as_deref(), segment_problem))
         .map_err(|source| {
-            // A road given by `--set` is the override's fault, not the file's.
-            if let Some(assignment) = overrides
-                .iter()
-                .rev()
-                .find(|a| override_names(a, "route.opendrive"))
-            {
-                return ScenarioError::Override {
-                    assignment: assignment.clone(),
-                    message: format!("`route.opendrive`: {source}"),
-                };
-            }
-            let (line, column) = line_column(text, locate(text, "route.opendrive"));
-            ScenarioError::Road {
-                path: scenario.to_owned(),
-                line,
-                column,
-                source: Box::new(source),
-            }
+            file_error(
+                overrides,
+                text,
+                "route.opendrive",
+                source,
+                |line, column, source| ScenarioError::Road {
+                    path: scenario.to_owned(),
+                    line,
+                    column,
+                    source: Box::new(source),
+                },
+            )
         })
 }

@@ -409,6 +409,26 @@ mod effect_tests {
         assert!((v - 200.0 * (1.0 - 0.5 * (1.0 - cos4))).abs() <= 0.5, "{v}");
     }
 
+    /// The variance of a flat frame of `level` under `sensor` (seed `seed`, frame `frame`),
+    /// its mean checked to be `level` within `mean_tolerance`.
+    fn flat_variance(
+        level: u8,
+        sensor: &Sensor,
+        seed: u64,
+        frame: u64,
+        mean_tolerance: f64,
+    ) -> f64 {
+        let image = sensed(level, sensor, seed, frame);
+        let n = image.as_raw().len() as f64;
+        let mean = image.iter().map(|&p| f64::from(p)).sum::<f64>() / n;
+        assert!((mean - f64::from(level)).abs() < mean_tolerance, "{mean}");
+        image
+            .iter()
+            .map(|&p| (f64::from(p) - mean).powi(2))
+            .sum::<f64>()
+            / n
+    }
+
     /// The variance of a flat frame of `level` under shot noise only.
     fn shot_variance(level: u8, full_well_e: f64, frame: u64) -> f64 {
         let sensor = Sensor {
@@ -416,15 +436,7 @@ mod effect_tests {
             shot_noise_full_well_e: Some(full_well_e),
             ..Sensor::default()
         };
-        let image = sensed(level, &sensor, 7, frame);
-        let n = image.as_raw().len() as f64;
-        let mean = image.iter().map(|&p| f64::from(p)).sum::<f64>() / n;
-        assert!((mean - f64::from(level)).abs() < 0.05, "{mean}");
-        image
-            .iter()
-            .map(|&p| (f64::from(p) - mean).powi(2))
-            .sum::<f64>()
-            / n
+        flat_variance(level, &sensor, 7, frame, 0.05)
     }
 
     #[test]
@@ -451,15 +463,7 @@ mod effect_tests {
             read_noise_e: Some(read_e),
             ..Sensor::default()
         };
-        let image = sensed(level, &sensor, 11, 5);
-        let n = image.as_raw().len() as f64;
-        let mean = image.iter().map(|&p| f64::from(p)).sum::<f64>() / n;
-        assert!((mean - f64::from(level)).abs() < 0.1, "{mean}");
-        image
-            .iter()
-            .map(|&p| (f64::from(p) - mean).powi(2))
-            .sum::<f64>()
-            / n
+        flat_variance(level, &sensor, 11, 5, 0.1)
     }
 
     #[test]

@@ -1,5 +1,6 @@
 //! What the renderer's test files share: the renderer on this machine's backend, the
-//! built-in scene's frames, a bare road, and the reference images.
+//! built-in scene's frames, a bare road, the board's paint in a frame, and the reference
+//! images.
 
 #![allow(dead_code)] // each test file uses some of these
 
@@ -112,4 +113,62 @@ pub fn reference(name: &str, image: &GrayImage) -> (PathBuf, Option<GrayImage>) 
         return (dir, None);
     };
     (dir, Some(reference.to_luma8()))
+}
+
+/// Pixel positions, (x, y).
+pub type Pixels = Vec<(u32, u32)>;
+
+/// The board's light and dark pixels in `image` (the board's box from the truth, the
+/// shipped target being 1.6 m × 1.0 m): the pixels within `share` of the box's range of
+/// its brightest and darkest grey whose four neighbours are of the same kind, so that no
+/// pixel mixes paint and stripe.
+pub fn board_paint(image: &GrayImage, truth: &GroundTruth, share: f64) -> (Pixels, Pixels) {
+    // Pixels per metre on the board: the focal length over its depth.
+    let per_m = 320.0 / truth.target_cam_m[2];
+    let (x0, x1) = (truth.c_x - 0.75 * per_m, truth.c_x + 0.75 * per_m);
+    let (y0, y1) = (truth.c_y - 0.45 * per_m, truth.c_y + 0.45 * per_m);
+    let at = |x: u32, y: u32| f64::from(image.get_pixel(x, y)[0]);
+    let xs = x0.ceil() as u32..=x1.floor() as u32;
+    let ys = y0.ceil() as u32..=y1.floor() as u32;
+    let (mut lo, mut hi) = (f64::MAX, f64::MIN);
+    for y in ys.clone() {
+        for x in xs.clone() {
+            lo = lo.min(at(x, y));
+            hi = hi.max(at(x, y));
+        }
+    }
+    let kind = |x: u32, y: u32| {
+        let v = at(x, y);
+        if v >= hi - share * (hi - lo) {
+            1
+        } else if v <= lo + share * (hi - lo) {
+            -1
+        } else {
+            0
+        }
+    };
+    let (mut light, mut dark) = (Vec::new(), Vec::new());
+    for y in ys.clone() {
+        for x in xs.clone() {
+            let k = kind(x, y);
+            let interior = [(0i32, 1i32), (0, -1), (1, 0), (-1, 0)]
+                .iter()
+                .all(|&(dx, dy)| kind((x as i32 + dx) as u32, (y as i32 + dy) as u32) == k);
+            match (k, interior) {
+                (1, true) => light.push((x, y)),
+                (-1, true) => dark.push((x, y)),
+                _ => {}
+            }
+        }
+    }
+    (light, dark)
+}
+
+/// Mean grey of `image` over `pixels`.
+pub fn mean(image: &GrayImage, pixels: &[(u32, u32)]) -> f64 {
+    let sum: f64 = pixels
+        .iter()
+        .map(|&(x, y)| f64::from(image.get_pixel(x, y)[0]))
+        .sum();
+    sum / pixels.len() as f64
 }
