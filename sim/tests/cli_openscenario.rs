@@ -290,3 +290,46 @@ fn an_environment_in_init_is_the_scenarios_environment() {
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("fixed for the run"), "{}", stderr(&o));
 }
+
+/// On a tight curve (esmini's `circle_300m`, 48 m radius) the lead 25 m ahead stands well
+/// off the camera's axis: the lens the gap would ask for (21 mm) would not see it, so the
+/// importer takes a shorter one that does, and the file checks and runs. A refusal found
+/// in planning names the `.xosc` and carfollow's field, not a line of the text it became.
+#[test]
+fn on_a_tight_curve_the_lens_keeps_the_lead_in_view() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = data().join("circle-brake.xosc");
+    let out = dir.path().join("c.toml");
+    let o = carfollow(&[
+        "import",
+        file.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let text = std::fs::read_to_string(&out).unwrap();
+    let focal: f64 = text
+        .lines()
+        .find_map(|l| l.strip_prefix("focal_length_mm = "))
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!((8.0..15.0).contains(&focal), "{focal}");
+    let o = carfollow(&["check", file.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    // The lead 55 m ahead on the circle: out of even the widest lens's view.
+    let far = dir.path().join("far.xosc");
+    let moved = std::fs::read_to_string(&file)
+        .unwrap()
+        .replace("s=\"45\"", "s=\"75\"")
+        .replace(
+            "../opendrive/",
+            &format!("{}/", data().join("../opendrive").display()),
+        );
+    std::fs::write(&far, moved).unwrap();
+    let o = carfollow(&["check", far.to_str().unwrap()]);
+    let e = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{e}");
+    assert!(e.contains("far.xosc: as carfollow reads it: `"), "{e}");
+    assert!(e.contains("out of the camera's view"), "{e}");
+}

@@ -18,6 +18,8 @@ pub struct Road {
     pub lanes: RoadLanes,
     /// The OpenDRIVE file.
     pub file: PathBuf,
+    /// Its reference line, as carfollow lays it.
+    pub segments: Vec<sim_render::RouteSegment>,
 }
 
 /// Reads the road of `RoadNetwork/LogicFile` (relative to `dir`, the scenario's folder).
@@ -48,7 +50,48 @@ pub fn read_road(xml: &Xml, dir: &Path) -> Result<Road, OscError> {
             lane_width_m: road.lane_width_m,
         },
         file,
+        segments: road.segments,
     })
+}
+
+/// The largest share of the camera's half field of view the target may lie off its axis
+/// at the start: room around it for the tracker's window.
+const IN_VIEW_SHARE: f64 = 0.6;
+/// The default lens and pixel, mm, and half the frame's width, pixels (`[camera]`).
+const DEFAULT_FOCAL_MM: f64 = 8.0;
+const PIXEL_MM: f64 = 0.025;
+const HALF_WIDTH_PX: f64 = 128.0;
+
+/// The lens, mm: one that sees the target at the initial gap `gap_m` as the default 8 mm
+/// lens sees it at the target's nominal range, or the default's where that is longer; but
+/// no longer than keeps the target (its back at station `target_s_m`) within
+/// [`IN_VIEW_SHARE`] of the half field of view from the camera at `camera_s_m` (a tight
+/// curve puts it off the axis). `lanes` are the chase's and the lead's.
+fn focal_length_mm(
+    road: &Road,
+    camera_s_m: f64,
+    target_s_m: f64,
+    lanes: [u32; 2],
+    gap_m: f64,
+) -> f64 {
+    let nominal_m = crate::parse_target(crate::BUILTIN_TARGET_TEXT, Path::new(TARGET))
+        .map_or(10.0, |t| t.nominal_range_m());
+    let spec = sim_render::RouteSpec {
+        segments: road.segments.clone(),
+        intersections_m: Vec::new(),
+        lane_width_m: road.lanes.lane_width_m,
+        lanes: road.lanes.lanes,
+    };
+    let route = sim_render::Route::new(spec.clone());
+    let camera = route.pose_at(camera_s_m, spec.lane_centre_m(lanes[0]));
+    let [x, z] = route.point(target_s_m, spec.lane_centre_m(lanes[1]));
+    let seen = camera.inverse_transform_point(&nalgebra::Point3::new(x, 0.0, z));
+    let off_axis = seen.z.atan2(seen.x).abs();
+    let widest = HALF_WIDTH_PX * PIXEL_MM * IN_VIEW_SHARE / off_axis.tan().max(1e-9);
+    let f = (DEFAULT_FOCAL_MM * gap_m / nominal_m)
+        .min(widest)
+        .max(DEFAULT_FOCAL_MM);
+    (f * 10.0).round() / 10.0
 }
 
 /// carfollow's names for the vehicles: `chase`, `lead`, and each other vehicle's name with
@@ -363,12 +406,13 @@ pub fn scenario(
         .file_stem()
         .map_or("imported".into(), |s| s.to_string_lossy().into_owned());
 
-    // The camera sees the target at the initial gap as the default 8 mm lens sees it at
-    // the target's nominal range, or larger.
-    let nominal_m = crate::parse_target(crate::BUILTIN_TARGET_TEXT, Path::new(TARGET))
-        .map_or(10.0, |t| t.nominal_range_m());
-    let focal_length_mm = (8.0 * gap_m / nominal_m).max(8.0);
-    let focal_length_mm = (focal_length_mm * 10.0).round() / 10.0;
+    let focal_length_mm = focal_length_mm(
+        road,
+        at_ego.s_m + camera_forward_m,
+        at_lead.s_m + rear_bumper_m,
+        [at_ego.lane, at_lead.lane],
+        gap_m,
+    );
     let gap_m = (gap_m * 1e6).round() / 1e6;
     let doc = Doc {
         name: stem,

@@ -249,6 +249,9 @@ pub(crate) struct Source {
     text: Arc<str>,
     path: PathBuf,
     overrides: Vec<String>,
+    /// The text is what an OpenSCENARIO file (`path`) became: its lines are not the
+    /// file's, so an error names the field, not a line.
+    imported: bool,
 }
 
 impl Source {
@@ -269,6 +272,12 @@ impl Source {
         {
             return ScenarioError::Override {
                 assignment: assignment.clone(),
+                message: format!("`{field}` {message}"),
+            };
+        }
+        if self.imported {
+            return ScenarioError::Imported {
+                path: self.path.clone(),
                 message: format!("`{field}` {message}"),
             };
         }
@@ -604,6 +613,8 @@ impl Scenario {
         let s = Self::from_text(&imported.text, path, dir, overrides).map_err(as_read)?;
         let mut spec = Arc::unwrap_or_clone(s.0);
         spec.path = Some(path.to_owned());
+        // What planning refuses is said of the file's own scenario, by field.
+        spec.source.imported = true;
         spec.import_warnings.splice(0..0, imported.warnings);
         Ok(Scenario::validated(spec))
     }
@@ -788,6 +799,7 @@ impl Scenario {
             text: text.into(),
             path: path.to_owned(),
             overrides: overrides.to_vec(),
+            imported: false,
         };
         let invalid = |field: &str, message: String| source.invalid(field, message);
         let load_road = |od: &OpenDriveFile| road_file::load(od, path, text, overrides);
