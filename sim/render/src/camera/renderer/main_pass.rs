@@ -180,7 +180,10 @@ impl MainPass {
         from_tiles: bool,
     ) {
         let whole = self.whole;
-        let mut pass = self.begin(encoder, sky);
+        // A whole frame's depth is cleared with the colour: a clear fills llvmpipe's tiles
+        // without shading them, where `far` shades every pixel (the same depth, 1, either way).
+        let clear_depth = scissor == whole;
+        let mut pass = self.begin(encoder, sky, clear_depth);
         pass.set_bind_group(0, &self.pass.bind_group, &[]);
         let lookups = if from_tiles {
             &self.lookups.tiles
@@ -197,8 +200,10 @@ impl MainPass {
             set_scissor(&mut pass, scissor);
         }
         let pipelines = &self.pass.pipelines;
-        pass.set_pipeline(&pipelines.far);
-        pass.draw(0..3, 0..1);
+        if !clear_depth {
+            pass.set_pipeline(&pipelines.far);
+            pass.draw(0..3, 0..1);
+        }
         let mut current = None;
         for (k, draw) in self.draws.iter().enumerate() {
             if current != Some((draw.shading, draw.soft)) {
@@ -220,18 +225,25 @@ impl MainPass {
         }
     }
 
-    /// Begins the pass, the colour cleared to `sky`.
-    fn begin<'e>(&self, encoder: &'e mut wgpu::CommandEncoder, sky: f64) -> wgpu::RenderPass<'e> {
+    /// Begins the pass, the colour cleared to `sky`, and the depth too when `clear_depth`
+    /// (a whole frame).
+    fn begin<'e>(
+        &self,
+        encoder: &'e mut wgpu::CommandEncoder,
+        sky: f64,
+        clear_depth: bool,
+    ) -> wgpu::RenderPass<'e> {
         let targets = &self.targets;
         let (view, resolve_target) = match &targets.msaa_view {
             Some(msaa) => (msaa, Some(&targets.color_view)),
             None => (&targets.color_view, None),
         };
         // The colour is cleared whole (drawing the sky under the scissor instead shades
-        // every pixel of the part, which costs more than the clear saves); the depth is
-        // set back under the scissor alone, by the first draw (llvmpipe's whole-target
-        // clear is a fill of every 64² tile), and stored, since a discarded target would
-        // be cleared whole again before it is next loaded.
+        // every pixel of the part, which costs more than the clear saves); the depth of a
+        // part is set back under the scissor alone, by the first draw (llvmpipe's
+        // whole-target clear is a fill of every 64² tile), and of a whole frame cleared;
+        // it is stored, since a discarded target would be cleared whole again before it is
+        // next loaded.
         encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("main"),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {
@@ -251,7 +263,11 @@ impl MainPass {
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: &targets.depth_view,
                 depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Load,
+                    load: if clear_depth {
+                        wgpu::LoadOp::Clear(1.0)
+                    } else {
+                        wgpu::LoadOp::Load
+                    },
                     store: wgpu::StoreOp::Store,
                 }),
                 stencil_ops: None,

@@ -77,8 +77,9 @@ pub(super) struct MainPipelines {
     /// With soft shadows on the target: the same with the board's fine map too, for what
     /// can lie within it (see `Sunlight::in_board_map`).
     soft: Option<ShadedPipelines>,
-    /// Sets the main pass's depth back to the cleared depth under the scissor, its colour
-    /// left alone (`vs_far`, `fs_far`): instead of clearing the whole depth target.
+    /// Sets the main pass's depth back to the cleared depth under the scissor of a part of
+    /// a frame, its colour left alone (`vs_far`, `fs_far`): instead of clearing the whole
+    /// depth target (a whole frame's is cleared).
     pub far: wgpu::RenderPipeline,
 }
 

@@ -112,11 +112,16 @@ impl Readback {
                 .get_mapped_range(..bytes)
                 .map_err(|e| readback(e.to_string()))?;
             let drawn = &mut pixels[rows.start as usize * width..rows.end as usize * width];
-            for (row, out) in data
-                .chunks_exact(self.padded_row as usize)
-                .zip(drawn.chunks_exact_mut(width))
-            {
-                out.copy_from_slice(&row[..width]);
+            if self.padded_row as usize == width {
+                // No padding (a width of a multiple of 256): one copy.
+                drawn.copy_from_slice(&data);
+            } else {
+                for (row, out) in data
+                    .chunks_exact(self.padded_row as usize)
+                    .zip(drawn.chunks_exact_mut(width))
+                {
+                    out.copy_from_slice(&row[..width]);
+                }
             }
         }
         self.staging.unmap();
