@@ -2,7 +2,7 @@
 //! clutter, on the backend `WGPU_BACKEND` names (GL/llvmpipe by default): the default
 //! options (512² shadow map) and, for comparison, a 1024² shadow map.
 //!
-//! Run: `cargo bench -p sim --bench render`. Criterion's "thrpt" is frames per second.
+//! Run: `cargo bench -p sim-render --bench render`. Criterion's "thrpt" is frames per second.
 //! On a 2-core machine other processes halve the figure: check `uptime` first.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
