@@ -80,7 +80,7 @@ def _trackers(tracker: Any, n: int) -> Optional[list]:
         return None
     if isinstance(tracker, (list, tuple)):
         return _per_env(tracker, n, "tracker")
-    if callable(tracker) and not hasattr(tracker, "track"):
+    if isinstance(tracker, type) or (callable(tracker) and not hasattr(tracker, "track")):
         return [tracker() for _ in range(n)]
     raise TypeError(
         "tracker: one per sub-environment is needed (they keep state): a list of num_envs "
