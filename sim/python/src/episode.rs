@@ -137,10 +137,13 @@ pub(crate) struct Planned {
 
 impl Episode {
     /// Starts the episode of `planned` and renders its first frame (then starts rendering
-    /// the next). Runs without the interpreter.
+    /// the next). With `software_device`, its frames render on Mesa's software EGL device
+    /// where there is one (see `ClosedLoop::render_on_software_device`; the same frames).
+    /// Runs without the interpreter.
     pub(crate) fn start(
         planned: Planned,
         options: EpisodeOptions,
+        software_device: bool,
     ) -> Result<Episode, sim::RunError> {
         let Planned { plan, tracker } = planned;
         let s = plan.scenario().clone();
@@ -174,6 +177,10 @@ impl Episode {
             ..LoopOptions::new(options.backend)
         };
         let mut looped = ClosedLoop::start(plan, loop_options)?;
+        if software_device {
+            // Where there is no such device, the loop's own renderer serves: only slower.
+            let _ = looped.render_on_software_device(options.backend);
+        }
         let last = looped.step()?.expect("a scenario has at least one frame");
         looped.prefetch()?;
         Ok(Episode {

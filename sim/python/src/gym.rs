@@ -97,7 +97,7 @@ impl GymCore {
         let episode = py
             .detach(move || {
                 drop(old);
-                Episode::start(planned, options)
+                Episode::start(planned, options, false)
             })
             .map_err(|e| run_error(py, e, &self.raised))?;
         *self.episode.lock().unwrap_or_else(|p| p.into_inner()) = Some(episode);

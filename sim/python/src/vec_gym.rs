@@ -3,6 +3,10 @@
 //! its own with the interpreter released. Each episode renders its next frame in the
 //! background as soon as its step returns, so the N frames render while the agent thinks.
 //!
+//! llvmpipe renders the frames of one EGL display one at a time, so the odd-numbered
+//! sub-environments render on Mesa's software EGL device, a llvmpipe of its own, and the
+//! even-numbered ones on wgpu's display: two frames render at once (the same frames).
+//!
 //! Every episode is the single environment's (`gym::GymCore`), run by the same code, so a
 //! sub-environment reset with seed s gives the frames a single environment reset with s
 //! gives, bit for bit. A sub-environment that fails (an exception of its tracker plug-in,
@@ -284,9 +288,10 @@ impl VecCore {
                 let running: Vec<_> = slots
                     .iter_mut()
                     .zip(jobs)
-                    .map(|(slot, job)| match job {
+                    .enumerate()
+                    .map(|(k, (slot, job))| match job {
                         Job::Keep => None,
-                        job => Some(scope.spawn(move || run_job(slot, job, options))),
+                        job => Some(scope.spawn(move || run_job(slot, job, options, k % 2 == 1))),
                     })
                     .collect();
                 running
@@ -326,18 +331,20 @@ impl VecCore {
     }
 }
 
-/// One sub-environment's job, on its own thread. A failure (an error, or a panic, caught
-/// here) leaves it no episode.
+/// One sub-environment's job, on its own thread (a new episode rendering on the software
+/// device with `software_device`). A failure (an error, or a panic, caught here) leaves it
+/// no episode.
 fn run_job(
     slot: &mut Option<Episode>,
     job: Job,
     options: EpisodeOptions,
+    software_device: bool,
 ) -> Result<Outcome, Failure> {
     let ran = catch_unwind(AssertUnwindSafe(|| match job {
         Job::Start(planned) => {
             // The old episode goes first: two renderers need not be held at once.
             *slot = None;
-            Episode::start(*planned, options).map(|e| {
+            Episode::start(*planned, options, software_device).map(|e| {
                 *slot = Some(e);
                 Outcome::default()
             })
