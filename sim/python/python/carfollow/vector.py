@@ -8,7 +8,9 @@ action="drive")``
 Each sub-environment is the single environment (``carfollow.env.FollowEnv``: the same
 actions, observations, reward and ``info``), run by the same native code; the N of them step
 at once, each on a thread of its own with the interpreter released, and each renders its
-next camera frame in the background as soon as its step returns. Reset with ``seed=s``,
+next camera frame in the background as soon as its step returns. Mesa's llvmpipe renders
+one EGL display's frames one at a time, so the odd-numbered sub-environments render on its
+software EGL device and the even-numbered on wgpu's display: two frames at once. Reset with ``seed=s``,
 sub-environment k gives the frames a single environment reset with ``seed=s + k`` gives, bit
 for bit.
 
