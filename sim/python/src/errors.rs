@@ -22,6 +22,25 @@ pub(crate) fn scenario_error(e: ScenarioError) -> PyErr {
 
 /// A run that stopped: a plug-in's own exception when one raised, else `RuntimeError`.
 pub(crate) fn run_error(py: Python<'_>, e: RunError, raised: &Raised) -> PyErr {
+    located(py, e, raised, None)
+}
+
+/// The same for the sub-environment `env` of a vector environment: its message names the
+/// environment, and the exception carries it as `env_index`.
+pub(crate) fn env_run_error(py: Python<'_>, e: RunError, raised: &Raised, env: usize) -> PyErr {
+    with_env(py, located(py, e, raised, Some(env)), env)
+}
+
+/// `err` (raised by the sub-environment `env`) with `env_index` set on it, when it takes
+/// attributes.
+pub(crate) fn with_env(py: Python<'_>, err: PyErr, env: usize) -> PyErr {
+    let _ = err.value(py).setattr("env_index", env);
+    err
+}
+
+/// A run's error, its place said (with the sub-environment's index, when there is one).
+fn located(py: Python<'_>, e: RunError, raised: &Raised, env: Option<usize>) -> PyErr {
+    let env_said = env.map_or(String::new(), |k| format!("in environment {k}, "));
     let place = match &e {
         RunError::Loop(LoopError::Plugin {
             what, frame, t_s, ..
@@ -33,14 +52,17 @@ pub(crate) fn run_error(py: Python<'_>, e: RunError, raised: &Raised) -> PyErr {
         _ => None,
     };
     match (raised.take(), place) {
-        (Some(err), Some(place)) => with_place(py, err, &place),
-        _ => PyRuntimeError::new_err(e.to_string()),
+        (Some(err), Some(place)) => with_place(py, err, &format!("{env_said}{place}")),
+        _ => match env {
+            Some(k) => PyRuntimeError::new_err(format!("environment {k}: {e}")),
+            None => PyRuntimeError::new_err(e.to_string()),
+        },
     }
 }
 
 /// `err` with `(carfollow: PLACE)` added to its message: to its first argument when that is
 /// text, else as a note (PEP 678).
-fn with_place(py: Python<'_>, err: PyErr, place: &str) -> PyErr {
+pub(crate) fn with_place(py: Python<'_>, err: PyErr, place: &str) -> PyErr {
     let value = err.value(py);
     let added = (|| -> PyResult<bool> {
         let args = value.getattr("args")?;

@@ -5,12 +5,14 @@
 #![warn(missing_docs)]
 
 mod builtin;
+mod episode;
 mod errors;
 mod gym;
 mod plugins;
 mod scenario;
 mod simulation;
 mod types;
+mod vec_gym;
 
 use pyo3::prelude::*;
 
@@ -44,6 +46,7 @@ fn _carfollow(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<types::ControlInput>()?;
     m.add_class::<types::Camera>()?;
     m.add_class::<gym::GymCore>()?;
+    m.add_class::<vec_gym::VecCore>()?;
     m.add_class::<builtin::PaperTracker>()?;
     m.add_function(wrap_pyfunction!(shipped_scenarios, m)?)?;
     m.add_function(wrap_pyfunction!(check, m)?)?;

@@ -322,6 +322,7 @@ impl ClosedLoop {
             fingerprint,
             render_thread: None,
             remote: None,
+            solo: None,
             in_flight: VecDeque::new(),
             advanced: None,
         };

@@ -137,4 +137,27 @@ impl ClosedLoop {
         self.schedule
             .add_second(worker, &self.drive, &self.eye, self.frame)
     }
+
+    /// Renders this loop's frames on a renderer of Mesa's software EGL device (a llvmpipe
+    /// of its own, on a thread of its own) in place of this process's renderer, which
+    /// renders on wgpu's display: llvmpipe renders the frames of one display one at a time,
+    /// so loops of one process that split between the two render two frames at once. The
+    /// frames are the same bit for bit. Only for a loop on GL (`backend`, the one it
+    /// started on), before the first step, and with one frame in flight; returns whether it
+    /// now does, or why it cannot.
+    pub fn render_on_software_device(&mut self, backend: Backend) -> Result<bool, LoopError> {
+        let s = &mut self.schedule;
+        let busy = s.remote.is_some() || s.solo.is_some() || !s.in_flight.is_empty();
+        if backend != Backend::Gl || self.frame > 0 || busy {
+            return Ok(false);
+        }
+        let scene = self.recorder.scene.clone();
+        let started = RemoteRenderer::spawn_thread(scene, self.eye.rig.clone(), backend)
+            .map_err(LoopError::Worker)?;
+        let solo = started
+            .ready(s.fingerprint, &s.adapter_name, &self.eye.rig)
+            .map_err(LoopError::Worker)?;
+        s.solo = Some(solo);
+        Ok(true)
+    }
 }

@@ -56,6 +56,10 @@ pub(super) struct Schedule {
     pub(super) render_thread: Option<RenderThread>,
     /// The second renderer, when two frames are in flight.
     pub(super) remote: Option<RemoteRenderer>,
+    /// The renderer every frame renders on in place of `renderer`, when it is one of Mesa's
+    /// software EGL device on a thread of its own (see
+    /// `ClosedLoop::render_on_software_device`).
+    pub(super) solo: Option<RemoteRenderer>,
     /// Frames submitted and not yet tracked, in order.
     pub(super) in_flight: VecDeque<InFlight>,
     /// What the physics to the frame after the first in flight left, when an earlier step
@@ -71,7 +75,9 @@ impl Schedule {
         eye: &mut Eye,
         spent: &mut Spent,
     ) -> Result<Shot, LoopError> {
-        if self.remote.is_some() {
+        if self.solo.is_some() {
+            self.on_solo(drive, eye, spent)
+        } else if self.remote.is_some() {
             self.two_in_flight(drive, eye, spent)
         } else if !self.in_flight.is_empty() {
             self.prefetched(drive, eye, spent)
@@ -157,12 +163,58 @@ impl Schedule {
         }
         let captured = eye.capture(drive);
         let part = eye.needed(&captured);
-        self.render_here(&captured, part)?;
-        self.in_flight.push_back(InFlight {
-            captured,
-            here: true,
-        });
+        let here = match self.solo.as_mut() {
+            Some(solo) => {
+                solo.submit(&captured.input, part)
+                    .map_err(LoopError::Worker)?;
+                false
+            }
+            None => {
+                self.render_here(&captured, part)?;
+                true
+            }
+        };
+        self.in_flight.push_back(InFlight { captured, here });
         Ok(())
+    }
+
+    /// The frame on the software device's renderer (`solo`), one thing at a time, the
+    /// render started by [`Schedule::prefetch`] when it was.
+    fn on_solo(
+        &mut self,
+        drive: &mut Drive,
+        eye: &mut Eye,
+        spent: &mut Spent,
+    ) -> Result<Shot, LoopError> {
+        let [render_t, track_t, physics_t] = spent;
+        let solo = self.solo.as_mut().expect("a software device's renderer");
+        let captured = match self.in_flight.pop_front() {
+            Some(prefetched) => prefetched.captured,
+            None => {
+                let captured = eye.capture(drive);
+                let part = eye.needed(&captured);
+                solo.submit(&captured.input, part)
+                    .map_err(LoopError::Worker)?;
+                captured
+            }
+        };
+        let input = &captured.input;
+        let rendered = timed(render_t, || solo.receive()).map_err(LoopError::Worker);
+        let render = |part| {
+            solo.submit(input, part)
+                .and_then(|()| solo.receive())
+                .map_err(LoopError::Worker)
+        };
+        let (frame, tracked) = eye.see(&captured, rendered, render, track_t)?;
+        eye.deliver(drive, &captured, &tracked);
+        let driven = timed(physics_t, || drive.advance_frame());
+        eye.meter(&captured, &frame);
+        Ok(Shot {
+            captured,
+            frame,
+            tracked,
+            driven,
+        })
     }
 
     /// A frame [`Schedule::prefetch`] started: waits for it and tracks it while the

@@ -7,7 +7,8 @@ Schneiderman, Nashman and Lumia (NIST), "Model-based vision for car following".
   (and optionally ``reset(camera, start)``); a controller any object with
   ``control(input: ControlInput) -> Command``.
 - ``gymnasium.make("carfollow/Follow-v0", ...)``: the Gymnasium environment, registered
-  when this package is imported (with gymnasium installed).
+  when this package is imported (with gymnasium installed); ``gymnasium.make_vec(
+  "carfollow/Follow-v0", num_envs=N, ...)``: N of them stepped together in one process.
 
 Frames are numpy ``uint8`` arrays of shape (242, 256), row-major, origin at the top-left
 corner, pixel centres at integer coordinates.
@@ -53,7 +54,11 @@ def _register() -> None:
     except ImportError:  # gymnasium is optional: pip install carfollow[gym]
         return
     if "carfollow/Follow-v0" not in registry:
-        register(id="carfollow/Follow-v0", entry_point="carfollow.env:FollowEnv")
+        register(
+            id="carfollow/Follow-v0",
+            entry_point="carfollow.env:FollowEnv",
+            vector_entry_point="carfollow.vector:FollowVectorEnv",
+        )
 
 
 _register()

@@ -290,6 +290,7 @@ class GymCore:
         action: Literal["drive", "longitudinal"] = "drive",
         camera: bool = True,
         backend: Optional[str] = None,
+        tracker: Optional[Tracker] = None,
     ) -> None: ...
     def check(self) -> int:
         """Checks the scenario (as ``carfollow check`` does) and that its latency lets an
@@ -313,6 +314,49 @@ class GymCore:
         """The number of frames of an episode."""
     def close(self) -> None:
         """Ends the episode (frees the renderer)."""
+
+class VecCore:
+    """N episodes stepped together."""
+
+    def __init__(
+        self,
+        scenarios: list[Union[Scenario, Mapping[str, Any]]],
+        overrides: list[Optional[Overrides]],
+        trackers: Optional[list[Optional[Tracker]]] = None,
+        action: Literal["drive", "longitudinal"] = "drive",
+        camera: bool = True,
+        backend: Optional[str] = None,
+    ) -> None: ...
+    @property
+    def num_envs(self) -> int:
+        """The number of sub-environments."""
+    def check(self) -> list[int]:
+        """Checks every sub-environment's scenario (see `GymCore.check`): the frames of an
+        episode of each."""
+    def reset_some(self, resets: list[tuple[int, Optional[int]]]) -> None:
+        """Starts a new episode in the sub-environments of `resets` (index, seed: the
+        scenario's own when None), all at once; the others keep theirs as they are."""
+    def step(
+        self, actions: npt.NDArray[np.float64], resets: list[tuple[int, Optional[int]]]
+    ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.bool_], npt.NDArray[np.bool_]]:
+        """Steps every sub-environment with its row of `actions` (N × 2: steering, then the
+        longitudinal), except those in `resets` (index, seed), which start a new episode
+        instead (reward 0, neither terminated nor truncated). Returns the rewards,
+        `terminated` and `truncated`, one each per sub-environment. An error of one
+        sub-environment is raised naming it after all have run; its episode is gone (see
+        `missing`), the others' have taken their step."""
+    def missing(self) -> list[int]:
+        """The sub-environments without an episode: never reset, or failed."""
+    def frames(self) -> npt.NDArray[np.uint8]:
+        """The last frames, uint8 (N, 1, 242, 256)."""
+    def estimate_observations(self) -> npt.NDArray[np.float32]:
+        """The estimate observations, float32 (N, 12)."""
+    def infos(self) -> list[dict[str, Any]]:
+        """Each sub-environment's `info` (see `GymCore.info`)."""
+    def frames_per_episode(self) -> list[int]:
+        """The number of frames of each sub-environment's episode."""
+    def close(self) -> None:
+        """Ends every episode (frees the renderers)."""
 
 def shipped_scenarios() -> list[str]:
     """The names of the shipped scenarios, which ``Simulation`` takes by name."""

@@ -1,7 +1,10 @@
 """``carfollow/Follow-v0``: car following as a Gymnasium environment.
 
 ``gymnasium.make("carfollow/Follow-v0", scenario="nist-grounds", observation="camera",
-action="drive", render_mode=None)``
+action="drive", render_mode=None, overrides=None, tracker=None)``
+
+``gymnasium.make_vec("carfollow/Follow-v0", num_envs=N, ...)`` gives N of them stepped
+together in one process (``carfollow.vector.FollowVectorEnv``).
 
 One step is one camera frame (1/15 s), with the eight 120 Hz physics steps in it. The
 scenario drives the lead vehicle; the agent drives the chase vehicle.
@@ -56,6 +59,11 @@ action since the last. ``terminated`` on a collision or when the chase leaves th
 agent that acts on it cheats), the frame's ``record`` (every column of frames.csv) and the
 ``actions_in_flight``. It holds no wall-clock time.
 
+``tracker``: a tracker plug-in (an object with ``track(frame, t, camera)``, as
+``carfollow.Simulation`` takes) in place of the paper's: its estimates reach the built-in
+steering and the estimate observation. An exception it raises is raised from ``step`` (or
+``reset``) with the frame and time added.
+
 ``reset(seed=...)`` is reproducible: the same seed gives the same episode, bit for bit. The
 renderer is made at the first reset, in the process that steps the environment, so that
 ``gymnasium.vector.AsyncVectorEnv`` workers each make their own.
@@ -90,6 +98,7 @@ class FollowEnv(gym.Env):
         action: str = "drive",
         render_mode: Optional[str] = None,
         overrides: Optional[dict] = None,
+        tracker: Any = None,
     ) -> None:
         if observation not in ("camera", "estimate"):
             raise ValueError(f'observation = {observation!r}: must be "camera" or "estimate"')
@@ -103,7 +112,9 @@ class FollowEnv(gym.Env):
         self._scenario = str(scenario) if not isinstance(scenario, str) else scenario
         # Whole frames only where something looks at them.
         camera = observation == "camera" or render_mode == "rgb_array"
-        self._core = GymCore(self._scenario, overrides, action=action, camera=camera)
+        self._core = GymCore(
+            self._scenario, overrides, action=action, camera=camera, tracker=tracker
+        )
         # Bad input fails here, before any renderer exists (none is made until reset).
         self._frames = self._core.check()
         if observation == "camera":
