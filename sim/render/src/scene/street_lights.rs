@@ -156,7 +156,11 @@ impl StreetLights {
             Self::HOUSING_ALBEDO,
         );
         let [along, across] = Self::LENS_M;
-        let head = f.p(0.0, Self::HEIGHT_M + Self::LENS_DEPTH_M + 0.1, -Self::REACH_M);
+        let head = f.p(
+            0.0,
+            Self::HEIGHT_M + Self::LENS_DEPTH_M + 0.1,
+            -Self::REACH_M,
+        );
         mesh.oriented_box(
             head,
             f.axes(),
@@ -164,7 +168,11 @@ impl StreetLights {
             Self::HOUSING_ALBEDO,
             ObjectSlot::WORLD,
         );
-        let lens = f.p(0.0, Self::HEIGHT_M + 0.5 * Self::LENS_DEPTH_M, -Self::REACH_M);
+        let lens = f.p(
+            0.0,
+            Self::HEIGHT_M + 0.5 * Self::LENS_DEPTH_M,
+            -Self::REACH_M,
+        );
         let albedo = if lit { Self::MARK } else { Self::LENS_ALBEDO };
         mesh.oriented_box(
             lens,
