@@ -559,6 +559,19 @@ pub struct ClutterFile {
     /// Pot holes per km.
     #[schemars(extend("minimum" = 0.0, "maximum" = 1000.0))]
     pub potholes_per_km: Option<f64>,
+    /// Street lights per km (0–100), evenly spaced on the right of the road, none within
+    /// 4 m of an intersection: each a steel pole 1 m beyond the road's edge with an arm
+    /// reaching 2 m over the road and a lamp head 8 m up. By day they stand and cast
+    /// shadows; at night (the sun at or below the horizon) each lights the scene as a
+    /// full cut-off road luminaire of about 10 000 lm (2 500 cd inside a cone of 70° about
+    /// the downward vertical, none past 75°, falling as the inverse square of the
+    /// distance), the 8 nearest the camera in each frame, and its lens glows to a camera
+    /// inside the cone. 30 a km (every 33 m) light a road to 5–15 lux (EN 13201's classes
+    /// M3–M5). None by default, and then not written, so a scenario without them reads and
+    /// writes as before.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("minimum" = 0.0, "maximum" = 100.0))]
+    pub street_lights_per_km: Option<f64>,
 }
 
 /// `[environment.sensor]`.

@@ -59,6 +59,12 @@ struct Globals {
     // The tail lamps (read only with `tail_lamps_on`): slot s's lens radiance times the
     // sensor's brightness over the lens's albedo, at [s / 4][s % 4] (0: no lamp lit).
     glow: array<vec4<f32>, 8>,
+    // The street lights (read only with `street_lights_on`): [0]-[7] the lamps lit in the
+    // frame, each its source relative to the camera and w 1 (0: none); [8] x the cone's
+    // half-angle from the nadir (radians), y 1 / the cut-off's width (per radian), z a
+    // lens's glow over its albedo, w the intensity inside the cone, both times the sensor's
+    // brightness (scene units, × m² for the intensity).
+    street: array<vec4<f32>, 9>,
 };
 
 struct Objects {
@@ -195,6 +201,25 @@ override tail_lamps_on: bool = false;
 // own albedo (`TailLamps::LENS_ALBEDO`).
 const LAMP_MARK_MIN: f32 = 4.0;
 const LAMP_LENS_ALBEDO: f32 = 0.1;
+// Whether street lights light the scene (the pipeline's constant, at night with street
+// lights): without them, `vs_main_of` and `lamp_lit` are as before street lights existed.
+override street_lights_on: bool = false;
+// The albedo from which a vertex is a lit street lamp's lens (`StreetLights::MARK_MIN`),
+// and the lens's own albedo (`StreetLights::LENS_ALBEDO`).
+const STREET_MARK_MIN: f32 = 16.0;
+const STREET_LENS_ALBEDO: f32 = 0.5;
+// The share of a street lamp's intensity left past its cut-off (`StreetLights::STRAY`).
+const STREET_STRAY: f32 = 0.1;
+
+// The share of a street lamp's intensity sent at `from_nadir` radians from straight down:
+// all inside the cone, the stray share past the cut-off (a smoothstep over its width),
+// none above the horizontal.
+fn street_cone(from_nadir: f32) -> f32 {
+    if (from_nadir > 1.5707964) {
+        return 0.0;
+    }
+    return mix(1.0, STREET_STRAY, smoothstep(0.0, 1.0, (from_nadir - globals.street[8].x) * globals.street[8].y));
+}
 
 // What `vs_main` computes, for the vertex stages that add to it.
 fn vs_main_of(v: VertexIn) -> VertexOut {
@@ -207,7 +232,13 @@ fn vs_main_of(v: VertexIn) -> VertexOut {
     let facing = max(dot(normal, globals.sun.xyz), 0.0);
     let brightness = globals.params.y;
     out.light = vec3<f32>(v.albedo, globals.params.x * brightness, globals.sun.w * facing * brightness);
-    if (tail_lamps_on && v.albedo >= LAMP_MARK_MIN) {
+    if (street_lights_on && v.albedo >= STREET_MARK_MIN) {
+        // A street lamp's lens: lit as any surface, and glowing to a camera inside its cone
+        // (the camera is at the origin: the direction from the lens to it is −world).
+        out.light.x = STREET_LENS_ALBEDO;
+        let to_eye = normalize(-world.xyz);
+        out.light.y += globals.street[8].z * street_cone(acos(clamp(-to_eye.y, -1.0, 1.0)));
+    } else if (tail_lamps_on && v.albedo >= LAMP_MARK_MIN) {
         // A lamp's lens: its albedo times the light that falls on it, plus its own glow
         // (added to the light, over the albedo that multiplies it).
         let slot = v.object & 0xffu;
@@ -388,16 +419,45 @@ fn headlamp(lamp: vec3<f32>, eye: vec3<f32>, n: vec3<f32>) -> f32 {
     return i * max(dot(n, -dir), 0.0) / d2;
 }
 
-// `albedo` times the scene's `light`, with the headlamps' light added when they are on.
-// The surface's normal is the flat one of its triangle, from the position's derivatives,
-// turned towards the camera.
+// One street lamp at `lamp` (relative to the camera) lighting a surface at `eye` with unit
+// normal `n`: I(θ) cos(incidence) / d², I constant inside the cone about the downward
+// vertical and cut off outside it.
+fn street_light(lamp: vec3<f32>, eye: vec3<f32>, n: vec3<f32>) -> f32 {
+    let v = eye - lamp;
+    let d2 = max(dot(v, v), 1e-4);
+    let dir = v * inverseSqrt(d2);
+    let i = globals.street[8].w * street_cone(acos(clamp(-dir.y, -1.0, 1.0)));
+    return i * max(dot(n, -dir), 0.0) / d2;
+}
+
+// The light of the street lamps lit in the frame on a surface at `eye` with normal `n`.
+fn street_lights(eye: vec3<f32>, n: vec3<f32>) -> f32 {
+    var sum = 0.0;
+    for (var k = 0u; k < 8u; k++) {
+        let lamp = globals.street[k];
+        if (lamp.w > 0.0) {
+            sum += street_light(lamp.xyz, eye, n);
+        }
+    }
+    return sum;
+}
+
+// `albedo` times the scene's `light`, with the headlamps' and the street lights' light
+// added when they are on. The surface's normal is the flat one of its triangle, from the
+// position's derivatives, turned towards the camera.
 fn lamp_lit(albedo: f32, light: f32, eye: vec3<f32>) -> f32 {
-    if (headlamps_on) {
+    if (headlamps_on || street_lights_on) {
         var n = normalize(cross(dpdx(eye), dpdy(eye)));
         if (dot(n, eye) > 0.0) {
             n = -n;
         }
-        let lamps = headlamp(globals.lamps[0].xyz, eye, n) + headlamp(globals.lamps[1].xyz, eye, n);
+        var lamps = 0.0;
+        if (headlamps_on) {
+            lamps = headlamp(globals.lamps[0].xyz, eye, n) + headlamp(globals.lamps[1].xyz, eye, n);
+        }
+        if (street_lights_on) {
+            lamps += street_lights(eye, n);
+        }
         return albedo * (light + lamps);
     }
     return albedo * light;

@@ -20,8 +20,8 @@ use super::route::Route;
 use super::site::Site;
 use super::terrain::Terrain;
 use super::{
-    building, ground, house, parked_car, placement, pole_line, road, road_marks, tree, vehicles,
-    verge,
+    building, ground, house, parked_car, placement, pole_line, road, road_marks, street_lights,
+    tree, vehicles, verge,
 };
 use std::collections::BTreeSet;
 use std::ops::Range;
@@ -147,6 +147,7 @@ fn lay_static(site: &Site<'_>, keep: Keep) -> Bins {
     // the roadside and the standing clutter,
     tree::lay_row(site, &mut bins);
     pole_line::lay(site, &mut bins);
+    street_lights::lay(site, &mut bins);
     house::lay_row(site, &mut bins);
     building::lay_row(site, &mut bins);
     parked_car::lay_row(site, &mut bins);

@@ -33,6 +33,17 @@ pub struct Densities {
     pub patches_per_km: f64,
     /// Pot holes per km of road.
     pub potholes_per_km: f64,
+    /// Street lights per km (one side, the right, evenly spaced; each a pole with an arm
+    /// over the road and a lamp head that lights the road at night: `StreetLights`). None
+    /// by default, and then not written, so a description without them reads and writes
+    /// as before.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub street_lights_per_km: f64,
+}
+
+/// Whether a density is zero (then not written).
+fn is_zero(v: &f64) -> bool {
+    *v == 0.0
 }
 
 impl Default for Densities {
@@ -50,6 +61,7 @@ impl Default for Densities {
             cracks_per_km: 60.0,
             patches_per_km: 12.0,
             potholes_per_km: 10.0,
+            street_lights_per_km: 0.0,
         }
     }
 }
@@ -669,6 +681,7 @@ impl SceneDescription {
             ("densities.cracks_per_km", d.cracks_per_km),
             ("densities.patches_per_km", d.patches_per_km),
             ("densities.potholes_per_km", d.potholes_per_km),
+            ("densities.street_lights_per_km", d.street_lights_per_km),
             ("sun.strength", self.sun.strength),
             ("sun.ambient", self.sun.ambient),
             ("sun.sky", self.sun.sky),

@@ -19,7 +19,7 @@
 //!   its own frame or placed by its footprint): `ground` (the grass; over bumps, the
 //!   road's surfaces draped on the height field), `road` (its surface, edge and centre
 //!   lines, crossing roads), `road_marks` (cracks, patches, pot holes), `verge`, `tree`,
-//!   `pole` and `pole_line`, `house`, `building`, `car` and `parked_car`, `truck`,
+//!   `pole` and `pole_line`, `street_lights`, `house`, `building`, `car` and `parked_car`, `truck`,
 //!   `vehicle_kind` (the kinds of vehicle in traffic, [`VehicleKind`]), `overpass`,
 //!   `placement` (the hand-placed clutter), `target_board`, `distractor`, `lead`, and
 //!   `vehicles` (the moving objects);
@@ -63,6 +63,7 @@ mod route;
 mod route_curve;
 mod site;
 mod standing;
+mod street_lights;
 mod tail_lamps;
 mod target_board;
 mod terrain;
@@ -99,6 +100,7 @@ pub use object_slot::ObjectSlot;
 pub use rain::{Rain, RainBand};
 pub use rng::stream;
 pub use route::{PRange, Route, RouteSegment, RouteSpec};
+pub use street_lights::StreetLights;
 pub use tail_lamps::{Braking, TailLamps};
 pub use target_board::{
     lead_from_target_of, BOARD_ALBEDO, BOARD_MARGIN_M, STRIPE_ALBEDO, STRIPE_OVERRUN_M,

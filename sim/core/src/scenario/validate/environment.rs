@@ -75,6 +75,17 @@ pub(super) fn environment(e: &EnvironmentFile, f: &Blame) -> Result<Environment,
             *dst = v;
         }
     }
+    if let Some(v) = cl.street_lights_per_km {
+        f.at(
+            "environment.clutter.street_lights_per_km",
+            check(
+                v.is_finite() && (0.0..=MAX_STREET_LIGHTS_PER_KM).contains(&v),
+                &format!("must be 0–{MAX_STREET_LIGHTS_PER_KM} per km"),
+                v,
+            ),
+        )?;
+        densities.street_lights_per_km = v;
+    }
     let sensor = sensor(e, f)?;
     let road_surface = match e.road.surface.as_deref() {
         None => RoadSurface::default(),
@@ -114,6 +125,10 @@ pub(super) fn environment(e: &EnvironmentFile, f: &Blame) -> Result<Environment,
         rain,
     })
 }
+
+/// The most street lights a kilometre takes: one every 10 m, closer than any road is lit
+/// (EN 13201's geometry puts them 3–5 mounting heights apart, 24–40 m at 8 m).
+const MAX_STREET_LIGHTS_PER_KM: f64 = 100.0;
 
 /// The largest visual range `[environment.fog]` takes, metres: beyond it the air is clear
 /// for any distance the camera resolves a target at.

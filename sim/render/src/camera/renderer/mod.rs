@@ -51,7 +51,7 @@ use super::frame::{Field, Frame, FrameInput, GroundTruth};
 use super::rig::CameraRig;
 use super::sensor::blur_reach_px;
 use super::shadow_tiles::TileFrame;
-use crate::scene::{AutoGain, Braking, Scene};
+use crate::scene::{AutoGain, Braking, Scene, StreetLights};
 use culling::{gather_items, DrawItem};
 use device::{display_lock, Gpu};
 use image::GrayImage;
@@ -203,6 +203,9 @@ pub struct Renderer {
     /// The staging buffer the frame is read back through.
     readback: Readback,
     stats: DrawStats,
+    /// Where the lit street lights' light comes from (world; empty by day or without
+    /// street lights).
+    street_lights: Vec<[f64; 3]>,
 }
 
 /// What the last frame drew: triangles in each pass after culling.
@@ -258,6 +261,11 @@ impl Renderer {
         let gpu = Gpu::open(options.backend, external_gl)?;
         let device = &gpu.device;
         let description = scene.description();
+        let street_lights = if StreetLights::lit(description) {
+            StreetLights::sources(&scene)
+        } else {
+            Vec::new()
+        };
 
         // Resources: the geometry, the maps from the sun, the frame's targets, the
         // ground's textures, the samplers, the staging buffer.
@@ -278,6 +286,7 @@ impl Renderer {
             description.headlamps.is_some(),
             description.raining().is_some(),
             description.has_tail_lamps(),
+            StreetLights::lit(description),
         );
         let lookups = builder.lookups(&maps, &surfaces, &samplers);
         let frame_uniforms = Uniforms::new(device, "frame uniforms");
@@ -318,6 +327,7 @@ impl Renderer {
             main,
             readback,
             stats: DrawStats::default(),
+            street_lights,
         })
     }
 

@@ -139,6 +139,10 @@ pub(super) struct Builder<'d> {
     /// Whether the main pass's pipelines let tail lamps glow (the `tail_lamps_on`
     /// override): off, a scene is drawn as before tail lamps existed.
     tail_lamps: bool,
+    /// Whether the main pass's pipelines add the street lights' light and let their lenses
+    /// glow (the `street_lights_on` override, at night with street lights): off, a scene is
+    /// drawn as before street lights existed.
+    street_lights: bool,
     /// Group 0 of the frame's passes: the globals and the object transforms.
     frame_layout: wgpu::BindGroupLayout,
     /// Group 1 of the main pass: the shadow lookups and the ground's textures.
@@ -153,7 +157,7 @@ pub(super) struct Builder<'d> {
 impl<'d> Builder<'d> {
     /// The shader and the layouts, for a main pass of `samples` samples, in `fog` (any
     /// extinction of the air: fog's or rain's) or not, with the `headlamps` on or not,
-    /// `rain` wetting the road or not, and `tail_lamps` or not.
+    /// `rain` wetting the road or not, `tail_lamps` or not, and `street_lights` lit or not.
     pub fn new(
         device: &'d wgpu::Device,
         samples: u32,
@@ -161,6 +165,7 @@ impl<'d> Builder<'d> {
         headlamps: bool,
         rain: bool,
         tail_lamps: bool,
+        street_lights: bool,
     ) -> Builder<'d> {
         let uniform_entry = |binding, has_dynamic_offset| wgpu::BindGroupLayoutEntry {
             binding,
@@ -207,6 +212,7 @@ impl<'d> Builder<'d> {
             headlamps,
             rain,
             tail_lamps,
+            street_lights,
             frame_layout,
             lookup_layout,
             slot_layout,
@@ -471,17 +477,25 @@ impl<'d> Builder<'d> {
         grass: bool,
         soft: bool,
     ) -> wgpu::RenderPipeline {
-        let constants = [
+        let mut constants = vec![
             ("grass_faces", f64::from(u8::from(grass))),
             ("fog_on", f64::from(u8::from(self.fog))),
             ("headlamps_on", f64::from(u8::from(self.headlamps))),
             ("rain_on", f64::from(u8::from(self.rain))),
         ];
-        // The tail lamps are the vertex stage's (a lamp's vertices carry its mark); without
-        // them the vertex stage is compiled as before they existed.
-        let lamp_constants = [("tail_lamps_on", 1.0)];
-        let mut vertex_state = self.vertex_state(vertex);
+        // The tail lamps are the vertex stage's (a lamp's vertices carry its mark), the street
+        // lights both stages' (their light, and their lenses' marks); without them each
+        // stage is compiled as before they existed.
+        let mut lamp_constants = Vec::new();
         if self.tail_lamps {
+            lamp_constants.push(("tail_lamps_on", 1.0));
+        }
+        if self.street_lights {
+            lamp_constants.push(("street_lights_on", 1.0));
+            constants.push(("street_lights_on", 1.0));
+        }
+        let mut vertex_state = self.vertex_state(vertex);
+        if !lamp_constants.is_empty() {
             vertex_state.compilation_options.constants = &lamp_constants;
         }
         self.device

@@ -7,8 +7,8 @@ use super::Renderer;
 use crate::camera::shadow_tiles::{self, TileFrame};
 use crate::camera::textures::TILE_M;
 use crate::scene::{
-    Braking, Headlamps, ObjectSlot, Rain, SceneDescription, Sun, TailLamps, GRASS_ALBEDO_RANGE,
-    GROUND_CELL_M,
+    Braking, Headlamps, ObjectSlot, Rain, SceneDescription, StreetLights, Sun, TailLamps,
+    GRASS_ALBEDO_RANGE, GROUND_CELL_M,
 };
 use bytemuck::{Pod, Zeroable};
 use nalgebra::{Matrix4, Point3, Translation3, Vector3};
@@ -34,10 +34,14 @@ pub(super) struct Globals {
     lamps: [[f32; 4]; 5],
     rain: [f32; 4],
     glow: [[f32; 4]; GLOW_VEC4S],
+    street: [[f32; 4]; STREET_VEC4S],
 }
 
 /// `vec4`s of `Globals::glow`: a radiance for every object slot, four to a `vec4`.
 const GLOW_VEC4S: usize = ObjectSlot::COUNT as usize / 4;
+
+/// `vec4`s of `Globals::street`: one for each lamp lit in a frame, then the photometry's.
+const STREET_VEC4S: usize = StreetLights::LIT_MAX + 1;
 
 /// The strength of the paint's texture relative to the other materials': paint fills the
 /// asphalt's pores, so its grain is faint.
@@ -67,6 +71,7 @@ impl Renderer {
         );
         let globals = Globals {
             glow: glow_params(self.scene.description(), brightness, braking),
+            street: street_params(&self.street_lights, view, brightness),
             ..globals
         };
         self.main
@@ -147,6 +152,7 @@ impl Globals {
                 (description.sky_light(sun_light) * brightness).clamp(0.0, 1.0),
             ),
             glow: [[0.0; 4]; GLOW_VEC4S],
+            street: [[0.0; 4]; STREET_VEC4S],
         }
     }
 
@@ -270,6 +276,47 @@ fn glow_params(
         }
     }
     glow
+}
+
+/// The street lights' parameters in [`Globals`], from the lit lamps' `sources` (world; none
+/// by day or without street lights, whose pipelines never read them): the
+/// [`StreetLights::LIT_MAX`] nearest the camera's `view` (ties to the earlier on the route),
+/// each its source relative to the camera and 1 in w (0: no lamp); then the cone's
+/// half-angle (radians), the reciprocal of the cut-off's width (per radian), the lens's glow
+/// ([`StreetLights::lens_radiance`] over [`StreetLights::LENS_ALBEDO`]) and the peak
+/// intensity in the scene's units (candela over [`Headlamps::LUX_PER_UNIT`]), both times
+/// the sensor's `brightness`.
+fn street_params(
+    sources: &[[f64; 3]],
+    view: &CameraView,
+    brightness: f64,
+) -> [[f32; 4]; STREET_VEC4S] {
+    let mut street = [[0.0; 4]; STREET_VEC4S];
+    if sources.is_empty() {
+        return street;
+    }
+    let eye = view.eye;
+    let relative = |p: &[f64; 3]| Vector3::new(p[0], p[1], p[2]) - eye;
+    let mut nearest: Vec<(f64, usize)> = sources
+        .iter()
+        .enumerate()
+        .map(|(k, p)| (relative(p).norm_squared(), k))
+        .collect();
+    nearest.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    for (slot, &(_, k)) in street
+        .iter_mut()
+        .zip(nearest.iter().take(StreetLights::LIT_MAX))
+    {
+        let r = relative(&sources[k]);
+        *slot = [r.x as f32, r.y as f32, r.z as f32, 1.0];
+    }
+    street[StreetLights::LIT_MAX] = [
+        StreetLights::CONE_HALF_DEG.to_radians() as f32,
+        (1.0 / StreetLights::CUT_OFF_RAMP_DEG.to_radians()) as f32,
+        (StreetLights::lens_radiance() * brightness / StreetLights::LENS_ALBEDO) as f32,
+        (StreetLights::PEAK_CD / Headlamps::LUX_PER_UNIT * brightness) as f32,
+    ];
+    street
 }
 
 /// The grass's parameters in [`Globals`]: lattice frequency, albedo range, hash key (the
