@@ -35,6 +35,9 @@ const RANGE_DECIMALS: i32 = 9;
 /// The prefix of every stochastic parameter's random stream; the parameter's name follows.
 pub const STREAM_PREFIX: &str = "openscenario-distribution/";
 
+/// Runs, each `(parameter, value)` in the file's order.
+pub type Runs = Vec<Vec<(String, String)>>;
+
 /// One parameter the distribution sets, and where.
 #[derive(Clone, Debug, PartialEq)]
 pub struct DistributedParameter {
@@ -58,7 +61,7 @@ pub struct Distribution {
     /// The parameters it sets, in the order they first appear in the file.
     pub parameters: Vec<DistributedParameter>,
     /// The runs, each `(parameter, value)` in the file's order.
-    pub runs: Vec<Vec<(String, String)>>,
+    pub runs: Runs,
 }
 
 /// Whether the OpenSCENARIO file at `path` is a `ParameterValueDistribution` (false when
@@ -168,7 +171,7 @@ fn claim(
     node: Node,
     name: &str,
     declared: &[String],
-    parameters: &mut Vec<DistributedParameter>,
+    parameters: &[DistributedParameter],
     within: &mut Vec<String>,
 ) -> Result<(), OscError> {
     if !declared.iter().any(|d| d == name) {
@@ -211,10 +214,10 @@ fn deterministic(
     node: Node,
     declared: &[String],
     parameters: &mut Vec<DistributedParameter>,
-) -> Result<Vec<Vec<(String, String)>>, OscError> {
-    let mut runs: Vec<Vec<(String, String)>> = vec![Vec::new()];
+) -> Result<Runs, OscError> {
+    let mut runs: Runs = vec![Vec::new()];
     for dist in elements(node) {
-        let choices: Vec<Vec<(String, String)>> = match dist.tag_name().name() {
+        let choices: Runs = match dist.tag_name().name() {
             "DeterministicSingleParameterDistribution" => {
                 let name = xml.req(dist, "parameterName")?;
                 let mut within = Vec::new();
@@ -314,7 +317,7 @@ fn value_sets(
     node: Node,
     declared: &[String],
     parameters: &mut Vec<DistributedParameter>,
-) -> Result<Vec<Vec<(String, String)>>, OscError> {
+) -> Result<Runs, OscError> {
     if node.tag_name().name() != "ValueSetDistribution" {
         return Err(xml.unsupported(node, "distribution", ""));
     }
@@ -352,7 +355,7 @@ fn stochastic(
     node: Node,
     declared: &[String],
     parameters: &mut Vec<DistributedParameter>,
-) -> Result<(u64, Vec<Vec<(String, String)>>), OscError> {
+) -> Result<(u64, Runs), OscError> {
     let runs = xml.num(node, "numberOfTestRuns")?;
     if runs < 1.0 || runs.fract() != 0.0 || runs > MAX_RUNS as f64 {
         return Err(xml.at(
@@ -366,7 +369,7 @@ fn stochastic(
         // A seed that is not a whole number still names one stream: its bits.
         Some(s) => s.to_bits(),
     };
-    let mut columns: Vec<Vec<(String, String)>> = Vec::new();
+    let mut columns: Runs = Vec::new();
     let mut within = Vec::new();
     for dist in children(node, "StochasticDistribution") {
         let name = xml.req(dist, "parameterName")?;

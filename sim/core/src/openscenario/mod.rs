@@ -30,7 +30,8 @@ mod write;
 mod xml;
 
 pub use distribution::{
-    is_distribution, read_distribution, DistributedParameter, Distribution, MAX_RUNS, STREAM_PREFIX,
+    is_distribution, read_distribution, DistributedParameter, Distribution, Runs, MAX_RUNS,
+    STREAM_PREFIX,
 };
 pub use error::OscError;
 pub use expr::evaluate as evaluate_expression;
