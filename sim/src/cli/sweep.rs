@@ -166,6 +166,9 @@ pub fn run_sweep(args: SweepArgs) -> anyhow::Result<ExitCode> {
     let sweep = Sweep::load(&file, &args.set)?;
     if args.dry_run {
         let shard = sweep.shard(args.shard).len();
+        if let Some(d) = &sweep.distribution {
+            return Ok(dry_run_distribution(&file, &sweep, d, args.shard, checked));
+        }
         println!(
             "{}: valid: {} point{} ({} scenario{} × {} seed{} × {} combination{} of the axes){}; checked \
              in {:.2} s with {} plan{} (points that differ only in the tracker's settings or \
@@ -585,6 +588,45 @@ fn run_merge(args: MergeArgs) -> anyhow::Result<ExitCode> {
         missing_file.display()
     );
     Ok(ExitCode::from(exit::INCOMPLETE))
+}
+
+/// `--dry-run` of a parameter distribution: its points listed, one a line, after the
+/// line a sweep file's dry run says.
+fn dry_run_distribution(
+    file: &Path,
+    sweep: &Sweep,
+    d: &sim_core::openscenario::Distribution,
+    shard: Option<Shard>,
+    checked: Instant,
+) -> ExitCode {
+    let points = sweep.shard(shard);
+    let drawn = d
+        .random_seed
+        .map_or(String::new(), |s| format!(", drawn with randomSeed {s}"));
+    println!(
+        "{}: valid: {} point{} ({} run{} of {}'s parameters{drawn}, seed {}){}; checked in \
+         {:.2} s with {} plan{}",
+        file.display(),
+        sweep.points.len(),
+        plural(sweep.points.len()),
+        d.runs.len(),
+        plural(d.runs.len()),
+        d.scenario.display(),
+        sweep.seeds[0],
+        shard.map_or(String::new(), |s| format!(
+            ", {} in shard {}/{}",
+            points.len(),
+            s.index,
+            s.count
+        )),
+        checked.elapsed().as_secs_f64(),
+        sweep.plans,
+        plural(sweep.plans),
+    );
+    for p in points {
+        println!("{} {}", p.id, p.describe());
+    }
+    ExitCode::SUCCESS
 }
 
 /// "s" for a count other than 1.

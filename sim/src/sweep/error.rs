@@ -77,6 +77,9 @@ pub enum SweepError {
         /// The loop's error chain.
         message: String,
     },
+    /// An OpenSCENARIO parameter distribution file that cannot be read as a sweep.
+    #[error(transparent)]
+    Distribution(#[from] sim_core::openscenario::OscError),
     /// Drawing or writing the report.
     #[error(transparent)]
     Report(#[from] crate::report::ReportError),

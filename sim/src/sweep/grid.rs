@@ -54,12 +54,56 @@ impl Point {
     }
 
     /// Every override of this point, in the order applied: the common ones, the seed, then
-    /// the axis values.
+    /// the axis values (but the OpenSCENARIO parameters, see [`Point::osc_params`]).
     pub fn overrides(&self, common: &[String]) -> Vec<String> {
         let mut all = common.to_vec();
         all.push(format!("seed={}", self.seed));
-        all.extend(self.params.iter().map(|(p, v)| format!("{p}={v}")));
+        all.extend(
+            self.params
+                .iter()
+                .filter(|(p, _)| !p.starts_with(OSC_PARAM))
+                .map(|(p, v)| format!("{p}={v}")),
+        );
         all
+    }
+
+    /// The values of the OpenSCENARIO file's own parameters at this point (a parameter
+    /// distribution's run), as `--param NAME=VALUE` takes them: its params named
+    /// `$NAME`.
+    pub fn osc_params(&self) -> Vec<String> {
+        self.params
+            .iter()
+            .filter_map(|(p, v)| {
+                let name = p.strip_prefix(OSC_PARAM)?;
+                let value = match v {
+                    toml::Value::String(s) => s.clone(),
+                    other => other.to_string(),
+                };
+                Some(format!("{name}={value}"))
+            })
+            .collect()
+    }
+}
+
+/// How a point names an OpenSCENARIO parameter among its params (`$EgoSpeed`), as the
+/// standard refers to one: a parameter distribution's points set these, not fields.
+pub const OSC_PARAM: &str = "$";
+
+/// A sweep's scenario loaded with a point's `overrides` and, for an OpenSCENARIO file,
+/// its own parameters' values `osc_params` (`NAME=VALUE`).
+pub(super) fn load_scenario(
+    scenario: &SweepScenario,
+    overrides: &[String],
+    osc_params: Vec<String>,
+) -> Result<Scenario, ScenarioError> {
+    if sim_core::openscenario::is_openscenario(&scenario.path) {
+        let options = sim_core::openscenario::ImportOptions {
+            params: osc_params,
+            ..Default::default()
+        };
+        Scenario::load_openscenario(&scenario.path, overrides, &options)
+    } else {
+        Scenario::from_file_text(&scenario.text, &scenario.path, overrides)
     }
 }
 
@@ -113,6 +157,9 @@ pub struct Sweep {
     pub axes: Vec<Axis>,
     /// Every point, in grid order.
     pub points: Vec<Point>,
+    /// The OpenSCENARIO parameter distribution the points are the runs of, when the sweep
+    /// file is one (`carfollow sweep FILE.xosc`).
+    pub distribution: Option<sim_core::openscenario::Distribution>,
     /// How many plans its check built: one per [`planning_key`] (0 for a sweep loaded
     /// without planning).
     pub plans: usize,
@@ -138,6 +185,9 @@ impl Sweep {
     }
 
     fn read(path: &Path, extra_set: &[String], plan: bool) -> Result<Sweep, SweepError> {
+        if sim_core::openscenario::is_openscenario(path) {
+            return Sweep::read_distribution(path, extra_set, plan);
+        }
         let text = std::fs::read_to_string(path).map_err(|error| SweepError::Io {
             path: path.to_owned(),
             action: "cannot read the sweep",
@@ -274,8 +324,16 @@ impl Sweep {
                     })
                 })?
                 .into();
-            let base =
-                Scenario::from_file_text(&text, &scenario_path, &set).map_err(point_error)?;
+            let base = load_scenario(
+                &SweepScenario {
+                    path: scenario_path.clone(),
+                    name: String::new(),
+                    text: text.clone(),
+                },
+                &set,
+                Vec::new(),
+            )
+            .map_err(point_error)?;
             if plan && planned_keys.insert(planning_key(&base)) {
                 // Its own mistakes are the scenario's (or `set`'s), not an axis's.
                 Plan::new(&base).map_err(point_error)?;
@@ -312,7 +370,7 @@ impl Sweep {
         for point in &points {
             let overrides = point.overrides(&set);
             let scenario = &scenarios[point.scenario];
-            let loaded = Scenario::from_file_text(&scenario.text, &scenario.path, &overrides);
+            let loaded = load_scenario(scenario, &overrides, point.osc_params());
             if let Ok(s) = &loaded {
                 let target = &s.resolved.tracker.target;
                 inputs.insert(
@@ -360,13 +418,14 @@ impl Sweep {
             set,
             axes,
             points,
+            distribution: None,
         })
     }
 
     /// The plan of a point's scenario, with all its overrides applied.
     pub fn plan(&self, point: &Point) -> Result<Plan, SweepError> {
         let scenario = &self.scenarios[point.scenario];
-        Scenario::from_file_text(&scenario.text, &scenario.path, &point.overrides(&self.set))
+        load_scenario(scenario, &point.overrides(&self.set), point.osc_params())
             .and_then(|s| Plan::new(&s))
             .map_err(|e| SweepError::Run {
                 point: point.describe(),
@@ -406,11 +465,7 @@ fn grid(scenarios: &[SweepScenario], seeds: &[u64], axes: &[Axis], set: &[String
                     seed,
                     params: params.clone(),
                 };
-                let mut canonical = point.describe();
-                for s in set {
-                    canonical.push_str(&format!("\nset {s}"));
-                }
-                point.id = format!("{:016x}", vehicle::fnv1a64(canonical.as_bytes()));
+                point.id = id_of(&point, set);
                 points.push(point);
             }
         }
@@ -418,10 +473,19 @@ fn grid(scenarios: &[SweepScenario], seeds: &[u64], axes: &[Axis], set: &[String
     points
 }
 
+/// A point's id (see the module notes): of its description and the common overrides.
+pub(super) fn id_of(point: &Point, set: &[String]) -> String {
+    let mut canonical = point.describe();
+    for s in set {
+        canonical.push_str(&format!("\nset {s}"));
+    }
+    format!("{:016x}", vehicle::fnv1a64(canonical.as_bytes()))
+}
+
 /// [`Sweep::hash`]: of the sweep file's `text`, the command line's overrides, and the text of
 /// every file in `inputs`. A shipped target that is not on disk is compiled in, and changes
 /// only with the program, like everything else the hash leaves to the version.
-fn sweep_hash(
+pub(super) fn sweep_hash(
     text: &str,
     extra_set: &[String],
     inputs: &std::collections::BTreeSet<std::path::PathBuf>,

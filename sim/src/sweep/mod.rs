@@ -11,7 +11,11 @@
 //! command line's overrides) and its whole grid: `merge` lists the missing points from it,
 //! and `--resume` refuses the rows of another sweep. Points that could not run are listed
 //! in `failed*.txt`.
+//!
+//! An OpenSCENARIO `ParameterValueDistribution` file is a sweep too (`distribution`): its
+//! runs are the points, each its scenario file with the run's parameter values.
 
+mod distribution;
 mod error;
 mod file;
 mod grid;
@@ -23,7 +27,7 @@ mod run;
 
 pub use error::SweepError;
 pub use file::{SweepFile, SweepScenario};
-pub use grid::{Axis, Point, Shard, Sweep};
+pub use grid::{Axis, Point, Shard, Sweep, OSC_PARAM};
 pub use manifest::{
     read_failed, write_failed, FailedPoint, Manifest, ManifestPoint, MANIFEST_FILE,
 };

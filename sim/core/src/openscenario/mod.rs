@@ -18,6 +18,8 @@
 //! What carfollow cannot run as the standard defines it is refused in one line naming the
 //! file, the line and the element; nothing is dropped silently.
 
+mod distribution;
+mod draw;
 mod entities;
 mod environment;
 mod error;
@@ -27,6 +29,10 @@ mod story;
 mod write;
 mod xml;
 
+pub use distribution::{
+    is_distribution, read_distribution, DistributedParameter, Distribution, Runs, MAX_RUNS,
+    STREAM_PREFIX,
+};
 pub use error::OscError;
 pub use expr::evaluate as evaluate_expression;
 
@@ -83,10 +89,14 @@ pub fn import(path: &Path, options: &ImportOptions) -> Result<Imported, OscError
         ));
     }
     version(&xml)?;
-    if child(root, "ParameterValueDistribution").is_some()
-        || child(root, "CatalogDefinition").is_some()
-        || child(root, "Catalog").is_some()
-    {
+    if child(root, "ParameterValueDistribution").is_some() {
+        return Err(xml.at(
+            root,
+            "<OpenSCENARIO>: a parameter distribution, not a scenario: run its points with \
+             `carfollow sweep`",
+        ));
+    }
+    if child(root, "CatalogDefinition").is_some() || child(root, "Catalog").is_some() {
         return Err(xml.at(
             root,
             "<OpenSCENARIO>: a catalog or a parameter distribution, not a scenario",
