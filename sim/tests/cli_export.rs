@@ -112,7 +112,7 @@ fn the_files_hold_what_esmini_reads() {
     let names: Vec<&str> = find("ScenarioObject")
         .map(|o| o.attribute("name").unwrap())
         .collect();
-    assert_eq!(names, ["Ego", "Lead", "cutter"]);
+    assert_eq!(names, ["Ego", "Lead", "van"]);
     for object in find("ScenarioObject") {
         let dims = object
             .descendants()
@@ -141,7 +141,7 @@ fn the_files_hold_what_esmini_reads() {
     let road = std::fs::read_to_string(&xodr).unwrap();
     let road = roxmltree::Document::parse(&road).unwrap();
     let h = road.descendants().find(|n| n.has_tag_name("header")).unwrap();
-    assert_eq!(h.attribute("revMinor"), Some("6"));
+    assert_eq!(h.attribute("revMinor"), Some("7"));
     let lanes = road.descendants().filter(|n| n.has_tag_name("lane")).count();
     assert_eq!(lanes, 5, "two driving lanes each way and the centre lane");
     // The same scenario exports the same files, byte for byte.

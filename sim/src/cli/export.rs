@@ -15,7 +15,7 @@ use std::path::{Path, PathBuf};
     after_help = super::exit::HELP,
     about = "Write a scenario as OpenSCENARIO (.xosc) on an OpenDRIVE road (.xodr)",
     long_about = "Write a scenario as ASAM OpenSCENARIO 1.2 (DIR/NAME.xosc) on its route \
-                  written as an ASAM OpenDRIVE 1.6 road (DIR/NAME.xodr), NAME the scenario's \
+                  written as an ASAM OpenDRIVE 1.7 road (DIR/NAME.xodr), NAME the scenario's \
                   name. The vehicles, their start, speed profiles and events, the weather and \
                   the duration are the standard's elements; carfollow's own settings that the \
                   standard has no element for (the camera, the tracker, the chase's \

@@ -1,4 +1,4 @@
-//! A route written as an OpenDRIVE 1.6 road: its centreline's segments as the reference
+//! A route written as an OpenDRIVE 1.7 road: its centreline's segments as the reference
 //! line's geometries (a straight a `line`, an arc an `arc`, a clothoid a `spiral`, the
 //! cubics `poly3` and `paramPoly3`), laid from the origin heading east, and its lanes each
 //! way as driving lanes of its width. Read back ([`super::import`]), the road gives the
@@ -49,7 +49,7 @@ pub fn write_road(route: &RouteSpec, name: &str) -> (String, bool) {
         "header",
         &[
             a("revMajor", 1),
-            a("revMinor", 6),
+            a("revMinor", 7),
             a("name", name),
             a("version", "1.00"),
             a("date", "1970-01-01T00:00:00"),

@@ -33,10 +33,17 @@ pub struct Carried {
 /// The chase controller's fields that are not scenario fields: set from `[camera]`.
 const FROM_THE_CAMERA: [&str; 3] = ["camera_mount", "pan_head", "half_fov_deg"];
 
-/// Whether the field at `path` (keys from the root) is compared elsewhere (the route, the
-/// target), or follows from other fields (the controller's view of the camera).
-fn excluded(path: &[String]) -> bool {
+/// Whether the field at `path` (keys from the root) of the scenario `root` is compared
+/// elsewhere (the route, the target), or follows from other fields (the controller's view
+/// of the camera; its speed mode, from `chase.speed_profile` where that is given).
+fn excluded(path: &[String], root: &Value) -> bool {
+    let manual = !is_null(root.pointer("/chase/speed_profile"));
     match path {
+        [chase, controller, field]
+            if manual && chase == "chase" && controller == "controller" && field == "speed_mode" =>
+        {
+            true
+        }
         [route, field] if route == "route" => ROUTE_FIELDS.contains(&field.as_str()),
         [tracker, target] => tracker == "tracker" && target == "target",
         [chase, controller, field] => {
@@ -47,17 +54,17 @@ fn excluded(path: &[String]) -> bool {
 }
 
 /// `v` (the value at `path`) without its excluded fields.
-fn prune(v: &mut Value, path: &mut Vec<String>) {
+fn prune(v: &mut Value, path: &mut Vec<String>, root: &Value) {
     if let Value::Object(map) = v {
         map.retain(|k, _| {
             path.push(k.clone());
-            let keep = !excluded(path);
+            let keep = !excluded(path, root);
             path.pop();
             keep
         });
         for (k, x) in map.iter_mut() {
             path.push(k.clone());
-            prune(x, path);
+            prune(x, path, root);
             path.pop();
         }
     }
@@ -74,7 +81,7 @@ fn is_null(v: Option<&Value>) -> bool {
 /// a field whose value TOML cannot hold.
 pub fn carried(original: &Value, imported: &Value) -> Result<Vec<Carried>, String> {
     let mut out = Vec::new();
-    walk(original, imported, &mut Vec::new(), &mut out)?;
+    walk(original, imported, &mut Vec::new(), &mut out, original)?;
     Ok(out)
 }
 
@@ -83,8 +90,9 @@ fn walk(
     imported: &Value,
     path: &mut Vec<String>,
     out: &mut Vec<Carried>,
+    root: &Value,
 ) -> Result<(), String> {
-    if original == imported || excluded(path) {
+    if original == imported || excluded(path, root) {
         return Ok(());
     }
     if let (Value::Object(o), Value::Object(i)) = (original, imported) {
@@ -97,7 +105,8 @@ fn walk(
             .iter()
             .filter(|k| {
                 path.push((*k).clone());
-                let unset = !excluded(path) && is_null(o.get(*k)) && !is_null(i.get(*k));
+                let unset =
+                    !excluded(path, root) && is_null(o.get(*k)) && !is_null(i.get(*k));
                 path.pop();
                 unset
             })
@@ -110,7 +119,7 @@ fn walk(
                 let a = o.get(&k).unwrap_or(&Value::Null);
                 let b = i.get(&k).unwrap_or(&Value::Null);
                 path.push(k);
-                walk(a, b, path, out)?;
+                walk(a, b, path, out, root)?;
                 path.pop();
             }
             return Ok(());
@@ -118,7 +127,7 @@ fn walk(
     }
     let mut value = original.clone();
     drop_nulls(&mut value);
-    prune(&mut value, path);
+    prune(&mut value, path, root);
     let toml_value =
         toml::Value::try_from(&value).map_err(|e| format!("`{}`: {e}", path.join(".")))?;
     out.push(Carried {
@@ -201,12 +210,12 @@ pub fn relative(path: &Path, base: &Path) -> std::path::PathBuf {
 /// target's path left out (compared as the route and the target model).
 pub fn differences(a: &Value, b: &Value) -> Vec<String> {
     let mut out = Vec::new();
-    differ(a, b, &mut Vec::new(), &mut out);
+    differ(a, b, &mut Vec::new(), &mut out, a);
     out
 }
 
-fn differ(a: &Value, b: &Value, path: &mut Vec<String>, out: &mut Vec<String>) {
-    if a == b || excluded(path) {
+fn differ(a: &Value, b: &Value, path: &mut Vec<String>, out: &mut Vec<String>, root: &Value) {
+    if a == b || excluded(path, root) {
         return;
     }
     if let (Value::Object(x), Value::Object(y)) = (a, b) {
@@ -217,6 +226,7 @@ fn differ(a: &Value, b: &Value, path: &mut Vec<String>, out: &mut Vec<String>) {
                 y.get(k).unwrap_or(&Value::Null),
                 path,
                 out,
+                root,
             );
             path.pop();
         }

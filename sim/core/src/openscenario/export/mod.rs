@@ -1,5 +1,5 @@
 //! A scenario written as ASAM OpenSCENARIO 1.2 (`.xosc`) on its route written as an
-//! OpenDRIVE 1.6 road (`.xodr`), as `carfollow export` writes them.
+//! OpenDRIVE 1.7 road (`.xodr`), as `carfollow export` writes them.
 //!
 //! The mapping, the inverse of the importer's (the book's "OpenSCENARIO" page has the table):
 //! - the chase is the entity `Ego`, the lead `Lead`, each actor an entity of its own name,
