@@ -25,7 +25,12 @@ fn stderr(o: &Output) -> String {
 /// Exports the shipped scenario `name` (with `set`) into `dir`, returning the `.xosc`.
 fn export(name: &str, dir: &Path, set: &[&str]) -> PathBuf {
     let file = scenarios().join(format!("{name}.toml"));
-    let mut args = vec!["export", file.to_str().unwrap(), "-o", dir.to_str().unwrap()];
+    let mut args = vec![
+        "export",
+        file.to_str().unwrap(),
+        "-o",
+        dir.to_str().unwrap(),
+    ];
     for s in set {
         args.extend(["--set", s]);
     }
@@ -90,7 +95,10 @@ fn an_exported_scenario_imported_back_runs_bit_for_bit() {
         );
         // And the .xosc itself runs as the original.
         let direct = frames(&xosc, &out.join("direct"), &[]);
-        assert!(original == direct, "{name}: frames.csv of the .xosc differs");
+        assert!(
+            original == direct,
+            "{name}: frames.csv of the .xosc differs"
+        );
     }
 }
 
@@ -102,7 +110,7 @@ fn the_files_hold_what_esmini_reads() {
     let doc = roxmltree::Document::parse(&text).unwrap();
     let root = doc.root_element();
     assert_eq!(root.tag_name().name(), "OpenSCENARIO");
-    let find = |name: &str| doc.descendants().filter(move |n| n.has_tag_name(name));
+    let find = |name: &'static str| doc.descendants().filter(move |n| n.has_tag_name(name));
     let header = find("FileHeader").next().unwrap();
     assert_eq!(header.attribute("revMajor"), Some("1"));
     assert_eq!(header.attribute("revMinor"), Some("2"));
@@ -137,12 +145,19 @@ fn the_files_hold_what_esmini_reads() {
     // carfollow's own settings as parameters of the `carfollow.` prefix.
     assert!(find("ParameterDeclaration")
         .all(|p| p.attribute("name").unwrap().starts_with("carfollow.")));
-    assert!(find("ParameterDeclaration").any(|p| p.attribute("name") == Some("carfollow.chase.controller")));
+    assert!(find("ParameterDeclaration")
+        .any(|p| p.attribute("name") == Some("carfollow.chase.controller")));
     let road = std::fs::read_to_string(&xodr).unwrap();
     let road = roxmltree::Document::parse(&road).unwrap();
-    let h = road.descendants().find(|n| n.has_tag_name("header")).unwrap();
+    let h = road
+        .descendants()
+        .find(|n| n.has_tag_name("header"))
+        .unwrap();
     assert_eq!(h.attribute("revMinor"), Some("7"));
-    let lanes = road.descendants().filter(|n| n.has_tag_name("lane")).count();
+    let lanes = road
+        .descendants()
+        .filter(|n| n.has_tag_name("lane"))
+        .count();
     assert_eq!(lanes, 5, "two driving lanes each way and the centre lane");
     // The same scenario exports the same files, byte for byte.
     let again = tempfile::tempdir().unwrap();
@@ -167,19 +182,40 @@ fn a_failed_export_writes_nothing_and_says_why_in_one_line() {
     // A `--set` that does not apply, and a file that is not there.
     let nist = scenarios().join("nist-grounds.toml");
     for args in [
-        vec!["export", nist.to_str().unwrap(), "-o", out.to_str().unwrap(), "--set", "nonsense"],
+        vec![
+            "export",
+            nist.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--set",
+            "nonsense",
+        ],
         vec!["export", "no-such.toml", "-o", out.to_str().unwrap()],
         vec!["export", nist.to_str().unwrap()],
     ] {
         let o = carfollow(&args);
         assert_eq!(o.status.code(), Some(2), "{args:?}");
-        assert!(stderr(&o).trim().lines().next().unwrap().starts_with("error"), "{}", stderr(&o));
+        assert!(
+            stderr(&o)
+                .trim()
+                .lines()
+                .next()
+                .unwrap()
+                .starts_with("error"),
+            "{}",
+            stderr(&o)
+        );
         assert!(!out.exists() || std::fs::read_dir(&out).unwrap().next().is_none());
     }
     // An output folder that cannot be made (a file stands in its way).
     let blocked = dir.path().join("blocked");
     std::fs::write(&blocked, "").unwrap();
-    let o = carfollow(&["export", nist.to_str().unwrap(), "-o", blocked.join("x").to_str().unwrap()]);
+    let o = carfollow(&[
+        "export",
+        nist.to_str().unwrap(),
+        "-o",
+        blocked.join("x").to_str().unwrap(),
+    ]);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert_eq!(stderr(&o).trim().lines().count(), 1, "{}", stderr(&o));
 }
@@ -191,7 +227,8 @@ fn qc_python() -> Option<PathBuf> {
         .map(PathBuf::from)
         .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../target/qc-venv"));
     let python = venv.join("bin/python");
-    let installed = venv.join("bin/qc_openscenario").is_file() && venv.join("bin/qc_opendrive").is_file();
+    let installed =
+        venv.join("bin/qc_openscenario").is_file() && venv.join("bin/qc_opendrive").is_file();
     (python.is_file() && installed).then_some(python)
 }
 
@@ -207,7 +244,15 @@ fn asams_quality_checker_finds_no_issue() {
     };
     let dir = tempfile::tempdir().unwrap();
     let mut files = Vec::new();
-    for name in ["nist-grounds", "opendrive-curves", "cut-in", "cut-out", "fog", "ncap-ccrb", "weave"] {
+    for name in [
+        "nist-grounds",
+        "opendrive-curves",
+        "cut-in",
+        "cut-out",
+        "fog",
+        "ncap-ccrb",
+        "weave",
+    ] {
         let xosc = export(name, &dir.path().join(name), &[]);
         files.push(xosc.with_extension("xodr"));
         files.push(xosc);

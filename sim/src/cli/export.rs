@@ -42,7 +42,13 @@ pub fn run_export(args: ExportArgs) -> anyhow::Result<()> {
     let stem: String = scenario
         .name
         .chars()
-        .map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '_' { c } else { '-' })
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
+                c
+            } else {
+                '-'
+            }
+        })
         .collect();
     std::fs::create_dir_all(&args.out)
         .map_err(|e| anyhow::anyhow!("{}: cannot make the folder: {e}", args.out.display()))?;
@@ -90,7 +96,10 @@ fn export_in(s: &Scenario, path: &Path, work: &Path, stem: &str) -> anyhow::Resu
     };
     let read_back = || -> anyhow::Result<Scenario> {
         Scenario::load_openscenario(&xosc, &[], &ImportOptions::default()).map_err(|e| {
-            anyhow::anyhow!("{}: the exported file does not read back: {e}", path.display())
+            anyhow::anyhow!(
+                "{}: the exported file does not read back: {e}",
+                path.display()
+            )
         })
     };
     // The elements alone, read back: what they do not say is carried.

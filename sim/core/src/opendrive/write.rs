@@ -183,7 +183,14 @@ fn geometry(x: &mut XmlOut, g: &Geometry) {
                 n("bV", v[1]),
                 n("cV", v[2]),
                 n("dV", v[3]),
-                a("pRange", if normalized { "normalized" } else { "arcLength" }),
+                a(
+                    "pRange",
+                    if normalized {
+                        "normalized"
+                    } else {
+                        "arcLength"
+                    },
+                ),
             ],
         ),
     }
@@ -199,7 +206,10 @@ fn lanes(x: &mut XmlOut, route: &RouteSpec) {
     x.open("laneSection", &[n("s", 0.0)]);
     let count = route.lanes as i32;
     let lane = |x: &mut XmlOut, id: i32| {
-        x.open("lane", &[a("id", id), a("type", "driving"), a("level", "false")]);
+        x.open(
+            "lane",
+            &[a("id", id), a("type", "driving"), a("level", "false")],
+        );
         x.empty(
             "width",
             &[
@@ -229,7 +239,10 @@ fn lanes(x: &mut XmlOut, route: &RouteSpec) {
     }
     x.close();
     x.open("center", &[]);
-    x.open("lane", &[a("id", 0), a("type", "none"), a("level", "false")]);
+    x.open(
+        "lane",
+        &[a("id", 0), a("type", "none"), a("level", "false")],
+    );
     x.empty(
         "roadMark",
         &[

@@ -40,14 +40,19 @@ fn excluded(path: &[String], root: &Value) -> bool {
     let manual = !is_null(root.pointer("/chase/speed_profile"));
     match path {
         [chase, controller, field]
-            if manual && chase == "chase" && controller == "controller" && field == "speed_mode" =>
+            if manual
+                && chase == "chase"
+                && controller == "controller"
+                && field == "speed_mode" =>
         {
             true
         }
         [route, field] if route == "route" => ROUTE_FIELDS.contains(&field.as_str()),
         [tracker, target] => tracker == "tracker" && target == "target",
         [chase, controller, field] => {
-            chase == "chase" && controller == "controller" && FROM_THE_CAMERA.contains(&field.as_str())
+            chase == "chase"
+                && controller == "controller"
+                && FROM_THE_CAMERA.contains(&field.as_str())
         }
         _ => false,
     }
@@ -105,8 +110,7 @@ fn walk(
             .iter()
             .filter(|k| {
                 path.push((*k).clone());
-                let unset =
-                    !excluded(path, root) && is_null(o.get(*k)) && !is_null(i.get(*k));
+                let unset = !excluded(path, root) && is_null(o.get(*k)) && !is_null(i.get(*k));
                 path.pop();
                 unset
             })
@@ -166,11 +170,18 @@ pub fn route(route: &sim_render::RouteSpec) -> Carried {
                 RouteSegment::Straight { length_m } => {
                     t.insert("straight_m".into(), T::Float(length_m));
                 }
-                RouteSegment::Arc { radius_m, angle_deg } => {
+                RouteSegment::Arc {
+                    radius_m,
+                    angle_deg,
+                } => {
                     t.insert("arc_radius_m".into(), T::Float(radius_m));
                     t.insert("arc_angle_deg".into(), T::Float(angle_deg));
                 }
-                RouteSegment::Spiral { length_m, curvature_start, curvature_end } => {
+                RouteSegment::Spiral {
+                    length_m,
+                    curvature_start,
+                    curvature_end,
+                } => {
                     t.insert("spiral_m".into(), T::Float(length_m));
                     t.insert("curvature_start".into(), T::Float(curvature_start));
                     t.insert("curvature_end".into(), T::Float(curvature_end));
@@ -179,11 +190,20 @@ pub fn route(route: &sim_render::RouteSpec) -> Carried {
                     t.insert("poly3_m".into(), T::Float(length_m));
                     t.insert("poly3".into(), floats(&v));
                 }
-                RouteSegment::ParamPoly3 { length_m, u, v, p_range } => {
+                RouteSegment::ParamPoly3 {
+                    length_m,
+                    u,
+                    v,
+                    p_range,
+                } => {
                     t.insert("param_poly3_m".into(), T::Float(length_m));
                     t.insert("u".into(), floats(&u));
                     t.insert("v".into(), floats(&v));
-                    let p = if p_range == PRange::Normalized { "normalized" } else { "arc_length" };
+                    let p = if p_range == PRange::Normalized {
+                        "normalized"
+                    } else {
+                        "arc_length"
+                    };
                     t.insert("p_range".into(), T::String(p.into()));
                 }
             }
@@ -283,7 +303,11 @@ pub fn apply(xml: &Xml, text: &str, dir: &Path, out_base: &Path) -> Result<Strin
         path: xml.path.clone(),
         message: format!("cannot write the scenario: {e}"),
     })?;
-    let header: String = text.lines().take_while(|l| l.starts_with('#')).map(|l| format!("{l}\n")).collect();
+    let header: String = text
+        .lines()
+        .take_while(|l| l.starts_with('#'))
+        .map(|l| format!("{l}\n"))
+        .collect();
     Ok(format!(
         "{header}# With carfollow's own settings, which the file carries as {CARRIED_PREFIX}* parameters.\n{body}"
     ))

@@ -118,7 +118,13 @@ pub fn write_files(scenario: &Scenario, xodr_file: &str, carried: &[Carried]) ->
 /// `Entities`: the chase, the lead and the actors.
 fn entities(x: &mut XmlOut, s: &Scenario) {
     x.open("Entities", &[]);
-    vehicle(x, EGO, "hmmwv-m998", "car", &vehicle::VehicleParams::hmmwv_m998());
+    vehicle(
+        x,
+        EGO,
+        "hmmwv-m998",
+        "car",
+        &vehicle::VehicleParams::hmmwv_m998(),
+    );
     vehicle(x, LEAD, "pickup", "car", &vehicle::VehicleParams::pickup());
     for actor in &s.actors {
         let kind = actor.kind;
@@ -175,7 +181,14 @@ fn vehicle(x: &mut XmlOut, name: &str, model: &str, category: &str, p: &vehicle:
         x.empty(
             axle,
             &[
-                n("maxSteering", if position_x > 0.0 { f(p.max_steer_rad) } else { 0.0 }),
+                n(
+                    "maxSteering",
+                    if position_x > 0.0 {
+                        f(p.max_steer_rad)
+                    } else {
+                        0.0
+                    },
+                ),
                 n("wheelDiameter", 2.0 * f(p.wheel_radius_m)),
                 n("trackWidth", f(p.track_m)),
                 n("positionX", position_x),

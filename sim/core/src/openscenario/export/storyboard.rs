@@ -135,7 +135,10 @@ impl Group {
         x.open("Actors", &[a("selectTriggeringEntities", "false")]);
         x.empty("EntityRef", &[a("entityRef", &self.entity)]);
         x.close();
-        x.open("Maneuver", &[a("name", format!("{}-maneuver", self.entity))]);
+        x.open(
+            "Maneuver",
+            &[a("name", format!("{}-maneuver", self.entity))],
+        );
         for step in &self.profile {
             self.profile_event(x, step);
         }
@@ -211,7 +214,11 @@ impl Group {
             x.open("LaneChangeAction", &[]);
             x.empty(
                 "LaneChangeActionDynamics",
-                &[a("dynamicsShape", shape), n("value", value), a("dynamicsDimension", dimension)],
+                &[
+                    a("dynamicsShape", shape),
+                    n("value", value),
+                    a("dynamicsDimension", dimension),
+                ],
             );
             x.open("LaneChangeTarget", &[]);
             x.empty("AbsoluteTargetLane", &[a("value", -(lane as i64))]);
@@ -356,7 +363,11 @@ fn condition(x: &mut XmlOut, name: &str, delay: f64, inner: impl FnOnce(&mut Xml
     x.open("ConditionGroup", &[]);
     x.open(
         "Condition",
-        &[a("name", name), n("delay", delay), a("conditionEdge", "none")],
+        &[
+            a("name", name),
+            n("delay", delay),
+            a("conditionEdge", "none"),
+        ],
     );
     inner(x);
     x.close();
@@ -367,7 +378,10 @@ fn condition(x: &mut XmlOut, name: &str, delay: f64, inner: impl FnOnce(&mut Xml
 pub fn time_condition(x: &mut XmlOut, name: &str, value: f64, rule: &str) {
     condition(x, name, 0.0, |x| {
         x.open("ByValueCondition", &[]);
-        x.empty("SimulationTimeCondition", &[n("value", value), a("rule", rule)]);
+        x.empty(
+            "SimulationTimeCondition",
+            &[n("value", value), a("rule", rule)],
+        );
         x.close();
     });
 }
@@ -379,7 +393,11 @@ fn speed_action(x: &mut XmlOut, (shape, dimension, value): (&str, &str, f64), sp
     x.open("SpeedAction", &[]);
     x.empty(
         "SpeedActionDynamics",
-        &[a("dynamicsShape", shape), n("value", value), a("dynamicsDimension", dimension)],
+        &[
+            a("dynamicsShape", shape),
+            n("value", value),
+            a("dynamicsDimension", dimension),
+        ],
     );
     x.open("SpeedActionTarget", &[]);
     x.empty("AbsoluteTargetSpeed", &[n("value", speed_mps)]);
@@ -399,10 +417,28 @@ pub fn init(x: &mut XmlOut, s: &Scenario) {
     let camera_forward_m = f64::from(vehicle::CameraMount::default().forward_m);
     let rear_bumper_m = f64::from(vehicle::VehicleParams::pickup().rear_bumper_x_m());
     let chase_s = s.lead_start_m + rear_bumper_m - camera_forward_m - s.initial_gap_m;
-    private(x, super::EGO, s.lead_lane, chase_s, s.chase_initial_speed_mps);
-    private(x, super::LEAD, s.lead_lane, s.lead_start_m, s.lead_initial_speed_mps);
+    private(
+        x,
+        super::EGO,
+        s.lead_lane,
+        chase_s,
+        s.chase_initial_speed_mps,
+    );
+    private(
+        x,
+        super::LEAD,
+        s.lead_lane,
+        s.lead_start_m,
+        s.lead_initial_speed_mps,
+    );
     for actor in &s.actors {
-        private(x, &actor.name, actor.lane, actor.start_m, actor.initial_speed_mps);
+        private(
+            x,
+            &actor.name,
+            actor.lane,
+            actor.start_m,
+            actor.initial_speed_mps,
+        );
     }
     x.close();
     x.close();
@@ -430,7 +466,11 @@ fn private(x: &mut XmlOut, entity: &str, lane: u32, s_m: f64, speed_mps: f64) {
     x.open("SpeedAction", &[]);
     x.empty(
         "SpeedActionDynamics",
-        &[a("dynamicsShape", "step"), n("value", 0.0), a("dynamicsDimension", "time")],
+        &[
+            a("dynamicsShape", "step"),
+            n("value", 0.0),
+            a("dynamicsDimension", "time"),
+        ],
     );
     x.open("SpeedActionTarget", &[]);
     x.empty("AbsoluteTargetSpeed", &[n("value", speed_mps)]);
@@ -467,11 +507,17 @@ fn environment(x: &mut XmlOut, s: &Scenario) {
     match &s.rain {
         Some(rain) => x.empty(
             "Precipitation",
-            &[a("precipitationType", "rain"), n("precipitationIntensity", rain.rate_mm_h)],
+            &[
+                a("precipitationType", "rain"),
+                n("precipitationIntensity", rain.rate_mm_h),
+            ],
         ),
         None => x.empty(
             "Precipitation",
-            &[a("precipitationType", "dry"), n("precipitationIntensity", 0.0)],
+            &[
+                a("precipitationType", "dry"),
+                n("precipitationIntensity", 0.0),
+            ],
         ),
     }
     x.close();

@@ -114,7 +114,10 @@ mod tests {
 
     #[test]
     fn values_are_escaped_and_numbers_read_back_exactly() {
-        assert_eq!(escape("a<b & \"c\" 'd'>\n"), "a&lt;b &amp; &quot;c&quot; &apos;d&apos;&gt;&#10;");
+        assert_eq!(
+            escape("a<b & \"c\" 'd'>\n"),
+            "a&lt;b &amp; &quot;c&quot; &apos;d&apos;&gt;&#10;"
+        );
         assert_eq!(escape("bell\u{7}"), "bell");
         for v in [0.1, 1.0 / 3.0, 1e-12, 123456.789, -2.5e-7, 5e20] {
             assert_eq!(num(v).parse::<f64>().unwrap(), v);
