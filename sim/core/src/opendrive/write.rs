@@ -289,7 +289,7 @@ mod tests {
                 },
                 RouteSegment::Arc {
                     radius_m: 50.0,
-                    angle_deg: 60.0,
+                    angle_deg: 90.0,
                 },
                 RouteSegment::Poly3 {
                     length_m: 40.0,
@@ -306,5 +306,23 @@ mod tests {
         let road = super::super::import(&file, None, |_| None).unwrap();
         assert_eq!(road.segments, route.segments);
         assert_eq!((road.lanes, road.lane_width_m), (2, 3.25));
+        // 60° is no product of two doubles in degrees: said, and written to an ulp.
+        let mut near = route.clone();
+        near.segments[2] = RouteSegment::Arc {
+            radius_m: 60.0,
+            angle_deg: -60.0,
+        };
+        let (text, exact) = write_road(&near, "t");
+        assert!(!exact);
+        let file = super::super::parse(&text, std::path::Path::new("t.xodr")).unwrap();
+        let road = super::super::import(&file, None, |_| None).unwrap();
+        let RouteSegment::Arc {
+            radius_m,
+            angle_deg,
+        } = road.segments[2]
+        else {
+            panic!("{:?}", road.segments[2]);
+        };
+        assert!((radius_m - 60.0).abs() < 1e-12 && (angle_deg + 60.0).abs() < 1e-12);
     }
 }

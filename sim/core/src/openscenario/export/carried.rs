@@ -342,10 +342,10 @@ mod tests {
             got,
             vec![
                 ("camera.focal_length_mm".into(), "16.0".into()),
-                ("tracker.mode".into(), "\"robust\"".into()),
-                ("route.intersections_m".into(), "[5.0]".into()),
                 ("chase.controller".into(), "{ lane_keeping = false }".into()),
                 ("lead.events".into(), "[]".into()),
+                ("route.intersections_m".into(), "[5.0]".into()),
+                ("tracker.mode".into(), "\"robust\"".into()),
             ]
         );
         assert!(differences(&original, &original).is_empty());
