@@ -16,6 +16,7 @@ macro_rules! say {
 mod cli {
     pub mod check;
     pub mod exit;
+    pub mod export;
     pub mod import;
     pub mod paths;
     pub mod render;
@@ -49,6 +50,8 @@ enum Commands {
     Check(cli::check::CheckArgs),
     /// Write an OpenSCENARIO file (.xosc) as a carfollow scenario file.
     Import(cli::import::ImportArgs),
+    /// Write a scenario as OpenSCENARIO (.xosc) on an OpenDRIVE road (.xodr).
+    Export(cli::export::ExportArgs),
     /// Render one camera frame at time T, of a scenario's run or of the built-in scene.
     Render(cli::render::RenderArgs),
     /// Run the tracker on a folder of recorded frames.
@@ -82,6 +85,7 @@ fn main() -> ExitCode {
         Commands::Sweep(args) => cli::sweep::run_sweep(args),
         Commands::Check(args) => cli::check::run_check(args).map(|()| ExitCode::SUCCESS),
         Commands::Import(args) => cli::import::run_import(args).map(|()| ExitCode::SUCCESS),
+        Commands::Export(args) => cli::export::run_export(args).map(|()| ExitCode::SUCCESS),
         Commands::Render(args) => cli::render::run(args).map(|()| ExitCode::SUCCESS),
         Commands::Track(args) => cli::track::run_track(args).map(|()| ExitCode::SUCCESS),
         Commands::Target(args) => cli::target::run_target(args).map(|()| ExitCode::SUCCESS),

@@ -10,6 +10,7 @@ mod lanes;
 mod model;
 mod parse;
 mod road;
+mod write;
 
 pub use error::OpenDriveError;
 pub use geometry::geometry_end;
@@ -18,3 +19,4 @@ pub use model::{
 };
 pub use parse::{load, parse};
 pub use road::{import, ImportedRoad, JOIN_HEADING_RAD, JOIN_POSITION_M};
+pub use write::{write_road, ROAD_ID};

@@ -23,6 +23,7 @@ mod draw;
 mod entities;
 mod environment;
 mod error;
+pub mod export;
 mod expr;
 mod init;
 mod story;
@@ -108,7 +109,11 @@ pub fn import(path: &Path, options: &ImportOptions) -> Result<Imported, OscError
     let road = write::read_road(&xml, &dir)?;
     let ego = choose_ego(&xml, &vehicles, options.ego.as_deref())?;
     let init = init::read_init(&xml, &road.lanes, &ego, &catalogs)?;
-    write::scenario(&xml, &vehicles, &road, &ego, init, options, &dir)
+    let mut imported = write::scenario(&xml, &vehicles, &road, &ego, init, options, &dir)?;
+    // carfollow's own settings, carried by an exported file (`export::carried`).
+    let base = options.relative_to.clone().unwrap_or_else(|| dir.clone());
+    imported.text = export::carried::apply(&xml, &imported.text, &dir, &base)?;
+    Ok(imported)
 }
 
 /// Applies `--param NAME=VALUE` to the root's declarations.

@@ -199,7 +199,7 @@ fn duration(xml: &Xml) -> Result<f64, OscError> {
 }
 
 /// `path` relative to the folder `base` (both made absolute; `..` where they part).
-fn relative(path: &Path, base: &Path) -> PathBuf {
+pub(super) fn relative(path: &Path, base: &Path) -> PathBuf {
     // The parts of an absolute path, with `.` dropped and `..` taken back.
     let parts = |p: &Path| -> Vec<std::ffi::OsString> {
         let abs = std::path::absolute(p).unwrap_or_else(|_| p.to_path_buf());

@@ -1,0 +1,527 @@
+//! The storyboard written: `Init` (each vehicle's lane, station and speed, and the
+//! environment), and one story of the lead's and the actors' speed profiles and events.
+
+use super::entity;
+use super::xml_out::{a, n, XmlOut};
+use crate::Scenario;
+use vehicle::{ActionSpec, EventSpec, Rule, Shape, TriggerSpec};
+
+/// One vehicle's maneuver: its entity name and its events as written.
+struct Group {
+    entity: String,
+    /// The profile's speed changes, as events of their own.
+    profile: Vec<ProfileStep>,
+    /// Its events, each with the name written (unique in the file).
+    events: Vec<(String, EventSpec)>,
+}
+
+/// A step of a speed profile: from the key `from` (s or m), to `speed_mps` by the next
+/// key `to`.
+struct ProfileStep {
+    name: String,
+    from: f64,
+    to: f64,
+    from_speed_mps: f64,
+    speed_mps: f64,
+    distance: bool,
+}
+
+/// The story: the lead's maneuver group and each actor's.
+pub struct Story {
+    groups: Vec<Group>,
+}
+
+impl Story {
+    /// The story of `s`.
+    pub fn new(s: &Scenario) -> Story {
+        let file = &s.resolved;
+        let mut taken: Vec<String> = Vec::new();
+        let mut groups = vec![group(
+            "lead",
+            &file.lead.speed_profile,
+            &file.lead.speed_basis,
+            s.lead_initial_speed_mps,
+            &s.lead_events.0,
+            &mut taken,
+        )];
+        for (actor, written) in s.actors.iter().zip(&file.actors) {
+            groups.push(group(
+                &actor.name,
+                &written.speed_profile,
+                &written.speed_basis,
+                actor.initial_speed_mps,
+                &actor.events.0,
+                &mut taken,
+            ));
+        }
+        groups.retain(|g| !g.profile.is_empty() || !g.events.is_empty());
+        Story { groups }
+    }
+
+    /// The `Story` element (none when no vehicle has a speed change or an event).
+    pub fn write(&self, x: &mut XmlOut) {
+        if self.groups.is_empty() {
+            return;
+        }
+        x.open("Story", &[a("name", "carfollow")]);
+        x.open("Act", &[a("name", "act")]);
+        for g in &self.groups {
+            g.write(x);
+        }
+        x.open("StartTrigger", &[]);
+        time_condition(x, "act-start", 0.0, "greaterThan");
+        x.close();
+        x.close();
+        x.close();
+    }
+}
+
+/// `name`, or `name` made unique among `taken` (`name-2`, ...), taken.
+fn unique(name: &str, taken: &mut Vec<String>) -> String {
+    let mut out = name.to_string();
+    let mut k = 2;
+    while taken.contains(&out) {
+        out = format!("{name}-{k}");
+        k += 1;
+    }
+    taken.push(out.clone());
+    out
+}
+
+fn group(
+    name: &str,
+    profile: &[[f64; 2]],
+    basis: &str,
+    initial_speed_mps: f64,
+    events: &[EventSpec],
+    taken: &mut Vec<String>,
+) -> Group {
+    let entity = entity(name).to_string();
+    let distance = basis == "distance";
+    let mut steps = Vec::new();
+    let mut speed = initial_speed_mps;
+    let mut key = 0.0_f64;
+    for &[k, v] in profile {
+        if v != speed {
+            steps.push(ProfileStep {
+                name: unique(&format!("{entity}-profile-{}", steps.len() + 1), taken),
+                from: key.min(k),
+                to: k,
+                from_speed_mps: speed,
+                speed_mps: v,
+                distance,
+            });
+        }
+        speed = v;
+        key = k;
+    }
+    let events = events
+        .iter()
+        .map(|e| (unique(&e.name, taken), e.clone()))
+        .collect();
+    Group {
+        entity,
+        profile: steps,
+        events,
+    }
+}
+
+impl Group {
+    fn write(&self, x: &mut XmlOut) {
+        x.open(
+            "ManeuverGroup",
+            &[a("maximumExecutionCount", 1), a("name", &self.entity)],
+        );
+        x.open("Actors", &[a("selectTriggeringEntities", "false")]);
+        x.empty("EntityRef", &[a("entityRef", &self.entity)]);
+        x.close();
+        x.open(
+            "Maneuver",
+            &[a("name", format!("{}-maneuver", self.entity))],
+        );
+        for step in &self.profile {
+            self.profile_event(x, step);
+        }
+        for (name, e) in &self.events {
+            x.open(
+                "Event",
+                &[
+                    a("name", name),
+                    a("priority", "override"),
+                    a("maximumExecutionCount", 1),
+                ],
+            );
+            x.open("Action", &[a("name", name)]);
+            self.action(x, &e.action);
+            x.close();
+            x.open("StartTrigger", &[]);
+            self.trigger(x, name, &e.trigger);
+            x.close();
+            x.close();
+        }
+        x.close();
+        x.close();
+    }
+
+    /// A step of the profile: at its key, linear to its speed by the next key (over the
+    /// time between them, or, by distance, at the rate that reaches it over the distance).
+    fn profile_event(&self, x: &mut XmlOut, step: &ProfileStep) {
+        x.open(
+            "Event",
+            &[
+                a("name", &step.name),
+                a("priority", "override"),
+                a("maximumExecutionCount", 1),
+            ],
+        );
+        x.open("Action", &[a("name", &step.name)]);
+        let span = step.to - step.from;
+        let dynamics = if span <= 0.0 {
+            ("step", "time", 0.0)
+        } else if step.distance {
+            let rate = (step.speed_mps.powi(2) - step.from_speed_mps.powi(2)).abs() / (2.0 * span);
+            ("linear", "rate", rate)
+        } else {
+            ("linear", "time", span)
+        };
+        speed_action(x, dynamics, step.speed_mps);
+        x.close();
+        x.open("StartTrigger", &[]);
+        if step.distance {
+            self.entity_condition(x, &step.name, None, |x| {
+                x.empty("TraveledDistanceCondition", &[n("value", step.from)]);
+            });
+        } else {
+            time_condition(x, &step.name, step.from, "greaterOrEqual");
+        }
+        x.close();
+        x.close();
+    }
+
+    fn action(&self, x: &mut XmlOut, action: &ActionSpec) {
+        if let Some(lane) = action.lane {
+            let shape = match action.shape {
+                Some(Shape::Sinusoidal) => "sinusoidal",
+                _ => "cubic",
+            };
+            let (dimension, value) = match (action.duration_s, action.lateral_speed_mps) {
+                (_, Some(v)) => ("rate", v),
+                (Some(d), None) => ("time", d),
+                (None, None) => ("time", 0.0),
+            };
+            x.open("PrivateAction", &[]);
+            x.open("LateralAction", &[]);
+            x.open("LaneChangeAction", &[]);
+            x.empty(
+                "LaneChangeActionDynamics",
+                &[
+                    a("dynamicsShape", shape),
+                    n("value", value),
+                    a("dynamicsDimension", dimension),
+                ],
+            );
+            x.open("LaneChangeTarget", &[]);
+            x.empty("AbsoluteTargetLane", &[a("value", -(lane as i64))]);
+            x.close();
+            x.close();
+            x.close();
+            x.close();
+            return;
+        }
+        let (speed, dynamics) = match (action.speed_mps, action.stop) {
+            (Some(v), _) => {
+                let d = match (action.shape, action.duration_s, action.rate_mps2) {
+                    (Some(Shape::Step), _, _) => ("step", "time", 0.0),
+                    (_, _, Some(r)) => ("linear", "rate", r),
+                    (Some(Shape::Cubic), Some(d), None) => ("cubic", "time", d),
+                    (_, Some(d), None) => ("linear", "time", d),
+                    (_, None, None) => ("step", "time", 0.0),
+                };
+                (v, d)
+            }
+            // A stop: to 0 at its deceleration.
+            _ => (
+                0.0,
+                match action.decel_mps2 {
+                    Some(r) => ("linear", "rate", r),
+                    None => ("step", "time", 0.0),
+                },
+            ),
+        };
+        speed_action(x, dynamics, speed);
+    }
+
+    fn trigger(&self, x: &mut XmlOut, name: &str, t: &TriggerSpec) {
+        let rule = |default: Rule| match t.rule.unwrap_or(default) {
+            Rule::Less => "lessThan",
+            Rule::Greater => "greaterThan",
+        };
+        let delay = t.delay_s.unwrap_or(0.0);
+        let to = t.to.as_deref().map(entity).unwrap_or(super::EGO);
+        if let Some(v) = t.time_s {
+            condition(x, name, delay, |x| {
+                x.open("ByValueCondition", &[]);
+                x.empty(
+                    "SimulationTimeCondition",
+                    &[n("value", v), a("rule", rule(Rule::Greater))],
+                );
+                x.close();
+            });
+        } else if let Some(v) = t.distance_m {
+            self.entity_condition(x, name, Some(delay), |x| {
+                x.empty("TraveledDistanceCondition", &[n("value", v)]);
+            });
+        } else if let Some(after) = &t.after {
+            let target = self
+                .events
+                .iter()
+                .find(|(_, e)| &e.name == after)
+                .map_or(after.as_str(), |(written, _)| written.as_str());
+            condition(x, name, delay, |x| {
+                x.open("ByValueCondition", &[]);
+                x.empty(
+                    "StoryboardElementStateCondition",
+                    &[
+                        a("storyboardElementType", "event"),
+                        a("storyboardElementRef", target),
+                        a("state", "endTransition"),
+                    ],
+                );
+                x.close();
+            });
+        } else if let Some(v) = t.gap_m {
+            self.entity_condition(x, name, Some(delay), |x| {
+                x.empty(
+                    "RelativeDistanceCondition",
+                    &[
+                        a("entityRef", to),
+                        a("freespace", "true"),
+                        a("relativeDistanceType", "longitudinal"),
+                        a("coordinateSystem", "road"),
+                        n("value", v),
+                        a("rule", rule(Rule::Less)),
+                    ],
+                );
+            });
+        } else if let Some(v) = t.time_gap_s {
+            self.entity_condition(x, name, Some(delay), |x| {
+                x.empty(
+                    "TimeHeadwayCondition",
+                    &[
+                        a("entityRef", to),
+                        n("value", v),
+                        a("freespace", "true"),
+                        a("coordinateSystem", "road"),
+                        a("relativeDistanceType", "longitudinal"),
+                        a("rule", rule(Rule::Less)),
+                    ],
+                );
+            });
+        } else if let Some(v) = t.ttc_s {
+            self.entity_condition(x, name, Some(delay), |x| {
+                x.open(
+                    "TimeToCollisionCondition",
+                    &[
+                        n("value", v),
+                        a("freespace", "true"),
+                        a("coordinateSystem", "road"),
+                        a("relativeDistanceType", "longitudinal"),
+                        a("rule", rule(Rule::Less)),
+                    ],
+                );
+                x.open("TimeToCollisionConditionTarget", &[]);
+                x.empty("EntityRef", &[a("entityRef", to)]);
+                x.close();
+                x.close();
+            });
+        }
+    }
+
+    /// A `ByEntityCondition` on this group's vehicle.
+    fn entity_condition(
+        &self,
+        x: &mut XmlOut,
+        name: &str,
+        delay: Option<f64>,
+        inner: impl FnOnce(&mut XmlOut),
+    ) {
+        condition(x, name, delay.unwrap_or(0.0), |x| {
+            x.open("ByEntityCondition", &[]);
+            x.open("TriggeringEntities", &[a("triggeringEntitiesRule", "any")]);
+            x.empty("EntityRef", &[a("entityRef", &self.entity)]);
+            x.close();
+            x.open("EntityCondition", &[]);
+            inner(x);
+            x.close();
+            x.close();
+        });
+    }
+}
+
+/// A one-condition `ConditionGroup` (carfollow's triggers hold on level: edge `none`).
+fn condition(x: &mut XmlOut, name: &str, delay: f64, inner: impl FnOnce(&mut XmlOut)) {
+    x.open("ConditionGroup", &[]);
+    x.open(
+        "Condition",
+        &[
+            a("name", name),
+            n("delay", delay),
+            a("conditionEdge", "none"),
+        ],
+    );
+    inner(x);
+    x.close();
+    x.close();
+}
+
+/// A condition group of one `SimulationTimeCondition`.
+pub fn time_condition(x: &mut XmlOut, name: &str, value: f64, rule: &str) {
+    condition(x, name, 0.0, |x| {
+        x.open("ByValueCondition", &[]);
+        x.empty(
+            "SimulationTimeCondition",
+            &[n("value", value), a("rule", rule)],
+        );
+        x.close();
+    });
+}
+
+/// A `SpeedAction` to `speed_mps` with `(shape, dimension, value)` dynamics.
+fn speed_action(x: &mut XmlOut, (shape, dimension, value): (&str, &str, f64), speed_mps: f64) {
+    x.open("PrivateAction", &[]);
+    x.open("LongitudinalAction", &[]);
+    x.open("SpeedAction", &[]);
+    x.empty(
+        "SpeedActionDynamics",
+        &[
+            a("dynamicsShape", shape),
+            n("value", value),
+            a("dynamicsDimension", dimension),
+        ],
+    );
+    x.open("SpeedActionTarget", &[]);
+    x.empty("AbsoluteTargetSpeed", &[n("value", speed_mps)]);
+    x.close();
+    x.close();
+    x.close();
+    x.close();
+}
+
+/// `Init`: the environment, then each vehicle's place and speed.
+pub fn init(x: &mut XmlOut, s: &Scenario) {
+    x.open("Init", &[]);
+    x.open("Actions", &[]);
+    environment(x, s);
+    // The chase's camera `initial_gap_m` behind the lead's back (as the importer reads an
+    // ego's start, with the default camera mount).
+    let camera_forward_m = f64::from(vehicle::CameraMount::default().forward_m);
+    let rear_bumper_m = f64::from(vehicle::VehicleParams::pickup().rear_bumper_x_m());
+    let chase_s = s.lead_start_m + rear_bumper_m - camera_forward_m - s.initial_gap_m;
+    private(
+        x,
+        super::EGO,
+        s.lead_lane,
+        chase_s,
+        s.chase_initial_speed_mps,
+    );
+    private(
+        x,
+        super::LEAD,
+        s.lead_lane,
+        s.lead_start_m,
+        s.lead_initial_speed_mps,
+    );
+    for actor in &s.actors {
+        private(
+            x,
+            &actor.name,
+            actor.lane,
+            actor.start_m,
+            actor.initial_speed_mps,
+        );
+    }
+    x.close();
+    x.close();
+}
+
+fn private(x: &mut XmlOut, entity: &str, lane: u32, s_m: f64, speed_mps: f64) {
+    x.open("Private", &[a("entityRef", entity)]);
+    x.open("PrivateAction", &[]);
+    x.open("TeleportAction", &[]);
+    x.open("Position", &[]);
+    x.empty(
+        "LanePosition",
+        &[
+            a("roadId", crate::opendrive::ROAD_ID),
+            a("laneId", -(lane as i64)),
+            n("offset", 0.0),
+            n("s", s_m),
+        ],
+    );
+    x.close();
+    x.close();
+    x.close();
+    x.open("PrivateAction", &[]);
+    x.open("LongitudinalAction", &[]);
+    x.open("SpeedAction", &[]);
+    x.empty(
+        "SpeedActionDynamics",
+        &[
+            a("dynamicsShape", "step"),
+            n("value", 0.0),
+            a("dynamicsDimension", "time"),
+        ],
+    );
+    x.open("SpeedActionTarget", &[]);
+    x.empty("AbsoluteTargetSpeed", &[n("value", speed_mps)]);
+    x.close();
+    x.close();
+    x.close();
+    x.close();
+    x.close();
+}
+
+/// The sun, the fog and the rain as an `EnvironmentAction`: the sun's azimuth clockwise
+/// from north with the road's start heading east (the importer's `azimuth_deg` inverted),
+/// its strength as illuminance (full sun 100 000 lx).
+fn environment(x: &mut XmlOut, s: &Scenario) {
+    let sun = &s.sun;
+    let azimuth = (sun.azimuth_deg + 90.0)
+        .to_radians()
+        .rem_euclid(std::f64::consts::TAU);
+    x.open("GlobalAction", &[]);
+    x.open("EnvironmentAction", &[]);
+    x.open("Environment", &[a("name", "carfollow")]);
+    x.open("Weather", &[]);
+    x.empty(
+        "Sun",
+        &[
+            n("azimuth", azimuth),
+            n("elevation", sun.elevation_deg.to_radians()),
+            n("illuminance", sun.strength * 100_000.0),
+        ],
+    );
+    if let Some(fog) = &s.fog {
+        x.empty("Fog", &[n("visualRange", fog.visual_range_m)]);
+    }
+    match &s.rain {
+        Some(rain) => x.empty(
+            "Precipitation",
+            &[
+                a("precipitationType", "rain"),
+                n("precipitationIntensity", rain.rate_mm_h),
+            ],
+        ),
+        None => x.empty(
+            "Precipitation",
+            &[
+                a("precipitationType", "dry"),
+                n("precipitationIntensity", 0.0),
+            ],
+        ),
+    }
+    x.close();
+    x.close();
+    x.close();
+    x.close();
+}

@@ -1,0 +1,273 @@
+//! `carfollow export`: a scenario written as OpenSCENARIO on an OpenDRIVE road, which
+//! `carfollow import` reads back as a scenario that runs bit for bit as the original
+//! does; a failed export writes nothing; ASAM's Quality Checker finds no issue in the files
+//! (when it is installed: `.ci/install` puts it in `target/qc-venv`). Run with
+//! `cargo test --release -p sim --test cli_export`.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn scenarios() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenarios")
+}
+
+fn carfollow(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_carfollow"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// Exports the shipped scenario `name` (with `set`) into `dir`, returning the `.xosc`.
+fn export(name: &str, dir: &Path, set: &[&str]) -> PathBuf {
+    let file = scenarios().join(format!("{name}.toml"));
+    let mut args = vec![
+        "export",
+        file.to_str().unwrap(),
+        "-o",
+        dir.to_str().unwrap(),
+    ];
+    for s in set {
+        args.extend(["--set", s]);
+    }
+    let o = carfollow(&args);
+    assert_eq!(o.status.code(), Some(0), "{name}: {}", stderr(&o));
+    dir.join(format!("{name}.xosc"))
+}
+
+/// `frames.csv` of a run of `scenario` (with `set`) into `out`.
+fn frames(scenario: &Path, out: &Path, set: &[&str]) -> String {
+    let mut args = vec![
+        "run",
+        scenario.to_str().unwrap(),
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    for s in set {
+        args.extend(["--set", s]);
+    }
+    let o = carfollow(&args);
+    assert!(matches!(o.status.code(), Some(0 | 1)), "{}", stderr(&o));
+    std::fs::read_to_string(out.join("frames.csv")).unwrap()
+}
+
+#[test]
+fn an_exported_scenario_imported_back_runs_bit_for_bit() {
+    let dir = tempfile::tempdir().unwrap();
+    // Straight and curved roads (arcs; an OpenDRIVE road of spirals and arcs), a cut-in, a
+    // cut-out, fog, and Euro NCAP's braking target; a few seconds each.
+    for (name, seconds) in [
+        ("nist-grounds", "6"),
+        ("opendrive-curves", "6"),
+        ("cut-in", "10"),
+        ("cut-out", "8"),
+        ("fog", "5"),
+        ("ncap-ccrb", "5"),
+    ] {
+        let set = [format!("duration_s={seconds}")];
+        let set: Vec<&str> = set.iter().map(String::as_str).collect();
+        let out = dir.path().join(name);
+        let xosc = export(name, &out.join("export"), &set);
+        let toml = out.join("imported").join(format!("{name}.toml"));
+        std::fs::create_dir_all(toml.parent().unwrap()).unwrap();
+        let o = carfollow(&[
+            "import",
+            xosc.to_str().unwrap(),
+            "-o",
+            toml.to_str().unwrap(),
+        ]);
+        assert_eq!(o.status.code(), Some(0), "{name}: {}", stderr(&o));
+        let original = frames(
+            &scenarios().join(format!("{name}.toml")),
+            &out.join("original"),
+            &set,
+        );
+        let imported = frames(&toml, &out.join("round-trip"), &[]);
+        assert!(original.lines().count() > 10, "{name}: too short a run");
+        assert!(
+            original == imported,
+            "{name}: frames.csv of the round trip differs"
+        );
+        // And the .xosc itself runs as the original.
+        let direct = frames(&xosc, &out.join("direct"), &[]);
+        assert!(
+            original == direct,
+            "{name}: frames.csv of the .xosc differs"
+        );
+    }
+}
+
+#[test]
+fn the_files_hold_what_esmini_reads() {
+    let dir = tempfile::tempdir().unwrap();
+    let xosc = export("cut-in", dir.path(), &[]);
+    let text = std::fs::read_to_string(&xosc).unwrap();
+    let doc = roxmltree::Document::parse(&text).unwrap();
+    let root = doc.root_element();
+    assert_eq!(root.tag_name().name(), "OpenSCENARIO");
+    let find = |name: &'static str| doc.descendants().filter(move |n| n.has_tag_name(name));
+    let header = find("FileHeader").next().unwrap();
+    assert_eq!(header.attribute("revMajor"), Some("1"));
+    assert_eq!(header.attribute("revMinor"), Some("2"));
+    let logic = find("LogicFile").next().unwrap();
+    let xodr = dir.path().join(logic.attribute("filepath").unwrap());
+    assert!(xodr.is_file(), "{}", xodr.display());
+    let names: Vec<&str> = find("ScenarioObject")
+        .map(|o| o.attribute("name").unwrap())
+        .collect();
+    assert_eq!(names, ["Ego", "Lead", "van"]);
+    for object in find("ScenarioObject") {
+        let dims = object
+            .descendants()
+            .find(|n| n.has_tag_name("Dimensions"))
+            .unwrap();
+        for a in ["width", "length", "height"] {
+            assert!(dims.attribute(a).unwrap().parse::<f64>().unwrap() > 1.0);
+        }
+    }
+    // Each vehicle placed on a lane with a speed; the cut-in a lane change on a gap.
+    assert_eq!(find("Private").count(), 3);
+    assert_eq!(find("LanePosition").count(), 3);
+    assert!(find("LaneChangeAction").count() >= 1);
+    assert!(find("RelativeDistanceCondition").count() >= 1);
+    assert!(find("EnvironmentAction").count() == 1);
+    let stop = find("StopTrigger").next().unwrap();
+    let t = stop
+        .descendants()
+        .find(|n| n.has_tag_name("SimulationTimeCondition"))
+        .unwrap();
+    assert_eq!(t.attribute("value"), Some("30"));
+    // carfollow's own settings as parameters of the `carfollow.` prefix.
+    assert!(find("ParameterDeclaration")
+        .all(|p| p.attribute("name").unwrap().starts_with("carfollow.")));
+    assert!(find("ParameterDeclaration")
+        .any(|p| p.attribute("name") == Some("carfollow.chase.controller")));
+    let road = std::fs::read_to_string(&xodr).unwrap();
+    let road = roxmltree::Document::parse(&road).unwrap();
+    let h = road
+        .descendants()
+        .find(|n| n.has_tag_name("header"))
+        .unwrap();
+    assert_eq!(h.attribute("revMinor"), Some("7"));
+    let lanes = road
+        .descendants()
+        .filter(|n| n.has_tag_name("lane"))
+        .count();
+    assert_eq!(lanes, 5, "two driving lanes each way and the centre lane");
+    // The same scenario exports the same files, byte for byte.
+    let again = tempfile::tempdir().unwrap();
+    let xosc2 = export("cut-in", again.path(), &[]);
+    assert_eq!(text, std::fs::read_to_string(xosc2).unwrap());
+}
+
+#[test]
+fn a_failed_export_writes_nothing_and_says_why_in_one_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("bad.toml");
+    let text = std::fs::read_to_string(scenarios().join("nist-grounds.toml"))
+        .unwrap()
+        .replace("duration_s = ", "duration_s = -");
+    std::fs::write(&bad, text).unwrap();
+    let out = dir.path().join("out");
+    let o = carfollow(&["export", bad.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert_eq!(stderr(&o).trim().lines().count(), 1, "{}", stderr(&o));
+    assert!(stderr(&o).contains("duration_s"), "{}", stderr(&o));
+    assert!(!out.exists() || std::fs::read_dir(&out).unwrap().next().is_none());
+    // A `--set` that does not apply, and a file that is not there.
+    let nist = scenarios().join("nist-grounds.toml");
+    for args in [
+        vec![
+            "export",
+            nist.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--set",
+            "nonsense",
+        ],
+        vec!["export", "no-such.toml", "-o", out.to_str().unwrap()],
+        vec!["export", nist.to_str().unwrap()],
+    ] {
+        let o = carfollow(&args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+        assert!(
+            stderr(&o)
+                .trim()
+                .lines()
+                .next()
+                .unwrap()
+                .starts_with("error"),
+            "{}",
+            stderr(&o)
+        );
+        assert!(!out.exists() || std::fs::read_dir(&out).unwrap().next().is_none());
+    }
+    // An output folder that cannot be made (a file stands in its way).
+    let blocked = dir.path().join("blocked");
+    std::fs::write(&blocked, "").unwrap();
+    let o = carfollow(&[
+        "export",
+        nist.to_str().unwrap(),
+        "-o",
+        blocked.join("x").to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert_eq!(stderr(&o).trim().lines().count(), 1, "{}", stderr(&o));
+}
+
+/// The Python of the virtual environment holding ASAM's Quality Checker:
+/// `CARFOLLOW_QC_VENV`, else `target/qc-venv` (where `.ci/install` puts it).
+fn qc_python() -> Option<PathBuf> {
+    let venv = std::env::var_os("CARFOLLOW_QC_VENV")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../target/qc-venv"));
+    let python = venv.join("bin/python");
+    let installed =
+        venv.join("bin/qc_openscenario").is_file() && venv.join("bin/qc_opendrive").is_file();
+    (python.is_file() && installed).then_some(python)
+}
+
+#[test]
+fn asams_quality_checker_finds_no_issue() {
+    let Some(python) = qc_python() else {
+        eprintln!(
+            "SKIPPED: ASAM's Quality Checker is not installed (run .ci/install, or \
+             `python3 -m venv target/qc-venv && target/qc-venv/bin/pip install \
+             asam-qc-openscenarioxml asam-qc-opendrive`)"
+        );
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let mut files = Vec::new();
+    for name in [
+        "nist-grounds",
+        "opendrive-curves",
+        "cut-in",
+        "cut-out",
+        "fog",
+        "ncap-ccrb",
+        "weave",
+    ] {
+        let xosc = export(name, &dir.path().join(name), &[]);
+        files.push(xosc.with_extension("xodr"));
+        files.push(xosc);
+    }
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/qc/asam_qc.py");
+    let o = Command::new(python)
+        .arg(script)
+        .args(&files)
+        .output()
+        .unwrap();
+    let said = format!(
+        "{}{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    );
+    assert_eq!(o.status.code(), Some(0), "{said}");
+    assert_eq!(said.matches("checkers of").count(), files.len(), "{said}");
+}
