@@ -333,3 +333,51 @@ fn on_a_tight_curve_the_lens_keeps_the_lead_in_view() {
     assert!(e.contains("far.xosc: as carfollow reads it: `"), "{e}");
     assert!(e.contains("out of the camera's view"), "{e}");
 }
+
+#[test]
+fn a_pedestrian_from_a_catalog_is_refused_as_a_pedestrian() {
+    let (dir, path) = mutant(|text| {
+        text.replace(
+            "<VehicleCatalog><Directory path=\"catalogs\"/></VehicleCatalog>",
+            "<VehicleCatalog><Directory path=\"catalogs\"/></VehicleCatalog>\n    \
+             <PedestrianCatalog><Directory path=\"people\"/></PedestrianCatalog>",
+        )
+        .replace(
+            "catalogName=\"VehicleCatalog\" entryName=\"$VanKind\"",
+            "catalogName=\"PedestrianCatalog\" entryName=\"walker\"",
+        )
+    });
+    let people = dir.path().join("people");
+    std::fs::create_dir_all(&people).unwrap();
+    std::fs::write(
+        people.join("PedestrianCatalog.xosc"),
+        "<?xml version=\"1.0\"?>\n<OpenSCENARIO>\n  <FileHeader revMajor=\"1\" revMinor=\"1\" \
+         date=\"2026-01-01T00:00:00\" description=\"people\" author=\"carfollow\"/>\n  \
+         <Catalog name=\"PedestrianCatalog\">\n    <Pedestrian name=\"walker\" mass=\"80\" \
+         pedestrianCategory=\"pedestrian\"/>\n  </Catalog>\n</OpenSCENARIO>\n",
+    )
+    .unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    let line = 1 + text.lines().position(|l| l.contains("walker")).unwrap();
+    let out = dir.path().join("out.toml");
+    let o = carfollow(&[
+        "import",
+        path.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let e = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{e}");
+    assert_eq!(e.lines().count(), 1, "more than one line: {e}");
+    assert!(!out.exists(), "a refused file wrote something");
+    assert!(
+        e.contains(
+            "a <Pedestrian> of the PedestrianCatalog, and carfollow's entities are vehicles"
+        ),
+        "{e}"
+    );
+    assert!(
+        e.contains(&format!("mutant.xosc:{line}")),
+        "not at line {line}: {e}"
+    );
+}

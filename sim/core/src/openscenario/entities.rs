@@ -145,14 +145,35 @@ fn catalog_vehicle(
     reference: Node,
     catalogs: &Catalogs,
 ) -> Result<&'static str, OscError> {
-    catalog_entry(
+    let vehicle = catalog_entry(
         xml,
         reference,
         catalogs,
         "VehicleCatalog",
         "Vehicle",
         vehicle_kind,
-    )
+    );
+    let Err(not_a_vehicle) = vehicle else {
+        return vehicle;
+    };
+    // An entry of a pedestrian or object catalog is refused as what it is, not as a
+    // vehicle the vehicle catalog lacks.
+    for (kind, element) in [
+        ("PedestrianCatalog", "Pedestrian"),
+        ("MiscObjectCatalog", "MiscObject"),
+    ] {
+        if catalog_entry(xml, reference, catalogs, kind, element, |_, _| Ok(())).is_ok() {
+            return Err(xml.at(
+                reference,
+                format!(
+                    "<CatalogReference catalogName=\"{}\" entryName=\"{}\">: a <{element}> of the {kind}, and carfollow's entities are vehicles",
+                    reference.attribute("catalogName").unwrap_or_default(),
+                    reference.attribute("entryName").unwrap_or_default(),
+                ),
+            ));
+        }
+    }
+    Err(not_a_vehicle)
 }
 
 /// `read` of the entry a `CatalogReference` names: the element `element` named `entryName`
