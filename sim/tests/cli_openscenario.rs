@@ -381,3 +381,28 @@ fn a_pedestrian_from_a_catalog_is_refused_as_a_pedestrian() {
         "not at line {line}: {e}"
     );
 }
+
+#[test]
+fn import_makes_the_folder_it_writes_into_and_takes_it_away_when_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("new/deeper/cut-in.toml");
+    let file = data().join("cut-in.xosc");
+    let o = carfollow(&[
+        "import",
+        file.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let o = carfollow(&["check", out.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    // Refused: nothing is left, not even the folder.
+    let (bad_dir, bad) = mutant(|text| text.replacen("revMinor=\"1\"", "revMinor=\"4\"", 1));
+    let out = bad_dir.path().join("made/here/x.toml");
+    let o = carfollow(&["import", bad.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        !bad_dir.path().join("made").exists(),
+        "a refused import left a folder"
+    );
+}

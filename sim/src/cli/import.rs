@@ -84,22 +84,42 @@ pub struct ImportArgs {
 /// Runs the subcommand: the file is read and the scenario it gives is checked as `check`
 /// checks it before anything is written.
 pub fn run_import(args: ImportArgs) -> anyhow::Result<()> {
+    // The output's folder is made if missing (the scenario's paths are written relative to
+    // it, and checked through it), and taken away again if the file is refused.
+    let out_dir = match args.out.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    let made = out_dir
+        .ancestors()
+        .take_while(|d| !d.as_os_str().is_empty() && !d.exists())
+        .last()
+        .map(Path::to_path_buf);
+    if made.is_some() {
+        std::fs::create_dir_all(&out_dir)
+            .map_err(|e| anyhow::anyhow!("{}: cannot make the folder: {e}", out_dir.display()))?;
+    }
+    let result = import_into(&args, &out_dir);
+    if let (Err(_), Some(made)) = (&result, made) {
+        let _ = std::fs::remove_dir_all(made);
+    }
+    result
+}
+
+/// [`run_import`] once the output's folder `out_dir` exists.
+fn import_into(args: &ImportArgs, out_dir: &Path) -> anyhow::Result<()> {
     if !is_openscenario(&args.file) {
         anyhow::bail!("{}: not an OpenSCENARIO file (.xosc)", args.file.display());
     }
     if let Some(d) = args.duration.filter(|d| !(d.is_finite() && *d > 0.0)) {
         anyhow::bail!("--duration {d}: must be a positive number of seconds");
     }
-    let out_dir = match args.out.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    let mut options = args.openscenario.options(Some(out_dir.clone()));
+    let mut options = args.openscenario.options(Some(out_dir.to_path_buf()));
     options.duration_s = args.duration;
     let imported = import(&args.file, &options)?;
     // What `check` would say of the written file, before it is written.
     let scenario =
-        Scenario::from_text(&imported.text, &args.out, &out_dir, &[]).map_err(|e| match e {
+        Scenario::from_text(&imported.text, &args.out, out_dir, &[]).map_err(|e| match e {
             ScenarioError::Invalid { field, message, .. } => ScenarioError::Imported {
                 path: args.file.clone(),
                 message: format!("`{field}` {message}"),
