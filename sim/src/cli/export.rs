@@ -39,17 +39,7 @@ pub struct ExportArgs {
 /// Runs the subcommand.
 pub fn run_export(args: ExportArgs) -> anyhow::Result<()> {
     let scenario = Scenario::load(&args.scenario, &args.set)?;
-    let stem: String = scenario
-        .name
-        .chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
-                c
-            } else {
-                '-'
-            }
-        })
-        .collect();
+    let stem = sim_core::openscenario::safe_name(&scenario.name);
     std::fs::create_dir_all(&args.out)
         .map_err(|e| anyhow::anyhow!("{}: cannot make the folder: {e}", args.out.display()))?;
     // Written into a folder of its own beside the outputs, then renamed into place: a

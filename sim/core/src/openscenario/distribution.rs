@@ -87,7 +87,7 @@ pub fn read_distribution(path: &Path) -> Result<Distribution, OscError> {
              a scenario runs with `carfollow run`",
         ));
     };
-    version(&xml)?;
+    super::version(&xml, 1.0, "parameter distributions are OpenSCENARIO")?;
     let file = child(pvd, "ScenarioFile")
         .ok_or_else(|| xml.at(pvd, "<ParameterValueDistribution> has no <ScenarioFile>"))?;
     let dir = path.parent().unwrap_or(Path::new("."));
@@ -126,25 +126,6 @@ pub fn read_distribution(path: &Path) -> Result<Distribution, OscError> {
         parameters,
         runs,
     })
-}
-
-/// Refuses a version without parameter distributions (1.0) or beyond 1.3.
-fn version(xml: &Xml) -> Result<(), OscError> {
-    let root = xml.doc.root_element();
-    let header = child(root, "FileHeader")
-        .ok_or_else(|| xml.at(root, "<OpenSCENARIO> has no <FileHeader>"))?;
-    let major = xml.num(header, "revMajor")?;
-    let minor = xml.num(header, "revMinor")?;
-    if major != 1.0 || !(1.0..=3.0).contains(&minor) || minor.fract() != 0.0 {
-        return Err(xml.at(
-            header,
-            format!(
-                "<FileHeader revMajor=\"{major}\" revMinor=\"{minor}\">: parameter \
-                 distributions are OpenSCENARIO 1.1 to 1.3"
-            ),
-        ));
-    }
-    Ok(())
 }
 
 /// The parameters declared at the top of the scenario file at `path`.

@@ -89,7 +89,7 @@ pub fn import(path: &Path, options: &ImportOptions) -> Result<Imported, OscError
             ),
         ));
     }
-    version(&xml)?;
+    version(&xml, 0.0, "carfollow reads OpenSCENARIO")?;
     if child(root, "ParameterValueDistribution").is_some() {
         return Err(xml.at(
             root,
@@ -150,15 +150,21 @@ fn give_params(xml: &mut Xml, params: &[String]) -> Result<(), OscError> {
     Ok(())
 }
 
-/// Refuses a version other than 1.0–1.3.
-fn version(xml: &Xml) -> Result<(), OscError> {
+/// Refuses a version other than 1.`lowest` to 1.3; the message says `what` reads them
+/// (parameter distributions came with 1.1).
+fn version(xml: &Xml, lowest: f64, what: &str) -> Result<(), OscError> {
     let root = xml.doc.root_element();
     let header = child(root, "FileHeader")
         .ok_or_else(|| xml.at(root, "<OpenSCENARIO> has no <FileHeader>"))?;
     let major = xml.num(header, "revMajor")?;
     let minor = xml.num(header, "revMinor")?;
-    if major != 1.0 || !(0.0..=3.0).contains(&minor) || minor.fract() != 0.0 {
-        return Err(xml.at(header, format!("<FileHeader revMajor=\"{major}\" revMinor=\"{minor}\">: carfollow reads OpenSCENARIO 1.0 to 1.3")));
+    if major != 1.0 || !(lowest..=3.0).contains(&minor) || minor.fract() != 0.0 {
+        return Err(xml.at(
+            header,
+            format!(
+                "<FileHeader revMajor=\"{major}\" revMinor=\"{minor}\">: {what} 1.{lowest} to 1.3"
+            ),
+        ));
     }
     Ok(())
 }
@@ -192,6 +198,20 @@ fn choose_ego(
                 ),
             }),
     }
+}
+
+/// `name` as a file name or a scenario's vehicle name may carry it: ASCII letters, digits,
+/// `-` and `_` kept, anything else `-`.
+pub fn safe_name(name: &str) -> String {
+    name.chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
+                c
+            } else {
+                '-'
+            }
+        })
+        .collect()
 }
 
 /// `base`, or `base-2`, `base-3`, ... if `used` has it, added to `used`: names made

@@ -106,17 +106,7 @@ fn carfollow_names(vehicles: &[Entity], ego: &str, lead: &str) -> Names {
         } else if v.name == lead {
             "lead".to_string()
         } else {
-            let base: String = v
-                .name
-                .chars()
-                .map(|c| {
-                    if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
-                        c
-                    } else {
-                        '-'
-                    }
-                })
-                .collect();
+            let base = super::safe_name(&v.name);
             let base = if base.is_empty() {
                 "actor".to_string()
             } else {
