@@ -162,7 +162,7 @@ fn steps_of(seconds: f64) -> u64 {
 impl Events {
     /// The engine for `script`, measuring to the vehicles `vehicles` (the names, in the
     /// order of the [`TrafficView`] the updates get) on a road of `lanes`. Checks the
-    /// script ([`EventScript::validate`]), that each `to` names a vehicle and each lane
+    /// script ([`EventScript::validate`]), that each `to` and `of` names a vehicle and each lane
     /// change a lane of the road.
     pub fn new(
         script: &EventScript,
