@@ -271,3 +271,67 @@ fn asams_quality_checker_finds_no_issue() {
     assert_eq!(o.status.code(), Some(0), "{said}");
     assert_eq!(said.matches("checkers of").count(), files.len(), "{said}");
 }
+
+/// Speed and standstill triggers go out as `SpeedCondition` and `StandStillCondition` of the
+/// vehicle they watch, and come back as they were: the round trip runs bit for bit.
+#[test]
+fn speed_and_standstill_triggers_round_trip_exactly() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(scenarios().join("cut-in.toml")).unwrap();
+    let van_event = "trigger = { gap_m = 12.0, to = \"chase\" }\naction = { lane = 1, duration_s = 2.5, shape = \"sinusoidal\" }\n";
+    assert!(text.contains(van_event));
+    let targets = scenarios().join("targets/");
+    let text = text
+        .replace(
+            van_event,
+            "trigger = { speed_mps = 5.0, of = \"lead\" }\naction = { speed_mps = 6.0, rate_mps2 = 2.0 }\n\n\
+             [[actors.events]]\nname = \"halt\"\ntrigger = { standstill_s = 2.0, of = \"lead\", delay_s = 0.5 }\n\
+             action = { stop = true, decel_mps2 = 3.0 }\n",
+        )
+        .replace("\"targets/", &format!("\"{}", targets.to_str().unwrap()))
+        + "\n[[lead.events]]\nname = \"brake\"\ntrigger = { time_s = 2.0 }\n\
+           action = { stop = true, decel_mps2 = 4.0 }\n\n\
+           [[lead.events]]\nname = \"creep\"\ntrigger = { standstill_s = 3.0 }\n\
+           action = { speed_mps = 3.0, rate_mps2 = 1.0 }\n\n\
+           [[lead.events]]\nname = \"hurry\"\ntrigger = { speed_mps = 12.0, rule = \"greater\", of = \"van\" }\n\
+           action = { speed_mps = 4.0, rate_mps2 = 1.0 }\n";
+    let original = dir.path().join("watching.toml");
+    std::fs::write(&original, text).unwrap();
+    let set = ["--set", "duration_s=12"];
+    let export = dir.path().join("export");
+    let o = carfollow(
+        &[
+            &[
+                "export",
+                original.to_str().unwrap(),
+                "-o",
+                export.to_str().unwrap(),
+            ][..],
+            &set,
+        ]
+        .concat(),
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let xosc = export.join("cut-in.xosc");
+    let written = std::fs::read_to_string(&xosc).unwrap();
+    for expected in [
+        "<SpeedCondition value=\"5\" rule=\"lessThan\"/>",
+        "<StandStillCondition duration=\"2\"/>",
+        "<StandStillCondition duration=\"3\"/>",
+        "rule=\"greaterThan\"",
+    ] {
+        assert!(written.contains(expected), "{expected} not in:\n{written}");
+    }
+    let toml = dir.path().join("imported/cut-in.toml");
+    let o = carfollow(&[
+        "import",
+        xosc.to_str().unwrap(),
+        "-o",
+        toml.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let before = frames(&original, &dir.path().join("original"), &["duration_s=12"]);
+    let after = frames(&toml, &dir.path().join("round-trip"), &[]);
+    assert!(before.contains("van/halt:started") && before.contains("lead/creep:started"));
+    assert!(before == after, "frames.csv of the round trip differs");
+}

@@ -406,3 +406,103 @@ fn import_makes_the_folder_it_writes_into_and_takes_it_away_when_refused() {
         "a refused import left a folder"
     );
 }
+
+#[test]
+fn speed_and_standstill_conditions_are_imported_and_fire_as_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = data().join("speed-standstill.xosc");
+    let toml = dir.path().join("speed-standstill.toml");
+    let o = carfollow(&[
+        "import",
+        file.to_str().unwrap(),
+        "-o",
+        toml.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let text = std::fs::read_to_string(&toml).unwrap();
+    for expected in [
+        "speed_mps = 5.0\nof = \"lead\"\nrule = \"less\"",
+        "standstill_s = 2.0\nof = \"lead\"\ndelay_s = 0.5",
+        "standstill_s = 3.0\n\n",
+    ] {
+        assert!(text.contains(expected), "{expected:?} not in:\n{text}");
+    }
+    let run = |scenario: &Path, out: &str| {
+        let out = dir.path().join(out);
+        let o = carfollow(&[
+            "run",
+            scenario.to_str().unwrap(),
+            "--quiet",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(matches!(o.status.code(), Some(0 | 1)), "{}", stderr(&o));
+        std::fs::read_to_string(out.join("frames.csv")).unwrap()
+    };
+    let csv = run(&file, "xosc");
+    assert!(
+        csv == run(&toml, "toml"),
+        "the imported scenario runs differently"
+    );
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|c| *c == name).unwrap();
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    let num = |r: &Vec<&str>, c: &str| r[col(c)].parse::<f64>().unwrap();
+    let at = |event: &str| {
+        let r = rows.iter().find(|r| r[col("event")].contains(event));
+        num(r.unwrap_or_else(|| panic!("{event} not logged")), "t_s")
+    };
+    // The van slows at the step the lead's speed falls to 5 m/s (logged a frame later).
+    let slow = rows
+        .iter()
+        .position(|r| num(r, "lead_speed_mps") <= 5.0)
+        .unwrap();
+    let slow_at = at("Cutter/slow:started");
+    assert!(
+        slow_at == num(&rows[slow], "t_s") || slow_at == num(&rows[slow - 1], "t_s"),
+        "{slow_at}"
+    );
+    // It stops 2 s (and the delay, 0.5 s) after the lead stands; the lead moves off after 3 s.
+    let still = num(
+        rows.iter()
+            .find(|r| num(r, "lead_speed_mps").abs() < 0.05)
+            .unwrap(),
+        "t_s",
+    );
+    let frame = 1.0 / 15.0 + 1e-9;
+    assert!(
+        (at("Cutter/halt:started") - still - 2.5).abs() <= frame,
+        "{still}"
+    );
+    assert!(
+        (at("lead/creep:started") - still - 3.0).abs() <= frame,
+        "{still}"
+    );
+    // A speed condition by direction is refused at its line.
+    let text = std::fs::read_to_string(&file).unwrap();
+    let bad = dir.path().join("bad.xosc");
+    for name in ["two-lanes.xodr", "catalogs/VehicleCatalog.xosc"] {
+        let to = dir.path().join(name);
+        std::fs::create_dir_all(to.parent().unwrap()).unwrap();
+        std::fs::copy(data().join(name), to).unwrap();
+    }
+    let from = "<SpeedCondition value=\"$SlowAt\" rule=\"lessThan\"/>";
+    assert!(text.contains(from));
+    std::fs::write(
+        &bad,
+        text.replace(
+            from,
+            "<SpeedCondition value=\"$SlowAt\" rule=\"lessThan\" direction=\"lateral\"/>",
+        ),
+    )
+    .unwrap();
+    let line = 1 + text.lines().position(|l| l.contains(from)).unwrap();
+    let o = carfollow(&["check", bad.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains(&format!("bad.xosc:{line}")) && stderr(&o).contains("direction"),
+        "{}",
+        stderr(&o)
+    );
+}

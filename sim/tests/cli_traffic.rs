@@ -299,3 +299,129 @@ fn a_chase_with_nothing_placed_cruises_and_acquires_the_vehicle_in_its_lane() {
         assert_eq!(s["lost_by_cause_s"]["wrong_vehicle"], 0.0, "{mode}");
     }
 }
+
+/// The cut-in's road with speed and standstill triggers: the lead stops from 50 km/h at
+/// 4 m/s² from 2 s; the van slows when the lead's speed is at most 5 m/s, stops when the
+/// lead has stood still 2 s, and the lead moves off once it has stood still 3 s itself.
+fn watching_scenario(dir: &Path) -> PathBuf {
+    let text = std::fs::read_to_string(scenario("cut-in")).unwrap();
+    let van_event = "[[actors.events]]\nname = \"cut-in\"\ntrigger = { gap_m = 12.0, to = \"chase\" }\naction = { lane = 1, duration_s = 2.5, shape = \"sinusoidal\" }\n";
+    assert!(text.contains(van_event), "cut-in.toml's event changed");
+    let targets = scenario("cut-in").parent().unwrap().join("targets/");
+    let text = text
+        .replace(
+            van_event,
+            "[[actors.events]]\nname = \"slow\"\ntrigger = { speed_mps = 5.0, of = \"lead\" }\n\
+             action = { speed_mps = 6.0, rate_mps2 = 2.0 }\n\n\
+             [[actors.events]]\nname = \"halt\"\ntrigger = { standstill_s = 2.0, of = \"lead\" }\n\
+             action = { stop = true, decel_mps2 = 3.0 }\n",
+        )
+        .replace("\"targets/", &format!("\"{}", targets.to_str().unwrap()))
+        + "\n[[lead.events]]\nname = \"brake\"\ntrigger = { time_s = 2.0 }\n\
+           action = { stop = true, decel_mps2 = 4.0 }\n\n\
+           [[lead.events]]\nname = \"creep\"\ntrigger = { standstill_s = 3.0 }\n\
+           action = { speed_mps = 3.0, rate_mps2 = 1.0 }\n";
+    let path = dir.join("watching.toml");
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+#[test]
+fn speed_and_standstill_triggers_fire_at_the_step_their_condition_holds() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = watching_scenario(dir.path());
+    let out = dir.path().join("out");
+    let o = Command::new(env!("CARGO_BIN_EXE_carfollow"))
+        .args([
+            "run",
+            path.to_str().unwrap(),
+            "--quiet",
+            "--set",
+            "duration_s=12",
+        ])
+        .args(["--out", out.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(
+        matches!(o.status.code(), Some(0 | 1)),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let rows = frames(&out);
+    let t = |r: &std::collections::BTreeMap<String, String>| r["t_s"].parse::<f64>().unwrap();
+    let lead_speed = |r: &std::collections::BTreeMap<String, String>| {
+        r["lead_speed_mps"].parse::<f64>().unwrap()
+    };
+    let at = |event: &str| {
+        t(rows
+            .iter()
+            .find(|r| r["event"].contains(event))
+            .unwrap_or_else(|| panic!("{event} not logged")))
+    };
+    // An event is logged on the frame after the step it fired at: the first frame at which
+    // the lead's speed is at most 5 m/s, or the frame before it.
+    let slow = rows.iter().position(|r| lead_speed(r) <= 5.0).unwrap();
+    let slow_at = at("van/slow:started");
+    assert!(
+        slow_at == t(&rows[slow]) || slow_at == t(&rows[slow - 1]),
+        "slow at {slow_at}, the lead at 5 m/s at {}",
+        t(&rows[slow])
+    );
+    assert!(lead_speed(&rows[slow - 2]) > 5.0);
+    // Standing still: below 0.05 m/s; 2 s of it for the van, 3 s for the lead's own.
+    let still = t(rows.iter().find(|r| lead_speed(r).abs() < 0.05).unwrap());
+    let halt_at = at("van/halt:started");
+    assert!(
+        (halt_at - still - 2.0).abs() <= 1.0 / 15.0 + 1e-9,
+        "{halt_at} {still}"
+    );
+    let creep_at = at("lead/creep:started");
+    assert!(
+        (creep_at - still - 3.0).abs() <= 1.0 / 15.0 + 1e-9,
+        "{creep_at} {still}"
+    );
+    // The lead moves off again.
+    assert!(lead_speed(rows.last().unwrap()) > 2.0);
+
+    // Bad triggers are refused by `check` in one line naming the file, line and field.
+    let good = std::fs::read_to_string(&path).unwrap();
+    for (from, to, field) in [
+        (
+            "of = \"lead\" }\naction = { speed",
+            "of = \"bus\" }\naction = { speed",
+            "actors[0].events[0].trigger.of",
+        ),
+        (
+            "standstill_s = 2.0",
+            "standstill_s = -2.0",
+            "actors[0].events[1].trigger.standstill_s",
+        ),
+        (
+            "standstill_s = 3.0 }",
+            "standstill_s = 3.0, rule = \"less\" }",
+            "lead.events[1].trigger.rule",
+        ),
+        (
+            "time_s = 2.0 }",
+            "time_s = 2.0, of = \"van\" }",
+            "lead.events[0].trigger.of",
+        ),
+    ] {
+        assert!(good.contains(from), "{from}");
+        let bad = dir.path().join("bad.toml");
+        std::fs::write(&bad, good.replacen(from, to, 1)).unwrap();
+        let o = Command::new(env!("CARGO_BIN_EXE_carfollow"))
+            .args(["check", bad.to_str().unwrap()])
+            .output()
+            .unwrap();
+        let e = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{to}: {e}");
+        // The error, and the count of files refused.
+        assert_eq!(e.trim().lines().count(), 2, "{to}: {e}");
+        let first = e.lines().next().unwrap();
+        assert!(
+            first.contains(field) && first.contains("bad.toml:"),
+            "{to}: {e}"
+        );
+    }
+}

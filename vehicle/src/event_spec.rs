@@ -32,6 +32,9 @@ const MAX_KEY: f64 = 1e7;
 const MAX_GAP_M: f64 = 1e4;
 /// Largest time-gap and time-to-collision threshold, s.
 const MAX_TIME_S: f64 = 1e3;
+/// Largest standstill duration a trigger may wait for, s: as the largest time gap, far
+/// beyond any run.
+const MAX_STANDSTILL_S: f64 = 1e3;
 /// Largest rate of change of speed (or deceleration) an action may ask, m/s².
 const MAX_RATE_MPS2: f64 = 20.0;
 /// Largest lateral speed of a lane change, m/s.
@@ -82,7 +85,7 @@ pub enum Rule {
 }
 
 /// When an event's action starts: exactly one of `time_s`, `distance_m`, `gap_m`,
-/// `time_gap_s`, `ttc_s` and `after`, evaluated at every physics step on level (it fires
+/// `time_gap_s`, `ttc_s`, `speed_mps`, `standstill_s` and `after`, evaluated at every physics step on level (it fires
 /// at the first step its condition holds, not only when it becomes true).
 ///
 /// ```toml
@@ -91,6 +94,9 @@ pub enum Rule {
 /// trigger = { gap_m = 12.0, to = "chase" }     # gap to `chase` ≤ 12 m
 /// trigger = { time_gap_s = 1.5, to = "lead" }  # gap ÷ speed of the one behind ≤ 1.5 s
 /// trigger = { ttc_s = 3.0, to = "stopped" }    # gap ÷ closing speed ≤ 3 s, while closing
+/// trigger = { speed_mps = 5.0, of = "lead" }   # the lead's speed ≤ 5 m/s
+/// trigger = { speed_mps = 20.0, rule = "greater" }  # this vehicle's speed ≥ 20 m/s
+/// trigger = { standstill_s = 2.0, of = "van" }  # `van` has stood still for ≥ 2 s
 /// trigger = { after = "cut-in", delay_s = 0.5 }  # 0.5 s after `cut-in`'s action ended
 /// ```
 ///
@@ -121,6 +127,16 @@ pub struct TriggerSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schemars(extend("minimum" = 0.0, "maximum" = 1e3))]
     pub ttc_s: Option<f64>,
+    /// Speed along the road of the vehicle `of` (default: this vehicle), m/s.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("minimum" = 0.0, "maximum" = 40.0))]
+    pub speed_mps: Option<f64>,
+    /// How long the vehicle `of` (default: this vehicle) has stood still without a break,
+    /// s: holds once its speed has stayed below 0.05 m/s this long (a duration of 0 holds at
+    /// the first step it stands). Takes no `rule`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("minimum" = 0.0, "maximum" = 1e3))]
+    pub standstill_s: Option<f64>,
     /// The name of another of this vehicle's events: holds once that event's action has
     /// ended.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -129,9 +145,13 @@ pub struct TriggerSpec {
     /// scenario gives).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub to: Option<String>,
+    /// The vehicle whose speed or standstill is watched (a name the scenario gives;
+    /// default: this vehicle). Only for `speed_mps` and `standstill_s`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub of: Option<String>,
     /// Which side of the threshold holds: `less` (at most; the default for gaps and
     /// times) or `greater` (at least; the default for `time_s` and `distance_m`). Not for
-    /// `after`.
+    /// `after` nor `standstill_s`; `less` is the default for `speed_mps`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rule: Option<Rule>,
     /// The action starts this long after the condition first holds, s (default 0).
@@ -248,6 +268,10 @@ pub(crate) enum Condition {
     TimeGap(f64, String),
     /// Time to collision with a vehicle, s.
     Ttc(f64, String),
+    /// The speed of a vehicle (empty: this one), m/s.
+    Speed(f64, String),
+    /// How long a vehicle (empty: this one) has stood still, s.
+    Standstill(f64, String),
     /// Another event (its index) has ended.
     After(usize),
 }
@@ -341,14 +365,22 @@ impl EventScript {
         self.0.is_empty()
     }
 
-    /// The vehicles the triggers measure to, each with its field (`events[2].trigger.to`),
-    /// in the order written, for the caller to check against the scenario's vehicles.
+    /// The vehicles the triggers measure to or watch, each with its field
+    /// (`events[2].trigger.to`, `events[3].trigger.of`), in the order written, for the
+    /// caller to check against the scenario's vehicles.
     pub fn vehicles_named(&self) -> impl Iterator<Item = (String, &str)> {
-        self.0.iter().enumerate().filter_map(|(i, e)| {
-            e.trigger
+        self.0.iter().enumerate().flat_map(|(i, e)| {
+            let to = e
+                .trigger
                 .to
                 .as_deref()
-                .map(|to| (format!("events[{i}].trigger.to"), to))
+                .map(|to| (format!("events[{i}].trigger.to"), to));
+            let of = e
+                .trigger
+                .of
+                .as_deref()
+                .map(|of| (format!("events[{i}].trigger.of"), of));
+            to.into_iter().chain(of)
         })
     }
 
@@ -398,6 +430,8 @@ impl EventScript {
             ("gap_m", t.gap_m.is_some()),
             ("time_gap_s", t.time_gap_s.is_some()),
             ("ttc_s", t.ttc_s.is_some()),
+            ("speed_mps", t.speed_mps.is_some()),
+            ("standstill_s", t.standstill_s.is_some()),
             ("after", t.after.is_some()),
         ]
         .into_iter()
@@ -408,8 +442,8 @@ impl EventScript {
                 i,
                 "trigger",
                 format!(
-                    "must give exactly one of time_s, distance_m, gap_m, time_gap_s, ttc_s and \
-                     after (given: {})",
+                    "must give exactly one of time_s, distance_m, gap_m, time_gap_s, ttc_s, \
+                     speed_mps, standstill_s and after (given: {})",
                     if given.is_empty() {
                         "none".to_string()
                     } else {
@@ -440,6 +474,7 @@ impl EventScript {
             }
             (None, false) => String::new(),
         };
+        let of = of(i, t, given[0])?;
         let field = |name: &str| format!("trigger.{name}");
         let condition = if let Some(v) = t.time_s {
             Condition::Time(check(i, &field("time_s"), v, 0.0, MAX_KEY, false)?)
@@ -453,6 +488,12 @@ impl EventScript {
             Condition::TimeGap(v, to)
         } else if let Some(v) = t.ttc_s {
             Condition::Ttc(check(i, &field("ttc_s"), v, 0.0, MAX_TIME_S, false)?, to)
+        } else if let Some(v) = t.speed_mps {
+            let max = f64::from(MAX_SPEED_MPS);
+            Condition::Speed(check(i, &field("speed_mps"), v, 0.0, max, false)?, of)
+        } else if let Some(v) = t.standstill_s {
+            let v = check(i, &field("standstill_s"), v, 0.0, MAX_STANDSTILL_S, false)?;
+            Condition::Standstill(v, of)
         } else {
             let after = t.after.as_deref().unwrap_or_default();
             match self.0.iter().position(|e| e.name == after) {
@@ -481,6 +522,15 @@ impl EventScript {
                     "an after trigger has no threshold to compare with".into(),
                 ))
             }
+            (Condition::Standstill(..), Some(_)) => {
+                return Err(invalid(
+                    i,
+                    "trigger.rule",
+                    "a standstill trigger takes no rule: it holds once the vehicle has stood \
+                     still this long"
+                        .into(),
+                ))
+            }
             (_, Some(rule)) => rule,
             (Condition::Time(_) | Condition::Distance(_) | Condition::After(_), None) => {
                 Rule::Greater
@@ -496,6 +546,24 @@ impl EventScript {
             rule,
             delay_s,
         })
+    }
+}
+
+/// Event `i`'s `of` (empty for this vehicle), checked for the trigger `kind` it is on:
+/// only a speed or standstill trigger watches another vehicle.
+fn of(i: usize, t: &TriggerSpec, kind: &str) -> Result<String, VehicleError> {
+    let watches = t.speed_mps.is_some() || t.standstill_s.is_some();
+    match (&t.of, watches) {
+        (Some(of), true) if of.trim().is_empty() => {
+            Err(invalid(i, "trigger.of", "must not be empty".into()))
+        }
+        (Some(of), true) => Ok(of.clone()),
+        (Some(_), false) => Err(invalid(
+            i,
+            "trigger.of",
+            format!("a {kind} trigger watches no vehicle (of is for speed_mps and standstill_s)"),
+        )),
+        (None, _) => Ok(String::new()),
     }
 }
 

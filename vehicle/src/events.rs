@@ -18,6 +18,11 @@ use crate::error::{check_range, VehicleError};
 use crate::event_spec::{Action, Checked, Condition, EventScript, Rule, Shape, Timing};
 use crate::lead_driver::SpeedOverride;
 
+/// Below this speed a vehicle stands still, m/s (for standstill triggers): a physics
+/// vehicle held by its brakes creeps at millimetres per second as its tyres settle, and
+/// 5 cm/s (0.18 km/h) is below what wheel-speed sensors resolve, about 0.1 m/s.
+pub const STANDSTILL_MPS: f64 = 0.05;
+
 /// One vehicle of the traffic as the triggers see it: positions along the road (the
 /// caller's measure of it, the same for every vehicle), metres.
 #[derive(Copy, Clone, Debug, Default, PartialEq)]
@@ -99,6 +104,10 @@ struct EventState {
     event: Checked,
     /// The vehicle a gap trigger measures to.
     to: Option<usize>,
+    /// The vehicle a speed or standstill trigger watches (`None`: this one).
+    of: Option<usize>,
+    /// The step from which the watched vehicle has stood still (standstill triggers).
+    still_since: Option<Step>,
     phase: Phase,
     /// Whether its action has ended at least once.
     ended: bool,
@@ -153,7 +162,7 @@ fn steps_of(seconds: f64) -> u64 {
 impl Events {
     /// The engine for `script`, measuring to the vehicles `vehicles` (the names, in the
     /// order of the [`TrafficView`] the updates get) on a road of `lanes`. Checks the
-    /// script ([`EventScript::validate`]), that each `to` names a vehicle and each lane
+    /// script ([`EventScript::validate`]), that each `to` and `of` names a vehicle and each lane
     /// change a lane of the road.
     pub fn new(
         script: &EventScript,
@@ -182,6 +191,17 @@ impl Events {
                 }
                 _ => None,
             };
+            let of = match &event.trigger.condition {
+                Condition::Speed(_, of) | Condition::Standstill(_, of) if !of.is_empty() => {
+                    Some(vehicles.iter().position(|v| v == of).ok_or_else(|| {
+                        VehicleError::InvalidEvent {
+                            field: format!("events[{i}].trigger.of"),
+                            reason: format!("no vehicle is named \"{of}\""),
+                        }
+                    })?)
+                }
+                _ => None,
+            };
             if let Action::Lane { lane, .. } = event.action {
                 if lane > lanes.count {
                     return Err(VehicleError::InvalidEvent {
@@ -193,6 +213,8 @@ impl Events {
             events.push(EventState {
                 event,
                 to,
+                of,
+                still_since: None,
                 phase: Phase::Armed,
                 ended: false,
             });
@@ -245,6 +267,17 @@ impl Events {
             return fired;
         };
         let start_station_m = *self.start_station_m.get_or_insert(mine.station_m);
+        for e in &mut self.events {
+            if let Condition::Standstill(..) = e.event.trigger.condition {
+                let watched = e.of.map_or(Some(mine), |j| view.get(j));
+                let still = watched.is_some_and(|v| v.speed_mps.abs() < STANDSTILL_MPS);
+                e.still_since = if still {
+                    e.still_since.or(Some(now))
+                } else {
+                    None
+                };
+            }
+        }
         for i in 0..self.events.len() {
             if self.events[i].phase == Phase::Armed
                 && self.holds(i, now, view, mine, start_station_m)
@@ -296,6 +329,13 @@ impl Events {
             (Condition::Time(t), _) => compare(now.seconds(), *t),
             (Condition::Distance(d), _) => compare(mine.station_m - start_station_m, *d),
             (Condition::After(j), _) => self.events[*j].ended,
+            (Condition::Speed(v, _), _) => {
+                e.of.map_or(Some(mine), |j| view.get(j))
+                    .is_some_and(|w| compare(w.speed_mps, *v))
+            }
+            (Condition::Standstill(d, _), _) => e
+                .still_since
+                .is_some_and(|since| now.since(since) >= steps_of(*d)),
             (Condition::Gap(g, _), Some(o)) => compare(Between::new(mine, o).gap_m, *g),
             (Condition::TimeGap(t, _), Some(o)) => {
                 let b = Between::new(mine, o);

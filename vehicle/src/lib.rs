@@ -104,7 +104,7 @@ pub use controls::Controls;
 pub use delay_line::{DelayLine, DelayLineConfig};
 pub use error::VehicleError;
 pub use event_spec::{ActionSpec, EventScript, EventSpec, Rule, Shape, TriggerSpec, MAX_LANES};
-pub use events::{Events, Fired, FiredKind, Lanes, TrafficView, VehicleView};
+pub use events::{Events, Fired, FiredKind, Lanes, TrafficView, VehicleView, STANDSTILL_MPS};
 pub use gap_keeper::{GapKeeper, GapKeeperConfig, GapPolicy, SpeedCommand, Threat};
 pub use ground::{BumpsConfig, Ground, GroundConfig};
 pub use gyro::{Gyro, GyroConfig};

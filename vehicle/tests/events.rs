@@ -593,3 +593,79 @@ fn the_engine_and_the_parser_name_bad_fields() {
     let err = toml::from_str::<File>(&one("trigger = { time = 1.0 }", ok_action)).unwrap_err();
     assert!(err.to_string().contains("unknown field `time`"), "{err}");
 }
+
+/// Speed triggers compare the speed of the vehicle `of` (or this one) with the threshold
+/// at every step; standstill triggers count the steps it has stood still without a break.
+#[test]
+fn speed_and_standstill_triggers_watch_the_vehicle_named() {
+    // Other slows at 2 m/s² from 10 m/s: at most 4 m/s from t = 3 s (step 360).
+    let slowing = |t: f64| [car(100.0, 6.0), car(200.0, 10.0 - 2.0 * t)];
+    let cases: [(&str, Option<u64>); 5] = [
+        ("speed_mps = 4.0, of = \"other\"", Some(360)),
+        (
+            "speed_mps = 4.0, of = \"other\", rule = \"greater\"",
+            Some(0),
+        ),
+        ("speed_mps = 5.0", None),
+        ("speed_mps = 5.0, rule = \"greater\"", Some(0)),
+        ("speed_mps = 6.0", Some(0)),
+    ];
+    for (trigger, expected) in cases {
+        let mut e = engine(&format!(
+            "[[events]]\nname = \"e\"\ntrigger = {{ {trigger} }}\naction = {{ speed_mps = 1.0, shape = \"step\" }}\n"
+        ));
+        assert_eq!(
+            first_start(&run(&mut e, 600, slowing), "e"),
+            expected,
+            "{trigger}"
+        );
+    }
+    // Other: 3 m/s, standing from 5 s, moving 6–6.5 s, standing again from 6.5 s (step 780).
+    let stop_go = |t: f64| {
+        let v = if t < 5.0 || (6.0..6.5).contains(&t) {
+            3.0
+        } else {
+            0.0
+        };
+        [car(100.0, 0.0), car(200.0, v)]
+    };
+    let cases: [(&str, Option<u64>); 4] = [
+        ("standstill_s = 0.5, of = \"other\"", Some(660)),
+        ("standstill_s = 2.0, of = \"other\"", Some(1020)),
+        (
+            "standstill_s = 2.0, of = \"other\", delay_s = 0.5",
+            Some(1080),
+        ),
+        // This vehicle stands from the start.
+        ("standstill_s = 1.0", Some(120)),
+    ];
+    for (trigger, expected) in cases {
+        let mut e = engine(&format!(
+            "[[events]]\nname = \"e\"\ntrigger = {{ {trigger} }}\naction = {{ speed_mps = 1.0, shape = \"step\" }}\n"
+        ));
+        assert_eq!(
+            first_start(&run(&mut e, 1200, stop_go), "e"),
+            expected,
+            "{trigger}"
+        );
+    }
+    // `of` naming no vehicle, or on a trigger that watches none, is refused by its field.
+    for (trigger, field) in [
+        ("speed_mps = 4.0, of = \"bus\"", "events[0].trigger.of"),
+        ("time_s = 1.0, of = \"other\"", "events[0].trigger.of"),
+        (
+            "standstill_s = 1.0, rule = \"less\"",
+            "events[0].trigger.rule",
+        ),
+        ("standstill_s = -1.0", "events[0].trigger.standstill_s"),
+        ("speed_mps = 4.0, to = \"other\"", "events[0].trigger.to"),
+    ] {
+        let s = script(&format!(
+            "[[events]]\nname = \"e\"\ntrigger = {{ {trigger} }}\naction = {{ speed_mps = 1.0, shape = \"step\" }}\n"
+        ));
+        match Events::new(&s, &["me", "other"], LANES) {
+            Err(VehicleError::InvalidEvent { field: f, .. }) => assert_eq!(f, field, "{trigger}"),
+            other => panic!("{trigger}: {other:?}"),
+        }
+    }
+}

@@ -395,6 +395,9 @@ impl Context<'_, '_> {
                 ..TriggerSpec::default()
             });
         }
+        if matches!(name, "SpeedCondition" | "StandStillCondition") {
+            return self.watching(e, &subject, owner);
+        }
         let other = match name {
             "TimeToCollisionCondition" => {
                 let target = child(e, "TimeToCollisionConditionTarget")
@@ -451,6 +454,34 @@ impl Context<'_, '_> {
                 rule,
                 ..TriggerSpec::default()
             },
+        })
+    }
+
+    /// A `SpeedCondition` or `StandStillCondition` `e` of `subject` on an event of
+    /// `owner`: a speed or standstill trigger watching `subject` (`of`, left out when it is
+    /// the event's own vehicle).
+    fn watching(&self, e: Node, subject: &str, owner: &str) -> Result<TriggerSpec, OscError> {
+        let xml = self.xml;
+        let of = if subject == owner {
+            None
+        } else {
+            Some(self.name(e, subject)?)
+        };
+        if e.tag_name().name() == "StandStillCondition" {
+            return Ok(TriggerSpec {
+                standstill_s: Some(xml.num(e, "duration")?),
+                of,
+                ..TriggerSpec::default()
+            });
+        }
+        if let Some(direction) = xml.attr(e, "direction")? {
+            return Err(xml.at(e, format!("<SpeedCondition direction=\"{direction}\">: carfollow's speed triggers watch the speed along the road")));
+        }
+        Ok(TriggerSpec {
+            speed_mps: Some(xml.num(e, "value")?),
+            of,
+            rule: Some(self.rule(e)?),
+            ..TriggerSpec::default()
         })
     }
 

@@ -334,6 +334,19 @@ impl Group {
                 x.close();
                 x.close();
             });
+        } else if let Some(v) = t.speed_mps {
+            let of = t.of.as_deref().map_or(self.entity.as_str(), entity);
+            self.watching_condition(x, name, delay, of, |x| {
+                x.empty(
+                    "SpeedCondition",
+                    &[n("value", v), a("rule", rule(Rule::Less))],
+                );
+            });
+        } else if let Some(v) = t.standstill_s {
+            let of = t.of.as_deref().map_or(self.entity.as_str(), entity);
+            self.watching_condition(x, name, delay, of, |x| {
+                x.empty("StandStillCondition", &[n("duration", v)]);
+            });
         }
     }
 
@@ -345,10 +358,22 @@ impl Group {
         delay: Option<f64>,
         inner: impl FnOnce(&mut XmlOut),
     ) {
-        condition(x, name, delay.unwrap_or(0.0), |x| {
+        self.watching_condition(x, name, delay.unwrap_or(0.0), &self.entity, inner);
+    }
+
+    /// A `ByEntityCondition` on the vehicle the file calls `subject`.
+    fn watching_condition(
+        &self,
+        x: &mut XmlOut,
+        name: &str,
+        delay: f64,
+        subject: &str,
+        inner: impl FnOnce(&mut XmlOut),
+    ) {
+        condition(x, name, delay, |x| {
             x.open("ByEntityCondition", &[]);
             x.open("TriggeringEntities", &[a("triggeringEntitiesRule", "any")]);
-            x.empty("EntityRef", &[a("entityRef", &self.entity)]);
+            x.empty("EntityRef", &[a("entityRef", subject)]);
             x.close();
             x.open("EntityCondition", &[]);
             inner(x);
