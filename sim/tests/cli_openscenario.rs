@@ -24,6 +24,25 @@ fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
+/// `frames.csv` of `carfollow run SCENARIO --quiet --out OUT` with `extra` arguments; the
+/// run must complete (passed or not).
+fn frames_of(scenario: &Path, out: &Path, extra: &[&str]) -> String {
+    let args = [
+        &[
+            "run",
+            scenario.to_str().unwrap(),
+            "--quiet",
+            "--out",
+            out.to_str().unwrap(),
+        ][..],
+        extra,
+    ]
+    .concat();
+    let o = carfollow(&args);
+    assert!(matches!(o.status.code(), Some(0 | 1)), "{}", stderr(&o));
+    std::fs::read_to_string(out.join("frames.csv")).unwrap()
+}
+
 /// A copy of the test files in a temporary folder, with `cut-in.xosc`'s text changed by
 /// `edit` and written as `mutant.xosc`.
 fn mutant(edit: impl Fn(&str) -> String) -> (tempfile::TempDir, PathBuf) {
@@ -66,18 +85,7 @@ fn an_imported_file_runs_as_the_file_does_bit_for_bit() {
         assert!(text.contains(expected), "{expected} not in:\n{text}");
     }
     let frames = |scenario: &Path, out: &str| {
-        let out = dir.path().join(out);
-        let o = carfollow(&[
-            "run",
-            scenario.to_str().unwrap(),
-            "--quiet",
-            "--set",
-            "duration_s=16",
-            "--out",
-            out.to_str().unwrap(),
-        ]);
-        assert!(matches!(o.status.code(), Some(0 | 1)), "{}", stderr(&o));
-        std::fs::read_to_string(out.join("frames.csv")).unwrap()
+        frames_of(scenario, &dir.path().join(out), &["--set", "duration_s=16"])
     };
     let from_xosc = frames(&file, "xosc");
     let from_toml = frames(&toml, "toml");
@@ -427,18 +435,7 @@ fn speed_and_standstill_conditions_are_imported_and_fire_as_written() {
     ] {
         assert!(text.contains(expected), "{expected:?} not in:\n{text}");
     }
-    let run = |scenario: &Path, out: &str| {
-        let out = dir.path().join(out);
-        let o = carfollow(&[
-            "run",
-            scenario.to_str().unwrap(),
-            "--quiet",
-            "--out",
-            out.to_str().unwrap(),
-        ]);
-        assert!(matches!(o.status.code(), Some(0 | 1)), "{}", stderr(&o));
-        std::fs::read_to_string(out.join("frames.csv")).unwrap()
-    };
+    let run = |scenario: &Path, out: &str| frames_of(scenario, &dir.path().join(out), &[]);
     let csv = run(&file, "xosc");
     assert!(
         csv == run(&toml, "toml"),
