@@ -1,0 +1,194 @@
+//! A road's height along its centreline, spread sideways: the ground at a point is as high
+//! as the road at the nearest point of its centreline, so the ground beside a road that
+//! rises and falls follows the road.
+
+use crate::error::{check_range, VehicleError};
+use serde::{Deserialize, Serialize};
+
+/// Side of the square buckets the centreline's pieces are filed in for the nearest-point
+/// search, m: a few dozen one-metre pieces each, so a query looks at few pieces and few
+/// empty buckets.
+const BUCKET_M: f64 = 25.0;
+/// The most grid points a profile's heightfield may have: 8 Mi points are 32 MB of heights
+/// (rapier keeps one copy, the renderer another); a wider ground gets coarser cells.
+pub const MAX_PROFILE_GRID_POINTS: f64 = 8.0 * 1024.0 * 1024.0;
+
+/// A road's height along its centreline, for the ground to follow.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct GroundProfile {
+    /// Centreline samples in driving order: world x, world z and the road's height there,
+    /// metres (at least two).
+    pub points: Vec<[f64; 3]>,
+    /// Heightfield cell side, metres (0.05–20; made coarser when the ground would need
+    /// more than [`MAX_PROFILE_GRID_POINTS`] points).
+    pub cell_m: f32,
+    /// How far the heightfield reaches beyond the samples, metres (0–5,000).
+    pub margin_m: f32,
+}
+
+impl GroundProfile {
+    /// Checks the profile: at least two finite samples, a cell and margin within bounds.
+    pub(crate) fn validate(&self) -> Result<(), VehicleError> {
+        check_range("profile.cell_m", f64::from(self.cell_m), 0.05, 20.0)?;
+        check_range("profile.margin_m", f64::from(self.margin_m), 0.0, 5000.0)?;
+        check_range("profile.points", self.points.len() as f64, 2.0, 1e7)?;
+        for p in &self.points {
+            for &v in p {
+                check_range("profile.points", v, -1e6, 1e6)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// The plan box the heightfield covers: `[min x, min z, max x, max z]`, metres.
+    pub(crate) fn bounds(&self) -> [f64; 4] {
+        let mut b = [f64::MAX, f64::MAX, f64::MIN, f64::MIN];
+        for p in &self.points {
+            b = [
+                b[0].min(p[0]),
+                b[1].min(p[1]),
+                b[2].max(p[0]),
+                b[3].max(p[1]),
+            ];
+        }
+        let m = f64::from(self.margin_m);
+        [b[0] - m, b[1] - m, b[2] + m, b[3] + m]
+    }
+}
+
+/// The centreline's pieces filed in square buckets, for the height at the nearest point.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct NearestHeight {
+    points: Vec<[f64; 3]>,
+    /// The buckets' corner (min x, min z), metres.
+    origin: [f64; 2],
+    /// Buckets along x and along z.
+    dims: [usize; 2],
+    /// The pieces (index of their first point) touching each bucket, `bx + bz * dims[0]`.
+    buckets: Vec<Vec<u32>>,
+}
+
+impl NearestHeight {
+    /// Files `profile`'s pieces.
+    pub(crate) fn new(profile: &GroundProfile) -> NearestHeight {
+        let b = profile.bounds();
+        let origin = [b[0], b[1]];
+        let dims = [
+            ((b[2] - b[0]) / BUCKET_M).ceil().max(1.0) as usize,
+            ((b[3] - b[1]) / BUCKET_M).ceil().max(1.0) as usize,
+        ];
+        let mut buckets = vec![Vec::new(); dims[0] * dims[1]];
+        let cell =
+            |v: f64, o: f64, n: usize| (((v - o) / BUCKET_M).floor().max(0.0) as usize).min(n - 1);
+        for (k, w) in profile.points.windows(2).enumerate() {
+            let (x0, x1) = (w[0][0].min(w[1][0]), w[0][0].max(w[1][0]));
+            let (z0, z1) = (w[0][1].min(w[1][1]), w[0][1].max(w[1][1]));
+            for bz in cell(z0, origin[1], dims[1])..=cell(z1, origin[1], dims[1]) {
+                for bx in cell(x0, origin[0], dims[0])..=cell(x1, origin[0], dims[0]) {
+                    buckets[bx + bz * dims[0]].push(k as u32);
+                }
+            }
+        }
+        NearestHeight {
+            points: profile.points.clone(),
+            origin,
+            dims,
+            buckets,
+        }
+    }
+
+    /// The road's height at the point of its centreline nearest to world (x, z), metres
+    /// (linear between samples; the first of equally near pieces).
+    pub(crate) fn height_m(&self, x: f64, z: f64) -> f64 {
+        let [nx, nz] = self.dims.map(|n| n as i64);
+        let bx = ((x - self.origin[0]) / BUCKET_M).floor() as i64;
+        let bz = ((z - self.origin[1]) / BUCKET_M).floor() as i64;
+        let (mut best_d2, mut best_h) = (f64::MAX, self.points[0][2]);
+        let mut r: i64 = 0;
+        loop {
+            let mut any_inside = false;
+            for cz in bz - r..=bz + r {
+                for cx in bx - r..=bx + r {
+                    if (cx - bx).abs() != r && (cz - bz).abs() != r {
+                        continue;
+                    }
+                    if cx < 0 || cz < 0 || cx >= nx || cz >= nz {
+                        continue;
+                    }
+                    any_inside = true;
+                    for &k in &self.buckets[cx as usize + cz as usize * self.dims[0]] {
+                        let (d2, h) = self.piece(k as usize, x, z);
+                        if d2 < best_d2 {
+                            (best_d2, best_h) = (d2, h);
+                        }
+                    }
+                }
+            }
+            // Every piece in a ring beyond r is at least r buckets away.
+            let reach = r as f64 * BUCKET_M;
+            if (best_d2 < f64::MAX && best_d2 <= reach * reach) || (!any_inside && r > nx + nz) {
+                return best_h;
+            }
+            r += 1;
+        }
+    }
+
+    /// Squared plan distance from (x, z) to piece `k` and the height at its nearest point.
+    fn piece(&self, k: usize, x: f64, z: f64) -> (f64, f64) {
+        let (a, b) = (self.points[k], self.points[k + 1]);
+        let (dx, dz) = (b[0] - a[0], b[1] - a[1]);
+        let len2 = dx * dx + dz * dz;
+        let t = if len2 > 0.0 {
+            (((x - a[0]) * dx + (z - a[1]) * dz) / len2).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let (px, pz) = (a[0] + t * dx, a[1] + t * dz);
+        (
+            (x - px).powi(2) + (z - pz).powi(2),
+            a[2] + t * (b[2] - a[2]),
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A bent centreline rising 1 m per 10 m, with its samples every metre.
+    fn bent() -> GroundProfile {
+        let mut points = Vec::new();
+        for k in 0..=100 {
+            points.push([k as f64, 0.0, 0.1 * k as f64]);
+        }
+        for k in 1..=100 {
+            points.push([100.0, k as f64, 10.0 + 0.1 * k as f64]);
+        }
+        GroundProfile {
+            points,
+            cell_m: 1.0,
+            margin_m: 60.0,
+        }
+    }
+
+    #[test]
+    fn the_nearest_search_is_the_brute_force_one() {
+        let p = bent();
+        let n = NearestHeight::new(&p);
+        for k in 0..500 {
+            let x = -50.0 + 0.37 * k as f64;
+            let z = -55.0 + 0.33 * k as f64 + (k % 7) as f64 * 4.0;
+            let mut best = (f64::MAX, 0.0);
+            for i in 0..p.points.len() - 1 {
+                let c = n.piece(i, x, z);
+                if c.0 < best.0 {
+                    best = c;
+                }
+            }
+            assert_eq!(n.height_m(x, z), best.1, "({x}, {z})");
+        }
+        // Beside the first leg the ground is as high as the road abreast.
+        assert!((n.height_m(40.5, -30.0) - 4.05).abs() < 1e-12);
+    }
+}
