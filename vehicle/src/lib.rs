@@ -1,8 +1,9 @@
 //! # vehicle: the physics and the drivers of the car-following loop
 //!
-//! Two rapier3d ray-cast vehicles on a flat (optionally gently bumpy) ground, stepped at a
-//! fixed 120 Hz ([`World`]): an HMMWV M998-class chase vehicle and a pickup lead
-//! ([`VehicleParams`]), each with rate-limited, lagging actuators ([`Actuator`]).
+//! Two rapier3d ray-cast vehicles on a flat ground (optionally gently bumpy, optionally
+//! rising and falling with a road's [`GroundProfile`]), stepped at a fixed 120 Hz
+//! ([`World`]): an HMMWV M998-class chase vehicle and a pickup lead ([`VehicleParams`]),
+//! each with rate-limited, lagging actuators ([`Actuator`]).
 //!
 //! - The **lead driver** ([`LeadDriver`]) follows a [`Route`] by pure pursuit on ground truth,
 //!   at a scripted [`SpeedProfile`], slowing for turns and optionally weaving.

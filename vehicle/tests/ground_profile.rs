@@ -95,9 +95,9 @@ fn a_vehicle_driving_the_profile_rises_falls_and_pitches_with_it() {
         worst_pitch.to_degrees()
     );
     assert!(highest > 4.3 && lowest < -4.3, "{lowest} – {highest}");
-    assert!(worst_h < 0.08, "height off by {worst_h} m");
+    assert!(worst_h < 0.03, "height off by {worst_h} m");
     assert!(
-        worst_pitch < 0.5f64.to_radians(),
+        worst_pitch < 0.3f64.to_radians(),
         "pitch off by {worst_pitch} rad"
     );
 }

@@ -21,6 +21,9 @@ const GRADE_CHECK_M: f64 = 0.25;
 /// and at every [`GRADE_CHECK_M`] (and every record's end) the grade within ±[`MAX_GRADE`]
 /// and the height within ±[`MAX_HEIGHT_M`].
 pub(crate) fn elevation_problem(records: &[[f64; 5]], length_m: f64) -> Option<(usize, String)> {
+    if records.is_empty() {
+        return None;
+    }
     for (i, r) in records.iter().enumerate() {
         if !r.iter().all(|v| v.is_finite()) {
             return Some((i, "its numbers must be finite".into()));
