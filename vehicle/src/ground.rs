@@ -216,12 +216,15 @@ impl Ground {
         let cols = ((b[2] - b[0]) / f64::from(cell)).ceil() as usize + 1;
         let rows = ((b[3] - b[1]) / f64::from(cell)).ceil() as usize + 1;
         let (x0, z0) = (b[0] as f32, b[1] as f32);
+        let nearest = self.nearest.as_ref().expect("a profile has its search");
+        let road = nearest.grid_heights(rows, cols, f64::from(x0), f64::from(z0), f64::from(cell));
         let mut heights = vec![0.0; rows * cols];
         for j in 0..cols {
             let x = x0 + j as f32 * cell;
             for i in 0..rows {
                 let z = z0 + i as f32 * cell;
-                heights[i + j * rows] = self.height_m(x, z);
+                let q = i + j * rows;
+                heights[q] = (road[q] + f64::from(self.bump_m(x, z))) as f32;
             }
         }
         Some(GroundGrid {

@@ -405,7 +405,11 @@ fn a_crest_is_imported_and_the_ground_follows_it() {
             } else {
                 route.point(st, lateral)
             };
-            worst = worst.max((terrain.height_m(x, z) - by_hand(st)).abs());
+            let off = (terrain.height_m(x, z) - by_hand(st)).abs();
+            if off > worst {
+                worst = off;
+                eprintln!("worst so far {off:.2e} m at s = {st}, {lateral} m aside");
+            }
         }
         top = top.max(terrain.height_m(x, z));
     }

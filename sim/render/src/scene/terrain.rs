@@ -271,10 +271,15 @@ pub(super) mod tests {
         for k in 0..3000 {
             let x = -25.0 + 0.09 * k as f64;
             let z = -20.0 + 0.071 * k as f64;
+            if !t.covers(x, z) {
+                continue;
+            }
             let smooth = f64::from(ground.height_m(x as f32, z as f32));
             worst = worst.max((t.height_m(x, z) - smooth).abs());
         }
         assert!(worst < 0.005, "terrain off the field by {worst} m");
+        // Off the grid, the flat ground (only far beyond the margin).
+        assert!(!t.covers(0.0, 200.0));
         // At grid points, exactly the heights rapier is given.
         for (i, j) in [(3, 5), (100, 400), (grid.rows - 1, grid.cols - 2)] {
             let x = f64::from(grid.x0_m) + j as f64 * f64::from(grid.cell_m);
