@@ -392,7 +392,7 @@ fn a_crest_is_imported_and_the_ground_follows_it() {
         .terrain()
         .expect("a ground that follows the road");
     let route = Route::new(s.route.clone());
-    let mut worst = 0.0f64;
+    let (mut worst, mut worst_aside) = (0.0f64, 0.0f64);
     let mut top = 0.0f64;
     for k in 0..=1600 {
         let st = 0.25 * k as f64;
@@ -406,16 +406,24 @@ fn a_crest_is_imported_and_the_ground_follows_it() {
                 route.point(st, lateral)
             };
             let off = (terrain.height_m(x, z) - by_hand(st)).abs();
-            if off > worst {
-                worst = off;
-                eprintln!("worst so far {off:.2e} m at s = {st}, {lateral} m aside");
+            if lateral == 0.0 {
+                worst = worst.max(off);
+            } else {
+                worst_aside = worst_aside.max(off);
             }
         }
         top = top.max(terrain.height_m(x, z));
     }
-    eprintln!("crest-curve.xodr: the ground within {worst:.1e} m of the profile; top {top:.3} m");
+    eprintln!(
+        "crest-curve.xodr: the ground within {worst:.1e} m of the profile on the centreline, \
+         {worst_aside:.1e} m 20 m aside; top {top:.3} m"
+    );
     assert!((top - 6.0).abs() < 0.01, "{top}");
     assert!(worst < 0.005, "{worst}");
+    // Inside the spiral's tightest part (radius 50 m), 20 m aside, stations pass 1.7 times
+    // faster than metres: the 1 m cells' chords depart from the crest's curve by about
+    // 1 cm.
+    assert!(worst_aside < 0.02, "{worst_aside}");
     // The vehicles stand on it: the lead starts on level ground at 30 m.
     let [_, lead] = plan.start_poses();
     assert!(f64::from(lead.translation.y).abs() < 0.05);
