@@ -310,13 +310,20 @@ mod tests {
         let n = NearestHeight::new(&arc);
         let (rows, cols, x0, z0, cell) = (130, 130, -45.0, -35.0, 1.0);
         let grid = n.grid_heights(rows, cols, x0, z0, cell);
-        let mut worst = 0.0f64;
+        // Away from the arc's centre, where every piece is nearly as near as any other (the
+        // ground's height jumps across the medial axis there, whatever the search).
+        let (mut worst, mut compared) = (0.0f64, 0);
         for j in 0..cols {
             for i in 0..rows {
                 let (x, z) = (x0 + j as f64 * cell, z0 + i as f64 * cell);
+                if (x.hypot(z - 40.0) - 40.0).abs() > 20.0 {
+                    continue;
+                }
+                compared += 1;
                 worst = worst.max((grid[i + j * rows] - n.height_m(x, z)).abs());
             }
         }
+        assert!(compared > 5000, "{compared}");
         assert!(worst < 1e-9, "arc: {worst}");
         // Beside the first leg the ground is as high as the road abreast.
         assert!((n.height_m(40.5, -30.0) - 4.05).abs() < 1e-12);

@@ -905,9 +905,10 @@ fn the_chase_starts_at_its_cruise_speed_only_when_asked() {
 fn an_elevation_profile_is_checked_and_the_ground_follows_it() {
     let plain = load(&text(), &[]).unwrap();
     assert!(plain.route.elevation.is_empty());
-    let profile = "route.elevation=[[0.0, 0.0, 0.04, 0.0, 0.0], [100.0, 4.0, 0.04, -0.0002, 0.0]]";
+    let profile = "route.elevation=[[0.0, 0.0, 0.04, 0.0, 0.0], \
+                   [100.0, 4.0, 0.04, -0.0002, 0.0], [200.0, 6.0, 0.0, 0.0, 0.0]]";
     let s = load(&text(), &[profile]).unwrap();
-    assert_eq!(s.route.elevation.len(), 2);
+    assert_eq!(s.route.elevation.len(), 3);
     let plan = Plan::new(&s).unwrap();
     let terrain = plan
         .scene()
@@ -918,9 +919,11 @@ fn an_elevation_profile_is_checked_and_the_ground_follows_it() {
         let [x, z] = route.point(st, 0.0);
         let want = if st <= 100.0 {
             0.04 * st
-        } else {
+        } else if st <= 200.0 {
             let d = st - 100.0;
             4.0 + 0.04 * d - 0.0002 * d * d
+        } else {
+            6.0
         };
         assert!((terrain.height_m(x, z) - want).abs() < 0.005, "{st}");
     }

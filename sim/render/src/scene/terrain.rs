@@ -267,16 +267,20 @@ pub(super) mod tests {
         assert!(t.follows_profile());
         // The bumps' finer cell, over the profile's box and the bump patch.
         assert_eq!(grid.cell_m, 0.5);
-        let mut worst = 0.0f64;
+        let (mut worst, mut compared) = (0.0f64, 0);
         for k in 0..3000 {
             let x = -25.0 + 0.09 * k as f64;
             let z = -20.0 + 0.071 * k as f64;
-            if !t.covers(x, z) {
+            // Along the first leg, away from the bend's medial axis (where the height jumps
+            // between the legs a point is equally near, and the grid's cells smooth the jump).
+            if !t.covers(x, z) || x > 120.0 || z.abs() > 25.0 {
                 continue;
             }
+            compared += 1;
             let smooth = f64::from(ground.height_m(x as f32, z as f32));
             worst = worst.max((t.height_m(x, z) - smooth).abs());
         }
+        assert!(compared > 500, "{compared}");
         assert!(worst < 0.005, "terrain off the field by {worst} m");
         // Off the grid, the flat ground (only far beyond the margin).
         assert!(!t.covers(0.0, 200.0));
