@@ -307,9 +307,9 @@ mod tests {
             cell_m: 1.0,
             margin_m: 30.0,
         };
-        let n = NearestHeight::new(&arc);
+        let on_arc = NearestHeight::new(&arc);
         let (rows, cols, x0, z0, cell) = (130, 130, -45.0, -35.0, 1.0);
-        let grid = n.grid_heights(rows, cols, x0, z0, cell);
+        let grid = on_arc.grid_heights(rows, cols, x0, z0, cell);
         // Away from the arc's centre, where every piece is nearly as near as any other (the
         // ground's height jumps across the medial axis there, whatever the search).
         let (mut worst, mut compared) = (0.0f64, 0);
@@ -320,7 +320,7 @@ mod tests {
                     continue;
                 }
                 compared += 1;
-                worst = worst.max((grid[i + j * rows] - n.height_m(x, z)).abs());
+                worst = worst.max((grid[i + j * rows] - on_arc.height_m(x, z)).abs());
             }
         }
         assert!(compared > 5000, "{compared}");
