@@ -1,11 +1,13 @@
 //! The ground: a flat plane at y = 0, optionally with gentle bumps so the chassis pitches and
-//! rolls.
+//! rolls, and optionally rising and falling with a road's height (a [`GroundProfile`]).
 //!
 //! Bumps are a rapier heightfield over a square patch centred on the origin. They only rise
 //! above the plane (heights are never negative) and fade to zero at the patch's edge, so the
-//! patch joins the flat plane without a step.
+//! patch joins the flat plane without a step. With a profile, one heightfield covers the
+//! road and its margin: the profile's height at the nearest centreline point, plus the bumps.
 
 use crate::error::{check_range, VehicleError};
+use crate::ground_profile::{GroundProfile, NearestHeight, MAX_PROFILE_GRID_POINTS};
 use crate::rng_stream::named_stream;
 use rand::Rng;
 use serde::{Deserialize, Serialize};
@@ -24,6 +26,9 @@ pub struct GroundConfig {
     pub half_extent_m: f32,
     /// Optional bumps.
     pub bumps: Option<BumpsConfig>,
+    /// The road's height along its centreline, when it rises and falls (none: flat).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub profile: Option<GroundProfile>,
 }
 
 impl Default for GroundConfig {
@@ -31,6 +36,7 @@ impl Default for GroundConfig {
         GroundConfig {
             half_extent_m: 2000.0,
             bumps: None,
+            profile: None,
         }
     }
 }
@@ -76,11 +82,42 @@ struct BumpWave {
     phase: f32,
 }
 
-/// The ground as built: a flat plane and an optional bump field.
+/// A heightfield's samples as rapier takes them: rows along z and columns along x,
+/// column-major (`i + j * rows`), the grid's corner at (`x0_m`, `z0_m`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct GroundGrid {
+    /// The heights, metres.
+    pub heights: Vec<f32>,
+    /// Grid points along z.
+    pub rows: usize,
+    /// Grid points along x.
+    pub cols: usize,
+    /// Cell side, metres.
+    pub cell_m: f32,
+    /// World x of the first column, metres.
+    pub x0_m: f32,
+    /// World z of the first row, metres.
+    pub z0_m: f32,
+}
+
+impl GroundGrid {
+    /// World x of the last column, metres.
+    pub fn x1_m(&self) -> f32 {
+        self.x0_m + self.cell_m * (self.cols - 1) as f32
+    }
+
+    /// World z of the last row, metres.
+    pub fn z1_m(&self) -> f32 {
+        self.z0_m + self.cell_m * (self.rows - 1) as f32
+    }
+}
+
+/// The ground as built: a flat plane, an optional bump field and an optional profile.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Ground {
     config: GroundConfig,
     waves: Vec<BumpWave>,
+    nearest: Option<NearestHeight>,
 }
 
 impl Ground {
@@ -110,9 +147,17 @@ impl Ground {
                 });
             }
         }
+        let nearest = match &config.profile {
+            Some(p) => {
+                p.validate()?;
+                Some(NearestHeight::new(p))
+            }
+            None => None,
+        };
         Ok(Ground {
             config: config.clone(),
             waves,
+            nearest,
         })
     }
 
@@ -122,8 +167,18 @@ impl Ground {
     }
 
     /// Height of the ground surface above y = 0 at world (x, z), m (the smooth field; the
-    /// physics uses it sampled on the heightfield grid).
+    /// physics uses it sampled on the heightfield grid): the profile's, plus the bumps'.
     pub fn height_m(&self, x: f32, z: f32) -> f32 {
+        match &self.nearest {
+            Some(n) => {
+                (n.height_m(f64::from(x), f64::from(z)) + f64::from(self.bump_m(x, z))) as f32
+            }
+            None => self.bump_m(x, z),
+        }
+    }
+
+    /// Height of the bumps at world (x, z), m (0 without bumps).
+    fn bump_m(&self, x: f32, z: f32) -> f32 {
         let Some(b) = &self.config.bumps else {
             return 0.0;
         };
@@ -140,10 +195,50 @@ impl Ground {
         b.amplitude_m * fade * sum / BUMP_WAVES as f32
     }
 
-    /// The bump patch sampled for a rapier heightfield: `(heights, rows, cols, cell_m,
-    /// half_extent_m)`, rows along z and columns along x, column-major (`i + j * rows`).
-    /// `None` when the ground is flat.
-    pub fn bump_grid(&self) -> Option<(Vec<f32>, usize, usize, f32, f32)> {
+    /// The ground sampled for a rapier heightfield: the bump patch alone (centred on the
+    /// origin, its own cell), or with a profile the box of the profile's samples plus its
+    /// margin (and the bump patch), at the finer of the two cells, made coarser if the grid
+    /// would pass [`MAX_PROFILE_GRID_POINTS`]. `None` when the ground is flat.
+    pub fn grid(&self) -> Option<GroundGrid> {
+        let Some(p) = &self.config.profile else {
+            return self.bump_grid();
+        };
+        let mut b = p.bounds();
+        let mut cell = f64::from(p.cell_m);
+        if let Some(bumps) = &self.config.bumps {
+            let h = f64::from(bumps.half_extent_m);
+            b = [b[0].min(-h), b[1].min(-h), b[2].max(h), b[3].max(h)];
+            cell = cell.min(f64::from(bumps.cell_m));
+        }
+        let area = (b[2] - b[0]) * (b[3] - b[1]);
+        cell = cell.max((area / MAX_PROFILE_GRID_POINTS).sqrt());
+        let cell = cell as f32;
+        let cols = ((b[2] - b[0]) / f64::from(cell)).ceil() as usize + 1;
+        let rows = ((b[3] - b[1]) / f64::from(cell)).ceil() as usize + 1;
+        let (x0, z0) = (b[0] as f32, b[1] as f32);
+        let nearest = self.nearest.as_ref().expect("a profile has its search");
+        let road = nearest.grid_heights(rows, cols, f64::from(x0), f64::from(z0), f64::from(cell));
+        let mut heights = vec![0.0; rows * cols];
+        for j in 0..cols {
+            let x = x0 + j as f32 * cell;
+            for i in 0..rows {
+                let z = z0 + i as f32 * cell;
+                let q = i + j * rows;
+                heights[q] = (road[q] + f64::from(self.bump_m(x, z))) as f32;
+            }
+        }
+        Some(GroundGrid {
+            heights,
+            rows,
+            cols,
+            cell_m: cell,
+            x0_m: x0,
+            z0_m: z0,
+        })
+    }
+
+    /// The bump patch alone, as [`Ground::grid`] gives it.
+    fn bump_grid(&self) -> Option<GroundGrid> {
         let b = self.config.bumps.as_ref()?;
         let cells = (2.0 * b.half_extent_m / b.cell_m).round() as usize;
         let n = cells + 1;
@@ -156,7 +251,14 @@ impl Ground {
                 heights[i + j * n] = self.height_m(x, z);
             }
         }
-        Some((heights, n, n, cell, b.half_extent_m))
+        Some(GroundGrid {
+            heights,
+            rows: n,
+            cols: n,
+            cell_m: cell,
+            x0_m: -b.half_extent_m,
+            z0_m: -b.half_extent_m,
+        })
     }
 }
 
@@ -168,7 +270,7 @@ mod tests {
     fn flat_ground_is_zero() {
         let g = Ground::new(&GroundConfig::default()).unwrap();
         assert_eq!(g.height_m(12.0, -3.0), 0.0);
-        assert!(g.bump_grid().is_none());
+        assert!(g.grid().is_none());
     }
 
     #[test]

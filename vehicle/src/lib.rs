@@ -1,8 +1,9 @@
 //! # vehicle: the physics and the drivers of the car-following loop
 //!
-//! Two rapier3d ray-cast vehicles on a flat (optionally gently bumpy) ground, stepped at a
-//! fixed 120 Hz ([`World`]): an HMMWV M998-class chase vehicle and a pickup lead
-//! ([`VehicleParams`]), each with rate-limited, lagging actuators ([`Actuator`]).
+//! Two rapier3d ray-cast vehicles on a flat ground (optionally gently bumpy, optionally
+//! rising and falling with a road's [`GroundProfile`]), stepped at a fixed 120 Hz
+//! ([`World`]): an HMMWV M998-class chase vehicle and a pickup lead ([`VehicleParams`]),
+//! each with rate-limited, lagging actuators ([`Actuator`]).
 //!
 //! - The **lead driver** ([`LeadDriver`]) follows a [`Route`] by pure pursuit on ground truth,
 //!   at a scripted [`SpeedProfile`], slowing for turns and optionally weaving.
@@ -73,6 +74,7 @@ mod event_spec;
 mod events;
 mod gap_keeper;
 mod ground;
+mod ground_profile;
 mod gyro;
 mod lead_driver;
 mod lead_estimate;
@@ -106,7 +108,8 @@ pub use error::VehicleError;
 pub use event_spec::{ActionSpec, EventScript, EventSpec, Rule, Shape, TriggerSpec, MAX_LANES};
 pub use events::{Events, Fired, FiredKind, Lanes, TrafficView, VehicleView, STANDSTILL_MPS};
 pub use gap_keeper::{GapKeeper, GapKeeperConfig, GapPolicy, SpeedCommand, Threat};
-pub use ground::{BumpsConfig, Ground, GroundConfig};
+pub use ground::{BumpsConfig, Ground, GroundConfig, GroundGrid};
+pub use ground_profile::{GroundProfile, MAX_PROFILE_GRID_POINTS};
 pub use gyro::{Gyro, GyroConfig};
 pub use lead_driver::{LeadDriver, LeadDriverConfig, SpeedOverride};
 pub use lead_estimate::{LeadEstimate, TrackStatus};

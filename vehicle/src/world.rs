@@ -44,21 +44,35 @@ impl World {
         physics.gravity = Vector::new(0.0, -GRAVITY_MPS2, 0.0);
         physics.integration_parameters.dt = PHYSICS_DT_S;
         let h = config.ground.half_extent_m;
+        let grid = ground.grid();
+        // Under a profile the slab's top is the heightfield's lowest point (or y = 0), so
+        // that it never stands above the ground the wheels roll on.
+        let slab_top = match (&config.ground.profile, &grid) {
+            (Some(_), Some(g)) => g.heights.iter().fold(0.0f32, |m, &v| m.min(v)),
+            _ => 0.0,
+        };
         physics.insert_collider(
             ColliderBuilder::cuboid(h, 0.5 * GROUND_SLAB_M, h).translation(Vector::new(
                 0.0,
-                -0.5 * GROUND_SLAB_M,
+                slab_top - 0.5 * GROUND_SLAB_M,
                 0.0,
             )),
             None,
         );
-        if let Some((heights, rows, cols, cell, half)) = ground.bump_grid() {
-            let size = Vector::new(cell * (cols - 1) as f32, 1.0, cell * (rows - 1) as f32);
-            debug_assert!((size.x - 2.0 * half).abs() < 1e-3);
-            physics.insert_collider(
-                ColliderBuilder::heightfield(Array2::new(rows, cols, heights), size),
-                None,
+        if let Some(g) = grid {
+            let size = Vector::new(
+                g.cell_m * (g.cols - 1) as f32,
+                1.0,
+                g.cell_m * (g.rows - 1) as f32,
             );
+            // Rapier centres a heightfield on its collider's origin.
+            let centre = Vector::new(0.5 * (g.x0_m + g.x1_m()), 0.0, 0.5 * (g.z0_m + g.z1_m()));
+            let mut builder =
+                ColliderBuilder::heightfield(Array2::new(g.rows, g.cols, g.heights), size);
+            if config.ground.profile.is_some() {
+                builder = builder.translation(centre);
+            }
+            physics.insert_collider(builder, None);
         }
         Ok(World {
             physics,

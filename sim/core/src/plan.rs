@@ -187,8 +187,14 @@ pub(crate) fn chase_start_m(lead_start_m: f64, initial_gap_m: f64, camera_forwar
 
 /// The physics world of a scenario: its ground reaches [`GROUND_BEYOND_ROUTE_M`] past
 /// every point of the route (`reach_m`, from [`lane_polyline`]), or a vehicle drives off it.
-fn world_config(base: &vehicle::WorldConfig, reach_m: f32) -> vehicle::WorldConfig {
+fn world_config(
+    base: &vehicle::WorldConfig,
+    reach_m: f32,
+    route: &SceneRoute,
+) -> vehicle::WorldConfig {
     let mut world = base.clone();
+    // A road that rises and falls: the ground follows it (none when it is level).
+    world.ground.profile = sim_render::ground_profile(route);
     world.ground.half_extent_m = world
         .ground
         .half_extent_m
@@ -287,7 +293,7 @@ impl Plan {
                 ),
             ));
         }
-        let world_config = world_config(&s.world, reach_m);
+        let world_config = world_config(&s.world, reach_m, &scene_route);
         let (mut world, chase_id, lead_id) =
             start_world(s, &world_config, &lead_route, chase_start_m).map_err(|e| match e {
                 vehicle::VehicleError::InvalidParameter { field, .. }

@@ -897,3 +897,72 @@ fn the_chase_starts_at_its_cruise_speed_only_when_asked() {
     let e = load(&base, &["chase.start_at_cruise_speed=true"]).unwrap_err();
     assert!(e.contains("chase.start_at_cruise_speed"), "{e}");
 }
+
+/// `route.elevation`: a road that rises and falls, off by default; given by the file or by
+/// `--set`; a profile the vehicles cannot drive is refused naming the file's line and the
+/// field; the vehicles start on it and the ground follows it.
+#[test]
+fn an_elevation_profile_is_checked_and_the_ground_follows_it() {
+    let plain = load(&text(), &[]).unwrap();
+    assert!(plain.route.elevation.is_empty());
+    let profile = "route.elevation=[[0.0, 0.0, 0.04, 0.0, 0.0], \
+                   [100.0, 4.0, 0.04, -0.0002, 0.0], [200.0, 6.0, 0.0, 0.0, 0.0]]";
+    let s = load(&text(), &[profile]).unwrap();
+    assert_eq!(s.route.elevation.len(), 3);
+    let plan = Plan::new(&s).unwrap();
+    let terrain = plan
+        .scene()
+        .terrain()
+        .expect("a ground that follows the road");
+    let route = sim_render::Route::new(s.route.clone());
+    for st in [0.0, 50.0, 100.0, 150.0, 250.0] {
+        let [x, z] = route.point(st, 0.0);
+        let want = if st <= 100.0 {
+            0.04 * st
+        } else if st <= 200.0 {
+            let d = st - 100.0;
+            4.0 + 0.04 * d - 0.0002 * d * d
+        } else {
+            6.0
+        };
+        assert!((terrain.height_m(x, z) - want).abs() < 0.005, "{st}");
+    }
+    // The lead starts on the slope, at its height there.
+    let lead_y = f64::from(plan.start_poses()[1].translation.y);
+    let at_start = 0.04 * s.lead_start_m.min(100.0);
+    assert!((lead_y - at_start).abs() < 0.1, "{lead_y} vs {at_start}");
+
+    // In the file: refused at its line.
+    let bad = text().replacen(
+        "[route]\n",
+        "[route]\nelevation = [[0.0, 0.0, 0.3, 0.0, 0.0]]\n",
+        1,
+    );
+    let e = load(&bad, &[]).unwrap_err();
+    let line = line_of(&bad, "elevation = ");
+    assert!(
+        e.contains(&format!("bad.toml:{line}")) && e.contains("`route.elevation`"),
+        "{e}"
+    );
+    assert!(e.contains("grade") && e.contains("at most 20 %"), "{e}");
+    assert!(!e.contains('\n'), "{e}");
+    for (set, says) in [
+        ("route.elevation=[[5.0, 0.0, 0.0, 0.0, 0.0]]", "station 0"),
+        (
+            "route.elevation=[[0.0, 0.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 0.0, 0.0]]",
+            "after the one before",
+        ),
+        (
+            "route.elevation=[[0.0, 0.0, 0.01, 0.0, 0.0], [50.0, 2.0, 0.0, 0.0, 0.0]]",
+            "a step",
+        ),
+        ("route.elevation=[[0.0, 0.0, 0.0, 0.001, 0.0]]", "grade"),
+        ("route.elevation=[[0.0, 0.0, 0.0, 0.0]]", "route.elevation"),
+    ] {
+        let e = load(&text(), &[set]).unwrap_err();
+        assert!(
+            e.contains("route.elevation") && e.contains(says),
+            "{set}: {e}"
+        );
+    }
+}

@@ -31,13 +31,14 @@ pub use camera::{
 };
 pub use scene::{
     back_model_centre_m, body_from_back_model, builtin_description, builtin_poses, builtin_target,
-    distractor_near_side, lead_from_target_of, stream, twilight_factor, vehicle_back_model,
-    ActorBody, AutoGain, Beam, Braking, CameraMount, ChaseVehicle, Chunk, ChunkPart, Densities,
-    Distractor, DistractorKind, DynamicObject, Fog, Headlamps, Layer, LeadVehicle, Material, Mesh,
-    MeshPiece, Motion, ObjectSlot, PRange, Placement, Rain, RainBand, RoadSurface, Route,
-    RouteSegment, RouteSpec, Scene, SceneDescription, SceneError, Sensor, StreetLights, Sun,
-    TailLamps, Terrain, Textures, VehicleKind, Vertex, BACK_MODEL_NOMINAL_RANGE_M, BOARD_ALBEDO,
-    BOARD_MARGIN_M, BUILTIN_GAP_M, BUILTIN_SPEED_M_S, FIELD_PERIOD_STEPS, GRASS_ALBEDO,
-    GRASS_ALBEDO_RANGE, GROUND_CELL_M, MAX_BUFFER_BYTES, MIN_SUN_ELEVATION_DEG, STRIPE_ALBEDO,
-    STRIPE_OVERRUN_M, STRIPE_WIDTH_M, TWILIGHT_LUX,
+    distractor_near_side, elevation_at, grade_at, ground_profile, lead_from_target_of, stream,
+    twilight_factor, vehicle_back_model, ActorBody, AutoGain, Beam, Braking, CameraMount,
+    ChaseVehicle, Chunk, ChunkPart, Densities, Distractor, DistractorKind, DynamicObject, Fog,
+    Headlamps, Layer, LeadVehicle, Material, Mesh, MeshPiece, Motion, ObjectSlot, PRange,
+    Placement, Rain, RainBand, RoadSurface, Route, RouteSegment, RouteSpec, Scene,
+    SceneDescription, SceneError, Sensor, StreetLights, Sun, TailLamps, Terrain, Textures,
+    VehicleKind, Vertex, BACK_MODEL_NOMINAL_RANGE_M, BOARD_ALBEDO, BOARD_MARGIN_M, BUILTIN_GAP_M,
+    BUILTIN_SPEED_M_S, FIELD_PERIOD_STEPS, GRASS_ALBEDO, GRASS_ALBEDO_RANGE, GROUND_CELL_M,
+    MAX_BUFFER_BYTES, MIN_SUN_ELEVATION_DEG, PROFILE_CELL_M, PROFILE_MARGIN_M, PROFILE_STEP_M,
+    STRIPE_ALBEDO, STRIPE_OVERRUN_M, STRIPE_WIDTH_M, TWILIGHT_LUX,
 };

@@ -17,6 +17,7 @@ fn route(segments: Vec<RouteSegment>) -> Route {
         intersections_m: vec![],
         lane_width_m: 3.5,
         lanes: 1,
+        elevation: Vec::new(),
     })
 }
 

@@ -48,6 +48,7 @@ pub fn geometry_end(g: &Geometry) -> [f64; 3] {
         intersections_m: vec![],
         lane_width_m: 3.5,
         lanes: 1,
+        elevation: Vec::new(),
     });
     // carfollow's frame: x forward, z to the right; the file's: x forward, y to the left.
     let [u, z, theta] = route.at(route.length_m());

@@ -28,6 +28,8 @@ pub struct ImportedRoad {
     pub lanes: u32,
     /// Their width, metres.
     pub lane_width_m: f64,
+    /// The elevation profile as `route.elevation`'s records (none when the road is level).
+    pub elevation: Vec<[f64; 5]>,
     /// What the file holds that carfollow reads past and does not draw, a line each
     /// (`check` and `run` say these as warnings).
     pub unapplied: Vec<String>,
@@ -70,6 +72,7 @@ pub fn import(
     refuse_what_the_road_cannot_be(road, path)?;
     let segments = segments(road, path, check_segment)?;
     let (lanes, lane_width_m) = super::lanes::lanes(road, path)?;
+    let elevation = elevation(road, path)?;
     // The road's objects, signals and surface data: scenery, which carfollow places and
     // draws its own of; said, not refused.
     let unapplied = road
@@ -89,12 +92,39 @@ pub fn import(
         segments,
         lanes,
         lane_width_m,
+        elevation,
         unapplied,
     })
 }
 
-/// Refuses junctions, links to other roads, left-hand traffic, a lane offset, a ground
-/// that is not flat.
+/// The road's `<elevation>` records as `route.elevation`'s `[s, a, b, c, d]`: none when
+/// the road is level (no record, or one constant height throughout: flat ground), else
+/// every record, checked as `route.elevation` is and refused at its line.
+fn elevation(road: &Road, path: &std::path::Path) -> Result<Vec<[f64; 5]>, OpenDriveError> {
+    let level = road.elevations.first().map_or(0.0, |r| r.coefficients[0]);
+    let constant = road.elevations.iter().all(|r| {
+        let [a, b, c, d] = r.coefficients;
+        a == level && b == 0.0 && c == 0.0 && d == 0.0
+    });
+    if constant {
+        return Ok(Vec::new());
+    }
+    let records: Vec<[f64; 5]> = road
+        .elevations
+        .iter()
+        .map(|r| {
+            let [a, b, c, d] = r.coefficients;
+            [r.s, a, b, c, d]
+        })
+        .collect();
+    match crate::scenario::elevation_problem(&records, road.length) {
+        Some((i, problem)) => Err(road.elevations[i].at.refuse(path, problem)),
+        None => Ok(records),
+    }
+}
+
+/// Refuses junctions, links to other roads, left-hand traffic, a lane offset, a road
+/// that is not flat across (superelevation).
 fn refuse_what_the_road_cannot_be(
     road: &Road,
     path: &std::path::Path,
@@ -122,17 +152,6 @@ fn refuse_what_the_road_cannot_be(
         return Err(r.at.refuse(
             path,
             "a lane offset is refused: carfollow's lanes lie beside the reference line",
-        ));
-    }
-    // A constant height is flat ground; anything else is not.
-    let level = road.elevations.first().map_or(0.0, |r| r.coefficients[0]);
-    if let Some(r) = road.elevations.iter().find(|r| {
-        let [a, b, c, d] = r.coefficients;
-        a != level || b != 0.0 || c != 0.0 || d != 0.0
-    }) {
-        return Err(r.at.refuse(
-            path,
-            "an elevation that changes is refused: carfollow's ground is flat",
         ));
     }
     if let Some(r) = road.superelevations.iter().find(|r| !zero(r)) {

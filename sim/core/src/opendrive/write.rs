@@ -72,8 +72,14 @@ pub fn write_road(route: &RouteSpec, name: &str) -> (String, bool) {
         geometry(&mut x, g);
     }
     x.close();
+    // A level road is one record of height 0, as before profiles were carried.
     x.open("elevationProfile", &[]);
-    x.empty("elevation", &poly_attributes(0.0, [0.0; 4]));
+    if route.elevation.is_empty() {
+        x.empty("elevation", &poly_attributes(0.0, [0.0; 4]));
+    }
+    for &[s, a_, b, c, d] in &route.elevation {
+        x.empty("elevation", &poly_attributes(s, [a_, b, c, d]));
+    }
     x.close();
     x.empty("lateralProfile", &[]);
     lanes(&mut x, route);
@@ -299,6 +305,7 @@ mod tests {
             intersections_m: vec![],
             lane_width_m: 3.25,
             lanes: 2,
+            elevation: Vec::new(),
         };
         let (text, exact) = write_road(&route, "t");
         assert!(exact);
@@ -306,6 +313,17 @@ mod tests {
         let road = super::super::import(&file, None, |_| None).unwrap();
         assert_eq!(road.segments, route.segments);
         assert_eq!((road.lanes, road.lane_width_m), (2, 3.25));
+        assert!(road.elevation.is_empty());
+        // A profile is written record for record and read back bit for bit.
+        let mut hilly = route.clone();
+        hilly.elevation = vec![
+            [0.0, 0.0, 0.0, 1.0 / 3000.0, 0.0],
+            [60.0, 1.2, 0.04, -1e-4 / 3.0, 1e-7],
+        ];
+        let (text, _) = write_road(&hilly, "t");
+        let file = super::super::parse(&text, std::path::Path::new("t.xodr")).unwrap();
+        let road = super::super::import(&file, None, |_| None).unwrap();
+        assert_eq!(road.elevation, hilly.elevation);
         // 60° is no product of two doubles in degrees: said, and written to an ulp.
         let mut near = route.clone();
         near.segments[2] = RouteSegment::Arc {

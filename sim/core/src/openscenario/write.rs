@@ -81,6 +81,7 @@ fn focal_length_mm(
         intersections_m: Vec::new(),
         lane_width_m: road.lanes.lane_width_m,
         lanes: road.lanes.lanes,
+        elevation: Vec::new(),
     };
     let route = sim_render::Route::new(spec.clone());
     let camera = route.pose_at(camera_s_m, spec.lane_centre_m(lanes[0]));

@@ -79,6 +79,16 @@ pub struct RouteFile {
     /// file holds beyond the subset carfollow drives is refused, naming its line.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub opendrive: Option<OpenDriveFile>,
+    /// The road's height along its centreline, OpenDRIVE's elevation profile (default: none,
+    /// level at y = 0): records `[s_m, a, b, c, d]`, the first at station 0, stations
+    /// increasing and on the route; from `s_m` to the next record's station the height is
+    /// `a + b·ds + c·ds² + d·ds³` metres, `ds` metres past `s_m`, and the last record holds
+    /// to the route's end. Each record must meet the one before without a step (1 cm), and
+    /// the grade stay within ±20 % everywhere. The ground beside the road is as high as the
+    /// road abreast. An OpenDRIVE road's `<elevationProfile>` gives it (so the scenario
+    /// does not).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub elevation: Vec<[f64; 5]>,
 }
 
 /// `route.opendrive`: a road of an OpenDRIVE file.

@@ -19,8 +19,8 @@ pub use overrides::apply_override;
 pub use schema::{scenario_schema_json, SCHEMA_FILE_NAME};
 pub use traffic::{kind_albedo, kind_params, ActorFile, ActorSpec, StartFile};
 pub use validate::{
-    FOCAL_LENGTH_MM, MAX_ACTORS, MAX_ARC_RADIUS_M, MAX_BLUR_SIGMA_PX, MAX_BREADCRUMBS,
-    MAX_INIT_OFFSET_PX, MAX_ROUTE_M, MIN_ARC_RADIUS_M,
+    FOCAL_LENGTH_MM, MAX_ACTORS, MAX_ARC_RADIUS_M, MAX_BLUR_SIGMA_PX, MAX_BREADCRUMBS, MAX_GRADE,
+    MAX_HEIGHT_M, MAX_INIT_OFFSET_PX, MAX_ROUTE_M, MAX_STEP_M, MIN_ARC_RADIUS_M,
 };
 
 use sim_render::{Densities, RouteSpec, Sensor, Sun};
@@ -28,7 +28,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use thiserror::Error;
 use tracker::{Camera, TargetModel, TrackerConfig};
-pub(crate) use validate::vehicle_error;
+pub(crate) use validate::{elevation_problem, vehicle_error};
 use validate::{override_names, validate, Blame};
 use vehicle::{
     ChaseControllerConfig, DelayLineConfig, LeadDriverConfig, SpeedProfile, WorldConfig,

@@ -39,6 +39,7 @@ pub fn builtin_description(target: TargetModel, seed: u64) -> SceneDescription {
             intersections_m: vec![110.0, 480.0],
             lane_width_m: 3.5,
             lanes: 1,
+            elevation: Vec::new(),
         },
         densities: Densities::default(),
         placements: Vec::new(),

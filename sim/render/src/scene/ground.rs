@@ -4,8 +4,10 @@
 use super::bins::Bins;
 use super::layer::Layer;
 use super::material::Material;
+use super::mesh::Mesh;
 use super::object_slot::ObjectSlot;
 use super::site::{Site, ROAD_RUNOUT_M};
+use super::terrain::Terrain;
 
 /// Grass margin around the road's bounding box, metres: beyond the far plane's useful range.
 const GROUND_MARGIN_M: f64 = 250.0;
@@ -17,6 +19,18 @@ pub const GROUND_CELL_M: f64 = 25.0;
 pub const GRASS_ALBEDO: f64 = -1.0;
 /// Range of grass albedo, from dry to lush patches.
 pub const GRASS_ALBEDO_RANGE: [f64; 2] = [0.17, 0.30];
+
+/// Under a road's profile, the side of the grass tiles laid on the height field, metres: one
+/// bin each, so that culling keeps working on a draped ground.
+const PROFILE_GRASS_TILE_M: f64 = 50.0;
+/// Under a road's profile, the longest edge of the grass's pieces, metres: between vertices
+/// a piece departs from the height field by the profile's curvature times the edge squared
+/// over 8, under 1 cm for vertical curves of radius 500 m and more.
+const PROFILE_GRASS_EDGE_M: f64 = 6.0;
+/// Under a road's profile, how far the grass lies below the height field, metres: so that
+/// where the ground sags, the chords of its pieces stay under the verges (5 mm above it)
+/// for vertical curves down to 150 m radius (4.5 m²·κ ≤ 3 cm).
+const PROFILE_GRASS_BELOW_M: f64 = 0.03;
 
 /// Lays the ground: a mottled grass grid covering the road's bounding box.
 pub(super) fn lay_grass(site: &Site<'_>, bins: &mut Bins) {
@@ -40,6 +54,10 @@ pub(super) fn lay_grass(site: &Site<'_>, bins: &mut Bins) {
         cells[0] as f64 * GROUND_CELL_M,
         cells[1] as f64 * GROUND_CELL_M,
     ];
+    if let Some(t) = site.terrain.filter(|t| t.follows_profile()) {
+        lay_draped_grass(t, origin, size, bins);
+        return;
+    }
     bins.at(
         origin[0] + 0.5 * size[0],
         origin[1] + 0.5 * size[1],
@@ -55,6 +73,29 @@ pub(super) fn lay_grass(site: &Site<'_>, bins: &mut Bins) {
         GRASS_ALBEDO,
         ObjectSlot::WORLD | Material::GRASS,
     );
+}
+
+/// The grass of [`lay_grass`] on a road's profile: tiles of [`PROFILE_GRASS_TILE_M`] over
+/// the box at `origin` of `size` (metres), draped on the height field.
+fn lay_draped_grass(t: &Terrain, origin: [f64; 2], size: [f64; 2], bins: &mut Bins) {
+    let n = size.map(|v| (v / PROFILE_GRASS_TILE_M).ceil().max(1.0) as usize);
+    let step = [size[0] / n[0] as f64, size[1] / n[1] as f64];
+    for i in 0..n[0] {
+        for j in 0..n[1] {
+            let x0 = origin[0] + i as f64 * step[0];
+            let z0 = origin[1] + j as f64 * step[1];
+            let (x1, z1) = (x0 + step[0], z0 + step[1]);
+            let y = -PROFILE_GRASS_BELOW_M;
+            let mut tile = Mesh::default();
+            tile.polygon(
+                &[[x0, y, z0], [x1, y, z0], [x1, y, z1], [x0, y, z1]],
+                GRASS_ALBEDO,
+                ObjectSlot::WORLD | Material::GRASS,
+            );
+            bins.at(0.5 * (x0 + x1), 0.5 * (z0 + z1), Layer::Ground)
+                .append(&t.drape(&tile, PROFILE_GRASS_EDGE_M));
+        }
+    }
 }
 
 /// Over bumps, lays the road's surfaces (everything in [`Layer::Surface`]: the road, the

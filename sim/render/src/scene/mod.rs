@@ -40,6 +40,7 @@ mod description;
 mod distractor;
 mod districts;
 mod dynamic_object;
+mod elevation;
 mod error;
 mod footing;
 mod ground;
@@ -90,6 +91,9 @@ pub use description::{
     Textures, FIELD_PERIOD_STEPS,
 };
 pub use dynamic_object::{DynamicObject, Motion};
+pub use elevation::{
+    elevation_at, grade_at, ground_profile, PROFILE_CELL_M, PROFILE_MARGIN_M, PROFILE_STEP_M,
+};
 pub use error::{SceneError, MAX_BUFFER_BYTES};
 pub use ground::{GRASS_ALBEDO, GRASS_ALBEDO_RANGE, GROUND_CELL_M};
 pub use layer::Layer;

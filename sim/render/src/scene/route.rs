@@ -107,6 +107,12 @@ pub struct RouteSpec {
     )]
     #[schemars(extend("minimum" = 1, "maximum" = 4))]
     pub lanes: u32,
+    /// The road's height along its centreline (OpenDRIVE's `<elevation>` records): each
+    /// `[s_m, a, b, c, d]` gives, from station `s_m` to the next record's, the height
+    /// `a + b·ds + c·ds² + d·ds³` metres, `ds` metres past `s_m`. Empty: the road is level
+    /// at y = 0 (and then not written).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub elevation: Vec<[f64; 5]>,
 }
 
 impl RouteSpec {
@@ -333,6 +339,7 @@ mod tests {
             intersections_m: vec![],
             lane_width_m: 3.5,
             lanes: 1,
+            elevation: Vec::new(),
         });
         // Heading +x, turning left (towards −z): a quarter circle ends at (10, −10) heading −z.
         let [x, z, h] = route.at(route.length_m());
@@ -358,6 +365,7 @@ mod lane_tests {
             intersections_m: vec![],
             lane_width_m: 3.5,
             lanes: 3,
+            elevation: Vec::new(),
         };
         assert_eq!(spec.lane_centre_m(1), 1.75);
         assert_eq!(spec.lane_centre_m(2), 5.25);

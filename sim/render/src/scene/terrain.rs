@@ -1,24 +1,29 @@
-//! The ground's height, as the physics has it: the bump patch of `vehicle::Ground`, sampled
-//! on the same grid and cut into the same triangles as the rapier heightfield the wheels
-//! roll on, so that the rendered road rises and falls exactly where the vehicles pitch.
+//! The ground's height, as the physics has it: the heightfield of `vehicle::Ground` (the bump
+//! patch, or the road's profile with its margin), sampled on the same grid and cut into the
+//! same triangles as the rapier heightfield the wheels roll on, so that the rendered road
+//! rises and falls exactly where the vehicles pitch.
 
 use super::error::SceneError;
 use super::mesh::{Mesh, Vertex};
 use vehicle::{Ground, GroundConfig};
 
-/// The physics' ground surface: flat at y = 0, with the bump patch's heightfield when the
-/// ground has bumps.
+/// The physics' ground surface: flat at y = 0, with the heightfield when the ground has
+/// bumps or a profile.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Terrain {
-    /// Heights of the grid, rows along z and columns along x, column-major (`i + j * n`),
-    /// as `vehicle::Ground::bump_grid` gives them to rapier.
+    /// Heights of the grid, rows along z and columns along x, column-major
+    /// (`i + j * rows`), as `vehicle::Ground::grid` gives them to rapier.
     heights: Vec<f32>,
-    /// Grid points per side.
-    n: usize,
+    /// Grid points along z.
+    rows: usize,
+    /// Grid points along x.
+    cols: usize,
     /// Cell side, metres.
     cell_m: f64,
-    /// Half the side of the patch, metres (centred on the world origin).
-    half_m: f64,
+    /// The grid's corners, metres: `[x0, z0, x1, z1]`.
+    corners: [f64; 4],
+    /// Whether the heightfield follows a road's profile (it covers the whole site).
+    profile: bool,
 }
 
 impl Terrain {
@@ -28,20 +33,34 @@ impl Terrain {
             field: "ground".into(),
             reason: e.to_string(),
         })?;
-        Ok(ground.bump_grid().map(|(heights, rows, cols, cell, half)| {
-            debug_assert_eq!(rows, cols);
+        Ok(ground.grid().map(|g| {
+            let (x0, z0) = (f64::from(g.x0_m), f64::from(g.z0_m));
+            let cell = f64::from(g.cell_m);
+            // The bump patch alone is centred on the origin: its far corner is minus its
+            // near one, exactly.
+            let (x1, z1) = if ground.config().profile.is_none() {
+                (-x0, -z0)
+            } else {
+                (
+                    x0 + cell * (g.cols - 1) as f64,
+                    z0 + cell * (g.rows - 1) as f64,
+                )
+            };
             Terrain {
-                heights,
-                n: rows,
-                cell_m: f64::from(cell),
-                half_m: f64::from(half),
+                heights: g.heights,
+                rows: g.rows,
+                cols: g.cols,
+                cell_m: cell,
+                corners: [x0, z0, x1, z1],
+                profile: ground.config().profile.is_some(),
             }
         }))
     }
 
-    /// Whether (x, z) lies on the bump patch (outside it the ground is flat at y = 0).
+    /// Whether (x, z) lies on the heightfield (outside it the ground is flat at y = 0).
     pub fn covers(&self, x: f64, z: f64) -> bool {
-        x.abs() < self.half_m && z.abs() < self.half_m
+        let [x0, z0, x1, z1] = self.corners;
+        x > x0 && x < x1 && z > z0 && z < z1
     }
 
     /// Height of the physics' ground surface at world (x, z), metres: the heightfield's
@@ -51,13 +70,13 @@ impl Terrain {
         if !self.covers(x, z) {
             return 0.0;
         }
-        let cells = (self.n - 1) as f64;
-        let fx = ((x + self.half_m) / self.cell_m).clamp(0.0, cells);
-        let fz = ((z + self.half_m) / self.cell_m).clamp(0.0, cells);
-        let j = (fx.floor() as usize).min(self.n - 2);
-        let i = (fz.floor() as usize).min(self.n - 2);
+        let [x0, z0, ..] = self.corners;
+        let fx = ((x - x0) / self.cell_m).clamp(0.0, (self.cols - 1) as f64);
+        let fz = ((z - z0) / self.cell_m).clamp(0.0, (self.rows - 1) as f64);
+        let j = (fx.floor() as usize).min(self.cols - 2);
+        let i = (fz.floor() as usize).min(self.rows - 2);
         let (u, v) = (fx - j as f64, fz - i as f64);
-        let h = |i: usize, j: usize| f64::from(self.heights[i + j * self.n]);
+        let h = |i: usize, j: usize| f64::from(self.heights[i + j * self.rows]);
         let (y00, y10, y01, y11) = (h(i, j), h(i + 1, j), h(i, j + 1), h(i + 1, j + 1));
         if u + v <= 1.0 {
             // Triangle (p00, p10, p01).
@@ -66,6 +85,20 @@ impl Terrain {
             // Triangle (p10, p11, p01).
             y11 + (1.0 - u) * (y10 - y11) + (1.0 - v) * (y01 - y11)
         }
+    }
+
+    /// The lowest and highest heights of the grid, metres.
+    pub fn height_range_m(&self) -> [f64; 2] {
+        let (lo, hi) = self
+            .heights
+            .iter()
+            .fold((f32::MAX, f32::MIN), |(lo, hi), &h| (lo.min(h), hi.max(h)));
+        [f64::from(lo), f64::from(hi)]
+    }
+
+    /// Whether the heightfield follows a road's profile (and so lies under all the grass).
+    pub fn follows_profile(&self) -> bool {
+        self.profile
     }
 
     /// The cell side, metres: surfaces drawn on the terrain are cut at least this fine.
@@ -175,8 +208,9 @@ impl Terrain {
 
     /// Whether (x, z) is on the patch or within a cell of it.
     fn covers_near(&self, x: f64, z: f64) -> bool {
-        let reach = self.half_m + self.cell_m;
-        x.abs() < reach && z.abs() < reach
+        let [x0, z0, x1, z1] = self.corners;
+        let c = self.cell_m;
+        x > x0 - c && x < x1 + c && z > z0 - c && z < z1 + c
     }
 }
 
@@ -198,6 +232,69 @@ pub(super) mod tests {
             }),
             ..GroundConfig::default()
         }
+    }
+
+    /// A road along a bend rising 4 % then falling, its profile sampled every metre, with
+    /// bumps around the origin.
+    pub(in crate::scene) fn profiled_ground() -> GroundConfig {
+        let points = (0..=300)
+            .map(|k| {
+                let s = k as f64;
+                let (x, z) = if s <= 150.0 {
+                    (s, 0.0)
+                } else {
+                    (150.0 + 0.6 * (s - 150.0), 0.8 * (s - 150.0))
+                };
+                [x, z, 0.04 * s - 0.0002 * s * s]
+            })
+            .collect();
+        GroundConfig {
+            profile: Some(vehicle::GroundProfile {
+                points,
+                cell_m: 1.0,
+                margin_m: 30.0,
+            }),
+            ..bumpy_ground()
+        }
+    }
+
+    #[test]
+    fn a_profiled_terrain_is_the_physics_heightfield() {
+        let config = profiled_ground();
+        let t = Terrain::new(&config).unwrap().unwrap();
+        let ground = Ground::new(&config).unwrap();
+        let grid = ground.grid().unwrap();
+        assert!(t.follows_profile());
+        // The bumps' finer cell, over the profile's box and the bump patch.
+        assert_eq!(grid.cell_m, 0.5);
+        let (mut worst, mut compared) = (0.0f64, 0);
+        for k in 0..3000 {
+            let x = -25.0 + 0.09 * k as f64;
+            let z = -20.0 + 0.071 * k as f64;
+            // Along the first leg, away from the bend's medial axis (where the height jumps
+            // between the legs a point is equally near, and the grid's cells smooth the jump).
+            if !t.covers(x, z) || x > 120.0 || z.abs() > 25.0 {
+                continue;
+            }
+            compared += 1;
+            let smooth = f64::from(ground.height_m(x as f32, z as f32));
+            worst = worst.max((t.height_m(x, z) - smooth).abs());
+        }
+        assert!(compared > 500, "{compared}");
+        assert!(worst < 0.005, "terrain off the field by {worst} m");
+        // Off the grid, the flat ground (only far beyond the margin).
+        assert!(!t.covers(0.0, 200.0));
+        // At grid points, exactly the heights rapier is given.
+        for (i, j) in [(3, 5), (100, 400), (grid.rows - 1, grid.cols - 2)] {
+            let x = f64::from(grid.x0_m) + j as f64 * f64::from(grid.cell_m);
+            let z = f64::from(grid.z0_m) + i as f64 * f64::from(grid.cell_m);
+            if t.covers(x, z) {
+                assert_eq!(t.height_m(x, z), f64::from(grid.heights[i + j * grid.rows]));
+            }
+        }
+        // Beside the road, the road's height abreast (off the bump patch).
+        let s: f64 = 120.0;
+        assert!((t.height_m(s, 25.0) - (0.04 * s - 0.0002 * s * s)).abs() < 1e-3);
     }
 
     #[test]

@@ -8,6 +8,7 @@
 mod actors;
 mod chase;
 mod distractors;
+mod elevation;
 mod environment;
 mod expect;
 mod lead;
@@ -15,6 +16,8 @@ mod route;
 mod tracking;
 
 pub use actors::MAX_ACTORS;
+pub(crate) use elevation::elevation_problem;
+pub use elevation::{MAX_GRADE, MAX_HEIGHT_M, MAX_STEP_M};
 pub(crate) use route::length_m as route_length_m;
 pub(crate) use route::{segment_problem, RoadSource};
 

@@ -1,5 +1,6 @@
 //! `[route]`: the segments (or an OpenDRIVE road), the lane and the intersections.
 
+use super::elevation::elevation_problem;
 use super::{check, Blame, MAX_ARC_RADIUS_M, MAX_ROUTE_M, MIN_ARC_RADIUS_M};
 use crate::opendrive::ImportedRoad;
 use crate::scenario::{OpenDriveFile, RouteFile, ScenarioError, SegmentFile};
@@ -42,6 +43,14 @@ pub(super) fn route(
                     ));
                 }
             }
+            if (roads.gives)("route.elevation") {
+                return Err(f.invalid(
+                    "route.elevation",
+                    "cannot be given with `route.opendrive`: the road file's elevation profile \
+                     gives it"
+                        .into(),
+                ));
+            }
             let road = (roads.load)(od)?;
             unapplied = road.unapplied;
             RouteSpec {
@@ -49,6 +58,7 @@ pub(super) fn route(
                 intersections_m: r.intersections_m.clone(),
                 lane_width_m: road.lane_width_m,
                 lanes: road.lanes,
+                elevation: road.elevation,
             }
         }
         None => RouteSpec {
@@ -56,6 +66,7 @@ pub(super) fn route(
             intersections_m: r.intersections_m.clone(),
             lane_width_m: r.lane_width_m,
             lanes: r.lanes,
+            elevation: r.elevation.clone(),
         },
     };
     let length = length_m(&route);
@@ -67,6 +78,12 @@ pub(super) fn route(
             format!("{length:.0} m in all"),
         ),
     )?;
+    // An OpenDRIVE road's profile was checked on import, naming its line.
+    if r.opendrive.is_none() {
+        if let Some((i, problem)) = elevation_problem(&route.elevation, length) {
+            return Err(f.invalid("route.elevation", format!("record {i}: {problem}")));
+        }
+    }
     for &x in &route.intersections_m {
         f.at(
             "route.intersections_m",
@@ -237,6 +254,7 @@ pub(crate) fn segment_problem(seg: &RouteSegment) -> Option<String> {
                 intersections_m: vec![],
                 lane_width_m: 3.5,
                 lanes: 1,
+                elevation: Vec::new(),
             });
             let n = (length / CURVATURE_CHECK_M).ceil() as usize;
             (0..=n)

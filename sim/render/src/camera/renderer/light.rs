@@ -6,7 +6,7 @@ use super::view::CameraView;
 use super::{RenderOptions, Renderer};
 use crate::camera::rig::{CameraRig, FAR_M, NEAR_M};
 use crate::camera::shadow_tiles::{self, TileFrame, Window};
-use crate::scene::Sun;
+use crate::scene::{Sun, Terrain};
 use nalgebra::{Isometry3, Matrix4, Point3, Vector3};
 use tracker::PixelRect;
 
@@ -56,6 +56,7 @@ impl Renderer {
             tiles,
             board_centre,
             part,
+            receiver_band(self.scene.terrain()),
         )
     }
 }
@@ -85,7 +86,9 @@ pub(super) struct Sunlight {
 impl Sunlight {
     /// Fits the frame's maps: to the camera's `view` (the pixels `part` of the frame, of
     /// `rig`), for the `sun`, the options' shadow distance, map size and cache, the static
-    /// tiles' frame `tiles`, and the board's centre (`None` without a lead in the scene).
+    /// tiles' frame `tiles`, the board's centre (`None` without a lead in the scene), and
+    /// the heights receivers lie between (`band`, metres: [`receiver_band`]).
+    #[allow(clippy::too_many_arguments)]
     pub fn fit(
         rig: &CameraRig,
         view: &CameraView,
@@ -94,6 +97,7 @@ impl Sunlight {
         tiles: &TileFrame,
         board_centre: Option<Point3<f64>>,
         part: PixelRect,
+        band: [f64; 2],
     ) -> Sunlight {
         let fitted = Light::fit(
             rig,
@@ -101,6 +105,7 @@ impl Sunlight {
             sun.direction(),
             options.shadow_distance_m,
             options.shadow_map_size,
+            band,
         );
         let window = if options.cached_shadows {
             shadow_tiles::window(
@@ -122,7 +127,7 @@ impl Sunlight {
         let seen = if part == PixelRect::whole(rig.width as usize, rig.height as usize) {
             PixelRect::whole(size as usize, size as usize)
         } else {
-            lookup.texels_seen(rig, &view.world_from_camera, part, size)
+            lookup.texels_seen(rig, &view.world_from_camera, part, size, band)
         };
         let board_centre = board_centre.filter(|_| sun.soft_shadows);
         let around_board = |reach_m| {
@@ -264,6 +269,7 @@ impl Light {
         towards_sun: [f64; 3],
         distance_m: f64,
         size: u32,
+        band: [f64; 2],
     ) -> Light {
         let axes = Self::axes(towards_sun);
         // Corners of the camera's frustum from near to the shadow distance, clamped to the
@@ -280,7 +286,7 @@ impl Light {
             ] {
                 let p_cam = Point3::new((u - cx) / fx * z, (v - cy) / fy * z, z);
                 let mut p = world_from_camera * p_cam;
-                p.y = p.y.clamp(0.0, RECEIVER_TOP_M);
+                p.y = p.y.clamp(band[0], band[1]);
                 for k in 0..3 {
                     let value = axes[k].dot(&p.coords);
                     min[k] = min[k].min(value);
@@ -304,6 +310,7 @@ impl Light {
         world_from_camera: &Isometry3<f64>,
         part: PixelRect,
         size: u32,
+        band: [f64; 2],
     ) -> PixelRect {
         let [fx, fy] = rig.intrinsics.focal_px();
         let [cx, cy] = rig.intrinsics.image_center_px;
@@ -322,7 +329,7 @@ impl Light {
         }
         let (mut lo, mut hi) = ([f64::MAX; 2], [f64::MIN; 2]);
         for (a, b) in edges {
-            let Some((t0, t1)) = within_receivers(a.y, b.y) else {
+            let Some((t0, t1)) = within_receivers(a.y, b.y, band) else {
                 continue;
             };
             for t in [t0, t1] {
@@ -398,12 +405,25 @@ impl Light {
     }
 }
 
+/// The heights receivers of shadows lie between, metres: the ground (y = 0, or the lowest
+/// of a road's profile) up to [`RECEIVER_TOP_M`] above it (above the highest of the
+/// profile). On flat or bumpy ground, exactly `[0, RECEIVER_TOP_M]`.
+pub(super) fn receiver_band(terrain: Option<&Terrain>) -> [f64; 2] {
+    match terrain.filter(|t| t.follows_profile()) {
+        Some(t) => {
+            let [lo, hi] = t.height_range_m();
+            [lo.min(0.0), hi.max(0.0) + RECEIVER_TOP_M]
+        }
+        None => [0.0, RECEIVER_TOP_M],
+    }
+}
+
 /// The part (`t0..t1`, from 0 at `a` to 1 at `b`) of an edge from height `a_y` to `b_y`
-/// within the receivers' height band, if any.
-fn within_receivers(a_y: f64, b_y: f64) -> Option<(f64, f64)> {
+/// within the receivers' height band `band`, if any.
+fn within_receivers(a_y: f64, b_y: f64, band: [f64; 2]) -> Option<(f64, f64)> {
     let (mut t0, mut t1) = (0.0f64, 1.0f64);
     let dy = b_y - a_y;
-    for (bound, below) in [(0.0, true), (RECEIVER_TOP_M, false)] {
+    for (bound, below) in [(band[0], true), (band[1], false)] {
         if dy.abs() < 1e-12 {
             if (below && a_y < bound) || (!below && a_y > bound) {
                 t1 = -1.0;
@@ -411,7 +431,7 @@ fn within_receivers(a_y: f64, b_y: f64) -> Option<(f64, f64)> {
             continue;
         }
         let t = (bound - a_y) / dy;
-        // Inside is y >= 0 (below the band's floor is out) and y <= top.
+        // Inside is y >= the floor (below it is out) and y <= the top.
         let entering = if below { dy > 0.0 } else { dy < 0.0 };
         if entering {
             t0 = t0.max(t);
