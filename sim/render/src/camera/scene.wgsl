@@ -407,7 +407,7 @@ fn fogged(grey: f32, eye: vec3<f32>) -> vec4<f32> {
     }
     if (fog_on) {
         let t = exp(-globals.fog.x * length(eye));
-        g = globals.fog.y + (grey - globals.fog.y) * t;
+        g = globals.fog.y + (g - globals.fog.y) * t;
     }
     return vec4<f32>(g, g, g, 1.0);
 }
