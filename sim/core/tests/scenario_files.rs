@@ -765,7 +765,10 @@ fn spray_and_mirrored_lamps_are_off_by_default_set_and_checked() {
     let s = load(&text(), &["environment.rain.rate_mm_h=16"]).unwrap();
     let rain = s.rain.expect("rain");
     assert!(!rain.spray && !rain.lamp_reflections);
-    assert!(s.resolved_json().pointer("/environment/rain/spray").is_none());
+    assert!(s
+        .resolved_json()
+        .pointer("/environment/rain/spray")
+        .is_none());
     let s = load(
         &text(),
         &[
@@ -780,7 +783,10 @@ fn spray_and_mirrored_lamps_are_off_by_default_set_and_checked() {
     for field in ["spray", "lamp_reflections"] {
         let e = load(
             &text(),
-            &["environment.rain.rate_mm_h=0", &format!("environment.rain.{field}=true")],
+            &[
+                "environment.rain.rate_mm_h=0",
+                &format!("environment.rain.{field}=true"),
+            ],
         )
         .unwrap_err();
         assert!(
@@ -789,7 +795,10 @@ fn spray_and_mirrored_lamps_are_off_by_default_set_and_checked() {
         );
         let e = load(
             &text(),
-            &["environment.rain.rate_mm_h=8", &format!("environment.rain.{field}=2")],
+            &[
+                "environment.rain.rate_mm_h=8",
+                &format!("environment.rain.{field}=2"),
+            ],
         )
         .unwrap_err();
         assert!(e.contains("expected a boolean"), "{field}: {e}");

@@ -1,16 +1,17 @@
 //! Rain's options (`Rain::spray`, `Rain::lamp_reflections`), measured on the rendered frame:
 //! the lead's spray veils its board more at 100 km/h than at 80, not at all at 40 km/h
 //! (below the onset) nor when off, and is depth-tested (the hood, a metre from the camera,
-//! changes far less than the board); the wet road mirrors the lit tail lamps below them,
-//! and a dry road mirrors nothing.
+//! changes far less than the board); the wet road mirrors the lit tail lamps below them
+//! and each street light along the line from its foot towards the camera, and a dry road
+//! mirrors nothing.
 //!
 //! Run: `cargo test -p sim-render --release --test spray`.
 
 use image::GrayImage;
-use sim_render::{Braking, FrameInput, Rain, Renderer, SceneDescription};
+use sim_render::{Braking, CameraRig, FrameInput, Rain, Renderer, SceneDescription, StreetLights};
 
 mod common;
-use common::{bare_plain_sensor, board_paint, mean, options, renderer};
+use common::{bare_plain_sensor, board_paint, mean, options, renderer, Pixels};
 
 /// A bare straight road seen by a plain sensor in rain of 16 mm/h, with spray `spray`.
 fn rainy(spray: bool) -> SceneDescription {
@@ -42,7 +43,7 @@ fn frame(r: &mut Renderer, gap_m: f64, lead_speed_mps: f64, braking: bool) -> Gr
 }
 
 /// The board's contrast in `image` over the light and dark `paint` pixels.
-fn contrast(image: &GrayImage, paint: &(Vec<(u32, u32)>, Vec<(u32, u32)>)) -> f64 {
+fn contrast(image: &GrayImage, paint: &(Pixels, Pixels)) -> f64 {
     mean(image, &paint.0) - mean(image, &paint.1)
 }
 
@@ -80,9 +81,18 @@ fn spray_veils_the_board_with_speed_and_not_below_its_onset() {
     let mid = frame(&mut on, gap, kmh(80.0), false);
     let (c_80, c_100) = (contrast(&mid, &paint), contrast(&fast, &paint));
     eprintln!("board contrast: off {c_off:.1}, 80 km/h {c_80:.1}, 100 km/h {c_100:.1}");
-    assert!(c_80 < c_off - 1.0, "80 km/h veils the board: {c_80} vs {c_off}");
-    assert!(c_100 < c_80 - 1.0, "100 km/h veils it more: {c_100} vs {c_80}");
-    assert!(c_100 > 0.2 * c_off, "the board still shows: {c_100} vs {c_off}");
+    assert!(
+        c_80 < c_off - 1.0,
+        "80 km/h veils the board: {c_80} vs {c_off}"
+    );
+    assert!(
+        c_100 < c_80 - 1.0,
+        "100 km/h veils it more: {c_100} vs {c_80}"
+    );
+    assert!(
+        c_100 > 0.2 * c_off,
+        "the board still shows: {c_100} vs {c_off}"
+    );
 
     // Depth-tested: the hood's bottom rows (a metre or so from the camera) lie in front of
     // the plume's dense part and change far less than the board's paint.
@@ -92,7 +102,10 @@ fn spray_veils_the_board_with_speed_and_not_below_its_onset() {
         (mean(&fast, pixels) - mean(&off_100, pixels)).abs() / mean(&off_100, pixels).max(1.0)
     };
     let board_change = (c_off - c_100) / c_off;
-    eprintln!("relative change: hood {:.3}, board {board_change:.3}", change(&hood));
+    eprintln!(
+        "relative change: hood {:.3}, board {board_change:.3}",
+        change(&hood)
+    );
     assert!(change(&hood) < 0.25 * board_change);
 }
 
@@ -120,8 +133,18 @@ fn the_wet_road_mirrors_the_lamps_below_them_and_a_dry_one_does_not() {
     let zero = frame(&mut renderer(night(Some(0.0), true), &opts), gap, 0.0, true);
     assert_eq!(dry, zero);
 
-    let plain = frame(&mut renderer(night(Some(16.0), false), &opts), gap, 0.0, true);
-    let mirrored = frame(&mut renderer(night(Some(16.0), true), &opts), gap, 0.0, true);
+    let plain = frame(
+        &mut renderer(night(Some(16.0), false), &opts),
+        gap,
+        0.0,
+        true,
+    );
+    let mirrored = frame(
+        &mut renderer(night(Some(16.0), true), &opts),
+        gap,
+        0.0,
+        true,
+    );
     // The lamps: the brightest pixels of the dry frame; their columns and lowest row.
     let top = dry.pixels().map(|p| p[0]).max().unwrap();
     assert!(top > 100, "the lamps glow: {top}");
@@ -135,7 +158,10 @@ fn the_wet_road_mirrors_the_lamps_below_them_and_a_dry_one_does_not() {
     let (mut below, mut elsewhere, mut peak) = (0.0, 0.0, 0u8);
     for (x, y, p) in mirrored.enumerate_pixels() {
         let gain = f64::from(p[0]) - f64::from(plain.get_pixel(x, y)[0]);
-        assert!(gain >= -1.0, "the mirror only adds light: {gain} at ({x}, {y})");
+        assert!(
+            gain >= -1.0,
+            "the mirror only adds light: {gain} at ({x}, {y})"
+        );
         if gain <= 0.0 {
             continue;
         }
@@ -147,6 +173,87 @@ fn the_wet_road_mirrors_the_lamps_below_them_and_a_dry_one_does_not() {
         }
     }
     eprintln!("mirrored light: below the lamps {below:.0}, elsewhere {elsewhere:.0}, peak {peak}");
-    assert!(peak >= 5, "a visible streak below a lamp: {peak} grey levels");
-    assert!(below > 2.0 * elsewhere, "{below} below the lamps, {elsewhere} elsewhere");
+    assert!(
+        peak >= 5,
+        "a visible streak below a lamp: {peak} grey levels"
+    );
+    assert!(
+        below > 2.0 * elsewhere,
+        "{below} below the lamps, {elsewhere} elsewhere"
+    );
+}
+
+/// A bare straight road at night, 25 street lights a km, the gain fixed at
+/// 20, in rain of 16 mm/h with mirrored lamps `mirror`: the frame from the chase at station
+/// 75 m (the lead 180 m ahead, out of the way), the chase's pose and the lamps' sources.
+fn street(mirror: bool) -> (GrayImage, nalgebra::Isometry3<f64>, Vec<[f64; 3]>) {
+    let mut d = bare_plain_sensor(5);
+    d.sensor.gain = 20.0;
+    d.sun.elevation_deg = -18.0;
+    d.densities.street_lights_per_km = 25.0;
+    d.rain = Some(Rain {
+        lamp_reflections: mirror,
+        ..Rain::new(16.0)
+    });
+    let mut r = renderer(d, &options());
+    let lane = r.scene().description().route.lane_width_m;
+    let chase = r.scene().route().pose_at(75.0, 0.5 * lane);
+    let lead = r.scene().route().pose_at(255.0, 0.5 * lane);
+    let sources = StreetLights::sources(r.scene());
+    let image = r
+        .render(&FrameInput::fixed_camera(0, 0.0, chase, lead))
+        .expect("frame")
+        .image;
+    (image, chase, sources)
+}
+
+/// Each street light 20–80 m ahead is mirrored in its own column: the road straight below
+/// its foot in the image (the line from the foot towards the camera's foot is one column
+/// for a camera looking along the road) gains light, and the columns below the lamps in
+/// view hold most of what the frame gains.
+#[test]
+fn the_wet_road_mirrors_each_street_light_in_its_column() {
+    let (plain, chase, sources) = street(false);
+    let (mirrored, _, _) = street(true);
+    let (w, h) = plain.dimensions();
+    let gain = |x: u32, y: u32| {
+        (f64::from(mirrored.get_pixel(x, y)[0]) - f64::from(plain.get_pixel(x, y)[0])).max(0.0)
+    };
+    let total: f64 = (0..h)
+        .flat_map(|y| (0..w).map(move |x| (x, y)))
+        .map(|(x, y)| gain(x, y))
+        .sum();
+    let ahead = |p: &[f64; 3]| (chase.inverse() * nalgebra::Point3::new(p[0], p[1], p[2])).x;
+    let mut bands = 0.0;
+    let mut lamps = 0;
+    for lamp in sources.iter().filter(|p| ahead(p) > 5.0) {
+        let foot = [lamp[0], lamp[1] - StreetLights::HEIGHT_M, lamp[2]];
+        let Some([fx, fy]) = CameraRig::default().project_world(&chase, foot) else {
+            continue;
+        };
+        let (fx, fy) = (fx.round() as i64, fy.round() as i64);
+        if fx < 4 || fx >= i64::from(w) - 4 || fy < 0 || fy >= i64::from(h) {
+            continue;
+        }
+        let band: f64 = (fy as u32..h)
+            .flat_map(|y| (fx as u32 - 4..=fx as u32 + 4).map(move |x| (x, y)))
+            .map(|(x, y)| gain(x, y))
+            .sum();
+        eprintln!(
+            "lamp {:.0} m ahead, foot at ({fx}, {fy}): {band:.0} grey levels below it",
+            ahead(lamp)
+        );
+        bands += band;
+        if (20.0..80.0).contains(&ahead(lamp)) {
+            assert!(
+                band > 20.0,
+                "the lamp {:.0} m ahead is mirrored below it",
+                ahead(lamp)
+            );
+            lamps += 1;
+        }
+    }
+    eprintln!("{lamps} lamps: {bands:.0} of the frame's {total:.0} grey levels gained below them");
+    assert!(lamps >= 2, "{lamps} lamps in view");
+    assert!(bands > 0.5 * total, "{bands} below the lamps of {total}");
 }

@@ -430,7 +430,7 @@ pub struct RainFile {
     /// `σ0 = 3 ε h w n / (2 r)`, ε = 0.1 ((v − 55 km/h) / 45 km/h)² the share of the water
     /// swept that is atomised, h the film, w = 0.25 m the tyres' width, n = 4 tyres, r =
     /// 0.15 mm the droplets' radius; it spreads behind the vehicle and settles out over
-    /// `v / 1.05 m/s` metres (the guide's weather page has the whole model). Needs rain
+    /// `v · 0.95 s` metres (the guide's camera-world page has the model). Needs rain
     /// (`rate_mm_h` over 0).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub spray: Option<bool>,

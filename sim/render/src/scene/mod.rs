@@ -99,9 +99,9 @@ pub use mesh::{Mesh, MeshPiece, Vertex};
 pub use night::{twilight_factor, Beam, Headlamps, MIN_SUN_ELEVATION_DEG, TWILIGHT_LUX};
 pub use object_slot::ObjectSlot;
 pub use rain::{Rain, RainBand};
-pub use spray::Spray;
 pub use rng::stream;
 pub use route::{PRange, Route, RouteSegment, RouteSpec};
+pub use spray::Spray;
 pub use street_lights::StreetLights;
 pub use tail_lamps::{Braking, TailLamps};
 pub use target_board::{

@@ -109,7 +109,9 @@ impl Spray {
     /// metres, for a vehicle at `speed_mps` in `rain` (0 below the onset or when dry).
     pub fn source_cross_section_m(rain: &Rain, speed_mps: f64) -> f64 {
         let r = 0.5 * Self::DROPLET_DIAMETER_MM * 1e-3;
-        3.0 * Self::atomised_share(speed_mps) * Self::film_depth_m(rain) * Self::TYRE_WIDTH_M
+        3.0 * Self::atomised_share(speed_mps)
+            * Self::film_depth_m(rain)
+            * Self::TYRE_WIDTH_M
             * Self::TYRES
             / (2.0 * r)
     }
@@ -158,7 +160,11 @@ mod tests {
         assert!(at(&heavy, 100.0) > at(&light, 100.0));
         assert_eq!(Spray::source_cross_section_m(&Rain::new(0.0), 30.0), 0.0);
         // 0.1 × 0.66 mm × 0.25 m × 4 tyres × 3 / (2 × 0.15 mm) ≈ 0.66 m at 100 km/h, 16 mm/h.
-        assert!((at(&heavy, 100.0) - 0.66).abs() < 0.01, "{}", at(&heavy, 100.0));
+        assert!(
+            (at(&heavy, 100.0) - 0.66).abs() < 0.01,
+            "{}",
+            at(&heavy, 100.0)
+        );
     }
 
     #[test]
@@ -175,8 +181,8 @@ mod tests {
                 sum += Spray::extinction_per_m(&rain, v, 0.9, p) * dy * dz;
             }
         }
-        let sigma = Spray::source_cross_section_m(&rain, v)
-            * (-s / Spray::settling_length_m(v)).exp();
+        let sigma =
+            Spray::source_cross_section_m(&rain, v) * (-s / Spray::settling_length_m(v)).exp();
         assert!((sum / sigma - 1.0).abs() < 0.01, "{sum} vs {sigma}");
     }
 }

@@ -175,7 +175,10 @@ fn rain(e: &EnvironmentFile, f: &Blame) -> Result<Option<Rain>, ScenarioError> {
         ),
     ] {
         let on = on.unwrap_or(false);
-        f.at(field, check(!on || r > 0.0, "needs rain: rate_mm_h over 0", on))?;
+        f.at(
+            field,
+            check(!on || r > 0.0, "needs rain: rate_mm_h over 0", on),
+        )?;
         *set = on;
     }
     Ok(Some(out))

@@ -4,8 +4,8 @@
 use super::light::{Light, Sunlight, NORMAL_OFFSET_TEXELS};
 use super::view::CameraView;
 use super::wet_road::{mirror_params, spray_params, Speeds, MIRROR_VEC4S, SPRAY_VEC4S};
-use crate::camera::frame::Field;
 use super::Renderer;
+use crate::camera::frame::Field;
 use crate::camera::shadow_tiles::{self, TileFrame};
 use crate::camera::textures::TILE_M;
 use crate::scene::{

@@ -149,6 +149,9 @@ pub(super) fn spray_params(
     out
 }
 
+/// A vehicle's two tail lamps: its pose, their centres in its frame, and whether it brakes.
+type LampPair<'a> = (&'a Isometry3<f64>, [[f64; 3]; 2], bool);
+
 /// The mirrored lamps' parameters in `Globals` (zeros without rain's mirrored lamps, whose
 /// pipelines never read them): `[0]` the number of tail lamps, the film's roughness
 /// ([`Rain::FILM_SLOPE_RMS`]); then for each lit tail lamp (the lead's and each actor's
@@ -166,7 +169,7 @@ pub(super) fn mirror_params(
     if !description.raining().is_some_and(|r| r.lamp_reflections) {
         return out;
     }
-    let mut lamps: Vec<(&Isometry3<f64>, [[f64; 3]; 2], bool)> = Vec::new();
+    let mut lamps: Vec<LampPair> = Vec::new();
     if description.lead.tail_lamps {
         let centres = TailLamps::lead_centres(&description.lead, &description.target);
         lamps.push((&field.world_from_lead, centres, braking.lead()));
