@@ -207,10 +207,15 @@ fn street(mirror: bool) -> (GrayImage, nalgebra::Isometry3<f64>, Vec<[f64; 3]>) 
     (image, chase, sources)
 }
 
-/// Each street light 20–80 m ahead is mirrored in its own column: the road straight below
+/// The columns left of this, pixels, hold no street light's foot.
+const LEFT_OF_LAMPS_PX: u32 = 100;
+
+/// Each street light 20–100 m ahead is mirrored in its own column: the road straight below
 /// its foot in the image (the line from the foot towards the camera's foot is one column
-/// for a camera looking along the road) gains light, and the columns below the lamps in
-/// view hold most of what the frame gains.
+/// for a camera looking along the road) gains light; the road below the lamps' feet holds
+/// most of what the frame gains, and the columns left of [`LEFT_OF_LAMPS_PX`], where no
+/// lamp stands (the lamps stand right of the road, their feet at columns 129–155), gain
+/// little.
 #[test]
 fn the_wet_road_mirrors_each_street_light_in_its_column() {
     let (plain, chase, sources) = street(false);
@@ -219,41 +224,52 @@ fn the_wet_road_mirrors_each_street_light_in_its_column() {
     let gain = |x: u32, y: u32| {
         (f64::from(mirrored.get_pixel(x, y)[0]) - f64::from(plain.get_pixel(x, y)[0])).max(0.0)
     };
-    let total: f64 = (0..h)
-        .flat_map(|y| (0..w).map(move |x| (x, y)))
-        .map(|(x, y)| gain(x, y))
-        .sum();
     let ahead = |p: &[f64; 3]| (chase.inverse() * nalgebra::Point3::new(p[0], p[1], p[2])).x;
-    let mut bands = 0.0;
-    let mut lamps = 0;
+    // The feet of the lamps ahead, in the image.
+    let mut feet = Vec::new();
     for lamp in sources.iter().filter(|p| ahead(p) > 5.0) {
         let foot = [lamp[0], lamp[1] - StreetLights::HEIGHT_M, lamp[2]];
-        let Some([fx, fy]) = CameraRig::default().project_world(&chase, foot) else {
-            continue;
-        };
-        let (fx, fy) = (fx.round() as i64, fy.round() as i64);
-        if fx < 4 || fx >= i64::from(w) - 4 || fy < 0 || fy >= i64::from(h) {
-            continue;
+        if let Some([fx, fy]) = CameraRig::default().project_world(&chase, foot) {
+            if (4.0..f64::from(w) - 4.0).contains(&fx) && (0.0..f64::from(h)).contains(&fy) {
+                feet.push((ahead(lamp), fx.round() as u32, fy.round() as u32));
+            }
         }
-        let band: f64 = (fy as u32..h)
-            .flat_map(|y| (fx as u32 - 4..=fx as u32 + 4).map(move |x| (x, y)))
+    }
+    let below = |x: u32, y: u32, &(_, fx, fy): &(f64, u32, u32)| y >= fy && x.abs_diff(fx) <= 4;
+    let mut checked = 0;
+    for foot in feet.iter().filter(|f| (20.0..100.0).contains(&f.0)) {
+        let band: f64 = (0..h)
+            .flat_map(|y| (0..w).map(move |x| (x, y)))
+            .filter(|&(x, y)| below(x, y, foot))
             .map(|(x, y)| gain(x, y))
             .sum();
         eprintln!(
-            "lamp {:.0} m ahead, foot at ({fx}, {fy}): {band:.0} grey levels below it",
-            ahead(lamp)
+            "lamp {:.0} m ahead, foot at ({}, {}): {band:.0} grey levels below it",
+            foot.0, foot.1, foot.2
         );
-        bands += band;
-        if (20.0..80.0).contains(&ahead(lamp)) {
-            assert!(
-                band > 20.0,
-                "the lamp {:.0} m ahead is mirrored below it",
-                ahead(lamp)
-            );
-            lamps += 1;
+        assert!(
+            band > 20.0,
+            "the lamp {:.0} m ahead is mirrored below it",
+            foot.0
+        );
+        checked += 1;
+    }
+    let (mut under, mut total, mut left) = (0.0, 0.0, 0.0);
+    for (x, y) in (0..h).flat_map(|y| (0..w).map(move |x| (x, y))) {
+        let g = gain(x, y);
+        total += g;
+        if feet.iter().any(|f| below(x, y, f)) {
+            under += g;
+        }
+        if x < LEFT_OF_LAMPS_PX {
+            left += g;
         }
     }
-    eprintln!("{lamps} lamps: {bands:.0} of the frame's {total:.0} grey levels gained below them");
-    assert!(lamps >= 2, "{lamps} lamps in view");
-    assert!(bands > 0.5 * total, "{bands} below the lamps of {total}");
+    eprintln!("{checked} lamps checked; the frame gains {total:.0}: {under:.0} below the lamps, {left:.0} left of them");
+    assert!(checked >= 2, "{checked} lamps 20–100 m ahead in view");
+    assert!(under > 0.5 * total, "{under} below the lamps of {total}");
+    assert!(
+        left < 0.1 * under,
+        "{left} left of the lamps against {under} below them"
+    );
 }
