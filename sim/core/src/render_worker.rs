@@ -28,7 +28,7 @@
 //!   worker plans nothing: it builds the scene it is given;
 //! - the worker then writes that scene's fingerprint ([`fingerprint`]), a `u64`, which the
 //!   loop checks against its own;
-//! - each request is 43 `u64`-sized fields: the frame index (`u64`), the time, then each of
+//! - each request is 44 `u64`-sized fields: the frame index (`u64`), the time, then each of
 //!   the chase's and the lead's poses as translation x, y, z and rotation quaternion i, j,
 //!   k, w (`f64`, exact bits, so the worker renders exactly the loop's poses), the camera's
 //!   pan and the automatic gain (`f64`), then the part of the frame to render, x0, y0, x1,
@@ -36,8 +36,10 @@
 //!   field a flag (`u64`, 1 when there is one), its time, the two poses and the pan, as
 //!   above, then how many actor poses the frame and its earlier field have (`u64` each, at
 //!   most [`ObjectSlot::MAX_ACTORS`]), the chase's speed (`f64`, for the rain's streaks) and
-//!   the braking flags (`u64`, a bit per vehicle, for the brake lamps); then those poses, the frame's and then the earlier
-//!   field's, seven `f64` each as above;
+//!   the braking flags (`u64`, a bit per vehicle, for the brake lamps), the lead's speed
+//!   (`f64`, for its spray); then those poses, the frame's and then the earlier field's,
+//!   seven `f64` each as above, then the frame's actors' speeds (`f64` each, for their
+//!   spray);
 //! - each answer is the ground truth: c_x, c_y, scale, the target centre in the camera
 //!   frame x, y, z (`f64`), and in view (one byte, 0 or 1), then the frame's exact pixels
 //!   x0, y0, x1, y1 (`u64`), then the image's rows y0 to y1 (width bytes each; the rows
@@ -66,7 +68,7 @@ use std::thread::JoinHandle;
 use tracker::PixelRect;
 
 /// Bytes of one request before its actors' poses.
-const REQUEST_BYTES: usize = 43 * 8;
+const REQUEST_BYTES: usize = 44 * 8;
 /// Bytes of one pose in a request.
 const POSE_BYTES: usize = 7 * 8;
 /// Bytes of the ground truth and the exact pixels before the image's rows.
@@ -153,8 +155,13 @@ fn encode_request(input: &FrameInput, part: PixelRect) -> Vec<u8> {
     }
     out.extend_from_slice(&input.chase_speed_mps.to_le_bytes());
     out.extend_from_slice(&input.braking.0.to_le_bytes());
+    out.extend_from_slice(&input.lead_speed_mps.to_le_bytes());
     for pose in input.world_from_actors.iter().chain(earlier_actors) {
         put_pose(&mut out, pose);
+    }
+    for k in 0..input.world_from_actors.len() {
+        let speed = input.actor_speeds_mps.get(k).copied().unwrap_or(0.0);
+        out.extend_from_slice(&speed.to_le_bytes());
     }
     out
 }
@@ -198,6 +205,10 @@ fn decode_request(bytes: &[u8; REQUEST_BYTES], poses: &[u8]) -> (FrameInput, Pix
             camera_pan_rad: get_f64(bytes, 38),
         }),
         chase_speed_mps: get_f64(bytes, 41),
+        lead_speed_mps: get_f64(bytes, 43),
+        actor_speeds_mps: (0..own)
+            .map(|k| get_f64(poses, 7 * (own + earlier) + k))
+            .collect(),
     };
     (input, get_rect(bytes, 18))
 }
@@ -269,7 +280,7 @@ pub fn serve_frames(
             Err(e) => return Err(e),
         }
         let [own, earlier] = actor_counts(&request)?;
-        poses.resize((own + earlier) * POSE_BYTES, 0);
+        poses.resize((own + earlier) * POSE_BYTES + own * 8, 0);
         input.read_exact(&mut poses)?;
         let (frame_input, part) = decode_request(&request, &poses);
         let frame = renderer
@@ -639,13 +650,15 @@ mod tests {
                     camera_pan_rad: -0.29,
                 }),
                 chase_speed_mps: 17.0 + 1.0 / 3.0,
+                lead_speed_mps: 25.0 - 1.0 / 3.0,
+                actor_speeds_mps: (0..own).map(|k| 20.0 + k as f64 / 7.0).collect(),
             };
             let encoded = encode_request(&input, part);
             let bytes: [u8; REQUEST_BYTES] = encoded[..REQUEST_BYTES].try_into().unwrap();
             let poses = &encoded[REQUEST_BYTES..];
             let [n, m] = actor_counts(&bytes).unwrap();
             assert_eq!((n, m), (own, earlier));
-            assert_eq!(poses.len(), (n + m) * POSE_BYTES);
+            assert_eq!(poses.len(), (n + m) * POSE_BYTES + n * 8);
             let (back, back_part) = decode_request(&bytes, poses);
             assert_eq!(back, input);
             assert_eq!(back_part, part);

@@ -757,6 +757,64 @@ fn rain_is_off_by_default_set_by_its_path_and_checked() {
     assert!(e.contains("unknown field `intensity`"), "{e}");
 }
 
+/// `[environment.rain]`'s options, spray and mirrored lamps: off by default (and then absent
+/// from the resolved scenario), set by the file or by `--set`, and refused without rain
+/// (a rate of 0) or when not a boolean, with the file, line and field.
+#[test]
+fn spray_and_mirrored_lamps_are_off_by_default_set_and_checked() {
+    let s = load(&text(), &["environment.rain.rate_mm_h=16"]).unwrap();
+    let rain = s.rain.expect("rain");
+    assert!(!rain.spray && !rain.lamp_reflections);
+    assert!(s
+        .resolved_json()
+        .pointer("/environment/rain/spray")
+        .is_none());
+    let s = load(
+        &text(),
+        &[
+            "environment.rain.rate_mm_h=16",
+            "environment.rain.spray=true",
+            "environment.rain.lamp_reflections=true",
+        ],
+    )
+    .unwrap();
+    let rain = s.rain.expect("rain");
+    assert!(rain.spray && rain.lamp_reflections);
+    for field in ["spray", "lamp_reflections"] {
+        let e = load(
+            &text(),
+            &[
+                "environment.rain.rate_mm_h=0",
+                &format!("environment.rain.{field}=true"),
+            ],
+        )
+        .unwrap_err();
+        assert!(
+            e.contains(&format!("`environment.rain.{field}` = true: needs rain")),
+            "{e}"
+        );
+        let e = load(
+            &text(),
+            &[
+                "environment.rain.rate_mm_h=8",
+                &format!("environment.rain.{field}=2"),
+            ],
+        )
+        .unwrap_err();
+        assert!(e.contains("expected a boolean"), "{field}: {e}");
+    }
+    let t = text().replace(
+        "sensor = { noise_sigma_grey = 2.0 }",
+        "sensor = { noise_sigma_grey = 2.0 }\nrain = { rate_mm_h = 0.0, spray = true }",
+    );
+    let e = load(&t, &[]).unwrap_err();
+    assert!(
+        e.starts_with(&format!("/bad.toml:{}:", line_of(&t, "rain = { rate_mm_h")))
+            && e.contains("`environment.rain.spray` = true: needs rain"),
+        "{e}"
+    );
+}
+
 /// `[chase.headlamps]`: off by default (and then absent from the resolved scenario); the
 /// beam is set by the file or by `--set`, and a bad one is refused with the file, line and
 /// field.

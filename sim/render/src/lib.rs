@@ -36,7 +36,7 @@ pub use scene::{
     ChaseVehicle, Chunk, ChunkPart, Densities, Distractor, DistractorKind, DynamicObject, Fog,
     Headlamps, Layer, LeadVehicle, Material, Mesh, MeshPiece, Motion, ObjectSlot, PRange,
     Placement, Rain, RainBand, RoadSurface, Route, RouteSegment, RouteSpec, Scene,
-    SceneDescription, SceneError, Sensor, StreetLights, Sun, TailLamps, Terrain, Textures,
+    SceneDescription, SceneError, Sensor, Spray, StreetLights, Sun, TailLamps, Terrain, Textures,
     VehicleKind, Vertex, BACK_MODEL_NOMINAL_RANGE_M, BOARD_ALBEDO, BOARD_MARGIN_M, BUILTIN_GAP_M,
     BUILTIN_SPEED_M_S, FIELD_PERIOD_STEPS, GRASS_ALBEDO, GRASS_ALBEDO_RANGE, GROUND_CELL_M,
     MAX_BUFFER_BYTES, MIN_SUN_ELEVATION_DEG, PROFILE_CELL_M, PROFILE_MARGIN_M, PROFILE_STEP_M,

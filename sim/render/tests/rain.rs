@@ -16,7 +16,7 @@ use common::{bare_plain_sensor, lead_ahead, options, renderer};
 /// (`None`: no table).
 fn description(rate_mm_h: Option<f64>) -> SceneDescription {
     let mut d = bare_plain_sensor(5);
-    d.rain = rate_mm_h.map(|rate_mm_h| Rain { rate_mm_h });
+    d.rain = rate_mm_h.map(Rain::new);
     d
 }
 
@@ -62,7 +62,7 @@ fn no_rain_and_a_rate_of_zero_draw_the_dry_frame() {
 #[test]
 fn the_wet_road_is_darker_by_the_factor_and_mirrors_the_sky() {
     let opts = options();
-    let rain = Rain { rate_mm_h: 16.0 };
+    let rain = Rain::new(16.0);
     let mut dry_r = renderer(description(None), &opts);
     let mut wet_r = renderer(description(Some(rain.rate_mm_h)), &opts);
     let dry = frame(&mut dry_r, 0, 0.0);
@@ -158,7 +158,7 @@ fn rainy_frames_repeat_with_the_seed() {
 /// rising with the rate as `Λ⁻⁴` (`R^0.84`).
 #[test]
 fn the_visible_drops_follow_marshall_palmer() {
-    let drops = |rate_mm_h: f64| Rain { rate_mm_h }.visible_drops([320.0, 320.0], 256.0, 242.0);
+    let drops = |rate_mm_h: f64| Rain::new(rate_mm_h).visible_drops([320.0, 320.0], 256.0, 242.0);
     let (light, heavy) = (drops(2.0), drops(16.0));
     println!("visible drops a frame: 2 mm/h {light:.0}, 16 mm/h {heavy:.0}");
     assert!((heavy / light - 8f64.powf(0.84)).abs() < 1e-9);

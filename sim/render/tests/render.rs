@@ -208,6 +208,8 @@ fn a_part_of_a_frame_is_the_whole_frame_there() {
                 braking: Default::default(),
                 earlier_field: None,
                 chase_speed_mps: 0.0,
+                lead_speed_mps: 0.0,
+                actor_speeds_mps: Vec::new(),
             };
             let partial = r.render_part(&input, Some(part)).expect("frame");
             assert_eq!(partial.exact, part, "{name}");

@@ -71,6 +71,14 @@ impl Captured {
                 }
             }),
             chase_speed_mps: f64::from(chase.forward_speed_mps),
+            lead_speed_mps: f64::from(lead.forward_speed_mps),
+            // The traffic's list: the follower, the lead, then the actors.
+            actor_speeds_mps: traffic
+                .iter()
+                .flatten()
+                .skip(2)
+                .map(|s| f64::from(s.forward_speed_mps))
+                .collect(),
         };
         let world_from_camera =
             rig.world_from_camera_panned(&input.world_from_chase, input.camera_pan_rad);

@@ -430,6 +430,29 @@ pub struct RainFile {
     /// usual bands: light under 2.5 mm/h, moderate 2.5–7.6, heavy over 7.6.
     #[schemars(extend("minimum" = 0.0, "maximum" = 200.0))]
     pub rate_mm_h: f64,
+    /// Spray from the tyres (default false: none, the frames as before spray existed).
+    /// Behind the lead and every actor, a plume of fine droplets that dims and veils what
+    /// lies behind it (the board on the lead's back), lit by the scene's light (the
+    /// airlight, the headlamps', the street lights'), hidden behind nearer things, and puffy,
+    /// a new draw each frame from its own random stream. Negligible below 55 km/h, it grows
+    /// with the square of the excess speed and with the film's depth
+    /// (`0.5 mm · (R / 10 mm/h)^0.59`): the trail's extinction cross-section per metre is
+    /// `σ0 = 3 ε h w n / (2 r)`, ε = 0.1 ((v − 55 km/h) / 45 km/h)² the share of the water
+    /// swept that is atomised, h the film, w = 0.25 m the tyres' width, n = 4 tyres, r =
+    /// 0.15 mm the droplets' radius; it spreads behind the vehicle and settles out over
+    /// `v · 0.95 s` metres (the guide's camera-world page has the model). Needs rain
+    /// (`rate_mm_h` over 0).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub spray: Option<bool>,
+    /// Lamps mirrored on the wet road (default false: the road mirrors the sky alone). The
+    /// water film mirrors the lit lamps (the lead's and the actors' tail and brake lamps,
+    /// the street lights, the chase's headlamps, whose mirror images lie ahead, away from
+    /// the camera) as it mirrors the sky, on the same share of the road and by the same
+    /// Fresnel law, a rough mirror (rms slope 0.15, after Cox & Munk's wind-roughened
+    /// water) that draws each lamp out into a streak along the line from its foot towards
+    /// the camera. Needs rain (`rate_mm_h` over 0).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lamp_reflections: Option<bool>,
 }
 
 /// `[environment.fog]`: fog between the camera and everything it sees, by Koschmieder's

@@ -40,6 +40,12 @@ pub struct FrameInput {
     /// The chase's forward speed, m/s: the rain's streaks are the drops' motion relative to
     /// the camera (read only when rain falls; 0 in [`FrameInput::fixed_camera`]).
     pub chase_speed_mps: f64,
+    /// The lead's forward speed, m/s: its tyres' spray (read only with rain's spray,
+    /// [`crate::scene::Rain::spray`]; 0 in [`FrameInput::fixed_camera`]).
+    pub lead_speed_mps: f64,
+    /// Each actor's forward speed, m/s, in the order of [`FrameInput::world_from_actors`]:
+    /// their spray (read only with rain's spray; an actor without one is taken at rest).
+    pub actor_speeds_mps: Vec<f64>,
 }
 
 /// The poses of one field of an interlaced frame (see [`FrameInput::earlier_field`]).
@@ -95,6 +101,8 @@ impl FrameInput {
             braking: Braking::default(),
             earlier_field: None,
             chase_speed_mps: 0.0,
+            lead_speed_mps: 0.0,
+            actor_speeds_mps: Vec::new(),
         }
     }
 }

@@ -65,6 +65,21 @@ struct Globals {
     // lens's glow over its albedo, w the intensity inside the cone, both times the sensor's
     // brightness (scene units, × m² for the intensity).
     street: array<vec4<f32>, 9>,
+    // Rain's spray (read only with `spray_on`): [0] x the plumes drawn, y the airlight
+    // times the sensor's brightness, z the share of the lamps' light a droplet scatters
+    // towards the camera, w the puffs' wavenumber (radians per metre); [1] the plume's
+    // height scale at its source, its rise (m per m), its greatest height scale (m), its
+    // spread (m per m); then three for each plume, [2 + 3p]: the middle of its vehicle's
+    // back on the ground relative to the camera, w σ0 (m); [3 + 3p] the unit vector
+    // backwards along the road, w the settling length (m); [4 + 3p] x the vehicle's
+    // half-width (m), y the puffs' phase (radians), z the plume's length (m), w the puffs'
+    // depth.
+    spray: array<vec4<f32>, 53>,
+    // The tail lamps the wet road mirrors (read only with `mirror_on`): [0] x how many, y
+    // the film's roughness (the rms slope); then two for each, [1 + 2k] its lens's centre
+    // relative to the camera, w its intensity times the sensor's brightness (scene units
+    // × m²); [2 + 2k] the unit vector its vehicle's back faces.
+    mirror: array<vec4<f32>, 69>,
 };
 
 struct Objects {
@@ -387,9 +402,12 @@ override fog_on: bool = false;
 // radiance and takes the rest from the fog's luminance, `fog + (grey − fog) · exp(−β d)`.
 fn fogged(grey: f32, eye: vec3<f32>) -> vec4<f32> {
     var g = grey;
+    if (spray_on) {
+        g = sprayed(g, eye);
+    }
     if (fog_on) {
         let t = exp(-globals.fog.x * length(eye));
-        g = globals.fog.y + (grey - globals.fog.y) * t;
+        g = globals.fog.y + (g - globals.fog.y) * t;
     }
     return vec4<f32>(g, g, g, 1.0);
 }
@@ -555,9 +573,169 @@ fn wet(grey: f32, in: GroundOut) -> f32 {
         let c = 1.0 - abs(in.eye.y) / max(length(in.eye), 1e-6);
         let c2 = c * c;
         let fresnel = globals.rain.w + (1.0 - globals.rain.w) * c2 * c2 * c;
-        return grey * globals.rain.x + globals.rain.y * fresnel * globals.rain.z;
+        var mirrored = globals.rain.y * fresnel * globals.rain.z;
+        if (mirror_on) {
+            mirrored += globals.rain.y * mirrored_lamps(in.eye);
+        }
+        return grey * globals.rain.x + mirrored;
     }
     return grey;
+}
+
+// Whether the wet road mirrors the lit lamps (the pipeline's constant): without it, `wet`
+// mirrors the sky alone, as before mirrored lamps existed, bit for bit.
+override mirror_on: bool = false;
+
+// The grey a rough water film (normal straight up) mirrors towards the camera, in unit
+// direction `v` from it, from a lamp in unit direction `l` whose light on a plane facing
+// it is `e`: a Beckmann microfacet mirror of rms slope m, radiance `F D e / (4 cos θo)`
+// (D = exp(−tan²θh / m²) / (π m² cos⁴θh) about the half vector h, F Schlick's Fresnel at
+// it), times π (a grey is π times a radiance: a white matte surface under `e` is `e`).
+// At grazing angles the lobe spans metres of road along the line towards the camera: the
+// lamp's streak.
+fn glint(v: vec3<f32>, l: vec3<f32>, e: f32) -> f32 {
+    if (l.y <= 0.0 || v.y <= 0.0) {
+        return 0.0;
+    }
+    let h = normalize(l + v);
+    let m = globals.mirror[0].y;
+    let m2 = m * m;
+    let c2 = max(h.y * h.y, 1e-6);
+    let tan2 = (1.0 - c2) / c2;
+    let d = exp(-tan2 / m2) / (m2 * c2 * c2);
+    let x = 1.0 - clamp(dot(h, v), 0.0, 1.0);
+    let x2 = x * x;
+    let fresnel = globals.rain.w + (1.0 - globals.rain.w) * x2 * x2 * x;
+    return fresnel * d * e / (4.0 * v.y);
+}
+
+// The lit lamps mirrored by the film at `eye` (on the road): the chase's headlamps (their
+// mirror image lies ahead, away from the camera, so they add almost nothing), the street
+// lights lit in the frame and the tail lamps of `Globals::mirror`, each by its light on a
+// plane facing it there. What stands between a lamp and the road is not looked for.
+fn mirrored_lamps(eye: vec3<f32>) -> f32 {
+    let v = -normalize(eye);
+    var sum = 0.0;
+    if (headlamps_on) {
+        for (var k = 0u; k < 2u; k++) {
+            let l = normalize(globals.lamps[k].xyz - eye);
+            sum += glint(v, l, headlamp(globals.lamps[k].xyz, eye, l));
+        }
+    }
+    if (street_lights_on) {
+        for (var k = 0u; k < 8u; k++) {
+            let lamp = globals.street[k];
+            if (lamp.w > 0.0) {
+                let l = normalize(lamp.xyz - eye);
+                sum += glint(v, l, street_light(lamp.xyz, eye, l));
+            }
+        }
+    }
+    let n = u32(globals.mirror[0].x);
+    for (var k = 0u; k < n; k++) {
+        let lamp = globals.mirror[1u + 2u * k];
+        let to = lamp.xyz - eye;
+        let d2 = max(dot(to, to), 1e-4);
+        let l = to * inverseSqrt(d2);
+        // A tail lamp shines behind its vehicle.
+        if (dot(-l, globals.mirror[2u + 2u * k].xyz) > 0.0) {
+            sum += glint(v, l, lamp.w / d2);
+        }
+    }
+    return sum;
+}
+
+// Whether the vehicles throw spray (the pipeline's constant): without it, `fogged` passes
+// the grey through it untouched, as before spray existed, bit for bit.
+override spray_on: bool = false;
+
+// Steps of the march through one plume.
+const SPRAY_STEPS: u32 = 16u;
+
+// The part of `range` (of t) where `lo <= a + t d <= hi` (empty: x > y).
+fn slab(range: vec2<f32>, a: f32, d: f32, lo: f32, hi: f32) -> vec2<f32> {
+    if (abs(d) < 1e-6) {
+        if (a < lo || a > hi) {
+            return vec2<f32>(1.0, 0.0);
+        }
+        return range;
+    }
+    let t0 = (lo - a) / d;
+    let t1 = (hi - a) / d;
+    return vec2<f32>(max(range.x, min(t0, t1)), min(range.y, max(t0, t1)));
+}
+
+// The light the droplets at `p` (relative to the camera) scatter towards the camera: the
+// airlight, and a share of the headlamps' and street lights' light falling on them.
+fn spray_light(p: vec3<f32>) -> f32 {
+    var lamps = 0.0;
+    if (headlamps_on) {
+        for (var k = 0u; k < 2u; k++) {
+            lamps += headlamp(globals.lamps[k].xyz, p, normalize(globals.lamps[k].xyz - p));
+        }
+    }
+    if (street_lights_on) {
+        for (var k = 0u; k < 8u; k++) {
+            let lamp = globals.street[k];
+            if (lamp.w > 0.0) {
+                lamps += street_light(lamp.xyz, p, normalize(lamp.xyz - p));
+            }
+        }
+    }
+    return globals.spray[0].y + globals.spray[0].z * lamps;
+}
+
+// A surface of grey `grey` at `eye` seen through the plumes in front of it (only the part
+// of each plume nearer than the surface counts: the spray is depth-tested): it keeps
+// exp(−τ) of its grey, τ the plumes' extinction integrated along the ray (a midpoint sum
+// of `SPRAY_STEPS` over each plume's part of it), and gains the light the droplets
+// scatter, each plume's lit as at the middle of its part of the ray. The plume's
+// extinction `s` metres behind its vehicle, `y` from its centre line and `z` up:
+// σ0 e^(−s/L) / (√π W H) · e^(−(y/W)²) · e^(−z/H) · (1 + depth · sin(k s + φ)), W and H
+// growing with s (`Spray` in the render crate).
+fn sprayed(grey: f32, eye: vec3<f32>) -> f32 {
+    let dist = length(eye);
+    let dir = eye / max(dist, 1e-6);
+    let shape = globals.spray[1];
+    var tau = 0.0;
+    var added = 0.0;
+    let n = u32(globals.spray[0].x);
+    for (var p = 0u; p < n; p++) {
+        let a = globals.spray[2u + 3u * p];
+        let b = globals.spray[3u + 3u * p];
+        let c = globals.spray[4u + 3u * p];
+        let side = vec3<f32>(-b.z, 0.0, b.x);
+        let s0 = -dot(a.xyz, b.xyz);
+        let ds = dot(dir, b.xyz);
+        let y0 = -dot(a.xyz, side);
+        let dy = dot(dir, side);
+        let z0 = -a.y;
+        let dz = dir.y;
+        let wide = 3.0 * (c.x + shape.w * c.z);
+        var t = vec2<f32>(0.0, dist);
+        t = slab(t, s0, ds, 0.0, c.z);
+        t = slab(t, y0, dy, -wide, wide);
+        t = slab(t, z0, dz, 0.0, 4.0 * shape.z);
+        if (t.y <= t.x) {
+            continue;
+        }
+        let dt = (t.y - t.x) / f32(SPRAY_STEPS);
+        var depth = 0.0;
+        for (var k = 0u; k < SPRAY_STEPS; k++) {
+            let tk = t.x + (f32(k) + 0.5) * dt;
+            let s = s0 + tk * ds;
+            let y = y0 + tk * dy;
+            let z = max(z0 + tk * dz, 0.0);
+            let w = c.x + shape.w * s;
+            let h = min(shape.x + shape.y * s, shape.z);
+            let puff = 1.0 + c.w * sin(globals.spray[0].w * s + c.y);
+            depth += a.w * exp(-s / b.w) / (1.7724539 * w * h) * exp(-(y * y) / (w * w)) * exp(-z / h) * puff * dt;
+        }
+        let light = spray_light(dir * (0.5 * (t.x + t.y)));
+        added += light * exp(-tau) * (1.0 - exp(-depth));
+        tau += depth;
+    }
+    return grey * exp(-tau) + added;
 }
 
 // Textured ground: `fs_main` with the albedo modulated by the surface's texture.

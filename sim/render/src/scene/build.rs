@@ -312,7 +312,7 @@ mod tests {
         for (name, d) in fingerprinted_descriptions() {
             let dry = fingerprint(&Scene::build(d.clone()).expect("scene"));
             let mut wet = d;
-            wet.rain = Some(crate::scene::Rain { rate_mm_h: 16.0 });
+            wet.rain = Some(crate::scene::Rain::new(16.0));
             assert_eq!(
                 fingerprint(&Scene::build(wet).expect("scene")),
                 dry,

@@ -63,6 +63,7 @@ mod road_marks;
 mod route;
 mod route_curve;
 mod site;
+mod spray;
 mod standing;
 mod street_lights;
 mod tail_lamps;
@@ -104,6 +105,7 @@ pub use object_slot::ObjectSlot;
 pub use rain::{Rain, RainBand};
 pub use rng::stream;
 pub use route::{PRange, Route, RouteSegment, RouteSpec};
+pub use spray::Spray;
 pub use street_lights::StreetLights;
 pub use tail_lamps::{Braking, TailLamps};
 pub use target_board::{

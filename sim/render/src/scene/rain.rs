@@ -30,14 +30,52 @@ pub enum RainBand {
 /// - **The wet road** ([`Rain::wet_albedo_factor`], [`Rain::film_share`]): the asphalt's
 ///   and its paint's albedo falls, and a water film mirrors the sky by Fresnel's law.
 ///
+/// Two more effects are options, off by default (the frames then drawn as before they
+/// existed, bit for bit):
+///
+/// - **Spray** ([`Rain::spray`], [`super::Spray`]): the plume of fine droplets the tyres of
+///   every vehicle moving faster than about 55 km/h throw up from the water film, which
+///   dims and veils what lies behind it, lit by the scene.
+/// - **Lamps mirrored** ([`Rain::lamp_reflections`]): the water film mirrors the lit lamps
+///   (the chase's headlamps, the tail and brake lamps, the street lights) as it mirrors the
+///   sky, a rough mirror ([`Rain::FILM_SLOPE_RMS`]) that draws each lamp out into a streak
+///   towards the camera.
+///
 /// A rate of 0 is dry: the scene as without rain, bit for bit.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Rain {
     /// The rain rate R, millimetres of water an hour.
     pub rate_mm_h: f64,
+    /// Whether the vehicles' tyres throw spray ([`super::Spray`]); not written when off,
+    /// so a description without it reads and writes as before.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub spray: bool,
+    /// Whether the wet road mirrors the lit lamps; not written when off.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub lamp_reflections: bool,
 }
 
 impl Rain {
+    /// Rain at `rate_mm_h`, without spray or mirrored lamps.
+    pub const fn new(rate_mm_h: f64) -> Rain {
+        Rain {
+            rate_mm_h,
+            spray: false,
+            lamp_reflections: false,
+        }
+    }
+
+    /// The root-mean-square slope of the water film's surface, as a Beckmann distribution's
+    /// roughness `m` (the mean square slope over both directions is `m²`): 0.15. Cox & Munk
+    /// (1954, "Measurement of the roughness of the sea surface from photographs of the sun's
+    /// glitter", JOSA 44(11)) measured a mean square slope `0.003 + 0.00512 U` on water under
+    /// a wind of U m/s, 0.02 (m = 0.15) at 3.5 m/s; a road's film, stirred by the drops'
+    /// impacts and the traffic's wakes, is taken as rough as that. It sets how far a
+    /// mirrored lamp is drawn out: at the grazing angles a camera sees the road at, the
+    /// lobe of directions `m` wide spans metres of road, a streak along the line from the
+    /// lamp's foot towards the camera.
+    pub const FILM_SLOPE_RMS: f64 = 0.15;
+
     /// The least rate of moderate rain, mm/h (light rain below it).
     pub const MODERATE_FROM_MM_H: f64 = 2.5;
     /// The rate above which rain is heavy, mm/h.

@@ -75,6 +75,18 @@ impl TailLamps {
         lead: &LeadVehicle,
         target: &TargetModel,
     ) {
+        Self::add(
+            mesh,
+            slot,
+            -0.5 * lead.length_m,
+            0.5 * lead.width_m,
+            Self::lead_bottom_m(lead, target),
+        );
+    }
+
+    /// The bottom of the lead's lenses, metres up: [`LEAD_LAMP_BOTTOM_M`], lower where the
+    /// board reaches as far out as a lamp, never below the box's floor.
+    fn lead_bottom_m(lead: &LeadVehicle, target: &TargetModel) -> f64 {
         let [bx0, by0, bx1, _] = tracker::paint::board_m(target);
         let half_width = 0.5 * lead.width_m;
         let board_bottom = lead.board_centre_height_m + by0;
@@ -84,13 +96,36 @@ impl TailLamps {
         if reaches {
             bottom = bottom.min(board_bottom - 0.05 - Self::LENS_M[1]);
         }
-        Self::add(
-            mesh,
-            slot,
+        bottom.max(LEAD_FLOOR_M)
+    }
+
+    /// The centres of the two lenses of a body whose back is the plane `x = back_x`, in its
+    /// frame (x forward, y up, z right), as [`TailLamps::add`] draws them.
+    fn centres(back_x: f64, half_width: f64, bottom_m: f64) -> [[f64; 3]; 2] {
+        let [w, h] = Self::LENS_M;
+        let z = half_width - Self::INSET_M - 0.5 * w;
+        [-1.0, 1.0].map(|side| [back_x - Self::PROUD_M, bottom_m + 0.5 * h, side * z])
+    }
+
+    /// The centres of the lead's lenses in its frame (see [`TailLamps::centres`]).
+    pub fn lead_centres(lead: &LeadVehicle, target: &TargetModel) -> [[f64; 3]; 2] {
+        Self::centres(
             -0.5 * lead.length_m,
-            half_width,
-            bottom.max(LEAD_FLOOR_M),
-        );
+            0.5 * lead.width_m,
+            Self::lead_bottom_m(lead, target),
+        )
+    }
+
+    /// The centres of the lenses of an actor of `kind` in its frame.
+    pub fn kind_centres(kind: VehicleKind) -> [[f64; 3]; 2] {
+        let (length, width, _) = kind.dimensions();
+        Self::centres(-0.5 * length, 0.5 * width, KIND_LAMP_BOTTOM_M)
+    }
+
+    /// A lamp's intensity, candela (towards the back, within its beam): the tail lamp's,
+    /// and the brake lamp's too when `braking`.
+    pub fn intensity_cd(braking: bool) -> f64 {
+        Self::TAIL_CD + if braking { Self::BRAKE_CD } else { 0.0 }
     }
 
     /// Appends the lamps of an actor of `kind`: at its back's corners, their bottom

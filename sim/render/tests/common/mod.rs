@@ -47,6 +47,8 @@ pub fn builtin_frame_panned(renderer: &mut Renderer, time_s: f64, camera_pan_rad
             braking: Default::default(),
             earlier_field: None,
             chase_speed_mps: 0.0,
+            lead_speed_mps: 0.0,
+            actor_speeds_mps: Vec::new(),
         })
         .expect("frame")
 }

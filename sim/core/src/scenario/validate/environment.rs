@@ -165,7 +165,23 @@ fn rain(e: &EnvironmentFile, f: &Blame) -> Result<Option<Rain>, ScenarioError> {
             r,
         ),
     )?;
-    Ok(Some(Rain { rate_mm_h: r }))
+    let mut out = Rain::new(r);
+    for (field, on, set) in [
+        ("environment.rain.spray", rain.spray, &mut out.spray),
+        (
+            "environment.rain.lamp_reflections",
+            rain.lamp_reflections,
+            &mut out.lamp_reflections,
+        ),
+    ] {
+        let on = on.unwrap_or(false);
+        f.at(
+            field,
+            check(!on || r > 0.0, "needs rain: rate_mm_h over 0", on),
+        )?;
+        *set = on;
+    }
+    Ok(Some(out))
 }
 
 /// `[[environment.overpasses]]` on a route `length` metres long.

@@ -45,6 +45,7 @@ mod shadow_pass;
 mod slots_pass;
 mod uniforms;
 mod view;
+mod wet_road;
 
 use super::backend::{Backend, BackendError};
 use super::frame::{Field, Frame, FrameInput, GroundTruth};
@@ -70,6 +71,7 @@ use thiserror::Error;
 use tracker::PixelRect;
 use uniforms::{ground_params, SlotUniforms, Uniforms};
 use view::CameraView;
+use wet_road::Speeds;
 
 /// Options that trade quality for speed; none changes the scene.
 #[derive(Clone, Debug, PartialEq)]
@@ -287,6 +289,8 @@ impl Renderer {
             description.raining().is_some(),
             description.has_tail_lamps(),
             StreetLights::lit(description),
+            description.raining().is_some_and(|r| r.spray),
+            description.raining().is_some_and(|r| r.lamp_reflections),
         );
         let lookups = builder.lookups(&maps, &surfaces, &samplers);
         let frame_uniforms = Uniforms::new(device, "frame uniforms");
@@ -404,10 +408,22 @@ impl Renderer {
                 .intersection(&whole),
         };
         let scissor = exact.grown(blur_reach_px(&description.sensor), whole.x1, whole.y1);
-        let mut image = self.draw_field(&input.field(), input.auto_gain, input.braking, scissor)?;
+        let speeds = Speeds {
+            frame_index: input.frame_index,
+            lead_mps: input.lead_speed_mps,
+            actors_mps: &input.actor_speeds_mps,
+        };
+        let mut image = self.draw_field(
+            &input.field(),
+            input.auto_gain,
+            input.braking,
+            &speeds,
+            scissor,
+        )?;
         if let Some(earlier) = &input.earlier_field {
             // An interlaced camera: the odd rows are the earlier field's.
-            let other = self.draw_field(earlier, input.auto_gain, input.braking, scissor)?;
+            let other =
+                self.draw_field(earlier, input.auto_gain, input.braking, &speeds, scissor)?;
             interlace(&mut image, &other);
         }
         self.draw_rain(&mut image, input);
@@ -430,7 +446,7 @@ impl Renderer {
     }
 
     /// Draws the scene as it stands in `field`, with the automatic gain `auto_gain` and the
-    /// brake lamps of the vehicles `braking` lit, in the
+    /// brake lamps of the vehicles `braking` lit, the vehicles at `speeds`, in the
     /// pixels `scissor` of the frame, and reads back the rows `scissor` spans (the other
     /// rows are zero, and the pixels of those rows outside `scissor` the sky's grey).
     fn draw_field(
@@ -438,6 +454,7 @@ impl Renderer {
         field: &Field,
         auto_gain: f64,
         braking: Braking,
+        speeds: &Speeds,
         scissor: PixelRect,
     ) -> Result<GrayImage, RenderError> {
         let description = self.scene.description();
@@ -473,7 +490,7 @@ impl Renderer {
         }
         self.hold_drawn(&sun, &view.eye);
         // Uniforms: the frame's, written once.
-        self.write_uniforms(&view, &sun, &placed, brightness, braking);
+        self.write_uniforms(&view, &sun, &placed, brightness, braking, field, speeds);
 
         // One encoder: the passes from the sun, the main pass, the copy to the staging
         // buffer; one submission.

@@ -143,6 +143,13 @@ pub(super) struct Builder<'d> {
     /// glow (the `street_lights_on` override, at night with street lights): off, a scene is
     /// drawn as before street lights existed.
     street_lights: bool,
+    /// Whether the main pass's pipelines veil what lies behind the vehicles' spray (the
+    /// `spray_on` override, in rain with spray): off, a scene is drawn as before spray
+    /// existed.
+    spray: bool,
+    /// Whether the main pass's pipelines let the wet road mirror the lit lamps (the
+    /// `mirror_on` override): off, a scene is drawn as before mirrored lamps existed.
+    mirror: bool,
     /// Group 0 of the frame's passes: the globals and the object transforms.
     frame_layout: wgpu::BindGroupLayout,
     /// Group 1 of the main pass: the shadow lookups and the ground's textures.
@@ -157,7 +164,9 @@ pub(super) struct Builder<'d> {
 impl<'d> Builder<'d> {
     /// The shader and the layouts, for a main pass of `samples` samples, in `fog` (any
     /// extinction of the air: fog's or rain's) or not, with the `headlamps` on or not,
-    /// `rain` wetting the road or not, `tail_lamps` or not, and `street_lights` lit or not.
+    /// `rain` wetting the road or not, `tail_lamps` or not, `street_lights` lit or not, the
+    /// vehicles' `spray` or not and the lamps mirrored on the wet road (`mirror`) or not.
+    #[allow(clippy::too_many_arguments)]
     pub fn new(
         device: &'d wgpu::Device,
         samples: u32,
@@ -166,6 +175,8 @@ impl<'d> Builder<'d> {
         rain: bool,
         tail_lamps: bool,
         street_lights: bool,
+        spray: bool,
+        mirror: bool,
     ) -> Builder<'d> {
         let uniform_entry = |binding, has_dynamic_offset| wgpu::BindGroupLayoutEntry {
             binding,
@@ -213,6 +224,8 @@ impl<'d> Builder<'d> {
             rain,
             tail_lamps,
             street_lights,
+            spray,
+            mirror,
             frame_layout,
             lookup_layout,
             slot_layout,
@@ -493,6 +506,13 @@ impl<'d> Builder<'d> {
         if self.street_lights {
             lamp_constants.push(("street_lights_on", 1.0));
             constants.push(("street_lights_on", 1.0));
+        }
+        // Rain's options are the fragment stage's; without them it is compiled as before.
+        if self.spray {
+            constants.push(("spray_on", 1.0));
+        }
+        if self.mirror {
+            constants.push(("mirror_on", 1.0));
         }
         let mut vertex_state = self.vertex_state(vertex);
         if !lamp_constants.is_empty() {

@@ -3,7 +3,9 @@
 
 use super::light::{Light, Sunlight, NORMAL_OFFSET_TEXELS};
 use super::view::CameraView;
+use super::wet_road::{mirror_params, spray_params, Speeds, MIRROR_VEC4S, SPRAY_VEC4S};
 use super::Renderer;
+use crate::camera::frame::Field;
 use crate::camera::shadow_tiles::{self, TileFrame};
 use crate::camera::textures::TILE_M;
 use crate::scene::{
@@ -35,6 +37,8 @@ pub(super) struct Globals {
     rain: [f32; 4],
     glow: [[f32; 4]; GLOW_VEC4S],
     street: [[f32; 4]; STREET_VEC4S],
+    spray: [[f32; 4]; SPRAY_VEC4S],
+    mirror: [[f32; 4]; MIRROR_VEC4S],
 }
 
 /// `vec4`s of `Globals::glow`: a radiance for every object slot, four to a `vec4`.
@@ -51,7 +55,9 @@ impl Renderer {
     /// Writes the frame's uniforms (the main pass's, which the passes from the sun bind
     /// too): the camera's `view`, the `sun`'s maps, the moving objects as `placed`, and
     /// the sensor's `brightness` (with the automatic gain), and the brake lamps of the
-    /// vehicles `braking` lit.
+    /// vehicles `braking` lit; in rain with its options, the spray of the vehicles as
+    /// `field` poses them and `speeds` moves them, and the lamps the road mirrors.
+    #[allow(clippy::too_many_arguments)]
     pub(super) fn write_uniforms(
         &self,
         view: &CameraView,
@@ -59,7 +65,10 @@ impl Renderer {
         placed: &Placed,
         brightness: f64,
         braking: Braking,
+        field: &Field,
+        speeds: &Speeds,
     ) {
+        let description = self.scene.description();
         let globals = Globals::of_frame(
             view,
             sun,
@@ -72,6 +81,15 @@ impl Renderer {
         let globals = Globals {
             glow: glow_params(self.scene.description(), brightness, braking),
             street: street_params(&self.street_lights, view, brightness),
+            spray: spray_params(
+                description,
+                field,
+                speeds,
+                view,
+                &description.sun.lighting(),
+                brightness,
+            ),
+            mirror: mirror_params(description, field, view, braking, brightness),
             ..globals
         };
         self.main
@@ -153,6 +171,8 @@ impl Globals {
             ),
             glow: [[0.0; 4]; GLOW_VEC4S],
             street: [[0.0; 4]; STREET_VEC4S],
+            spray: [[0.0; 4]; SPRAY_VEC4S],
+            mirror: [[0.0; 4]; MIRROR_VEC4S],
         }
     }
 
