@@ -89,3 +89,80 @@ pub(super) fn check(s: &Summary, expect: &Expect, out: &mut Vec<Criterion>) {
         message: format!("the tracker's target was {said} (required at least {required:.1} m off)"),
     });
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::report::frames_csv::tests::record;
+    use sim_core::TrackerStatus;
+
+    /// 30 frames: the first 12 without the target, not yet acquired; frames 20–22 lost by
+    /// the tracker after it.
+    fn searched() -> Vec<FrameRecord> {
+        (0..30)
+            .map(|i| {
+                let mut r = record(i);
+                r.true_range_m = 40.0 - i as f64;
+                if i < 12 || (20..23).contains(&i) {
+                    r.lost_truth = true;
+                    r.status = TrackerStatus::Lost;
+                    r.loss_cause = if i < 12 {
+                        LossCause::NotAcquired
+                    } else {
+                        LossCause::Tracker
+                    };
+                }
+                r
+            })
+            .collect()
+    }
+
+    #[test]
+    fn the_search_before_the_first_acquisition_is_no_lost_track() {
+        let expect = Expect {
+            min_acquisition_range_m: Some(28.0),
+            ..Expect::default()
+        };
+        let s = Summary::compute("x", 1, &searched(), &expect, 1.0);
+        let a = s.acquisition.expect("searched");
+        assert!((a.not_acquired_s - 12.0 / 15.0).abs() < 1e-9, "{a:?}");
+        assert_eq!(a.acquired_t_s, Some(12.0 / 15.0));
+        assert_eq!(a.range_m, Some(28.0));
+        // Only the loss after it counts.
+        assert!((s.tracking_lost_s - 3.0 / 15.0).abs() < 1e-9);
+        assert_eq!(s.tracking_loss_events, 1);
+        assert_eq!(s.loss_events[0].start_frame, 20);
+        assert!((s.lost_by_cause_s.tracker - 3.0 / 15.0).abs() < 1e-9);
+        assert!(s.passed, "{:?}", s.failures);
+        let json = serde_json::to_value(&s).unwrap();
+        assert_eq!(json["acquisition"]["range_m"], 28.0);
+
+        let further = Expect {
+            min_acquisition_range_m: Some(28.5),
+            ..Expect::default()
+        };
+        let s = Summary::compute("x", 1, &searched(), &further, 1.0);
+        assert!(!s.passed);
+        assert!(s.failures[0].contains("first held 28.0 m off at 0.80 s"), "{:?}", s.failures);
+    }
+
+    #[test]
+    fn a_target_never_held_fails_and_one_held_from_the_start_passes() {
+        let expect = Expect {
+            min_acquisition_range_m: Some(10.0),
+            ..Expect::default()
+        };
+        let never: Vec<FrameRecord> = searched().into_iter().take(12).collect();
+        let s = Summary::compute("x", 1, &never, &expect, 1.0);
+        assert_eq!(s.acquisition.unwrap().acquired_t_s, None);
+        assert_eq!(s.tracking_lost_s, 0.0);
+        assert!(!s.passed && s.failures[0].contains("never held"), "{:?}", s.failures);
+        let placed: Vec<FrameRecord> = (0..12).map(record).collect();
+        let s = Summary::compute("x", 1, &placed, &expect, 1.0);
+        assert!(s.acquisition.is_none());
+        assert!(s.passed);
+        // Left out of summary.json when there was nothing to acquire.
+        let json = serde_json::to_value(&s).unwrap();
+        assert!(json.get("acquisition").is_none());
+    }
+}
