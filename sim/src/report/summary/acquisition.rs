@@ -143,7 +143,11 @@ mod tests {
         };
         let s = Summary::compute("x", 1, &searched(), &further, 1.0);
         assert!(!s.passed);
-        assert!(s.failures[0].contains("first held 28.0 m off at 0.80 s"), "{:?}", s.failures);
+        assert!(
+            s.failures[0].contains("first held 28.0 m off at 0.80 s"),
+            "{:?}",
+            s.failures
+        );
     }
 
     #[test]
@@ -156,7 +160,11 @@ mod tests {
         let s = Summary::compute("x", 1, &never, &expect, 1.0);
         assert_eq!(s.acquisition.unwrap().acquired_t_s, None);
         assert_eq!(s.tracking_lost_s, 0.0);
-        assert!(!s.passed && s.failures[0].contains("never held"), "{:?}", s.failures);
+        assert!(
+            !s.passed && s.failures[0].contains("never held"),
+            "{:?}",
+            s.failures
+        );
         let placed: Vec<FrameRecord> = (0..12).map(record).collect();
         let s = Summary::compute("x", 1, &placed, &expect, 1.0);
         assert!(s.acquisition.is_none());
