@@ -314,6 +314,40 @@ struct StartOut {
     station_m: f64,
 }
 
+/// Checks the ego's start `gap_m` behind the lead (`names`: the ego's and the lead's; the
+/// ego placed at `line`), at `ego_speed`: 3 m to the renderer's far plane, and over
+/// [`crate::MAX_PLACED_GAP_M`] (a far start: the chase cruises at the ego's speed until its
+/// tracker finds the lead, said in a warning) at a speed carfollow's chase cruises at.
+/// Returns whether the start is far.
+fn start_gap(
+    xml: &Xml,
+    line: u32,
+    [ego, lead]: [&str; 2],
+    gap_m: f64,
+    ego_speed: f64,
+    warnings: &mut Vec<String>,
+) -> Result<bool, OscError> {
+    let max_gap_m = crate::MAX_INITIAL_GAP_M;
+    let refuse = |message: String| OscError::At {
+        path: xml.path.clone(),
+        line,
+        message,
+    };
+    if !(3.0..=max_gap_m).contains(&gap_m) {
+        return Err(refuse(format!("the ego `{ego}` starts with its camera {gap_m:.1} m behind the lead `{lead}`'s back: carfollow's chase starts 3–{max_gap_m} m behind the target it follows (the renderer draws nothing further)")));
+    }
+    let far = gap_m > crate::MAX_PLACED_GAP_M;
+    if far && ego_speed < 0.5 {
+        return Err(refuse(format!("the ego `{ego}` starts {gap_m:.1} m behind the lead `{lead}` at {ego_speed} m/s: a chase that starts over {} m behind cruises at its own speed until it finds the lead, and carfollow's chase cruises at 0.5 m/s or more", crate::MAX_PLACED_GAP_M)));
+    }
+    if far {
+        warnings.push(format!(
+            "the ego `{ego}` starts {gap_m:.1} m behind the lead `{lead}`: the chase cruises at {ego_speed} m/s and its tracker searches until it finds the lead"
+        ));
+    }
+    Ok(far)
+}
+
 /// The scenario of the file as carfollow's scenario text.
 #[allow(clippy::too_many_arguments)]
 pub fn scenario(
@@ -366,26 +400,9 @@ pub fn scenario(
     let camera_forward_m = f64::from(vehicle::CameraMount::default().forward_m);
     let rear_bumper_m = f64::from(vehicle::VehicleParams::pickup().rear_bumper_x_m());
     let gap_m = at_lead.s_m + rear_bumper_m - camera_forward_m - at_ego.s_m;
-    let max_gap_m = crate::MAX_INITIAL_GAP_M;
     let ego_speed = speed(ego);
-    let refuse = |message: String| OscError::At {
-        path: xml.path.clone(),
-        line: init.line.get(ego).copied().unwrap_or(1),
-        message,
-    };
-    if !(3.0..=max_gap_m).contains(&gap_m) {
-        return Err(refuse(format!("the ego `{ego}` starts with its camera {gap_m:.1} m behind the lead `{lead}`'s back: carfollow's chase starts 3–{max_gap_m} m behind the target it follows (the renderer draws nothing further)")));
-    }
-    // Far behind, the chase cruises at the ego's speed until its tracker finds the lead.
-    let far = gap_m > crate::MAX_PLACED_GAP_M;
-    if far && ego_speed < 0.5 {
-        return Err(refuse(format!("the ego `{ego}` starts {gap_m:.1} m behind the lead `{lead}` at {ego_speed} m/s: a chase that starts over {} m behind cruises at its own speed until it finds the lead, and carfollow's chase cruises at 0.5 m/s or more", crate::MAX_PLACED_GAP_M)));
-    }
-    if far {
-        warnings.push(format!(
-            "the ego `{ego}` starts {gap_m:.1} m behind the lead `{lead}`: the chase cruises at {ego_speed} m/s and its tracker searches until it finds the lead"
-        ));
-    }
+    let line = init.line.get(ego).copied().unwrap_or(1);
+    let far = start_gap(xml, line, [ego, &lead], gap_m, ego_speed, &mut warnings)?;
     let duration_s = match options.duration_s {
         Some(d) => d,
         None => duration(xml)?,
