@@ -53,8 +53,8 @@ pub use scenario::{
     LoopFile, OverpassFile, RoadFile, RouteFile, Scenario, ScenarioError, ScenarioFile,
     ScenarioSpec, SegmentFile, SensorFile, StartFile, SunFile, TexturesFile, TrackerFile,
     BUILTIN_NAME, BUILTIN_TARGET_TEXT, FOCAL_LENGTH_MM, MAX_ARC_RADIUS_M, MAX_BLUR_SIGMA_PX,
-    MAX_BREADCRUMBS, MAX_GRADE, MAX_HEIGHT_M, MAX_INIT_OFFSET_PX, MAX_ROUTE_M, MAX_STEP_M,
-    MIN_ARC_RADIUS_M, SCHEMA_FILE_NAME,
+    MAX_BREADCRUMBS, MAX_GRADE, MAX_HEIGHT_M, MAX_INITIAL_GAP_M, MAX_INIT_OFFSET_PX,
+    MAX_PLACED_GAP_M, MAX_ROUTE_M, MAX_STEP_M, MIN_ARC_RADIUS_M, SCHEMA_FILE_NAME,
 };
 pub use target::{
     line_column, load as load_target, parse as parse_target, to_file_text as target_file_text,

@@ -349,7 +349,9 @@ impl Plan {
             &world_from_lead,
             0.0,
         );
-        if !first_view.in_view {
+        // A tracker that starts by searching needs no target in view at t = 0 (a lead far
+        // ahead may be out of it, round a bend); one placed on the target does.
+        if !first_view.in_view && !s.search_start {
             // What decides the first view; blame an override among them if there is one.
             let field = src.blame(
                 &[

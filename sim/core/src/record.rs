@@ -55,6 +55,12 @@ pub enum LossCause {
     LeftPath,
     /// In traffic: the vehicle held has never been the one in the chase's path.
     WrongVehicle,
+    /// Not yet acquired: the tracker started with nothing placed (`tracker.start =
+    /// "search"`) and has not held the target (in traffic, the vehicle in the chase's path)
+    /// since. The estimate is not on it ([`FrameRecord::lost_truth`] is true), but the
+    /// method has yet to find it, so reports count the frame apart (`not_acquired_s`), not
+    /// as a lost track. After the first acquisition a loss is a loss.
+    NotAcquired,
 }
 
 impl LossCause {
@@ -67,10 +73,18 @@ impl LossCause {
             LossCause::Tracker => "tracker",
             LossCause::LeftPath => "left_path",
             LossCause::WrongVehicle => "wrong_vehicle",
+            LossCause::NotAcquired => "not_acquired",
         }
     }
 
-    /// The causes of a loss, in the order reports list them.
+    /// Whether a frame judged lost by the ground truth (`lost_truth`) with this cause
+    /// counts as a lost track: every cause but [`LossCause::NotAcquired`].
+    pub fn is_track_loss(self) -> bool {
+        self != LossCause::NotAcquired
+    }
+
+    /// The causes of a loss, in the order reports list them (not
+    /// [`LossCause::NotAcquired`], which is no lost track).
     pub const ALL: [LossCause; 5] = [
         LossCause::OutOfView,
         LossCause::Occluded,

@@ -215,6 +215,21 @@ fn verdict(s: &Summary, dir: &Path) -> String {
         s.tracking_lost_s + 0.0,
         dir.display()
     );
+    // A tracker that started with nothing placed: when it found its target.
+    let head = match s.acquisition {
+        None => head,
+        Some(a) => match (a.acquired_t_s, a.range_m) {
+            (Some(t), Some(r)) => format!(
+                "{head}\n  the tracker first held its target at {t:.2} s, {r:.1} m off \
+                 (searching {:.1} s before)",
+                a.not_acquired_s + 0.0
+            ),
+            _ => format!(
+                "{head}\n  the tracker never held its target (searching {:.1} s)",
+                a.not_acquired_s + 0.0
+            ),
+        },
+    };
     // A collision is news even where no criterion asks about it (said once: not again
     // when the failed `no_collision` criterion says it).
     let said = s

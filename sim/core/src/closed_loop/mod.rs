@@ -296,6 +296,9 @@ impl ClosedLoop {
             chase_distance_m: 0.0,
             last_chase_xz: xz(&drive.world.vehicle_state(chase_id).world_from_vehicle),
             traffic: recorder_traffic,
+            // A tracker placed on the target holds it from the start; one that searches
+            // has yet to find it.
+            acquired: !s.search_start,
         };
         let eye = Eye {
             parts: FrameParts::new(rig.width, rig.height, turning.then_some(rig.intrinsics)),

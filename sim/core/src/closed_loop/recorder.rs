@@ -54,6 +54,10 @@ pub(super) struct Recorder {
     pub(super) last_chase_xz: [f64; 2],
     /// The judgement in traffic, when the scenario has traffic.
     pub(super) traffic: Option<TrafficTruth>,
+    /// Whether the tracker has held the target (in traffic, the vehicle in the chase's
+    /// path) yet: from the start when placed on it, else from the first frame its estimate
+    /// lies on it. Before, a frame without the target is [`LossCause::NotAcquired`].
+    pub(super) acquired: bool,
 }
 
 impl Recorder {
@@ -109,12 +113,16 @@ impl Recorder {
                     };
                     let tracking = status == TrackerStatus::Tracking;
                     let log = traffic_log.unwrap_or_default();
-                    let j = judge.judge(captured, states, estimate, tracking, lead, log);
+                    let acquired = &mut self.acquired;
+                    let j = judge.judge(captured, states, estimate, tracking, lead, log, acquired);
                     (j.lost, j.cause, j.false_alarm, Some(j.frame))
                 }
                 _ => {
+                    self.acquired |= !lost_truth;
                     let cause = if !lost_truth {
                         LossCause::None
+                    } else if !self.acquired {
+                        LossCause::NotAcquired
                     } else if !truth.in_view {
                         LossCause::OutOfView
                     } else if occluded() {

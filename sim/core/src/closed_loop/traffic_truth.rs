@@ -87,7 +87,11 @@ impl TrafficTruth {
     }
 
     /// Judges frame `captured` with `estimate`, the tracker's `tracking` status, and
-    /// the events and contacts `log` since the frame before.
+    /// the events and contacts `log` since the frame before; `acquired` says whether the
+    /// tracker has held the vehicle in the path yet (set here on the first frame it does):
+    /// before, holding nothing while a vehicle is in the path is
+    /// [`LossCause::NotAcquired`].
+    #[allow(clippy::too_many_arguments)]
     pub(super) fn judge<F: Fn() -> bool>(
         &mut self,
         captured: &Captured,
@@ -96,6 +100,7 @@ impl TrafficTruth {
         tracking: bool,
         lead: LeadTarget<'_, F>,
         log: (Vec<String>, Vec<Contact>),
+        acquired: &mut bool,
     ) -> Judged {
         let input = &captured.input;
         let actor_truth: Vec<GroundTruth> = self
@@ -157,10 +162,14 @@ impl TrafficTruth {
                 && self.road.in_corridor(&self.vehicles, &places, 0, held)
         };
         let (lost, cause) = match (path, tracked) {
-            (Some(p), Some(t)) if p == t => (false, LossCause::None),
+            (Some(p), Some(t)) if p == t => {
+                *acquired = true;
+                (false, LossCause::None)
+            }
             (_, Some(t)) if path.is_some_and(|p| behind(t, p)) => (true, LossCause::Occluded),
             (_, Some(t)) if self.was_path[t] => (true, LossCause::LeftPath),
             (_, Some(_)) => (true, LossCause::WrongVehicle),
+            (Some(_), None) if !*acquired => (true, LossCause::NotAcquired),
             (Some(p), None) if !in_view(p) => (true, LossCause::OutOfView),
             (Some(1), None) if (lead.occluded)() => (true, LossCause::Occluded),
             (Some(_), None) => (true, LossCause::Tracker),

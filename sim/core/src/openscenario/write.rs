@@ -294,6 +294,8 @@ struct CameraOut {
 #[derive(serde::Serialize)]
 struct TrackerOut {
     target: String,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    start: Option<&'static str>,
 }
 
 #[derive(serde::Serialize)]
@@ -311,6 +313,40 @@ struct ActorOut {
 #[derive(serde::Serialize)]
 struct StartOut {
     station_m: f64,
+}
+
+/// Checks the ego's start `gap_m` behind the lead (`names`: the ego's and the lead's; the
+/// ego placed at `line`), at `ego_speed`: 3 m to the renderer's far plane, and over
+/// [`crate::MAX_PLACED_GAP_M`] (a far start: the chase cruises at the ego's speed until its
+/// tracker finds the lead, said in a warning) at a speed carfollow's chase cruises at.
+/// Returns whether the start is far.
+fn start_gap(
+    xml: &Xml,
+    line: u32,
+    [ego, lead]: [&str; 2],
+    gap_m: f64,
+    ego_speed: f64,
+    warnings: &mut Vec<String>,
+) -> Result<bool, OscError> {
+    let max_gap_m = crate::MAX_INITIAL_GAP_M;
+    let refuse = |message: String| OscError::At {
+        path: xml.path.clone(),
+        line,
+        message,
+    };
+    if !(3.0..=max_gap_m).contains(&gap_m) {
+        return Err(refuse(format!("the ego `{ego}` starts with its camera {gap_m:.1} m behind the lead `{lead}`'s back: carfollow's chase starts 3–{max_gap_m} m behind the target it follows (the renderer draws nothing further)")));
+    }
+    let far = gap_m > crate::MAX_PLACED_GAP_M;
+    if far && ego_speed < 0.5 {
+        return Err(refuse(format!("the ego `{ego}` starts {gap_m:.1} m behind the lead `{lead}` at {ego_speed} m/s: a chase that starts over {} m behind cruises at its own speed until it finds the lead, and carfollow's chase cruises at 0.5 m/s or more", crate::MAX_PLACED_GAP_M)));
+    }
+    if far {
+        warnings.push(format!(
+            "the ego `{ego}` starts {gap_m:.1} m behind the lead `{lead}`: the chase cruises at {ego_speed} m/s and its tracker searches until it finds the lead"
+        ));
+    }
+    Ok(far)
 }
 
 /// The scenario of the file as carfollow's scenario text.
@@ -365,18 +401,13 @@ pub fn scenario(
     let camera_forward_m = f64::from(vehicle::CameraMount::default().forward_m);
     let rear_bumper_m = f64::from(vehicle::VehicleParams::pickup().rear_bumper_x_m());
     let gap_m = at_lead.s_m + rear_bumper_m - camera_forward_m - at_ego.s_m;
-    if !(3.0..=60.0).contains(&gap_m) {
-        return Err(OscError::At {
-            path: xml.path.clone(),
-            line: init.line.get(ego).copied().unwrap_or(1),
-            message: format!("the ego `{ego}` starts with its camera {gap_m:.1} m behind the lead `{lead}`'s back: carfollow's chase starts 3–60 m behind the target it follows"),
-        });
-    }
+    let ego_speed = speed(ego);
+    let line = init.line.get(ego).copied().unwrap_or(1);
+    let far = start_gap(xml, line, [ego, &lead], gap_m, ego_speed, &mut warnings)?;
     let duration_s = match options.duration_s {
         Some(d) => d,
         None => duration(xml)?,
     };
-    let ego_speed = speed(ego);
     if (ego_speed - speed(&lead)).abs() > 1e-9 && ego_speed < 0.5 {
         warnings.push(format!(
             "the ego `{ego}` starts at the lead's speed, {} m/s, not its own {ego_speed} m/s: carfollow's chase cruises at 0.5 m/s or more",
@@ -397,13 +428,20 @@ pub fn scenario(
         .file_stem()
         .map_or("imported".into(), |s| s.to_string_lossy().into_owned());
 
-    let focal_length_mm = focal_length_mm(
-        road,
-        at_ego.s_m + camera_forward_m,
-        at_lead.s_m + rear_bumper_m,
-        [at_ego.lane, at_lead.lane],
-        gap_m,
-    );
+    // Far behind, the default lens: the chase closes to its search's range and then follows
+    // at its gap keeper's few metres, where that lens sees the target as at its nominal
+    // range.
+    let focal_length_mm = if far {
+        DEFAULT_FOCAL_MM
+    } else {
+        focal_length_mm(
+            road,
+            at_ego.s_m + camera_forward_m,
+            at_lead.s_m + rear_bumper_m,
+            [at_ego.lane, at_lead.lane],
+            gap_m,
+        )
+    };
     let gap_m = (gap_m * 1e6).round() / 1e6;
     let doc = Doc {
         name: stem,
@@ -437,6 +475,7 @@ pub fn scenario(
         camera: CameraOut { focal_length_mm },
         tracker: TrackerOut {
             target: TARGET.into(),
+            start: far.then_some("search"),
         },
         environment: init.environment.clone(),
         actors: vehicles

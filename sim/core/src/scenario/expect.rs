@@ -50,4 +50,10 @@ pub struct Expect {
     /// The chase's largest jerk, m/s³ (from its accelerations frame to frame).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max_jerk_mps3: Option<f64>,
+    /// A tracker that starts with nothing placed (`tracker.start = "search"`) must first
+    /// hold its target (in traffic, the vehicle in the chase's path) at least this far off,
+    /// metres (the true range then); one that never holds it fails, one held from the start
+    /// passes. (Written only when given.)
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub min_acquisition_range_m: Option<f64>,
 }

@@ -231,9 +231,12 @@ fn default_basis() -> String {
 #[derive(Clone, Debug, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ChaseFile {
-    /// Camera-to-target distance at t = 0, metres (default 10): 3–60, with the target in
-    /// the camera's view.
-    #[schemars(extend("minimum" = 3.0, "maximum" = 60.0))]
+    /// Camera-to-target distance at t = 0, metres (default 10): 3–60 with the tracker
+    /// placed on the target (`tracker.start = "operator"`), which must then be in the
+    /// camera's view; up to 250 (the renderer's far plane: nothing further is drawn) with
+    /// `tracker.start = "search"` and a `controller.cruise_speed_mps`, which a start over
+    /// 60 m needs: the chase cruises until its tracker finds the lead, then follows it.
+    #[schemars(extend("minimum" = 3.0, "maximum" = 250.0))]
     pub initial_gap_m: Option<f64>,
     /// Whether the chase starts at its cruise speed, `controller.cruise_speed_mps` (which
     /// this needs), instead of the lead's initial speed (default false, as every
@@ -350,7 +353,9 @@ pub struct TrackerFile {
     /// Where the tracker starts: `"operator"` (the default), placed on the target at t = 0
     /// as the paper's teleoperator did (2.2), with `init_offset`'s error; or `"search"`,
     /// nothing placed: it searches the whole image (robust mode's search, which the
-    /// paper's mode takes its start from), in traffic for a vehicle in the chase's lane.
+    /// paper's mode takes its start from), in traffic for a vehicle in the chase's lane;
+    /// a chase starting over 60 m behind (`chase.initial_gap_m`) needs it. Until the first
+    /// acquisition, frames without the target are `not_acquired`, not a lost track.
     /// (Written only when given.)
     #[schemars(extend("enum" = ["operator", "search", null]))]
     #[serde(default, skip_serializing_if = "Option::is_none")]

@@ -20,7 +20,8 @@ pub use schema::{scenario_schema_json, SCHEMA_FILE_NAME};
 pub use traffic::{kind_albedo, kind_params, ActorFile, ActorSpec, StartFile};
 pub use validate::{
     FOCAL_LENGTH_MM, MAX_ACTORS, MAX_ARC_RADIUS_M, MAX_BLUR_SIGMA_PX, MAX_BREADCRUMBS, MAX_GRADE,
-    MAX_HEIGHT_M, MAX_INIT_OFFSET_PX, MAX_ROUTE_M, MAX_STEP_M, MIN_ARC_RADIUS_M,
+    MAX_HEIGHT_M, MAX_INITIAL_GAP_M, MAX_INIT_OFFSET_PX, MAX_PLACED_GAP_M, MAX_ROUTE_M, MAX_STEP_M,
+    MIN_ARC_RADIUS_M,
 };
 
 use sim_render::{Densities, RouteSpec, Sensor, Sun};

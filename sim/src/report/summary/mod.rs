@@ -13,7 +13,10 @@
 //! frame is lost when there is no estimate or it is off by the tolerance, wherever the
 //! target is (a target partly out of the image but tracked within the tolerance is not
 //! lost; the time it spends partly out of view is `partly_out_of_view_s`); an event is a
-//! maximal run of consecutive lost frames. The tracker's own `lost` and `coasting`
+//! maximal run of consecutive lost frames. A tracker that starts with nothing placed
+//! (`tracker.start = "search"`) has not lost a target it has yet to find: until its first
+//! acquisition, frames without the target are `not_acquired` and are counted apart
+//! (`acquisition.not_acquired_s`), in no loss time or event. The tracker's own `lost` and `coasting`
 //! times are reported beside it, and so is how long after each event's start the tracker
 //! first said it was not tracking (`loss_events`, `max_loss_report_delay_frames`), and how
 //! many lost frames it spent saying `tracking` (`silent_loss_frames`). Its dual, the
@@ -28,12 +31,14 @@
 //! smallest error that at least 95 % of the frames do not exceed); both are `null` when no frame
 //! qualifies.
 
+mod acquisition;
 mod range_errors;
 mod stream;
 mod traffic;
 
 use serde::Serialize;
 
+pub use acquisition::Acquisition;
 pub(crate) use stream::FramePeriod;
 pub use stream::SummaryBuilder;
 pub use traffic::{CollisionTime, EventTime, TrafficSummary};
@@ -102,6 +107,12 @@ pub struct Summary {
     /// `tracker` (in view, not hidden, and lost); in traffic also `left_path` and
     /// `wrong_vehicle`.
     pub lost_by_cause_s: LostByCause,
+    /// The first acquisition, for a run whose tracker started with nothing placed
+    /// (`tracker.start = "search"`) and spent frames without the target
+    /// (`LossCause::NotAcquired`: counted here, not in `tracking_lost_s`); left out
+    /// otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub acquisition: Option<Acquisition>,
     /// Time with the target partly out of view (some of it in the image, not all),
     /// seconds, whether or not it was lost then.
     pub partly_out_of_view_s: f64,
@@ -189,7 +200,7 @@ impl LostByCause {
             LossCause::Tracker => self.tracker,
             LossCause::LeftPath => self.left_path.unwrap_or(0.0),
             LossCause::WrongVehicle => self.wrong_vehicle.unwrap_or(0.0),
-            LossCause::None => 0.0,
+            LossCause::None | LossCause::NotAcquired => 0.0,
         }
     }
 
@@ -479,6 +490,7 @@ fn check(s: &Summary, expect: &Expect) -> Vec<Criterion> {
             ),
         });
     }
+    acquisition::check(s, expect, &mut out);
     traffic::check(s, expect, &mut out);
     out
 }

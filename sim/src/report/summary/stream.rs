@@ -14,6 +14,7 @@ use std::collections::BTreeMap;
 use sim_core::{FrameRecord, LossCause, TrackerStatus};
 use tracker::TrackEvent;
 
+use super::acquisition::FirstAcquisition;
 use super::range_errors::RangeErrors;
 use super::traffic::TrafficStats;
 use super::{
@@ -75,7 +76,8 @@ const DURATION: usize = 10;
 const FALSE_ALARM: usize = 11;
 const LOST_LEFT_PATH: usize = 12;
 const LOST_WRONG_VEHICLE: usize = 13;
-const SLOTS: usize = 14;
+const NOT_ACQUIRED: usize = 14;
+const SLOTS: usize = 15;
 
 /// Time-weighted sums: over frames of known step, and over frames that stand for a period.
 #[derive(Clone, Debug, Default)]
@@ -109,7 +111,7 @@ impl LossEvents {
     /// Takes the next frame.
     pub fn push(&mut self, r: &FrameRecord) {
         let index = LossCause::ALL.iter().position(|&a| a == r.loss_cause);
-        match (&mut self.open, r.lost_truth) {
+        match (&mut self.open, track_lost(r)) {
             (None, true) => {
                 let mut counts = [0; LossCause::ALL.len()];
                 if let Some(k) = index {
@@ -160,6 +162,12 @@ impl LossEvents {
         self.close();
         self.done
     }
+}
+
+/// Whether the frame is a lost track: lost by the ground truth, and not for want of a
+/// first acquisition ([`LossCause::is_track_loss`]).
+pub(super) fn track_lost(r: &FrameRecord) -> bool {
+    r.lost_truth && r.loss_cause.is_track_loss()
 }
 
 /// Maximal runs of `true`, counted as they come, with the longest run's length in frames.
@@ -216,6 +224,7 @@ pub struct SummaryBuilder {
     collision_runs: RunCount,
     false_alarm_runs: RunCount,
     loss_events: LossEvents,
+    first_acquisition: FirstAcquisition,
     whole_in_view: u64,
     imprecise: u64,
     silent_loss_frames: u64,
@@ -243,6 +252,7 @@ impl SummaryBuilder {
             collision_runs: RunCount::default(),
             false_alarm_runs: RunCount::default(),
             loss_events: LossEvents::default(),
+            first_acquisition: FirstAcquisition::default(),
             whole_in_view: 0,
             imprecise: 0,
             silent_loss_frames: 0,
@@ -263,7 +273,7 @@ impl SummaryBuilder {
     pub fn push(&mut self, r: &FrameRecord) {
         self.frames += 1;
         self.period.push(r.t_s);
-        let lost_as = |cause: bool| f64::from(u8::from(r.lost_truth && cause));
+        let lost_as = |cause: bool| f64::from(u8::from(track_lost(r) && cause));
         let mut values = [0.0; SLOTS];
         values[OUTSIDE_BAND] = match self.gap_band_m {
             Some([lo, hi]) => f64::from(u8::from(!(lo..=hi).contains(&r.gap_m))),
@@ -285,6 +295,7 @@ impl SummaryBuilder {
         values[LATERAL] = r.lateral_deviation_m.abs();
         values[DURATION] = 1.0;
         values[FALSE_ALARM] = f64::from(u8::from(r.false_alarm));
+        values[NOT_ACQUIRED] = f64::from(u8::from(r.loss_cause == LossCause::NotAcquired));
         if let Some(p) = self.pending.replace(Pending { t_s: r.t_s, values }) {
             let dt = r.t_s - p.t_s;
             self.weigh(p, (dt.is_finite() && dt > 0.0).then_some(dt));
@@ -293,10 +304,11 @@ impl SummaryBuilder {
         self.gap_min = self.gap_min.min(r.gap_m);
         self.gap_max = self.gap_max.max(r.gap_m);
         self.lateral_max = self.lateral_max.max(r.lateral_deviation_m.abs());
-        self.lost_runs.push(r.lost_truth);
+        self.lost_runs.push(track_lost(r));
         self.collision_runs.push(r.collision);
         self.false_alarm_runs.push(r.false_alarm);
         self.loss_events.push(r);
+        self.first_acquisition.push(r);
         if r.target_in_view {
             self.whole_in_view += 1;
             let centre = (r.est_cx - r.true_cx).hypot(r.est_cy - r.true_cy);
@@ -311,7 +323,7 @@ impl SummaryBuilder {
                 }
             }
         }
-        if r.lost_truth && r.status == TrackerStatus::Tracking {
+        if track_lost(r) && r.status == TrackerStatus::Tracking {
             self.silent_loss_frames += 1;
         }
         if !r.tracker_event.is_empty() {
@@ -400,6 +412,7 @@ impl SummaryBuilder {
                 left_path: self.traffic.seen().then(|| time(LOST_LEFT_PATH)),
                 wrong_vehicle: self.traffic.seen().then(|| time(LOST_WRONG_VEHICLE)),
             },
+            acquisition: self.first_acquisition.finish(time(NOT_ACQUIRED)),
             partly_out_of_view_s: time(PARTLY_OUT),
             imprecise_share: (self.whole_in_view > 0)
                 .then(|| self.imprecise as f64 / self.whole_in_view as f64),

@@ -2,7 +2,10 @@
 //! on it (intrinsics, mount and pan head), which the controller's copy must not set.
 
 use super::lead::speed_profile;
-use super::{check, vehicle_error, Blame, FOCAL_LENGTH_MM, MAX_BREADCRUMBS};
+use super::{
+    check, vehicle_error, Blame, FOCAL_LENGTH_MM, MAX_BREADCRUMBS, MAX_INITIAL_GAP_M,
+    MAX_PLACED_GAP_M,
+};
 use crate::scenario::{ChaseFile, ScenarioError, ScenarioFile};
 use tracker::Camera;
 use vehicle::ChaseControllerConfig;
@@ -54,6 +57,43 @@ fn check_speed_gains(g: &vehicle::SpeedGains) -> Result<(), (&'static str, Strin
     Ok(())
 }
 
+/// A chase starting far behind its lead, more than [`MAX_PLACED_GAP_M`]: no teleoperator
+/// places the tracker on a target that far off, so the chase cruises at its cruise speed
+/// (`chase.controller.cruise_speed_mps`, which this needs) and its tracker searches
+/// (`tracker.start = "search"`, which this needs) until it finds the lead, and then
+/// follows it.
+pub(super) fn far_start(
+    raw: &ScenarioFile,
+    initial_gap_m: f64,
+    search_start: bool,
+    f: &Blame,
+) -> Result<(), ScenarioError> {
+    if initial_gap_m <= MAX_PLACED_GAP_M {
+        return Ok(());
+    }
+    if raw.chase.controller.cruise_speed_mps.is_none() {
+        return Err(f.invalid(
+            "chase.controller.cruise_speed_mps",
+            format!(
+                "is needed with chase.initial_gap_m = {initial_gap_m} (over \
+                 {MAX_PLACED_GAP_M} m): a chase that starts far behind cruises at it until \
+                 its tracker finds the lead"
+            ),
+        ));
+    }
+    if !search_start {
+        return Err(f.invalid(
+            "tracker.start",
+            format!(
+                "must be \"search\" with chase.initial_gap_m = {initial_gap_m} (over \
+                 {MAX_PLACED_GAP_M} m): no operator places the tracker on a target that far \
+                 off; it searches until it finds it"
+            ),
+        ));
+    }
+    Ok(())
+}
+
 /// The chase's controller (with the camera's mount, pan head and field of view), the
 /// camera, and the gap at the start, metres.
 /// The chase's speed at t = 0, m/s: its cruise speed with `[chase] start_at_cruise_speed`
@@ -85,8 +125,11 @@ pub(super) fn chase_and_camera(
     f.at(
         "chase.initial_gap_m",
         check(
-            initial_gap_m.is_finite() && (3.0..=60.0).contains(&initial_gap_m),
-            "must be 3–60 metres",
+            initial_gap_m.is_finite() && (3.0..=MAX_INITIAL_GAP_M).contains(&initial_gap_m),
+            &format!(
+                "must be 3–{MAX_INITIAL_GAP_M} metres (the renderer's far plane: nothing \
+                 further is drawn)"
+            ),
             initial_gap_m,
         ),
     )?;

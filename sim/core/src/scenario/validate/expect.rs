@@ -30,6 +30,7 @@ pub(super) fn expect(x: &Expect, f: &Blame) -> Result<(), ScenarioError> {
         ("expect.max_wrong_vehicle_s", x.max_wrong_vehicle_s),
         ("expect.max_decel_mps2", x.max_decel_mps2),
         ("expect.max_jerk_mps3", x.max_jerk_mps3),
+        ("expect.min_acquisition_range_m", x.min_acquisition_range_m),
     ] {
         if let Some(v) = v {
             f.at(field, check(v.is_finite() && v >= 0.0, "must be ≥ 0", v))?;

@@ -43,6 +43,18 @@ pub const FOCAL_LENGTH_MM: [f64; 2] = [1.0, 200.0];
 /// Largest teleoperator placement error, pixels: half the frame.
 pub const MAX_INIT_OFFSET_PX: f64 = 128.0;
 
+/// Largest `chase.initial_gap_m` at which the tracker may be placed on the target at the
+/// start (`tracker.start = "operator"`), metres: the paper's teleoperator placed a target
+/// the camera saw (2.2), and 60 m is the longest start the format has always allowed.
+/// Beyond it the chase starts far behind: it cruises and its tracker searches.
+pub const MAX_PLACED_GAP_M: f64 = 60.0;
+
+/// Largest `chase.initial_gap_m`, metres: the renderer's far plane (`sim_render::FAR_M`,
+/// 250 m). Nothing further from the camera is drawn, so a lead further off would not be in
+/// the frames at all; the route's length bounds it too (the chase must start on the route,
+/// which planning checks).
+pub const MAX_INITIAL_GAP_M: f64 = sim_render::FAR_M;
+
 /// Most breadcrumbs the chase controller may keep: 1,000,000 (250 km of path at the
 /// default spacing).
 pub const MAX_BREADCRUMBS: usize = 1_000_000;
@@ -163,6 +175,7 @@ pub(super) fn validate(
     let (chase, camera, initial_gap_m) = chase::chase_and_camera(&raw, f)?;
     let chase_initial_speed_mps = chase::initial_speed(&raw.chase, lead_initial_speed_mps, f)?;
     let (tracker, init_offset, target, search_start) = tracking::tracker(&raw, f, load_target)?;
+    chase::far_start(&raw, initial_gap_m, search_start, f)?;
     let delay = tracking::delay(&raw, f)?;
     let e = environment::environment(&raw.environment, f)?;
     let headlamps = chase::headlamps(&raw.chase, f)?;
