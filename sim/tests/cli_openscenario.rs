@@ -543,6 +543,25 @@ fn reach_position_relative_speed_and_equal_to_are_imported_and_fire_as_written()
     }
     let o = carfollow(&["check", toml.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    // `check` refuses a reach's lane the road lacks, at its line.
+    let bad_toml = dir.path().join("bad-lane.toml");
+    let reach = "[lead.events.trigger.reach]\nstation_m = 150.0\nlane = 1";
+    std::fs::write(
+        &bad_toml,
+        written.replace(reach, &reach.replace("lane = 1", "lane = 3")),
+    )
+    .unwrap();
+    let line = 3 + written[..written.find(reach).unwrap()].lines().count();
+    let o = carfollow(&["check", bad_toml.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).starts_with(&format!(
+            "error: {}:{line}:1: `lead.events[0].trigger.reach.lane` = 3: no such lane",
+            bad_toml.display()
+        )),
+        "{}",
+        stderr(&o)
+    );
     let run = |scenario: &Path, out: &str| frames_of(scenario, &dir.path().join(out), &[]);
     let csv = run(&file, "xosc");
     assert!(
