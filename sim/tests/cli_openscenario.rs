@@ -614,13 +614,28 @@ fn reach_position_relative_speed_and_equal_to_are_imported_and_fire_as_written()
         written.replace("rr.xosc", ""),
         "a DistanceCondition to a position imports differently"
     );
+    // An act started at a time equal to 0 starts at once, as one started after 0.
+    let start = "<SimulationTimeCondition value=\"0\" rule=\"greaterThan\"/>";
+    let (equal, _) = reach_relative(dir.path(), |t| {
+        assert!(t.contains(start));
+        t.replace(start, &start.replace("greaterThan", "equalTo"))
+    });
+    let o = carfollow(&[
+        "import",
+        equal.to_str().unwrap(),
+        "-o",
+        dir.path().join("eq.toml").to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let eq = std::fs::read_to_string(dir.path().join("eq.toml")).unwrap();
+    assert_eq!(eq.replace("rr.xosc", ""), written.replace("rr.xosc", ""));
     // What the reach, relative speed and rules cannot be is refused at its line.
     let reach_line = 1 + text.lines().position(|l| l.contains(from)).unwrap();
     let position = "<LanePosition roadId=\"1\" laneId=\"-1\" offset=\"0\" s=\"150\"/>";
     let relative =
         "<RelativeSpeedCondition entityRef=\"Cutter\" value=\"-0.5\" rule=\"lessThan\"/>";
     let relative_line = 1 + text.lines().position(|l| l.contains(relative)).unwrap();
-    let cases: [(String, String, usize, &str); 5] = [
+    let cases: [(String, String, usize, &str); 6] = [
         (
             position.into(),
             "<WorldPosition x=\"150\" y=\"-1.75\"/>".into(),
@@ -650,6 +665,13 @@ fn reach_position_relative_speed_and_equal_to_are_imported_and_fire_as_written()
             relative.replace("lessThan", "nearlyEqualTo"),
             relative_line,
             "not a rule of the standard",
+        ),
+        // Not equal to 0 holds from the second step: not the act's start.
+        (
+            start.into(),
+            start.replace("greaterThan", "notEqualTo"),
+            1 + text.lines().position(|l| l.contains(start)).unwrap() - 1,
+            "<Act> starts on a condition",
         ),
     ];
     for (from, to, line, why) in cases {

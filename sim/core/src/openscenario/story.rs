@@ -153,7 +153,11 @@ fn act_trigger(xml: &Xml, act: Node) -> Result<(), OscError> {
         .map(|t| -> Result<bool, OscError> {
             let rule = xml.req(t, "rule")?;
             let value = xml.num(t, "value")?;
-            Ok(value <= 0.0 && matches!(rule.as_str(), "greaterThan" | "greaterOrEqual"))
+            // Greater than a time at most 0, or equal to 0: true from the first step.
+            Ok(
+                (value <= 0.0 && matches!(rule.as_str(), "greaterThan" | "greaterOrEqual"))
+                    || (value == 0.0 && rule == "equalTo"),
+            )
         })
         .transpose()?
         .unwrap_or(false);
@@ -552,7 +556,7 @@ impl Context<'_, '_> {
             }
             xml.num(e, "value")?
         };
-        if !(tolerance_m > 0.0) {
+        if tolerance_m.is_nan() || tolerance_m <= 0.0 {
             return Err(xml.at(
                 e,
                 format!(
