@@ -498,3 +498,222 @@ fn speed_and_standstill_conditions_are_imported_and_fire_as_written() {
         stderr(&o)
     );
 }
+
+/// `reach-relative.xosc` imported, checked and run; `edit` applied to its text first.
+fn reach_relative(dir: &Path, edit: impl Fn(&str) -> String) -> (PathBuf, String) {
+    for name in ["two-lanes.xodr", "catalogs/VehicleCatalog.xosc"] {
+        let to = dir.join(name);
+        std::fs::create_dir_all(to.parent().unwrap()).unwrap();
+        std::fs::copy(data().join(name), to).unwrap();
+    }
+    let text = std::fs::read_to_string(data().join("reach-relative.xosc")).unwrap();
+    let path = dir.join("rr.xosc");
+    std::fs::write(&path, edit(&text)).unwrap();
+    (path, text)
+}
+
+#[test]
+fn reach_position_relative_speed_and_equal_to_are_imported_and_fire_as_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let (file, text) = reach_relative(dir.path(), |t| t.to_string());
+    let toml = dir.path().join("rr.toml");
+    let o = carfollow(&[
+        "import",
+        file.to_str().unwrap(),
+        "-o",
+        toml.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let written = std::fs::read_to_string(&toml).unwrap();
+    for expected in [
+        "[lead.events.trigger.reach]\nstation_m = 150.0\nlane = 1\ntolerance_m = 1.5\n",
+        "time_s = 12.0\nrule = \"equal\"",
+        // The lead's speed less the van's at most −0.5: the van's less the lead's at least 0.5.
+        "relative_speed_mps = 0.5\nto = \"lead\"\nrule = \"greater\"",
+    ] {
+        assert!(
+            written.contains(expected),
+            "{expected:?} not in:\n{written}"
+        );
+    }
+    let o = carfollow(&["check", toml.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    // `check` refuses a reach's lane the road lacks, at its line.
+    let bad_toml = dir.path().join("bad-lane.toml");
+    let reach = "[lead.events.trigger.reach]\nstation_m = 150.0\nlane = 1";
+    std::fs::write(
+        &bad_toml,
+        written.replace(reach, &reach.replace("lane = 1", "lane = 3")),
+    )
+    .unwrap();
+    let line = 3 + written[..written.find(reach).unwrap()].lines().count();
+    let o = carfollow(&["check", bad_toml.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).starts_with(&format!(
+            "error: {}:{line}:1: `lead.events[0].trigger.reach.lane` = 3: no such lane",
+            bad_toml.display()
+        )),
+        "{}",
+        stderr(&o)
+    );
+    let run = |scenario: &Path, out: &str| frames_of(scenario, &dir.path().join(out), &[]);
+    let csv = run(&file, "xosc");
+    assert!(
+        csv == run(&toml, "toml"),
+        "the imported scenario runs differently"
+    );
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|c| *c == name).unwrap();
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    let num = |r: &Vec<&str>, c: &str| r[col(c)].parse::<f64>().unwrap();
+    let row_of = |event: &str| {
+        rows.iter()
+            .position(|r| r[col("event")].contains(event))
+            .unwrap_or_else(|| panic!("{event} not logged"))
+    };
+    // The lead slows once its rear axle is within 1.5 m of s = 150 (the straight runs
+    // along x from 0), logged in the frame before or at the one past it.
+    let reached = rows
+        .iter()
+        .position(|r| num(r, "lead_x_m") >= 148.5)
+        .unwrap();
+    let slow = row_of("lead/slow:started");
+    assert!(slow == reached || slow + 1 == reached, "{slow} {reached}");
+    // It speeds up again at t = 12 s exactly: the frame at 12 s logs it.
+    assert_eq!(num(&rows[row_of("lead/resume:started")], "t_s"), 12.0);
+    // The van (9.72 m/s) passes once the lead is 0.5 m/s slower than it: logged in the
+    // frame whose capture saw the lead at most one frame's fall (2 m/s² × 1/15 s) above
+    // 9.22 m/s.
+    let pass = &rows[row_of("Cutter/pass:started")];
+    let lead = num(pass, "lead_speed_mps");
+    assert!((9.15..=9.36).contains(&lead), "{lead}");
+    // 1.2's DistanceCondition to a position, at most 1.5 m, is the same reach trigger.
+    let from = "<ReachPositionCondition tolerance=\"1.5\">";
+    let (distance, _) = reach_relative(dir.path(), |t| {
+        t.replace(from, "<DistanceCondition value=\"1.5\" freespace=\"false\" rule=\"lessOrEqual\" relativeDistanceType=\"euclidianDistance\">")
+            .replace("</ReachPositionCondition>", "</DistanceCondition>")
+    });
+    let again = dir.path().join("again.toml");
+    let o = carfollow(&[
+        "import",
+        distance.to_str().unwrap(),
+        "-o",
+        again.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let again = std::fs::read_to_string(&again).unwrap();
+    assert_eq!(
+        again.replace("rr.xosc", ""),
+        written.replace("rr.xosc", ""),
+        "a DistanceCondition to a position imports differently"
+    );
+    // An act started at a time equal to 0 starts at once, as one started after 0.
+    let start = "<SimulationTimeCondition value=\"0\" rule=\"greaterThan\"/>";
+    let (equal, _) = reach_relative(dir.path(), |t| {
+        assert!(t.contains(start));
+        t.replace(start, &start.replace("greaterThan", "equalTo"))
+    });
+    let o = carfollow(&[
+        "import",
+        equal.to_str().unwrap(),
+        "-o",
+        dir.path().join("eq.toml").to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let eq = std::fs::read_to_string(dir.path().join("eq.toml")).unwrap();
+    assert_eq!(eq.replace("rr.xosc", ""), written.replace("rr.xosc", ""));
+    // What the reach, relative speed and rules cannot be is refused at its line.
+    let reach_line = 1 + text.lines().position(|l| l.contains(from)).unwrap();
+    let position = "<LanePosition roadId=\"1\" laneId=\"-1\" offset=\"0\" s=\"150\"/>";
+    let relative =
+        "<RelativeSpeedCondition entityRef=\"Cutter\" value=\"-0.5\" rule=\"lessThan\"/>";
+    let relative_line = 1 + text.lines().position(|l| l.contains(relative)).unwrap();
+    let cases: [(String, String, usize, &str); 6] = [
+        (
+            position.into(),
+            "<WorldPosition x=\"150\" y=\"-1.75\"/>".into(),
+            reach_line + 1,
+            "position",
+        ),
+        (
+            position.into(),
+            position.replace("-1\"", "-3\""),
+            reach_line + 1,
+            "lane -3 is not a lane",
+        ),
+        (
+            from.into(),
+            "<ReachPositionCondition tolerance=\"0\">".into(),
+            reach_line,
+            "must be above 0",
+        ),
+        (
+            relative.into(),
+            relative.replace("/>", " direction=\"lateral\"/>"),
+            relative_line,
+            "direction",
+        ),
+        (
+            relative.into(),
+            relative.replace("lessThan", "nearlyEqualTo"),
+            relative_line,
+            "not a rule of the standard",
+        ),
+        // Not equal to 0 holds from the second step: not the act's start.
+        (
+            start.into(),
+            start.replace("greaterThan", "notEqualTo"),
+            1 + text.lines().position(|l| l.contains(start)).unwrap() - 1,
+            "<Act> starts on a condition",
+        ),
+    ];
+    for (from, to, line, why) in cases {
+        let (bad, _) = reach_relative(dir.path(), |t| {
+            assert!(t.contains(&from), "{from}");
+            t.replace(&from, &to)
+        });
+        let o = carfollow(&["check", bad.to_str().unwrap()]);
+        assert_eq!(o.status.code(), Some(2), "{to}: {}", stderr(&o));
+        let e = stderr(&o);
+        let first = e.lines().next().unwrap_or_default();
+        assert!(
+            first.contains(&format!("rr.xosc:{line}")) && first.contains(why),
+            "{to}: {e}"
+        );
+    }
+    // Exported back, the scenario imports to the same scenario.
+    let back_dir = dir.path().join("back");
+    let o = carfollow(&[
+        "export",
+        toml.to_str().unwrap(),
+        "-o",
+        back_dir.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let back = back_dir.join("rr.xosc");
+    let exported = std::fs::read_to_string(&back).unwrap();
+    for expected in [
+        "<ReachPositionCondition tolerance=\"1.5\">",
+        "rule=\"equalTo\"",
+        "<RelativeSpeedCondition",
+    ] {
+        assert!(
+            exported.contains(expected),
+            "{expected:?} not in:\n{exported}"
+        );
+    }
+    let back_toml = dir.path().join("back.toml");
+    let o = carfollow(&[
+        "import",
+        back.to_str().unwrap(),
+        "-o",
+        back_toml.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(
+        frames_of(&back_toml, &dir.path().join("back-run"), &[]) == csv,
+        "the exported file runs differently"
+    );
+}

@@ -39,6 +39,16 @@ const MAX_STANDSTILL_S: f64 = 1e3;
 const MAX_RATE_MPS2: f64 = 20.0;
 /// Largest lateral speed of a lane change, m/s.
 const MAX_LATERAL_SPEED_MPS: f64 = 10.0;
+/// Largest lateral offset of a position from its lane's centre, m: as a lane's widest
+/// (`Lanes`' 20 m), past which the point is on another lane.
+const MAX_POSITION_OFFSET_M: f64 = 20.0;
+/// How close two reals must be for `equal` to hold (and `not_equal` not to), in the
+/// compared value's unit (s, m, m/s): a millionth of it. Simulation time moves in whole
+/// 1/120 s steps, whose sums in f64 are exact to far below this, so `time_s` equal to a
+/// multiple of 1/120 s holds at exactly that step; a measured speed or gap passes
+/// through a value between two steps and is rarely within a millionth of it, as the
+/// standard's equality on reals means.
+pub const EQUAL_TOLERANCE: f64 = 1e-6;
 
 /// One vehicle's scripted events, in the order written (a scenario's `[[lead.events]]` or
 /// an actor's `events`): a TOML array of [`EventSpec`] tables.
@@ -82,11 +92,62 @@ pub enum Rule {
     Less,
     /// At least the threshold (the default for time and distance).
     Greater,
+    /// Within [`EQUAL_TOLERANCE`] of the threshold (in the value's unit).
+    Equal,
+    /// Farther than [`EQUAL_TOLERANCE`] from the threshold.
+    NotEqual,
+}
+
+impl Rule {
+    /// Whether `value` meets this rule against `threshold`.
+    pub fn holds(self, value: f64, threshold: f64) -> bool {
+        match self {
+            Rule::Less => value <= threshold,
+            Rule::Greater => value >= threshold,
+            Rule::Equal => (value - threshold).abs() <= EQUAL_TOLERANCE,
+            Rule::NotEqual => (value - threshold).abs() > EQUAL_TOLERANCE,
+        }
+    }
+}
+
+/// A point on the road a vehicle is to reach: on lane `lane`'s centre line, `offset_m` to
+/// its left, at station `station_m` along the route (OpenSCENARIO's
+/// `ReachPositionCondition`).
+///
+/// ```toml
+/// trigger = { reach = { station_m = 150.0, lane = 1, tolerance_m = 2.0 } }
+/// ```
+///
+/// The distance to it is measured in the road's frame, √(Δstation² + Δlateral²) between
+/// the point and the vehicle's reference point (its rear axle): on a straight road the
+/// distance on the ground, on a curve the distance along and across the lanes.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ReachSpec {
+    /// The point's station along the route, m.
+    #[schemars(extend("minimum" = 0.0, "maximum" = 1e7))]
+    pub station_m: f64,
+    /// The lane whose centre line the point is on (1 = the lane next to the centre line).
+    #[schemars(extend("minimum" = 1, "maximum" = 16))]
+    pub lane: u32,
+    /// The point's offset to the left of the lane's centre, m (default 0).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    #[schemars(extend("minimum" = -20.0, "maximum" = 20.0))]
+    pub offset_m: f64,
+    /// How near the vehicle must come to the point, m.
+    #[schemars(extend("exclusiveMinimum" = 0.0, "maximum" = 1e4))]
+    pub tolerance_m: f64,
+}
+
+/// For `skip_serializing_if`: a value written only when not 0.
+fn is_zero(v: &f64) -> bool {
+    *v == 0.0
 }
 
 /// When an event's action starts: exactly one of `time_s`, `distance_m`, `gap_m`,
-/// `time_gap_s`, `ttc_s`, `speed_mps`, `standstill_s` and `after`, evaluated at every physics step on level (it fires
-/// at the first step its condition holds, not only when it becomes true).
+/// `time_gap_s`, `ttc_s`, `speed_mps`, `relative_speed_mps`, `standstill_s`, `reach` and
+/// `after`, evaluated at every physics step on level (it fires at the first step its
+/// condition holds, not only when it becomes true).
 ///
 /// ```toml
 /// trigger = { time_s = 8.0 }                   # simulation time ≥ 8 s
@@ -97,6 +158,9 @@ pub enum Rule {
 /// trigger = { speed_mps = 5.0, of = "lead" }   # the lead's speed ≤ 5 m/s
 /// trigger = { speed_mps = 20.0, rule = "greater" }  # this vehicle's speed ≥ 20 m/s
 /// trigger = { standstill_s = 2.0, of = "van" }  # `van` has stood still for ≥ 2 s
+/// trigger = { relative_speed_mps = 3.0, to = "lead", rule = "greater" }  # ≥ 3 m/s faster
+/// trigger = { reach = { station_m = 150.0, lane = 1, tolerance_m = 2.0 } }  # within 2 m
+/// trigger = { time_s = 5.0, rule = "equal" }   # exactly at 5 s (see `EQUAL_TOLERANCE`)
 /// trigger = { after = "cut-in", delay_s = 0.5 }  # 0.5 s after `cut-in`'s action ended
 /// ```
 ///
@@ -131,6 +195,15 @@ pub struct TriggerSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schemars(extend("minimum" = 0.0, "maximum" = 40.0))]
     pub speed_mps: Option<f64>,
+    /// This vehicle's speed less the speed of the vehicle `to`, both along the road, m/s
+    /// (positive while this one is the faster).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("minimum" = -40.0, "maximum" = 40.0))]
+    pub relative_speed_mps: Option<f64>,
+    /// A point the vehicle `of` (default: this vehicle) reaches: holds while it is within
+    /// the point's `tolerance_m`. Takes no `rule`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reach: Option<ReachSpec>,
     /// How long the vehicle `of` (default: this vehicle) has stood still without a break,
     /// s: holds once its speed has stayed below 0.05 m/s this long (a duration of 0 holds at
     /// the first step it stands). Takes no `rule`.
@@ -141,17 +214,19 @@ pub struct TriggerSpec {
     /// ended.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub after: Option<String>,
-    /// The vehicle a gap, time gap or time to collision is measured to (a name the
-    /// scenario gives).
+    /// The vehicle a gap, time gap, time to collision or relative speed is measured to (a
+    /// name the scenario gives).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub to: Option<String>,
-    /// The vehicle whose speed or standstill is watched (a name the scenario gives;
-    /// default: this vehicle). Only for `speed_mps` and `standstill_s`.
+    /// The vehicle whose speed, standstill or position is watched (a name the scenario
+    /// gives; default: this vehicle). Only for `speed_mps`, `standstill_s` and `reach`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub of: Option<String>,
     /// Which side of the threshold holds: `less` (at most; the default for gaps and
-    /// times) or `greater` (at least; the default for `time_s` and `distance_m`). Not for
-    /// `after` nor `standstill_s`; `less` is the default for `speed_mps`.
+    /// times) or `greater` (at least; the default for `time_s` and `distance_m`), or
+    /// `equal` / `not_equal` (within / farther than [`EQUAL_TOLERANCE`] of it, in its
+    /// unit). Not for `after`, `standstill_s` nor `reach`; `less` is the default for
+    /// `speed_mps` and `relative_speed_mps`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rule: Option<Rule>,
     /// The action starts this long after the condition first holds, s (default 0).
@@ -272,6 +347,10 @@ pub(crate) enum Condition {
     Speed(f64, String),
     /// How long a vehicle (empty: this one) has stood still, s.
     Standstill(f64, String),
+    /// This vehicle's speed less a vehicle's, m/s.
+    RelativeSpeed(f64, String),
+    /// A vehicle (empty: this one) within reach of a point.
+    Reach(ReachSpec, String),
     /// Another event (its index) has ended.
     After(usize),
 }
@@ -384,13 +463,21 @@ impl EventScript {
         })
     }
 
-    /// The lanes the lane changes go to, each with its field (`events[1].action.lane`), in
+    /// The lanes the reach points are on and the lane changes go to, each with its field
+    /// (`events[0].trigger.reach.lane`, `events[1].action.lane`), in
     /// the order written, for the caller to check against the road's lanes.
     pub fn lanes_named(&self) -> impl Iterator<Item = (String, u32)> + '_ {
-        self.0.iter().enumerate().filter_map(|(i, e)| {
-            e.action
+        self.0.iter().enumerate().flat_map(|(i, e)| {
+            let reach = e
+                .trigger
+                .reach
+                .as_ref()
+                .map(|r| (format!("events[{i}].trigger.reach.lane"), r.lane));
+            let action = e
+                .action
                 .lane
-                .map(|lane| (format!("events[{i}].action.lane"), lane))
+                .map(|lane| (format!("events[{i}].action.lane"), lane));
+            reach.into_iter().chain(action)
         })
     }
 
@@ -431,7 +518,9 @@ impl EventScript {
             ("time_gap_s", t.time_gap_s.is_some()),
             ("ttc_s", t.ttc_s.is_some()),
             ("speed_mps", t.speed_mps.is_some()),
+            ("relative_speed_mps", t.relative_speed_mps.is_some()),
             ("standstill_s", t.standstill_s.is_some()),
+            ("reach", t.reach.is_some()),
             ("after", t.after.is_some()),
         ]
         .into_iter()
@@ -443,7 +532,7 @@ impl EventScript {
                 "trigger",
                 format!(
                     "must give exactly one of time_s, distance_m, gap_m, time_gap_s, ttc_s, \
-                     speed_mps, standstill_s and after (given: {})",
+                     speed_mps, relative_speed_mps, standstill_s, reach and after (given: {})",
                     if given.is_empty() {
                         "none".to_string()
                     } else {
@@ -452,7 +541,10 @@ impl EventScript {
                 ),
             ));
         }
-        let needs_to = t.gap_m.is_some() || t.time_gap_s.is_some() || t.ttc_s.is_some();
+        let needs_to = t.gap_m.is_some()
+            || t.time_gap_s.is_some()
+            || t.ttc_s.is_some()
+            || t.relative_speed_mps.is_some();
         let to = match (&t.to, needs_to) {
             (Some(to), true) if to.trim().is_empty() => {
                 return Err(invalid(i, "trigger.to", "must not be empty".into()))
@@ -491,9 +583,15 @@ impl EventScript {
         } else if let Some(v) = t.speed_mps {
             let max = f64::from(MAX_SPEED_MPS);
             Condition::Speed(check(i, &field("speed_mps"), v, 0.0, max, false)?, of)
+        } else if let Some(v) = t.relative_speed_mps {
+            let max = f64::from(MAX_SPEED_MPS);
+            let v = check(i, &field("relative_speed_mps"), v, -max, max, false)?;
+            Condition::RelativeSpeed(v, to)
         } else if let Some(v) = t.standstill_s {
             let v = check(i, &field("standstill_s"), v, 0.0, MAX_STANDSTILL_S, false)?;
             Condition::Standstill(v, of)
+        } else if let Some(r) = &t.reach {
+            Condition::Reach(reach(i, r)?, of)
         } else {
             let after = t.after.as_deref().unwrap_or_default();
             match self.0.iter().position(|e| e.name == after) {
@@ -531,6 +629,15 @@ impl EventScript {
                         .into(),
                 ))
             }
+            (Condition::Reach(..), Some(_)) => {
+                return Err(invalid(
+                    i,
+                    "trigger.rule",
+                    "a reach trigger takes no rule: it holds while the vehicle is within \
+                     tolerance_m of the point"
+                        .into(),
+                ))
+            }
             (_, Some(rule)) => rule,
             (Condition::Time(_) | Condition::Distance(_) | Condition::After(_), None) => {
                 Rule::Greater
@@ -549,10 +656,38 @@ impl EventScript {
     }
 }
 
+/// Event `i`'s reach point, checked (its lane against the road by the caller).
+fn reach(i: usize, r: &ReachSpec) -> Result<ReachSpec, VehicleError> {
+    let f = |name: &str| format!("trigger.reach.{name}");
+    if !(1..=MAX_LANES).contains(&r.lane) {
+        return Err(invalid(
+            i,
+            &f("lane"),
+            format!(
+                "= {}: lanes are numbered 1 to {MAX_LANES} from the centre line",
+                r.lane
+            ),
+        ));
+    }
+    Ok(ReachSpec {
+        station_m: check(i, &f("station_m"), r.station_m, 0.0, MAX_KEY, false)?,
+        lane: r.lane,
+        offset_m: check(
+            i,
+            &f("offset_m"),
+            r.offset_m,
+            -MAX_POSITION_OFFSET_M,
+            MAX_POSITION_OFFSET_M,
+            false,
+        )?,
+        tolerance_m: check(i, &f("tolerance_m"), r.tolerance_m, 0.0, MAX_GAP_M, true)?,
+    })
+}
+
 /// Event `i`'s `of` (empty for this vehicle), checked for the trigger `kind` it is on:
-/// only a speed or standstill trigger watches another vehicle.
+/// only a speed, standstill or reach trigger watches another vehicle.
 fn of(i: usize, t: &TriggerSpec, kind: &str) -> Result<String, VehicleError> {
-    let watches = t.speed_mps.is_some() || t.standstill_s.is_some();
+    let watches = t.speed_mps.is_some() || t.standstill_s.is_some() || t.reach.is_some();
     match (&t.of, watches) {
         (Some(of), true) if of.trim().is_empty() => {
             Err(invalid(i, "trigger.of", "must not be empty".into()))
@@ -561,7 +696,9 @@ fn of(i: usize, t: &TriggerSpec, kind: &str) -> Result<String, VehicleError> {
         (Some(_), false) => Err(invalid(
             i,
             "trigger.of",
-            format!("a {kind} trigger watches no vehicle (of is for speed_mps and standstill_s)"),
+            format!(
+                "a {kind} trigger watches no vehicle (of is for speed_mps, standstill_s and reach)"
+            ),
         )),
         (None, _) => Ok(String::new()),
     }

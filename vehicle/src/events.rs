@@ -15,7 +15,7 @@
 
 use crate::clock::{Step, PHYSICS_HZ};
 use crate::error::{check_range, VehicleError};
-use crate::event_spec::{Action, Checked, Condition, EventScript, Rule, Shape, Timing};
+use crate::event_spec::{Action, Checked, Condition, EventScript, Shape, Timing};
 use crate::lead_driver::SpeedOverride;
 
 /// Below this speed a vehicle stands still, m/s (for standstill triggers): a physics
@@ -29,7 +29,7 @@ pub const STANDSTILL_MPS: f64 = 0.05;
 pub struct VehicleView {
     /// Where the vehicle is along the road (its reference point, e.g. the rear axle), m.
     pub station_m: f64,
-    /// Its lateral offset from its lane's centre, m (positive left).
+    /// Its lateral offset from lane 1's centre, m (positive left).
     pub left_offset_m: f64,
     /// Its speed along the road, m/s.
     pub speed_mps: f64,
@@ -181,7 +181,10 @@ impl Events {
         let mut events = Vec::with_capacity(checked.len());
         for (i, event) in checked.into_iter().enumerate() {
             let to = match &event.trigger.condition {
-                Condition::Gap(_, to) | Condition::TimeGap(_, to) | Condition::Ttc(_, to) => {
+                Condition::Gap(_, to)
+                | Condition::TimeGap(_, to)
+                | Condition::Ttc(_, to)
+                | Condition::RelativeSpeed(_, to) => {
                     Some(vehicles.iter().position(|v| v == to).ok_or_else(|| {
                         VehicleError::InvalidEvent {
                             field: format!("events[{i}].trigger.to"),
@@ -192,7 +195,11 @@ impl Events {
                 _ => None,
             };
             let of = match &event.trigger.condition {
-                Condition::Speed(_, of) | Condition::Standstill(_, of) if !of.is_empty() => {
+                Condition::Speed(_, of)
+                | Condition::Standstill(_, of)
+                | Condition::Reach(_, of)
+                    if !of.is_empty() =>
+                {
                     Some(vehicles.iter().position(|v| v == of).ok_or_else(|| {
                         VehicleError::InvalidEvent {
                             field: format!("events[{i}].trigger.of"),
@@ -207,6 +214,14 @@ impl Events {
                     return Err(VehicleError::InvalidEvent {
                         field: format!("events[{i}].action.lane"),
                         reason: format!("= {lane}: the road has {} lanes", lanes.count),
+                    });
+                }
+            }
+            if let Condition::Reach(r, _) = &event.trigger.condition {
+                if r.lane > lanes.count {
+                    return Err(VehicleError::InvalidEvent {
+                        field: format!("events[{i}].trigger.reach.lane"),
+                        reason: format!("= {}: the road has {} lanes", r.lane, lanes.count),
                     });
                 }
             }
@@ -320,10 +335,7 @@ impl Events {
     ) -> bool {
         let e = &self.events[i];
         let rule = e.event.trigger.rule;
-        let compare = |value: f64, threshold: f64| match rule {
-            Rule::Less => value <= threshold,
-            Rule::Greater => value >= threshold,
-        };
+        let compare = |value: f64, threshold: f64| rule.holds(value, threshold);
         let other = e.to.and_then(|j| view.get(j));
         match (&e.event.trigger.condition, other) {
             (Condition::Time(t), _) => compare(now.seconds(), *t),
@@ -336,6 +348,19 @@ impl Events {
             (Condition::Standstill(d, _), _) => e
                 .still_since
                 .is_some_and(|since| now.since(since) >= steps_of(*d)),
+            (Condition::Reach(r, _), _) => {
+                e.of.map_or(Some(mine), |j| view.get(j)).is_some_and(|w| {
+                    let along = w.station_m - r.station_m;
+                    // The view's offsets are from lane 1's centre.
+                    let from_lane_1 = Lanes {
+                        route_lane: 1,
+                        ..self.lanes
+                    };
+                    let across = w.left_offset_m - (from_lane_1.offset_m(r.lane) + r.offset_m);
+                    along.hypot(across) <= r.tolerance_m
+                })
+            }
+            (Condition::RelativeSpeed(v, _), Some(o)) => compare(mine.speed_mps - o.speed_mps, *v),
             (Condition::Gap(g, _), Some(o)) => compare(Between::new(mine, o).gap_m, *g),
             (Condition::TimeGap(t, _), Some(o)) => {
                 let b = Between::new(mine, o);

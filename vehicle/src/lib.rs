@@ -105,7 +105,10 @@ pub use controller_event::{ControllerEvent, ControllerEventKind};
 pub use controls::Controls;
 pub use delay_line::{DelayLine, DelayLineConfig};
 pub use error::VehicleError;
-pub use event_spec::{ActionSpec, EventScript, EventSpec, Rule, Shape, TriggerSpec, MAX_LANES};
+pub use event_spec::{
+    ActionSpec, EventScript, EventSpec, ReachSpec, Rule, Shape, TriggerSpec, EQUAL_TOLERANCE,
+    MAX_LANES,
+};
 pub use events::{Events, Fired, FiredKind, Lanes, TrafficView, VehicleView, STANDSTILL_MPS};
 pub use gap_keeper::{GapKeeper, GapKeeperConfig, GapPolicy, SpeedCommand, Threat};
 pub use ground::{BumpsConfig, Ground, GroundConfig, GroundGrid};

@@ -669,3 +669,155 @@ fn speed_and_standstill_triggers_watch_the_vehicle_named() {
         }
     }
 }
+
+/// Relative speeds, reach points and the equal / not-equal rules fire at the step their
+/// condition first holds, on level; a reach's lane and offset are across the road from
+/// lane 1's centre; each malformed one is refused naming its field.
+#[test]
+fn relative_speed_reach_and_equality_fire_as_documented() {
+    // Me from 100 at 6 m/s; the other ahead at 200, slowing from 10 m/s at 1 m/s²:
+    // me − other = 6 − (10 − t) ≥ 0.5 from t = 4.5 s: step 540 exactly.
+    let slowing = |t: f64| [car(100.0 + 6.0 * t, 6.0), car(200.0, (10.0 - t).max(0.0))];
+    // In lane 2 (3.5 m right of lane 1's centre): me from 100 at 6 m/s.
+    let in_lane_2 = |t: f64| {
+        let mut v = car(100.0 + 6.0 * t, 6.0);
+        v.left_offset_m = -3.5;
+        [v, car(300.0, 0.0)]
+    };
+    type View = fn(f64) -> [VehicleView; 2];
+    let cases: [(&str, View, Option<u64>); 10] = [
+        (
+            "relative_speed_mps = 0.5, to = \"other\", rule = \"greater\"",
+            slowing,
+            Some(540),
+        ),
+        // Less is the default: −4 ≤ −3.999 at once.
+        (
+            "relative_speed_mps = -3.999, to = \"other\"",
+            slowing,
+            Some(0),
+        ),
+        // Equal within a millionth: the difference is −4 + t, 0 at step 480 exactly.
+        (
+            "relative_speed_mps = 0.0, to = \"other\", rule = \"equal\"",
+            slowing,
+            Some(480),
+        ),
+        (
+            "relative_speed_mps = -4.0, to = \"other\", rule = \"not_equal\"",
+            slowing,
+            Some(1),
+        ),
+        // Time equal to a whole step holds at it; a time between steps never.
+        ("time_s = 5.0, rule = \"equal\"", slowing, Some(600)),
+        ("time_s = 5.001, rule = \"equal\"", slowing, None),
+        ("time_s = 0.0, rule = \"not_equal\"", slowing, Some(1)),
+        // Within 2.01 m of station 160 on lane 2's centre: 100 + 6t ≥ 157.99 from t =
+        // 9.665 s: step 1159.8 → 1160.
+        (
+            "reach = { station_m = 160.0, lane = 2, tolerance_m = 2.01 }",
+            in_lane_2,
+            Some(1160),
+        ),
+        // On lane 1's centre the point is 3.5 m across: never within 2.01 m.
+        (
+            "reach = { station_m = 160.0, lane = 1, tolerance_m = 2.01 }",
+            in_lane_2,
+            None,
+        ),
+        // 1.5 m left of lane 2's centre, tolerance 2.51: along ≤ √(2.51² − 1.5²) = 2.0125 m
+        // from t = 9.6646 s: step 1159.75 → 1160.
+        (
+            "reach = { station_m = 160.0, lane = 2, offset_m = 1.5, tolerance_m = 2.51 }",
+            in_lane_2,
+            Some(1160),
+        ),
+    ];
+    for (trigger, view, expected) in cases {
+        let mut events = engine(&format!(
+            "[[events]]\nname = \"e\"\ntrigger = {{ {trigger} }}\n\
+             action = {{ speed_mps = 5.0, rate_mps2 = 1.0 }}"
+        ));
+        let log = run(&mut events, 2400, view);
+        assert_eq!(first_start(&log, "e"), expected, "{trigger}");
+    }
+    // A reach watching the other vehicle: it stands at 300 (lane 1's centre).
+    let mut events = engine(
+        "[[events]]\nname = \"e\"\n\
+         trigger = { reach = { station_m = 299.5, lane = 1, tolerance_m = 1.0 }, of = \"other\" }\n\
+         action = { speed_mps = 5.0, rate_mps2 = 1.0 }",
+    );
+    assert_eq!(first_start(&run(&mut events, 10, in_lane_2), "e"), Some(0));
+    let ok_action = OK_ACTION;
+    refused_naming(vec![
+        (
+            one("trigger = { relative_speed_mps = 1.0 }", ok_action),
+            "events[1].trigger.to",
+        ),
+        (
+            one(
+                "trigger = { relative_speed_mps = 41.0, to = \"other\" }",
+                ok_action,
+            ),
+            "events[1].trigger.relative_speed_mps",
+        ),
+        (
+            one(
+                "trigger = { relative_speed_mps = 1.0, of = \"other\", to = \"other\" }",
+                ok_action,
+            ),
+            "events[1].trigger.of",
+        ),
+        (
+            one(
+                "trigger = { reach = { station_m = 1.0, lane = 1, tolerance_m = 0.0 } }",
+                ok_action,
+            ),
+            "events[1].trigger.reach.tolerance_m",
+        ),
+        (
+            one(
+                "trigger = { reach = { station_m = 1.0, lane = 0, tolerance_m = 1.0 } }",
+                ok_action,
+            ),
+            "events[1].trigger.reach.lane",
+        ),
+        (
+            one(
+                "trigger = { reach = { station_m = 1.0, lane = 1, offset_m = 30.0, tolerance_m = 1.0 } }",
+                ok_action,
+            ),
+            "events[1].trigger.reach.offset_m",
+        ),
+        (
+            one(
+                "trigger = { reach = { station_m = 1.0, lane = 1, tolerance_m = 1.0 }, rule = \"equal\" }",
+                ok_action,
+            ),
+            "events[1].trigger.rule",
+        ),
+        (
+            one(
+                "trigger = { reach = { station_m = 1.0, lane = 1, tolerance_m = 1.0 }, to = \"other\" }",
+                ok_action,
+            ),
+            "events[1].trigger.to",
+        ),
+    ]);
+    // A reach's lane past the road's lanes is the engine's to refuse.
+    let s = script(
+        "[[events]]\nname = \"e\"\n\
+         trigger = { reach = { station_m = 1.0, lane = 4, tolerance_m = 1.0 } }\n\
+         action = { speed_mps = 5.0, rate_mps2 = 1.0 }",
+    );
+    match Events::new(&s, &["me", "other"], LANES) {
+        Err(VehicleError::InvalidEvent { field, .. }) => {
+            assert_eq!(field, "events[0].trigger.reach.lane")
+        }
+        other => panic!("{other:?}"),
+    }
+    assert_eq!(
+        s.lanes_named().collect::<Vec<_>>(),
+        [("events[0].trigger.reach.lane".to_string(), 4)]
+    );
+}

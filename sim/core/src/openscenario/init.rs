@@ -283,6 +283,45 @@ fn absolute_position(xml: &Xml, road: &RoadLanes, p: Node) -> Result<Placed, Osc
     Ok(Placed { s_m, lane })
 }
 
+/// A `LanePosition` or `RoadPosition` `p` as a point on the road: its station, the lane
+/// it is on and its offset to the left of that lane's centre, m.
+pub fn point_on_road(xml: &Xml, road: &RoadLanes, p: Node) -> Result<(f64, u32, f64), OscError> {
+    let name = p.tag_name().name();
+    if !matches!(name, "LanePosition" | "RoadPosition") {
+        return Err(xml.unsupported(
+            p,
+            "position",
+            "carfollow's points are on the road (LanePosition, RoadPosition)",
+        ));
+    }
+    check_road(xml, road, p)?;
+    let s_m = check_s(xml, p, xml.num(p, "s")?)?;
+    if name == "LanePosition" {
+        let id = xml.req(p, "laneId")?;
+        let id = id
+            .trim()
+            .parse::<i64>()
+            .map_err(|_| xml.at(p, format!("<LanePosition laneId=\"{id}\">: not a lane id")))?;
+        let lane = lane_of_id(xml, road, p, id)?;
+        let offset = xml.opt_num(p, "offset")?.unwrap_or(0.0);
+        return Ok((s_m, lane, offset));
+    }
+    let t_m = xml.num(p, "t")?;
+    let k = (-t_m / road.lane_width_m + 0.5).round();
+    if k < 1.0 || k > f64::from(road.lanes) {
+        return Err(xml.at(
+            p,
+            format!(
+                "<RoadPosition>: t = {t_m} m is on no lane carfollow drives on road {} ({})",
+                road.id,
+                lanes_named(road.lanes)
+            ),
+        ));
+    }
+    let centre = -(k - 0.5) * road.lane_width_m;
+    Ok((s_m, k as u32, t_m - centre))
+}
+
 /// A `RelativeLanePosition` (`dLane`, `ds` or from 1.1 `dsLane`) or `RelativeRoadPosition`
 /// (`ds`, `dt`) from `base`.
 fn relative_position(

@@ -153,7 +153,11 @@ fn act_trigger(xml: &Xml, act: Node) -> Result<(), OscError> {
         .map(|t| -> Result<bool, OscError> {
             let rule = xml.req(t, "rule")?;
             let value = xml.num(t, "value")?;
-            Ok(value <= 0.0 && matches!(rule.as_str(), "greaterThan" | "greaterOrEqual"))
+            // Greater than a time at most 0, or equal to 0: true from the first step.
+            Ok(
+                (value <= 0.0 && matches!(rule.as_str(), "greaterThan" | "greaterOrEqual"))
+                    || (value == 0.0 && rule == "equalTo"),
+            )
         })
         .transpose()?
         .unwrap_or(false);
@@ -286,10 +290,12 @@ impl Context<'_, '_> {
         match self.xml.req(node, "rule")?.as_str() {
             "lessThan" | "lessOrEqual" => Ok(Rule::Less),
             "greaterThan" | "greaterOrEqual" => Ok(Rule::Greater),
+            "equalTo" => Ok(Rule::Equal),
+            "notEqualTo" => Ok(Rule::NotEqual),
             r => Err(self.xml.at(
                 node,
                 format!(
-                    "<{} rule=\"{r}\">: carfollow's triggers compare by less or greater",
+                    "<{} rule=\"{r}\">: not a rule of the standard",
                     node.tag_name().name()
                 ),
             )),
@@ -398,6 +404,11 @@ impl Context<'_, '_> {
         if matches!(name, "SpeedCondition" | "StandStillCondition") {
             return self.watching(e, &subject, owner);
         }
+        if name == "ReachPositionCondition"
+            || (name == "DistanceCondition" && child(e, "Position").is_some())
+        {
+            return self.reach(e, &subject, owner);
+        }
         let other = match name {
             "TimeToCollisionCondition" => {
                 let target = child(e, "TimeToCollisionConditionTarget")
@@ -413,9 +424,14 @@ impl Context<'_, '_> {
                 }
                 xml.req(target, "entityRef")?
             }
-            "TimeHeadwayCondition" | "RelativeDistanceCondition" => xml.req(e, "entityRef")?,
+            "TimeHeadwayCondition" | "RelativeDistanceCondition" | "RelativeSpeedCondition" => {
+                xml.req(e, "entityRef")?
+            }
             _ => return Err(xml.unsupported(e, "condition", "")),
         };
+        if name == "RelativeSpeedCondition" {
+            return self.relative_speed(e, &subject, &other, owner);
+        }
         if xml.attr(e, "freespace")?.as_deref() != Some("true") {
             return Err(xml.at(e, format!("<{name} freespace=\"false\">: carfollow measures gaps bumper to bumper (freespace=\"true\")")));
         }
@@ -481,6 +497,92 @@ impl Context<'_, '_> {
             speed_mps: Some(xml.num(e, "value")?),
             of,
             rule: Some(self.rule(e)?),
+            ..TriggerSpec::default()
+        })
+    }
+
+    /// A `RelativeSpeedCondition` `e`: the speed of `subject` less that of `other`, on an
+    /// event of `owner`, one of the two (seen from `other`, the difference and its side
+    /// turn over).
+    fn relative_speed(
+        &self,
+        e: Node,
+        subject: &str,
+        other: &str,
+        owner: &str,
+    ) -> Result<TriggerSpec, OscError> {
+        let xml = self.xml;
+        if let Some(direction) = xml.attr(e, "direction")? {
+            return Err(xml.at(e, format!("<RelativeSpeedCondition direction=\"{direction}\">: carfollow's speed triggers watch the speed along the road")));
+        }
+        let value = xml.num(e, "value")?;
+        let rule = self.rule(e)?;
+        let (to, value, rule) = if subject == owner {
+            (other, value, rule)
+        } else if other == owner {
+            let turned = match rule {
+                Rule::Less => Rule::Greater,
+                Rule::Greater => Rule::Less,
+                same => same,
+            };
+            (subject, -value, turned)
+        } else {
+            return Err(xml.at(e, format!("<RelativeSpeedCondition> between `{subject}` and `{other}` on an event of `{owner}`: carfollow's triggers are about the vehicle the event moves")));
+        };
+        Ok(TriggerSpec {
+            relative_speed_mps: Some(value),
+            to: Some(self.name(e, to)?),
+            rule: Some(rule),
+            ..TriggerSpec::default()
+        })
+    }
+
+    /// A `ReachPositionCondition` (or 1.2's `DistanceCondition` to a position, at most its
+    /// value) `e` of `subject` on an event of `owner`: a reach trigger.
+    fn reach(&self, e: Node, subject: &str, owner: &str) -> Result<TriggerSpec, OscError> {
+        let xml = self.xml;
+        let tolerance_m = if e.has_tag_name("ReachPositionCondition") {
+            xml.num(e, "tolerance")?
+        } else {
+            if !matches!(self.rule(e)?, Rule::Less) {
+                return Err(xml.at(e, "<DistanceCondition> to a position: carfollow's reach triggers hold within a distance (rule lessThan or lessOrEqual)"));
+            }
+            if xml.attr(e, "freespace")?.as_deref() == Some("true") {
+                return Err(xml.at(e, "<DistanceCondition freespace=\"true\"> to a position: carfollow measures to the vehicle's reference point (freespace=\"false\")"));
+            }
+            match xml.attr(e, "relativeDistanceType")?.as_deref() {
+                None | Some("euclidianDistance") | Some("euclideanDistance") => {}
+                Some(kind) => return Err(xml.at(e, format!("<DistanceCondition relativeDistanceType=\"{kind}\"> to a position: carfollow's reach triggers measure the distance (euclidianDistance)"))),
+            }
+            xml.num(e, "value")?
+        };
+        if tolerance_m.is_nan() || tolerance_m <= 0.0 {
+            return Err(xml.at(
+                e,
+                format!(
+                    "<{}>: the distance {tolerance_m} m must be above 0",
+                    e.tag_name().name()
+                ),
+            ));
+        }
+        let position = child(e, "Position")
+            .map(|p| only_element(xml, p))
+            .transpose()?
+            .ok_or_else(|| xml.at(e, format!("<{}> has no <Position>", e.tag_name().name())))?;
+        let (station_m, lane, offset_m) = super::init::point_on_road(xml, self.road, position)?;
+        let of = if subject == owner {
+            None
+        } else {
+            Some(self.name(e, subject)?)
+        };
+        Ok(TriggerSpec {
+            reach: Some(vehicle::ReachSpec {
+                station_m,
+                lane,
+                offset_m,
+                tolerance_m,
+            }),
+            of,
             ..TriggerSpec::default()
         })
     }

@@ -255,6 +255,8 @@ impl Group {
         let rule = |default: Rule| match t.rule.unwrap_or(default) {
             Rule::Less => "lessThan",
             Rule::Greater => "greaterThan",
+            Rule::Equal => "equalTo",
+            Rule::NotEqual => "notEqualTo",
         };
         let delay = t.delay_s.unwrap_or(0.0);
         let to = t.to.as_deref().map(entity).unwrap_or(super::EGO);
@@ -346,6 +348,34 @@ impl Group {
             let of = t.of.as_deref().map_or(self.entity.as_str(), entity);
             self.watching_condition(x, name, delay, of, |x| {
                 x.empty("StandStillCondition", &[n("duration", v)]);
+            });
+        } else if let Some(v) = t.relative_speed_mps {
+            self.entity_condition(x, name, Some(delay), |x| {
+                x.empty(
+                    "RelativeSpeedCondition",
+                    &[
+                        a("entityRef", to),
+                        n("value", v),
+                        a("rule", rule(Rule::Less)),
+                    ],
+                );
+            });
+        } else if let Some(r) = &t.reach {
+            let of = t.of.as_deref().map_or(self.entity.as_str(), entity);
+            self.watching_condition(x, name, delay, of, |x| {
+                x.open("ReachPositionCondition", &[n("tolerance", r.tolerance_m)]);
+                x.open("Position", &[]);
+                x.empty(
+                    "LanePosition",
+                    &[
+                        a("roadId", crate::opendrive::ROAD_ID),
+                        a("laneId", -(r.lane as i64)),
+                        n("offset", r.offset_m),
+                        n("s", r.station_m),
+                    ],
+                );
+                x.close();
+                x.close();
             });
         }
     }
