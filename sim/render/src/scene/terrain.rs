@@ -5,15 +5,17 @@
 
 use super::error::SceneError;
 use super::mesh::{Mesh, Vertex};
-use vehicle::{Ground, GroundConfig};
+use std::sync::Arc;
+use vehicle::{Ground, GroundConfig, GroundGrid};
 
 /// The physics' ground surface: flat at y = 0, with the heightfield when the ground has
 /// bumps or a profile.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Terrain {
-    /// Heights of the grid, rows along z and columns along x, column-major
-    /// (`i + j * rows`), as `vehicle::Ground::grid` gives them to rapier.
-    heights: Vec<f32>,
+    /// The grid, its heights rows along z and columns along x, column-major
+    /// (`i + j * rows`), as `vehicle::Ground::grid` gives them to rapier (with a profile,
+    /// the one grid the physics was built from: `vehicle::Ground::shared_grid`).
+    grid: Arc<GroundGrid>,
     /// Grid points along z.
     rows: usize,
     /// Grid points along x.
@@ -33,7 +35,7 @@ impl Terrain {
             field: "ground".into(),
             reason: e.to_string(),
         })?;
-        Ok(ground.grid().map(|g| {
+        Ok(ground.shared_grid().map(|g| {
             let (x0, z0) = (f64::from(g.x0_m), f64::from(g.z0_m));
             let cell = f64::from(g.cell_m);
             // The bump patch alone is centred on the origin: its far corner is minus its
@@ -47,9 +49,9 @@ impl Terrain {
                 )
             };
             Terrain {
-                heights: g.heights,
                 rows: g.rows,
                 cols: g.cols,
+                grid: g,
                 cell_m: cell,
                 corners: [x0, z0, x1, z1],
                 profile: ground.config().profile.is_some(),
@@ -73,10 +75,13 @@ impl Terrain {
         let [x0, z0, ..] = self.corners;
         let fx = ((x - x0) / self.cell_m).clamp(0.0, (self.cols - 1) as f64);
         let fz = ((z - z0) / self.cell_m).clamp(0.0, (self.rows - 1) as f64);
-        let j = (fx.floor() as usize).min(self.cols - 2);
-        let i = (fz.floor() as usize).min(self.rows - 2);
+        // `fx`, `fz` are at least 0 (or NaN): the cast truncates as `floor` would, without
+        // its library call (a draped scene asks millions of heights).
+        let j = (fx as usize).min(self.cols - 2);
+        let i = (fz as usize).min(self.rows - 2);
         let (u, v) = (fx - j as f64, fz - i as f64);
-        let h = |i: usize, j: usize| f64::from(self.heights[i + j * self.rows]);
+        let heights = &self.grid.heights;
+        let h = |i: usize, j: usize| f64::from(heights[i + j * self.rows]);
         let (y00, y10, y01, y11) = (h(i, j), h(i + 1, j), h(i, j + 1), h(i + 1, j + 1));
         if u + v <= 1.0 {
             // Triangle (p00, p10, p01).
@@ -90,6 +95,7 @@ impl Terrain {
     /// The lowest and highest heights of the grid, metres.
     pub fn height_range_m(&self) -> [f64; 2] {
         let (lo, hi) = self
+            .grid
             .heights
             .iter()
             .fold((f32::MAX, f32::MIN), |(lo, hi), &h| (lo.min(h), hi.max(h)));
