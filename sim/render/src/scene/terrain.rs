@@ -5,6 +5,8 @@
 
 use super::error::SceneError;
 use super::mesh::{Mesh, Vertex};
+use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
 use std::sync::Arc;
 use vehicle::{Ground, GroundConfig, GroundGrid};
 
@@ -138,6 +140,9 @@ impl Terrain {
         let max2 = max_edge_m * max_edge_m * (1.0 + 1e-9);
         let d2 = |x: [f64; 3], y: [f64; 3]| (x[0] - y[0]).powi(2) + (x[2] - y[2]).powi(2);
         let mut next_mark = 0;
+        // The cut triangles share their corners: each position is lifted once.
+        let mut lifted: HashMap<(u32, u32, u32), Option<Lift>, BuildHasherDefault<BitsHasher>> =
+            HashMap::default();
         for (t, tri) in mesh.indices.chunks_exact(3).enumerate() {
             while next_mark < marks.len() && marks[next_mark] <= 3 * t {
                 marks[next_mark] = out.indices.len();
@@ -180,9 +185,18 @@ impl Terrain {
                 }
                 let base = out.vertices.len() as u32;
                 for q in [a, b, c] {
-                    out.vertices.push(self.lifted(Vertex {
-                        position: q.map(|x| x as f32),
-                        ..v[0]
+                    let position = q.map(|x| x as f32);
+                    let key = (
+                        position[0].to_bits(),
+                        position[1].to_bits(),
+                        position[2].to_bits(),
+                    );
+                    let lift = *lifted.entry(key).or_insert_with(|| self.lift(position));
+                    let flat = Vertex { position, ..v[0] };
+                    out.vertices.push(lift.map_or(flat, |l| Vertex {
+                        position: l.position,
+                        normal: l.normal,
+                        ..flat
                     }));
                 }
                 out.indices.extend_from_slice(&[base, base + 1, base + 2]);
@@ -197,19 +211,31 @@ impl Terrain {
     /// `v` (on flat ground) raised by the ground's height beneath it, its normal the
     /// surface's there (from the height's slope over a cell); unchanged off the patch.
     fn lifted(&self, v: Vertex) -> Vertex {
-        let [x, y, z] = v.position.map(f64::from);
+        match self.lift(v.position) {
+            Some(l) => Vertex {
+                position: l.position,
+                normal: l.normal,
+                ..v
+            },
+            None => v,
+        }
+    }
+
+    /// The position and normal of [`Terrain::lifted`] for a vertex at `position`; `None` off
+    /// the patch.
+    fn lift(&self, position: [f32; 3]) -> Option<Lift> {
+        let [x, y, z] = position.map(f64::from);
         if !self.covers_near(x, z) {
-            return v;
+            return None;
         }
         let d = 0.5 * self.cell_m;
         let dx = (self.height_m(x + d, z) - self.height_m(x - d, z)) / (2.0 * d);
         let dz = (self.height_m(x, z + d) - self.height_m(x, z - d)) / (2.0 * d);
         let n = (dx * dx + 1.0 + dz * dz).sqrt();
-        Vertex {
+        Some(Lift {
             position: [x as f32, (y + self.height_m(x, z)) as f32, z as f32],
             normal: [(-dx / n) as f32, (1.0 / n) as f32, (-dz / n) as f32],
-            ..v
-        }
+        })
     }
 
     /// Whether (x, z) is on the patch or within a cell of it.
@@ -217,6 +243,35 @@ impl Terrain {
         let [x0, z0, x1, z1] = self.corners;
         let c = self.cell_m;
         x > x0 - c && x < x1 + c && z > z0 - c && z < z1 + c
+    }
+}
+
+/// A vertex lifted onto the terrain: its position and normal ([`Terrain::lift`]).
+#[derive(Clone, Copy)]
+struct Lift {
+    position: [f32; 3],
+    normal: [f32; 3],
+}
+
+/// A hasher for positions' bits: a multiply-rotate per word (the positions are the
+/// draping's own, no adversary's), far cheaper than the default SipHash.
+#[derive(Default)]
+struct BitsHasher(u64);
+
+impl Hasher for BitsHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.write_u32(u32::from(b));
+        }
+    }
+
+    fn write_u32(&mut self, word: u32) {
+        // 2^64 over the golden ratio: consecutive words spread over the table.
+        self.0 = (self.0.rotate_left(26) ^ u64::from(word)).wrapping_mul(0x9E37_79B9_7F4A_7C15);
     }
 }
 
