@@ -12,6 +12,13 @@ use crate::rng_stream::named_stream;
 use rand::Rng;
 use serde::{Deserialize, Serialize};
 use std::f32::consts::TAU;
+use std::sync::{Arc, Mutex};
+
+/// The last profile grid built in this process and the configuration it was built from:
+/// the physics and the renderer build their grounds from one configuration, and a profile's
+/// grid (a million points over a 1.5 km road) is filled once for both
+/// ([`Ground::shared_grid`]).
+static LAST_PROFILE_GRID: Mutex<Option<(GroundConfig, Arc<GroundGrid>)>> = Mutex::new(None);
 
 /// How many sinusoidal waves are summed to make the bumps: enough to look irregular.
 const BUMP_WAVES: usize = 4;
@@ -235,6 +242,27 @@ impl Ground {
             x0_m: x0,
             z0_m: z0,
         })
+    }
+
+    /// [`Ground::grid`], shared: with a profile, the grid last built in this process from
+    /// an equal configuration (the same heights, filled once), else a new one. The lock is
+    /// held while a grid is filled, so a second caller with the same configuration waits
+    /// for it rather than filling it again.
+    pub fn shared_grid(&self) -> Option<Arc<GroundGrid>> {
+        if self.config.profile.is_none() {
+            return self.grid().map(Arc::new);
+        }
+        let mut last = LAST_PROFILE_GRID
+            .lock()
+            .unwrap_or_else(|poisoned| poisoned.into_inner());
+        if let Some((config, grid)) = last.as_ref() {
+            if *config == self.config {
+                return Some(Arc::clone(grid));
+            }
+        }
+        let grid = Arc::new(self.grid()?);
+        *last = Some((self.config.clone(), Arc::clone(&grid)));
+        Some(grid)
     }
 
     /// The bump patch alone, as [`Ground::grid`] gives it.

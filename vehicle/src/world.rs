@@ -44,7 +44,7 @@ impl World {
         physics.gravity = Vector::new(0.0, -GRAVITY_MPS2, 0.0);
         physics.integration_parameters.dt = PHYSICS_DT_S;
         let h = config.ground.half_extent_m;
-        let grid = ground.grid();
+        let grid = ground.shared_grid();
         // Under a profile the slab's top is the heightfield's lowest point (or y = 0), so
         // that it never stands above the ground the wheels roll on.
         let slab_top = match (&config.ground.profile, &grid) {
@@ -68,7 +68,7 @@ impl World {
             // Rapier centres a heightfield on its collider's origin.
             let centre = Vector::new(0.5 * (g.x0_m + g.x1_m()), 0.0, 0.5 * (g.z0_m + g.z1_m()));
             let mut builder =
-                ColliderBuilder::heightfield(Array2::new(g.rows, g.cols, g.heights), size);
+                ColliderBuilder::heightfield(Array2::new(g.rows, g.cols, g.heights.clone()), size);
             if config.ground.profile.is_some() {
                 builder = builder.translation(centre);
             }

@@ -101,3 +101,26 @@ fn a_vehicle_driving_the_profile_rises_falls_and_pitches_with_it() {
         "pitch off by {worst_pitch} rad"
     );
 }
+
+/// The physics and the renderer build their grounds from one configuration: its profile's
+/// grid is filled once and shared, with the very heights `grid` fills; another profile
+/// gets its own.
+#[test]
+fn one_profile_grid_is_filled_once_and_shared() {
+    let a = Ground::new(&ground()).unwrap();
+    let first = a.shared_grid().unwrap();
+    let again = Ground::new(&ground()).unwrap().shared_grid().unwrap();
+    assert!(std::sync::Arc::ptr_eq(&first, &again));
+    assert_eq!(*first, a.grid().unwrap());
+    let mut other = ground();
+    other.profile.as_mut().unwrap().margin_m = 20.0;
+    let b = Ground::new(&other).unwrap();
+    let theirs = b.shared_grid().unwrap();
+    assert!(!std::sync::Arc::ptr_eq(&first, &theirs));
+    assert_eq!(*theirs, b.grid().unwrap());
+    // Flat ground has none; bumps alone are not shared.
+    assert!(Ground::new(&GroundConfig::default())
+        .unwrap()
+        .shared_grid()
+        .is_none());
+}

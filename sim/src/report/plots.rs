@@ -4,7 +4,7 @@
 //! - `range.png`: the estimated range against the true range, lost frames shaded;
 //! - `status.png`: a timeline with two lanes, the tracker's own status and the ground-truth
 //!   judgement (on target, lost, lost out of view, on target with the target partly out of
-//!   view);
+//!   view, and not yet acquired: a searching tracker before it first held its target);
 //! - `trajectories.png`: top-down paths of both vehicles, one metre the same length on both axes;
 //! - `lateral_deviation.png`: the chase vehicle's distance from the lead's path, with its limit.
 //!
@@ -66,6 +66,9 @@ const CHASE: RGBColor = RGBColor(31, 100, 200);
 const LEAD: RGBColor = RGBColor(210, 60, 30);
 
 const PARTLY_OUT: RGBColor = RGBColor(120, 200, 190);
+/// A searching tracker that has not yet held its target: no loss of a track (pale violet,
+/// apart from the losses' red and grey).
+const NOT_ACQUIRED: RGBColor = RGBColor(190, 170, 225);
 
 pub(crate) type Area<'a> = DrawingArea<BitMapBackend<'a>, Shift>;
 pub(crate) type DrawResult = Result<(), Box<dyn Error>>;
@@ -162,6 +165,9 @@ struct PlotRow {
     status: TrackerStatus,
     lost_truth: bool,
     lost_out_of_view: bool,
+    /// Lost by the ground truth only before the first acquisition (`loss_cause` is
+    /// `not_acquired` on every lost frame of the row, and some frame of it is lost).
+    not_acquired: bool,
     partly_out_of_view: bool,
 }
 
@@ -178,6 +184,7 @@ impl PlotRow {
             status: r.status,
             lost_truth: r.lost_truth,
             lost_out_of_view: r.lost_truth && r.loss_cause == LossCause::OutOfView,
+            not_acquired: r.lost_truth && r.loss_cause == LossCause::NotAcquired,
             partly_out_of_view: r.target_partly_out_of_view,
         }
     }
@@ -186,7 +193,8 @@ impl PlotRow {
     /// start time and the positions of the earlier; the smaller gap; the larger lateral
     /// deviation; the ranges of the frame with the larger range error (a frame with no
     /// estimate counts as the largest, so the estimate's line still breaks there); the
-    /// worse tracker status; and any loss or partial view of either.
+    /// worse tracker status; and any loss or partial view of either (a loss after the first
+    /// acquisition outweighing the search before it).
     fn merge(self, later: PlotRow) -> PlotRow {
         let error = |r: &PlotRow| {
             let e = (r.est_range_m - r.true_range_m).abs();
@@ -212,6 +220,9 @@ impl PlotRow {
             status: worse(self.status, later.status),
             lost_truth: self.lost_truth || later.lost_truth,
             lost_out_of_view: self.lost_out_of_view || later.lost_out_of_view,
+            not_acquired: (self.lost_truth || later.lost_truth)
+                && (self.not_acquired || !self.lost_truth)
+                && (later.not_acquired || !later.lost_truth),
             partly_out_of_view: self.partly_out_of_view || later.partly_out_of_view,
         }
     }
@@ -580,7 +591,7 @@ fn range(area: &Area, scenario: &str, s: &Series) -> DrawResult {
 /// Lane 1 (top): the tracker's own status; lane 0 (bottom): the ground-truth judgement.
 fn status(area: &Area, scenario: &str, s: &Series) -> DrawResult {
     let (area, legend) = area.split_vertically(area.dim_in_pixel().1 - 30);
-    status_legend(&legend)?;
+    status_legend(&legend, s.records.iter().any(|r| r.not_acquired))?;
     let mut chart = ChartBuilder::on(&area)
         .caption(
             title(scenario, "tracker status and ground truth"),
@@ -629,8 +640,10 @@ fn status(area: &Area, scenario: &str, s: &Series) -> DrawResult {
         TrackedPartlyOut,
         Lost,
         LostOutOfView,
+        NotAcquired,
     }
     let truth = s.runs(|r| match (r.lost_truth, r.lost_out_of_view) {
+        (true, _) if r.not_acquired => Truth::NotAcquired,
         (true, true) => Truth::LostOutOfView,
         (true, false) => Truth::Lost,
         (false, _) if r.partly_out_of_view => Truth::TrackedPartlyOut,
@@ -642,6 +655,7 @@ fn status(area: &Area, scenario: &str, s: &Series) -> DrawResult {
             Truth::TrackedPartlyOut => PARTLY_OUT,
             Truth::Lost => LOST,
             Truth::LostOutOfView => OUT_OF_VIEW,
+            Truth::NotAcquired => NOT_ACQUIRED,
         };
         lane(0, a, b, c)
     }))?;
@@ -656,16 +670,21 @@ fn status(area: &Area, scenario: &str, s: &Series) -> DrawResult {
     Ok(())
 }
 
-/// A row of coloured boxes with labels, left to right, for the status timeline.
-fn status_legend(area: &Area) -> DrawResult {
+/// A row of coloured boxes with labels, left to right, for the status timeline; with
+/// `not_acquired`, also the shade of a search before the first acquisition.
+fn status_legend(area: &Area, not_acquired: bool) -> DrawResult {
     let mut x = 140;
+    let searched = not_acquired.then_some(("not yet acquired", NOT_ACQUIRED));
     for (label, colour) in [
         ("tracking / on target", TRACKING),
         ("coasting", COASTING),
         ("lost", LOST),
         ("lost, out of view", OUT_OF_VIEW),
         ("on target, partly out of view", PARTLY_OUT),
-    ] {
+    ]
+    .into_iter()
+    .chain(searched)
+    {
         area.draw(&Rectangle::new([(x, 8), (x + 24, 22)], colour.filled()))?;
         area.draw_text(label, &font(TICK_PX), (x + 32, 7))?;
         let (w, _) = area.estimate_text_size(label, &font(TICK_PX))?;
@@ -835,6 +854,7 @@ mod tests {
             status: TrackerStatus::Tracking,
             lost_truth: false,
             lost_out_of_view: false,
+            not_acquired: false,
             partly_out_of_view: false,
         }
     }
@@ -904,5 +924,73 @@ mod tests {
         assert_eq!(rows[row_of(wide_at)].lateral_deviation_m, 1.7);
         assert!(rows[row_of(no_estimate_at)].est_range_m.is_nan());
         assert_eq!(rows.iter().filter(|r| r.est_range_m.is_nan()).count(), 1);
+    }
+
+    /// The status plot of `rows` as RGB pixels.
+    fn status_pixels(rows: &[PlotRow]) -> Vec<u8> {
+        register_font(Path::new(".")).unwrap();
+        let mut period = FramePeriod::default();
+        for r in rows {
+            period.push(r.t_s);
+        }
+        let series = Series::new(rows, period.period());
+        let size = (WIDE.0, 300);
+        let mut buf = vec![0u8; size.0 as usize * size.1 as usize * 3];
+        {
+            let area = BitMapBackend::with_buffer(&mut buf, size).into_drawing_area();
+            area.fill(&WHITE).unwrap();
+            status(&area, "x", &series).unwrap();
+            area.present().unwrap();
+        }
+        buf
+    }
+
+    fn count(pixels: &[u8], c: RGBColor) -> usize {
+        pixels
+            .chunks_exact(3)
+            .filter(|p| p == &[c.0, c.1, c.2])
+            .count()
+    }
+
+    #[test]
+    fn the_status_plot_shades_a_search_before_acquisition_apart_from_losses() {
+        // 150 frames: searching (lost by the truth, not yet acquired) for the first 30,
+        // then on target, lost after acquisition for frames 100..110.
+        let rows: Vec<PlotRow> = (0..150)
+            .map(|i| {
+                let mut f = frame(i);
+                if i < 30 {
+                    (f.lost_truth, f.not_acquired) = (true, true);
+                    f.status = TrackerStatus::Lost;
+                }
+                if (100..110).contains(&i) {
+                    f.lost_truth = true;
+                }
+                f
+            })
+            .collect();
+        let with_search = status_pixels(&rows);
+        // The search's shade in the lane and in the legend; the loss after acquisition is
+        // still red in the truth lane (the tracker's lane is red for the search too).
+        let searched = count(&with_search, NOT_ACQUIRED);
+        assert!(searched > 1000, "{searched}");
+        let red = count(&with_search, LOST);
+        // Without the search: no such shade, no legend entry; the search's frames drawn red.
+        let plain: Vec<PlotRow> = rows
+            .iter()
+            .map(|r| PlotRow {
+                not_acquired: false,
+                ..*r
+            })
+            .collect();
+        let without = status_pixels(&plain);
+        assert_eq!(count(&without, NOT_ACQUIRED), 0);
+        assert!(count(&without, LOST) > red + searched / 2, "{red}");
+        // The loss after acquisition stays red whatever the search: rows merged over both
+        // count as lost.
+        let merged = rows[29].merge(rows[30]).merge(rows[105]);
+        assert!(!merged.not_acquired && merged.lost_truth);
+        assert!(rows[0].merge(rows[1]).not_acquired);
+        assert!(rows[0].merge(rows[40]).not_acquired);
     }
 }

@@ -5,15 +5,19 @@
 
 use super::error::SceneError;
 use super::mesh::{Mesh, Vertex};
-use vehicle::{Ground, GroundConfig};
+use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
+use std::sync::Arc;
+use vehicle::{Ground, GroundConfig, GroundGrid};
 
 /// The physics' ground surface: flat at y = 0, with the heightfield when the ground has
 /// bumps or a profile.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Terrain {
-    /// Heights of the grid, rows along z and columns along x, column-major
-    /// (`i + j * rows`), as `vehicle::Ground::grid` gives them to rapier.
-    heights: Vec<f32>,
+    /// The grid, its heights rows along z and columns along x, column-major
+    /// (`i + j * rows`), as `vehicle::Ground::grid` gives them to rapier (with a profile,
+    /// the one grid the physics was built from: `vehicle::Ground::shared_grid`).
+    grid: Arc<GroundGrid>,
     /// Grid points along z.
     rows: usize,
     /// Grid points along x.
@@ -33,7 +37,7 @@ impl Terrain {
             field: "ground".into(),
             reason: e.to_string(),
         })?;
-        Ok(ground.grid().map(|g| {
+        Ok(ground.shared_grid().map(|g| {
             let (x0, z0) = (f64::from(g.x0_m), f64::from(g.z0_m));
             let cell = f64::from(g.cell_m);
             // The bump patch alone is centred on the origin: its far corner is minus its
@@ -47,9 +51,9 @@ impl Terrain {
                 )
             };
             Terrain {
-                heights: g.heights,
                 rows: g.rows,
                 cols: g.cols,
+                grid: g,
                 cell_m: cell,
                 corners: [x0, z0, x1, z1],
                 profile: ground.config().profile.is_some(),
@@ -73,10 +77,13 @@ impl Terrain {
         let [x0, z0, ..] = self.corners;
         let fx = ((x - x0) / self.cell_m).clamp(0.0, (self.cols - 1) as f64);
         let fz = ((z - z0) / self.cell_m).clamp(0.0, (self.rows - 1) as f64);
-        let j = (fx.floor() as usize).min(self.cols - 2);
-        let i = (fz.floor() as usize).min(self.rows - 2);
+        // `fx`, `fz` are at least 0 (or NaN): the cast truncates as `floor` would, without
+        // its library call (a draped scene asks millions of heights).
+        let j = (fx as usize).min(self.cols - 2);
+        let i = (fz as usize).min(self.rows - 2);
         let (u, v) = (fx - j as f64, fz - i as f64);
-        let h = |i: usize, j: usize| f64::from(self.heights[i + j * self.rows]);
+        let heights = &self.grid.heights;
+        let h = |i: usize, j: usize| f64::from(heights[i + j * self.rows]);
         let (y00, y10, y01, y11) = (h(i, j), h(i + 1, j), h(i, j + 1), h(i + 1, j + 1));
         if u + v <= 1.0 {
             // Triangle (p00, p10, p01).
@@ -90,6 +97,7 @@ impl Terrain {
     /// The lowest and highest heights of the grid, metres.
     pub fn height_range_m(&self) -> [f64; 2] {
         let (lo, hi) = self
+            .grid
             .heights
             .iter()
             .fold((f32::MAX, f32::MIN), |(lo, hi), &h| (lo.min(h), hi.max(h)));
@@ -132,6 +140,9 @@ impl Terrain {
         let max2 = max_edge_m * max_edge_m * (1.0 + 1e-9);
         let d2 = |x: [f64; 3], y: [f64; 3]| (x[0] - y[0]).powi(2) + (x[2] - y[2]).powi(2);
         let mut next_mark = 0;
+        // The cut triangles share their corners: each position is lifted once.
+        let mut lifted: HashMap<(u32, u32, u32), Option<Lift>, BuildHasherDefault<BitsHasher>> =
+            HashMap::default();
         for (t, tri) in mesh.indices.chunks_exact(3).enumerate() {
             while next_mark < marks.len() && marks[next_mark] <= 3 * t {
                 marks[next_mark] = out.indices.len();
@@ -174,9 +185,18 @@ impl Terrain {
                 }
                 let base = out.vertices.len() as u32;
                 for q in [a, b, c] {
-                    out.vertices.push(self.lifted(Vertex {
-                        position: q.map(|x| x as f32),
-                        ..v[0]
+                    let position = q.map(|x| x as f32);
+                    let key = (
+                        position[0].to_bits(),
+                        position[1].to_bits(),
+                        position[2].to_bits(),
+                    );
+                    let lift = *lifted.entry(key).or_insert_with(|| self.lift(position));
+                    let flat = Vertex { position, ..v[0] };
+                    out.vertices.push(lift.map_or(flat, |l| Vertex {
+                        position: l.position,
+                        normal: l.normal,
+                        ..flat
                     }));
                 }
                 out.indices.extend_from_slice(&[base, base + 1, base + 2]);
@@ -191,19 +211,31 @@ impl Terrain {
     /// `v` (on flat ground) raised by the ground's height beneath it, its normal the
     /// surface's there (from the height's slope over a cell); unchanged off the patch.
     fn lifted(&self, v: Vertex) -> Vertex {
-        let [x, y, z] = v.position.map(f64::from);
+        match self.lift(v.position) {
+            Some(l) => Vertex {
+                position: l.position,
+                normal: l.normal,
+                ..v
+            },
+            None => v,
+        }
+    }
+
+    /// The position and normal of [`Terrain::lifted`] for a vertex at `position`; `None` off
+    /// the patch.
+    fn lift(&self, position: [f32; 3]) -> Option<Lift> {
+        let [x, y, z] = position.map(f64::from);
         if !self.covers_near(x, z) {
-            return v;
+            return None;
         }
         let d = 0.5 * self.cell_m;
         let dx = (self.height_m(x + d, z) - self.height_m(x - d, z)) / (2.0 * d);
         let dz = (self.height_m(x, z + d) - self.height_m(x, z - d)) / (2.0 * d);
         let n = (dx * dx + 1.0 + dz * dz).sqrt();
-        Vertex {
+        Some(Lift {
             position: [x as f32, (y + self.height_m(x, z)) as f32, z as f32],
             normal: [(-dx / n) as f32, (1.0 / n) as f32, (-dz / n) as f32],
-            ..v
-        }
+        })
     }
 
     /// Whether (x, z) is on the patch or within a cell of it.
@@ -211,6 +243,35 @@ impl Terrain {
         let [x0, z0, x1, z1] = self.corners;
         let c = self.cell_m;
         x > x0 - c && x < x1 + c && z > z0 - c && z < z1 + c
+    }
+}
+
+/// A vertex lifted onto the terrain: its position and normal ([`Terrain::lift`]).
+#[derive(Clone, Copy)]
+struct Lift {
+    position: [f32; 3],
+    normal: [f32; 3],
+}
+
+/// A hasher for positions' bits: a multiply-rotate per word (the positions are the
+/// draping's own, no adversary's), far cheaper than the default SipHash.
+#[derive(Default)]
+struct BitsHasher(u64);
+
+impl Hasher for BitsHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.write_u32(u32::from(b));
+        }
+    }
+
+    fn write_u32(&mut self, word: u32) {
+        // 2^64 over the golden ratio: consecutive words spread over the table.
+        self.0 = (self.0.rotate_left(26) ^ u64::from(word)).wrapping_mul(0x9E37_79B9_7F4A_7C15);
     }
 }
 

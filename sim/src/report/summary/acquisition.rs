@@ -173,4 +173,31 @@ mod tests {
         let json = serde_json::to_value(&s).unwrap();
         assert!(json.get("acquisition").is_none());
     }
+
+    /// An `unresolved` event of the search before the first acquisition does not explain a
+    /// later loss in `max_lost`'s message; one after it does.
+    #[test]
+    fn an_unresolved_search_is_no_resolution_loss() {
+        let expect = Expect {
+            max_lost_s: Some(0.0),
+            ..Expect::default()
+        };
+        let mut rs = searched();
+        rs[5].tracker_event = "unresolved".into();
+        let s = Summary::compute("x", 1, &rs, &expect, 1.0);
+        assert_eq!(s.unresolved.len(), 1, "the tracker's event is kept");
+        assert!(!s.passed);
+        assert!(
+            s.failures[0].contains("tracking lost") && !s.failures[0].contains("resolution"),
+            "{:?}",
+            s.failures
+        );
+        rs[18].tracker_event = "unresolved".into();
+        let s = Summary::compute("x", 1, &rs, &expect, 1.0);
+        assert!(
+            s.failures[0].contains("beyond the tracker's resolution (`unresolved`) from 1.20 s"),
+            "{:?}",
+            s.failures
+        );
+    }
 }

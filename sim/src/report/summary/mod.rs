@@ -390,8 +390,12 @@ fn check(s: &Summary, expect: &Expect) -> Vec<Criterion> {
             value: t,
             limit: allowed,
             message: if t > 0.0 {
-                // A target beyond the tracker's resolution explains a loss of its own.
-                let unresolved = s.unresolved.first().map_or(String::new(), |e| {
+                // A target beyond the tracker's resolution explains a loss of its own; a
+                // searching tracker's `unresolved` before it first held the target judged
+                // the model where it searched, not a target it had, and explains nothing.
+                let held_from = s.acquisition.map_or(Some(f64::NEG_INFINITY), |a| a.acquired_t_s);
+                let after_held = |e: &&TrackerEventTime| held_from.is_some_and(|t| e.t_s >= t);
+                let unresolved = s.unresolved.iter().find(after_held).map_or(String::new(), |e| {
                     format!(
                         "; the target was beyond the tracker's resolution (`unresolved`) \
                          from {:.2} s",
