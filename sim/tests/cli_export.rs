@@ -59,11 +59,13 @@ fn frames(scenario: &Path, out: &Path, set: &[&str]) -> String {
 #[test]
 fn an_exported_scenario_imported_back_runs_bit_for_bit() {
     let dir = tempfile::tempdir().unwrap();
-    // Straight and curved roads (arcs; an OpenDRIVE road of spirals and arcs), a cut-in, a
+    // Straight and curved roads (arcs; an OpenDRIVE road of spirals and arcs; one of
+    // paramPoly3s with a median and lanes of their own widths), a cut-in, a
     // cut-out, fog, and Euro NCAP's braking target; a few seconds each.
     for (name, seconds) in [
         ("nist-grounds", "6"),
         ("opendrive-curves", "6"),
+        ("divided-highway", "6"),
         ("cut-in", "10"),
         ("cut-out", "8"),
         ("fog", "5"),

@@ -51,14 +51,32 @@ pub struct Lanes {
     /// How many lanes the vehicle's side of the road has (lanes 1..=count).
     pub count: u32,
     /// The lane whose centre the vehicle's route runs along: lane k's centre is
-    /// `(route_lane − k) × width_m` to the left of the route.
+    /// `(route_lane − k) × width_m` to the left of the route when the lanes are of one
+    /// width.
     pub route_lane: u32,
+    /// Each lane's own width, m, lane 1 first (the first `count` read), when they differ;
+    /// `None`: every lane is `width_m` wide.
+    pub widths_m: Option<[f64; Lanes::MAX]>,
 }
 
 impl Lanes {
+    /// The most lanes whose own widths [`Lanes::widths_m`] holds.
+    pub const MAX: usize = 4;
+
     /// The left offset from the route of lane `lane`'s centre, m.
     pub fn offset_m(&self, lane: u32) -> f64 {
-        (f64::from(self.route_lane) - f64::from(lane)) * self.width_m
+        match &self.widths_m {
+            None => (f64::from(self.route_lane) - f64::from(lane)) * self.width_m,
+            Some(w) => {
+                // A lane's centre from the inner edge of lane 1: the lanes inside it and
+                // half its own.
+                let centre = |k: u32| {
+                    let k = (k as usize).clamp(1, Lanes::MAX);
+                    w[..k - 1].iter().sum::<f64>() + 0.5 * w[k - 1]
+                };
+                centre(self.route_lane) - centre(lane)
+            }
+        }
     }
 }
 
@@ -170,6 +188,12 @@ impl Events {
         lanes: Lanes,
     ) -> Result<Events, VehicleError> {
         check_range("lane_width_m", lanes.width_m, 0.5, 20.0)?;
+        if let Some(widths) = &lanes.widths_m {
+            check_range("lanes", f64::from(lanes.count), 1.0, Lanes::MAX as f64)?;
+            for &w in &widths[..lanes.count as usize] {
+                check_range("lane_widths_m", w, 0.5, 20.0)?;
+            }
+        }
         check_range("lanes", f64::from(lanes.count), 1.0, 16.0)?;
         check_range(
             "route_lane",

@@ -11,6 +11,7 @@ const LANES: Lanes = Lanes {
     width_m: 3.5,
     count: 2,
     route_lane: 1,
+    widths_m: None,
 };
 
 fn straight(length_m: f32) -> Route {

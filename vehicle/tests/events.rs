@@ -11,6 +11,7 @@ const LANES: Lanes = Lanes {
     width_m: 3.5,
     count: 3,
     route_lane: 1,
+    widths_m: None,
 };
 
 fn script(toml_text: &str) -> EventScript {
@@ -820,4 +821,37 @@ fn relative_speed_reach_and_equality_fire_as_documented() {
         s.lanes_named().collect::<Vec<_>>(),
         [("events[0].trigger.reach.lane".to_string(), 4)]
     );
+}
+
+#[test]
+fn lanes_of_their_own_widths_put_each_centre_half_its_width_beyond_the_lanes_inside() {
+    // e6mini's driving lanes: 3.65, 3.5 and 3.9 m; the route runs along lane 3's centre.
+    let lanes = Lanes {
+        width_m: 3.65,
+        count: 3,
+        route_lane: 3,
+        widths_m: Some([3.65, 3.5, 3.9, 0.0]),
+    };
+    let close = |a: f64, b: f64| assert!((a - b).abs() < 1e-12, "{a} vs {b}");
+    close(lanes.offset_m(3), 0.0);
+    close(lanes.offset_m(2), 0.5 * 3.9 + 0.5 * 3.5);
+    close(lanes.offset_m(1), 0.5 * 3.9 + 3.5 + 0.5 * 3.65);
+    // One width: the rule of whole lane widths.
+    let even = Lanes {
+        widths_m: None,
+        ..lanes
+    };
+    close(even.offset_m(1), 2.0 * 3.65);
+    // A width out of bounds is refused.
+    let bad = Lanes {
+        widths_m: Some([3.65, 0.1, 3.9, 0.0]),
+        ..lanes
+    };
+    assert!(matches!(
+        Events::new(&EventScript::default(), &[], bad),
+        Err(VehicleError::InvalidParameter {
+            field: "lane_widths_m",
+            ..
+        })
+    ));
 }

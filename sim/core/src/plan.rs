@@ -308,7 +308,10 @@ impl Plan {
             .map_err(|e| vehicle_error("chase.controller", &e))?;
         if s.chase.lane_keeping {
             // The chase keeps the lane it starts in, the lead's.
-            chase.set_lane(lead_route.clone(), (0.5 * s.route.lane_width_m) as f32);
+            chase.set_lane(
+                lead_route.clone(),
+                (0.5 * s.route.lane_width_of(s.lead_lane)) as f32,
+            );
         }
         let traffic = s
             .has_traffic()
@@ -548,10 +551,18 @@ fn plan_traffic(
     }
     let vehicles = Vehicles::new(members);
     let names: Vec<&str> = vehicles.members().iter().map(|m| m.name.as_str()).collect();
+    let widths_m = (!s.route.lane_widths_m.is_empty()).then(|| {
+        let mut w = [s.route.lane_width_m; Lanes::MAX];
+        for (k, slot) in w.iter_mut().enumerate() {
+            *slot = s.route.lane_width_of(k as u32 + 1);
+        }
+        w
+    });
     let lanes = |route_lane: u32| Lanes {
         width_m: s.route.lane_width_m,
         count: s.route.lanes,
         route_lane,
+        widths_m,
     };
     let lead_events = Events::new(&s.lead_events, &names, lanes(s.lead_lane))
         .map_err(|e| vehicle_field_error(src, "lead.events", &e))?;
@@ -596,12 +607,7 @@ fn plan_traffic(
         actors.push(ActorDriver::new(driver, events));
         stations.push(a.start_m);
     }
-    let road = Road::new(
-        route.clone(),
-        s.route.lane_width_m,
-        s.route.lanes,
-        &stations,
-    );
+    let road = Road::new(route.clone(), &s.route, &stations);
     Ok(PlannedTraffic {
         vehicles,
         actor_ids,

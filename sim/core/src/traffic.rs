@@ -106,20 +106,59 @@ pub(crate) struct Road {
     lane_width_m: f64,
     /// Lanes each way.
     lanes: u32,
+    /// Each lane's centre, metres right of lane 1's, and its width, when the lanes differ
+    /// in width (else empty: lane k is `k − 1` widths right of lane 1).
+    own_lanes: Vec<[f64; 2]>,
     hints: Vec<f32>,
 }
 
 impl Road {
-    /// The road of `route` (lane 1's centre) with `lanes` lanes `lane_width_m` wide each
-    /// way, for vehicles
+    /// The road of `route` (lane 1's centre) with the lanes of `spec`, for vehicles
     /// starting at these stations.
-    pub(crate) fn new(route: Route, lane_width_m: f64, lanes: u32, stations_m: &[f64]) -> Road {
+    pub(crate) fn new(route: Route, spec: &sim_render::RouteSpec, stations_m: &[f64]) -> Road {
+        let own_lanes = if spec.lane_widths_m.is_empty() {
+            Vec::new()
+        } else {
+            (1..=spec.lanes)
+                .map(|k| {
+                    [
+                        spec.lane_centre_m(k) - spec.lane_centre_m(1),
+                        spec.lane_width_of(k),
+                    ]
+                })
+                .collect()
+        };
         Road {
             route,
-            lane_width_m,
-            lanes,
+            lane_width_m: spec.lane_width_m,
+            lanes: spec.lanes,
+            own_lanes,
             hints: stations_m.iter().map(|&s| s as f32).collect(),
         }
+    }
+
+    /// The lane whose centre is nearest `right_m` metres right of lane 1's, with its
+    /// centre there and its width, metres.
+    fn lane_near(&self, right_m: f64) -> (u32, f64, f64) {
+        if self.own_lanes.is_empty() {
+            let w = self.lane_width_m;
+            let lane = (1.0 + right_m / w)
+                .round()
+                .clamp(1.0, f64::from(self.lanes));
+            // Lane k's centre is (k − 1) lane widths right of lane 1's.
+            return (lane as u32, (lane - 1.0) * w, w);
+        }
+        let (k, [centre, w]) = self
+            .own_lanes
+            .iter()
+            .enumerate()
+            .min_by(|a, b| {
+                (a.1[0] - right_m)
+                    .abs()
+                    .total_cmp(&(b.1[0] - right_m).abs())
+            })
+            .expect("a road has a lane");
+        (k as u32 + 1, *centre, *w)
     }
 
     /// Where each vehicle is, from its state (in the list's order).
@@ -157,8 +196,9 @@ impl Road {
         i: usize,
     ) -> bool {
         let half_width = 0.5 * f64::from(vehicles.members[i].params.width_m);
+        let (_, _, lane_width_m) = self.lane_near(-places[me].offset_m);
         (places[i].offset_m - places[me].offset_m).abs()
-            < 0.5 * self.lane_width_m + half_width - PATH_OVERLAP_M
+            < 0.5 * lane_width_m + half_width - PATH_OVERLAP_M
     }
 
     /// The lane the follower at `position` is in (the one whose centre is nearest), ahead
@@ -173,12 +213,7 @@ impl Road {
         let here = self
             .route
             .project_near(position, self.hints[0], PROJECTION_WINDOW_M);
-        let w = self.lane_width_m;
-        let lane = (1.0 - f64::from(here.left_offset_m) / w)
-            .round()
-            .clamp(1.0, f64::from(self.lanes));
-        // Lane k's centre is (k − 1) lane widths right of lane 1's.
-        let right_m = (lane - 1.0) * w;
+        let (_, right_m, w) = self.lane_near(-f64::from(here.left_offset_m));
         let camera_from_world = world_from_camera.inverse();
         let end_m = self.route.length_m();
         let mut centre_m = Vec::new();

@@ -65,6 +65,8 @@ fn esmini_roads_lie_where_the_file_puts_them() {
             lane_width_m: width,
             lanes,
             elevation: Vec::new(),
+            median_m: 0.0,
+            lane_widths_m: Vec::new(),
         });
         // The file's frame moved so its road starts at the origin heading +x, its y to
         // carfollow's −z: each geometry's start, by hand from its x, y and hdg.

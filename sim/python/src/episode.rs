@@ -190,7 +190,7 @@ impl Episode {
             last,
             taken: VecDeque::new(),
             gap_band_m: s.expect.gap_band_m.unwrap_or([5.0, 15.0]),
-            off_road_m: 1.5 * s.route.lane_width_m,
+            off_road_m: 1.5 * s.route.lane_width_of(s.lead_lane),
         })
     }
 

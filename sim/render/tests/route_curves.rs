@@ -18,6 +18,8 @@ fn route(segments: Vec<RouteSegment>) -> Route {
         lane_width_m: 3.5,
         lanes: 1,
         elevation: Vec::new(),
+        median_m: 0.0,
+        lane_widths_m: Vec::new(),
     })
 }
 

@@ -116,6 +116,48 @@ fn lane_lines_are_painted_where_the_lane_rule_puts_them() {
     }
 }
 
+#[test]
+fn a_medians_solid_lines_and_lanes_of_their_own_widths_are_painted_where_they_lie() {
+    // Two lanes each way of 3.65 and 3.5 m beyond a 2.6 m median (e6mini's inner lanes).
+    let mut d = bare(2);
+    d.route.median_m = 2.6;
+    d.route.lane_widths_m = vec![3.65, 3.5];
+    d.route.lane_width_m = 3.65;
+    let rig = CameraRig::default();
+    let (chase, _) = poses(&d);
+    assert!((chase.translation.z - (2.6 + 0.5 * 3.65)).abs() < 1e-12);
+    let image = frame(&mut renderer(d.clone()), Vec::new());
+    // In a dash (38–41 m), and on a solid line's stretch alike.
+    let s = 39.5;
+    let mut seen = 0;
+    // The median's edge lines (0.1 m inside it), the dashed line between lanes 1 and 2
+    // (2.6 + 3.65 m), the edge lines (2.6 + 7.15 + 0.1 m).
+    for lateral in [2.5, -2.5, 6.25, -6.25, 9.85, -9.85] {
+        let at = project(&rig, &chase, [s, 0.03, lateral]);
+        if !(8.0..248.0).contains(&at[0]) {
+            continue;
+        }
+        seen += 1;
+        let contrast = line_contrast(&image, at, 1);
+        assert!(
+            contrast > 25.0,
+            "a line {lateral} m right of the centre line at column {:.1}: contrast {contrast}",
+            at[0]
+        );
+    }
+    assert!(seen >= 4, "{seen} lines in view");
+    // No centre line, and bare asphalt on each lane's centre and where lines of one lane
+    // width without a median would run (3.65 m and 7.3 m).
+    for lateral in [0.0, 2.6 + 1.825, 2.6 + 3.65 + 1.75, 3.65, -3.65] {
+        let at = project(&rig, &chase, [s, 0.03, lateral]);
+        if !(8.0..248.0).contains(&at[0]) {
+            continue;
+        }
+        let contrast = line_contrast(&image, at, 1);
+        assert!(contrast < 10.0, "{lateral} m: no line, contrast {contrast}");
+    }
+}
+
 /// The corners of the box from `min` to `max` in the frame `world_from_body`.
 fn box_corners(world_from_body: &Isometry3<f64>, min: [f64; 3], max: [f64; 3]) -> Vec<[f64; 3]> {
     let mut out = Vec::new();

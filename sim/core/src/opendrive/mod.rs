@@ -19,4 +19,4 @@ pub use model::{
 };
 pub use parse::{load, parse};
 pub use road::{import, ImportedRoad, JOIN_HEADING_RAD, JOIN_POSITION_M};
-pub use write::{write_road, ROAD_ID};
+pub use write::{inner_lanes, write_road, ROAD_ID};

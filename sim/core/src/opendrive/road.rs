@@ -26,8 +26,16 @@ pub struct ImportedRoad {
     pub segments: Vec<RouteSegment>,
     /// Driving lanes each way.
     pub lanes: u32,
-    /// Their width, metres.
+    /// Their width, metres (lane 1's when `lane_widths_m` is given).
     pub lane_width_m: f64,
+    /// Each driving lane's width, metres, lane 1 first, when they differ; else empty.
+    pub lane_widths_m: Vec<f64>,
+    /// The non-driving lanes between the centre and lane 1 on each side together, metres:
+    /// `route.median_m`.
+    pub median_m: f64,
+    /// How many lanes make the median on each side: carfollow's lane k is OpenDRIVE's lane
+    /// −(k + this).
+    pub inner_lanes: u32,
     /// The elevation profile as `route.elevation`'s records (none when the road is level).
     pub elevation: Vec<[f64; 5]>,
     /// What the file holds that carfollow reads past and does not draw, a line each
@@ -71,7 +79,7 @@ pub fn import(
     }
     refuse_what_the_road_cannot_be(road, path)?;
     let segments = segments(road, path, check_segment)?;
-    let (lanes, lane_width_m) = super::lanes::lanes(road, path)?;
+    let layout = super::lanes::lanes(road, path)?;
     let elevation = elevation(road, path)?;
     // The road's objects, signals and surface data: scenery, which carfollow places and
     // draws its own of; said, not refused.
@@ -90,8 +98,11 @@ pub fn import(
     Ok(ImportedRoad {
         id: road.id.clone(),
         segments,
-        lanes,
-        lane_width_m,
+        lanes: layout.lanes,
+        lane_width_m: layout.lane_width_m,
+        lane_widths_m: layout.lane_widths_m,
+        median_m: layout.median_m,
+        inner_lanes: layout.inner_lanes,
         elevation,
         unapplied,
     })

@@ -203,30 +203,46 @@ fn geometry(x: &mut XmlOut, g: &Geometry) {
     x.close();
 }
 
-/// One lane section: `lanes` driving lanes each way of `lane_width_m`, ids counting out
-/// from the centre lane 0; the centre line solid, lanes running the same way divided by
-/// broken lines, the verges solid.
+/// The lanes inside the driving lanes on each side of `route`'s road as written: one
+/// `border` lane of the median, when there is one. Carfollow's lane k is OpenDRIVE's lane
+/// −(k + this).
+pub fn inner_lanes(route: &RouteSpec) -> i64 {
+    i64::from(route.median_m != 0.0)
+}
+
+/// One lane section: `lanes` driving lanes each way of `lane_width_m` (or each of its
+/// `lane_widths_m`), beyond a `border` lane of `median_m` each way when the road has a
+/// median, ids counting out from the centre lane 0; the centre line solid (none with a
+/// median, whose edges are solid instead), lanes running the same way divided by broken
+/// lines, the verges solid.
 fn lanes(x: &mut XmlOut, route: &RouteSpec) {
     x.open("lanes", &[]);
     x.empty("laneOffset", &poly_attributes(0.0, [0.0; 4]));
     x.open("laneSection", &[n("s", 0.0)]);
     let count = route.lanes as i32;
+    let inner = inner_lanes(route) as i32;
+    // The lane `id` (its sign the side): its type, width and the mark along its outer edge.
+    let layout = |id: i32| -> (&str, f64, &str) {
+        let k = id.abs() - inner;
+        if k == 0 {
+            return ("border", route.median_m, "solid");
+        }
+        let mark = if k == count { "solid" } else { "broken" };
+        ("driving", route.lane_width_of(k as u32), mark)
+    };
     let lane = |x: &mut XmlOut, id: i32| {
-        x.open(
-            "lane",
-            &[a("id", id), a("type", "driving"), a("level", "false")],
-        );
+        let (kind, width, mark) = layout(id);
+        x.open("lane", &[a("id", id), a("type", kind), a("level", "false")]);
         x.empty(
             "width",
             &[
                 n("sOffset", 0.0),
-                n("a", route.lane_width_m),
+                n("a", width),
                 n("b", 0.0),
                 n("c", 0.0),
                 n("d", 0.0),
             ],
         );
-        let mark = if id.abs() == count { "solid" } else { "broken" };
         x.empty(
             "roadMark",
             &[
@@ -240,7 +256,7 @@ fn lanes(x: &mut XmlOut, route: &RouteSpec) {
         x.close();
     };
     x.open("left", &[]);
-    for id in (1..=count).rev() {
+    for id in (1..=count + inner).rev() {
         lane(x, id);
     }
     x.close();
@@ -249,11 +265,12 @@ fn lanes(x: &mut XmlOut, route: &RouteSpec) {
         "lane",
         &[a("id", 0), a("type", "none"), a("level", "false")],
     );
+    let centre_mark = if inner == 1 { "none" } else { "solid" };
     x.empty(
         "roadMark",
         &[
             n("sOffset", 0.0),
-            a("type", "solid"),
+            a("type", centre_mark),
             a("weight", "standard"),
             a("color", "standard"),
             n("width", 0.12),
@@ -262,7 +279,7 @@ fn lanes(x: &mut XmlOut, route: &RouteSpec) {
     x.close();
     x.close();
     x.open("right", &[]);
-    for id in 1..=count {
+    for id in 1..=count + inner {
         lane(x, -id);
     }
     x.close();
@@ -306,6 +323,8 @@ mod tests {
             lane_width_m: 3.25,
             lanes: 2,
             elevation: Vec::new(),
+            median_m: 0.0,
+            lane_widths_m: Vec::new(),
         };
         let (text, exact) = write_road(&route, "t");
         assert!(exact);
@@ -314,6 +333,18 @@ mod tests {
         assert_eq!(road.segments, route.segments);
         assert_eq!((road.lanes, road.lane_width_m), (2, 3.25));
         assert!(road.elevation.is_empty());
+        assert_eq!((road.median_m, road.lane_widths_m.len()), (0.0, 0));
+        // A median and lanes of their own widths are written and read back exactly.
+        let mut divided = route.clone();
+        (divided.median_m, divided.lane_widths_m) = (2.6, vec![3.65, 3.5]);
+        divided.lane_width_m = 3.65;
+        let (text, _) = write_road(&divided, "t");
+        let file = super::super::parse(&text, std::path::Path::new("t.xodr")).unwrap();
+        let road = super::super::import(&file, None, |_| None).unwrap();
+        assert_eq!(road.lanes, 2);
+        assert_eq!(road.median_m, 2.6);
+        assert_eq!(road.lane_widths_m, vec![3.65, 3.5]);
+        assert_eq!(road.lane_width_m, 3.65);
         // A profile is written record for record and read back bit for bit.
         let mut hilly = route.clone();
         hilly.elevation = vec![

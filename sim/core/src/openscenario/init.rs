@@ -22,10 +22,53 @@ pub struct RoadLanes {
     pub heading_rad: f64,
     /// The road's id.
     pub id: String,
-    /// Lanes on the right of the reference line.
+    /// Driving lanes on the right of the reference line.
     pub lanes: u32,
-    /// Each lane's width, m.
+    /// Each lane's width, m (lane 1's when `lane_widths_m` is given).
     pub lane_width_m: f64,
+    /// Each driving lane's width, m, lane 1 first, when they differ; else empty.
+    pub lane_widths_m: Vec<f64>,
+    /// The lanes between the reference line and lane 1 together (the median), m.
+    pub median_m: f64,
+    /// How many lanes lie between the reference line and lane 1 on the right: carfollow's
+    /// lane k is OpenDRIVE's lane −(k + this).
+    pub inner_lanes: u32,
+}
+
+impl RoadLanes {
+    /// The centre of lane `lane` (1-based), m to the right of the reference line: the
+    /// route's own rule (`RouteSpec::lane_centre_m`).
+    pub fn centre_m(&self, lane: u32) -> f64 {
+        sim_render::RouteSpec {
+            segments: Vec::new(),
+            intersections_m: Vec::new(),
+            lane_width_m: self.lane_width_m,
+            lanes: self.lanes,
+            elevation: Vec::new(),
+            median_m: self.median_m,
+            lane_widths_m: self.lane_widths_m.clone(),
+        }
+        .lane_centre_m(lane)
+    }
+
+    /// The OpenDRIVE id of lane `lane` (1-based): −(lane + inner lanes).
+    pub fn id_of(&self, lane: u32) -> i64 {
+        -i64::from(lane) - i64::from(self.inner_lanes)
+    }
+
+    /// The lane of OpenDRIVE id `id`, if carfollow drives on it.
+    pub fn lane_of(&self, id: i64) -> Option<u32> {
+        let k = -id - i64::from(self.inner_lanes);
+        (1..=i64::from(self.lanes)).contains(&k).then_some(k as u32)
+    }
+
+    /// The driving lanes' ids, for errors.
+    pub fn named(&self) -> String {
+        match self.lanes {
+            1 => format!("{}", self.id_of(1)).replace('-', "−"),
+            n => format!("{} to {}", self.id_of(1), self.id_of(n)).replace('-', "−"),
+        }
+    }
 }
 
 /// Where a vehicle starts.
@@ -200,28 +243,28 @@ fn initial_speed(xml: &Xml, speed: Node) -> Result<f64, OscError> {
     Ok(v)
 }
 
-/// The lane of a lane id (`−k` is lane `k`).
+/// The lane of a lane id (`−(k + inner lanes)` is lane `k`).
 fn lane_of_id(xml: &Xml, road: &RoadLanes, node: Node, id: i64) -> Result<u32, OscError> {
-    if id >= 0 || -id > i64::from(road.lanes) {
-        return Err(xml.at(node, format!(
-            "<{}>: lane {id} is not a lane carfollow drives on road {} ({}: the lanes on the right of its reference line)",
-            node.tag_name().name(), road.id, lanes_named(road.lanes)
-        )));
-    }
-    Ok((-id) as u32)
+    road.lane_of(id).ok_or_else(|| xml.at(node, format!(
+        "<{}>: lane {id} is not a lane carfollow drives on road {} ({}: the lanes on the right of its reference line)",
+        node.tag_name().name(), road.id, road.named()
+    )))
 }
 
 /// The lane whose centre is `t_m` from the reference line (negative to the right).
 fn lane_at(xml: &Xml, road: &RoadLanes, node: Node, t_m: f64) -> Result<u32, OscError> {
-    let k = (-t_m / road.lane_width_m + 0.5).round();
-    let centre = -(k - 0.5) * road.lane_width_m;
-    if k < 1.0 || k > f64::from(road.lanes) || (t_m - centre).abs() > LANE_CENTRE_TOLERANCE_M {
-        return Err(xml.at(node, format!(
-            "<{}>: t = {t_m} m is not the centre of a lane of road {} (lanes of {} m on the right: t = −{} m, ...): carfollow's vehicles start on their lane's centre",
-            node.tag_name().name(), road.id, road.lane_width_m, road.lane_width_m / 2.0
-        )));
+    if let Some(k) =
+        (1..=road.lanes).find(|&k| (t_m + road.centre_m(k)).abs() <= LANE_CENTRE_TOLERANCE_M)
+    {
+        return Ok(k);
     }
-    Ok(k as u32)
+    let centres: Vec<String> = (1..=road.lanes)
+        .map(|k| format!("−{}", road.centre_m(k)))
+        .collect();
+    Err(xml.at(node, format!(
+        "<{}>: t = {t_m} m is not the centre of a lane of road {} (its lanes' centres on the right: t = {} m): carfollow's vehicles start on their lane's centre",
+        node.tag_name().name(), road.id, centres.join(", ")
+    )))
 }
 
 fn check_road(xml: &Xml, road: &RoadLanes, node: Node) -> Result<(), OscError> {
@@ -350,19 +393,11 @@ fn relative_position(
                 format!("<RelativeLanePosition dLane=\"{d}\">: not a whole number of lanes"),
             ));
         }
-        // Lane ids grow to the left: lane k is id −k.
-        lane_of_id(xml, road, p, -i64::from(base.lane) + d as i64)?
+        // Lane ids grow to the left.
+        lane_of_id(xml, road, p, road.id_of(base.lane) + d as i64)?
     } else {
-        let t_base = -(f64::from(base.lane) - 0.5) * road.lane_width_m;
+        let t_base = -road.centre_m(base.lane);
         lane_at(xml, road, p, t_base + xml.num(p, "dt")?)?
     };
     Ok(Placed { s_m, lane })
-}
-
-/// The driving lanes on the right of a road with `lanes` of them, as ids.
-pub fn lanes_named(lanes: u32) -> String {
-    match lanes {
-        1 => "−1".to_string(),
-        n => format!("−1 to −{n}"),
-    }
 }

@@ -707,26 +707,26 @@ impl Context<'_, '_> {
                         format!("<RelativeTargetLane value=\"{d}\">: not a whole number of lanes"),
                     ));
                 }
-                -i64::from(lane) + d as i64
+                self.road.id_of(lane) + d as i64
             }
             _ => return Err(xml.unsupported(target, "lane change target", "")),
         };
-        if id >= 0 || -id > i64::from(self.road.lanes) {
+        let Some(lane) = self.road.lane_of(id) else {
             return Err(xml.at(
                 target,
                 format!(
                     "<{}>: lane {id} is not a lane carfollow drives on road {} ({})",
                     target.tag_name().name(),
                     self.road.id,
-                    super::init::lanes_named(self.road.lanes)
+                    self.road.named()
                 ),
             ));
-        }
+        };
         let shape = xml.req(dynamics, "dynamicsShape")?;
         let dimension = xml.req(dynamics, "dynamicsDimension")?;
         let value = xml.num(dynamics, "value")?;
         let mut spec = ActionSpec {
-            lane: Some((-id) as u32),
+            lane: Some(lane),
             ..ActionSpec::default()
         };
         spec.shape = match shape.as_str() {

@@ -48,6 +48,9 @@ pub fn read_road(xml: &Xml, dir: &Path) -> Result<Road, OscError> {
             id: road.id,
             lanes: road.lanes,
             lane_width_m: road.lane_width_m,
+            lane_widths_m: road.lane_widths_m,
+            median_m: road.median_m,
+            inner_lanes: road.inner_lanes,
         },
         file,
         segments: road.segments,
@@ -82,6 +85,8 @@ fn focal_length_mm(
         lane_width_m: road.lanes.lane_width_m,
         lanes: road.lanes.lanes,
         elevation: Vec::new(),
+        median_m: road.lanes.median_m,
+        lane_widths_m: road.lanes.lane_widths_m.clone(),
     };
     let route = sim_render::Route::new(spec.clone());
     let camera = route.pose_at(camera_s_m, spec.lane_centre_m(lanes[0]));

@@ -61,10 +61,23 @@ pub struct RouteFile {
     #[serde(default = "first_lane", skip_serializing_if = "is_first_lane")]
     #[schemars(extend("minimum" = 1, "maximum" = 4))]
     pub lanes: u32,
-    /// Width of one lane, metres (default 3.5): 2–6.
+    /// Width of one lane, metres (default 3.5): 2–6. Every lane's, unless `lane_widths_m`
+    /// gives each its own.
     #[serde(default = "default_lane_width")]
     #[schemars(extend("minimum" = 2.0, "maximum" = 6.0))]
     pub lane_width_m: f64,
+    /// Each lane's own width, metres, lane 1 (next to the centre line or the median) first:
+    /// one per lane of `lanes`, each 2–6 (default: none, every lane `lane_width_m` wide).
+    /// Give this or `lane_width_m`, not both. Lane k's centre is `median_m`, the widths of
+    /// lanes 1 to k − 1 and half its own to the right of the centre line.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub lane_widths_m: Vec<f64>,
+    /// The median, metres (default 0): 0–10. The width of the strip between the centre
+    /// line and lane 1 on each side (OpenDRIVE's inner border, median or shoulder lanes),
+    /// paved, with a solid line along each of its edges instead of the dashed centre line.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    #[schemars(extend("minimum" = 0.0, "maximum" = 10.0))]
+    pub median_m: f64,
     /// Stations (metres along the centreline) where a road crosses: on the route.
     #[serde(default)]
     pub intersections_m: Vec<f64>,
@@ -105,6 +118,10 @@ pub struct OpenDriveFile {
 
 fn default_lane_width() -> f64 {
     3.5
+}
+
+fn is_zero(v: &f64) -> bool {
+    *v == 0.0
 }
 
 /// One piece of the route: `{ straight_m = L }`, `{ arc_radius_m = R, arc_angle_deg = A }`

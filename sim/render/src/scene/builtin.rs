@@ -40,6 +40,8 @@ pub fn builtin_description(target: TargetModel, seed: u64) -> SceneDescription {
             lane_width_m: 3.5,
             lanes: 1,
             elevation: Vec::new(),
+            median_m: 0.0,
+            lane_widths_m: Vec::new(),
         },
         densities: Densities::default(),
         placements: Vec::new(),

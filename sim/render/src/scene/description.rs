@@ -665,6 +665,27 @@ impl SceneDescription {
                 ),
             });
         }
+        let median = self.route.median_m;
+        if !(median.is_finite() && median >= 0.0) {
+            return Err(SceneError::Invalid {
+                field: "route.median_m".into(),
+                reason: format!("must be finite and at least 0, got {median}"),
+            });
+        }
+        let widths = &self.route.lane_widths_m;
+        if !widths.is_empty() && widths.len() != self.route.lanes as usize {
+            return Err(SceneError::Invalid {
+                field: "route.lane_widths_m".into(),
+                reason: format!(
+                    "one width per lane: {} for {} lanes",
+                    widths.len(),
+                    self.route.lanes
+                ),
+            });
+        }
+        for (i, &w) in widths.iter().enumerate() {
+            positive(&format!("route.lane_widths_m[{i}]"), w)?;
+        }
         self.validate_actors()?;
         let d = &self.densities;
         for (field, value) in [

@@ -67,8 +67,19 @@ pub(super) fn road_object(surface: RoadSurface) -> u32 {
         }
 }
 
+/// How far inside a median's edge its solid line runs, metres: as far as the edge line
+/// runs beyond the lanes.
+const MEDIAN_LINE_INSET_M: f64 = 0.1;
+
+/// The lateral offset of the solid line along a median's edge, metres from the centre
+/// line: just inside the median (its middle when the median is narrower than two insets);
+/// `None` without a median.
+fn median_line_m(median_m: f64) -> Option<f64> {
+    (median_m > 0.0).then(|| (median_m - MEDIAN_LINE_INSET_M).max(0.5 * median_m))
+}
+
 /// Lays the road strip, quad by quad, each with its pieces of the edge lines (just beyond
-/// each direction's lanes).
+/// each direction's lanes, and with a median just inside each of its edges).
 pub(super) fn lay_surface(site: &Site<'_>, bins: &mut Bins) {
     let (route, lanes_width, road_half) = (site.route, site.lanes_width, site.road_half);
     let road_object = road_object(site.description.road_surface);
@@ -78,8 +89,12 @@ pub(super) fn lay_surface(site: &Site<'_>, bins: &mut Bins) {
         let mesh = bins.at(mid[0], mid[2], Layer::Surface);
         let lateral = [s, s1, -road_half, road_half];
         site.strip(mesh, lateral, ROAD_Y_M, ASPHALT, road_object);
-        for side in [-1.0, 1.0] {
-            let l = side * (lanes_width + 0.1);
+        let median = median_line_m(site.description.route.median_m);
+        let edges = [-1.0, 1.0].into_iter().flat_map(|side| {
+            let median = median.map(|m| side * m);
+            std::iter::once(side * (lanes_width + 0.1)).chain(median)
+        });
+        for l in edges {
             let mut a = s;
             // Edge lines stop across intersections: in short pieces near one, else in
             // one piece per road quad.
@@ -98,12 +113,16 @@ pub(super) fn lay_surface(site: &Site<'_>, bins: &mut Bins) {
 }
 
 /// Lays the dashed centre line, and with more than one lane each way the dashed lines
-/// between lanes (the same paint, dash and period, `k` lane widths either side of the
-/// centre line for k from 1 to `lanes` − 1), stopping across intersections. Each dash's
-/// lines are laid together, the centre line's first.
+/// between lanes (the same paint, dash and period, at each lane's inner edge,
+/// `RouteSpec::lane_inner_edge_m`, either side of the centre line for lanes 2 to
+/// `lanes`), stopping across intersections. Each dash's lines are laid together, the
+/// centre line's first. With a median there is no centre line: solid lines run along the
+/// median's edges instead ([`lay_median_lines`]).
 pub(super) fn lay_centre_line(site: &Site<'_>, bins: &mut Bins) {
     let paint_object = ObjectSlot::WORLD | Material::PAINT;
-    let lanes = site.description.route.lanes;
+    let spec = &site.description.route;
+    let lanes = spec.lanes;
+    let centre = (spec.median_m == 0.0).then_some(0.0);
     let mut s = -ROAD_RUNOUT_M;
     while s < site.length + ROAD_RUNOUT_M {
         if !site
@@ -111,11 +130,11 @@ pub(super) fn lay_centre_line(site: &Site<'_>, bins: &mut Bins) {
             .near_intersection(s + 0.5 * DASH_M, site.road_half + 1.0)
         {
             let w = 0.5 * PAINT_WIDTH_M;
-            let lines = (1..lanes).flat_map(|k| {
-                let l = f64::from(k) * site.lane;
+            let lines = (2..=lanes).flat_map(|k| {
+                let l = spec.lane_inner_edge_m(k);
                 [-l, l]
             });
-            for l in std::iter::once(0.0).chain(lines) {
+            for l in centre.into_iter().chain(lines) {
                 let mid = site.world(s + 0.5 * DASH_M, l, 0.0);
                 let mesh = bins.at(mid[0], mid[2], Layer::Surface);
                 site.strip(

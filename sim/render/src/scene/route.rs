@@ -113,6 +113,16 @@ pub struct RouteSpec {
     /// at y = 0 (and then not written).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub elevation: Vec<[f64; 5]>,
+    /// The median: the width of the strip between the centre line and lane 1 on each side
+    /// (OpenDRIVE's inner border or median lanes), metres. 0 (and then not written): lane 1
+    /// lies beside the centre line, whose dashed paint divides the two directions; wider,
+    /// a solid line runs along each of the median's edges instead.
+    #[serde(default, skip_serializing_if = "RouteSpec::is_zero")]
+    pub median_m: f64,
+    /// Each lane's width, metres, lane 1 first (`lanes` of them), when they differ; empty
+    /// (and then not written): every lane is `lane_width_m` wide.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub lane_widths_m: Vec<f64>,
 }
 
 impl RouteSpec {
@@ -120,16 +130,47 @@ impl RouteSpec {
     pub const MAX_LANES: u32 = 4;
 
     /// The lateral offset of the centre of lane `lane` (1-based, counted from the centre
-    /// line) of our direction, metres to the right of the centre line:
-    /// `(lane − 0.5) · lane_width_m`. The oncoming side's lane k is at minus that. The rule
-    /// the planner's lane and the renderer's paint share.
+    /// line) of our direction, metres to the right of the centre line: the median, the
+    /// widths of the lanes inside it, and half its own, `median_m + (lane − 0.5) ·
+    /// lane_width_m` when the lanes are of one width. The oncoming side's lane k is at minus
+    /// that. The rule the planner's lane and the renderer's paint share.
     pub fn lane_centre_m(&self, lane: u32) -> f64 {
-        (f64::from(lane) - 0.5) * self.lane_width_m
+        if self.lane_widths_m.is_empty() {
+            return self.median_m + (f64::from(lane) - 0.5) * self.lane_width_m;
+        }
+        self.lane_inner_edge_m(lane) + 0.5 * self.lane_width_of(lane)
     }
 
-    /// The width of our direction's lanes together, metres: the edge line is 0.1 m beyond.
+    /// The width of lane `lane` (1-based), metres.
+    pub fn lane_width_of(&self, lane: u32) -> f64 {
+        match self.lane_widths_m.get(lane.saturating_sub(1) as usize) {
+            Some(&w) => w,
+            None => self.lane_width_m,
+        }
+    }
+
+    /// The lateral offset of the edge of lane `lane` nearer the centre line, metres to the
+    /// right of it: the median and the lanes inside it (lane `lanes + 1`'s is the outer
+    /// edge of the lanes). Where the paint between lanes runs.
+    pub fn lane_inner_edge_m(&self, lane: u32) -> f64 {
+        if self.lane_widths_m.is_empty() {
+            return self.median_m + f64::from(lane.saturating_sub(1)) * self.lane_width_m;
+        }
+        let inner: f64 = (1..lane).map(|k| self.lane_width_of(k)).sum();
+        self.median_m + inner
+    }
+
+    /// The width of our direction's lanes together with the median, metres: from the centre
+    /// line to the lanes' outer edge (the edge line is 0.1 m beyond).
     pub fn lanes_width_m(&self) -> f64 {
-        f64::from(self.lanes) * self.lane_width_m
+        if self.lane_widths_m.is_empty() {
+            return self.median_m + f64::from(self.lanes) * self.lane_width_m;
+        }
+        self.lane_inner_edge_m(self.lanes + 1)
+    }
+
+    fn is_zero(v: &f64) -> bool {
+        *v == 0.0
     }
 
     fn one_lane() -> u32 {
@@ -340,6 +381,8 @@ mod tests {
             lane_width_m: 3.5,
             lanes: 1,
             elevation: Vec::new(),
+            median_m: 0.0,
+            lane_widths_m: Vec::new(),
         });
         // Heading +x, turning left (towards −z): a quarter circle ends at (10, −10) heading −z.
         let [x, z, h] = route.at(route.length_m());
@@ -366,10 +409,33 @@ mod lane_tests {
             lane_width_m: 3.5,
             lanes: 3,
             elevation: Vec::new(),
+            median_m: 0.0,
+            lane_widths_m: Vec::new(),
         };
         assert_eq!(spec.lane_centre_m(1), 1.75);
         assert_eq!(spec.lane_centre_m(2), 5.25);
         assert_eq!(spec.lane_centre_m(3), 8.75);
         assert_eq!(spec.lanes_width_m(), 10.5);
+    }
+
+    #[test]
+    fn a_median_and_lanes_of_their_own_widths_move_the_centres() {
+        let spec = RouteSpec {
+            segments: vec![RouteSegment::Straight { length_m: 10.0 }],
+            intersections_m: vec![],
+            lane_width_m: 3.65,
+            lanes: 3,
+            elevation: Vec::new(),
+            median_m: 2.6,
+            lane_widths_m: vec![3.65, 3.5, 3.9],
+        };
+        let close = |a: f64, b: f64| assert!((a - b).abs() < 1e-12, "{a} vs {b}");
+        close(spec.lane_centre_m(1), 2.6 + 1.825);
+        close(spec.lane_centre_m(2), 2.6 + 3.65 + 1.75);
+        close(spec.lane_centre_m(3), 2.6 + 3.65 + 3.5 + 1.95);
+        close(spec.lane_inner_edge_m(1), 2.6);
+        close(spec.lane_inner_edge_m(3), 2.6 + 7.15);
+        close(spec.lanes_width_m(), 2.6 + 11.05);
+        close(spec.lane_width_of(3), 3.9);
     }
 }

@@ -25,8 +25,6 @@ pub(super) struct Site<'a> {
     pub route: &'a Route,
     /// The ground's height field, if it has bumps: strips over it are cut into cells.
     pub terrain: Option<&'a Terrain>,
-    /// A lane's width, metres.
-    pub lane: f64,
     /// The width of one direction's lanes together, metres (`lanes` lanes): the edge line
     /// runs just beyond it.
     pub lanes_width: f64,
@@ -43,13 +41,11 @@ impl<'a> Site<'a> {
         route: &'a Route,
         terrain: Option<&'a Terrain>,
     ) -> Site<'a> {
-        let lane = description.route.lane_width_m;
         let lanes_width = description.route.lanes_width_m();
         Site {
             description,
             route,
             terrain,
-            lane,
             lanes_width,
             road_half: lanes_width + SHOULDER_M,
             length: route.length_m(),

@@ -19,7 +19,14 @@ pub const CARRIED_PREFIX: &str = "carfollow.";
 /// The fields the road file says (the route's shape and lanes), compared as the route
 /// itself, never carried: a route given by `segments` and one given by `opendrive` are the
 /// same route when their segments are.
-const ROUTE_FIELDS: [&str; 4] = ["segments", "opendrive", "lanes", "lane_width_m"];
+const ROUTE_FIELDS: [&str; 6] = [
+    "segments",
+    "opendrive",
+    "lanes",
+    "lane_width_m",
+    "lane_widths_m",
+    "median_m",
+];
 
 /// One carried field: its dotted path and its value as TOML text.
 #[derive(Clone, Debug, PartialEq)]
@@ -212,7 +219,14 @@ pub fn route(route: &sim_render::RouteSpec) -> Carried {
         .collect();
     let mut t = toml::Table::new();
     t.insert("lanes".into(), T::Integer(i64::from(route.lanes)));
-    t.insert("lane_width_m".into(), T::Float(route.lane_width_m));
+    if route.lane_widths_m.is_empty() {
+        t.insert("lane_width_m".into(), T::Float(route.lane_width_m));
+    } else {
+        t.insert("lane_widths_m".into(), floats(&route.lane_widths_m));
+    }
+    if route.median_m != 0.0 {
+        t.insert("median_m".into(), T::Float(route.median_m));
+    }
     t.insert("intersections_m".into(), floats(&route.intersections_m));
     t.insert("segments".into(), T::Array(segments));
     Carried {

@@ -13,6 +13,9 @@ struct Group {
     profile: Vec<ProfileStep>,
     /// Its events, each with the name written (unique in the file).
     events: Vec<(String, EventSpec)>,
+    /// The lanes inside the driving lanes on each side of the road file written (1 with a
+    /// median): carfollow's lane k is OpenDRIVE's lane −(k + this).
+    inner_lanes: i64,
 }
 
 /// A step of a speed profile: from the key `from` (s or m), to `speed_mps` by the next
@@ -53,6 +56,10 @@ impl Story {
                 &actor.events.0,
                 &mut taken,
             ));
+        }
+        let inner_lanes = crate::opendrive::inner_lanes(&s.route);
+        for g in &mut groups {
+            g.inner_lanes = inner_lanes;
         }
         groups.retain(|g| !g.profile.is_empty() || !g.events.is_empty());
         Story { groups }
@@ -123,6 +130,7 @@ fn group(
         entity,
         profile: steps,
         events,
+        inner_lanes: 0,
     }
 }
 
@@ -221,7 +229,10 @@ impl Group {
                 ],
             );
             x.open("LaneChangeTarget", &[]);
-            x.empty("AbsoluteTargetLane", &[a("value", -(lane as i64))]);
+            x.empty(
+                "AbsoluteTargetLane",
+                &[a("value", -(lane as i64) - self.inner_lanes)],
+            );
             x.close();
             x.close();
             x.close();
@@ -472,17 +483,18 @@ pub fn init(x: &mut XmlOut, s: &Scenario) {
     let camera_forward_m = f64::from(vehicle::CameraMount::default().forward_m);
     let rear_bumper_m = f64::from(vehicle::VehicleParams::pickup().rear_bumper_x_m());
     let chase_s = s.lead_start_m + rear_bumper_m - camera_forward_m - s.initial_gap_m;
+    let id = |lane: u32| -(lane as i64) - crate::opendrive::inner_lanes(&s.route);
     private(
         x,
         super::EGO,
-        s.lead_lane,
+        id(s.lead_lane),
         chase_s,
         s.chase_initial_speed_mps,
     );
     private(
         x,
         super::LEAD,
-        s.lead_lane,
+        id(s.lead_lane),
         s.lead_start_m,
         s.lead_initial_speed_mps,
     );
@@ -490,7 +502,7 @@ pub fn init(x: &mut XmlOut, s: &Scenario) {
         private(
             x,
             &actor.name,
-            actor.lane,
+            id(actor.lane),
             actor.start_m,
             actor.initial_speed_mps,
         );
@@ -499,7 +511,8 @@ pub fn init(x: &mut XmlOut, s: &Scenario) {
     x.close();
 }
 
-fn private(x: &mut XmlOut, entity: &str, lane: u32, s_m: f64, speed_mps: f64) {
+/// One vehicle's start: on OpenDRIVE lane `lane_id` at station `s_m`, at `speed_mps`.
+fn private(x: &mut XmlOut, entity: &str, lane_id: i64, s_m: f64, speed_mps: f64) {
     x.open("Private", &[a("entityRef", entity)]);
     x.open("PrivateAction", &[]);
     x.open("TeleportAction", &[]);
@@ -508,7 +521,7 @@ fn private(x: &mut XmlOut, entity: &str, lane: u32, s_m: f64, speed_mps: f64) {
         "LanePosition",
         &[
             a("roadId", crate::opendrive::ROAD_ID),
-            a("laneId", -(lane as i64)),
+            a("laneId", lane_id),
             n("offset", 0.0),
             n("s", s_m),
         ],

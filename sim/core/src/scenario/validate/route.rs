@@ -34,7 +34,12 @@ pub(super) fn route(
                     "cannot be given with `route.opendrive`: give one or the other".into(),
                 ));
             }
-            for field in ["route.lanes", "route.lane_width_m"] {
+            for field in [
+                "route.lanes",
+                "route.lane_width_m",
+                "route.lane_widths_m",
+                "route.median_m",
+            ] {
                 if (roads.gives)(field) {
                     return Err(f.invalid(
                         field,
@@ -59,14 +64,18 @@ pub(super) fn route(
                 lane_width_m: road.lane_width_m,
                 lanes: road.lanes,
                 elevation: road.elevation,
+                median_m: road.median_m,
+                lane_widths_m: road.lane_widths_m,
             }
         }
         None => RouteSpec {
             segments: segments(r, f)?,
             intersections_m: r.intersections_m.clone(),
-            lane_width_m: r.lane_width_m,
+            lane_width_m: lane_widths(r, f, roads)?,
             lanes: r.lanes,
             elevation: r.elevation.clone(),
+            median_m: median(r, f)?,
+            lane_widths_m: r.lane_widths_m.clone(),
         },
     };
     let length = length_m(&route);
@@ -96,6 +105,61 @@ pub(super) fn route(
     }
     Ok((route, length, unapplied))
 }
+
+/// The lanes' widths: `route.lane_widths_m`, each 2–6 m and one per lane, given instead
+/// of `route.lane_width_m`. Returns the one width the route keeps as `lane_width_m`:
+/// `lane_width_m`'s, or lane 1's.
+fn lane_widths(r: &RouteFile, f: &Blame, roads: &RoadSource) -> Result<f64, ScenarioError> {
+    let field = "route.lane_widths_m";
+    let Some(&first) = r.lane_widths_m.first() else {
+        return Ok(r.lane_width_m);
+    };
+    if (roads.gives)("route.lane_width_m") {
+        return Err(f.invalid(
+            field,
+            "cannot be given with `route.lane_width_m`: give one width for every lane, or \
+             each lane's"
+                .into(),
+        ));
+    }
+    let (given, lanes) = (r.lane_widths_m.len(), r.lanes as usize);
+    f.at(
+        field,
+        check(
+            given == lanes,
+            &format!("one width per lane: `route.lanes` is {lanes}"),
+            format!("{given} widths"),
+        ),
+    )?;
+    for (i, &w) in r.lane_widths_m.iter().enumerate() {
+        f.at(
+            field,
+            check(
+                w.is_finite() && (2.0..=6.0).contains(&w),
+                &format!("lane {}'s width must be 2–6 metres", i + 1),
+                w,
+            ),
+        )?;
+    }
+    Ok(first)
+}
+
+/// `route.median_m`: 0–10 m.
+fn median(r: &RouteFile, f: &Blame) -> Result<f64, ScenarioError> {
+    f.at(
+        "route.median_m",
+        check(
+            r.median_m.is_finite() && (0.0..=MAX_MEDIAN_M).contains(&r.median_m),
+            &format!("must be 0–{MAX_MEDIAN_M} metres"),
+            r.median_m,
+        ),
+    )?;
+    Ok(r.median_m)
+}
+
+/// The widest median carfollow draws, metres: the paved road is laid across it, and a
+/// wider strip is a verge between two carriageways, which carfollow does not draw.
+const MAX_MEDIAN_M: f64 = 10.0;
 
 /// `route.segments`, each checked.
 fn segments(r: &RouteFile, f: &Blame) -> Result<Vec<RouteSegment>, ScenarioError> {
@@ -255,6 +319,8 @@ pub(crate) fn segment_problem(seg: &RouteSegment) -> Option<String> {
                 lane_width_m: 3.5,
                 lanes: 1,
                 elevation: Vec::new(),
+                median_m: 0.0,
+                lane_widths_m: Vec::new(),
             });
             let n = (length / CURVATURE_CHECK_M).ceil() as usize;
             (0..=n)
