@@ -350,19 +350,25 @@ pub fn point_on_road(xml: &Xml, road: &RoadLanes, p: Node) -> Result<(f64, u32, 
         return Ok((s_m, lane, offset));
     }
     let t_m = xml.num(p, "t")?;
-    let k = (-t_m / road.lane_width_m + 0.5).round();
-    if k < 1.0 || k > f64::from(road.lanes) {
+    // The lane whose strip holds t: its centre ± half its own width.
+    let width = |k: u32| {
+        road.lane_widths_m
+            .get(k as usize - 1)
+            .copied()
+            .unwrap_or(road.lane_width_m)
+    };
+    let Some(k) = (1..=road.lanes).find(|&k| (t_m + road.centre_m(k)).abs() <= 0.5 * width(k))
+    else {
         return Err(xml.at(
             p,
             format!(
                 "<RoadPosition>: t = {t_m} m is on no lane carfollow drives on road {} ({})",
                 road.id,
-                lanes_named(road.lanes)
+                road.named()
             ),
         ));
-    }
-    let centre = -(k - 0.5) * road.lane_width_m;
-    Ok((s_m, k as u32, t_m - centre))
+    };
+    Ok((s_m, k, t_m + road.centre_m(k)))
 }
 
 /// A `RelativeLanePosition` (`dLane`, `ds` or from 1.1 `dsLane`) or `RelativeRoadPosition`

@@ -380,7 +380,7 @@ impl Group {
                     "LanePosition",
                     &[
                         a("roadId", crate::opendrive::ROAD_ID),
-                        a("laneId", -(r.lane as i64)),
+                        a("laneId", -(r.lane as i64) - self.inner_lanes),
                         n("offset", r.offset_m),
                         n("s", r.station_m),
                     ],
