@@ -333,14 +333,17 @@ fn what_carfollow_does_not_read_is_refused_at_its_line() {
 #[test]
 fn esminis_distribution_expands_and_its_scenario_is_refused_in_one_line() {
     // esmini's cut-in over two sets of vehicles, two speeds and three speed factors: its
-    // scenario's road carries objects carfollow does not draw, said at the road's line.
+    // scenario has no vehicle ahead of the ego in its lane (the one that cuts in starts in
+    // the next lane), said in one line naming the distribution's and the scenario's files.
     let file = data().join("esmini/xosc/cut-in_parameter_set.xosc");
     let o = carfollow(&["sweep", file.to_str().unwrap(), "--dry-run"]);
     let e = stderr(&o);
     assert_eq!(o.status.code(), Some(2), "{e}");
     assert_eq!(e.lines().count(), 1, "{e}");
     assert!(
-        e.contains("cut-in_parameter_set.xosc:5") && e.contains("e6mini.xodr:"),
+        e.contains("cut-in_parameter_set.xosc:5")
+            && e.contains("cut-in.xosc")
+            && e.contains("no vehicle is ahead of the ego"),
         "{e}"
     );
 }

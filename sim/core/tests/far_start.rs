@@ -3,34 +3,13 @@
 //! searching, each refused by name without it. Run with
 //! `cargo test --release -p sim-core --test far_start`.
 
-use sim_core::{Plan, Scenario, MAX_INITIAL_GAP_M, MAX_PLACED_GAP_M};
-use std::path::{Path, PathBuf};
-
-fn scenarios_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios")
-}
+mod common;
+use common::{load, scenarios_dir};
+use sim_core::{MAX_INITIAL_GAP_M, MAX_PLACED_GAP_M};
 
 /// `slow-vehicle-ahead`: a cruising chase whose tracker starts by searching, 60 m behind.
 fn text() -> String {
     std::fs::read_to_string(scenarios_dir().join("slow-vehicle-ahead.toml")).unwrap()
-}
-
-/// Loads and plans `text` as `bad.toml` (as `carfollow check` does), with `overrides`;
-/// errors with the folder taken out.
-fn load(text: &str, overrides: &[&str]) -> Result<Scenario, String> {
-    let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join("bad.toml");
-    std::fs::write(&path, text).unwrap();
-    std::fs::create_dir(dir.path().join("targets")).unwrap();
-    std::fs::copy(
-        scenarios_dir().join("targets/nist-ten-segment.toml"),
-        dir.path().join("targets/nist-ten-segment.toml"),
-    )
-    .unwrap();
-    let overrides: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
-    Plan::load(&path, &overrides)
-        .map(|plan| plan.scenario().clone())
-        .map_err(|e| e.to_string().replace(&dir.path().display().to_string(), ""))
 }
 
 #[test]
