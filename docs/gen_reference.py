@@ -458,6 +458,7 @@ class FieldsPage:
         self.missing: list[str] = []  # schema pointers of fields without a description
         self.fields = 0
         self.active: list[str] = []  # the tables being filled, outermost first
+        self.active_headings: dict[str, str] = {}  # their sections' headings
 
     def anchor(self, heading: str) -> str:
         anchor = slug(heading)
@@ -488,6 +489,7 @@ class FieldsPage:
         if node.ptr in self.active:
             raise SchemaError(node.ptr, "a table that holds itself (a recursive $ref)")
         self.active.append(node.ptr)
+        self.active_headings[node.ptr] = sec.heading
         props = node.s["properties"]
         names = list(props)
         if order:
@@ -503,7 +505,12 @@ class FieldsPage:
                 child_ctx = (field.default, path)
             elif ctx and isinstance(ctx[0].get(name), dict):
                 child_ctx = (ctx[0][name], ctx[1])
-            kind = self.type_cell(info, path)
+            # A field holding the table it is in (a trigger's members): a link back to the
+            # table's section, not a section of its own.
+            target = info.items if info.kind == "array" else info
+            back = self.active_headings.get(target.node.ptr) if target.node.ptr in self.active else None
+            kind = (f"{type_text(info)}, each as [{back}](#{slug(back)})" if back
+                    else self.type_cell(info, path))
             default = self.default_cell(name, field, info, name in required, ctx)
             desc = field.desc or info.node.desc or ""
             if not desc and info.kind != "const":
@@ -518,7 +525,8 @@ class FieldsPage:
                 desc = f"{desc}<br><br>{notes}" if desc else notes
             rows.append((code(path), kind, default, desc or "—"))
             self.fields += 1
-            self.sub_sections(sec, field, info, path, child_ctx)
+            if not back:
+                self.sub_sections(sec, field, info, path, child_ctx)
         self.active.pop()
 
     def type_cell(self, info: TypeInfo, path: str) -> str:

@@ -337,3 +337,73 @@ fn speed_and_standstill_triggers_round_trip_exactly() {
     assert!(before.contains("van/halt:started") && before.contains("lead/creep:started"));
     assert!(before == after, "frames.csv of the round trip differs");
 }
+
+/// Triggers of several conditions go out as OpenSCENARIO writes them, any of condition
+/// groups each all of conditions (an `all` of an `any` multiplied out), each member's
+/// delay on its condition, and an offset as a `LaneOffsetAction`; they come back as a
+/// trigger that holds at the same steps and the same offset: the round trip runs bit for
+/// bit.
+#[test]
+fn triggers_of_several_conditions_round_trip_exactly() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(scenarios().join("cut-in.toml")).unwrap();
+    let van_trigger = "trigger = { gap_m = 12.0, to = \"chase\" }\n";
+    assert!(text.contains(van_trigger));
+    let targets = scenarios().join("targets/");
+    let text = text
+        .replace(
+            van_trigger,
+            "trigger = { all = [{ any = [{ gap_m = 12.0, to = \"chase\" }, { time_s = 25.0 }] }, \
+             { time_s = 4.0, delay_s = 1.5 }] }\n",
+        )
+        .replace("\"targets/", &format!("\"{}", targets.to_str().unwrap()))
+        + "\n[[lead.events]]\nname = \"brake\"\n\
+           trigger = { any = [{ time_s = 9.0 }, { distance_m = 2000.0 }] }\n\
+           action = { speed_mps = 11.0, rate_mps2 = 1.0 }\n\n\
+           [[lead.events]]\nname = \"edge\"\ntrigger = { time_s = 3.0 }\n\
+           action = { offset_m = 0.4, lateral_accel_mps2 = 0.3, shape = \"sinusoidal\" }\n\n\
+           [[lead.events]]\nname = \"wave\"\ntrigger = { time_s = 11.0 }\n\
+           action = { profile = [{ speed_mps = 9.0, rate_mps2 = 1.5 }, \
+           { speed_mps = 10.0, duration_s = 1.0 }, { speed_mps = 8.0, rate_mps2 = 2.0 }] }\n";
+    let original = dir.path().join("groups.toml");
+    std::fs::write(&original, text).unwrap();
+    let export = dir.path().join("export");
+    let o = carfollow(&[
+        "export",
+        original.to_str().unwrap(),
+        "-o",
+        export.to_str().unwrap(),
+        "--set",
+        "duration_s=16",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let xosc = export.join("cut-in.xosc");
+    let written = std::fs::read_to_string(&xosc).unwrap();
+    for expected in [
+        "name=\"cut-in-1-1\"",
+        "name=\"cut-in-2-2\" delay=\"1.5\"",
+        "name=\"brake-2-1\"",
+        "<AbsoluteTargetLaneOffset value=\"0.4\"/>",
+        "<SpeedProfileEntry speed=\"8\" time=\"1\"/>",
+    ] {
+        assert!(written.contains(expected), "{expected} not in:\n{written}");
+    }
+    assert!(!written.contains("name=\"cut-in-3-1\""), "{written}");
+    let toml = dir.path().join("imported/cut-in.toml");
+    let o = carfollow(&[
+        "import",
+        xosc.to_str().unwrap(),
+        "-o",
+        toml.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let before = frames(&original, &dir.path().join("original"), &["duration_s=16"]);
+    let after = frames(&toml, &dir.path().join("round-trip"), &[]);
+    assert!(
+        before.contains("van/cut-in:started")
+            && before.contains("lead/brake:started")
+            && before.contains("lead/edge:ended")
+            && before.contains("lead/wave:ended")
+    );
+    assert!(before == after, "frames.csv of the round trip differs");
+}

@@ -633,7 +633,7 @@ fn reach_position_relative_speed_and_equal_to_are_imported_and_fire_as_written()
     let cases: [(String, String, usize, &str); 6] = [
         (
             position.into(),
-            "<WorldPosition x=\"150\" y=\"-1.75\"/>".into(),
+            "<GeoPosition latitude=\"0.1\" longitude=\"0.2\"/>".into(),
             reach_line + 1,
             "position",
         ),
@@ -716,4 +716,135 @@ fn reach_position_relative_speed_and_equal_to_are_imported_and_fire_as_written()
         frames_of(&back_toml, &dir.path().join("back-run"), &[]) == csv,
         "the exported file runs differently"
     );
+}
+
+/// Triggers of several conditions: `condition-groups.xosc`'s lead brakes on either of two
+/// condition groups (t > `$LateBrake`; or t > 3 s, 2 s ago, and the ego faster than
+/// `$EgoFast`), and its van slows on one condition of two triggering entities (the lead and
+/// the ego below 12 m/s, rule `$Both`). Imported as `any` and `all`, run as written, and each
+/// parameter changed shows the group's logic: a group fires only when all its conditions
+/// hold, a trigger when any group does.
+#[test]
+fn condition_groups_and_several_triggering_entities_fire_as_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = data().join("condition-groups.xosc");
+    let toml = dir.path().join("groups.toml");
+    let o = carfollow(&[
+        "import",
+        file.to_str().unwrap(),
+        "-o",
+        toml.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let text = std::fs::read_to_string(&toml).unwrap();
+    for expected in [
+        "[[lead.events.trigger.any]]",
+        "delay_s = 2.0",
+        "[[lead.events.trigger.any.all]]",
+        "[[actors.events.trigger.all]]",
+        "offset_m = 0.6\nlateral_accel_mps2 = 0.5\nshape = \"sinusoidal\"",
+        "profile = [",
+    ] {
+        assert!(text.contains(expected), "{expected:?} not in:\n{text}");
+    }
+    let run = |out: &str, param: &[&str]| {
+        let csv = frames_of(&file, &dir.path().join(out), param);
+        let mut lines = csv.lines();
+        let header: Vec<String> = lines.next().unwrap().split(',').map(String::from).collect();
+        let rows: Vec<Vec<String>> = lines
+            .map(|l| l.split(',').map(String::from).collect())
+            .collect();
+        (csv, header, rows)
+    };
+    let (csv, header, rows) = run("xosc", &[]);
+    assert!(
+        csv == frames_of(&toml, &dir.path().join("toml"), &[]),
+        "the imported scenario runs differently"
+    );
+    let col = |name: &str| header.iter().position(|c| c == name).unwrap();
+    let num = |r: &Vec<String>, c: &str| r[col(c)].parse::<f64>().unwrap();
+    let started = |rows: &[Vec<String>], event: &str| {
+        rows.iter()
+            .find(|r| r[col("event")].contains(&format!("{event}:started")))
+            .map(|r| num(r, "t_s"))
+    };
+    let frame = 1.0 / 15.0 + 1e-9;
+    // The second group: 3 s, delayed 2 s, and the ego at about 13.9 m/s.
+    let brake = started(&rows, "lead/brake").expect("the lead brakes");
+    assert!((brake - 5.0).abs() <= frame, "{brake}");
+    // Both below 12 m/s: the van slows at the first frame they are (or the one before),
+    // later than the lead alone falls below it.
+    let both =
+        |r: &Vec<String>| num(r, "lead_speed_mps") < 12.0 && num(r, "chase_speed_mps") < 12.0;
+    let either =
+        |r: &Vec<String>| num(r, "lead_speed_mps") < 12.0 || num(r, "chase_speed_mps") < 12.0;
+    let logged_at = |rows: &[Vec<String>], when: &dyn Fn(&Vec<String>) -> bool| {
+        let k = rows
+            .iter()
+            .position(when)
+            .expect("the speeds fall below 12 m/s");
+        let slow = started(rows, "Cutter/slow").expect("the van slows");
+        assert!(
+            slow == num(&rows[k], "t_s") || slow == num(&rows[k - 1], "t_s"),
+            "slow at {slow}, the condition from {}",
+            num(&rows[k], "t_s")
+        );
+        slow
+    };
+    let all_at = logged_at(&rows, &both);
+    // A group holds only when every condition does: an ego never that fast, no braking.
+    let (_, _, never) = run("fast", &["--param", "EgoFast=30"]);
+    assert_eq!(started(&never, "lead/brake"), None);
+    // A trigger holds when any group does: the first group at 2 s.
+    let (_, _, early) = run("early", &["--param", "LateBrake=2"]);
+    let brake = started(&early, "lead/brake").unwrap();
+    assert!((brake - 2.0).abs() <= frame, "{brake}");
+    // Either entity, with rule any: as soon as the lead is below 12 m/s.
+    let (_, _, any) = run("any", &["--param", "Both=any"]);
+    let any_at = logged_at(&any, &either);
+    assert!(any_at < all_at, "any at {any_at}, all at {all_at}");
+    // The van's drift, 0.6 m at a peak of 0.5 m/s² (π √(0.6 / 1) s), then back 1 s later.
+    let drift = started(&rows, "Cutter/drift").unwrap();
+    assert!((drift - 1.0).abs() <= frame, "{drift}");
+    let ended = rows
+        .iter()
+        .find(|r| r[col("event")].contains("Cutter/drift:ended"))
+        .map(|r| num(r, "t_s"))
+        .unwrap();
+    let lasts = std::f64::consts::PI * 0.6_f64.sqrt();
+    assert!(
+        (ended - drift - lasts).abs() <= 2.0 * frame,
+        "{drift} to {ended}"
+    );
+    let back = started(&rows, "Cutter/recentre").unwrap();
+    assert!(
+        (back - ended - 1.0).abs() <= 2.0 * frame,
+        "{ended} to {back}"
+    );
+    // The van's profile from 10 s: 1 s, 0.5 s, then 8 to 6 m/s at the 2 m/s² deceleration.
+    let cruise = started(&rows, "Cutter/cruise").unwrap();
+    let done = rows
+        .iter()
+        .find(|r| r[col("event")].contains("Cutter/cruise:ended"))
+        .map(|r| num(r, "t_s"))
+        .unwrap();
+    assert!((cruise - 10.0).abs() <= frame, "{cruise}");
+    assert!((done - cruise - 2.5).abs() <= frame, "{cruise} to {done}");
+    let o = carfollow(&[
+        "check",
+        file.to_str().unwrap(),
+        "--param",
+        "ProfileMode=follow",
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("followingMode"), "{}", stderr(&o));
+    // A continuous offset never ends: nothing may wait for its end.
+    let o = carfollow(&[
+        "check",
+        file.to_str().unwrap(),
+        "--param",
+        "Continuous=true",
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("never ends"), "{}", stderr(&o));
 }

@@ -24,6 +24,9 @@ use crate::error::VehicleError;
 use crate::speed_profile::MAX_SPEED_MPS;
 use serde::{Deserialize, Serialize};
 
+mod action;
+use action::action;
+
 /// The most lanes a road may have on one side of its centre line.
 pub const MAX_LANES: u32 = 16;
 /// Largest time or distance threshold, delay or duration, s or m.
@@ -39,9 +42,18 @@ const MAX_STANDSTILL_S: f64 = 1e3;
 const MAX_RATE_MPS2: f64 = 20.0;
 /// Largest lateral speed of a lane change, m/s.
 const MAX_LATERAL_SPEED_MPS: f64 = 10.0;
+/// Largest peak lateral acceleration of an offset, m/s²: beyond what tyres hold.
+const MAX_LATERAL_ACCEL_MPS2: f64 = 20.0;
 /// Largest lateral offset of a position from its lane's centre, m: as a lane's widest
 /// (`Lanes`' 20 m), past which the point is on another lane.
-const MAX_POSITION_OFFSET_M: f64 = 20.0;
+pub(crate) const MAX_POSITION_OFFSET_M: f64 = 20.0;
+/// The deepest a trigger's `all` and `any` may nest (OpenSCENARIO's trigger, any of
+/// groups of all of conditions, each of them any or all of its entities, is three deep).
+pub const MAX_TRIGGER_DEPTH: usize = 4;
+/// The most condition groups a trigger may come to when written as OpenSCENARIO writes
+/// one, any of groups each all of conditions (an `all` of `any`s multiplies out): as
+/// many as a file may sensibly hold.
+pub const MAX_TRIGGER_GROUPS: usize = 64;
 /// How close two reals must be for `equal` to hold (and `not_equal` not to), in the
 /// compared value's unit (s, m, m/s): a millionth of it. Simulation time moves in whole
 /// 1/120 s steps, whose sums in f64 are exact to far below this, so `time_s` equal to a
@@ -145,9 +157,9 @@ fn is_zero(v: &f64) -> bool {
 }
 
 /// When an event's action starts: exactly one of `time_s`, `distance_m`, `gap_m`,
-/// `time_gap_s`, `ttc_s`, `speed_mps`, `relative_speed_mps`, `standstill_s`, `reach` and
-/// `after`, evaluated at every physics step on level (it fires at the first step its
-/// condition holds, not only when it becomes true).
+/// `time_gap_s`, `ttc_s`, `speed_mps`, `relative_speed_mps`, `standstill_s`, `reach`,
+/// `after`, `all` and `any`, evaluated at every physics step on level (it fires at the
+/// first step its condition holds, not only when it becomes true).
 ///
 /// ```toml
 /// trigger = { time_s = 8.0 }                   # simulation time ≥ 8 s
@@ -162,10 +174,20 @@ fn is_zero(v: &f64) -> bool {
 /// trigger = { reach = { station_m = 150.0, lane = 1, tolerance_m = 2.0 } }  # within 2 m
 /// trigger = { time_s = 5.0, rule = "equal" }   # exactly at 5 s (see `EQUAL_TOLERANCE`)
 /// trigger = { after = "cut-in", delay_s = 0.5 }  # 0.5 s after `cut-in`'s action ended
+/// trigger = { all = [{ time_s = 5.0 }, { gap_m = 20.0, to = "chase" }] }  # both at once
+/// trigger = { any = [{ time_s = 20.0 }, { ttc_s = 2.0, to = "chase" }] }  # either
 /// ```
 ///
 /// The gap to the vehicle `to` is measured along the road, whatever the lanes, from the
 /// rear bumper of whichever is ahead to the front bumper of the other.
+///
+/// `all` and `any` are OpenSCENARIO's condition groups: a list of triggers (members),
+/// each written as a trigger is, that holds at a step when every one of them (`all`) or
+/// at least one (`any`) holds at it. They nest up to [`MAX_TRIGGER_DEPTH`] deep and take no
+/// `to`, `of`, `rule` or `delay_s` of their own. A member's `delay_s` is OpenSCENARIO's
+/// condition delay: the member holds at a step when its condition held `delay_s` earlier
+/// (for the trigger of a whole event, which fires once it holds, that is the same as the
+/// action starting `delay_s` after it first holds).
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct TriggerSpec {
@@ -214,6 +236,13 @@ pub struct TriggerSpec {
     /// ended.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub after: Option<String>,
+    /// Holds when every one of these triggers holds (OpenSCENARIO's `ConditionGroup`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub all: Option<Vec<TriggerSpec>>,
+    /// Holds when at least one of these triggers holds (OpenSCENARIO's several condition
+    /// groups).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub any: Option<Vec<TriggerSpec>>,
     /// The vehicle a gap, time gap, time to collision or relative speed is measured to (a
     /// name the scenario gives).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -235,6 +264,19 @@ pub struct TriggerSpec {
     pub delay_s: Option<f64>,
 }
 
+impl TriggerSpec {
+    /// Calls `visit` with this trigger and each member of its `all` or `any`, at any depth,
+    /// each with its field (`path`, `path.all[0]`, `path.all[0].any[1]`, ...), this first.
+    pub fn walk<'a>(&'a self, path: &str, visit: &mut impl FnMut(&str, &'a TriggerSpec)) {
+        visit(path, self);
+        for (kind, members) in [("all", &self.all), ("any", &self.any)] {
+            for (k, m) in members.iter().flatten().enumerate() {
+                m.walk(&format!("{path}.{kind}[{k}]"), visit);
+            }
+        }
+    }
+}
+
 /// How an action moves between its start and its end.
 #[derive(Copy, Clone, Debug, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
@@ -249,7 +291,8 @@ pub enum Shape {
     Step,
 }
 
-/// What an event does: exactly one of `lane`, `speed_mps` and `stop`, with its timing.
+/// What an event does: exactly one of `lane`, `offset_m`, `speed_mps`, `profile` and
+/// `stop`, with its timing.
 ///
 /// ```toml
 /// action = { lane = 2, duration_s = 3.0 }                   # shape cubic (default) or sinusoidal
@@ -258,6 +301,9 @@ pub enum Shape {
 /// action = { speed_mps = 8.0, duration_s = 3.0, shape = "cubic" }  # linear (default) or cubic
 /// action = { speed_mps = 0.0, shape = "step" }              # at once: the hardest braking
 /// action = { stop = true, decel_mps2 = 4.0 }                # to a standstill at 4 m/s², held
+/// action = { offset_m = 0.8, lateral_accel_mps2 = 0.5 }     # 0.8 m left of the lane's centre
+/// action = { offset_m = -0.5, lateral_accel_mps2 = 1.0, shape = "sinusoidal" }
+/// action = { profile = [{ speed_mps = 15.0, duration_s = 2.0 }, { speed_mps = 5.0, rate_mps2 = 2.0 }] }
 /// ```
 ///
 /// Lanes are numbered 1, 2, … from the road's centre line outward, lane k centred
@@ -267,7 +313,16 @@ pub enum Shape {
 /// starts to `speed_mps`, and the vehicle keeps that speed afterwards: the profile no longer
 /// applies. A stop is a speed action to 0 at `decel_mps2`. An action ends when its
 /// reference reaches its end (a stop's, when the speed asked reaches 0), which is what an
-/// `after` trigger waits for.
+/// `after` trigger waits for. An offset moves the vehicle across its lane (the lane it
+/// started in, or the last lane change's), to `offset_m` left of the lane's centre
+/// (OpenSCENARIO's `LaneOffsetAction`), its shape `cubic` or `sinusoidal` taking the time
+/// that makes its peak lateral acceleration `lateral_accel_mps2` (the standard's
+/// `maxLateralAcc`); it holds until another lateral action, and a lane change ends on its
+/// lane's centre. A profile is speed changes one after another, each linear to its
+/// `speed_mps` over its `duration_s` (0: at once) or at its `rate_mps2`, the first from the
+/// vehicle's speed when it starts, each next from the speed the one before reached
+/// (OpenSCENARIO's `SpeedProfileAction`, `followingMode="position"`); it ends when its last
+/// change does.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ActionSpec {
@@ -275,10 +330,17 @@ pub struct ActionSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schemars(extend("minimum" = 1, "maximum" = 16))]
     pub lane: Option<u32>,
+    /// Move to this offset from the lane's centre, m (positive left).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("minimum" = -20.0, "maximum" = 20.0))]
+    pub offset_m: Option<f64>,
     /// Change speed to this, m/s.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schemars(extend("minimum" = 0.0, "maximum" = 40.0))]
     pub speed_mps: Option<f64>,
+    /// Change speed along these changes, one after another.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub profile: Option<Vec<ProfileEntry>>,
     /// Stop (must be `true`), at `decel_mps2`, and stand still.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub stop: Option<bool>,
@@ -290,6 +352,10 @@ pub struct ActionSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schemars(extend("exclusiveMinimum" = 0.0, "maximum" = 10.0))]
     pub lateral_speed_mps: Option<f64>,
+    /// An offset's peak lateral acceleration, m/s² (what sets its pace).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("exclusiveMinimum" = 0.0, "maximum" = 20.0))]
+    pub lateral_accel_mps2: Option<f64>,
     /// A speed change's constant rate, m/s² (instead of `duration_s`; linear).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schemars(extend("exclusiveMinimum" = 0.0, "maximum" = 20.0))]
@@ -304,6 +370,31 @@ pub struct ActionSpec {
     pub shape: Option<Shape>,
 }
 
+/// One change of a speed profile action: linear to `speed_mps`, over `duration_s` or at
+/// `rate_mps2` (exactly one).
+///
+/// ```toml
+/// { speed_mps = 15.0, duration_s = 2.0 }
+/// ```
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ProfileEntry {
+    /// The speed this change reaches, m/s.
+    #[schemars(extend("minimum" = 0.0, "maximum" = 40.0))]
+    pub speed_mps: f64,
+    /// How long it takes, s (0: at once).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("minimum" = 0.0, "maximum" = 1e7))]
+    pub duration_s: Option<f64>,
+    /// Its constant rate, m/s².
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("exclusiveMinimum" = 0.0, "maximum" = 20.0))]
+    pub rate_mps2: Option<f64>,
+}
+
+/// The most changes a speed profile action holds.
+pub const MAX_PROFILE_ENTRIES: usize = 256;
+
 impl Shape {
     /// The shape's name as a scenario file writes it.
     pub fn name(self) -> &'static str {
@@ -312,6 +403,17 @@ impl Shape {
             Shape::Cubic => "cubic",
             Shape::Sinusoidal => "sinusoidal",
             Shape::Step => "step",
+        }
+    }
+
+    /// How long this shape takes to make a change of `change` (> 0) whose second
+    /// derivative peaks at `peak` (> 0), s: cubic 6 change / T², sinusoidal
+    /// π² change / (2 T²); the others, which have no finite peak, at once.
+    pub(crate) fn time_at_peak_accel(self, change: f64, peak: f64) -> f64 {
+        match self {
+            Shape::Cubic => (6.0 * change / peak).sqrt(),
+            Shape::Sinusoidal => std::f64::consts::PI * (change / (2.0 * peak)).sqrt(),
+            Shape::Linear | Shape::Step => 0.0,
         }
     }
 
@@ -353,13 +455,20 @@ pub(crate) enum Condition {
     Reach(ReachSpec, String),
     /// Another event (its index) has ended.
     After(usize),
+    /// Every member holds.
+    All(Vec<Trigger>),
+    /// At least one member holds.
+    Any(Vec<Trigger>),
 }
 
 /// A checked trigger.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct Trigger {
     pub(crate) condition: Condition,
+    /// The comparison (`Greater`, unused, for `after`, `all` and `any`).
     pub(crate) rule: Rule,
+    /// For an event's trigger, how long after it first holds its action starts; for a
+    /// member of `all` or `any`, how long ago its condition must have held, s.
     pub(crate) delay_s: f64,
 }
 
@@ -370,6 +479,9 @@ pub(crate) enum Timing {
     Duration(f64),
     /// At this average rate (m/s for lane changes, m/s² for speed), whatever the change.
     Rate(f64),
+    /// With this peak rate of the rate of change, m/s² (an offset's lateral
+    /// acceleration): the time the shape takes to make the change with that peak.
+    PeakAccel(f64),
 }
 
 /// A checked action.
@@ -381,12 +493,20 @@ pub(crate) enum Action {
         timing: Timing,
         shape: Shape,
     },
+    /// To this offset left of the lane's centre, m.
+    Offset {
+        offset_m: f64,
+        timing: Timing,
+        shape: Shape,
+    },
     /// To this speed, m/s (a stop is one to 0 at its deceleration).
     Speed {
         speed_mps: f64,
         timing: Timing,
         shape: Shape,
     },
+    /// Linear to each speed in turn, m/s, each with its timing.
+    Profile(Vec<(f64, Timing)>),
 }
 
 /// A checked event.
@@ -445,40 +565,38 @@ impl EventScript {
     }
 
     /// The vehicles the triggers measure to or watch, each with its field
-    /// (`events[2].trigger.to`, `events[3].trigger.of`), in the order written, for the
-    /// caller to check against the scenario's vehicles.
+    /// (`events[2].trigger.to`, `events[3].trigger.all[1].of`), in the order written, for
+    /// the caller to check against the scenario's vehicles.
     pub fn vehicles_named(&self) -> impl Iterator<Item = (String, &str)> {
-        self.0.iter().enumerate().flat_map(|(i, e)| {
-            let to = e
-                .trigger
-                .to
-                .as_deref()
-                .map(|to| (format!("events[{i}].trigger.to"), to));
-            let of = e
-                .trigger
-                .of
-                .as_deref()
-                .map(|of| (format!("events[{i}].trigger.of"), of));
-            to.into_iter().chain(of)
-        })
+        let mut out = Vec::new();
+        for (i, e) in self.0.iter().enumerate() {
+            e.trigger
+                .walk(&format!("events[{i}].trigger"), &mut |path, t| {
+                    let to = t.to.as_deref().map(|to| (format!("{path}.to"), to));
+                    let of = t.of.as_deref().map(|of| (format!("{path}.of"), of));
+                    out.extend(to.into_iter().chain(of));
+                });
+        }
+        out.into_iter()
     }
 
     /// The lanes the reach points are on and the lane changes go to, each with its field
     /// (`events[0].trigger.reach.lane`, `events[1].action.lane`), in
     /// the order written, for the caller to check against the road's lanes.
     pub fn lanes_named(&self) -> impl Iterator<Item = (String, u32)> + '_ {
-        self.0.iter().enumerate().flat_map(|(i, e)| {
-            let reach = e
-                .trigger
-                .reach
-                .as_ref()
-                .map(|r| (format!("events[{i}].trigger.reach.lane"), r.lane));
-            let action = e
-                .action
-                .lane
-                .map(|lane| (format!("events[{i}].action.lane"), lane));
-            reach.into_iter().chain(action)
-        })
+        let mut out = Vec::new();
+        for (i, e) in self.0.iter().enumerate() {
+            e.trigger
+                .walk(&format!("events[{i}].trigger"), &mut |path, t| {
+                    if let Some(r) = &t.reach {
+                        out.push((format!("{path}.reach.lane"), r.lane));
+                    }
+                });
+            if let Some(lane) = e.action.lane {
+                out.push((format!("events[{i}].action.lane"), lane));
+            }
+        }
+        out.into_iter()
     }
 
     /// The events checked into the engine's form.
@@ -501,7 +619,7 @@ impl EventScript {
             .map(|(i, e)| {
                 Ok(Checked {
                     name: e.name.clone(),
-                    trigger: self.trigger(i, &e.trigger)?,
+                    trigger: self.trigger(i, "trigger", &e.trigger, 0)?,
                     action: action(i, &e.action)?,
                     repeat: e.repeat,
                 })
@@ -509,8 +627,15 @@ impl EventScript {
             .collect()
     }
 
-    /// Event `i`'s trigger, checked.
-    fn trigger(&self, i: usize, t: &TriggerSpec) -> Result<Trigger, VehicleError> {
+    /// Event `i`'s trigger at `path` (`trigger`, `trigger.all[1]`, ...), `depth` members
+    /// deep, checked.
+    fn trigger(
+        &self,
+        i: usize,
+        path: &str,
+        t: &TriggerSpec,
+        depth: usize,
+    ) -> Result<Trigger, VehicleError> {
         let given: Vec<&str> = [
             ("time_s", t.time_s.is_some()),
             ("distance_m", t.distance_m.is_some()),
@@ -522,6 +647,8 @@ impl EventScript {
             ("standstill_s", t.standstill_s.is_some()),
             ("reach", t.reach.is_some()),
             ("after", t.after.is_some()),
+            ("all", t.all.is_some()),
+            ("any", t.any.is_some()),
         ]
         .into_iter()
         .filter_map(|(name, set)| set.then_some(name))
@@ -529,10 +656,11 @@ impl EventScript {
         if given.len() != 1 {
             return Err(invalid(
                 i,
-                "trigger",
+                path,
                 format!(
                     "must give exactly one of time_s, distance_m, gap_m, time_gap_s, ttc_s, \
-                     speed_mps, relative_speed_mps, standstill_s, reach and after (given: {})",
+                     speed_mps, relative_speed_mps, standstill_s, reach, after, all and any \
+                     (given: {})",
                     if given.is_empty() {
                         "none".to_string()
                     } else {
@@ -541,33 +669,36 @@ impl EventScript {
                 ),
             ));
         }
+        let field = |name: &str| format!("{path}.{name}");
+        if let Some(members) = t.all.as_ref().or(t.any.as_ref()) {
+            return self.group(i, path, t, given[0], members, depth);
+        }
         let needs_to = t.gap_m.is_some()
             || t.time_gap_s.is_some()
             || t.ttc_s.is_some()
             || t.relative_speed_mps.is_some();
         let to = match (&t.to, needs_to) {
             (Some(to), true) if to.trim().is_empty() => {
-                return Err(invalid(i, "trigger.to", "must not be empty".into()))
+                return Err(invalid(i, &field("to"), "must not be empty".into()))
             }
             (Some(to), true) => to.clone(),
             (None, true) => {
                 return Err(invalid(
                     i,
-                    "trigger.to",
+                    &field("to"),
                     format!("missing: a {} trigger measures to a vehicle", given[0]),
                 ))
             }
             (Some(_), false) => {
                 return Err(invalid(
                     i,
-                    "trigger.to",
+                    &field("to"),
                     format!("a {} trigger measures to no vehicle", given[0]),
                 ))
             }
             (None, false) => String::new(),
         };
-        let of = of(i, t, given[0])?;
-        let field = |name: &str| format!("trigger.{name}");
+        let of = of(i, path, t, given[0])?;
         let condition = if let Some(v) = t.time_s {
             Condition::Time(check(i, &field("time_s"), v, 0.0, MAX_KEY, false)?)
         } else if let Some(v) = t.distance_m {
@@ -591,14 +722,14 @@ impl EventScript {
             let v = check(i, &field("standstill_s"), v, 0.0, MAX_STANDSTILL_S, false)?;
             Condition::Standstill(v, of)
         } else if let Some(r) = &t.reach {
-            Condition::Reach(reach(i, r)?, of)
+            Condition::Reach(reach(i, path, r)?, of)
         } else {
             let after = t.after.as_deref().unwrap_or_default();
             match self.0.iter().position(|e| e.name == after) {
                 Some(j) if j == i => {
                     return Err(invalid(
                         i,
-                        "trigger.after",
+                        &field("after"),
                         format!("\"{after}\" is this event itself"),
                     ))
                 }
@@ -606,7 +737,7 @@ impl EventScript {
                 None => {
                     return Err(invalid(
                         i,
-                        "trigger.after",
+                        &field("after"),
                         format!("no event is named \"{after}\""),
                     ))
                 }
@@ -616,14 +747,14 @@ impl EventScript {
             (Condition::After(_), Some(_)) => {
                 return Err(invalid(
                     i,
-                    "trigger.rule",
+                    &field("rule"),
                     "an after trigger has no threshold to compare with".into(),
                 ))
             }
             (Condition::Standstill(..), Some(_)) => {
                 return Err(invalid(
                     i,
-                    "trigger.rule",
+                    &field("rule"),
                     "a standstill trigger takes no rule: it holds once the vehicle has stood \
                      still this long"
                         .into(),
@@ -632,7 +763,7 @@ impl EventScript {
             (Condition::Reach(..), Some(_)) => {
                 return Err(invalid(
                     i,
-                    "trigger.rule",
+                    &field("rule"),
                     "a reach trigger takes no rule: it holds while the vehicle is within \
                      tolerance_m of the point"
                         .into(),
@@ -654,11 +785,98 @@ impl EventScript {
             delay_s,
         })
     }
+
+    /// Event `i`'s `all` or `any` (`kind`) at `path`, of `members`, checked.
+    fn group(
+        &self,
+        i: usize,
+        path: &str,
+        t: &TriggerSpec,
+        kind: &str,
+        members: &[TriggerSpec],
+        depth: usize,
+    ) -> Result<Trigger, VehicleError> {
+        let field = |name: &str| format!("{path}.{name}");
+        for (name, given) in [
+            ("to", t.to.is_some()),
+            ("of", t.of.is_some()),
+            ("rule", t.rule.is_some()),
+        ] {
+            if given {
+                return Err(invalid(
+                    i,
+                    &field(name),
+                    format!("an {kind} trigger takes no {name}: give it to its members"),
+                ));
+            }
+        }
+        if t.delay_s.is_some() {
+            return Err(invalid(
+                i,
+                &field("delay_s"),
+                format!("an {kind} trigger takes no delay_s: give each member its delay_s"),
+            ));
+        }
+        if members.is_empty() {
+            return Err(invalid(
+                i,
+                &field(kind),
+                "must list at least one trigger".into(),
+            ));
+        }
+        if depth + 1 >= MAX_TRIGGER_DEPTH {
+            return Err(invalid(
+                i,
+                &field(kind),
+                format!("all and any nest at most {MAX_TRIGGER_DEPTH} deep"),
+            ));
+        }
+        let members = members
+            .iter()
+            .enumerate()
+            .map(|(k, m)| self.trigger(i, &format!("{path}.{kind}[{k}]"), m, depth + 1))
+            .collect::<Result<Vec<_>, _>>()?;
+        let condition = if kind == "all" {
+            Condition::All(members)
+        } else {
+            Condition::Any(members)
+        };
+        let groups = condition_groups(&condition);
+        if depth == 0 && groups > MAX_TRIGGER_GROUPS {
+            return Err(invalid(
+                i,
+                path,
+                format!(
+                    "comes to {groups} condition groups as OpenSCENARIO writes it (any of \
+                     groups, each all of conditions): at most {MAX_TRIGGER_GROUPS}"
+                ),
+            ));
+        }
+        Ok(Trigger {
+            condition,
+            rule: Rule::Greater,
+            delay_s: 0.0,
+        })
+    }
 }
 
-/// Event `i`'s reach point, checked (its lane against the road by the caller).
-fn reach(i: usize, r: &ReachSpec) -> Result<ReachSpec, VehicleError> {
-    let f = |name: &str| format!("trigger.reach.{name}");
+/// How many condition groups a checked condition comes to written as OpenSCENARIO
+/// writes a trigger, any of groups each all of conditions (saturating).
+fn condition_groups(c: &Condition) -> usize {
+    match c {
+        Condition::Any(members) => members.iter().fold(0usize, |n, m| {
+            n.saturating_add(condition_groups(&m.condition))
+        }),
+        Condition::All(members) => members.iter().fold(1usize, |n, m| {
+            n.saturating_mul(condition_groups(&m.condition))
+        }),
+        _ => 1,
+    }
+}
+
+/// Event `i`'s reach point at `path`, checked (its lane against the road by the caller).
+fn reach(i: usize, path: &str, r: &ReachSpec) -> Result<ReachSpec, VehicleError> {
+    let f = |name: &str| format!("{path}.reach.{name}");
     if !(1..=MAX_LANES).contains(&r.lane) {
         return Err(invalid(
             i,
@@ -684,199 +902,24 @@ fn reach(i: usize, r: &ReachSpec) -> Result<ReachSpec, VehicleError> {
     })
 }
 
-/// Event `i`'s `of` (empty for this vehicle), checked for the trigger `kind` it is on:
-/// only a speed, standstill or reach trigger watches another vehicle.
-fn of(i: usize, t: &TriggerSpec, kind: &str) -> Result<String, VehicleError> {
+/// Event `i`'s `of` at `path` (empty for this vehicle), checked for the trigger `kind` it
+/// is on: only a speed, standstill or reach trigger watches another vehicle.
+fn of(i: usize, path: &str, t: &TriggerSpec, kind: &str) -> Result<String, VehicleError> {
     let watches = t.speed_mps.is_some() || t.standstill_s.is_some() || t.reach.is_some();
     match (&t.of, watches) {
-        (Some(of), true) if of.trim().is_empty() => {
-            Err(invalid(i, "trigger.of", "must not be empty".into()))
-        }
+        (Some(of), true) if of.trim().is_empty() => Err(invalid(
+            i,
+            &format!("{path}.of"),
+            "must not be empty".into(),
+        )),
         (Some(of), true) => Ok(of.clone()),
         (Some(_), false) => Err(invalid(
             i,
-            "trigger.of",
+            &format!("{path}.of"),
             format!(
                 "a {kind} trigger watches no vehicle (of is for speed_mps, standstill_s and reach)"
             ),
         )),
         (None, _) => Ok(String::new()),
     }
-}
-
-/// Refuses each of `fields` (name, whether given) that is given, as not for `what`.
-fn refuse(i: usize, what: &str, fields: &[(&str, bool)]) -> Result<(), VehicleError> {
-    match fields.iter().find(|f| f.1) {
-        Some((name, _)) => Err(invalid(
-            i,
-            &format!("action.{name}"),
-            format!("not for {what}"),
-        )),
-        None => Ok(()),
-    }
-}
-
-/// Event `i`'s action, checked.
-fn action(i: usize, a: &ActionSpec) -> Result<Action, VehicleError> {
-    let kinds = [a.lane.is_some(), a.speed_mps.is_some(), a.stop.is_some()];
-    if kinds.iter().filter(|&&k| k).count() != 1 {
-        return Err(invalid(
-            i,
-            "action",
-            "must give exactly one of lane, speed_mps and stop".into(),
-        ));
-    }
-    let f = |name: &str| format!("action.{name}");
-    let open = |name: &str, v: f64, max: f64| check(i, &f(name), v, 0.0, max, true);
-    if let Some(lane) = a.lane {
-        refuse(
-            i,
-            "a lane change",
-            &[
-                ("rate_mps2", a.rate_mps2.is_some()),
-                ("decel_mps2", a.decel_mps2.is_some()),
-            ],
-        )?;
-        if !(1..=MAX_LANES).contains(&lane) {
-            return Err(invalid(
-                i,
-                "action.lane",
-                format!("= {lane}: lanes are numbered 1 to {MAX_LANES} from the centre line"),
-            ));
-        }
-        let timing = match (a.duration_s, a.lateral_speed_mps) {
-            (Some(d), None) => Timing::Duration(open("duration_s", d, MAX_KEY)?),
-            (None, Some(v)) => Timing::Rate(open("lateral_speed_mps", v, MAX_LATERAL_SPEED_MPS)?),
-            _ => {
-                return Err(invalid(
-                    i,
-                    "action",
-                    "a lane change takes exactly one of duration_s and lateral_speed_mps".into(),
-                ))
-            }
-        };
-        let shape = match a.shape {
-            None | Some(Shape::Cubic) => Shape::Cubic,
-            Some(Shape::Sinusoidal) => Shape::Sinusoidal,
-            Some(other) => {
-                return Err(invalid(
-                    i,
-                    "action.shape",
-                    format!(
-                        "{} is not a lane change's shape (cubic or sinusoidal)",
-                        other.name()
-                    ),
-                ))
-            }
-        };
-        return Ok(Action::Lane {
-            lane,
-            timing,
-            shape,
-        });
-    }
-    if let Some(stop) = a.stop {
-        if !stop {
-            return Err(invalid(
-                i,
-                "action.stop",
-                "= false: write stop = true, or leave the event out".into(),
-            ));
-        }
-        refuse(
-            i,
-            "a stop (it slows at decel_mps2)",
-            &[
-                ("duration_s", a.duration_s.is_some()),
-                ("rate_mps2", a.rate_mps2.is_some()),
-                ("lateral_speed_mps", a.lateral_speed_mps.is_some()),
-                ("shape", a.shape.is_some()),
-            ],
-        )?;
-        let Some(decel) = a.decel_mps2 else {
-            return Err(invalid(
-                i,
-                "action.decel_mps2",
-                "missing: a stop needs its deceleration".into(),
-            ));
-        };
-        return Ok(Action::Speed {
-            speed_mps: 0.0,
-            timing: Timing::Rate(open("decel_mps2", decel, MAX_RATE_MPS2)?),
-            shape: Shape::Linear,
-        });
-    }
-    speed_action(i, a)
-}
-
-/// Event `i`'s speed action (`speed_mps` given), checked.
-fn speed_action(i: usize, a: &ActionSpec) -> Result<Action, VehicleError> {
-    let f = |name: &str| format!("action.{name}");
-    let open = |name: &str, v: f64, max: f64| check(i, &f(name), v, 0.0, max, true);
-    refuse(
-        i,
-        "a speed change",
-        &[
-            ("lateral_speed_mps", a.lateral_speed_mps.is_some()),
-            ("decel_mps2", a.decel_mps2.is_some()),
-        ],
-    )?;
-    let speed_mps = check(
-        i,
-        "action.speed_mps",
-        a.speed_mps.unwrap_or_default(),
-        0.0,
-        f64::from(MAX_SPEED_MPS),
-        false,
-    )?;
-    let (timing, shape) = match (a.duration_s, a.rate_mps2, a.shape) {
-        (None, None, Some(Shape::Step)) => (Timing::Duration(0.0), Shape::Step),
-        (Some(_), _, Some(Shape::Step)) | (_, Some(_), Some(Shape::Step)) => {
-            return Err(invalid(
-                i,
-                "action.shape",
-                "a step change takes no time: leave duration_s and rate_mps2 out".into(),
-            ))
-        }
-        (Some(_), Some(_), _) | (None, None, _) => {
-            return Err(invalid(
-                i,
-                "action",
-                "a speed change takes exactly one of duration_s and rate_mps2, or \
-                 shape = \"step\""
-                    .into(),
-            ))
-        }
-        (None, Some(r), None | Some(Shape::Linear)) => (
-            Timing::Rate(open("rate_mps2", r, MAX_RATE_MPS2)?),
-            Shape::Linear,
-        ),
-        (None, Some(_), Some(_)) => {
-            return Err(invalid(
-                i,
-                "action.shape",
-                "a change at rate_mps2 is linear; give duration_s for a cubic one".into(),
-            ))
-        }
-        (Some(d), None, None | Some(Shape::Linear)) => (
-            Timing::Duration(open("duration_s", d, MAX_KEY)?),
-            Shape::Linear,
-        ),
-        (Some(d), None, Some(Shape::Cubic)) => (
-            Timing::Duration(open("duration_s", d, MAX_KEY)?),
-            Shape::Cubic,
-        ),
-        (Some(_), None, Some(_)) => {
-            return Err(invalid(
-                i,
-                "action.shape",
-                "sinusoidal is not a speed change's shape (linear, cubic or step)".into(),
-            ))
-        }
-    };
-    Ok(Action::Speed {
-        speed_mps,
-        timing,
-        shape,
-    })
 }

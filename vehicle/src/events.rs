@@ -10,13 +10,16 @@
 //! 3. every action that has reached its end ends; an event with `repeat` waits for its
 //!    trigger again from the next step, the others are done.
 //!
-//! An `after` trigger sees the actions ended at earlier steps. All times are whole steps
+//! An `after` trigger sees the actions ended at earlier steps. A trigger of several
+//! conditions (`all`, `any`) is evaluated at every step, whatever its event's phase, so that
+//! a member with a delay answers from its condition's history that long ago. All times are whole steps
 //! (`docs/src/conventions.md`, "One clock"): a duration or delay is rounded to the step.
 
 use crate::clock::{Step, PHYSICS_HZ};
 use crate::error::{check_range, VehicleError};
-use crate::event_spec::{Action, Checked, Condition, EventScript, Shape, Timing};
+use crate::event_spec::{Action, Checked, Condition, EventScript, Shape, Timing, Trigger};
 use crate::lead_driver::SpeedOverride;
+use std::collections::VecDeque;
 
 /// Below this speed a vehicle stands still, m/s (for standstill triggers): a physics
 /// vehicle held by its brakes creeps at millimetres per second as its tyres settle, and
@@ -120,15 +123,208 @@ enum Phase {
 #[derive(Clone, Debug)]
 struct EventState {
     event: Checked,
+    /// What its trigger watches, in the shape of the trigger.
+    watch: Watch,
+    phase: Phase,
+    /// Whether its action has ended at least once.
+    ended: bool,
+}
+
+/// The run-time state of one trigger (an event's, or a member of an `all` or `any`), with
+/// one `Watch` per member.
+#[derive(Clone, Debug, Default)]
+struct Watch {
     /// The vehicle a gap trigger measures to.
     to: Option<usize>,
     /// The vehicle a speed or standstill trigger watches (`None`: this one).
     of: Option<usize>,
     /// The step from which the watched vehicle has stood still (standstill triggers).
     still_since: Option<Step>,
-    phase: Phase,
-    /// Whether its action has ended at least once.
-    ended: bool,
+    /// The members' watches, in order (`all` and `any`).
+    members: Vec<Watch>,
+    /// A delayed member's condition as it changed: the steps at which it turned true or
+    /// false, oldest first, those older than its delay dropped but the last.
+    turns: VecDeque<(Step, bool)>,
+}
+
+/// What a trigger is evaluated against at one step.
+struct Now<'a> {
+    now: Step,
+    view: &'a TrafficView,
+    mine: &'a VehicleView,
+    start_station_m: f64,
+    lanes: Lanes,
+    /// Whether each of the vehicle's events has ended (for `after`).
+    ended: &'a [bool],
+}
+
+/// The index in `vehicles` of the vehicle `name`, or an error at `field`.
+fn vehicle_index(vehicles: &[&str], name: &str, field: String) -> Result<usize, VehicleError> {
+    vehicles
+        .iter()
+        .position(|v| *v == name)
+        .ok_or_else(|| VehicleError::InvalidEvent {
+            field,
+            reason: format!("no vehicle is named \"{name}\""),
+        })
+}
+
+impl Watch {
+    /// The watch of `trigger` at `field` (`events[0].trigger`, ...), with its vehicles
+    /// found among `vehicles` and its reach lanes checked against `lanes`.
+    fn new(
+        trigger: &Trigger,
+        field: &str,
+        vehicles: &[&str],
+        lanes: &Lanes,
+    ) -> Result<Watch, VehicleError> {
+        let mut watch = Watch::default();
+        match &trigger.condition {
+            Condition::Gap(_, to)
+            | Condition::TimeGap(_, to)
+            | Condition::Ttc(_, to)
+            | Condition::RelativeSpeed(_, to) => {
+                watch.to = Some(vehicle_index(vehicles, to, format!("{field}.to"))?);
+            }
+            Condition::Speed(_, of) | Condition::Standstill(_, of) | Condition::Reach(_, of)
+                if !of.is_empty() =>
+            {
+                watch.of = Some(vehicle_index(vehicles, of, format!("{field}.of"))?);
+            }
+            Condition::All(members) | Condition::Any(members) => {
+                let kind = match trigger.condition {
+                    Condition::All(_) => "all",
+                    _ => "any",
+                };
+                for (k, m) in members.iter().enumerate() {
+                    let at = format!("{field}.{kind}[{k}]");
+                    watch.members.push(Watch::new(m, &at, vehicles, lanes)?);
+                }
+            }
+            _ => {}
+        }
+        if let Condition::Reach(r, _) = &trigger.condition {
+            if r.lane > lanes.count {
+                return Err(VehicleError::InvalidEvent {
+                    field: format!("{field}.reach.lane"),
+                    reason: format!("= {}: the road has {} lanes", r.lane, lanes.count),
+                });
+            }
+        }
+        Ok(watch)
+    }
+
+    /// Keeps a standstill trigger's start of standing still at `c`'s step.
+    fn update_still(&mut self, trigger: &Trigger, c: &Now) {
+        if let Condition::Standstill(..) = trigger.condition {
+            let watched = self.of.map_or(Some(c.mine), |j| c.view.get(j));
+            let still = watched.is_some_and(|v| v.speed_mps.abs() < STANDSTILL_MPS);
+            self.still_since = if still {
+                self.still_since.or(Some(c.now))
+            } else {
+                None
+            };
+        }
+    }
+
+    /// Whether an `all` or `any` trigger holds at `c`'s step, every member evaluated
+    /// (so that each delayed member keeps its history and each standstill its start).
+    fn group_holds(&mut self, trigger: &Trigger, c: &Now) -> bool {
+        let (members, all) = match &trigger.condition {
+            Condition::All(m) => (m, true),
+            Condition::Any(m) => (m, false),
+            _ => return false,
+        };
+        let mut holds = all;
+        for (m, w) in members.iter().zip(&mut self.members) {
+            let member = w.member_holds(m, c);
+            holds = if all {
+                holds && member
+            } else {
+                holds || member
+            };
+        }
+        holds
+    }
+
+    /// Whether the member `trigger` holds at `c`'s step: its condition now, or, with a
+    /// delay, `delay_s` ago.
+    fn member_holds(&mut self, trigger: &Trigger, c: &Now) -> bool {
+        let now = match &trigger.condition {
+            Condition::All(_) | Condition::Any(_) => self.group_holds(trigger, c),
+            _ => {
+                self.update_still(trigger, c);
+                self.holds(trigger, c)
+            }
+        };
+        let delay = steps_of(trigger.delay_s);
+        if delay == 0 {
+            return now;
+        }
+        if self.turns.back().map(|t| t.1) != Some(now) {
+            self.turns.push_back((c.now, now));
+        }
+        let Some(then) = c.now.0.checked_sub(delay).map(Step) else {
+            return false;
+        };
+        while self.turns.get(1).is_some_and(|t| t.0 <= then) {
+            self.turns.pop_front();
+        }
+        self.turns
+            .front()
+            .is_some_and(|&(at, held)| at <= then && held)
+    }
+
+    /// Whether the one-condition `trigger` holds now.
+    fn holds(&self, trigger: &Trigger, c: &Now) -> bool {
+        let rule = trigger.rule;
+        let compare = |value: f64, threshold: f64| rule.holds(value, threshold);
+        let mine = c.mine;
+        let other = self.to.and_then(|j| c.view.get(j));
+        match (&trigger.condition, other) {
+            (Condition::Time(t), _) => compare(c.now.seconds(), *t),
+            (Condition::Distance(d), _) => compare(mine.station_m - c.start_station_m, *d),
+            (Condition::After(j), _) => c.ended.get(*j).copied().unwrap_or(false),
+            (Condition::Speed(v, _), _) => self
+                .of
+                .map_or(Some(mine), |j| c.view.get(j))
+                .is_some_and(|w| compare(w.speed_mps, *v)),
+            (Condition::Standstill(d, _), _) => self
+                .still_since
+                .is_some_and(|since| c.now.since(since) >= steps_of(*d)),
+            (Condition::Reach(r, _), _) => {
+                self.of
+                    .map_or(Some(mine), |j| c.view.get(j))
+                    .is_some_and(|w| {
+                        let along = w.station_m - r.station_m;
+                        // The view's offsets are from lane 1's centre.
+                        let from_lane_1 = Lanes {
+                            route_lane: 1,
+                            ..c.lanes
+                        };
+                        let across = w.left_offset_m - (from_lane_1.offset_m(r.lane) + r.offset_m);
+                        along.hypot(across) <= r.tolerance_m
+                    })
+            }
+            (Condition::All(_) | Condition::Any(_), _) => false,
+            (Condition::RelativeSpeed(v, _), Some(o)) => compare(mine.speed_mps - o.speed_mps, *v),
+            (Condition::Gap(g, _), Some(o)) => compare(Between::new(mine, o).gap_m, *g),
+            (Condition::TimeGap(t, _), Some(o)) => {
+                let b = Between::new(mine, o);
+                let time_gap = if b.behind_speed_mps > 0.0 {
+                    b.gap_m / b.behind_speed_mps
+                } else {
+                    f64::INFINITY
+                };
+                compare(time_gap, *t)
+            }
+            (Condition::Ttc(t, _), Some(o)) => {
+                let b = Between::new(mine, o);
+                b.closing_mps > 0.0 && compare(b.gap_m / b.closing_mps, *t)
+            }
+            (_, None) => false,
+        }
+    }
 }
 
 /// A change of one quantity (speed or lateral offset) from `from` to `to` over `steps`.
@@ -141,6 +337,17 @@ struct Motion {
     to: f64,
     shape: Shape,
     running: bool,
+    /// Which change of a speed profile this is (0 for other actions).
+    segment: usize,
+}
+
+/// Whole steps a change from `from` to `to` takes with `timing` and `shape`.
+fn steps_for(timing: Timing, from: f64, to: f64, shape: Shape) -> u64 {
+    match timing {
+        Timing::Duration(d) => steps_of(d),
+        Timing::Rate(r) => steps_of((to - from).abs() / r),
+        Timing::PeakAccel(a) => steps_of(shape.time_at_peak_accel((to - from).abs(), a)),
+    }
 }
 
 impl Motion {
@@ -170,6 +377,9 @@ pub struct Events {
     /// The speed and lateral offset the last update asked for.
     speed_now: Option<SpeedOverride>,
     lateral_now_m: f64,
+    /// The lane the vehicle is in or changing to (its route's lane until a lane change):
+    /// what an offset is from.
+    lane_now: u32,
 }
 
 /// Whole steps in `seconds`, rounded.
@@ -204,35 +414,12 @@ impl Events {
         let checked = script.checked()?;
         let mut events = Vec::with_capacity(checked.len());
         for (i, event) in checked.into_iter().enumerate() {
-            let to = match &event.trigger.condition {
-                Condition::Gap(_, to)
-                | Condition::TimeGap(_, to)
-                | Condition::Ttc(_, to)
-                | Condition::RelativeSpeed(_, to) => {
-                    Some(vehicles.iter().position(|v| v == to).ok_or_else(|| {
-                        VehicleError::InvalidEvent {
-                            field: format!("events[{i}].trigger.to"),
-                            reason: format!("no vehicle is named \"{to}\""),
-                        }
-                    })?)
-                }
-                _ => None,
-            };
-            let of = match &event.trigger.condition {
-                Condition::Speed(_, of)
-                | Condition::Standstill(_, of)
-                | Condition::Reach(_, of)
-                    if !of.is_empty() =>
-                {
-                    Some(vehicles.iter().position(|v| v == of).ok_or_else(|| {
-                        VehicleError::InvalidEvent {
-                            field: format!("events[{i}].trigger.of"),
-                            reason: format!("no vehicle is named \"{of}\""),
-                        }
-                    })?)
-                }
-                _ => None,
-            };
+            let watch = Watch::new(
+                &event.trigger,
+                &format!("events[{i}].trigger"),
+                vehicles,
+                &lanes,
+            )?;
             if let Action::Lane { lane, .. } = event.action {
                 if lane > lanes.count {
                     return Err(VehicleError::InvalidEvent {
@@ -241,19 +428,9 @@ impl Events {
                     });
                 }
             }
-            if let Condition::Reach(r, _) = &event.trigger.condition {
-                if r.lane > lanes.count {
-                    return Err(VehicleError::InvalidEvent {
-                        field: format!("events[{i}].trigger.reach.lane"),
-                        reason: format!("= {}: the road has {} lanes", r.lane, lanes.count),
-                    });
-                }
-            }
             events.push(EventState {
                 event,
-                to,
-                of,
-                still_since: None,
+                watch,
                 phase: Phase::Armed,
                 ended: false,
             });
@@ -266,6 +443,7 @@ impl Events {
             lateral: None,
             speed_now: None,
             lateral_now_m: 0.0,
+            lane_now: lanes.route_lane,
         })
     }
 
@@ -306,23 +484,28 @@ impl Events {
             return fired;
         };
         let start_station_m = *self.start_station_m.get_or_insert(mine.station_m);
+        let ended: Vec<bool> = self.events.iter().map(|e| e.ended).collect();
+        let c = Now {
+            now,
+            view,
+            mine,
+            start_station_m,
+            lanes: self.lanes,
+            ended: &ended,
+        };
         for e in &mut self.events {
-            if let Condition::Standstill(..) = e.event.trigger.condition {
-                let watched = e.of.map_or(Some(mine), |j| view.get(j));
-                let still = watched.is_some_and(|v| v.speed_mps.abs() < STANDSTILL_MPS);
-                e.still_since = if still {
-                    e.still_since.or(Some(now))
-                } else {
-                    None
-                };
-            }
-        }
-        for i in 0..self.events.len() {
-            if self.events[i].phase == Phase::Armed
-                && self.holds(i, now, view, mine, start_station_m)
-            {
-                let delay = steps_of(self.events[i].event.trigger.delay_s);
-                self.events[i].phase = Phase::Pending(now.plus(delay));
+            let trigger = &e.event.trigger;
+            let holds = match trigger.condition {
+                // A group is evaluated at every step, armed or not, so that its delayed
+                // members keep their histories.
+                Condition::All(_) | Condition::Any(_) => e.watch.group_holds(trigger, &c),
+                _ => {
+                    e.watch.update_still(trigger, &c);
+                    e.phase == Phase::Armed && e.watch.holds(trigger, &c)
+                }
+            };
+            if e.phase == Phase::Armed && holds {
+                e.phase = Phase::Pending(now.plus(steps_of(trigger.delay_s)));
             }
         }
         for i in 0..self.events.len() {
@@ -331,7 +514,25 @@ impl Events {
             }
         }
         for motion in [&mut self.speed, &mut self.lateral].into_iter().flatten() {
-            if motion.running && now.since(motion.start) >= motion.steps {
+            while motion.running && now.since(motion.start) >= motion.steps {
+                // A speed profile goes on to its next change from the speed this one
+                // reached, at this step.
+                let next = match &self.events[motion.event].event.action {
+                    Action::Profile(changes) => changes.get(motion.segment + 1).copied(),
+                    _ => None,
+                };
+                if let Some((to, timing)) = next {
+                    let from = motion.to;
+                    *motion = Motion {
+                        start: now,
+                        steps: steps_for(timing, from, to, Shape::Linear),
+                        from,
+                        to,
+                        segment: motion.segment + 1,
+                        ..*motion
+                    };
+                    continue;
+                }
                 motion.running = false;
                 let event = motion.event;
                 Self::end(&mut self.events, event, now, &mut fired);
@@ -348,64 +549,20 @@ impl Events {
         fired
     }
 
-    /// Whether event `i`'s condition holds now.
-    fn holds(
-        &self,
-        i: usize,
-        now: Step,
-        view: &TrafficView,
-        mine: &VehicleView,
-        start_station_m: f64,
-    ) -> bool {
-        let e = &self.events[i];
-        let rule = e.event.trigger.rule;
-        let compare = |value: f64, threshold: f64| rule.holds(value, threshold);
-        let other = e.to.and_then(|j| view.get(j));
-        match (&e.event.trigger.condition, other) {
-            (Condition::Time(t), _) => compare(now.seconds(), *t),
-            (Condition::Distance(d), _) => compare(mine.station_m - start_station_m, *d),
-            (Condition::After(j), _) => self.events[*j].ended,
-            (Condition::Speed(v, _), _) => {
-                e.of.map_or(Some(mine), |j| view.get(j))
-                    .is_some_and(|w| compare(w.speed_mps, *v))
-            }
-            (Condition::Standstill(d, _), _) => e
-                .still_since
-                .is_some_and(|since| now.since(since) >= steps_of(*d)),
-            (Condition::Reach(r, _), _) => {
-                e.of.map_or(Some(mine), |j| view.get(j)).is_some_and(|w| {
-                    let along = w.station_m - r.station_m;
-                    // The view's offsets are from lane 1's centre.
-                    let from_lane_1 = Lanes {
-                        route_lane: 1,
-                        ..self.lanes
-                    };
-                    let across = w.left_offset_m - (from_lane_1.offset_m(r.lane) + r.offset_m);
-                    along.hypot(across) <= r.tolerance_m
-                })
-            }
-            (Condition::RelativeSpeed(v, _), Some(o)) => compare(mine.speed_mps - o.speed_mps, *v),
-            (Condition::Gap(g, _), Some(o)) => compare(Between::new(mine, o).gap_m, *g),
-            (Condition::TimeGap(t, _), Some(o)) => {
-                let b = Between::new(mine, o);
-                let time_gap = if b.behind_speed_mps > 0.0 {
-                    b.gap_m / b.behind_speed_mps
-                } else {
-                    f64::INFINITY
-                };
-                compare(time_gap, *t)
-            }
-            (Condition::Ttc(t, _), Some(o)) => {
-                let b = Between::new(mine, o);
-                b.closing_mps > 0.0 && compare(b.gap_m / b.closing_mps, *t)
-            }
-            (_, None) => false,
-        }
-    }
-
     /// Starts event `i`'s action at `now`.
     fn start(&mut self, i: usize, now: Step, mine: &VehicleView, fired: &mut Vec<Fired>) {
-        let (slot, from, to, timing, shape) = match self.events[i].event.action {
+        let action = self.events[i].event.action.clone();
+        let (slot, from, to, timing, shape) = match action {
+            Action::Profile(changes) => {
+                let (to, timing) = changes[0];
+                (
+                    &mut self.speed,
+                    mine.speed_mps.max(0.0),
+                    to,
+                    timing,
+                    Shape::Linear,
+                )
+            }
             Action::Speed {
                 speed_mps,
                 timing,
@@ -423,10 +580,25 @@ impl Events {
                 shape,
             } => {
                 let from = self.lateral.map_or(0.0, |m| m.at(now).0);
+                self.lane_now = lane;
                 (
                     &mut self.lateral,
                     from,
                     self.lanes.offset_m(lane),
+                    timing,
+                    shape,
+                )
+            }
+            Action::Offset {
+                offset_m,
+                timing,
+                shape,
+            } => {
+                let from = self.lateral.map_or(0.0, |m| m.at(now).0);
+                (
+                    &mut self.lateral,
+                    from,
+                    self.lanes.offset_m(self.lane_now) + offset_m,
                     timing,
                     shape,
                 )
@@ -437,18 +609,15 @@ impl Events {
             let event = old.event;
             Self::end(&mut self.events, event, now, fired);
         }
-        let steps = match timing {
-            Timing::Duration(d) => steps_of(d),
-            Timing::Rate(r) => steps_of((to - from).abs() / r),
-        };
         *slot = Some(Motion {
             event: i,
             start: now,
-            steps,
+            steps: steps_for(timing, from, to, shape),
             from,
             to,
             shape,
             running: true,
+            segment: 0,
         });
         self.events[i].phase = Phase::Running;
         fired.push(Fired {

@@ -106,8 +106,8 @@ pub use controls::Controls;
 pub use delay_line::{DelayLine, DelayLineConfig};
 pub use error::VehicleError;
 pub use event_spec::{
-    ActionSpec, EventScript, EventSpec, ReachSpec, Rule, Shape, TriggerSpec, EQUAL_TOLERANCE,
-    MAX_LANES,
+    ActionSpec, EventScript, EventSpec, ProfileEntry, ReachSpec, Rule, Shape, TriggerSpec,
+    EQUAL_TOLERANCE, MAX_LANES, MAX_PROFILE_ENTRIES, MAX_TRIGGER_DEPTH, MAX_TRIGGER_GROUPS,
 };
 pub use events::{Events, Fired, FiredKind, Lanes, TrafficView, VehicleView, STANDSTILL_MPS};
 pub use gap_keeper::{GapKeeper, GapKeeperConfig, GapPolicy, SpeedCommand, Threat};

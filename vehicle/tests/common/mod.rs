@@ -4,6 +4,8 @@
 
 #![allow(dead_code)]
 
+pub mod events;
+
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 use vehicle::*;

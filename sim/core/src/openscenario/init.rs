@@ -2,6 +2,7 @@
 //! `SpeedAction` with a step), on the scenario's one road.
 
 use super::error::OscError;
+use super::world::ReferenceLine;
 use super::xml::{child, elements, only_element, Xml};
 use roxmltree::Node;
 use std::collections::BTreeMap;
@@ -12,6 +13,9 @@ pub const MAX_SPEED_MPS: f64 = 40.0;
 /// How far a lateral position may lie from a lane's centre and still be in that lane's
 /// centre, m: carfollow's vehicles start on their lane's centre line.
 const LANE_CENTRE_TOLERANCE_M: f64 = 0.05;
+/// How far a `WorldPosition`'s heading may turn from the road's and still be along it
+/// unsaid, radians (1°): carfollow's vehicles start along their lane.
+const HEADING_TOLERANCE_RAD: f64 = 0.0175;
 
 /// The road the scenario's vehicles are placed on, as far as placing them needs: its id,
 /// and its lanes on the right of its reference line (OpenDRIVE's −1, −2, ...).
@@ -33,6 +37,8 @@ pub struct RoadLanes {
     /// How many lanes lie between the reference line and lane 1 on the right: carfollow's
     /// lane k is OpenDRIVE's lane −(k + this).
     pub inner_lanes: u32,
+    /// The reference line in the file's frame, for `WorldPosition`s.
+    pub reference: ReferenceLine,
 }
 
 impl RoadLanes {
@@ -60,6 +66,18 @@ impl RoadLanes {
     pub fn lane_of(&self, id: i64) -> Option<u32> {
         let k = -id - i64::from(self.inner_lanes);
         (1..=i64::from(self.lanes)).contains(&k).then_some(k as u32)
+    }
+
+    /// The driving lane whose strip (its centre ± half its width) holds `t_m`, m from the
+    /// reference line (negative to the right).
+    pub fn lane_holding(&self, t_m: f64) -> Option<u32> {
+        let width = |k: u32| {
+            self.lane_widths_m
+                .get(k as usize - 1)
+                .copied()
+                .unwrap_or(self.lane_width_m)
+        };
+        (1..=self.lanes).find(|&k| (t_m + self.centre_m(k)).abs() <= 0.5 * width(k))
     }
 
     /// The driving lanes' ids, for errors.
@@ -182,6 +200,10 @@ fn private_action<'a, 'b>(
             match p.tag_name().name() {
                 "LanePosition" | "RoadPosition" => {
                     let placed = absolute_position(xml, road, p)?;
+                    init.placed.insert(entity.to_string(), placed);
+                }
+                "WorldPosition" => {
+                    let placed = world_position(xml, road, p, &mut init.warnings)?;
                     init.placed.insert(entity.to_string(), placed);
                 }
                 "RelativeLanePosition" | "RelativeRoadPosition" => relative.push(Relative {
@@ -326,15 +348,83 @@ fn absolute_position(xml: &Xml, road: &RoadLanes, p: Node) -> Result<Placed, Osc
     Ok(Placed { s_m, lane })
 }
 
-/// A `LanePosition` or `RoadPosition` `p` as a point on the road: its station, the lane
-/// it is on and its offset to the left of that lane's centre, m.
+/// A `WorldPosition` `p` on the road: its station, the lane whose strip holds it, its
+/// offset to the left of that lane's centre (m) and its heading's turn from the road's
+/// (radians; its `h`, 0 when left out, as the standard reads it). Refused off the road's
+/// ends, off its driving lanes on the right, and facing against the road.
+fn world_point(xml: &Xml, road: &RoadLanes, p: Node) -> Result<(f64, u32, f64, f64), OscError> {
+    let (x, y) = (xml.num(p, "x")?, xml.num(p, "y")?);
+    let h = xml.opt_num(p, "h")?.unwrap_or(0.0);
+    let on = road.reference.project(x, y).ok_or_else(|| {
+        xml.at(
+            p,
+            format!(
+                "<WorldPosition x=\"{x}\" y=\"{y}\">: before the start or past the end of road {}",
+                road.id
+            ),
+        )
+    })?;
+    let Some(lane) = road.lane_holding(on.t_m) else {
+        return Err(xml.at(
+            p,
+            format!(
+                "<WorldPosition x=\"{x}\" y=\"{y}\">: t = {:.3} m at s = {:.3} m is on no lane carfollow drives on road {} ({})",
+                on.t_m, on.s_m, road.id, road.named()
+            ),
+        ));
+    };
+    let turned = (h - on.heading_rad + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
+        - std::f64::consts::PI;
+    if turned.abs() > std::f64::consts::FRAC_PI_2 {
+        return Err(xml.at(
+            p,
+            format!(
+                "<WorldPosition h=\"{h}\">: faces against road {} ({:.1}° from its heading there): carfollow's vehicles drive with the road's direction on its right",
+                road.id,
+                turned.to_degrees()
+            ),
+        ));
+    }
+    Ok((on.s_m, lane, on.t_m + road.centre_m(lane), turned))
+}
+
+/// A `WorldPosition` of a vehicle in `Init`: on its lane's centre, along the road; a
+/// point farther from the centre or a heading turned farther from the road's is said in a
+/// warning.
+fn world_position(
+    xml: &Xml,
+    road: &RoadLanes,
+    p: Node,
+    warnings: &mut Vec<String>,
+) -> Result<Placed, OscError> {
+    let (s_m, lane, offset, turned) = world_point(xml, road, p)?;
+    let s_m = check_s(xml, p, s_m)?;
+    if offset.abs() > LANE_CENTRE_TOLERANCE_M || turned.abs() > HEADING_TOLERANCE_RAD {
+        warnings.push(format!(
+            "line {}: <WorldPosition> is {:.2} m {} lane {lane}'s centre (lane {}) and turned {:.1}° from the road: carfollow starts the vehicle on the centre at s = {s_m:.2} m, along the road",
+            xml.line(p),
+            offset.abs(),
+            if offset >= 0.0 { "left of" } else { "right of" },
+            road.id_of(lane),
+            turned.to_degrees()
+        ));
+    }
+    Ok(Placed { s_m, lane })
+}
+
+/// A `LanePosition`, `RoadPosition` or `WorldPosition` `p` as a point on the road: its
+/// station, the lane it is on and its offset to the left of that lane's centre, m.
 pub fn point_on_road(xml: &Xml, road: &RoadLanes, p: Node) -> Result<(f64, u32, f64), OscError> {
     let name = p.tag_name().name();
+    if name == "WorldPosition" {
+        let (s_m, lane, offset, _) = world_point(xml, road, p)?;
+        return Ok((s_m, lane, offset));
+    }
     if !matches!(name, "LanePosition" | "RoadPosition") {
         return Err(xml.unsupported(
             p,
             "position",
-            "carfollow's points are on the road (LanePosition, RoadPosition)",
+            "carfollow's points are on the road (LanePosition, RoadPosition, WorldPosition)",
         ));
     }
     check_road(xml, road, p)?;
@@ -350,15 +440,7 @@ pub fn point_on_road(xml: &Xml, road: &RoadLanes, p: Node) -> Result<(f64, u32, 
         return Ok((s_m, lane, offset));
     }
     let t_m = xml.num(p, "t")?;
-    // The lane whose strip holds t: its centre ± half its own width.
-    let width = |k: u32| {
-        road.lane_widths_m
-            .get(k as usize - 1)
-            .copied()
-            .unwrap_or(road.lane_width_m)
-    };
-    let Some(k) = (1..=road.lanes).find(|&k| (t_m + road.centre_m(k)).abs() <= 0.5 * width(k))
-    else {
+    let Some(k) = road.lane_holding(t_m) else {
         return Err(xml.at(
             p,
             format!(

@@ -27,6 +27,7 @@ pub mod export;
 mod expr;
 mod init;
 mod story;
+mod world;
 mod write;
 mod xml;
 

@@ -8,7 +8,7 @@ use super::init::{Init, RoadLanes};
 use super::xml::{child, children, elements, only_element, Xml};
 use roxmltree::Node;
 use std::collections::BTreeMap;
-use vehicle::{ActionSpec, EventSpec, Rule, Shape, TriggerSpec};
+use vehicle::{ActionSpec, EventSpec, ProfileEntry, Rule, Shape, TriggerSpec};
 
 /// What the stories give: each vehicle's events (by its name in the file), and what is
 /// read and not applied (the ego's actions).
@@ -264,10 +264,45 @@ impl Context<'_, '_> {
             .collect()
     }
 
-    /// A `StartTrigger` as a trigger of an event on `owner`.
+    /// A `StartTrigger` as a trigger of an event on `owner`: its one condition as it is,
+    /// several as `any` of its condition groups, each `all` of its conditions.
     fn trigger(&self, trigger: Node, owner: &str) -> Result<TriggerSpec, OscError> {
         let xml = self.xml;
-        let condition = one_condition(xml, trigger)?;
+        let mut groups = Vec::new();
+        for group in children(trigger, "ConditionGroup") {
+            let mut all = children(group, "Condition")
+                .map(|c| self.condition(c, owner))
+                .collect::<Result<Vec<_>, _>>()?;
+            groups.push(match all.len() {
+                0 => return Err(xml.at(group, "<ConditionGroup> has no <Condition>")),
+                1 => all.remove(0),
+                _ => TriggerSpec {
+                    all: Some(all),
+                    ..TriggerSpec::default()
+                },
+            });
+        }
+        Ok(match groups.len() {
+            0 => {
+                return Err(xml.at(
+                    trigger,
+                    format!(
+                        "<{}> has no <ConditionGroup>, so its event would never start",
+                        trigger.tag_name().name()
+                    ),
+                ))
+            }
+            1 => groups.remove(0),
+            _ => TriggerSpec {
+                any: Some(groups),
+                ..TriggerSpec::default()
+            },
+        })
+    }
+
+    /// One `Condition` of a trigger on an event of `owner`, with its delay.
+    fn condition(&self, condition: Node, owner: &str) -> Result<TriggerSpec, OscError> {
+        let xml = self.xml;
         match xml.attr(condition, "conditionEdge")?.as_deref() {
             Some("none") | Some("rising") | None => {}
             Some(edge) => return Err(xml.at(condition, format!("<Condition conditionEdge=\"{edge}\">: carfollow's events fire when their condition holds (\"none\", \"rising\")"))),
@@ -282,7 +317,12 @@ impl Context<'_, '_> {
             "ByEntityCondition" => self.by_entity(inner, owner)?,
             _ => return Err(xml.unsupported(inner, "condition", "")),
         };
-        spec.delay_s = delay;
+        // A condition of several entities is a group: each of its members waits the delay
+        // (any or all of them, each as it was the delay before, is the group as it was).
+        match spec.all.as_mut().or(spec.any.as_mut()) {
+            Some(members) => members.iter_mut().for_each(|m| m.delay_s = delay),
+            None => spec.delay_s = delay,
+        }
         Ok(spec)
     }
 
@@ -324,6 +364,7 @@ impl Context<'_, '_> {
                 } else {
                     reference
                 };
+                self.not_continuous(c, &event)?;
                 let found = self.found.get(&event).filter(|f| f.owner == owner).ok_or_else(|| {
                     xml.at(c, format!("<StoryboardElementStateCondition storyboardElementRef=\"{event}\">: not an event of `{owner}` (carfollow's events wait for their own vehicle's)"))
                 })?;
@@ -361,6 +402,25 @@ impl Context<'_, '_> {
         }
     }
 
+    /// Refuses a wait for the end of the event named `event` when it holds a continuous
+    /// `LaneOffsetAction`, which never ends.
+    fn not_continuous(&self, c: Node, event: &str) -> Result<(), OscError> {
+        let xml = self.xml;
+        let events = xml
+            .doc
+            .descendants()
+            .filter(|n| n.has_tag_name("Event") && n.attribute("name") == Some(event));
+        for offset in events.flat_map(|e| {
+            e.descendants()
+                .filter(|d| d.has_tag_name("LaneOffsetAction"))
+        }) {
+            if xml.attr(offset, "continuous")?.as_deref() == Some("true") {
+                return Err(xml.at(c, format!("<StoryboardElementStateCondition storyboardElementRef=\"{event}\">: its <LaneOffsetAction continuous=\"true\"> never ends")));
+            }
+        }
+        Ok(())
+    }
+
     /// The event holding the action named `action`.
     fn event_of_action(&self, c: Node, action: &str) -> Result<String, OscError> {
         let xml = self.xml;
@@ -382,14 +442,46 @@ impl Context<'_, '_> {
         let xml = self.xml;
         let triggering = child(c, "TriggeringEntities")
             .ok_or_else(|| xml.at(c, "<ByEntityCondition> has no <TriggeringEntities>"))?;
-        let refs: Vec<_> = children(triggering, "EntityRef").collect();
-        let [one] = refs.as_slice() else {
-            return Err(xml.at(triggering, format!("<TriggeringEntities> of {} entities: carfollow's triggers are about one vehicle", refs.len())));
-        };
-        let subject = xml.req(*one, "entityRef")?;
         let condition = child(c, "EntityCondition")
             .ok_or_else(|| xml.at(c, "<ByEntityCondition> has no <EntityCondition>"))?;
         let e = only_element(xml, condition)?;
+        let mut each = children(triggering, "EntityRef")
+            .map(|r| self.entity_condition(e, &xml.req(r, "entityRef")?, owner))
+            .collect::<Result<Vec<_>, _>>()?;
+        if each.len() == 1 {
+            return Ok(each.remove(0));
+        }
+        if each.is_empty() {
+            return Err(xml.at(triggering, "<TriggeringEntities> names no entity"));
+        }
+        // Several entities: the condition of any one of them, or of all at once.
+        Ok(match xml.req(triggering, "triggeringEntitiesRule")?.as_str() {
+            "any" => TriggerSpec {
+                any: Some(each),
+                ..TriggerSpec::default()
+            },
+            "all" => TriggerSpec {
+                all: Some(each),
+                ..TriggerSpec::default()
+            },
+            rule => {
+                return Err(xml.at(
+                    triggering,
+                    format!("<TriggeringEntities triggeringEntitiesRule=\"{rule}\">: not a rule of the standard (any, all)"),
+                ))
+            }
+        })
+    }
+
+    /// The entity condition `e` of the entity `subject`, on an event of `owner`.
+    fn entity_condition(
+        &self,
+        e: Node,
+        subject: &str,
+        owner: &str,
+    ) -> Result<TriggerSpec, OscError> {
+        let xml = self.xml;
+        let subject = subject.to_string();
         let name = e.tag_name().name();
         if name == "TraveledDistanceCondition" {
             if subject != owner {
@@ -610,9 +702,122 @@ impl Context<'_, '_> {
         let inner = only_element(xml, kind)?;
         match (kind.tag_name().name(), inner.tag_name().name()) {
             ("LongitudinalAction", "SpeedAction") => self.speed(inner),
+            ("LongitudinalAction", "SpeedProfileAction") => self.speed_profile(inner),
             ("LateralAction", "LaneChangeAction") => self.lane_change(inner, owner),
+            ("LateralAction", "LaneOffsetAction") => self.lane_offset(inner),
             _ => Err(xml.unsupported(inner, "action", "")),
         }
+    }
+
+    /// A `LaneOffsetAction` to an absolute offset, cubic or sinusoidal at its
+    /// `maxLateralAcc`. Continuous or not, the vehicle keeps the offset until another
+    /// lateral action; a continuous one never ends, so nothing may wait for its end.
+    fn lane_offset(&self, action: Node) -> Result<ActionSpec, OscError> {
+        let xml = self.xml;
+        let dynamics = child(action, "LaneOffsetActionDynamics").ok_or_else(|| {
+            xml.at(
+                action,
+                "<LaneOffsetAction> has no <LaneOffsetActionDynamics>",
+            )
+        })?;
+        let shape = match xml.req(dynamics, "dynamicsShape")?.as_str() {
+            "cubic" => Shape::Cubic,
+            "sinusoidal" => Shape::Sinusoidal,
+            other => return Err(xml.at(dynamics, format!("<LaneOffsetActionDynamics dynamicsShape=\"{other}\">: carfollow's offsets are cubic or sinusoidal"))),
+        };
+        let accel = xml.opt_num(dynamics, "maxLateralAcc")?.ok_or_else(|| {
+            xml.at(dynamics, "<LaneOffsetActionDynamics> has no maxLateralAcc: carfollow moves an offset at its peak lateral acceleration")
+        })?;
+        let target = child(action, "LaneOffsetTarget")
+            .map(|t| only_element(xml, t))
+            .transpose()?
+            .ok_or_else(|| xml.at(action, "<LaneOffsetAction> has no <LaneOffsetTarget>"))?;
+        if target.tag_name().name() != "AbsoluteTargetLaneOffset" {
+            return Err(xml.unsupported(
+                target,
+                "lane offset target",
+                "carfollow's offsets are from the vehicle's own lane's centre",
+            ));
+        }
+        Ok(ActionSpec {
+            offset_m: Some(xml.num(target, "value")?),
+            lateral_accel_mps2: Some(accel),
+            shape: Some(shape),
+            ..ActionSpec::default()
+        })
+    }
+
+    /// A `SpeedProfileAction` (`followingMode="position"`, absolute speeds): its entries
+    /// as a profile's changes, each over its `time`, or without one at the
+    /// `DynamicConstraints`' `maxAcceleration` or `maxDeceleration` as the change goes.
+    fn speed_profile(&self, action: Node) -> Result<ActionSpec, OscError> {
+        let xml = self.xml;
+        if let Some(of) = xml.attr(action, "entityRef")? {
+            return Err(xml.at(action, format!("<SpeedProfileAction entityRef=\"{of}\">: carfollow's profiles are of absolute speeds")));
+        }
+        match xml.req(action, "followingMode")?.as_str() {
+            "position" => {}
+            mode => return Err(xml.at(action, format!("<SpeedProfileAction followingMode=\"{mode}\">: carfollow follows a profile's changes as written (\"position\")"))),
+        }
+        let limits = match child(action, "DynamicConstraints") {
+            None => None,
+            Some(c) => {
+                for jerk in ["maxAccelerationRate", "maxDecelerationRate"] {
+                    if xml.attr(c, jerk)?.is_some() {
+                        return Err(xml.at(c, format!("<DynamicConstraints {jerk}>: carfollow's profile changes are linear")));
+                    }
+                }
+                let max_speed = xml.opt_num(c, "maxSpeed")?;
+                Some((
+                    xml.num(c, "maxAcceleration")?,
+                    xml.num(c, "maxDeceleration")?,
+                    max_speed,
+                    c,
+                ))
+            }
+        };
+        let entries: Vec<_> = children(action, "SpeedProfileEntry").collect();
+        if entries.is_empty() {
+            return Err(xml.at(action, "<SpeedProfileAction> has no <SpeedProfileEntry>"));
+        }
+        let mut profile = Vec::with_capacity(entries.len());
+        let mut before: Option<f64> = None;
+        for entry in entries {
+            let speed_mps = xml.num(entry, "speed")?;
+            if let Some((_, _, Some(max), c)) = limits {
+                if speed_mps > max {
+                    return Err(xml.at(c, format!("<DynamicConstraints maxSpeed=\"{max}\">: below a speed of the profile ({speed_mps} m/s), which carfollow would not clip")));
+                }
+            }
+            let (duration_s, rate_mps2) = match (xml.opt_num(entry, "time")?, limits) {
+                (Some(t), _) => (Some(t), None),
+                (None, Some((up, down, _, c))) => {
+                    let rate = match before {
+                        Some(v) if speed_mps >= v => up,
+                        Some(_) => down,
+                        None if up == down => up,
+                        None => return Err(xml.at(c, "<DynamicConstraints>: the first entry's rate depends on the speed it starts from: give it a time, or equal maxAcceleration and maxDeceleration")),
+                    };
+                    (None, Some(rate))
+                }
+                (None, None) => {
+                    return Err(xml.at(
+                        entry,
+                        "<SpeedProfileEntry> has no time, and its action no <DynamicConstraints>",
+                    ))
+                }
+            };
+            profile.push(ProfileEntry {
+                speed_mps,
+                duration_s,
+                rate_mps2,
+            });
+            before = Some(speed_mps);
+        }
+        Ok(ActionSpec {
+            profile: Some(profile),
+            ..ActionSpec::default()
+        })
     }
 
     fn speed(&self, speed: Node) -> Result<ActionSpec, OscError> {

@@ -5,6 +5,7 @@ use super::entities::Entity;
 use super::error::OscError;
 use super::init::{Init, Placed, RoadLanes};
 use super::story::{read_stories, Names};
+use super::world::ReferenceLine;
 use super::xml::{child, children, elements, only_element, Xml};
 use super::{ImportOptions, Imported};
 use std::path::{Component, Path, PathBuf};
@@ -37,14 +38,16 @@ pub fn read_road(xml: &Xml, dir: &Path) -> Result<Road, OscError> {
         other => other.into(),
     })?;
     let road = crate::opendrive::import(&opendrive, None, |_| None)?;
+    let origin = opendrive
+        .roads
+        .iter()
+        .find(|r| r.id == road.id)
+        .and_then(|r| r.geometries.first())
+        .map_or([0.0; 3], |g| [g.x, g.y, g.hdg]);
     Ok(Road {
         lanes: RoadLanes {
-            heading_rad: opendrive
-                .roads
-                .iter()
-                .find(|r| r.id == road.id)
-                .and_then(|r| r.geometries.first())
-                .map_or(0.0, |g| g.hdg),
+            heading_rad: origin[2],
+            reference: ReferenceLine::new(origin, road.segments.clone()),
             id: road.id,
             lanes: road.lanes,
             lane_width_m: road.lane_width_m,

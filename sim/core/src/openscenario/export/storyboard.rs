@@ -4,7 +4,7 @@
 use super::entity;
 use super::xml_out::{a, n, XmlOut};
 use crate::Scenario;
-use vehicle::{ActionSpec, EventSpec, Rule, Shape, TriggerSpec};
+use vehicle::{ActionSpec, EventSpec, ProfileEntry, Rule, Shape, TriggerSpec};
 
 /// One vehicle's maneuver: its entity name and its events as written.
 struct Group {
@@ -196,8 +196,10 @@ impl Group {
         x.close();
         x.open("StartTrigger", &[]);
         if step.distance {
-            self.entity_condition(x, &step.name, None, |x| {
-                x.empty("TraveledDistanceCondition", &[n("value", step.from)]);
+            condition_group(x, |x| {
+                self.entity_condition(x, &step.name, None, |x| {
+                    x.empty("TraveledDistanceCondition", &[n("value", step.from)]);
+                });
             });
         } else {
             time_condition(x, &step.name, step.from, "greaterOrEqual");
@@ -207,6 +209,36 @@ impl Group {
     }
 
     fn action(&self, x: &mut XmlOut, action: &ActionSpec) {
+        if let Some(profile) = &action.profile {
+            speed_profile(x, profile);
+            return;
+        }
+        if let Some(offset) = action.offset_m {
+            let shape = match action.shape {
+                Some(Shape::Sinusoidal) => "sinusoidal",
+                _ => "cubic",
+            };
+            x.open("PrivateAction", &[]);
+            x.open("LateralAction", &[]);
+            x.open("LaneOffsetAction", &[a("continuous", "false")]);
+            x.empty(
+                "LaneOffsetActionDynamics",
+                &[
+                    n(
+                        "maxLateralAcc",
+                        action.lateral_accel_mps2.unwrap_or_default(),
+                    ),
+                    a("dynamicsShape", shape),
+                ],
+            );
+            x.open("LaneOffsetTarget", &[]);
+            x.empty("AbsoluteTargetLaneOffset", &[n("value", offset)]);
+            x.close();
+            x.close();
+            x.close();
+            x.close();
+            return;
+        }
         if let Some(lane) = action.lane {
             let shape = match action.shape {
                 Some(Shape::Sinusoidal) => "sinusoidal",
@@ -262,7 +294,28 @@ impl Group {
         speed_action(x, dynamics, speed);
     }
 
+    /// The condition groups of trigger `t` of the event `name`: one for each group of
+    /// [`groups`], its conditions named after the event (the event's own name when there
+    /// is one condition).
     fn trigger(&self, x: &mut XmlOut, name: &str, t: &TriggerSpec) {
+        let groups = groups(t);
+        let one = groups.len() == 1 && groups[0].len() == 1;
+        for (g, group) in groups.iter().enumerate() {
+            condition_group(x, |x| {
+                for (k, leaf) in group.iter().enumerate() {
+                    let named = if one {
+                        name.to_string()
+                    } else {
+                        format!("{name}-{}-{}", g + 1, k + 1)
+                    };
+                    self.condition(x, &named, leaf);
+                }
+            });
+        }
+    }
+
+    /// The `Condition` `name` of the one-condition trigger `t`.
+    fn condition(&self, x: &mut XmlOut, name: &str, t: &TriggerSpec) {
         let rule = |default: Rule| match t.rule.unwrap_or(default) {
             Rule::Less => "lessThan",
             Rule::Greater => "greaterThan",
@@ -424,9 +477,34 @@ impl Group {
     }
 }
 
-/// A one-condition `ConditionGroup` (carfollow's triggers hold on level: edge `none`).
-fn condition(x: &mut XmlOut, name: &str, delay: f64, inner: impl FnOnce(&mut XmlOut)) {
+/// A trigger as OpenSCENARIO writes one: any of groups, each all of one-condition
+/// triggers (an `all` of `any`s multiplied out; `check` bounds how many groups that makes,
+/// `vehicle::MAX_TRIGGER_GROUPS`).
+fn groups(t: &TriggerSpec) -> Vec<Vec<&TriggerSpec>> {
+    if let Some(members) = &t.any {
+        members.iter().flat_map(groups).collect()
+    } else if let Some(members) = &t.all {
+        members.iter().fold(vec![Vec::new()], |sofar, m| {
+            let ways = groups(m);
+            sofar
+                .iter()
+                .flat_map(|g| ways.iter().map(move |w| [g.as_slice(), w].concat()))
+                .collect()
+        })
+    } else {
+        vec![vec![t]]
+    }
+}
+
+/// A `ConditionGroup` of the conditions `inner` writes.
+fn condition_group(x: &mut XmlOut, inner: impl FnOnce(&mut XmlOut)) {
     x.open("ConditionGroup", &[]);
+    inner(x);
+    x.close();
+}
+
+/// A `Condition` (carfollow's triggers hold on level: edge `none`).
+fn condition(x: &mut XmlOut, name: &str, delay: f64, inner: impl FnOnce(&mut XmlOut)) {
     x.open(
         "Condition",
         &[
@@ -437,19 +515,57 @@ fn condition(x: &mut XmlOut, name: &str, delay: f64, inner: impl FnOnce(&mut Xml
     );
     inner(x);
     x.close();
-    x.close();
 }
 
 /// A condition group of one `SimulationTimeCondition`.
 pub fn time_condition(x: &mut XmlOut, name: &str, value: f64, rule: &str) {
-    condition(x, name, 0.0, |x| {
-        x.open("ByValueCondition", &[]);
-        x.empty(
-            "SimulationTimeCondition",
-            &[n("value", value), a("rule", rule)],
-        );
-        x.close();
+    condition_group(x, |x| {
+        condition(x, name, 0.0, |x| {
+            x.open("ByValueCondition", &[]);
+            x.empty(
+                "SimulationTimeCondition",
+                &[n("value", value), a("rule", rule)],
+            );
+            x.close();
+        });
     });
+}
+
+/// A `SpeedProfileAction` of `profile`'s changes (`followingMode="position"`): each with
+/// its time, a change at a rate after the first over the time that rate takes from the
+/// speed before, the first at a rate as the `DynamicConstraints`' acceleration and
+/// deceleration.
+fn speed_profile(x: &mut XmlOut, profile: &[ProfileEntry]) {
+    x.open("PrivateAction", &[]);
+    x.open("LongitudinalAction", &[]);
+    x.open("SpeedProfileAction", &[a("followingMode", "position")]);
+    if let Some(rate) = profile.first().and_then(|e| e.rate_mps2) {
+        x.empty(
+            "DynamicConstraints",
+            &[
+                n("maxAcceleration", rate),
+                n("maxDeceleration", rate),
+                n("maxSpeed", crate::openscenario::init::MAX_SPEED_MPS),
+            ],
+        );
+    }
+    let mut before: Option<f64> = None;
+    for e in profile {
+        let time = match (e.duration_s, e.rate_mps2, before) {
+            (Some(t), _, _) => Some(t),
+            (None, Some(r), Some(v)) => Some((e.speed_mps - v).abs() / r),
+            _ => None,
+        };
+        let mut attrs = vec![n("speed", e.speed_mps)];
+        if let Some(t) = time {
+            attrs.push(n("time", t));
+        }
+        x.empty("SpeedProfileEntry", &attrs);
+        before = Some(e.speed_mps);
+    }
+    x.close();
+    x.close();
+    x.close();
 }
 
 /// A `SpeedAction` to `speed_mps` with `(shape, dimension, value)` dynamics.
