@@ -347,3 +347,57 @@ fn esminis_distribution_expands_and_its_scenario_is_refused_in_one_line() {
         "{e}"
     );
 }
+
+/// `--resume` takes a folder's rows only while nothing the points read has changed: with a
+/// catalog entry or the road file changed since, it says the rows are of another sweep and
+/// runs nothing; changed back, it resumes.
+#[test]
+fn a_resume_after_a_catalog_or_road_file_changed_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(data().join("cut-in-distribution.xosc")).unwrap();
+    let file = write_beside(&dir, "dist.xosc", &text);
+    let out = dir.path().join("sweep");
+    let sweep = |resume: bool| {
+        let mut args = vec![
+            "sweep",
+            file.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--set",
+            "duration_s=1",
+        ];
+        if resume {
+            args.push("--resume");
+        }
+        carfollow(&args)
+    };
+    let o = sweep(false);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let resumes = || {
+        let o = sweep(true);
+        o.status.code() == Some(0) && stderr(&o).contains("6 already done, 0 to run")
+    };
+    assert!(resumes());
+    for (name, from, to) in [
+        (
+            "catalogs/VehicleCatalog.xosc",
+            "<Vehicle name=\"van\" vehicleCategory=\"van\">",
+            "<Vehicle name=\"van\" vehicleCategory=\"truck\">",
+        ),
+        ("two-lanes.xodr", "a=\"3.5\"", "a=\"3.6\""),
+    ] {
+        let path = dir.path().join(name);
+        let original = std::fs::read_to_string(&path).unwrap();
+        assert!(original.contains(from), "{name}");
+        std::fs::write(&path, original.replace(from, to)).unwrap();
+        let o = sweep(true);
+        assert_ne!(o.status.code(), Some(0), "{name}: {}", stderr(&o));
+        assert!(
+            stderr(&o).contains("of another sweep") && stderr(&o).lines().count() == 1,
+            "{name}: {}",
+            stderr(&o)
+        );
+        std::fs::write(&path, original).unwrap();
+        assert!(resumes(), "{name} changed back");
+    }
+}

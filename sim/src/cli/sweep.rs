@@ -324,7 +324,7 @@ fn resumable(
     {
         anyhow::bail!(
             "{}: its rows are of another sweep (hash {}; now {}): the sweep file, a \
-             scenario or target file it uses, or the overrides changed since; use another \
+             scenario, target, road or catalog file it uses, or the overrides changed since; use another \
              --out, or remove the results",
             results.display(),
             row.sweep_hash,

@@ -6,7 +6,7 @@
 //! report are a sweep file's.
 
 use super::file::SweepScenario;
-use super::grid::{id_of, load_scenario, sweep_hash, Axis, OSC_PARAM};
+use super::grid::{id_of, load_scenario, sweep_hash, Axis, Inputs, OSC_PARAM};
 use super::{Point, Sweep, SweepError};
 use sim_core::{planning_key, Plan, ScenarioError};
 use std::collections::BTreeSet;
@@ -82,12 +82,11 @@ impl Sweep {
         // Every point loaded (and planned, one of each planning key) before anything runs;
         // the files they read, for the hash.
         let mut planned_keys = BTreeSet::new();
-        let mut inputs: BTreeSet<PathBuf> = [scenario_path.clone()].into();
+        let mut inputs = Inputs::of([scenario_path.clone()]);
         for point in &points {
             let loaded = load_scenario(&scenario, &point.overrides(&set), point.osc_params());
             if let Ok(s) = &loaded {
-                let dir = scenario_path.parent().unwrap_or(Path::new("."));
-                inputs.insert(dir.join(&s.resolved.tracker.target));
+                inputs.note(s, &scenario_path);
             }
             let planned = match loaded {
                 Ok(s) if plan && planned_keys.insert(planning_key(&s)) => Plan::new(&s).map(|_| ()),

@@ -365,21 +365,13 @@ impl Sweep {
 
         // Every point's overrides, before anything runs; and every file the points read (the
         // scenarios and their targets), which the hash covers.
-        let mut inputs: std::collections::BTreeSet<std::path::PathBuf> =
-            scenarios.iter().map(|s| s.path.clone()).collect();
+        let mut inputs = Inputs::of(scenarios.iter().map(|s| s.path.clone()));
         for point in &points {
             let overrides = point.overrides(&set);
             let scenario = &scenarios[point.scenario];
             let loaded = load_scenario(scenario, &overrides, point.osc_params());
             if let Ok(s) = &loaded {
-                let target = &s.resolved.tracker.target;
-                inputs.insert(
-                    scenario
-                        .path
-                        .parent()
-                        .unwrap_or(Path::new("."))
-                        .join(target),
-                );
+                inputs.note(s, &scenario.path);
             }
             let planned = match loaded {
                 Ok(s) if plan && planned_keys.insert(planning_key(&s)) => Plan::new(&s).map(|_| ()),
@@ -482,22 +474,56 @@ pub(super) fn id_of(point: &Point, set: &[String]) -> String {
     format!("{:016x}", vehicle::fnv1a64(canonical.as_bytes()))
 }
 
-/// [`Sweep::hash`]: of the sweep file's `text`, the command line's overrides, and the text of
-/// every file in `inputs`. A shipped target that is not on disk is compiled in, and changes
-/// only with the program, like everything else the hash leaves to the version.
-pub(super) fn sweep_hash(
-    text: &str,
-    extra_set: &[String],
-    inputs: &std::collections::BTreeSet<std::path::PathBuf>,
-) -> String {
+/// What a sweep's points read besides the sweep file, for [`sweep_hash`].
+#[derive(Debug, Default)]
+pub(super) struct Inputs {
+    /// Files: the scenarios, their targets and their road files.
+    files: std::collections::BTreeSet<std::path::PathBuf>,
+    /// The OpenSCENARIO points' scenarios as imported, which hold what their catalogs gave.
+    imported: std::collections::BTreeSet<String>,
+}
+
+impl Inputs {
+    /// The inputs of a sweep of the scenario files `paths`.
+    pub(super) fn of(paths: impl IntoIterator<Item = std::path::PathBuf>) -> Inputs {
+        Inputs {
+            files: paths.into_iter().collect(),
+            imported: Default::default(),
+        }
+    }
+
+    /// Notes what the point `s`, loaded from the scenario file at `path`, reads: its target
+    /// and road file (relative to the file's folder), and, from an OpenSCENARIO file, the
+    /// scenario imported from it.
+    pub(super) fn note(&mut self, s: &Scenario, path: &Path) {
+        let dir = path.parent().unwrap_or(Path::new("."));
+        self.files.insert(dir.join(&s.resolved.tracker.target));
+        if let Some(road) = &s.resolved.route.opendrive {
+            self.files.insert(dir.join(&road.file));
+        }
+        if sim_core::openscenario::is_openscenario(path) {
+            self.imported
+                .insert(toml::to_string(&s.resolved).unwrap_or_default());
+        }
+    }
+}
+
+/// [`Sweep::hash`]: of the sweep file's `text`, the command line's overrides, the text of
+/// every file in `inputs`, and the scenarios imported from OpenSCENARIO files. A shipped
+/// target that is not on disk is compiled in, and changes only with the program, like
+/// everything else the hash leaves to the version.
+pub(super) fn sweep_hash(text: &str, extra_set: &[String], inputs: &Inputs) -> String {
     let mut hashed = text.to_string();
     for s in extra_set {
         hashed.push_str(&format!("\n--set {s}"));
     }
-    for file in inputs {
+    for file in &inputs.files {
         if let Ok(content) = std::fs::read_to_string(file) {
             hashed.push_str(&format!("\n--file {}\n{content}", file.display()));
         }
+    }
+    for imported in &inputs.imported {
+        hashed.push_str(&format!("\n--imported\n{imported}"));
     }
     format!("{:016x}", vehicle::fnv1a64(hashed.as_bytes()))
 }
