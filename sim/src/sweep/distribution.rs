@@ -10,7 +10,7 @@ use super::grid::{id_of, load_scenario, sweep_hash, Axis, Inputs, OSC_PARAM};
 use super::{Point, Sweep, SweepError};
 use sim_core::{planning_key, Plan, ScenarioError};
 use std::collections::BTreeSet;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 /// The field a point's error is said of: the distribution's `ScenarioFile` element.
 const SCENARIO_FIELD: &str = "ScenarioFile";
