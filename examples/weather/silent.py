@@ -12,7 +12,8 @@ and then, over every frame whose status is `tracking`, reads `frames.csv`:
 - the silent frames (`lost_truth` = 1), their runs, and what the estimate held there
   (its scale against the truth's, its centre's distance from the truth's);
 - for each candidate check (floors on the eq. 17 confidences; the fit residual J_l against
-  its own running reference), the silent frames it would have caught and the frames it would
+  its own running reference; the estimate's scale jumping over three frames), the silent
+  frames it would have caught and the frames it would
   have turned into false alarms (status not `tracking` with the estimate within the truth's
   tolerance), on the weather grid and on the library.
 
@@ -119,6 +120,24 @@ def residual_ratio(ratio, gain=0.05, warm_up=5):
     return check
 
 
+def scale_jump(log_ratio, frames=3):
+    """The estimate's scale changed by more than `log_ratio` (natural log) over `frames`
+    frames: a range that jumps faster than the lead and the chase move apart or together."""
+
+    def check(rows):
+        flags = []
+        for k, r in enumerate(rows):
+            if k < frames:
+                flags.append(False)
+                continue
+            now, before = number(r["est_scale"]), number(rows[k - frames]["est_scale"])
+            ok = now > 0 and before > 0 and math.isfinite(now) and math.isfinite(before)
+            flags.append(ok and abs(math.log(now / before)) > log_ratio)
+        return flags
+
+    return check
+
+
 def weigh(runs, check):
     """Silent frames caught, and frames made false alarms (with their runs), by `check`."""
     caught = alarms = alarm_runs = 0
@@ -171,6 +190,8 @@ def main():
     silent_library = describe("the library, both modes", library)
     checks = [(f"confidence x or scale < {f}", confidence_floor(f)) for f in (0.8, 1.0, 1.2)]
     checks += [(f"J_l > {k} x its reference", residual_ratio(k)) for k in (4, 6, 10)]
+    checks += [(f"scale changed by more than {j} (log) over 3 frames", scale_jump(j))
+               for j in (0.1, 0.2, 0.3)]
     print("\n| check | grid: silent caught | grid: new false alarms (runs) "
           "| library: silent caught | library: new false alarms (runs) |")
     print("|---|---|---|---|---|")
