@@ -274,56 +274,34 @@ fn asams_quality_checker_finds_no_issue() {
     assert_eq!(said.matches("checkers of").count(), files.len(), "{said}");
 }
 
-/// Speed and standstill triggers go out as `SpeedCondition` and `StandStillCondition` of the
-/// vehicle they watch, and come back as they were: the round trip runs bit for bit.
-#[test]
-fn speed_and_standstill_triggers_round_trip_exactly() {
+/// `cut-in.toml` with `from` (which it must hold) made `to`, the lead's events
+/// `lead_events` appended and its target named by its full path, exported with
+/// `--set duration_s=SECONDS` and imported back: the `.xosc` written, and `frames.csv` of
+/// the original run for that long and of the imported scenario.
+fn round_trip(from: &str, to: &str, lead_events: &str, seconds: &str) -> [String; 3] {
     let dir = tempfile::tempdir().unwrap();
     let text = std::fs::read_to_string(scenarios().join("cut-in.toml")).unwrap();
-    let van_event = "trigger = { gap_m = 12.0, to = \"chase\" }\naction = { lane = 1, duration_s = 2.5, shape = \"sinusoidal\" }\n";
-    assert!(text.contains(van_event));
+    assert!(text.contains(from));
     let targets = scenarios().join("targets/");
     let text = text
-        .replace(
-            van_event,
-            "trigger = { speed_mps = 5.0, of = \"lead\" }\naction = { speed_mps = 6.0, rate_mps2 = 2.0 }\n\n\
-             [[actors.events]]\nname = \"halt\"\ntrigger = { standstill_s = 2.0, of = \"lead\", delay_s = 0.5 }\n\
-             action = { stop = true, decel_mps2 = 3.0 }\n",
-        )
+        .replace(from, to)
         .replace("\"targets/", &format!("\"{}", targets.to_str().unwrap()))
-        + "\n[[lead.events]]\nname = \"brake\"\ntrigger = { time_s = 2.0 }\n\
-           action = { stop = true, decel_mps2 = 4.0 }\n\n\
-           [[lead.events]]\nname = \"creep\"\ntrigger = { standstill_s = 3.0 }\n\
-           action = { speed_mps = 3.0, rate_mps2 = 1.0 }\n\n\
-           [[lead.events]]\nname = \"hurry\"\ntrigger = { speed_mps = 12.0, rule = \"greater\", of = \"van\" }\n\
-           action = { speed_mps = 4.0, rate_mps2 = 1.0 }\n";
-    let original = dir.path().join("watching.toml");
+        + lead_events;
+    let original = dir.path().join("original.toml");
     std::fs::write(&original, text).unwrap();
-    let set = ["--set", "duration_s=12"];
     let export = dir.path().join("export");
-    let o = carfollow(
-        &[
-            &[
-                "export",
-                original.to_str().unwrap(),
-                "-o",
-                export.to_str().unwrap(),
-            ][..],
-            &set,
-        ]
-        .concat(),
-    );
+    let duration = format!("duration_s={seconds}");
+    let o = carfollow(&[
+        "export",
+        original.to_str().unwrap(),
+        "-o",
+        export.to_str().unwrap(),
+        "--set",
+        &duration,
+    ]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let xosc = export.join("cut-in.xosc");
     let written = std::fs::read_to_string(&xosc).unwrap();
-    for expected in [
-        "<SpeedCondition value=\"5\" rule=\"lessThan\"/>",
-        "<StandStillCondition duration=\"2\"/>",
-        "<StandStillCondition duration=\"3\"/>",
-        "rule=\"greaterThan\"",
-    ] {
-        assert!(written.contains(expected), "{expected} not in:\n{written}");
-    }
     let toml = dir.path().join("imported/cut-in.toml");
     let o = carfollow(&[
         "import",
@@ -332,8 +310,36 @@ fn speed_and_standstill_triggers_round_trip_exactly() {
         toml.to_str().unwrap(),
     ]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    let before = frames(&original, &dir.path().join("original"), &["duration_s=12"]);
+    let before = frames(&original, &dir.path().join("original"), &[&duration]);
     let after = frames(&toml, &dir.path().join("round-trip"), &[]);
+    [written, before, after]
+}
+
+/// Speed and standstill triggers go out as `SpeedCondition` and `StandStillCondition` of the
+/// vehicle they watch, and come back as they were: the round trip runs bit for bit.
+#[test]
+fn speed_and_standstill_triggers_round_trip_exactly() {
+    let [written, before, after] = round_trip(
+        "trigger = { gap_m = 12.0, to = \"chase\" }\naction = { lane = 1, duration_s = 2.5, shape = \"sinusoidal\" }\n",
+        "trigger = { speed_mps = 5.0, of = \"lead\" }\naction = { speed_mps = 6.0, rate_mps2 = 2.0 }\n\n\
+         [[actors.events]]\nname = \"halt\"\ntrigger = { standstill_s = 2.0, of = \"lead\", delay_s = 0.5 }\n\
+         action = { stop = true, decel_mps2 = 3.0 }\n",
+        "\n[[lead.events]]\nname = \"brake\"\ntrigger = { time_s = 2.0 }\n\
+         action = { stop = true, decel_mps2 = 4.0 }\n\n\
+         [[lead.events]]\nname = \"creep\"\ntrigger = { standstill_s = 3.0 }\n\
+         action = { speed_mps = 3.0, rate_mps2 = 1.0 }\n\n\
+         [[lead.events]]\nname = \"hurry\"\ntrigger = { speed_mps = 12.0, rule = \"greater\", of = \"van\" }\n\
+         action = { speed_mps = 4.0, rate_mps2 = 1.0 }\n",
+        "12",
+    );
+    for expected in [
+        "<SpeedCondition value=\"5\" rule=\"lessThan\"/>",
+        "<StandStillCondition duration=\"2\"/>",
+        "<StandStillCondition duration=\"3\"/>",
+        "rule=\"greaterThan\"",
+    ] {
+        assert!(written.contains(expected), "{expected} not in:\n{written}");
+    }
     assert!(before.contains("van/halt:started") && before.contains("lead/creep:started"));
     assert!(before == after, "frames.csv of the round trip differs");
 }
@@ -345,40 +351,20 @@ fn speed_and_standstill_triggers_round_trip_exactly() {
 /// bit.
 #[test]
 fn triggers_of_several_conditions_round_trip_exactly() {
-    let dir = tempfile::tempdir().unwrap();
-    let text = std::fs::read_to_string(scenarios().join("cut-in.toml")).unwrap();
-    let van_trigger = "trigger = { gap_m = 12.0, to = \"chase\" }\n";
-    assert!(text.contains(van_trigger));
-    let targets = scenarios().join("targets/");
-    let text = text
-        .replace(
-            van_trigger,
-            "trigger = { all = [{ any = [{ gap_m = 12.0, to = \"chase\" }, { time_s = 25.0 }] }, \
-             { time_s = 4.0, delay_s = 1.5 }] }\n",
-        )
-        .replace("\"targets/", &format!("\"{}", targets.to_str().unwrap()))
-        + "\n[[lead.events]]\nname = \"brake\"\n\
-           trigger = { any = [{ time_s = 9.0 }, { distance_m = 2000.0 }] }\n\
-           action = { speed_mps = 11.0, rate_mps2 = 1.0 }\n\n\
-           [[lead.events]]\nname = \"edge\"\ntrigger = { time_s = 3.0 }\n\
-           action = { offset_m = 0.4, lateral_accel_mps2 = 0.3, shape = \"sinusoidal\" }\n\n\
-           [[lead.events]]\nname = \"wave\"\ntrigger = { time_s = 11.0 }\n\
-           action = { profile = [{ speed_mps = 9.0, rate_mps2 = 1.5 }, \
-           { speed_mps = 10.0, duration_s = 1.0 }, { speed_mps = 8.0, rate_mps2 = 2.0 }] }\n";
-    let original = dir.path().join("groups.toml");
-    std::fs::write(&original, text).unwrap();
-    let export = dir.path().join("export");
-    let o = carfollow(&[
-        "export",
-        original.to_str().unwrap(),
-        "-o",
-        export.to_str().unwrap(),
-        "--set",
-        "duration_s=16",
-    ]);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    let xosc = export.join("cut-in.xosc");
-    let written = std::fs::read_to_string(&xosc).unwrap();
+    let [written, before, after] = round_trip(
+        "trigger = { gap_m = 12.0, to = \"chase\" }\n",
+        "trigger = { all = [{ any = [{ gap_m = 12.0, to = \"chase\" }, { time_s = 25.0 }] }, \
+         { time_s = 4.0, delay_s = 1.5 }] }\n",
+        "\n[[lead.events]]\nname = \"brake\"\n\
+         trigger = { any = [{ time_s = 9.0 }, { distance_m = 2000.0 }] }\n\
+         action = { speed_mps = 11.0, rate_mps2 = 1.0 }\n\n\
+         [[lead.events]]\nname = \"edge\"\ntrigger = { time_s = 3.0 }\n\
+         action = { offset_m = 0.4, lateral_accel_mps2 = 0.3, shape = \"sinusoidal\" }\n\n\
+         [[lead.events]]\nname = \"wave\"\ntrigger = { time_s = 11.0 }\n\
+         action = { profile = [{ speed_mps = 9.0, rate_mps2 = 1.5 }, \
+         { speed_mps = 10.0, duration_s = 1.0 }, { speed_mps = 8.0, rate_mps2 = 2.0 }] }\n",
+        "16",
+    );
     for expected in [
         "name=\"cut-in-1-1\"",
         "name=\"cut-in-2-2\" delay=\"1.5\"",
@@ -389,16 +375,6 @@ fn triggers_of_several_conditions_round_trip_exactly() {
         assert!(written.contains(expected), "{expected} not in:\n{written}");
     }
     assert!(!written.contains("name=\"cut-in-3-1\""), "{written}");
-    let toml = dir.path().join("imported/cut-in.toml");
-    let o = carfollow(&[
-        "import",
-        xosc.to_str().unwrap(),
-        "-o",
-        toml.to_str().unwrap(),
-    ]);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    let before = frames(&original, &dir.path().join("original"), &["duration_s=16"]);
-    let after = frames(&toml, &dir.path().join("round-trip"), &[]);
     assert!(
         before.contains("van/cut-in:started")
             && before.contains("lead/brake:started")

@@ -43,6 +43,51 @@ fn frames_of(scenario: &Path, out: &Path, extra: &[&str]) -> String {
     std::fs::read_to_string(out.join("frames.csv")).unwrap()
 }
 
+/// `carfollow import FILE -o TOML`, which must succeed, and the scenario text it wrote.
+fn import_to(file: &Path, toml: &Path) -> String {
+    let o = carfollow(&[
+        "import",
+        file.to_str().unwrap(),
+        "-o",
+        toml.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    std::fs::read_to_string(toml).unwrap()
+}
+
+/// A run's `frames.csv`, its rows read by column name.
+struct Frames {
+    header: Vec<String>,
+    rows: Vec<Vec<String>>,
+}
+
+impl Frames {
+    fn parse(csv: &str) -> Frames {
+        let split = |l: &str| l.split(',').map(String::from).collect::<Vec<_>>();
+        let mut lines = csv.lines();
+        Frames {
+            header: split(lines.next().unwrap()),
+            rows: lines.map(split).collect(),
+        }
+    }
+
+    /// Column `name` of row `r`, a number.
+    fn num(&self, r: &[String], name: &str) -> f64 {
+        let col = self.header.iter().position(|c| c == name).unwrap();
+        r[col].parse().unwrap()
+    }
+
+    /// The time of the first frame whose `event` column holds `event`
+    /// (`vehicle/name:started`).
+    fn logged(&self, event: &str) -> Option<f64> {
+        let col = self.header.iter().position(|c| c == "event").unwrap();
+        self.rows
+            .iter()
+            .find(|r| r[col].contains(event))
+            .map(|r| self.num(r, "t_s"))
+    }
+}
+
 /// A copy of the test files in a temporary folder, with `cut-in.xosc`'s text changed by
 /// `edit` and written as `mutant.xosc`.
 fn mutant(edit: impl Fn(&str) -> String) -> (tempfile::TempDir, PathBuf) {
@@ -415,14 +460,7 @@ fn speed_and_standstill_conditions_are_imported_and_fire_as_written() {
     let dir = tempfile::tempdir().unwrap();
     let file = data().join("speed-standstill.xosc");
     let toml = dir.path().join("speed-standstill.toml");
-    let o = carfollow(&[
-        "import",
-        file.to_str().unwrap(),
-        "-o",
-        toml.to_str().unwrap(),
-    ]);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    let text = std::fs::read_to_string(&toml).unwrap();
+    let text = import_to(&file, &toml);
     for expected in [
         "speed_mps = 5.0\nof = \"lead\"\nrule = \"less\"",
         "standstill_s = 2.0\nof = \"lead\"\ndelay_s = 0.5",
@@ -436,14 +474,12 @@ fn speed_and_standstill_conditions_are_imported_and_fire_as_written() {
         csv == run(&toml, "toml"),
         "the imported scenario runs differently"
     );
-    let mut lines = csv.lines();
-    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
-    let col = |name: &str| header.iter().position(|c| *c == name).unwrap();
-    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
-    let num = |r: &Vec<&str>, c: &str| r[col(c)].parse::<f64>().unwrap();
+    let frames = Frames::parse(&csv);
+    let (rows, num) = (&frames.rows, |r: &[String], c: &str| frames.num(r, c));
     let at = |event: &str| {
-        let r = rows.iter().find(|r| r[col("event")].contains(event));
-        num(r.unwrap_or_else(|| panic!("{event} not logged")), "t_s")
+        frames
+            .logged(event)
+            .unwrap_or_else(|| panic!("{event} not logged"))
     };
     // The van slows at the step the lead's speed falls to 5 m/s (logged a frame later).
     let slow = rows
@@ -517,14 +553,7 @@ fn reach_position_relative_speed_and_equal_to_are_imported_and_fire_as_written()
     let dir = tempfile::tempdir().unwrap();
     let (file, text) = reach_relative(dir.path(), |t| t.to_string());
     let toml = dir.path().join("rr.toml");
-    let o = carfollow(&[
-        "import",
-        file.to_str().unwrap(),
-        "-o",
-        toml.to_str().unwrap(),
-    ]);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    let written = std::fs::read_to_string(&toml).unwrap();
+    let written = import_to(&file, &toml);
     for expected in [
         "[lead.events.trigger.reach]\nstation_m = 150.0\nlane = 1\ntolerance_m = 1.5\n",
         "time_s = 12.0\nrule = \"equal\"",
@@ -729,14 +758,7 @@ fn condition_groups_and_several_triggering_entities_fire_as_written() {
     let dir = tempfile::tempdir().unwrap();
     let file = data().join("condition-groups.xosc");
     let toml = dir.path().join("groups.toml");
-    let o = carfollow(&[
-        "import",
-        file.to_str().unwrap(),
-        "-o",
-        toml.to_str().unwrap(),
-    ]);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    let text = std::fs::read_to_string(&toml).unwrap();
+    let text = import_to(&file, &toml);
     for expected in [
         "[[lead.events.trigger.any]]",
         "delay_s = 2.0",
@@ -749,85 +771,68 @@ fn condition_groups_and_several_triggering_entities_fire_as_written() {
     }
     let run = |out: &str, param: &[&str]| {
         let csv = frames_of(&file, &dir.path().join(out), param);
-        let mut lines = csv.lines();
-        let header: Vec<String> = lines.next().unwrap().split(',').map(String::from).collect();
-        let rows: Vec<Vec<String>> = lines
-            .map(|l| l.split(',').map(String::from).collect())
-            .collect();
-        (csv, header, rows)
+        (Frames::parse(&csv), csv)
     };
-    let (csv, header, rows) = run("xosc", &[]);
+    let (frames, csv) = run("xosc", &[]);
     assert!(
         csv == frames_of(&toml, &dir.path().join("toml"), &[]),
         "the imported scenario runs differently"
     );
-    let col = |name: &str| header.iter().position(|c| c == name).unwrap();
-    let num = |r: &Vec<String>, c: &str| r[col(c)].parse::<f64>().unwrap();
-    let started = |rows: &[Vec<String>], event: &str| {
-        rows.iter()
-            .find(|r| r[col("event")].contains(&format!("{event}:started")))
-            .map(|r| num(r, "t_s"))
-    };
+    let started = |f: &Frames, event: &str| f.logged(&format!("{event}:started"));
     let frame = 1.0 / 15.0 + 1e-9;
     // The second group: 3 s, delayed 2 s, and the ego at about 13.9 m/s.
-    let brake = started(&rows, "lead/brake").expect("the lead brakes");
+    let brake = started(&frames, "lead/brake").expect("the lead brakes");
     assert!((brake - 5.0).abs() <= frame, "{brake}");
     // Both below 12 m/s: the van slows at the first frame they are (or the one before),
     // later than the lead alone falls below it.
+    let below = |f: &Frames, r: &[String], speed: &str| f.num(r, speed) < 12.0;
     let both =
-        |r: &Vec<String>| num(r, "lead_speed_mps") < 12.0 && num(r, "chase_speed_mps") < 12.0;
+        |f: &Frames, r: &[String]| below(f, r, "lead_speed_mps") && below(f, r, "chase_speed_mps");
     let either =
-        |r: &Vec<String>| num(r, "lead_speed_mps") < 12.0 || num(r, "chase_speed_mps") < 12.0;
-    let logged_at = |rows: &[Vec<String>], when: &dyn Fn(&Vec<String>) -> bool| {
-        let k = rows
+        |f: &Frames, r: &[String]| below(f, r, "lead_speed_mps") || below(f, r, "chase_speed_mps");
+    let logged_at = |f: &Frames, when: &dyn Fn(&Frames, &[String]) -> bool| {
+        let k = f
+            .rows
             .iter()
-            .position(when)
+            .position(|r| when(f, r))
             .expect("the speeds fall below 12 m/s");
-        let slow = started(rows, "Cutter/slow").expect("the van slows");
+        let slow = started(f, "Cutter/slow").expect("the van slows");
         assert!(
-            slow == num(&rows[k], "t_s") || slow == num(&rows[k - 1], "t_s"),
+            slow == f.num(&f.rows[k], "t_s") || slow == f.num(&f.rows[k - 1], "t_s"),
             "slow at {slow}, the condition from {}",
-            num(&rows[k], "t_s")
+            f.num(&f.rows[k], "t_s")
         );
         slow
     };
-    let all_at = logged_at(&rows, &both);
+    let all_at = logged_at(&frames, &both);
     // A group holds only when every condition does: an ego never that fast, no braking.
-    let (_, _, never) = run("fast", &["--param", "EgoFast=30"]);
+    let (never, _) = run("fast", &["--param", "EgoFast=30"]);
     assert_eq!(started(&never, "lead/brake"), None);
     // A trigger holds when any group does: the first group at 2 s.
-    let (_, _, early) = run("early", &["--param", "LateBrake=2"]);
+    let (early, _) = run("early", &["--param", "LateBrake=2"]);
     let brake = started(&early, "lead/brake").unwrap();
     assert!((brake - 2.0).abs() <= frame, "{brake}");
     // Either entity, with rule any: as soon as the lead is below 12 m/s.
-    let (_, _, any) = run("any", &["--param", "Both=any"]);
+    let (any, _) = run("any", &["--param", "Both=any"]);
     let any_at = logged_at(&any, &either);
     assert!(any_at < all_at, "any at {any_at}, all at {all_at}");
     // The van's drift, 0.6 m at a peak of 0.5 m/s² (π √(0.6 / 1) s), then back 1 s later.
-    let drift = started(&rows, "Cutter/drift").unwrap();
+    let drift = started(&frames, "Cutter/drift").unwrap();
     assert!((drift - 1.0).abs() <= frame, "{drift}");
-    let ended = rows
-        .iter()
-        .find(|r| r[col("event")].contains("Cutter/drift:ended"))
-        .map(|r| num(r, "t_s"))
-        .unwrap();
+    let ended = frames.logged("Cutter/drift:ended").unwrap();
     let lasts = std::f64::consts::PI * 0.6_f64.sqrt();
     assert!(
         (ended - drift - lasts).abs() <= 2.0 * frame,
         "{drift} to {ended}"
     );
-    let back = started(&rows, "Cutter/recentre").unwrap();
+    let back = started(&frames, "Cutter/recentre").unwrap();
     assert!(
         (back - ended - 1.0).abs() <= 2.0 * frame,
         "{ended} to {back}"
     );
     // The van's profile from 10 s: 1 s, 0.5 s, then 8 to 6 m/s at the 2 m/s² deceleration.
-    let cruise = started(&rows, "Cutter/cruise").unwrap();
-    let done = rows
-        .iter()
-        .find(|r| r[col("event")].contains("Cutter/cruise:ended"))
-        .map(|r| num(r, "t_s"))
-        .unwrap();
+    let cruise = started(&frames, "Cutter/cruise").unwrap();
+    let done = frames.logged("Cutter/cruise:ended").unwrap();
     assert!((cruise - 10.0).abs() <= frame, "{cruise}");
     assert!((done - cruise - 2.5).abs() <= frame, "{cruise} to {done}");
     let o = carfollow(&[

@@ -126,8 +126,6 @@ struct EventState {
     /// What its trigger watches, in the shape of the trigger.
     watch: Watch,
     phase: Phase,
-    /// Whether its action has ended at least once.
-    ended: bool,
 }
 
 /// The run-time state of one trigger (an event's, or a member of an `all` or `any`), with
@@ -369,6 +367,8 @@ impl Motion {
 #[derive(Clone, Debug)]
 pub struct Events {
     events: Vec<EventState>,
+    /// Whether each event's action has ended at least once (what `after` waits for).
+    ended: Vec<bool>,
     lanes: Lanes,
     /// The vehicle's station at the first step, m (distance triggers count from it).
     start_station_m: Option<f64>,
@@ -432,10 +432,10 @@ impl Events {
                 event,
                 watch,
                 phase: Phase::Armed,
-                ended: false,
             });
         }
         Ok(Events {
+            ended: vec![false; events.len()],
             events,
             lanes,
             start_station_m: None,
@@ -484,14 +484,13 @@ impl Events {
             return fired;
         };
         let start_station_m = *self.start_station_m.get_or_insert(mine.station_m);
-        let ended: Vec<bool> = self.events.iter().map(|e| e.ended).collect();
         let c = Now {
             now,
             view,
             mine,
             start_station_m,
             lanes: self.lanes,
-            ended: &ended,
+            ended: &self.ended,
         };
         for e in &mut self.events {
             let trigger = &e.event.trigger;
@@ -535,7 +534,7 @@ impl Events {
                 }
                 motion.running = false;
                 let event = motion.event;
-                Self::end(&mut self.events, event, now, &mut fired);
+                Self::end(&mut self.events, &mut self.ended, event, now, &mut fired);
             }
         }
         self.speed_now = self.speed.map(|m| {
@@ -607,7 +606,7 @@ impl Events {
         if let Some(old) = slot.as_mut().filter(|m| m.running) {
             old.running = false;
             let event = old.event;
-            Self::end(&mut self.events, event, now, fired);
+            Self::end(&mut self.events, &mut self.ended, event, now, fired);
         }
         *slot = Some(Motion {
             event: i,
@@ -629,9 +628,15 @@ impl Events {
     }
 
     /// Ends event `i`'s action at `now`: waiting again if it repeats, done if not.
-    fn end(events: &mut [EventState], i: usize, now: Step, fired: &mut Vec<Fired>) {
+    fn end(
+        events: &mut [EventState],
+        ended: &mut [bool],
+        i: usize,
+        now: Step,
+        fired: &mut Vec<Fired>,
+    ) {
+        ended[i] = true;
         let e = &mut events[i];
-        e.ended = true;
         e.phase = if e.event.repeat {
             Phase::Armed
         } else {

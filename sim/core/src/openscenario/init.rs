@@ -398,7 +398,6 @@ fn world_position(
     warnings: &mut Vec<String>,
 ) -> Result<Placed, OscError> {
     let (s_m, lane, offset, turned) = world_point(xml, road, p)?;
-    let s_m = check_s(xml, p, s_m)?;
     if offset.abs() > LANE_CENTRE_TOLERANCE_M || turned.abs() > HEADING_TOLERANCE_RAD {
         warnings.push(format!(
             "line {}: <WorldPosition> is {:.2} m {} lane {lane}'s centre (lane {}) and turned {:.1}° from the road: carfollow starts the vehicle on the centre at s = {s_m:.2} m, along the road",
