@@ -279,11 +279,13 @@ fn a_chase_with_nothing_placed_cruises_and_acquires_the_vehicle_in_its_lane() {
             .iter()
             .position(|r| r["status"] == "tracking")
             .expect("the lead is acquired");
-        // Cruising up to the set speed (50 km/h) until then, following after.
+        // Cruising up to the set speed (50 km/h) until then, following once the range
+        // filters have measured the lead (six estimates, the sixth through the delay line).
         let speed: f64 = rows[acquired]["chase_speed_mps"].parse().unwrap();
         assert!((speed - 13.9).abs() < 0.5, "{mode}: {speed} m/s");
         assert_eq!(rows[acquired]["tracked_vehicle"], "lead", "{mode}");
-        assert!(rows[acquired + 3..]
+        assert_eq!(rows[acquired + 4]["chase_mode"], "cruising", "{mode}");
+        assert!(rows[acquired + 8..]
             .iter()
             .all(|r| r["chase_mode"] != "cruising"));
         // Never the van passing in the next lane.

@@ -45,6 +45,7 @@
 //!   own rotation between frames, from its gyro, moves the prediction before the window is
 //!   placed, so bumps and braking pitch are anticipated rather than chased.
 
+use crate::camera::Camera;
 use crate::edges::Edges;
 use crate::gray::GrayView;
 use crate::model::{Feature, Orientation};
@@ -175,9 +176,30 @@ pub const SEARCH_SCALE_STEP: f64 = 1.08;
 pub const SEARCH_STEP_PX: usize = 3;
 /// Candidates of the coarse search refined at full resolution.
 pub const SEARCH_REFINE: usize = 6;
-/// The smallest and largest scales of a whole-image search: the target from 2.5 times to
-/// 0.4 times its nominal range.
+/// The smallest and largest scales of a whole-image search through the reference lens
+/// ([`ACQUIRE_REFERENCE_FOCAL_PX`]): the target from 2.5 times to 0.4 times its nominal
+/// range. Through another lens the search covers the same image sizes
+/// ([`acquire_scales`]).
 pub const ACQUIRE_SCALES: [f64; 2] = [0.4, 2.5];
+
+/// The focal length, pixels, for which [`ACQUIRE_SCALES`] are given: the default camera's
+/// (an 8 mm lens on 25 µm pixels, `Camera::default`).
+pub const ACQUIRE_REFERENCE_FOCAL_PX: f64 = 320.0;
+
+/// The smallest and largest scales of a whole-image search through `camera`: those whose
+/// image of the target is as large as [`ACQUIRE_SCALES`] give through the reference lens.
+///
+/// What bounds a search is the target's size in pixels: below it, its parallel features
+/// merge in stage 1 (2.3) and the chamfer match has too few samples to tell a target from
+/// clutter; above it, the target hardly fits the frame. A scale is the image's size over
+/// its size at nominal range through the camera in use (2.1.1), so a lens twice as long
+/// searches half the scales, the target from 0.8 to 5 times its nominal range: a 16 mm
+/// lens finds a target of 10 m nominal range from 8 m out to 50 m, as an 8 mm lens does
+/// from 4 to 25 m. Through the reference lens, exactly [`ACQUIRE_SCALES`].
+pub fn acquire_scales(camera: &Camera) -> [f64; 2] {
+    let ratio = ACQUIRE_REFERENCE_FOCAL_PX / camera.focal_px()[0];
+    [ACQUIRE_SCALES[0] * ratio, ACQUIRE_SCALES[1] * ratio]
+}
 
 /// Estimates the standard deviation of the image noise inside a window, grey levels.
 #[derive(Clone, Debug, Default)]
@@ -514,5 +536,20 @@ mod tests {
         assert!((search_threshold(8.0, 7.0) - 9.205).abs() < 1e-9);
         assert_eq!(noise_raised_threshold(8.0, 0.0), 8.0);
         assert!((noise_raised_threshold(8.0, 10.0) - 10.6).abs() < 1e-9);
+    }
+
+    #[test]
+    fn a_search_covers_the_same_image_sizes_through_any_lens() {
+        let reference = Camera::default();
+        assert_eq!(acquire_scales(&reference), ACQUIRE_SCALES);
+        let long = Camera {
+            focal_length_mm: 16.0,
+            ..reference
+        };
+        assert_eq!(acquire_scales(&long), [0.2, 1.25]);
+        // The target's image at the smallest scale is as wide through either lens.
+        let width_px = |c: &Camera, scale: f64| c.focal_px()[0] * scale;
+        let [a, b] = [reference, long].map(|c| width_px(&c, acquire_scales(&c)[0]));
+        assert!((a - b).abs() < 1e-9, "{a} vs {b}");
     }
 }

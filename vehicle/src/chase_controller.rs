@@ -208,6 +208,16 @@ const RANGE_GATE_ACCEPT_AFTER: u32 = 3;
 /// fully from 25 m/s for a lead driving steadily on.)
 const CLOSING_CONFIRM_MS: f64 = 200.0;
 
+/// How many tracked estimates of a target the range filters take, once nothing is being
+/// followed (after a loss, a target that left the lane, or cruising from the start), before
+/// they give its range and speed and the chase resumes following it: 10, two thirds of a
+/// second at the paper's 15 Hz. The speed is the slope of a least-squares line through them
+/// (`RangeFilter::reset_measuring`); with ranges of noise σ at 15 Hz its error is 1.65 σ
+/// per second (the least-squares slope's standard deviation, σ / √(Σ (t − t̄)²)), about
+/// 1.6 m/s for a 16 mm lens's target 30 m out. Until then the chase goes on stopping or
+/// cruising.
+pub(crate) const RESUME_MEASUREMENTS: usize = 6;
+
 impl Default for ChaseControllerConfig {
     fn default() -> Self {
         ChaseControllerConfig {
@@ -403,20 +413,8 @@ impl ChaseController {
             history: PoseHistory::new(steps_from_ms(config.pose_history_ms) as usize),
             pending: Vec::new(),
             trail: BreadcrumbTrail::new(config.breadcrumb_spacing_m, config.max_breadcrumbs),
-            range: RangeFilter::gated(
-                Gains::TrackingIndex {
-                    index_at_reference: config.range_tracking_index,
-                    reference_m: REFERENCE_RANGE_M,
-                },
-                gate,
-            ),
-            alarm_range: RangeFilter::gated(
-                Gains::TrackingIndex {
-                    index_at_reference: config.alarm_tracking_index,
-                    reference_m: REFERENCE_RANGE_M,
-                },
-                gate,
-            ),
+            range: Self::range_filter(config.range_tracking_index, gate, mode),
+            alarm_range: Self::range_filter(config.alarm_tracking_index, gate, mode),
             gap_keeper,
             speed: SpeedController::new(params, config.speed_gains),
             timeout_steps: steps_from_ms(config.estimate_timeout_ms),
@@ -444,6 +442,22 @@ impl ChaseController {
             },
             config,
         })
+    }
+
+    /// A range filter of tracking index `index` at [`REFERENCE_RANGE_M`] behind `gate`, for
+    /// a controller starting in `mode`: following, its first measurement is the lead's
+    /// range at the chase's speed (a scenario's lead starts so); else it measures first
+    /// ([`RESUME_MEASUREMENTS`]).
+    fn range_filter(index: f32, gate: RangeGate, mode: ChaseMode) -> RangeFilter {
+        let gains = Gains::TrackingIndex {
+            index_at_reference: index,
+            reference_m: REFERENCE_RANGE_M,
+        };
+        let mut filter = RangeFilter::gated(gains, gate);
+        if mode != ChaseMode::Following {
+            filter.reset_measuring(RESUME_MEASUREMENTS);
+        }
+        filter
     }
 
     /// Hands over an estimate that has just come out of the delay line. It is used at the
@@ -555,6 +569,11 @@ impl ChaseController {
         for estimate in pending {
             self.last_arrival = Some(now);
             self.last_status = Some(estimate.status);
+            if estimate.status == TrackStatus::Lost {
+                // Measurements taken towards a new target's first estimate are of it alone.
+                self.range.restart_measuring();
+                self.alarm_range.restart_measuring();
+            }
             if self.stops_on(estimate.status) {
                 continue;
             }
@@ -581,9 +600,15 @@ impl ChaseController {
             let position_world_m = world_from_chase.transform_point(in_vehicle);
             let chase_m = world_from_chase.translation;
             let verdict = self.judge_target(now, &estimate, chase_m, position_world_m, speed_mps);
+            // A filter measuring a new target takes tracked estimates only, not predictions.
+            let measured = estimate.status == TrackStatus::Tracking;
             if verdict != lane_keeping::Verdict::Ignore {
-                self.range.update(captured_s, gap, own);
-                self.alarm_range.update(captured_s, gap, own);
+                if measured || !self.range.is_measuring() {
+                    self.range.update(captured_s, gap, own);
+                }
+                if measured || !self.alarm_range.is_measuring() {
+                    self.alarm_range.update(captured_s, gap, own);
+                }
             }
             self.trail.drop_crumb(Breadcrumb {
                 capture_step: estimate.capture_step,

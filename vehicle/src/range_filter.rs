@@ -18,6 +18,12 @@ pub struct RangeFilter {
     state: Option<RangeState>,
     /// Measurements rejected in a row by the gate.
     rejected_in_a_row: u32,
+    /// After [`RangeFilter::reset_measuring`]: how many measurements its first estimate
+    /// is fitted to (0: the first measurement is the first estimate).
+    measure_first: usize,
+    /// The measurements so far towards that first estimate: capture time, s; where the
+    /// lead was along the way (own travel plus range), m; the chase's own motion.
+    first: Vec<(f64, f64, OwnMotion)>,
 }
 
 /// How the filter weighs a new measurement.
@@ -155,14 +161,22 @@ impl RangeFilter {
             gate,
             state: None,
             rejected_in_a_row: 0,
+            measure_first: 0,
+            first: Vec::new(),
         }
     }
 
     /// Folds in the range `range_m` measured at `time_s`, when the chase vehicle's own
     /// motion was `own`; returns the new estimate. The first measurement takes the lead's
-    /// speed to be the chase vehicle's. Measurements not later than the last are ignored, and
-    /// so are those the gate refuses.
-    pub fn update(&mut self, time_s: f64, range_m: f32, own: OwnMotion) -> RangeState {
+    /// speed to be the chase vehicle's, unless the filter measures first
+    /// ([`RangeFilter::reset_measuring`]): then there is no estimate until the measurements
+    /// it asked for are in. Measurements not later than the last are ignored, and so are
+    /// those the gate refuses.
+    pub fn update(&mut self, time_s: f64, range_m: f32, own: OwnMotion) -> Option<RangeState> {
+        if self.state.is_none() && self.measure_first > 0 {
+            self.state = self.measure(time_s, range_m, own);
+            return self.state;
+        }
         let next = match self.state {
             None => RangeState {
                 time_s,
@@ -179,7 +193,7 @@ impl RangeFilter {
                     && self.rejected_in_a_row < self.gate.accept_after
                 {
                     self.rejected_in_a_row += 1;
-                    return s;
+                    return Some(s);
                 }
                 self.rejected_in_a_row = 0;
                 let (alpha, beta) = self.gains.at(predicted);
@@ -192,7 +206,52 @@ impl RangeFilter {
             }
         };
         self.state = Some(next);
-        next
+        Some(next)
+    }
+
+    /// One measurement towards the first estimate after [`RangeFilter::reset_measuring`]:
+    /// once they are all in, the estimate at the last, from the least-squares line through
+    /// where the lead was along the way against time (its slope the lead's speed).
+    fn measure(&mut self, time_s: f64, range_m: f32, own: OwnMotion) -> Option<RangeState> {
+        if self.first.last().is_some_and(|&(t, _, _)| time_s <= t) {
+            return None;
+        }
+        let along_m = f64::from(own.travel_m) + f64::from(range_m);
+        self.first.push((time_s, along_m, own));
+        if self.first.len() < self.measure_first {
+            return None;
+        }
+        let n = self.first.len() as f64;
+        let t_mean = self.first.iter().map(|m| m.0).sum::<f64>() / n;
+        let p_mean = self.first.iter().map(|m| m.1).sum::<f64>() / n;
+        let (mut stt, mut stp) = (0.0, 0.0);
+        for &(t, p, _) in &self.first {
+            stt += (t - t_mean) * (t - t_mean);
+            stp += (t - t_mean) * (p - p_mean);
+        }
+        let speed = stp / stt;
+        let along_now = p_mean + speed * (time_s - t_mean);
+        self.first.clear();
+        Some(RangeState {
+            time_s,
+            range_m: (along_now - f64::from(own.travel_m)) as f32,
+            lead_speed_mps: speed as f32,
+            own,
+        })
+    }
+
+    /// Whether the filter is still taking the measurements for its first estimate
+    /// ([`RangeFilter::reset_measuring`]).
+    pub fn is_measuring(&self) -> bool {
+        self.state.is_none() && self.measure_first > 0
+    }
+
+    /// Drops the measurements taken so far towards the first estimate (the target they
+    /// were of is gone).
+    pub fn restart_measuring(&mut self) {
+        if self.is_measuring() {
+            self.first.clear();
+        }
     }
 
     /// The filter's gains.
@@ -209,6 +268,21 @@ impl RangeFilter {
     pub fn reset(&mut self) {
         self.state = None;
         self.rejected_in_a_row = 0;
+        self.measure_first = 0;
+        self.first.clear();
+    }
+
+    /// Forgets everything, and gives no estimate until `count` measurements (at least 2)
+    /// are in, then one fitted to them all: the lead's speed is the slope of the
+    /// least-squares line through where it was along the way against time. A target
+    /// acquired after a loss may move at any speed (a car standing in the lane, revealed
+    /// by a lead that cut out); the first measurement alone says nothing of it, and taking
+    /// it to move at the chase's speed, as a filter started behind a known lead does,
+    /// leaves the gap keeper closing on a standing car at full speed while the filter's
+    /// small gains at long range unlearn it.
+    pub fn reset_measuring(&mut self, count: usize) {
+        self.reset();
+        self.measure_first = count.max(2);
     }
 }
 
@@ -258,10 +332,10 @@ mod tests {
     #[test]
     fn tracks_a_constant_closing_rate() {
         let mut f = RangeFilter::new(0.6, 0.3);
-        let mut s = f.update(0.0, 20.0, STILL);
+        let mut s = f.update(0.0, 20.0, STILL).unwrap();
         for i in 1..60 {
             let t = f64::from(i) / 15.0;
-            s = f.update(t, 20.0 - 2.0 * t as f32, STILL);
+            s = f.update(t, 20.0 - 2.0 * t as f32, STILL).unwrap();
         }
         assert!((s.range_rate_mps() + 2.0).abs() < 0.01, "{s:?}");
     }
@@ -275,7 +349,9 @@ mod tests {
         for i in 1..30 {
             let t = f64::from(i) / 15.0;
             let own = accelerating(t);
-            let s = f.update(t, 12.0 + 8.0 * t as f32 - own.travel_m, own);
+            let s = f
+                .update(t, 12.0 + 8.0 * t as f32 - own.travel_m, own)
+                .unwrap();
             assert!((s.lead_speed_mps - 8.0).abs() < 1e-3, "at {t} s: {s:?}");
             assert!(
                 (s.range_rate_mps() + 1.5 * t as f32).abs() < 1e-3,
@@ -321,17 +397,56 @@ mod tests {
             f.update(f64::from(i) / 15.0, 14.0, STILL);
         }
         // One frame says 11.5 m: refused, the estimate stays.
-        let s = f.update(2.0, 11.5, STILL);
+        let s = f.update(2.0, 11.5, STILL).unwrap();
         assert_eq!((s.range_m, s.lead_speed_mps), (14.0, 0.0));
-        let s = f.update(2.0 + 1.0 / 15.0, 14.0, STILL);
+        let s = f.update(2.0 + 1.0 / 15.0, 14.0, STILL).unwrap();
         assert_eq!((s.range_m, s.lead_speed_mps), (14.0, 0.0));
         // Four frames in a row say 11.5 m: the fourth is taken.
         for k in 2..5 {
-            let s = f.update(2.0 + f64::from(k) / 15.0, 11.5, STILL);
+            let s = f.update(2.0 + f64::from(k) / 15.0, 11.5, STILL).unwrap();
             assert_eq!(s.range_m, 14.0, "frame {k}");
         }
-        let s = f.update(2.0 + 5.0 / 15.0, 11.5, STILL);
+        let s = f.update(2.0 + 5.0 / 15.0, 11.5, STILL).unwrap();
         assert!(s.range_m < 13.0, "{s:?}");
+    }
+
+    #[test]
+    fn measuring_first_fits_the_speed_of_a_standing_target() {
+        // The chase at 14 m/s acquires a car standing 35 m ahead; the ranges are noisy.
+        let mut f = RangeFilter::gated(
+            Gains::TrackingIndex {
+                index_at_reference: 0.6,
+                reference_m: 10.0,
+            },
+            GATE,
+        );
+        f.reset_measuring(10);
+        let own = |t: f64| OwnMotion {
+            travel_m: 14.0 * t as f32,
+            speed_mps: 14.0,
+        };
+        let noise = [0.8, -0.6, 0.3, -0.9, 0.5, 0.1, -0.4, 0.7, -0.2, -0.3];
+        let mut last = None;
+        for (i, e) in noise.iter().enumerate() {
+            let t = i as f64 / 15.0;
+            assert!(f.is_measuring() && last.is_none(), "estimate before {i}");
+            last = f.update(t, 35.0 - 14.0 * t as f32 + e, own(t));
+        }
+        let s = last.expect("an estimate once ten are in");
+        assert!(!f.is_measuring());
+        // Least squares through these ten: within 1.5 m/s of standing, not 14 m/s.
+        assert!(s.lead_speed_mps.abs() < 1.5, "{s:?}");
+        let t = 9.0 / 15.0;
+        assert!((s.range_m - (35.0 - 14.0 * t as f32)).abs() < 0.6, "{s:?}");
+        // A target lost while measuring: its measurements go.
+        f.reset_measuring(3);
+        f.update(0.0, 20.0, STILL);
+        f.update(0.1, 20.0, STILL);
+        f.restart_measuring();
+        assert_eq!(f.update(0.2, 10.0, STILL), None);
+        // A plain reset goes back to taking the first measurement at once.
+        f.reset();
+        assert!(f.update(0.3, 10.0, STILL).is_some());
     }
 
     #[test]

@@ -6,10 +6,10 @@ use crate::edges::EdgeDiagnostic;
 use crate::gray::GrayView;
 use crate::location::Location;
 use crate::object_location::Measurement;
-use crate::robust::search_threshold;
+use crate::robust::{acquire_scales, search_threshold};
 use crate::robust::{
-    ACQUIRE_EVERY_FRAMES, ACQUIRE_SCALES, CHAMFER_ACCEPT_PX, LOCAL_SEARCH_GROWTH_PX,
-    LOCAL_SEARCH_PX, MAX_SCALE_STEP, MODEL_ERROR_DECAY, REACQUIRE_MIN_COVERAGE, SCALE_NOISE_PX,
+    ACQUIRE_EVERY_FRAMES, CHAMFER_ACCEPT_PX, LOCAL_SEARCH_GROWTH_PX, LOCAL_SEARCH_PX,
+    MAX_SCALE_STEP, MODEL_ERROR_DECAY, REACQUIRE_MIN_COVERAGE, SCALE_NOISE_PX,
     SEARCH_BELOW_COVERAGE, SEARCH_MARGIN, SURPRISE_FORGETTING,
 };
 use crate::step_io::{EgoMotion, Status, TrackEvent, TrackOutput};
@@ -186,7 +186,7 @@ impl Tracker {
             } else {
                 (
                     self.search_region(None, 0.0, width, height),
-                    ACQUIRE_SCALES,
+                    acquire_scales(&self.camera),
                     true,
                 )
             };

@@ -20,7 +20,10 @@
 //! and out-of-lane estimates change nothing, and the speed reference moves to the cruise
 //! speed at no more than the gap keeper's `max_accel_mps2` and `max_decel_mps2`.
 
-use super::{max_curvature, ChaseController, ChaseControllerConfig, ChaseMode, CURVATURE_CHORD_M};
+use super::{
+    max_curvature, ChaseController, ChaseControllerConfig, ChaseMode, CURVATURE_CHORD_M,
+    RESUME_MEASUREMENTS,
+};
 use crate::clock::Step;
 use crate::controller_event::ControllerEventKind;
 use crate::error::{check_range, VehicleError};
@@ -241,8 +244,8 @@ impl ChaseController {
         // It has left the lane.
         state.target_left = true;
         state.target_station_m = None;
-        self.range.reset();
-        self.alarm_range.reset();
+        self.range.reset_measuring(RESUME_MEASUREMENTS);
+        self.alarm_range.reset_measuring(RESUME_MEASUREMENTS);
         self.gap_keeper.reset(speed_mps);
         self.closing_since = None;
         if self.mode == ChaseMode::Following {

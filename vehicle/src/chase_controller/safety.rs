@@ -1,7 +1,7 @@
 //! The chase controller's safety: the stop after a loss or a timeout and the resumption, and
 //! the emergency brake's threat from the alarm range filter.
 
-use super::{ChaseController, ChaseMode, CLOSING_CONFIRM_MS};
+use super::{ChaseController, ChaseMode, CLOSING_CONFIRM_MS, RESUME_MEASUREMENTS};
 use crate::clock::{ms_from_steps, steps_from_ms, Step};
 use crate::controller_event::ControllerEventKind;
 use crate::gap_keeper::Threat;
@@ -10,8 +10,9 @@ use crate::lead_estimate::TrackStatus;
 impl ChaseController {
     /// Loss handling at step `now` (the controller started at `started`, drives at `v`,
     /// m/s): following, a lost status (or with `stop_on_coasting` a coasting one) or silence
-    /// beyond the timeout starts the stop; stopping,
-    /// stopped or cruising, a `fresh` tracked estimate (one to follow) resumes following.
+    /// beyond the timeout starts the stop; stopping, stopped or cruising, a `fresh` tracked
+    /// estimate (one to follow) resumes following once the range filter has measured the
+    /// target ([`RESUME_MEASUREMENTS`]).
     pub(super) fn handle_loss(&mut self, now: Step, started: Step, v: f32, fresh: bool) {
         let silent_steps = now.since(self.last_arrival.unwrap_or(started));
         let lost = self.last_status.is_some_and(|s| self.stops_on(s));
@@ -28,11 +29,13 @@ impl ChaseController {
                 self.log(now, kind);
                 self.mode = ChaseMode::Stopping;
                 self.stop_ref_mps = v.max(0.0);
-                self.range.reset();
-                self.alarm_range.reset();
+                self.range.reset_measuring(RESUME_MEASUREMENTS);
+                self.alarm_range.reset_measuring(RESUME_MEASUREMENTS);
             }
             ChaseMode::Stopping | ChaseMode::Stopped | ChaseMode::Cruising
-                if fresh && self.last_status == Some(TrackStatus::Tracking) =>
+                if fresh
+                    && self.last_status == Some(TrackStatus::Tracking)
+                    && self.range.state().is_some() =>
             {
                 self.log(now, ControllerEventKind::Resumed);
                 self.mode = ChaseMode::Following;

@@ -12,7 +12,7 @@
 //! ([`SEARCH_EVERY_FRAME_FOR`]).
 
 use super::LaneAhead;
-use tracker::robust::{ACQUIRE_EVERY_FRAMES, ACQUIRE_SCALES};
+use tracker::robust::{acquire_scales, ACQUIRE_EVERY_FRAMES};
 use tracker::{
     AcquireGate, Camera, GateRow, Status, TargetModel, TrackOutput, Tracker, TrackerConfig,
     TrackerError, TrackerMode,
@@ -202,7 +202,8 @@ impl Acquisition {
     /// well under the margin.
     fn gate(&self, k: usize, lane: &LaneAhead) -> AcquireGate {
         let nominal = self.models[k].nominal_range_m();
-        let [lo, hi] = [ACQUIRE_SCALES[0] / 1.1, ACQUIRE_SCALES[1] * 1.1];
+        let [lo, hi] = acquire_scales(&self.camera);
+        let [lo, hi] = [lo / 1.1, hi * 1.1];
         let rows = (0..GATE_ROWS)
             .filter_map(|i| {
                 let scale = lo * (hi / lo).powf(i as f64 / (GATE_ROWS - 1) as f64);

@@ -2,7 +2,7 @@
 //! controller's speed reference with a lag, and a scripted lead seen by a perfect sensor.
 
 use super::*;
-use crate::clock::{Step, PHYSICS_DT_S};
+use crate::clock::{Step, PHYSICS_DT_S, STEPS_PER_FRAME};
 use crate::controls::Controls;
 use crate::route::RouteBuilder;
 use crate::vehicle_params::VehicleParams;
@@ -178,11 +178,13 @@ fn a_target_in_the_lane_is_followed_at_the_gap() {
         let t = d.seconds();
         d.step(Some((lead_at(t, 25.0, 0.0), TrackStatus::Tracking)));
     }
-    // Cruising until the first estimate arrived, then following.
+    // Cruising until the range filters have measured the target (one estimate a frame),
+    // then following.
     assert_eq!(d.modes[0], ChaseMode::Cruising);
     let switched = d.modes.iter().position(|&m| m == ChaseMode::Following);
-    assert_eq!(switched, Some(LATENCY_STEPS as usize));
-    assert!(d.modes[LATENCY_STEPS as usize..]
+    let measured = LATENCY_STEPS as usize + (RESUME_MEASUREMENTS - 1) * STEPS_PER_FRAME as usize;
+    assert_eq!(switched, Some(measured));
+    assert!(d.modes[measured..]
         .iter()
         .all(|&m| m == ChaseMode::Following));
     assert_eq!(d.c.events().len(), 1, "{:?}", d.c.events());
