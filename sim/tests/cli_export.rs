@@ -383,3 +383,30 @@ fn triggers_of_several_conditions_round_trip_exactly() {
     );
     assert!(before == after, "frames.csv of the round trip differs");
 }
+
+/// An event that repeats goes out with its runs as `maximumExecutionCount`: `max_runs`
+/// as it is, no limit as the most runs the duration allows (one a 120 Hz step, and one);
+/// both come back running at the same steps: the round trip runs bit for bit.
+#[test]
+fn repeating_events_round_trip_exactly() {
+    let [written, before, after] = round_trip(
+        "trigger = { gap_m = 12.0, to = \"chase\" }\n",
+        "trigger = { gap_m = 12.0, to = \"chase\" }\n",
+        "\n[[lead.events]]\nname = \"nudge\"\ntrigger = { time_s = 2.0 }\n\
+         action = { speed_mps = 13.0, duration_s = 1.0 }\nrepeat = true\nmax_runs = 3\n\n\
+         [[lead.events]]\nname = \"sway\"\ntrigger = { time_s = 5.0 }\n\
+         action = { offset_m = 0.3, lateral_accel_mps2 = 0.5, shape = \"sinusoidal\" }\n\
+         repeat = true\n",
+        "12",
+    );
+    for expected in [
+        "<Event name=\"nudge\" priority=\"override\" maximumExecutionCount=\"3\">",
+        "<Event name=\"sway\" priority=\"override\" maximumExecutionCount=\"1441\">",
+        "<Event name=\"cut-in\" priority=\"override\" maximumExecutionCount=\"1\">",
+    ] {
+        assert!(written.contains(expected), "{expected} not in:\n{written}");
+    }
+    assert_eq!(before.matches("lead/nudge:started").count(), 3);
+    assert!(before.matches("lead/sway:started").count() >= 2);
+    assert!(before == after, "frames.csv of the round trip differs");
+}

@@ -69,7 +69,7 @@ pub const EQUAL_TOLERANCE: f64 = 1e-6;
 pub struct EventScript(pub Vec<EventSpec>);
 
 /// One event: when its trigger holds, its action runs once (or again each time it holds
-/// after the action ended, with `repeat`).
+/// after the action ended, with `repeat`, up to `max_runs` runs in all).
 ///
 /// ```toml
 /// name = "slow-down"
@@ -89,6 +89,11 @@ pub struct EventSpec {
     /// Fire again each time the trigger holds after the action ended (default: once).
     #[serde(default, skip_serializing_if = "is_false")]
     pub repeat: bool,
+    /// With `repeat`, how many times the action runs at most, in all (at least 2; default:
+    /// no limit): OpenSCENARIO's `maximumExecutionCount`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(range(min = 2))]
+    pub max_runs: Option<u32>,
 }
 
 /// For `skip_serializing_if`: a flag written only when on.
@@ -515,7 +520,8 @@ pub(crate) struct Checked {
     pub(crate) name: String,
     pub(crate) trigger: Trigger,
     pub(crate) action: Action,
-    pub(crate) repeat: bool,
+    /// How many times the action may run: `Some(1)` once, `None` with no limit.
+    pub(crate) max_runs: Option<u32>,
 }
 
 /// An [`VehicleError::InvalidEvent`] for `events[i].<path>`.
@@ -617,11 +623,22 @@ impl EventScript {
             .iter()
             .enumerate()
             .map(|(i, e)| {
+                let max_runs = match (e.repeat, e.max_runs) {
+                    (false, None) => Some(1),
+                    (true, None) => None,
+                    (true, Some(n)) if n >= 2 => Some(n),
+                    (true, Some(n)) => {
+                        return Err(invalid(i, "max_runs", format!("= {n}: must be at least 2")))
+                    }
+                    (false, Some(_)) => {
+                        return Err(invalid(i, "max_runs", "needs `repeat = true`".into()))
+                    }
+                };
                 Ok(Checked {
                     name: e.name.clone(),
                     trigger: self.trigger(i, "trigger", &e.trigger, 0)?,
                     action: action(i, &e.action)?,
-                    repeat: e.repeat,
+                    max_runs,
                 })
             })
             .collect()

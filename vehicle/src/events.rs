@@ -126,6 +126,8 @@ struct EventState {
     /// What its trigger watches, in the shape of the trigger.
     watch: Watch,
     phase: Phase,
+    /// How many times its action has run to its end.
+    runs: u32,
 }
 
 /// The run-time state of one trigger (an event's, or a member of an `all` or `any`), with
@@ -432,6 +434,7 @@ impl Events {
                 event,
                 watch,
                 phase: Phase::Armed,
+                runs: 0,
             });
         }
         Ok(Events {
@@ -627,7 +630,8 @@ impl Events {
         });
     }
 
-    /// Ends event `i`'s action at `now`: waiting again if it repeats, done if not.
+    /// Ends event `i`'s action at `now`: waiting again if it repeats and has runs left, done
+    /// if not.
     fn end(
         events: &mut [EventState],
         ended: &mut [bool],
@@ -637,7 +641,8 @@ impl Events {
     ) {
         ended[i] = true;
         let e = &mut events[i];
-        e.phase = if e.event.repeat {
+        e.runs += 1;
+        e.phase = if e.event.max_runs.is_none_or(|n| e.runs < n) {
             Phase::Armed
         } else {
             Phase::Done

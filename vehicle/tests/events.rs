@@ -198,6 +198,50 @@ fn repeat_fires_again_once_the_action_has_ended() {
     assert_eq!(starts("once"), [120]);
 }
 
+/// `max_runs` bounds a repeating event's runs; `check` refuses it without `repeat` and
+/// below 2.
+#[test]
+fn max_runs_bounds_the_runs_of_a_repeating_event() {
+    let mut events = engine(
+        r#"
+        [[events]]
+        name = "thrice"
+        trigger = { time_s = 1.0 }
+        action = { lane = 2, duration_s = 1.0 }
+        repeat = true
+        max_runs = 3
+        "#,
+    );
+    let log = run(&mut events, 600, |_| [car(0.0, 5.0), car(50.0, 5.0)]);
+    let starts: Vec<u64> = log
+        .iter()
+        .filter(|e| e.2 == FiredKind::Started)
+        .map(|e| e.0)
+        .collect();
+    assert_eq!(starts, [120, 241, 362]);
+    for (extra, field, says) in [
+        (
+            "max_runs = 3",
+            "events[0].max_runs",
+            "needs `repeat = true`",
+        ),
+        (
+            "repeat = true\nmax_runs = 1",
+            "events[0].max_runs",
+            "= 1: must be at least 2",
+        ),
+    ] {
+        let e = script(&format!(
+            "[[events]]\nname = \"e\"\ntrigger = {{ time_s = 1.0 }}\n\
+             action = {{ stop = true, decel_mps2 = 4.0 }}\n{extra}\n"
+        ))
+        .validate()
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains(field) && e.contains(says), "{e}");
+    }
+}
+
 /// The speed follows the action's shape from the vehicle's speed at its start, with its
 /// rate as the acceleration, and is held after; a lane change moves the offset to the
 /// lane's centre along its shape, and the next one starts from where it is.

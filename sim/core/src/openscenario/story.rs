@@ -221,15 +221,17 @@ impl Context<'_, '_> {
             None | Some("overwrite") | Some("override") => {}
             Some(p) => return Err(xml.at(event, format!("<Event priority=\"{p}\">: carfollow's events override what runs (\"override\", 1.0's \"overwrite\")"))),
         }
-        if xml
-            .opt_num(event, "maximumExecutionCount")?
-            .is_some_and(|n| n != 1.0)
-        {
-            return Err(xml.at(
-                event,
-                "<Event maximumExecutionCount>: carfollow runs each event once",
-            ));
-        }
+        // Runs at most: once, or `repeat` up to `max_runs`.
+        let max_runs = match xml.opt_num(event, "maximumExecutionCount")? {
+            None => 1,
+            Some(n) if n >= 1.0 && n.fract() == 0.0 && n <= f64::from(u32::MAX) => n as u32,
+            Some(n) => {
+                return Err(xml.at(
+                    event,
+                    format!("<Event maximumExecutionCount=\"{n}\">: a count of runs, 1 or more"),
+                ))
+            }
+        };
         let trigger = match child(event, "StartTrigger") {
             Some(t) => self.trigger(t, owner)?,
             None => TriggerSpec {
@@ -258,7 +260,8 @@ impl Context<'_, '_> {
                     },
                     trigger: trigger.clone(),
                     action: self.action(a, owner)?,
-                    repeat: false,
+                    repeat: max_runs > 1,
+                    max_runs: (max_runs > 1).then_some(max_runs),
                 })
             })
             .collect()

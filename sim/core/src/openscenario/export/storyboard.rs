@@ -16,6 +16,10 @@ struct Group {
     /// The lanes inside the driving lanes on each side of the road file written (1 with a
     /// median): carfollow's lane k is OpenDRIVE's lane −(k + this).
     inner_lanes: i64,
+    /// The `maximumExecutionCount` of an event that repeats with no limit: one run a
+    /// physics step of the scenario's duration and one more, more than it can run (an
+    /// event starts at most once a step), since the standard's count has no "no limit".
+    unlimited_runs: u32,
 }
 
 /// A step of a speed profile: from the key `from` (s or m), to `speed_mps` by the next
@@ -58,8 +62,11 @@ impl Story {
             ));
         }
         let inner_lanes = crate::opendrive::inner_lanes(&s.route);
+        let steps = (s.duration_s * f64::from(vehicle::PHYSICS_HZ)).ceil();
+        let unlimited_runs = (steps + 1.0).min(f64::from(u32::MAX)) as u32;
         for g in &mut groups {
             g.inner_lanes = inner_lanes;
+            g.unlimited_runs = unlimited_runs;
         }
         groups.retain(|g| !g.profile.is_empty() || !g.events.is_empty());
         Story { groups }
@@ -131,6 +138,7 @@ fn group(
         profile: steps,
         events,
         inner_lanes: 0,
+        unlimited_runs: 1,
     }
 }
 
@@ -151,12 +159,17 @@ impl Group {
             self.profile_event(x, step);
         }
         for (name, e) in &self.events {
+            let runs = match (e.repeat, e.max_runs) {
+                (false, _) => 1,
+                (true, Some(n)) => n,
+                (true, None) => self.unlimited_runs,
+            };
             x.open(
                 "Event",
                 &[
                     a("name", name),
                     a("priority", "override"),
-                    a("maximumExecutionCount", 1),
+                    a("maximumExecutionCount", runs),
                 ],
             );
             x.open("Action", &[a("name", name)]);
