@@ -853,3 +853,83 @@ fn condition_groups_and_several_triggering_entities_fire_as_written() {
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert!(stderr(&o).contains("never ends"), "{}", stderr(&o));
 }
+
+/// The ego's speed change in `Init` (linear at a rate, as esmini's `follow_reference` and
+/// `drive_when_close` write it) is read as the speed it reaches, with one warning that it
+/// is not applied: the chase starts at that speed, and the run is the one of a step to it,
+/// bit for bit. Another vehicle's speed change in `Init` is refused at its line.
+#[test]
+fn the_egos_speed_change_in_init_is_its_speed_with_a_warning() {
+    let step =
+        "<SpeedActionDynamics dynamicsShape=\"step\" dynamicsDimension=\"time\" value=\"0\"/>";
+    let ramp =
+        "<SpeedActionDynamics dynamicsShape=\"linear\" dynamicsDimension=\"rate\" value=\"5\"/>";
+    // The first step in the file is the ego's, the second the lead's.
+    let (dir, ego) = mutant(|text| text.replacen(step, ramp, 1));
+    let text = std::fs::read_to_string(&ego).unwrap();
+    let line = 1 + text.lines().position(|l| l.contains(ramp)).unwrap();
+    let o = carfollow(&["check", ego.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let warned: Vec<_> = stderr(&o)
+        .lines()
+        .filter(|l| l.contains("speed change in <Init>"))
+        .map(String::from)
+        .collect();
+    assert_eq!(warned.len(), 1, "{}", stderr(&o));
+    assert!(
+        warned[0].contains(&format!("line {line}:")) && warned[0].contains("not applied"),
+        "{warned:?}"
+    );
+    let set = ["--set", "duration_s=6"];
+    let (a, b) = (dir.path().join("ramp"), dir.path().join("step"));
+    let original = data().join("cut-in.xosc");
+    assert!(frames_of(&ego, &a, &set) == frames_of(&original, &b, &set));
+    // The lead's: refused.
+    let (_dir, lead) = mutant(|text| {
+        let at = text.match_indices(step).nth(1).unwrap().0;
+        format!("{}{ramp}{}", &text[..at], &text[at + step.len()..])
+    });
+    let text = std::fs::read_to_string(&lead).unwrap();
+    let line = 1 + text.lines().position(|l| l.contains(ramp)).unwrap();
+    let out = lead.with_file_name("lead.toml");
+    let o = carfollow(&[
+        "import",
+        lead.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let e = stderr(&o);
+    assert_eq!(e.lines().count(), 1, "{e}");
+    assert!(
+        e.contains("Init sets each speed at once") && e.contains(&format!("mutant.xosc:{line}")),
+        "{e}"
+    );
+}
+
+/// An act's empty `<StartTrigger/>` (esmini's `acc-toggle` and `drive_when_close` write
+/// it; esmini starts such an act at once) and a start trigger of several condition groups
+/// one of which holds from the first step both start the act at t = 0: the runs are the
+/// file's, bit for bit.
+#[test]
+fn an_act_with_an_empty_start_trigger_starts_at_once() {
+    let start = "<StartTrigger><ConditionGroup>\n          <Condition name=\"start\" delay=\"0\" conditionEdge=\"none\">\n            <ByValueCondition><SimulationTimeCondition value=\"0\" rule=\"greaterThan\"/></ByValueCondition>\n          </Condition>\n        </ConditionGroup></StartTrigger>";
+    let later = "<ConditionGroup><Condition name=\"later\" delay=\"0\" conditionEdge=\"none\"><ByValueCondition><SimulationTimeCondition value=\"5\" rule=\"greaterThan\"/></ByValueCondition></Condition></ConditionGroup>";
+    let set = ["--set", "duration_s=16"];
+    let dir = tempfile::tempdir().unwrap();
+    let original = frames_of(&data().join("cut-in.xosc"), &dir.path().join("o"), &set);
+    for to in [
+        "<StartTrigger/>".to_string(),
+        start.replace("<StartTrigger>", &format!("<StartTrigger>{later}")),
+    ] {
+        let (d, path) = mutant(|text| {
+            assert!(text.contains(start));
+            text.replace(start, &to)
+        });
+        let o = carfollow(&["check", path.to_str().unwrap()]);
+        assert_eq!(o.status.code(), Some(0), "{to}: {}", stderr(&o));
+        let frames = frames_of(&path, &d.path().join("m"), &set);
+        assert!(frames == original, "{to}: the run differs");
+        assert!(frames.contains("cut-in:started"), "{to}");
+    }
+}

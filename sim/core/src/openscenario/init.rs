@@ -222,8 +222,8 @@ fn private_action<'a, 'b>(
         }
         "LongitudinalAction" => {
             let speed = only_element(xml, inner)?;
-            init.speed_mps
-                .insert(entity.to_string(), initial_speed(xml, speed)?);
+            let v = initial_speed(xml, speed, entity == ego, &mut init.warnings)?;
+            init.speed_mps.insert(entity.to_string(), v);
         }
         // Activating the default controller of a vehicle none is assigned to: its
         // storyboard drives it, as carfollow's events do.
@@ -240,16 +240,27 @@ fn private_action<'a, 'b>(
     Ok(())
 }
 
-/// A `SpeedAction` of `Init`: a step to an absolute speed.
-fn initial_speed(xml: &Xml, speed: Node) -> Result<f64, OscError> {
+/// A `SpeedAction` of `Init`: a step to an absolute speed. The ego's may be a change over
+/// a time or at a rate, from standing: carfollow's loop drives the chase, which starts at
+/// the speed the change reaches (its set speed), and a warning in `warnings` says so.
+fn initial_speed(
+    xml: &Xml,
+    speed: Node,
+    ego: bool,
+    warnings: &mut Vec<String>,
+) -> Result<f64, OscError> {
     if speed.tag_name().name() != "SpeedAction" {
         return Err(xml.unsupported(speed, "init action", "Init sets a speed by <SpeedAction>"));
     }
+    let mut change = None;
     if let Some(dynamics) = child(speed, "SpeedActionDynamics") {
         let shape = xml.req(dynamics, "dynamicsShape")?;
         let value = xml.opt_num(dynamics, "value")?.unwrap_or(0.0);
         if shape != "step" && value != 0.0 {
-            return Err(xml.at(dynamics, format!("<SpeedActionDynamics dynamicsShape=\"{shape}\">: Init sets each speed at once (a step)")));
+            if !ego {
+                return Err(xml.at(dynamics, format!("<SpeedActionDynamics dynamicsShape=\"{shape}\">: Init sets each speed at once (a step), but the ego's")));
+            }
+            change = Some((xml.line(dynamics), shape));
         }
     }
     let target = child(speed, "SpeedActionTarget")
@@ -261,6 +272,11 @@ fn initial_speed(xml: &Xml, speed: Node) -> Result<f64, OscError> {
     let v = xml.num(absolute, "value")?;
     if !(0.0..=MAX_SPEED_MPS).contains(&v) {
         return Err(xml.at(absolute, format!("<AbsoluteTargetSpeed value=\"{v}\">: carfollow's vehicles drive forward at 0–{} m/s", MAX_SPEED_MPS)));
+    }
+    if let Some((line, shape)) = change {
+        warnings.push(format!(
+            "line {line}: the ego's {shape} speed change in <Init> is not applied: carfollow's loop drives the chase, which starts at the speed it reaches, {v} m/s"
+        ));
     }
     Ok(v)
 }

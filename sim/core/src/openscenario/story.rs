@@ -135,7 +135,10 @@ fn events<'a, 'b>(
     Ok(out)
 }
 
-/// An act must start at once: no `StartTrigger`, or one at simulation time 0.
+/// Checks an act's triggers: it has no stop trigger, and starts at t = 0: with no start
+/// trigger, an empty one (no condition group: esmini starts such an act at once), or one
+/// with a condition group every condition of which holds from the first step (a simulation
+/// time greater than a time at most 0, or equal to 0, with no delay).
 fn act_trigger(xml: &Xml, act: Node) -> Result<(), OscError> {
     if let Some(stop) = child(act, "StopTrigger") {
         return Err(xml.unsupported(
@@ -147,13 +150,37 @@ fn act_trigger(xml: &Xml, act: Node) -> Result<(), OscError> {
     let Some(trigger) = child(act, "StartTrigger") else {
         return Ok(());
     };
-    let condition = one_condition(xml, trigger)?;
+    let mut not_at_start = None;
+    for group in children(trigger, "ConditionGroup") {
+        let conditions: Vec<_> = children(group, "Condition").collect();
+        if conditions.is_empty() {
+            return Err(xml.at(group, "<ConditionGroup> has no <Condition>"));
+        }
+        let mut all = true;
+        for c in conditions {
+            if !holds_from_the_start(xml, c)? {
+                all = false;
+                not_at_start.get_or_insert(c);
+            }
+        }
+        if all {
+            return Ok(());
+        }
+    }
+    match not_at_start {
+        None => Ok(()),
+        Some(c) => Err(xml.at(c, "<Act> starts on a condition: carfollow's acts start at t = 0 (put the condition on the events)")),
+    }
+}
+
+/// Whether a condition of an act's start trigger holds from the first step: a simulation
+/// time greater than a time at most 0, or equal to 0, with no delay.
+fn holds_from_the_start(xml: &Xml, condition: Node) -> Result<bool, OscError> {
     let at_start = child(condition, "ByValueCondition")
         .and_then(|v| child(v, "SimulationTimeCondition"))
         .map(|t| -> Result<bool, OscError> {
             let rule = xml.req(t, "rule")?;
             let value = xml.num(t, "value")?;
-            // Greater than a time at most 0, or equal to 0: true from the first step.
             Ok(
                 (value <= 0.0 && matches!(rule.as_str(), "greaterThan" | "greaterOrEqual"))
                     || (value == 0.0 && rule == "equalTo"),
@@ -161,36 +188,7 @@ fn act_trigger(xml: &Xml, act: Node) -> Result<(), OscError> {
         })
         .transpose()?
         .unwrap_or(false);
-    if !at_start || xml.opt_num(condition, "delay")?.is_some_and(|d| d != 0.0) {
-        return Err(xml.at(condition, "<Act> starts on a condition: carfollow's acts start at t = 0 (put the condition on the events)"));
-    }
-    Ok(())
-}
-
-/// The one condition of a trigger: carfollow's triggers are single conditions.
-fn one_condition<'a, 'b>(xml: &Xml, trigger: Node<'a, 'b>) -> Result<Node<'a, 'b>, OscError> {
-    let groups: Vec<_> = children(trigger, "ConditionGroup").collect();
-    let [group] = groups.as_slice() else {
-        return Err(xml.at(
-            trigger,
-            format!(
-                "<{}> with {} condition groups: carfollow's triggers are one condition",
-                trigger.tag_name().name(),
-                groups.len()
-            ),
-        ));
-    };
-    let conditions: Vec<_> = children(*group, "Condition").collect();
-    let [condition] = conditions.as_slice() else {
-        return Err(xml.at(
-            *group,
-            format!(
-                "<ConditionGroup> of {} conditions: carfollow's triggers are one condition",
-                conditions.len()
-            ),
-        ));
-    };
-    Ok(*condition)
+    Ok(at_start && !xml.opt_num(condition, "delay")?.is_some_and(|d| d != 0.0))
 }
 
 struct Context<'c, 'a> {
