@@ -108,15 +108,7 @@ fn an_imported_file_runs_as_the_file_does_bit_for_bit() {
     let dir = tempfile::tempdir().unwrap();
     let file = data().join("cut-in.xosc");
     let toml = dir.path().join("imported/cut-in.toml");
-    std::fs::create_dir_all(toml.parent().unwrap()).unwrap();
-    let o = carfollow(&[
-        "import",
-        file.to_str().unwrap(),
-        "-o",
-        toml.to_str().unwrap(),
-    ]);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    let text = std::fs::read_to_string(&toml).unwrap();
+    let text = import_to(&file, &toml);
     for expected in [
         "[route.opendrive]",
         "kind = \"van\"",

@@ -21,9 +21,9 @@ pub struct RangeFilter {
     /// After [`RangeFilter::reset_measuring`]: how many measurements its first estimate
     /// is fitted to (0: the first measurement is the first estimate).
     measure_first: usize,
-    /// The measurements so far towards that first estimate: capture time, s; where the
-    /// lead was along the way (own travel plus range), m; the chase's own motion.
-    first: Vec<(f64, f64, OwnMotion)>,
+    /// The measurements so far towards that first estimate: capture time, s, and where
+    /// the lead was along the way (own travel plus range), m.
+    first: Vec<(f64, f64)>,
 }
 
 /// How the filter weighs a new measurement.
@@ -173,7 +173,7 @@ impl RangeFilter {
     /// it asked for are in. Measurements not later than the last are ignored, and so are
     /// those the gate refuses.
     pub fn update(&mut self, time_s: f64, range_m: f32, own: OwnMotion) -> Option<RangeState> {
-        if self.state.is_none() && self.measure_first > 0 {
+        if self.is_measuring() {
             self.state = self.measure(time_s, range_m, own);
             return self.state;
         }
@@ -213,11 +213,11 @@ impl RangeFilter {
     /// once they are all in, the estimate at the last, from the least-squares line through
     /// where the lead was along the way against time (its slope the lead's speed).
     fn measure(&mut self, time_s: f64, range_m: f32, own: OwnMotion) -> Option<RangeState> {
-        if self.first.last().is_some_and(|&(t, _, _)| time_s <= t) {
+        if self.first.last().is_some_and(|&(t, _)| time_s <= t) {
             return None;
         }
         let along_m = f64::from(own.travel_m) + f64::from(range_m);
-        self.first.push((time_s, along_m, own));
+        self.first.push((time_s, along_m));
         if self.first.len() < self.measure_first {
             return None;
         }
@@ -225,7 +225,7 @@ impl RangeFilter {
         let t_mean = self.first.iter().map(|m| m.0).sum::<f64>() / n;
         let p_mean = self.first.iter().map(|m| m.1).sum::<f64>() / n;
         let (mut stt, mut stp) = (0.0, 0.0);
-        for &(t, p, _) in &self.first {
+        for &(t, p) in &self.first {
             stt += (t - t_mean) * (t - t_mean);
             stp += (t - t_mean) * (p - p_mean);
         }
