@@ -106,6 +106,24 @@ fn the_cut_in_is_logged_and_repeats_bit_for_bit_on_one_or_two_renderers() {
     assert!(junit.contains("max_impact_speed"), "{junit}");
 }
 
+/// After the cut-in, robust mode acquires the van by its back's model, and holds it: the
+/// vehicle in the path is the one tracked from then on.
+#[test]
+fn the_van_that_cut_in_is_acquired_by_its_back() {
+    let dir = tempfile::tempdir().unwrap();
+    let set = ["--set", "duration_s=20", "--set", "tracker.mode=robust"];
+    run(dir.path(), "cut-in", &set);
+    let rows = frames(dir.path());
+    let held = rows
+        .iter()
+        .position(|r| r["tracked_vehicle"] == "van")
+        .expect("the van is acquired");
+    assert_eq!(rows[held]["tracker_event"], "acquired");
+    assert!(rows[held..]
+        .iter()
+        .all(|r| r["tracked_vehicle"] == "van" && r["path_vehicle"] == "van"));
+}
+
 /// Holding nothing, the built-in tracker searches one frame in three after its first
 /// second, and the loop renders none of the frames between (`FrameTracker::will_rest`): the
 /// estimates are those of whole frames, and no frame needed rendering again for it.
@@ -113,19 +131,20 @@ fn the_cut_in_is_logged_and_repeats_bit_for_bit_on_one_or_two_renderers() {
 fn the_frames_a_search_rests_on_are_not_rendered_and_change_nothing() {
     let dir = tempfile::tempdir().unwrap();
     let [parts, whole] = ["parts", "whole"].map(|d| dir.path().join(d));
-    // 19 s: the lead is let go of at about 14.3 s, and the search rests from about 15.3 s.
-    run(&parts, "cut-in", &["--set", "duration_s=19"]);
+    // 17 s: the lead is let go of at about 14.8 s, and the search rests from about 15.8 s
+    // (it acquires the van at 17.1 s).
+    run(&parts, "cut-in", &["--set", "duration_s=17"]);
     run(
         &whole,
         "cut-in",
-        &["--set", "duration_s=19", "--renderers", "1", "--video"],
+        &["--set", "duration_s=17", "--renderers", "1", "--video"],
     );
     assert!(text(&parts, "frames.csv") == text(&whole, "frames.csv"));
     let rested = frames(&parts)
         .iter()
         .filter(|r| r["t_s"].parse::<f64>().unwrap() > 15.5 && r["status"] == "lost")
         .count();
-    assert!(rested > 40, "{rested} frames lost after 15.5 s");
+    assert!(rested > 15, "{rested} frames lost after 15.5 s");
     let s: serde_json::Value = serde_json::from_str(&text(&parts, "summary.json")).unwrap();
     let again = s["timing"]["rerendered_frames"].as_u64().unwrap();
     assert!(again < 20, "{again} frames rendered again");
@@ -275,16 +294,29 @@ fn a_chase_with_nothing_placed_cruises_and_acquires_the_vehicle_in_its_lane() {
             rows[0]["tracked_vehicle"], "",
             "{mode}: placed at the start"
         );
-        let acquired = rows
+        // The first fit, 21 m ahead, is the van's model on part of the lead's back (its
+        // plain lower back and board), before the board resolves: a silent loss, counted
+        // so, until a check of the weak fit against the other models finds the lead's own
+        // target, within a second.
+        let first = rows
             .iter()
             .position(|r| r["status"] == "tracking")
+            .expect("a target is acquired");
+        let acquired = rows
+            .iter()
+            .position(|r| r["tracked_vehicle"] == "lead")
             .expect("the lead is acquired");
+        assert!(acquired - first <= 15, "{mode}: {first} {acquired}");
+        for r in &rows[first..acquired] {
+            let silent = r["status"] == "tracking";
+            assert_eq!(r["lost_truth"], "1", "{mode}");
+            assert!(!silent || r["loss_cause"] == "tracker", "{mode}: {r:?}");
+        }
         // Cruising up to the set speed (50 km/h) until then, following once the range
-        // filters have measured the lead (six estimates, the sixth through the delay line).
-        let speed: f64 = rows[acquired]["chase_speed_mps"].parse().unwrap();
+        // filters have measured a target (six estimates, the sixth through the delay line).
+        let speed: f64 = rows[first]["chase_speed_mps"].parse().unwrap();
         assert!((speed - 13.9).abs() < 0.5, "{mode}: {speed} m/s");
-        assert_eq!(rows[acquired]["tracked_vehicle"], "lead", "{mode}");
-        assert_eq!(rows[acquired + 4]["chase_mode"], "cruising", "{mode}");
+        assert_eq!(rows[first + 4]["chase_mode"], "cruising", "{mode}");
         assert!(rows[acquired + 8..]
             .iter()
             .all(|r| r["chase_mode"] != "cruising"));

@@ -57,9 +57,11 @@ pub enum LossCause {
     WrongVehicle,
     /// Not yet acquired: the tracker started with nothing placed (`tracker.start =
     /// "search"`) and has not held the target (in traffic, the vehicle in the chase's path)
-    /// since. The estimate is not on it ([`FrameRecord::lost_truth`] is true), but the
-    /// method has yet to find it, so reports count the frame apart (`not_acquired_s`), not
-    /// as a lost track. After the first acquisition a loss is a loss.
+    /// since, and does not say `tracking`. The estimate is not on it
+    /// ([`FrameRecord::lost_truth`] is true), but the method has yet to find it, so reports
+    /// count the frame apart (`not_acquired_s`), not as a lost track. A tracker that says
+    /// `tracking` off the target before it has held it has lost it, as after: a silent
+    /// loss. After the first acquisition a loss is a loss.
     NotAcquired,
 }
 

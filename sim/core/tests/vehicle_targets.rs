@@ -24,9 +24,10 @@ fn comment(kind: VehicleKind) -> String {
             "it,",
         ],
         _ => &[
-            "the roof line, the belt line, the rear window's glass, the body's sides down to",
-            "the bumper's top, the bumper, and the two tail lamps (not the cabin's leaning",
-            "sides),",
+            "the roof line, the belt line (not where the cabin stands on the back face, as",
+            "a van's does), the rear window's glass, the body's sides down to the bumper's",
+            "top, the bumper's top, and the two tail lamps (not the cabin's leaning sides,",
+            "nor the bumper's bottom and sides, as dark as the shade under the car),",
         ],
     };
     let mut lines = vec![

@@ -7,7 +7,10 @@
 //! - an actor between the camera and the lead's board hides it (the ground truth's
 //!   occlusion test), and a frame whose actor poses are not one per actor is an error;
 //! - an actor out of view leaves a frame as it was without it, bit for bit;
-//! - each kind's back model (`vehicle_back_model`) lies on strong edges of its drawn back.
+//! - each kind's back model (`vehicle_back_model`) lies on strong edges of its drawn back;
+//! - the whole-image search finds a truck's back by its model 10-22 m ahead in the lane
+//!   through the 8 mm and the 16 mm lens, and a van's through the 16 mm and within 14 m
+//!   through the 8 mm.
 //!
 //! Run: `cargo test --release -p sim-render --test traffic`.
 
@@ -389,5 +392,83 @@ fn each_kinds_back_model_lies_on_the_edges_of_its_drawn_back() {
             strong(&off) + n / 4 <= strong(&on),
             "{kind:?}: the control finds edges too: {off:.0?}"
         );
+    }
+}
+
+/// The whole-image search (robust mode's, which the paper's mode takes its start from)
+/// finds a vehicle standing in the chase's lane by its back's model, at the range it is:
+/// a truck 10-22 m ahead of the camera through the 8 mm and the 16 mm lens (whose search
+/// covers the same image sizes, `tracker::robust::acquire_scales`) in seven frames of
+/// eight, a van through the 16 mm lens and within 14 m through the 8 mm. The other finds are printed, not
+/// asserted: a sedan's and a hatchback's backs are found at some ranges only.
+#[test]
+fn the_search_finds_a_van_and_a_truck_by_their_backs() {
+    use tracker::{GrayView, Status, Tracker, TrackerConfig, TrackerMode};
+    let config = TrackerConfig {
+        mode: TrackerMode::Robust,
+        ..TrackerConfig::default()
+    };
+    for kind in VehicleKind::ALL {
+        // Painted as a scenario paints each kind (`sim_core::kind_albedo`).
+        let albedo = match kind {
+            VehicleKind::Sedan => 0.55,
+            VehicleKind::Hatchback => 0.35,
+            VehicleKind::Van => 0.7,
+            VehicleKind::Truck => 0.8,
+        };
+        let mut found = Vec::new();
+        for focal_length_mm in [8.0, 16.0] {
+            let mut rig = CameraRig::default();
+            rig.intrinsics.focal_length_mm = focal_length_mm;
+            for range_m in [10.0, 14.0, 18.0, 22.0] {
+                let mut d = bare(1);
+                d.actors = vec![ActorBody {
+                    kind,
+                    albedo,
+                    tail_lamps: false,
+                }];
+                let (chase, _) = poses(&d);
+                let body_from_model = body_from_back_model(kind);
+                let camera_x = rig.world_from_camera(&chase).translation.x;
+                let back_x = body_from_model.translation.x;
+                let pose = on_road(camera_x + range_m - back_x, d.route.lane_centre_m(1));
+                let scene = std::sync::Arc::new(Scene::build(d).expect("scene"));
+                let mut r = Renderer::new(scene, rig.clone(), &common::options()).unwrap();
+                let image = frame(&mut r, vec![pose]);
+                let view = GrayView::new(
+                    image.width() as usize,
+                    image.height() as usize,
+                    image.as_raw(),
+                )
+                .unwrap();
+                let mut t = Tracker::new_searching(
+                    vehicle_back_model(kind),
+                    rig.intrinsics,
+                    config.clone(),
+                )
+                .unwrap();
+                let out = t.step(view, 0.0);
+                let range = out.position_3d[2];
+                let held = out.status == Status::Tracking && (range / range_m - 1.0).abs() < 0.05;
+                eprintln!(
+                    "{kind:?}, {focal_length_mm} mm, {range_m} m: {:?} at {range:.2} m, \
+                     coverage {:.2}/{:.2}",
+                    out.status, out.coverage[0], out.coverage[1]
+                );
+                // Asserted: a van through the 16 mm lens, and through the 8 mm lens within
+                // 14 m (beyond, its tail lamps are 3 px tall and the fit's coverage falls
+                // short); a truck in all but one of the eight frames (one search a frame:
+                // the loop searches again on the next).
+                let asserted = match kind {
+                    VehicleKind::Truck => true,
+                    VehicleKind::Van => focal_length_mm == 16.0 || range_m <= 14.0,
+                    _ => false,
+                };
+                found.push((asserted, held, focal_length_mm, range_m));
+            }
+        }
+        let missed: Vec<_> = found.iter().filter(|f| f.0 && !f.1).collect();
+        let allowed = usize::from(kind == VehicleKind::Truck);
+        assert!(missed.len() <= allowed, "{kind:?} not found: {missed:?}");
     }
 }

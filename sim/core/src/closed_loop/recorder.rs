@@ -121,7 +121,7 @@ impl Recorder {
                     self.acquired |= !lost_truth;
                     let cause = if !lost_truth {
                         LossCause::None
-                    } else if !self.acquired {
+                    } else if !self.acquired && status != TrackerStatus::Tracking {
                         LossCause::NotAcquired
                     } else if !truth.in_view {
                         LossCause::OutOfView

@@ -89,7 +89,7 @@ impl TrafficTruth {
     /// Judges frame `captured` with `estimate`, the tracker's `tracking` status, and
     /// the events and contacts `log` since the frame before; `acquired` says whether the
     /// tracker has held the vehicle in the path yet (set here on the first frame it does):
-    /// before, holding nothing while a vehicle is in the path is
+    /// before, holding nothing while a vehicle is in the path, and saying so, is
     /// [`LossCause::NotAcquired`].
     #[allow(clippy::too_many_arguments)]
     pub(super) fn judge<F: Fn() -> bool>(
@@ -169,7 +169,7 @@ impl TrafficTruth {
             (_, Some(t)) if path.is_some_and(|p| behind(t, p)) => (true, LossCause::Occluded),
             (_, Some(t)) if self.was_path[t] => (true, LossCause::LeftPath),
             (_, Some(_)) => (true, LossCause::WrongVehicle),
-            (Some(_), None) if !*acquired => (true, LossCause::NotAcquired),
+            (Some(_), None) if !*acquired && !tracking => (true, LossCause::NotAcquired),
             (Some(p), None) if !in_view(p) => (true, LossCause::OutOfView),
             (Some(1), None) if (lead.occluded)() => (true, LossCause::Occluded),
             (Some(_), None) => (true, LossCause::Tracker),

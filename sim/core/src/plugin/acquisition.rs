@@ -6,16 +6,19 @@
 //! holds nothing, it searches the whole image for one model a frame, in turn (the lead's
 //! target, then each other kind's back), keeping only fits whose centre lies in the chase's
 //! lane ([`LaneAhead`], through [`tracker::AcquireGate`]); this is robust mode's
-//! whole-image search, which the paper's mode also takes its start from. It lets go of a
+//! whole-image search, which the paper's mode also takes its start from. Of the models that
+//! fit one vehicle it holds the one that covers the most of its outline, and while its fit
+//! is weak it looks for a better in the lane ([`Acquisition::recheck`]). It lets go of a
 //! target the tracker says is lost, and of one that has left the lane for
-//! `vehicle::LEFT_LANE_ARRIVALS` frames, as the chase controller judges a target in its lane. Holding nothing for long, it searches on one frame in three
+//! `vehicle::LEFT_LANE_ARRIVALS` frames, as the chase controller judges a target in its
+//! lane. Holding nothing for long, it searches on one frame in three
 //! ([`SEARCH_EVERY_FRAME_FOR`]).
 
 use super::LaneAhead;
-use tracker::robust::{acquire_scales, ACQUIRE_EVERY_FRAMES};
+use tracker::robust::{acquire_scales, ACQUIRE_EVERY_FRAMES, SEARCH_BELOW_COVERAGE, SEARCH_MARGIN};
 use tracker::{
-    AcquireGate, Camera, GateRow, Status, TargetModel, TrackOutput, Tracker, TrackerConfig,
-    TrackerError, TrackerMode,
+    AcquireGate, Camera, GateRow, Location, Status, TargetModel, TrackOutput, Tracker,
+    TrackerConfig, TrackerError, TrackerMode,
 };
 
 // A held target is out of the lane when its centre lies more than half the lane's width
@@ -42,6 +45,22 @@ const CENTRE_HEIGHT_M: [f64; 2] = [0.3, 3.0];
 /// centre found by the search is within a pixel or two of its own.
 const GATE_MARGIN_PX: f64 = 3.0;
 
+/// How far from a found target's centre another model's centre may lie on the same
+/// vehicle, in the found outline's widths (across) and heights (up and down): a board
+/// mounted on a back, the back of a taller or lower kind, with room to spare.
+const NEAR_REACH: f64 = 0.75;
+
+/// How far from the found range another model may put the same vehicle: a model fitted to
+/// part of another kind's back (a pickup's tailgate for a van's back) errs in range by the
+/// ratio of their sizes.
+const NEAR_RANGE_FACTOR: f64 = 1.5;
+
+/// How much of a fit's outline lies on edges: the lesser of its two orientations'
+/// coverages, the measure robust mode judges a fit by.
+fn covered(out: &TrackOutput) -> f64 {
+    out.coverage[0].min(out.coverage[1])
+}
+
 /// What the acquisition holds, and how long it has been out of the lane or searching.
 #[derive(Clone, Copy, Debug, Default)]
 pub(crate) struct Hold {
@@ -53,6 +72,8 @@ pub(crate) struct Hold {
     out_of_lane: u32,
     /// Frames since it last held a target (or since the start).
     idle: u64,
+    /// Frames the target held has been held.
+    held_for: u64,
 }
 
 /// Which target the built-in tracker holds in traffic, and the searchers that find one.
@@ -150,6 +171,7 @@ impl Acquisition {
                     .is_some_and(|d| d.abs() > l.half_width_m + margin_m)
             });
         let h = &mut self.hold;
+        h.held_for += 1;
         h.out_of_lane = if out_now { h.out_of_lane + 1 } else { 0 };
         let released = out.status == Status::Lost || h.out_of_lane >= vehicle::LEFT_LANE_ARRIVALS;
         if released {
@@ -158,25 +180,129 @@ impl Acquisition {
         released
     }
 
-    /// One frame's search, with the next model in turn: its output, and the tracker that
-    /// holds what it acquired. `step` steps a tracker on the frame.
-    pub(crate) fn search(
+    /// One frame's search, with the next model in turn: its output, what `step` returned
+    /// with it, and the tracker that holds what it acquired. `step` steps a tracker on the
+    /// frame. When a model acquires, each other model searches about the same place
+    /// ([`Acquisition::near`]) on the same frame, and the model whose fit covers more of
+    /// its outline is held: one vehicle's back may fit another kind's model in part (a van's
+    /// plain back fits a pickup's tailgate and board), and its own model covers it best.
+    pub(crate) fn search<E>(
         &mut self,
         lane: Option<&LaneAhead>,
-        step: impl FnOnce(&mut Tracker) -> TrackOutput,
-    ) -> Result<(TrackOutput, Option<Tracker>), TrackerError> {
+        mut step: impl FnMut(&mut Tracker) -> (TrackOutput, E),
+    ) -> Result<(TrackOutput, E, Option<Tracker>), TrackerError> {
         let k = self.hold.next;
         let gate = lane.map(|l| self.gate(k, l));
-        let searcher = &mut self.searchers[k];
-        searcher.set_acquire_gate(gate);
-        let out = step(searcher);
+        self.searchers[k].set_acquire_gate(gate);
+        let (out, extra) = step(&mut self.searchers[k]);
         self.hold.idle += 1;
         if out.status != Status::Tracking {
             self.hold.next = (k + 1) % self.models.len();
-            return Ok((out, None));
+            return Ok((out, extra, None));
         }
-        // Acquired: robust mode holds it with the searcher's state; the paper's mode starts
-        // its own tracker there, as from a teleoperator's placement.
+        let (k, out, extra) = match self.best_near(k, out.estimate, covered(&out), &mut step) {
+            Some(better) => {
+                self.searchers[k].release();
+                better
+            }
+            None => (k, out, extra),
+        };
+        let holder = self.take_hold(k, &out)?;
+        Ok((out, extra, Some(holder)))
+    }
+
+    /// Whether the held target, whose step this frame is `out`, is checked against the
+    /// other models ([`Acquisition::recheck`]): when its fit covers less of its outline
+    /// than `tracker::robust::SEARCH_BELOW_COVERAGE` (a weak fit, by robust mode's test),
+    /// on one frame in [`tracker::robust::ACQUIRE_EVERY_FRAMES`], the rate of robust mode's
+    /// whole-image search after a long loss.
+    pub(crate) fn rechecks(&self, out: &TrackOutput) -> bool {
+        self.hold.held.is_some()
+            && self.models.len() > 1
+            && self.hold.held_for.is_multiple_of(ACQUIRE_EVERY_FRAMES)
+            && covered(out) < SEARCH_BELOW_COVERAGE
+    }
+
+    /// Holding a target whose fit `out` is weak, when [`Acquisition::rechecks`]: searches
+    /// the chase's lane for each other model, as when holding nothing, and returns the best whose fit covers
+    /// [`tracker::robust::SEARCH_MARGIN`] more of its outline (its output, `step`'s return
+    /// and the tracker to hold it), now held. A vehicle first found in part by another
+    /// kind's model is held by its own once that resolves (the lead's board, found nearer
+    /// than a car's back, is one), and a target coasting on nothing gives way to one that
+    /// is there.
+    pub(crate) fn recheck<E>(
+        &mut self,
+        out: &TrackOutput,
+        lane: Option<&LaneAhead>,
+        mut step: impl FnMut(&mut Tracker) -> (TrackOutput, E),
+    ) -> Result<Option<(TrackOutput, E, Tracker)>, TrackerError> {
+        let Some(k) = self.hold.held else {
+            return Ok(None);
+        };
+        if !self.rechecks(out) {
+            return Ok(None);
+        }
+        let floor = covered(out) + SEARCH_MARGIN;
+        let gates = (0..self.models.len())
+            .map(|j| (j != k).then(|| lane.map(|l| self.gate(j, l))))
+            .collect();
+        let Some((j, out, extra)) = self.best_of(gates, floor, &mut step) else {
+            return Ok(None);
+        };
+        let holder = self.take_hold(j, &out)?;
+        Ok(Some((out, extra, holder)))
+    }
+
+    /// Searches each model but `k` about `at`, where model `k` has a fit, on this frame
+    /// ([`Acquisition::best_of`]).
+    fn best_near<E>(
+        &mut self,
+        k: usize,
+        at: Location,
+        floor: f64,
+        step: &mut impl FnMut(&mut Tracker) -> (TrackOutput, E),
+    ) -> Option<(usize, TrackOutput, E)> {
+        let gates = (0..self.models.len())
+            .map(|j| (j != k).then(|| Some(self.near(k, at, j))))
+            .collect();
+        self.best_of(gates, floor, step)
+    }
+
+    /// Searches with each model `j` whose `gates[j]` is given, within that gate, on this
+    /// frame: the model whose fit covers the most of its outline, above `floor`, with its
+    /// output and `step`'s return. Every other searcher is released.
+    fn best_of<E>(
+        &mut self,
+        gates: Vec<Option<Option<AcquireGate>>>,
+        floor: f64,
+        step: &mut impl FnMut(&mut Tracker) -> (TrackOutput, E),
+    ) -> Option<(usize, TrackOutput, E)> {
+        let mut best: Option<(usize, TrackOutput, E)> = None;
+        for (j, gate) in gates.into_iter().enumerate() {
+            let Some(gate) = gate else { continue };
+            self.searchers[j].set_acquire_gate(gate);
+            let (o, e) = step(&mut self.searchers[j]);
+            if o.status != Status::Tracking {
+                continue;
+            }
+            let bar = best.as_ref().map_or(floor, |b| covered(&b.1).max(floor));
+            if covered(&o) > bar {
+                if let Some((i, ..)) = best {
+                    self.searchers[i].release();
+                }
+                best = Some((j, o, e));
+            } else {
+                self.searchers[j].release();
+            }
+        }
+        best
+    }
+
+    /// Holds model `k`'s fit `out`, just acquired by its searcher: robust mode holds it
+    /// with the searcher's state; the paper's mode starts its own tracker there, as from a
+    /// teleoperator's placement. The searcher is released to search again later.
+    fn take_hold(&mut self, k: usize, out: &TrackOutput) -> Result<Tracker, TrackerError> {
+        let searcher = &mut self.searchers[k];
         let holder = match self.config.mode {
             TrackerMode::Robust => {
                 let mut holder = searcher.clone();
@@ -191,8 +317,30 @@ impl Acquisition {
             )?,
         };
         searcher.release();
-        (self.hold.held, self.hold.out_of_lane, self.hold.next) = (Some(k), 0, 0);
-        Ok((out, Some(holder)))
+        let h = &mut self.hold;
+        (h.held, h.out_of_lane, h.next, h.held_for) = (Some(k), 0, 0, 0);
+        Ok(holder)
+    }
+
+    /// Where model `j`'s target may be centred on the vehicle whose back model `k` found at
+    /// `at`: a centre within [`NEAR_REACH`] of the found outline's size from its centre, at
+    /// the scales that put model `j` at the found range (eq. 36) within a factor of
+    /// [`NEAR_RANGE_FACTOR`].
+    fn near(&self, k: usize, at: Location, j: usize) -> AcquireGate {
+        let range_m = self.models[k].nominal_range_m() / at.scale;
+        let [fx, fy] = self.camera.focal_px();
+        let [w, h] = self.models[k].size_m();
+        let reach = [NEAR_REACH * w * fx / range_m, NEAR_REACH * h * fy / range_m];
+        let scale = self.models[j].nominal_range_m() / range_m;
+        let row = |scale| GateRow {
+            scale,
+            c_x: [at.c_x - reach[0], at.c_x + reach[0]],
+            c_y: [at.c_y - reach[1], at.c_y + reach[1]],
+        };
+        AcquireGate::new(vec![
+            row(scale / NEAR_RANGE_FACTOR),
+            row(scale * NEAR_RANGE_FACTOR),
+        ])
     }
 
     /// Where model `k`'s target may be centred in the image: at each scale, its range (the

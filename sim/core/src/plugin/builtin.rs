@@ -38,6 +38,9 @@ pub struct BuiltinTracker {
     diagnostics: bool,
     /// The last step's edge points' fates, with diagnostics on.
     edges: Vec<EdgeDiagnostic>,
+    /// Whether the frame stepped is drawn in part only ([`FrameTracker::track_drawn`]): a
+    /// check of the target held against the other models then asks for the whole.
+    drawn_in_part: bool,
 }
 
 impl BuiltinTracker {
@@ -52,6 +55,7 @@ impl BuiltinTracker {
             last_estimate: None,
             read: None,
             diagnostics: false,
+            drawn_in_part: false,
             edges: Vec::new(),
         }
     }
@@ -108,15 +112,13 @@ impl BuiltinTracker {
             return Ok(None);
         }
         if acquisition.searching() {
-            let mut edges = Vec::new();
-            let (out, acquired) = acquisition
+            let (out, (edges, read), acquired) = acquisition
                 .search(input.lane, |t| {
                     let (out, e) = Self::step(diagnostics, t, input);
-                    edges = e;
-                    self.read = Some(t.last_read());
-                    out
+                    (out, (e, t.last_read()))
                 })
                 .map_err(|e| PluginError::Failed(e.to_string()))?;
+            self.read = Some(read);
             if let Some(holder) = acquired {
                 self.tracker = Some(holder);
             }
@@ -126,7 +128,30 @@ impl BuiltinTracker {
         let (out, edges) = Self::step(diagnostics, tracker, input);
         self.read = Some(tracker.last_read());
         let released = acquisition.judge_held(&out, input.lane);
-        Ok(Some((out, edges, released)))
+        if released || !acquisition.rechecks(&out) {
+            return Ok(Some((out, edges, released)));
+        }
+        if self.drawn_in_part {
+            // The check reads the whole image: `track_drawn` puts the step back and asks.
+            self.read = Some(PixelRect::whole(input.frame.width(), input.frame.height()));
+            return Ok(Some((out, edges, false)));
+        }
+        let step = |t: &mut Tracker| {
+            let (out, e) = Self::step(diagnostics, t, input);
+            (out, (e, t.last_read()))
+        };
+        let failed = |e: tracker::TrackerError| PluginError::Failed(e.to_string());
+        match acquisition
+            .recheck(&out, input.lane, step)
+            .map_err(failed)?
+        {
+            Some((better, (edges, read), holder)) => {
+                self.tracker = Some(holder);
+                self.read = Some(read);
+                Ok(Some((better, edges, false)))
+            }
+            None => Ok(Some((out, edges, false))),
+        }
     }
 }
 
@@ -255,7 +280,10 @@ impl FrameTracker for BuiltinTracker {
         let held = self.acquisition.as_ref().map(Acquisition::hold);
         let before = (self.tracker.clone(), self.read);
         let last = self.last.take();
-        let estimate = self.track(input)?;
+        self.drawn_in_part = true;
+        let estimate = self.track(input);
+        self.drawn_in_part = false;
+        let estimate = estimate?;
         match self.read {
             Some(read) if !drawn.contains(&read) => {
                 (self.tracker, self.read) = before;

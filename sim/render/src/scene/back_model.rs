@@ -123,7 +123,7 @@ pub fn back_model_centre_m(kind: VehicleKind) -> [f64; 3] {
     let (face_x, bottom, top) = match kind.car_body() {
         Some(body) => {
             let back = CarBack::of(body);
-            (back.face_x, back.bumper_y[0], back.roof)
+            (back.face_x, back.bumper_y[1], back.roof)
         }
         None => (BOX_BACK_X_M, REAR_BUMPER_Y_M[0], TRUCK_HEIGHT_M),
     };
@@ -165,37 +165,35 @@ fn rectangle([z0, z1]: [f64; 2], [y0, y1]: [f64; 2]) -> [Edge; 4] {
     ]
 }
 
-/// A car's back: the roof line, the belt line, the rear window's glass (its top and
-/// bottom), the body's sides down to the bumper's top, the bumper, and the two tail lamps.
+/// A car's back: the roof line, the belt line (none on a van, whose cabin stands on its
+/// back face), the rear window's glass (its top and bottom), the body's sides down to the
+/// bumper's top, the bumper's top, and the two tail lamps.
 /// The cabin's and the window's sides lean in towards the roof (`car`'s insets), so they
 /// are no vertical features and are left out.
 fn car_edges(body: CarBody) -> Vec<Edge> {
     let b = CarBack::of(body);
     let s = b.side;
-    let [bumper_bottom, bumper_top] = b.bumper_y;
+    // The bumper's bottom and sides border the shade under the car and its tyres, as dark
+    // as the bumper: no edge there. Its top, on the lighter body, is one.
+    let bumper_top = b.bumper_y[1];
     let [glass_bottom, glass_top] = b.glass_y;
-    let mut edges = vec![
-        [[-b.cabin[1], b.roof], [b.cabin[1], b.roof]],
-        [[-s, b.belt], [s, b.belt]],
+    let mut edges = vec![[[-b.cabin[1], b.roof], [b.cabin[1], b.roof]]];
+    // A cabin standing on the back face (a van's) shows no belt line: it must not push out
+    // the glass's bottom, the edge that is there.
+    if !b.cabin_on_face {
+        edges.push([[-s, b.belt], [s, b.belt]]);
+    }
+    edges.extend([
         [
             [-b.glass_half[0], glass_bottom],
             [b.glass_half[0], glass_bottom],
         ],
         [[-b.glass_half[1], glass_top], [b.glass_half[1], glass_top]],
-    ];
+    ]);
     edges.extend([
         [[-s, bumper_top], [-s, b.belt]],
         [[s, bumper_top], [s, b.belt]],
         [[-s, bumper_top], [s, bumper_top]],
-        [
-            [-b.bumper_half, bumper_bottom],
-            [-b.bumper_half, bumper_top],
-        ],
-        [[b.bumper_half, bumper_bottom], [b.bumper_half, bumper_top]],
-        [
-            [-b.bumper_half, bumper_bottom],
-            [b.bumper_half, bumper_bottom],
-        ],
     ]);
     let [inner, outer] = b.lamp_z;
     edges.extend(rectangle([-outer, -inner], b.lamp_y));

@@ -69,6 +69,9 @@ pub(super) struct CarBack {
     pub side: f64,
     /// The top of the body, where the cabin stands (the belt line).
     pub belt: f64,
+    /// Whether the cabin's back stands on the body's back face (a van's): the belt line is
+    /// then only a change of paint, and none where the pillars' paint is the body's.
+    pub cabin_on_face: bool,
     /// The roof's height.
     pub roof: f64,
     /// The cabin's half width at the belt and at the roof.
@@ -99,6 +102,7 @@ impl CarBack {
             face_x: -shape.end,
             side: shape.side,
             belt: shape.belt,
+            cabin_on_face: shape.rear0 <= -shape.end,
             roof: shape.roof,
             cabin: [cw0, cw1],
             glass_y: [at(v), at(1.0 - v)],
