@@ -925,3 +925,26 @@ fn an_act_with_an_empty_start_trigger_starts_at_once() {
         assert!(frames.contains("cut-in:started"), "{to}");
     }
 }
+
+/// A controller assigned to the ego is read and not applied, and the one warning that says
+/// so names the controller alone when the ego has no storyboard action.
+#[test]
+fn the_egos_controller_alone_is_named_in_its_warning() {
+    let ego = "<CatalogReference catalogName=\"VehicleCatalog\" entryName=\"car_white\"/>";
+    let controlled = format!(
+        "{ego}<ObjectController><Controller name=\"driver\"><Properties/></Controller></ObjectController>"
+    );
+    let (_dir, file) = mutant(|text| text.replacen(ego, &controlled, 1));
+    let o = carfollow(&["check", file.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let warned: Vec<_> = stderr(&o)
+        .lines()
+        .filter(|l| l.contains("the ego `Ego`'s"))
+        .map(String::from)
+        .collect();
+    assert_eq!(warned.len(), 1, "{}", stderr(&o));
+    assert!(
+        warned[0].contains("controller is not applied") && !warned[0].contains("0 storyboard"),
+        "{warned:?}"
+    );
+}

@@ -391,11 +391,15 @@ pub fn scenario(
     let at_ego: Placed = init.placed[ego];
     let at_lead: Placed = init.placed[&lead];
     let ego_controlled = vehicles.iter().any(|v| v.name == ego && v.controlled);
-    if stories.ego_actions > 0 || ego_controlled {
+    let ignored = match (stories.ego_actions, ego_controlled) {
+        (0, false) => None,
+        (0, true) => Some("controller is".to_string()),
+        (n, false) => Some(format!("{n} storyboard action(s) are")),
+        (n, true) => Some(format!("{n} storyboard action(s) and its controller are")),
+    };
+    if let Some(ignored) = ignored {
         warnings.push(format!(
-            "the ego `{ego}`'s {} storyboard action(s){} are not applied: carfollow's loop drives the chase",
-            stories.ego_actions,
-            if ego_controlled { " and its controller" } else { "" }
+            "the ego `{ego}`'s {ignored} not applied: carfollow's loop drives the chase"
         ));
     }
     let lead_kind = vehicles
