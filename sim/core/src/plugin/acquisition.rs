@@ -8,11 +8,12 @@
 //! lane ([`LaneAhead`], through [`tracker::AcquireGate`]); this is robust mode's
 //! whole-image search, which the paper's mode also takes its start from. Of the models that
 //! fit one vehicle it holds the one that covers the most of its outline, and while its fit
-//! is weak it looks for a better in the lane ([`Acquisition::recheck`]). It lets go of a
+//! is weak it looks for a better in the lane, of any model, the one held included, at a
+//! scale or place the held target is not at ([`Acquisition::recheck`]). It lets go of a
 //! target the tracker says is lost, and of one that has left the lane for
 //! `vehicle::LEFT_LANE_ARRIVALS` frames, as the chase controller judges a target in its
-//! lane. Holding nothing for long, it searches on one frame in three
-//! ([`SEARCH_EVERY_FRAME_FOR`]).
+//! lane. Until its first hold it searches every frame; holding nothing for long after a hold,
+//! it searches on one frame in three ([`SEARCH_EVERY_FRAME_FOR`]).
 
 use super::LaneAhead;
 use tracker::robust::{acquire_scales, ACQUIRE_EVERY_FRAMES, SEARCH_BELOW_COVERAGE, SEARCH_MARGIN};
@@ -55,6 +56,19 @@ const NEAR_REACH: f64 = 0.75;
 /// ratio of their sizes.
 const NEAR_RANGE_FACTOR: f64 = 1.5;
 
+/// The scale ratio within which a fresh fit of the model held, about the held one's
+/// centre, is the target held and not another: robust mode's search after a short loss
+/// looks as far (a factor of 1.3).
+const SAME_TARGET_SCALE: f64 = 1.3;
+
+/// Whether a fresh fit of the model held, `found`, is the target held at `held`, whose
+/// outline is `half_width_px` wide each side: a scale within [`SAME_TARGET_SCALE`] of the
+/// held one's, and a centre within that half width of its centre.
+fn same_target(held: Location, half_width_px: f64, found: Location) -> bool {
+    let near = (found.c_x - held.c_x).hypot(found.c_y - held.c_y) <= half_width_px;
+    near && (found.scale / held.scale).ln().abs() <= SAME_TARGET_SCALE.ln()
+}
+
 /// How much of a fit's outline lies on edges: the lesser of its two orientations'
 /// coverages, the measure robust mode judges a fit by.
 fn covered(out: &TrackOutput) -> f64 {
@@ -74,6 +88,10 @@ pub(crate) struct Hold {
     idle: u64,
     /// Frames the target held has been held.
     held_for: u64,
+    /// Whether it has held a target: until then it searches every frame, as robust mode's
+    /// search does before its first acquisition (a searching start finds its target as soon
+    /// as the search can).
+    ever_held: bool,
 }
 
 /// Which target the built-in tracker holds in traffic, and the searchers that find one.
@@ -115,6 +133,7 @@ impl Acquisition {
             config,
             hold: Hold {
                 held: held.then_some(0),
+                ever_held: held,
                 ..Hold::default()
             },
         })
@@ -145,6 +164,7 @@ impl Acquisition {
     pub(crate) fn rests_in(&self, ahead: u64) -> bool {
         let n = self.hold.idle + ahead.saturating_sub(1);
         self.searching()
+            && self.hold.ever_held
             && n >= SEARCH_EVERY_FRAME_FOR
             && !(n - SEARCH_EVERY_FRAME_FOR).is_multiple_of(ACQUIRE_EVERY_FRAMES)
     }
@@ -218,18 +238,21 @@ impl Acquisition {
     /// whole-image search after a long loss.
     pub(crate) fn rechecks(&self, out: &TrackOutput) -> bool {
         self.hold.held.is_some()
-            && self.models.len() > 1
             && self.hold.held_for.is_multiple_of(ACQUIRE_EVERY_FRAMES)
             && covered(out) < SEARCH_BELOW_COVERAGE
     }
 
     /// Holding a target whose fit `out` is weak, when [`Acquisition::rechecks`]: searches
-    /// the chase's lane for each other model, as when holding nothing, and returns the best whose fit covers
-    /// [`tracker::robust::SEARCH_MARGIN`] more of its outline (its output, `step`'s return
-    /// and the tracker to hold it), now held. A vehicle first found in part by another
-    /// kind's model is held by its own once that resolves (the lead's board, found nearer
-    /// than a car's back, is one), and a target coasting on nothing gives way to one that
-    /// is there.
+    /// the chase's lane for every model, as when holding nothing, and returns the best
+    /// whose fit covers [`tracker::robust::SEARCH_MARGIN`] more of its outline (its output,
+    /// `step`'s return and the tracker to hold it), now held; of the held model, only a fit
+    /// that is not the target held ([`Acquisition::same_target`]). A vehicle first found in
+    /// part by another kind's model is held by its own once that resolves (the lead's
+    /// board, found nearer than a car's back, is one); a model held at a scale it fits by
+    /// self-similarity (the board's at twice its own, its inner frame on the board's outer)
+    /// gives way to the target at its own scale once the search reaches it; and a target
+    /// coasting on nothing gives way to one that is there. The caller tells the controller
+    /// that what it followed was let go of, so that it measures the new target first.
     pub(crate) fn recheck<E>(
         &mut self,
         out: &TrackOutput,
@@ -243,14 +266,24 @@ impl Acquisition {
             return Ok(None);
         }
         let floor = covered(out) + SEARCH_MARGIN;
+        let held = out.estimate;
         let gates = (0..self.models.len())
-            .map(|j| (j != k).then(|| lane.map(|l| self.gate(j, l))))
+            .map(|j| Some(lane.map(|l| self.gate(j, l))))
             .collect();
-        let Some((j, out, extra)) = self.best_of(gates, floor, &mut step) else {
+        let half_width_px = self.half_width_px(k, held);
+        let admit =
+            |j: usize, o: &TrackOutput| j != k || !same_target(held, half_width_px, o.estimate);
+        let Some((j, out, extra)) = self.best_of(gates, floor, admit, &mut step) else {
             return Ok(None);
         };
         let holder = self.take_hold(j, &out)?;
         Ok(Some((out, extra, holder)))
+    }
+
+    /// Half the width of model `k`'s outline at `at`, pixels.
+    fn half_width_px(&self, k: usize, at: Location) -> f64 {
+        let m = &self.models[k];
+        0.5 * m.size_m()[0] * self.camera.focal_px()[0] / m.nominal_range_m() * at.scale
     }
 
     /// Searches each model but `k` about `at`, where model `k` has a fit, on this frame
@@ -265,16 +298,18 @@ impl Acquisition {
         let gates = (0..self.models.len())
             .map(|j| (j != k).then(|| Some(self.near(k, at, j))))
             .collect();
-        self.best_of(gates, floor, step)
+        self.best_of(gates, floor, |_, _| true, step)
     }
 
     /// Searches with each model `j` whose `gates[j]` is given, within that gate, on this
     /// frame: the model whose fit covers the most of its outline, above `floor`, with its
-    /// output and `step`'s return. Every other searcher is released.
+    /// output and `step`'s return, of the fits `admit` takes. Every other searcher is
+    /// released.
     fn best_of<E>(
         &mut self,
         gates: Vec<Option<Option<AcquireGate>>>,
         floor: f64,
+        admit: impl Fn(usize, &TrackOutput) -> bool,
         step: &mut impl FnMut(&mut Tracker) -> (TrackOutput, E),
     ) -> Option<(usize, TrackOutput, E)> {
         let mut best: Option<(usize, TrackOutput, E)> = None;
@@ -283,6 +318,10 @@ impl Acquisition {
             self.searchers[j].set_acquire_gate(gate);
             let (o, e) = step(&mut self.searchers[j]);
             if o.status != Status::Tracking {
+                continue;
+            }
+            if !admit(j, &o) {
+                self.searchers[j].release();
                 continue;
             }
             let bar = best.as_ref().map_or(floor, |b| covered(&b.1).max(floor));
@@ -319,6 +358,7 @@ impl Acquisition {
         searcher.release();
         let h = &mut self.hold;
         (h.held, h.out_of_lane, h.next, h.held_for) = (Some(k), 0, 0, 0);
+        h.ever_held = true;
         Ok(holder)
     }
 

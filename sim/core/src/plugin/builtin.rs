@@ -146,9 +146,11 @@ impl BuiltinTracker {
             .map_err(failed)?
         {
             Some((better, (edges, read), holder)) => {
+                // What was followed is let go of: the controller hears it lost, and
+                // measures the new target first.
                 self.tracker = Some(holder);
                 self.read = Some(read);
-                Ok(Some((better, edges, false)))
+                Ok(Some((better, edges, true)))
             }
             None => Ok(Some((out, edges, false))),
         }
@@ -191,10 +193,9 @@ impl FrameTracker for BuiltinTracker {
         });
         let placed = placed.transpose()?;
         let failed = |e: tracker::TrackerError| PluginError::Failed(e.to_string());
-        // Traffic's acquisition: with other targets to hold, or the paper's mode with no
-        // start, which it takes from robust mode's search.
-        let acquire =
-            !self.others.is_empty() || (placed.is_none() && config.mode == TrackerMode::Paper);
+        // Traffic's acquisition: with other targets to hold, or with no start (the paper's
+        // mode takes its start from robust mode's search), in the chase's lane.
+        let acquire = !self.others.is_empty() || placed.is_none();
         self.acquisition = if acquire {
             let mut models = vec![model.clone()];
             models.extend(self.others.iter().cloned());
