@@ -2,10 +2,10 @@
 //! chase 150 m behind; it cruises, its tracker searches and first holds the lead well
 //! inside the search's reach, and then the chase follows. The frames before its first fit
 //! are `not_acquired`, counted apart from a lost track in `summary.json`; a first fit off
-//! the lead's board is a loss (`tracker`) for at most 15 frames. A far start without a search is refused in one line; esmini's
-//! `slow-lead-vehicle.xosc`, 146.6 m behind, imports as a far start. The board's model at
-//! twice its scale, which the search can take where the board is beyond its reach, gives
-//! way to the board within 15 frames. Run with
+//! the lead's board is a loss (`tracker`) for at most 15 frames. A far start without a
+//! search is refused in one line; esmini's `slow-lead-vehicle.xosc`, 146.6 m behind,
+//! imports as a far start. The board's model at twice its scale, which the search can take
+//! where the board is beyond its reach, gives way to the board within 15 frames. Run with
 //! `cargo test --release -p sim --test cli_far_lead`.
 
 use std::collections::BTreeMap;
@@ -21,6 +21,24 @@ fn carfollow(args: &[&str]) -> Output {
         .args(args)
         .output()
         .unwrap()
+}
+
+/// `carfollow run` of the library's `scenario` into `out` with `sets` (each a `--set`); its
+/// verdict may fail (exit status 1), nothing else.
+fn run(scenario: &str, out: &Path, sets: &[&str]) {
+    let scenario = scenarios().join(format!("{scenario}.toml"));
+    let mut args = vec![
+        "run",
+        scenario.to_str().unwrap(),
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    for set in sets {
+        args.extend(["--set", set]);
+    }
+    let o = carfollow(&args);
+    assert!(matches!(o.status.code(), Some(0 | 1)), "{}", stderr(&o));
 }
 
 fn stderr(o: &Output) -> String {
@@ -44,27 +62,11 @@ fn frames(dir: &Path) -> Vec<BTreeMap<String, String>> {
 
 #[test]
 fn a_chase_150_m_behind_cruises_finds_the_lead_and_follows_it() {
-    let scenario = scenarios().join("far-lead.toml");
     for mode in ["paper", "robust"] {
         let dir = tempfile::tempdir().unwrap();
         let mode_set = format!("tracker.mode={mode}");
-        let o = carfollow(&[
-            "run",
-            scenario.to_str().unwrap(),
-            "--quiet",
-            "--out",
-            dir.path().to_str().unwrap(),
-            "--set",
-            "duration_s=26",
-            "--set",
-            &mode_set,
-        ]);
         // 26 s, short of the distance the scenario asks for: its verdict may fail.
-        assert!(
-            matches!(o.status.code(), Some(0 | 1)),
-            "{mode}: {}",
-            stderr(&o)
-        );
+        run("far-lead", dir.path(), &["duration_s=26", &mode_set]);
         let rows = frames(dir.path());
         let first = rows
             .iter()
@@ -208,24 +210,14 @@ fn esminis_slow_lead_vehicle_imports_as_a_far_start() {
 /// frames, before), and the board is then held at its own scale.
 #[test]
 fn the_boards_model_at_twice_its_scale_gives_way_to_the_board() {
-    let scenario = scenarios().join("ncap-ccrm.toml");
     let dir = tempfile::tempdir().unwrap();
-    let o = carfollow(&[
-        "run",
-        scenario.to_str().unwrap(),
-        "--quiet",
-        "--out",
-        dir.path().to_str().unwrap(),
-        "--set",
+    let sets = [
         "duration_s=30",
-        "--set",
         "chase.initial_gap_m=70",
-        "--set",
         "camera.focal_length_mm=16",
-        "--set",
         "tracker.mode=robust",
-    ]);
-    assert!(matches!(o.status.code(), Some(0 | 1)), "{}", stderr(&o));
+    ];
+    run("ncap-ccrm", dir.path(), &sets);
     let rows = frames(dir.path());
     let mut longest = 0;
     let mut run = 0;
