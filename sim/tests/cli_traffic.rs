@@ -150,6 +150,23 @@ fn the_frames_a_search_rests_on_are_not_rendered_and_change_nothing() {
     assert!(again < 20, "{again} frames rendered again");
 }
 
+/// Holding a target whose fit is weak, the built-in tracker checks every model in the lane
+/// one frame in three (`Acquisition::rechecks`), reading the whole image; the loop renders
+/// those frames whole ahead (`FrameTracker::may_read_whole`) rather than in part and then
+/// again. The estimates are those of whole frames all the same.
+#[test]
+fn the_frames_a_weak_fit_is_checked_on_are_rendered_whole_ahead() {
+    let dir = tempfile::tempdir().unwrap();
+    let [parts, whole] = ["parts", "whole"].map(|d| dir.path().join(d));
+    run(&parts, "cut-in", &[]);
+    run(&whole, "cut-in", &["--renderers", "1", "--video"]);
+    assert!(text(&parts, "frames.csv") == text(&whole, "frames.csv"));
+    let s: serde_json::Value = serde_json::from_str(&text(&parts, "summary.json")).unwrap();
+    // 57 frames were rendered again before the loop was told (32 now).
+    let again = s["timing"]["rerendered_frames"].as_u64().unwrap();
+    assert!(again < 45, "{again} frames rendered again");
+}
+
 #[test]
 fn a_scenario_without_traffic_writes_no_trace_of_it() {
     let dir = tempfile::tempdir().unwrap();

@@ -5,10 +5,12 @@
 //! whose start was a person's (2.2); see [`crate::robust`].
 //!
 //! The coarse pass scores a grid of centres [`SEARCH_STEP_PX`] apart. Its centres are whole
-//! pixels, so at one scale every outline sample lies a fixed whole-pixel offset from the
-//! centre, and one grid row's scores are sums of rows of the truncated distance transforms,
-//! shifted: added a row at a time, with no rounding per sample. A centre whose samples
-//! reach off the region is scored sample by sample, as the fine pass scores every one.
+//! pixels, so at one scale almost every outline sample lies a fixed whole-pixel offset from
+//! the centre, and one grid row's scores are sums of rows of the truncated distance
+//! transforms, shifted: added a row at a time, with no rounding per sample. The transforms
+//! are kept split by column modulo the step, so a row holds only the grid's columns. A
+//! sample within rounding of a half pixel is rounded per centre, as the fine pass rounds
+//! every one; a centre whose samples reach off the region is scored sample by sample.
 
 use crate::config::TrackerConfig;
 use crate::edges::{EdgeExtractor, Edges};
@@ -48,29 +50,48 @@ pub struct ChamferSearch {
     /// The distance transforms of the two classes (3-4 chamfer units, a third of a pixel),
     /// truncated at [`CAP`], row-major over the region.
     capped: [Vec<u8>; 2],
+    /// The same transforms split by column modulo [`SEARCH_STEP_PX`]: for each class,
+    /// `phase × height` rows of [`ChamferSearch::phase_width`] values, the row `p · h + y`
+    /// holding columns `p, p + step, …` of row `y` (padded with [`CAP`]).
+    phased: [Vec<u8>; 2],
+    /// The width of a row of [`ChamferSearch::phased`].
+    phase_width: usize,
     /// Outline samples at scale 1: (class, x offset, y offset).
     samples: Vec<(usize, f64, f64)>,
     /// The samples at the coarse pass's scale, on whole pixels.
     grid: Grid,
-    /// One grid row's sums of truncated distances, a centre a pixel.
+    /// One grid row's sums of truncated distances, a grid centre each.
     sums: Vec<u16>,
+    /// What the edges and transforms were found from, so that searches of one frame one
+    /// after another (each model's, sharing this search) find them once.
+    prepared: Option<PreparedFor>,
+}
+
+/// The image, region and settings edges and transforms were found from.
+#[derive(Clone, Debug, PartialEq)]
+struct PreparedFor {
+    region: Window,
+    config: TrackerConfig,
+    width: usize,
+    pixels: Vec<u8>,
 }
 
 /// The outline samples at one scale, as whole-pixel offsets from a centre on whole pixels:
 /// `round(c + x · scale) = c + ⌊x · scale + ½⌋` for a whole `c` where the sum is not
 /// negative (below 0 both are off the region), unless `x · scale` lies within
 /// [`NEAR_HALF_PX`] of a half pixel, where the rounding of the sum `c + x · scale` may
-/// decide.
+/// decide: such a sample is rounded per centre.
 #[derive(Clone, Debug, Default)]
 struct Grid {
     /// The scale.
     scale: f64,
-    /// Whether no sample lies near a half pixel: the offsets give every centre's samples
-    /// exactly (else each centre is scored sample by sample).
-    exact: bool,
-    /// Per sample: its class and offset `(dx, dy)`, pixels.
+    /// Per sample not near a half pixel: its class and offset `(dx, dy)`, pixels.
     offsets: Vec<(usize, i64, i64)>,
-    /// The offsets' extent, `[dx_min, dx_max, dy_min, dy_max]`, pixels.
+    /// Per sample near a half pixel in x or y: its class and offset `(x · scale, y ·
+    /// scale)`, pixels, rounded with each centre.
+    ambiguous: Vec<(usize, f64, f64)>,
+    /// The whole offsets' extent, `[dx_min, dx_max, dy_min, dy_max]`, pixels (all 0 when
+    /// there are none).
     bounds: [i64; 4],
 }
 
@@ -175,7 +196,7 @@ impl ChamferSearch {
         let ry = y - r.y0 as i64;
         let fast = self.fast_span(ry, [x0 - r.x0 as i64, x1 - r.x0 as i64]);
         if let Some([lo, hi]) = fast {
-            self.row_sums(ry, lo, hi);
+            self.row_sums(ry, lo, (hi - lo) as usize / SEARCH_STEP_PX + 1);
         }
         let n = self.samples.len().max(1) as f64;
         let mut x = x0;
@@ -184,7 +205,7 @@ impl ChamferSearch {
             let rx = x - r.x0 as i64;
             let score = match fast {
                 Some([lo, hi]) if (lo..=hi).contains(&rx) => {
-                    let sum = f64::from(self.sums[(rx - lo) as usize]);
+                    let sum = f64::from(self.sums[(rx - lo) as usize / SEARCH_STEP_PX]);
                     (sum <= bound * 3.0 * n).then_some(sum / (3.0 * n))
                 }
                 _ => self.score(Location::new(x as f64, y as f64, self.grid.scale), bound),
@@ -197,30 +218,61 @@ impl ChamferSearch {
         }
     }
 
-    /// The centres of row `ry` within `[lo, hi]` (region coordinates) whose samples all
-    /// lie in the region, when the grid's offsets are exact and the row sums fit in 16 bits
-    /// (a model of fewer than `u16::MAX / CAP` samples): those the row sums score.
+    /// The grid centres `lo, lo + step, … ≤ hi` of row `ry` (region coordinates, `lo` on
+    /// the grid) whose whole offsets all lie in the region, when the row sums fit in 16
+    /// bits (a model of fewer than `u16::MAX / CAP` samples): the first and last, those the
+    /// row sums score.
     fn fast_span(&self, ry: i64, [lo, hi]: [i64; 2]) -> Option<[i64; 2]> {
         let (w, h) = (self.region.width() as i64, self.region.height() as i64);
         let b = self.grid.bounds;
+        let step = SEARCH_STEP_PX as i64;
         let fits = self.samples.len() <= usize::from(u16::MAX / u16::from(CAP));
-        let (lo, hi) = (lo.max(-b[0]), hi.min(w - 1 - b[1]));
-        (self.grid.exact && fits && ry + b[2] >= 0 && ry + b[3] < h && lo <= hi).then_some([lo, hi])
+        let first = lo + ((-b[0] - lo).max(0) + step - 1) / step * step;
+        let hi = hi.min(w - 1 - b[1]);
+        (fits && ry + b[2] >= 0 && ry + b[3] < h && first <= hi).then_some([first, hi])
     }
 
-    /// Sets [`ChamferSearch::sums`] to the sums of truncated distances of the centres
-    /// `(lo..=hi, ry)`, region coordinates, every sample of which lies in the region.
-    fn row_sums(&mut self, ry: i64, lo: i64, hi: i64) {
-        let w = self.region.width() as i64;
-        let n = (hi - lo + 1) as usize;
+    /// Sets [`ChamferSearch::sums`] to the sums of truncated distances of the `count`
+    /// centres `(lo + i · step, ry)`, region coordinates, every whole offset of which lies
+    /// in the region; a sample near a half pixel is rounded per centre, and counts [`CAP`]
+    /// off the region, as [`ChamferSearch::score`] counts it.
+    fn row_sums(&mut self, ry: i64, lo: i64, count: usize) {
+        let step = SEARCH_STEP_PX as i64;
+        let (h, pw) = (self.region.height() as i64, self.phase_width as i64);
         self.sums.clear();
-        self.sums.resize(n, 0);
+        self.sums.resize(count, 0);
         for &(k, dx, dy) in &self.grid.offsets {
-            let start = ((ry + dy) * w + lo + dx) as usize;
-            let plane = &self.capped[k][start..start + n];
+            let q = lo + dx;
+            let start = (((q % step) * h + ry + dy) * pw + q / step) as usize;
+            let plane = &self.phased[k][start..start + count];
             for (sum, &d) in self.sums.iter_mut().zip(plane) {
                 *sum += u16::from(d);
             }
+        }
+        if self.grid.ambiguous.is_empty() {
+            return;
+        }
+        let r = self.region;
+        let y = (ry + r.y0 as i64) as f64;
+        for i in 0..count {
+            let x = (lo + i as i64 * step + r.x0 as i64) as f64;
+            for &(k, a, b) in &self.grid.ambiguous {
+                self.sums[i] += u16::from(self.at(k, x + a, y + b));
+            }
+        }
+    }
+
+    /// The truncated distance of class `k` at the image point `(x, y)` rounded to a pixel;
+    /// [`CAP`] off the region.
+    fn at(&self, k: usize, x: f64, y: f64) -> u8 {
+        let r = self.region;
+        let (w, h) = (r.width() as i64, r.height() as i64);
+        let px = round_to_i64(x) - r.x0 as i64;
+        let py = round_to_i64(y) - r.y0 as i64;
+        if (0..w).contains(&px) && (0..h).contains(&py) {
+            self.capped[k][(py * w + px) as usize]
+        } else {
+            CAP
         }
     }
 
@@ -229,19 +281,25 @@ impl ChamferSearch {
         let grid = &mut self.grid;
         grid.scale = scale;
         grid.offsets.clear();
+        grid.ambiguous.clear();
         grid.bounds = [i64::MAX, i64::MIN, i64::MAX, i64::MIN];
-        grid.exact = true;
         for &(k, x, y) in &self.samples {
             let [a, b] = [x * scale, y * scale];
             // Within rounding of a half pixel, c + a may round either way.
             let near_half = |v: f64| (v - v.floor() - 0.5).abs() < NEAR_HALF_PX;
-            grid.exact &= !near_half(a) && !near_half(b);
+            if near_half(a) || near_half(b) {
+                grid.ambiguous.push((k, a, b));
+                continue;
+            }
             let dx = (a + 0.5).floor() as i64;
             let dy = (b + 0.5).floor() as i64;
             let b = &mut grid.bounds;
             (b[0], b[1]) = (b[0].min(dx), b[1].max(dx));
             (b[2], b[3]) = (b[2].min(dy), b[3].max(dy));
             grid.offsets.push((k, dx, dy));
+        }
+        if grid.offsets.is_empty() {
+            grid.bounds = [0; 4];
         }
     }
 
@@ -285,7 +343,8 @@ impl ChamferSearch {
         out
     }
 
-    /// Extracts the region's edges and builds the distance transforms and outline samples.
+    /// Extracts the region's edges and builds the distance transforms (unless they were
+    /// last built from the same image, region and settings), and the outline samples.
     fn prepare(
         &mut self,
         image: GrayView<'_>,
@@ -293,24 +352,23 @@ impl ChamferSearch {
         features: &[Feature],
         config: &TrackerConfig,
     ) {
-        self.region = region;
-        self.extractor
-            .extract(image, region, config, &mut self.edges, None);
-        let (w, h) = (region.width(), region.height());
-        for (k, points) in [&self.edges.horizontal, &self.edges.vertical]
-            .into_iter()
-            .enumerate()
-        {
-            let dt = &mut self.capped[k];
-            dt.clear();
-            dt.resize(w * h, CAP);
-            for p in points.iter() {
-                let x = p.x.round() as i64 - region.x0 as i64;
-                let y = p.y.round() as i64 - region.y0 as i64;
-                if (0..w as i64).contains(&x) && (0..h as i64).contains(&y) {
-                    stamp(dt, w as i64, h as i64, x, y);
-                }
-            }
+        let same = self.prepared.as_ref().is_some_and(|p| {
+            p.region == region
+                && p.width == image.width()
+                && p.config == *config
+                && p.pixels == image.pixels()
+        });
+        if !same {
+            self.prepare_edges(image, region, config);
+            let mut pixels = self.prepared.take().map(|p| p.pixels).unwrap_or_default();
+            pixels.clear();
+            pixels.extend_from_slice(image.pixels());
+            self.prepared = Some(PreparedFor {
+                region,
+                config: config.clone(),
+                width: image.width(),
+                pixels,
+            });
         }
         self.samples.clear();
         for f in features {
@@ -330,6 +388,47 @@ impl ChamferSearch {
         }
     }
 
+    /// Extracts the region's edges and builds the distance transforms.
+    fn prepare_edges(&mut self, image: GrayView<'_>, region: Window, config: &TrackerConfig) {
+        self.region = region;
+        self.extractor
+            .extract(image, region, config, &mut self.edges, None);
+        let (w, h) = (region.width(), region.height());
+        for (k, points) in [&self.edges.horizontal, &self.edges.vertical]
+            .into_iter()
+            .enumerate()
+        {
+            let dt = &mut self.capped[k];
+            dt.clear();
+            dt.resize(w * h, CAP);
+            for p in points.iter() {
+                let x = p.x.round() as i64 - region.x0 as i64;
+                let y = p.y.round() as i64 - region.y0 as i64;
+                if (0..w as i64).contains(&x) && (0..h as i64).contains(&y) {
+                    stamp(dt, w as i64, h as i64, x, y);
+                }
+            }
+        }
+        self.split_phases();
+    }
+
+    /// Sets [`ChamferSearch::phased`] from [`ChamferSearch::capped`].
+    fn split_phases(&mut self) {
+        let (w, h) = (self.region.width(), self.region.height());
+        let pw = w.div_ceil(SEARCH_STEP_PX);
+        self.phase_width = pw;
+        for (capped, phased) in self.capped.iter().zip(&mut self.phased) {
+            phased.clear();
+            phased.resize(SEARCH_STEP_PX * h * pw, CAP);
+            for (y, row) in capped.chunks_exact(w).enumerate() {
+                for (x, &d) in row.iter().enumerate() {
+                    let (j, p) = (x / SEARCH_STEP_PX, x % SEARCH_STEP_PX);
+                    phased[(p * h + y) * pw + j] = d;
+                }
+            }
+        }
+    }
+
     /// Whether a target at `at` lies wholly inside the region.
     fn inside(&self, at: Location, half_extent_px: [f64; 2]) -> bool {
         let r = self.region;
@@ -344,19 +443,11 @@ impl ChamferSearch {
     /// The mean truncated chamfer distance of the outline at `at`, pixels; `None` when it
     /// cannot beat `bound`.
     fn score(&self, at: Location, bound: f64) -> Option<f64> {
-        let r = self.region;
-        let (w, h) = (r.width() as i64, r.height() as i64);
         let n = self.samples.len().max(1) as f64;
         let limit = bound * 3.0 * n;
         let mut sum = 0u32;
         for &(k, x, y) in &self.samples {
-            let px = (at.c_x + x * at.scale).round() as i64 - r.x0 as i64;
-            let py = (at.c_y + y * at.scale).round() as i64 - r.y0 as i64;
-            let d = if (0..w).contains(&px) && (0..h).contains(&py) {
-                self.capped[k][(py * w + px) as usize]
-            } else {
-                CAP
-            };
+            let d = self.at(k, at.c_x + x * at.scale, at.c_y + y * at.scale);
             sum += u32::from(d);
             if f64::from(sum) > limit {
                 return None;
@@ -398,6 +489,21 @@ fn within_on_grid(start: i64, end: i64, [lo, hi]: [f64; 2]) -> (i64, i64) {
         start
     };
     (first, end.min(hi.floor().max((start - 1) as f64) as i64))
+}
+
+/// `v.round() as i64` (half away from zero, saturating, NaN to 0), without the library
+/// call `f64::round` makes on targets without a rounding instruction: `v - trunc(v)` is
+/// exact for every finite `v`.
+fn round_to_i64(v: f64) -> i64 {
+    let t = v as i64;
+    let f = v - t as f64;
+    if f >= 0.5 {
+        t.saturating_add(1)
+    } else if f <= -0.5 {
+        t.saturating_sub(1)
+    } else {
+        t
+    }
 }
 
 /// Keeps the best [`SEARCH_REFINE`] hits in `best`, sorted by score, no two nearer than
@@ -529,7 +635,8 @@ mod tests {
     }
 
     /// The coarse pass's row sums score every grid centre as scoring sample by sample does,
-    /// at every scale and position, inside the region and at its borders.
+    /// at every scale and position, inside the region and at its borders, with samples
+    /// near a half pixel or not.
     #[test]
     fn grid_rows_score_as_each_sample_does() {
         use crate::synth::{benchmark_frame, nist_ten_segment};
@@ -549,36 +656,113 @@ mod tests {
         search.prepare(image, region, &features, &crate::TrackerConfig::default());
         let (w, h) = (region.width() as i64, region.height() as i64);
         let n = search.samples.len() as f64;
+        let step = SEARCH_STEP_PX as i64;
         let (mut compared, mut inexact) = (0, 0);
         for scale in [0.4, 0.77, 1.0, 1.31, 2.2] {
             search.set_grid(scale);
-            if !search.grid.exact {
-                // Near a half pixel: no row sums, each centre scored sample by sample.
-                assert_eq!(search.fast_span(100, [0, 200]), None);
-                inexact += 1;
-                continue;
-            }
+            inexact += usize::from(!search.grid.ambiguous.is_empty());
             let b = search.grid.bounds;
-            // Every centre whose samples all lie in the region, rows to its borders.
-            let (lo, hi) = (-b[0], w - 1 - b[1]);
+            // Every centre whose whole offsets all lie in the region, rows to its borders,
+            // the grid started at each column modulo the step.
             for ry in -b[2]..h - b[3] {
-                search.row_sums(ry, lo, hi);
-                for rx in lo..=hi {
-                    let at = Location::new(
-                        (rx + region.x0 as i64) as f64,
-                        (ry + region.y0 as i64) as f64,
-                        scale,
-                    );
-                    let each = search.score(at, f64::INFINITY).unwrap();
-                    let sum = f64::from(search.sums[(rx - lo) as usize]);
-                    assert_eq!(sum / (3.0 * n), each, "at {at:?}");
-                    compared += 1;
+                for phase in 0..step {
+                    let Some([lo, hi]) = search.fast_span(ry, [phase, w]) else {
+                        continue;
+                    };
+                    search.row_sums(ry, lo, ((hi - lo) / step + 1) as usize);
+                    for (i, rx) in (lo..=hi).step_by(step as usize).enumerate() {
+                        let at = Location::new(
+                            (rx + region.x0 as i64) as f64,
+                            (ry + region.y0 as i64) as f64,
+                            scale,
+                        );
+                        let each = search.score(at, f64::INFINITY).unwrap();
+                        let sum = f64::from(search.sums[i]);
+                        assert_eq!(sum / (3.0 * n), each, "at {at:?}");
+                        compared += 1;
+                    }
                 }
             }
         }
         assert!(compared > 50_000, "{compared} compared");
         // Some scales put a sample within rounding of a half pixel (2.2 does, by a few
-        // 1e-15 px; 1.0 has offsets of whole half pixels): both paths are tried.
+        // 1e-15 px; 1.0 has offsets of whole half pixels): both kinds of sample are tried.
         assert!((1..5).contains(&inexact), "{inexact} of 5 scales inexact");
+    }
+
+    /// Edges found for one model's search serve the next model's of the same frame and
+    /// region, and another frame finds its own: every hit is what a fresh search finds.
+    #[test]
+    fn a_search_shared_between_models_finds_what_each_finds_alone() {
+        use crate::synth::{benchmark_frame, nist_ten_segment};
+        let model = nist_ten_segment();
+        let camera = crate::Camera::default();
+        let (at, pixels) = benchmark_frame(&model, &camera);
+        // The same scene 6 px to the left: another frame of the same size.
+        let mut moved = pixels.clone();
+        for row in moved.chunks_exact_mut(256) {
+            row.rotate_left(6);
+        }
+        let whole = Window {
+            x0: 1,
+            y0: 1,
+            x1: 255,
+            y1: 241,
+            size_index: 0,
+        };
+        let all = model.features_px(&camera);
+        let part = all[..6].to_vec();
+        let half = [60.0, 45.0];
+        let config = crate::TrackerConfig::default();
+        let mut shared = ChamferSearch::default();
+        let mut found = Vec::new();
+        for (frame, features) in [
+            (&pixels, &all),
+            (&pixels, &part),
+            (&moved, &part),
+            (&moved, &all),
+        ] {
+            let image = GrayView::new(256, 242, frame).unwrap();
+            let search = |s: &mut ChamferSearch| {
+                s.search(image, whole, features, half, [0.8, 1.25], &config, None)
+            };
+            let hit = search(&mut shared);
+            assert_eq!(hit, search(&mut ChamferSearch::default()));
+            found.push(hit.expect("a fit").location);
+        }
+        // The whole model is found where it was drawn, and 6 px over on the moved frame.
+        assert!(
+            (found[0].c_x - at.c_x).abs() < 1.5,
+            "{:?} vs {at:?}",
+            found[0]
+        );
+        assert!(
+            (found[3].c_x - (at.c_x - 6.0)).abs() < 1.5,
+            "{:?}",
+            found[3]
+        );
+    }
+
+    /// The rounding without a library call is `f64::round`'s, cast, at halves, near them,
+    /// at the cast's limits and on NaN.
+    #[test]
+    fn rounding_is_the_librarys() {
+        let mut values = vec![f64::NAN, f64::INFINITY, f64::NEG_INFINITY, 9.3e18, -9.3e18];
+        for base in [-1e6, -513.0, -2.0, -0.0, 0.0, 1.0, 255.0, 1023.0, 4.5e15] {
+            for d in [
+                -0.5,
+                0.5,
+                -0.25,
+                0.49999999999999994,
+                0.5000000000000001,
+                0.7,
+            ] {
+                let v: f64 = base + d;
+                values.extend([v, v.next_up(), v.next_down()]);
+            }
+        }
+        for v in values {
+            assert_eq!(round_to_i64(v), v.round() as i64, "{v:e}");
+        }
     }
 }

@@ -312,6 +312,13 @@ impl Tracker {
         }
     }
 
+    /// Exchanges the tracker's whole-image search (its scratch, and the edges it last
+    /// found) with `search`: trackers of several models that search one frame one after
+    /// another, sharing one, find its edges once. Changes no result.
+    pub fn swap_search(&mut self, search: &mut ChamferSearch) {
+        std::mem::swap(&mut self.search, search);
+    }
+
     /// Robust mode: where a whole-image search may lock on (`None`: anywhere, the
     /// default). Not in the paper; see [`crate::gate`]. Searches near a held or lately
     /// lost target are not gated.

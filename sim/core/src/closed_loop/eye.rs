@@ -60,6 +60,9 @@ impl Eye {
         if self.tracking.will_rest(1) {
             return Some(NOTHING);
         }
+        if self.tracking.may_read_whole(1) {
+            return None;
+        }
         self.parts
             .needed(
                 captured.input.frame_index,
@@ -75,6 +78,9 @@ impl Eye {
     pub(super) fn needed_ahead(&self, captured: &Captured) -> Option<PixelRect> {
         if !self.parts.whole_frames && self.tracking.will_rest(2) {
             return Some(NOTHING);
+        }
+        if self.tracking.may_read_whole(2) {
+            return None;
         }
         self.parts.needed(
             captured.input.frame_index,

@@ -130,6 +130,11 @@ impl Tracking {
         self.tracker.will_read()
     }
 
+    /// Whether the tracker said its step `ahead` frames on is likely to read the whole frame.
+    pub(super) fn may_read_whole(&self, ahead: u64) -> bool {
+        self.tracker.may_read_whole(ahead)
+    }
+
     /// Whether the tracker said its step `ahead` frames on will read nothing.
     pub(super) fn will_rest(&self, ahead: u64) -> bool {
         self.tracker.will_rest(ahead)

@@ -16,7 +16,9 @@
 //! it searches on one frame in three ([`SEARCH_EVERY_FRAME_FOR`]).
 
 use super::LaneAhead;
-use tracker::robust::{acquire_scales, ACQUIRE_EVERY_FRAMES, SEARCH_BELOW_COVERAGE, SEARCH_MARGIN};
+use tracker::robust::{
+    acquire_scales, ChamferSearch, ACQUIRE_EVERY_FRAMES, SEARCH_BELOW_COVERAGE, SEARCH_MARGIN,
+};
 use tracker::{
     AcquireGate, Camera, GateRow, Location, Status, TargetModel, TrackOutput, Tracker,
     TrackerConfig, TrackerError, TrackerMode,
@@ -92,6 +94,9 @@ pub(crate) struct Hold {
     /// search does before its first acquisition (a searching start finds its target as soon
     /// as the search can).
     ever_held: bool,
+    /// Whether the last fit judged of the target held was weak (below
+    /// [`SEARCH_BELOW_COVERAGE`]): its next frames are likely to be too.
+    weak: bool,
 }
 
 /// Which target the built-in tracker holds in traffic, and the searchers that find one.
@@ -101,6 +106,9 @@ pub(crate) struct Acquisition {
     models: Vec<TargetModel>,
     /// One robust-mode tracker a model, searching the whole image.
     searchers: Vec<Tracker>,
+    /// The whole-image search the searchers share, so that several searching one frame
+    /// find its edges once ([`Tracker::swap_search`]).
+    shared: ChamferSearch,
     /// The camera.
     camera: Camera,
     /// The tracker's own settings (its mode for a target once acquired).
@@ -129,6 +137,7 @@ impl Acquisition {
         Ok(Acquisition {
             models,
             searchers,
+            shared: ChamferSearch::default(),
             camera,
             config,
             hold: Hold {
@@ -174,6 +183,18 @@ impl Acquisition {
         self.hold.idle += 1;
     }
 
+    /// Whether the step `ahead` frames on (1: the next) is likely to read the whole image:
+    /// a search, holding nothing and not resting, or, holding a target whose last fit was
+    /// weak, a frame [`Acquisition::rechecks`] falls on. A guess, for the loop's rendering:
+    /// a frame guessed wrong is drawn in part and drawn again, or drawn whole for nothing.
+    pub(crate) fn may_read_whole(&self, ahead: u64) -> bool {
+        let h = &self.hold;
+        match h.held {
+            None => !self.rests_in(ahead),
+            Some(_) => h.weak && (h.held_for + ahead).is_multiple_of(ACQUIRE_EVERY_FRAMES),
+        }
+    }
+
     /// Whether it searches (holds nothing): the step then reads the whole image.
     pub(crate) fn searching(&self) -> bool {
         self.hold.held.is_none()
@@ -192,6 +213,7 @@ impl Acquisition {
             });
         let h = &mut self.hold;
         h.held_for += 1;
+        h.weak = covered(out) < SEARCH_BELOW_COVERAGE;
         h.out_of_lane = if out_now { h.out_of_lane + 1 } else { 0 };
         let released = out.status == Status::Lost || h.out_of_lane >= vehicle::LEFT_LANE_ARRIVALS;
         if released {
@@ -214,7 +236,7 @@ impl Acquisition {
         let k = self.hold.next;
         let gate = lane.map(|l| self.gate(k, l));
         self.searchers[k].set_acquire_gate(gate);
-        let (out, extra) = step(&mut self.searchers[k]);
+        let (out, extra) = self.step_searcher(k, &mut step);
         self.hold.idle += 1;
         if out.status != Status::Tracking {
             self.hold.next = (k + 1) % self.models.len();
@@ -316,7 +338,7 @@ impl Acquisition {
         for (j, gate) in gates.into_iter().enumerate() {
             let Some(gate) = gate else { continue };
             self.searchers[j].set_acquire_gate(gate);
-            let (o, e) = step(&mut self.searchers[j]);
+            let (o, e) = self.step_searcher(j, step);
             if o.status != Status::Tracking {
                 continue;
             }
@@ -335,6 +357,19 @@ impl Acquisition {
             }
         }
         best
+    }
+
+    /// Steps searcher `j` with `step`, lent the shared search.
+    fn step_searcher<E>(
+        &mut self,
+        j: usize,
+        step: &mut impl FnMut(&mut Tracker) -> (TrackOutput, E),
+    ) -> (TrackOutput, E) {
+        let searcher = &mut self.searchers[j];
+        searcher.swap_search(&mut self.shared);
+        let stepped = step(searcher);
+        searcher.swap_search(&mut self.shared);
+        stepped
     }
 
     /// Holds model `k`'s fit `out`, just acquired by its searcher: robust mode holds it

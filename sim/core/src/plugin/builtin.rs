@@ -305,6 +305,12 @@ impl FrameTracker for BuiltinTracker {
         self.acquisition.as_ref().is_some_and(|a| a.rests_in(ahead))
     }
 
+    fn may_read_whole(&self, ahead: u64) -> bool {
+        self.acquisition
+            .as_ref()
+            .is_some_and(|a| a.may_read_whole(ahead))
+    }
+
     fn reads_gyro(&self) -> bool {
         self.config.mode == TrackerMode::Robust
     }

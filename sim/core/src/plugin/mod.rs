@@ -89,6 +89,16 @@ pub trait FrameTracker: Send {
         false
     }
 
+    /// Whether the step `ahead` frames on (1: the next frame's) is likely to read the whole
+    /// frame (a search), if it can say: the loop then renders that frame whole rather than
+    /// the part [`FrameTracker::will_read`] names, sparing a frame drawn in part and drawn
+    /// again ([`FrameTracker::track_drawn`]). A guess: it changes no result, only the time
+    /// spent rendering. The default: `false`.
+    fn may_read_whole(&self, ahead: u64) -> bool {
+        let _ = ahead;
+        false
+    }
+
     /// Whether the tracker reads [`TrackerInput::gyro_rad`] (the default): the loop reads
     /// the chase's gyro only for a tracker that does.
     fn reads_gyro(&self) -> bool {
