@@ -32,7 +32,7 @@ pub use simulation::{RunError, Simulation, SimulationOptions};
 pub use sweep::{
     best_values, dedupe_sorted, merge_dirs, read_failed, read_rows, recording_path, run_point,
     run_points, serve_points, write_failed, write_report, Axis, Best, FailedPoint, Manifest,
-    ManifestPoint, Point, ResultRow, ResultsWriter, Shard, Sweep, SweepError, SweepFile,
+    ManifestPoint, Point, ResultRow, ResultsWriter, Roles, Shard, Sweep, SweepError, SweepFile,
     SweepScenario, BEST_RULE, FIGURES, MANIFEST_FILE, OSC_PARAM, RESULTS_FILE,
 };
 pub use track::{

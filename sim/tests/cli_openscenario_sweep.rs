@@ -157,6 +157,109 @@ fn a_distribution_runs_as_a_sweep_each_point_as_its_scenario_with_those_paramete
     );
 }
 
+/// A distribution whose scenario names its chase otherwise than the default names runs
+/// with `--ego` naming it, every point as `run --ego` runs it; without, it is refused in
+/// one line before anything runs, and `--ego` on a sweep of carfollow's own scenarios is
+/// refused too.
+#[test]
+fn a_distribution_runs_with_the_chase_named_by_ego() {
+    let dir = tempfile::tempdir().unwrap();
+    let scenario = std::fs::read_to_string(data().join("cut-in.xosc")).unwrap();
+    let renamed = scenario
+        .replace("name=\"Ego\"", "name=\"Hmmwv\"")
+        .replace("entityRef=\"Ego\"", "entityRef=\"Hmmwv\"");
+    assert!(!renamed.contains("\"Ego\""));
+    std::fs::write(dir.path().join("cut-in.xosc"), renamed).unwrap();
+    std::fs::copy(
+        data().join("two-lanes.xodr"),
+        dir.path().join("two-lanes.xodr"),
+    )
+    .unwrap();
+    std::fs::create_dir(dir.path().join("catalogs")).unwrap();
+    for entry in std::fs::read_dir(data().join("catalogs"))
+        .unwrap()
+        .flatten()
+    {
+        std::fs::copy(
+            entry.path(),
+            dir.path().join("catalogs").join(entry.file_name()),
+        )
+        .unwrap();
+    }
+    let file = dir.path().join("cut-in-distribution.xosc");
+    std::fs::copy(data().join("cut-in-distribution.xosc"), &file).unwrap();
+    let file = file.to_str().unwrap();
+
+    let o = carfollow(&["sweep", file, "--dry-run"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert_eq!(stderr(&o).trim().lines().count(), 1, "{}", stderr(&o));
+    assert!(stderr(&o).contains("ego"), "{}", stderr(&o));
+
+    let out = dir.path().join("sweep");
+    let (out_s, run_dir) = (out.to_str().unwrap(), dir.path().join("run"));
+    let set = ["--set", "duration_s=2", "--ego", "Hmmwv"];
+    let o = carfollow(
+        &[
+            &["sweep", file, "--out", out_s, "--jobs", "2", "--quiet"],
+            &set[..],
+        ]
+        .concat(),
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let results = std::fs::read_to_string(out.join("results.jsonl")).unwrap();
+    let rows: Vec<serde_json::Value> = results
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(rows.len(), 6);
+    let row = rows
+        .iter()
+        .find(|r| r["params"]["$LeadSpeed"] == 55 && r["params"]["$CutInGap"] == 15)
+        .expect("the point LeadSpeed 55, CutInGap 15");
+    let scenario = dir.path().join("cut-in.xosc");
+    let params = [
+        "--param",
+        "LeadSpeed=55",
+        "--param",
+        "CutInGap=15",
+        "--param",
+        "VanKind=van",
+    ];
+    let run_args = [
+        scenario.to_str().unwrap(),
+        "--out",
+        run_dir.to_str().unwrap(),
+    ];
+    let o = carfollow(&[&["run"][..], &run_args, &params, &set].concat());
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(find(&run_dir, "summary.json")).unwrap())
+            .unwrap();
+    for pointer in ["/frames", "/range_error_m", "/tracking_lost_s", "/traffic"] {
+        assert_eq!(
+            row["summary"].pointer(pointer),
+            summary.pointer(pointer),
+            "{pointer}"
+        );
+    }
+
+    let own = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenarios/sweeps/smoke.toml");
+    let o = carfollow(&[
+        "sweep",
+        own.to_str().unwrap(),
+        "--dry-run",
+        "--ego",
+        "Hmmwv",
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert_eq!(stderr(&o).trim().lines().count(), 1, "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("lists no OpenSCENARIO scenario"),
+        "{}",
+        stderr(&o)
+    );
+}
+
 /// The file `name` somewhere under `dir`.
 fn find(dir: &Path, name: &str) -> PathBuf {
     for entry in std::fs::read_dir(dir).unwrap().flatten() {

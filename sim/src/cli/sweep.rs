@@ -6,8 +6,8 @@ use clap::{Args, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 use sim::{
     dedupe_sorted, merge_dirs, read_failed, read_rows, run_points, serve_points, write_failed,
-    write_report, FailedPoint, Manifest, Point, ResultRow, ResultsWriter, Shard, Sweep, SweepError,
-    MANIFEST_FILE, RESULTS_FILE,
+    write_report, FailedPoint, Manifest, Point, ResultRow, ResultsWriter, Roles, Shard, Sweep,
+    SweepError, MANIFEST_FILE, RESULTS_FILE,
 };
 use sim_render::Backend;
 use std::io::IsTerminal;
@@ -66,6 +66,14 @@ pub struct SweepArgs {
     /// Override a field of every point, after the sweep file's `set` (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
+    /// For .xosc scenarios: the entity carfollow drives as the chase (default: one named
+    /// Ego, ego, hero or ego_vehicle).
+    #[arg(long, value_name = "NAME")]
+    pub ego: Option<String>,
+    /// For .xosc scenarios: the entity the chase follows (default: the nearest vehicle
+    /// ahead of the ego in its lane at t = 0).
+    #[arg(long, value_name = "NAME")]
+    pub lead: Option<String>,
     /// No progress bar, and no progress lines off a terminal.
     #[arg(long)]
     pub quiet: bool,
@@ -99,6 +107,12 @@ pub struct SweepWorkerArgs {
     /// Overrides, as given to `carfollow sweep`.
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
+    /// The chase of .xosc scenarios, as given to `carfollow sweep`.
+    #[arg(long, value_name = "NAME")]
+    pub ego: Option<String>,
+    /// The lead of .xosc scenarios, as given to `carfollow sweep`.
+    #[arg(long, value_name = "NAME")]
+    pub lead: Option<String>,
     /// wgpu backend.
     #[arg(long)]
     pub backend: Option<String>,
@@ -115,7 +129,11 @@ pub struct SweepWorkerArgs {
 pub fn run_sweep_worker(args: SweepWorkerArgs) -> anyhow::Result<ExitCode> {
     // The sweep that started this worker checked every point: none is planned again here
     // but the one it runs.
-    let sweep = Sweep::load_checked(&args.sweep, &args.set)?;
+    let roles = Roles {
+        ego: args.ego.clone(),
+        lead: args.lead.clone(),
+    };
+    let sweep = Sweep::load_checked(&args.sweep, &args.set, &roles)?;
     let backend = Backend::choose(args.backend.as_deref())?;
     serve_points(
         &sweep,
@@ -163,7 +181,11 @@ pub fn run_sweep(args: SweepArgs) -> anyhow::Result<ExitCode> {
     }
     let file = args.sweep.clone().expect("clap requires the sweep file");
     let checked = std::time::Instant::now();
-    let sweep = Sweep::load(&file, &args.set)?;
+    let roles = Roles {
+        ego: args.ego.clone(),
+        lead: args.lead.clone(),
+    };
+    let sweep = Sweep::load_as(&file, &args.set, &roles)?;
     if args.dry_run {
         let shard = sweep.shard(args.shard).len();
         if let Some(d) = &sweep.distribution {
@@ -392,6 +414,11 @@ fn run_with_progress(
         command.arg("sweep-worker").arg(file);
         for set in &args.set {
             command.arg("--set").arg(set);
+        }
+        for (flag, name) in [("--ego", &args.ego), ("--lead", &args.lead)] {
+            if let Some(name) = name {
+                command.arg(flag).arg(name);
+            }
         }
         command.arg("--backend").arg(backend.to_string());
         if overlap {

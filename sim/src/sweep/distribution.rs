@@ -5,7 +5,7 @@
 //! `sim_core::openscenario::read_distribution`); ids, results, `--resume`, shards and the
 //! report are a sweep file's.
 
-use super::file::SweepScenario;
+use super::file::{Roles, SweepScenario};
 use super::grid::{id_of, load_scenario, sweep_hash, Axis, Inputs, OSC_PARAM};
 use super::{Point, Sweep, SweepError};
 use sim_core::{planning_key, Plan, ScenarioError};
@@ -21,6 +21,7 @@ impl Sweep {
     pub(super) fn read_distribution(
         path: &Path,
         extra_set: &[String],
+        roles: &Roles,
         plan: bool,
     ) -> Result<Sweep, SweepError> {
         let distribution = sim_core::openscenario::read_distribution(path)?;
@@ -51,6 +52,7 @@ impl Sweep {
             path: scenario_path.clone(),
             name: String::new(),
             text: scenario_text.into(),
+            roles: roles.clone(),
         };
         let set = extra_set.to_vec();
         let base = load_scenario(&scenario, &set, Vec::new())

@@ -37,6 +37,25 @@ pub struct SweepScenario {
     pub name: String,
     /// Its text, read once: every point loads the scenario from it.
     pub text: std::sync::Arc<str>,
+    /// For an OpenSCENARIO file, the entities that are the chase and the lead.
+    pub roles: Roles,
+}
+
+/// The entities of an OpenSCENARIO scenario that are the chase and the lead, as `run`'s
+/// `--ego` and `--lead` name them (`None`: the default choice).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Roles {
+    /// The entity that is the chase.
+    pub ego: Option<String>,
+    /// The entity that is the lead.
+    pub lead: Option<String>,
+}
+
+impl Roles {
+    /// Whether either is named.
+    pub fn given(&self) -> bool {
+        self.ego.is_some() || self.lead.is_some()
+    }
 }
 
 /// An inclusive range `{ from, to, step }`.

@@ -8,9 +8,10 @@
 //! (`weave seed=1 tracker.lambda=0.5`) and the sweep's common overrides: it does not depend on
 //! the machine, the run, the shard or the Rust version, and it changes when the experiment does.
 
-use super::file::{flatten_axes, SweepFile, SweepScenario};
+use super::file::{flatten_axes, Roles, SweepFile, SweepScenario};
 use super::SweepError;
 use sim_core::line_column;
+use sim_core::openscenario::is_openscenario;
 use sim_core::{from_toml_naming_field, locate_field, planning_key, Plan, Scenario, ScenarioError};
 use std::path::{Path, PathBuf};
 
@@ -96,9 +97,11 @@ pub(super) fn load_scenario(
     overrides: &[String],
     osc_params: Vec<String>,
 ) -> Result<Scenario, ScenarioError> {
-    if sim_core::openscenario::is_openscenario(&scenario.path) {
+    if is_openscenario(&scenario.path) {
         let options = sim_core::openscenario::ImportOptions {
             params: osc_params,
+            ego: scenario.roles.ego.clone(),
+            lead: scenario.roles.lead.clone(),
             ..Default::default()
         };
         Scenario::load_openscenario(&scenario.path, overrides, &options)
@@ -175,19 +178,44 @@ impl Sweep {
     /// loaded with its overrides and planned (one point of each [`planning_key`]: the others
     /// plan alike), so nothing runs unless every point can.
     pub fn load(path: &Path, extra_set: &[String]) -> Result<Sweep, SweepError> {
-        Sweep::read(path, extra_set, true)
+        Sweep::read(path, extra_set, &Roles::default(), true)
+    }
+
+    /// [`Sweep::load`] with the chase and the lead of its OpenSCENARIO scenarios named
+    /// (`sweep --ego --lead`); refused for a sweep of none.
+    pub fn load_as(path: &Path, extra_set: &[String], roles: &Roles) -> Result<Sweep, SweepError> {
+        Sweep::read(path, extra_set, roles, true)
     }
 
     /// [`Sweep::load`] for a sweep already checked (a sweep worker, started by the sweep
     /// that checked it): every point's scenario is loaded, for the hash, but not planned.
-    pub fn load_checked(path: &Path, extra_set: &[String]) -> Result<Sweep, SweepError> {
-        Sweep::read(path, extra_set, false)
+    pub fn load_checked(
+        path: &Path,
+        extra_set: &[String],
+        roles: &Roles,
+    ) -> Result<Sweep, SweepError> {
+        Sweep::read(path, extra_set, roles, false)
     }
 
-    fn read(path: &Path, extra_set: &[String], plan: bool) -> Result<Sweep, SweepError> {
+    fn read(
+        path: &Path,
+        extra_set: &[String],
+        roles: &Roles,
+        plan: bool,
+    ) -> Result<Sweep, SweepError> {
         if sim_core::openscenario::is_openscenario(path) {
-            return Sweep::read_distribution(path, extra_set, plan);
+            return Sweep::read_distribution(path, extra_set, roles, plan);
         }
+        Sweep::read_file(path, extra_set, roles, plan)
+    }
+
+    /// [`Sweep::read`] of a sweep file.
+    fn read_file(
+        path: &Path,
+        extra_set: &[String],
+        roles: &Roles,
+        plan: bool,
+    ) -> Result<Sweep, SweepError> {
         let text = std::fs::read_to_string(path).map_err(|error| SweepError::Io {
             path: path.to_owned(),
             action: "cannot read the sweep",
@@ -329,6 +357,7 @@ impl Sweep {
                     path: scenario_path.clone(),
                     name: String::new(),
                     text: text.clone(),
+                    roles: roles.clone(),
                 },
                 &set,
                 Vec::new(),
@@ -349,7 +378,16 @@ impl Sweep {
                 path: scenario_path,
                 name: name.clone(),
                 text,
+                roles: roles.clone(),
             });
+        }
+
+        if roles.given() && !scenarios.iter().any(|s| is_openscenario(&s.path)) {
+            return Err(invalid(
+                "scenarios",
+                "lists no OpenSCENARIO scenario (.xosc), whose entities --ego and --lead name"
+                    .into(),
+            ));
         }
 
         let count = scenarios.len()

@@ -26,7 +26,7 @@ mod results;
 mod run;
 
 pub use error::SweepError;
-pub use file::{SweepFile, SweepScenario};
+pub use file::{Roles, SweepFile, SweepScenario};
 pub use grid::{Axis, Point, Shard, Sweep, OSC_PARAM};
 pub use manifest::{
     read_failed, write_failed, FailedPoint, Manifest, ManifestPoint, MANIFEST_FILE,
