@@ -97,11 +97,7 @@ fn a_distribution_runs_as_a_sweep_each_point_as_its_scenario_with_those_paramete
         "--quiet",
     ]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    let results = std::fs::read_to_string(out.join("results.jsonl")).unwrap();
-    let rows: Vec<serde_json::Value> = results
-        .lines()
-        .map(|l| serde_json::from_str(l).unwrap())
-        .collect();
+    let rows = result_rows(&out);
     assert_eq!(rows.len(), 6);
     for name in ["table.csv", "summary.md", "sweep.json"] {
         assert!(out.join(name).exists(), "no {name}");
@@ -109,10 +105,7 @@ fn a_distribution_runs_as_a_sweep_each_point_as_its_scenario_with_those_paramete
     // The numeric parameters are axes of the report.
     assert!(out.join("sweep-$CutInGap.png").exists());
     // A point is its scenario file with its parameters: its figures are `run`'s.
-    let row = rows
-        .iter()
-        .find(|r| r["params"]["$LeadSpeed"] == 55 && r["params"]["$CutInGap"] == 15)
-        .expect("the point LeadSpeed 55, CutInGap 15");
+    let row = point_55_15(&rows);
     let run_dir = dir.path().join("run");
     let o = carfollow(&[
         "run",
@@ -129,16 +122,7 @@ fn a_distribution_runs_as_a_sweep_each_point_as_its_scenario_with_those_paramete
         run_dir.to_str().unwrap(),
     ]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    let summary: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(find(&run_dir, "summary.json")).unwrap())
-            .unwrap();
-    for pointer in ["/frames", "/range_error_m", "/tracking_lost_s", "/traffic"] {
-        assert_eq!(
-            row["summary"].pointer(pointer),
-            summary.pointer(pointer),
-            "{pointer}"
-        );
-    }
+    assert_point_is_run(row, &run_dir);
     // Resumed, nothing is left to run.
     let o = carfollow(&[
         "sweep",
@@ -206,16 +190,9 @@ fn a_distribution_runs_with_the_chase_named_by_ego() {
         .concat(),
     );
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    let results = std::fs::read_to_string(out.join("results.jsonl")).unwrap();
-    let rows: Vec<serde_json::Value> = results
-        .lines()
-        .map(|l| serde_json::from_str(l).unwrap())
-        .collect();
+    let rows = result_rows(&out);
     assert_eq!(rows.len(), 6);
-    let row = rows
-        .iter()
-        .find(|r| r["params"]["$LeadSpeed"] == 55 && r["params"]["$CutInGap"] == 15)
-        .expect("the point LeadSpeed 55, CutInGap 15");
+    let row = point_55_15(&rows);
     let scenario = dir.path().join("cut-in.xosc");
     let params = [
         "--param",
@@ -232,16 +209,7 @@ fn a_distribution_runs_with_the_chase_named_by_ego() {
     ];
     let o = carfollow(&[&["run"][..], &run_args, &params, &set].concat());
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    let summary: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(find(&run_dir, "summary.json")).unwrap())
-            .unwrap();
-    for pointer in ["/frames", "/range_error_m", "/tracking_lost_s", "/traffic"] {
-        assert_eq!(
-            row["summary"].pointer(pointer),
-            summary.pointer(pointer),
-            "{pointer}"
-        );
-    }
+    assert_point_is_run(row, &run_dir);
 
     let own = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenarios/sweeps/smoke.toml");
     let o = carfollow(&[
@@ -258,6 +226,36 @@ fn a_distribution_runs_with_the_chase_named_by_ego() {
         "{}",
         stderr(&o)
     );
+}
+
+/// The rows of a sweep's `results.jsonl` in `out`.
+fn result_rows(out: &Path) -> Vec<serde_json::Value> {
+    let results = std::fs::read_to_string(out.join("results.jsonl")).unwrap();
+    results
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect()
+}
+
+/// The point of `cut-in-distribution.xosc` with LeadSpeed 55 and CutInGap 15.
+fn point_55_15(rows: &[serde_json::Value]) -> &serde_json::Value {
+    rows.iter()
+        .find(|r| r["params"]["$LeadSpeed"] == 55 && r["params"]["$CutInGap"] == 15)
+        .expect("the point LeadSpeed 55, CutInGap 15")
+}
+
+/// A sweep's result `row` has the figures of the run written to `run_dir`.
+fn assert_point_is_run(row: &serde_json::Value, run_dir: &Path) {
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(find(run_dir, "summary.json")).unwrap())
+            .unwrap();
+    for pointer in ["/frames", "/range_error_m", "/tracking_lost_s", "/traffic"] {
+        assert_eq!(
+            row["summary"].pointer(pointer),
+            summary.pointer(pointer),
+            "{pointer}"
+        );
+    }
 }
 
 /// The file `name` somewhere under `dir`.
