@@ -304,8 +304,17 @@ impl Acquisition {
 
     /// Half the width of model `k`'s outline at `at`, pixels.
     fn half_width_px(&self, k: usize, at: Location) -> f64 {
+        0.5 * self.size_px(k, at)[0]
+    }
+
+    /// The width and height of model `k`'s outline at `at`, pixels: its size in metres at
+    /// the range the scale gives (eq. 36).
+    fn size_px(&self, k: usize, at: Location) -> [f64; 2] {
         let m = &self.models[k];
-        0.5 * m.size_m()[0] * self.camera.focal_px()[0] / m.nominal_range_m() * at.scale
+        let range_m = m.nominal_range_m() / at.scale;
+        let [fx, fy] = self.camera.focal_px();
+        let [w, h] = m.size_m();
+        [w * fx / range_m, h * fy / range_m]
     }
 
     /// Searches each model but `k` about `at`, where model `k` has a fit, on this frame
@@ -403,9 +412,7 @@ impl Acquisition {
     /// [`NEAR_RANGE_FACTOR`].
     fn near(&self, k: usize, at: Location, j: usize) -> AcquireGate {
         let range_m = self.models[k].nominal_range_m() / at.scale;
-        let [fx, fy] = self.camera.focal_px();
-        let [w, h] = self.models[k].size_m();
-        let reach = [NEAR_REACH * w * fx / range_m, NEAR_REACH * h * fy / range_m];
+        let reach = self.size_px(k, at).map(|s| NEAR_REACH * s);
         let scale = self.models[j].nominal_range_m() / range_m;
         let row = |scale| GateRow {
             scale,
