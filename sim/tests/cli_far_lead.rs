@@ -4,8 +4,8 @@
 //! are `not_acquired`, counted apart from a lost track in `summary.json`; a first fit off
 //! the lead's board is a loss (`tracker`) for at most 15 frames. A far start without a
 //! search is refused in one line; esmini's `slow-lead-vehicle.xosc`, 146.6 m behind,
-//! imports as a far start. The board's model at twice its scale, which the search can take
-//! where the board is beyond its reach, gives way to the board within 15 frames. Run with
+//! imports as a far start. The board's model at twice its scale, which fits where the board
+//! is beyond the search's reach, is not held for more than 15 frames. Run with
 //! `cargo test --release -p sim --test cli_far_lead`.
 
 use std::collections::BTreeMap;
@@ -73,9 +73,10 @@ fn a_chase_150_m_behind_cruises_finds_the_lead_and_follows_it() {
             .position(|r| r["tracked_vehicle"] == "lead")
             .unwrap_or_else(|| panic!("{mode}: the lead is never held"));
         // Before: cruising and not yet acquired until the search's first fit; a fit off the
-        // lead's board (the board's model at 1.4 times its scale on the lead's back) says
-        // `tracking` for at most 15 frames, each counted lost (`tracker`), until a check of
-        // the weak fit finds the board itself.
+        // lead's board (the board's model at 1.4 times its scale about the board, refused
+        // since the model fits better at a smaller scale there) would say `tracking` for at
+        // most 15 frames, each counted lost (`tracker`), until a check of the weak fit finds
+        // the board itself.
         assert!(first > 100, "{mode}: held at frame {first}");
         let fit = rows.iter().position(|r| r["status"] == "tracking").unwrap();
         for r in &rows[..fit] {
@@ -204,10 +205,12 @@ fn esminis_slow_lead_vehicle_imports_as_a_far_start() {
 
 /// The board's model at twice the board's scale (its inner frame, exactly half its outer,
 /// on the board's outer frame) fits where the board itself is beyond the search's reach:
-/// Euro NCAP's CCRm at 50 km/h through the 16 mm lens, 70 m behind, in robust mode. A weak
-/// fit is checked against a fresh search of the lane, so no fit off the board says
-/// `tracking` for more than 15 frames in a row (it held the alias for the whole 30 s, 416
-/// frames, before), and the board is then held at its own scale.
+/// Euro NCAP's CCRm at 50 km/h through the 16 mm lens, 70 m behind, in robust mode. The
+/// search refuses a fit when the model fits better about its centre at a smaller scale
+/// (`tracker::robust::NESTED_FIT_RATIO`), and a weak fit held is checked against a fresh
+/// search of the lane, so no fit off the board says `tracking` for more than 15 frames in a
+/// row (it held the alias for the whole 30 s, 416 frames, before either), and the board is
+/// then held at its own scale.
 #[test]
 fn the_boards_model_at_twice_its_scale_gives_way_to_the_board() {
     let dir = tempfile::tempdir().unwrap();

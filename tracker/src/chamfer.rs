@@ -145,6 +145,42 @@ impl ChamferSearch {
         self.fine(best, half_extent_px, gate)
     }
 
+    /// The best fit about `at`'s centre at scales in `scales`, from the transforms of the
+    /// last [`ChamferSearch::search`]: each scale of a ladder [`SEARCH_SCALE_STEP`] apart,
+    /// from the least, centred on `at` and refined as the fine pass refines a coarse hit;
+    /// of the refined fits whose scale stayed within `scales`, the best. `None` when no
+    /// scale of the ladder fits the target wholly inside the last search's region.
+    pub fn best_about(
+        &self,
+        at: Location,
+        half_extent_px: [f64; 2],
+        scales: [f64; 2],
+    ) -> Option<SearchHit> {
+        let mut best: Option<SearchHit> = None;
+        let mut scale = scales[0];
+        while scale > 0.0 && scale <= scales[1] {
+            let start = Location::new(at.c_x, at.c_y, scale);
+            let score = self
+                .inside(start, half_extent_px)
+                .then(|| self.score(start, f64::INFINITY))
+                .flatten();
+            if let Some(score) = score {
+                let hit = SearchHit {
+                    location: start,
+                    score,
+                };
+                let refined = self.fine(vec![hit], half_extent_px, None);
+                if let Some(h) = refined.filter(|h| h.location.scale <= scales[1]) {
+                    if best.is_none_or(|b| h.score < b.score) {
+                        best = Some(h);
+                    }
+                }
+            }
+            scale *= SEARCH_SCALE_STEP;
+        }
+        best
+    }
+
     /// The coarse pass: a grid of positions and scales; the best few, far enough apart.
     fn coarse(
         &mut self,

@@ -9,8 +9,8 @@ use crate::object_location::Measurement;
 use crate::robust::{acquire_scales, search_threshold};
 use crate::robust::{
     ACQUIRE_EVERY_FRAMES, CHAMFER_ACCEPT_PX, LOCAL_SEARCH_GROWTH_PX, LOCAL_SEARCH_PX,
-    MAX_SCALE_STEP, MODEL_ERROR_DECAY, REACQUIRE_MIN_COVERAGE, SCALE_NOISE_PX,
-    SEARCH_BELOW_COVERAGE, SEARCH_MARGIN, SURPRISE_FORGETTING,
+    MAX_SCALE_STEP, MODEL_ERROR_DECAY, NESTED_FIT_RATIO, NESTED_FIT_REACH, REACQUIRE_MIN_COVERAGE,
+    SCALE_NOISE_PX, SEARCH_BELOW_COVERAGE, SEARCH_MARGIN, SURPRISE_FORGETTING,
 };
 use crate::step_io::{EgoMotion, Status, TrackEvent, TrackOutput};
 use crate::window::Window;
@@ -130,7 +130,10 @@ impl Tracker {
     /// Searches `region` at scales `scales` (within the acquisition gate when `gated`) and
     /// measures at the best fit; the measurement when the fit and the measurement both pass
     /// their checks, the measurement's the strong one (REACQUIRE_MIN_COVERAGE, on a peak of
-    /// coverage).
+    /// coverage). A whole-image search's fit (`gated`) must also not be a nested one
+    /// ([`NESTED_FIT_RATIO`]).
+    ///
+    /// Not in the paper, whose start was a person's (2.2).
     fn search_and_measure(
         &mut self,
         image: GrayView<'_>,
@@ -157,7 +160,14 @@ impl Tracker {
             return None;
         }
         let m = self.measure(image, hit.location, true, false, diagnostics);
-        m.passes(REACQUIRE_MIN_COVERAGE, 0.0).then_some(m)
+        let nested = || {
+            let s = hit.location.scale;
+            let smaller = [s / NESTED_FIT_REACH, s / NESTED_FIT_RATIO];
+            self.search
+                .best_about(hit.location, self.half_extent_px, smaller)
+                .is_some_and(|h| h.score < hit.score)
+        };
+        (m.passes(REACQUIRE_MIN_COVERAGE, 0.0) && !(gated && nested())).then_some(m)
     }
 
     /// Robust mode's loop.
