@@ -901,8 +901,9 @@ fn the_egos_speed_change_in_init_is_its_speed_with_a_warning() {
 
 /// An act's empty `<StartTrigger/>` (esmini's `acc-toggle` and `drive_when_close` write
 /// it; esmini starts such an act at once) and a start trigger of several condition groups
-/// one of which holds from the first step both start the act at t = 0: the runs are the
-/// file's, bit for bit.
+/// one of which holds from the first step both start the act at t = 0, and an act's empty
+/// `<StopTrigger/>` (esmini's `alks_decelerate` writes it) never fires: the runs are the
+/// file's, bit for bit. A stop trigger that can fire is refused at its line.
 #[test]
 fn an_act_with_an_empty_start_trigger_starts_at_once() {
     let start = "<StartTrigger><ConditionGroup>\n          <Condition name=\"start\" delay=\"0\" conditionEdge=\"none\">\n            <ByValueCondition><SimulationTimeCondition value=\"0\" rule=\"greaterThan\"/></ByValueCondition>\n          </Condition>\n        </ConditionGroup></StartTrigger>";
@@ -913,6 +914,8 @@ fn an_act_with_an_empty_start_trigger_starts_at_once() {
     for to in [
         "<StartTrigger/>".to_string(),
         start.replace("<StartTrigger>", &format!("<StartTrigger>{later}")),
+        format!("{start}<StopTrigger/>"),
+        format!("{start}\n<StopTrigger>\n</StopTrigger>"),
     ] {
         let (d, path) = mutant(|text| {
             assert!(text.contains(start));
@@ -924,10 +927,30 @@ fn an_act_with_an_empty_start_trigger_starts_at_once() {
         assert!(frames == original, "{to}: the run differs");
         assert!(frames.contains("cut-in:started"), "{to}");
     }
+    let (_d, path) = mutant(|text| {
+        text.replace(
+            start,
+            &format!("{start}\n<StopTrigger>{later}</StopTrigger>"),
+        )
+    });
+    let line = 1 + std::fs::read_to_string(&path)
+        .unwrap()
+        .lines()
+        .position(|l| l.contains("<StopTrigger><ConditionGroup><Condition name=\"later\""))
+        .unwrap();
+    let o = carfollow(&["check", path.to_str().unwrap()]);
+    let e = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{e}");
+    assert!(
+        e.contains("unsupported act stop trigger") && e.contains(&format!("mutant.xosc:{line}")),
+        "{e}"
+    );
 }
 
 /// A controller assigned to the ego is read and not applied, and the one warning that says
-/// so names the controller alone when the ego has no storyboard action.
+/// so names the controller alone when the ego has no storyboard action; with a controller
+/// action in `Init` too (esmini's `alks_decelerate` activates the ego's), the same one line
+/// names both, with the action's line.
 #[test]
 fn the_egos_controller_alone_is_named_in_its_warning() {
     let ego = "<CatalogReference catalogName=\"VehicleCatalog\" entryName=\"car_white\"/>";
@@ -945,6 +968,31 @@ fn the_egos_controller_alone_is_named_in_its_warning() {
     assert_eq!(warned.len(), 1, "{}", stderr(&o));
     assert!(
         warned[0].contains("controller is not applied") && !warned[0].contains("0 storyboard"),
+        "{warned:?}"
+    );
+    let private = "<Private entityRef=\"Ego\">";
+    let activate = "<PrivateAction><ActivateControllerAction longitudinal=\"true\" lateral=\"false\"/></PrivateAction>";
+    let (_dir, file) = mutant(|text| {
+        text.replacen(ego, &controlled, 1)
+            .replacen(private, &format!("{private}\n{activate}"), 1)
+    });
+    let line = 1 + std::fs::read_to_string(&file)
+        .unwrap()
+        .lines()
+        .position(|l| l.contains("<ActivateControllerAction"))
+        .unwrap();
+    let o = carfollow(&["check", file.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let warned: Vec<_> = stderr(&o)
+        .lines()
+        .filter(|l| l.contains("Ego") && l.contains("not applied"))
+        .map(String::from)
+        .collect();
+    assert_eq!(warned.len(), 1, "{}", stderr(&o));
+    assert!(
+        warned[0].contains(&format!(
+            "controller and controller action(s) in <Init> (line {line}) are not applied"
+        )),
         "{warned:?}"
     );
 }

@@ -109,6 +109,8 @@ pub struct Init {
     pub line: BTreeMap<String, u32>,
     /// Lines the importer warns about: what it reads and does not apply.
     pub warnings: Vec<String>,
+    /// The lines of the ego's controller actions in `Init`, read and not applied.
+    pub ego_controller_lines: Vec<u32>,
     /// The environment `Init` sets, if any.
     pub environment: Option<super::environment::EnvironmentOut>,
 }
@@ -228,12 +230,9 @@ fn private_action<'a, 'b>(
         // Activating the default controller of a vehicle none is assigned to: its
         // storyboard drives it, as carfollow's events do.
         "ActivateControllerAction" if entity != ego => {}
+        // Said in the one warning of what of the ego is not applied.
         "ControllerAction" | "ActivateControllerAction" if entity == ego => {
-            init.warnings.push(format!(
-            "line {}: <{}> of the ego `{ego}` is not applied: carfollow's loop drives the chase",
-            xml.line(inner),
-            inner.tag_name().name()
-        ))
+            init.ego_controller_lines.push(xml.line(inner));
         }
         _ => return Err(xml.unsupported(inner, "init action", "")),
     }

@@ -135,12 +135,14 @@ fn events<'a, 'b>(
     Ok(out)
 }
 
-/// Checks an act's triggers: it has no stop trigger, and starts at t = 0: with no start
-/// trigger, an empty one (no condition group: esmini starts such an act at once), or one
-/// with a condition group every condition of which holds from the first step (a simulation
-/// time greater than a time at most 0, or equal to 0, with no delay).
+/// Checks an act's triggers: it has no stop trigger that can fire (an empty one, with no
+/// condition group, never does: a trigger is true when one of its groups is), and starts at
+/// t = 0: with no start trigger, an empty one (no condition group: esmini starts such an act
+/// at once), or one with a condition group every condition of which holds from the first
+/// step (a simulation time greater than a time at most 0, or equal to 0, with no delay).
 fn act_trigger(xml: &Xml, act: Node) -> Result<(), OscError> {
-    if let Some(stop) = child(act, "StopTrigger") {
+    if let Some(stop) = child(act, "StopTrigger").filter(|s| child(*s, "ConditionGroup").is_some())
+    {
         return Err(xml.unsupported(
             stop,
             "act stop trigger",

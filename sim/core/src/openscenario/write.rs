@@ -159,6 +159,36 @@ fn choose_lead(
         })
 }
 
+/// What of the ego is read and not applied, for its one warning: its storyboard actions
+/// (`actions` of them), its controller (`controlled`), its controller actions in `Init` (at
+/// `init_lines`); `None` when nothing is.
+fn ego_ignored(actions: usize, controlled: bool, init_lines: &[u32]) -> Option<String> {
+    let mut parts = Vec::new();
+    if actions > 0 {
+        parts.push(format!("{actions} storyboard action(s)"));
+    }
+    if controlled {
+        parts.push("controller".to_string());
+    }
+    if !init_lines.is_empty() {
+        let lines: Vec<String> = init_lines.iter().map(u32::to_string).collect();
+        parts.push(format!(
+            "controller action(s) in <Init> (line {})",
+            lines.join(", ")
+        ));
+    }
+    let verb = if parts == ["controller"] { "is" } else { "are" };
+    match parts.len() {
+        0 => None,
+        1 => Some(format!("{} {verb}", parts[0])),
+        n => Some(format!(
+            "{} and {} {verb}",
+            parts[..n - 1].join(", "),
+            parts[n - 1]
+        )),
+    }
+}
+
 /// The scenario's duration: its `StopTrigger`'s simulation time (the earliest of its
 /// condition groups, each a `SimulationTimeCondition`).
 fn duration(xml: &Xml) -> Result<f64, OscError> {
@@ -391,13 +421,11 @@ pub fn scenario(
     let at_ego: Placed = init.placed[ego];
     let at_lead: Placed = init.placed[&lead];
     let ego_controlled = vehicles.iter().any(|v| v.name == ego && v.controlled);
-    let ignored = match (stories.ego_actions, ego_controlled) {
-        (0, false) => None,
-        (0, true) => Some("controller is".to_string()),
-        (n, false) => Some(format!("{n} storyboard action(s) are")),
-        (n, true) => Some(format!("{n} storyboard action(s) and its controller are")),
-    };
-    if let Some(ignored) = ignored {
+    if let Some(ignored) = ego_ignored(
+        stories.ego_actions,
+        ego_controlled,
+        &init.ego_controller_lines,
+    ) {
         warnings.push(format!(
             "the ego `{ego}`'s {ignored} not applied: carfollow's loop drives the chase"
         ));
