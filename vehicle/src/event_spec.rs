@@ -162,14 +162,16 @@ fn is_zero(v: &f64) -> bool {
 }
 
 /// When an event's action starts: exactly one of `time_s`, `distance_m`, `gap_m`,
-/// `time_gap_s`, `ttc_s`, `speed_mps`, `relative_speed_mps`, `standstill_s`, `reach`,
+/// `spacing_m`, `time_gap_s`, `ttc_s`, `speed_mps`, `relative_speed_mps`, `standstill_s`, `reach`,
 /// `after`, `all` and `any`, evaluated at every physics step on level (it fires at the
-/// first step its condition holds, not only when it becomes true).
+/// first step its condition holds, not only when it becomes true), or with `rising` on its
+/// edge.
 ///
 /// ```toml
 /// trigger = { time_s = 8.0 }                   # simulation time ≥ 8 s
 /// trigger = { distance_m = 120.0 }             # this vehicle has travelled ≥ 120 m
 /// trigger = { gap_m = 12.0, to = "chase" }     # gap to `chase` ≤ 12 m
+/// trigger = { spacing_m = 30.0, to = "chase" }  # rear axle to rear axle ≤ 30 m
 /// trigger = { time_gap_s = 1.5, to = "lead" }  # gap ÷ speed of the one behind ≤ 1.5 s
 /// trigger = { ttc_s = 3.0, to = "stopped" }    # gap ÷ closing speed ≤ 3 s, while closing
 /// trigger = { speed_mps = 5.0, of = "lead" }   # the lead's speed ≤ 5 m/s
@@ -184,7 +186,9 @@ fn is_zero(v: &f64) -> bool {
 /// ```
 ///
 /// The gap to the vehicle `to` is measured along the road, whatever the lanes, from the
-/// rear bumper of whichever is ahead to the front bumper of the other.
+/// rear bumper of whichever is ahead to the front bumper of the other; the spacing, along
+/// the road too, between the two vehicles' reference points (the middles of their rear
+/// axles).
 ///
 /// `all` and `any` are OpenSCENARIO's condition groups: a list of triggers (members),
 /// each written as a trigger is, that holds at a step when every one of them (`all`) or
@@ -208,6 +212,12 @@ pub struct TriggerSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schemars(extend("minimum" = -1e4, "maximum" = 1e4))]
     pub gap_m: Option<f64>,
+    /// Distance along the road between this vehicle's reference point (the middle of its
+    /// rear axle) and that of the vehicle `to`, whichever is ahead, m (OpenSCENARIO's
+    /// relative distance with `freespace="false"`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("minimum" = 0.0, "maximum" = 1e4))]
+    pub spacing_m: Option<f64>,
     /// Time gap to `to`: the gap over the speed of whichever of the two is behind, s
     /// (endless while that one stands still).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -267,6 +277,13 @@ pub struct TriggerSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schemars(extend("minimum" = 0.0, "maximum" = 1e7))]
     pub delay_s: Option<f64>,
+    /// Holds only at the step its condition (after its `delay_s`) starts to hold, not at
+    /// the step before (at the first step: if it holds): OpenSCENARIO's
+    /// `conditionEdge="rising"`. So an event with `repeat` fires again only once the
+    /// condition has stopped holding and holds again. On `all` and `any`: the edge of the
+    /// group's value.
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub rising: bool,
 }
 
 impl TriggerSpec {
@@ -446,6 +463,8 @@ pub(crate) enum Condition {
     Distance(f64),
     /// Gap to a vehicle, m.
     Gap(f64, String),
+    /// Distance between this vehicle's reference point and a vehicle's, m.
+    Spacing(f64, String),
     /// Time gap to a vehicle, s.
     TimeGap(f64, String),
     /// Time to collision with a vehicle, s.
@@ -475,6 +494,8 @@ pub(crate) struct Trigger {
     /// For an event's trigger, how long after it first holds its action starts; for a
     /// member of `all` or `any`, how long ago its condition must have held, s.
     pub(crate) delay_s: f64,
+    /// Holds only at the step its condition starts to hold.
+    pub(crate) rising: bool,
 }
 
 /// How long a change takes.
@@ -657,6 +678,7 @@ impl EventScript {
             ("time_s", t.time_s.is_some()),
             ("distance_m", t.distance_m.is_some()),
             ("gap_m", t.gap_m.is_some()),
+            ("spacing_m", t.spacing_m.is_some()),
             ("time_gap_s", t.time_gap_s.is_some()),
             ("ttc_s", t.ttc_s.is_some()),
             ("speed_mps", t.speed_mps.is_some()),
@@ -675,7 +697,7 @@ impl EventScript {
                 i,
                 path,
                 format!(
-                    "must give exactly one of time_s, distance_m, gap_m, time_gap_s, ttc_s, \
+                    "must give exactly one of time_s, distance_m, gap_m, spacing_m, time_gap_s, ttc_s, \
                      speed_mps, relative_speed_mps, standstill_s, reach, after, all and any \
                      (given: {})",
                     if given.is_empty() {
@@ -691,6 +713,7 @@ impl EventScript {
             return self.group(i, path, t, given[0], members, depth);
         }
         let needs_to = t.gap_m.is_some()
+            || t.spacing_m.is_some()
             || t.time_gap_s.is_some()
             || t.ttc_s.is_some()
             || t.relative_speed_mps.is_some();
@@ -723,6 +746,8 @@ impl EventScript {
         } else if let Some(v) = t.gap_m {
             let v = check(i, &field("gap_m"), v, -MAX_GAP_M, MAX_GAP_M, false)?;
             Condition::Gap(v, to)
+        } else if let Some(v) = t.spacing_m {
+            Condition::Spacing(check(i, &field("spacing_m"), v, 0.0, MAX_GAP_M, false)?, to)
         } else if let Some(v) = t.time_gap_s {
             let v = check(i, &field("time_gap_s"), v, 0.0, MAX_TIME_S, false)?;
             Condition::TimeGap(v, to)
@@ -800,6 +825,7 @@ impl EventScript {
             condition,
             rule,
             delay_s,
+            rising: t.rising,
         })
     }
 
@@ -873,6 +899,7 @@ impl EventScript {
             condition,
             rule: Rule::Greater,
             delay_s: 0.0,
+            rising: t.rising,
         })
     }
 }

@@ -3,8 +3,8 @@
 //! follow, and which events started and ended.
 //!
 //! At each step, in this order:
-//! 1. every event waiting for its trigger whose condition holds now (on level) is armed to
-//!    start `delay_s` later;
+//! 1. every event waiting for its trigger whose condition holds now (on level; with
+//!    `rising`, only if it did not at the step before) is armed to start `delay_s` later;
 //! 2. every event whose start has come starts its action: a speed action replaces the
 //!    running speed action (which ends there), a lane change the running lane change;
 //! 3. every action that has reached its end ends; an event with `repeat` waits for its
@@ -145,6 +145,8 @@ struct Watch {
     /// A delayed member's condition as it changed: the steps at which it turned true or
     /// false, oldest first, those older than its delay dropped but the last.
     turns: VecDeque<(Step, bool)>,
+    /// Whether the condition held at the step before (for a rising edge).
+    held_before: bool,
 }
 
 /// What a trigger is evaluated against at one step.
@@ -181,6 +183,7 @@ impl Watch {
         let mut watch = Watch::default();
         match &trigger.condition {
             Condition::Gap(_, to)
+            | Condition::Spacing(_, to)
             | Condition::TimeGap(_, to)
             | Condition::Ttc(_, to)
             | Condition::RelativeSpeed(_, to) => {
@@ -248,8 +251,25 @@ impl Watch {
     }
 
     /// Whether the member `trigger` holds at `c`'s step: its condition now, or, with a
-    /// delay, `delay_s` ago.
+    /// delay, `delay_s` ago; with a rising edge, only if it did not at the step before.
     fn member_holds(&mut self, trigger: &Trigger, c: &Now) -> bool {
+        let level = self.member_level(trigger, c);
+        self.edge(trigger, level)
+    }
+
+    /// `level`, the condition of `trigger` at this step, as the trigger holds: with a
+    /// rising edge, only if it did not hold at the step before (kept here).
+    fn edge(&mut self, trigger: &Trigger, level: bool) -> bool {
+        if !trigger.rising {
+            return level;
+        }
+        let before = std::mem::replace(&mut self.held_before, level);
+        level && !before
+    }
+
+    /// Whether the member `trigger`'s condition holds at `c`'s step: now, or, with a delay,
+    /// `delay_s` ago.
+    fn member_level(&mut self, trigger: &Trigger, c: &Now) -> bool {
         let now = match &trigger.condition {
             Condition::All(_) | Condition::Any(_) => self.group_holds(trigger, c),
             _ => {
@@ -309,6 +329,9 @@ impl Watch {
             (Condition::All(_) | Condition::Any(_), _) => false,
             (Condition::RelativeSpeed(v, _), Some(o)) => compare(mine.speed_mps - o.speed_mps, *v),
             (Condition::Gap(g, _), Some(o)) => compare(Between::new(mine, o).gap_m, *g),
+            (Condition::Spacing(d, _), Some(o)) => {
+                compare((mine.station_m - o.station_m).abs(), *d)
+            }
             (Condition::TimeGap(t, _), Some(o)) => {
                 let b = Between::new(mine, o);
                 let time_gap = if b.behind_speed_mps > 0.0 {
@@ -500,7 +523,16 @@ impl Events {
             let holds = match trigger.condition {
                 // A group is evaluated at every step, armed or not, so that its delayed
                 // members keep their histories.
-                Condition::All(_) | Condition::Any(_) => e.watch.group_holds(trigger, &c),
+                Condition::All(_) | Condition::Any(_) => {
+                    let level = e.watch.group_holds(trigger, &c);
+                    e.watch.edge(trigger, level)
+                }
+                // An edge is watched at every step, armed or not.
+                _ if trigger.rising => {
+                    e.watch.update_still(trigger, &c);
+                    let level = e.watch.holds(trigger, &c);
+                    e.watch.edge(trigger, level) && e.phase == Phase::Armed
+                }
                 _ => {
                     e.watch.update_still(trigger, &c);
                     e.phase == Phase::Armed && e.watch.holds(trigger, &c)

@@ -23,7 +23,7 @@ fn each_trigger_fires_at_the_step_its_condition_first_holds() {
     // Me behind at 100, 8 m/s; other ahead from 130 at 10 m/s: the gap (25 + 2t) opens.
     let opening = |t: f64| [car(100.0 + 8.0 * t, 8.0), car(130.0 + 10.0 * t, 10.0)];
     type View = fn(f64) -> [VehicleView; 2];
-    let cases: [(&str, View, Option<u64>); 14] = [
+    let cases: [(&str, View, Option<u64>); 17] = [
         ("time_s = 8.0", approach, Some(960)),
         ("time_s = 8.0, rule = \"less\"", approach, Some(0)),
         // Travelled 10 m at 10/6 s = step 200 exactly; the threshold just past it.
@@ -45,6 +45,17 @@ fn each_trigger_fires_at_the_step_its_condition_first_holds() {
         ),
         // The other behind me: 45 − 10t ≤ 5.02 from t = 3.998 s: step 479.76 → 480.
         ("gap_m = 5.02, to = \"other\"", overtaken, Some(480)),
+        // Reference point to reference point: 100 − 6t ≤ 40.01 from t = 9.998 s: step
+        // 1199.76 → 1200.
+        ("spacing_m = 40.01, to = \"other\"", approach, Some(1200)),
+        // The other behind me: |50 − 10t| ≤ 5.01 from t = 4.499 s: step 539.88 → 540.
+        ("spacing_m = 5.01, to = \"other\"", overtaken, Some(540)),
+        // 100 at the start: not more than 100.01.
+        (
+            "spacing_m = 100.01, to = \"other\", rule = \"greater\"",
+            approach,
+            None,
+        ),
         // Time gap (95 − 6t)/6 ≤ 2.01 from t = 13.823 s: step 1658.8 → 1659.
         ("time_gap_s = 2.01, to = \"other\"", approach, Some(1659)),
         // The one behind is the other: (45 − 10t)/10 ≤ 1.003 from t = 3.497: step 419.6.
@@ -196,6 +207,54 @@ fn repeat_fires_again_once_the_action_has_ended() {
     };
     assert_eq!(starts("again"), [120, 241, 362, 483]);
     assert_eq!(starts("once"), [120]);
+}
+
+/// With `rising`, a repeating event fires again only once its condition has stopped holding
+/// and holds again: the other shuttles between stations 100 and 140 (40 m each way at
+/// 10 m/s, 4 s), so a spacing of 10 m or more holds from 1 s to 7 s of each 8 s, and a
+/// 0.5 s action ends long before it stops holding. On level, the event fires again at the
+/// step after each end while the condition still holds; on its edge, once a period. At the
+/// first step an edge is its level: a condition holding then fires at once. On `all` and
+/// `any`, the edge is the group's.
+#[test]
+fn a_rising_edge_fires_a_repeating_event_once_each_time_its_condition_starts_to_hold() {
+    let shuttle = |t: f64| {
+        let u = t % 8.0;
+        let x = if u < 4.0 {
+            100.0 + 10.0 * u
+        } else {
+            180.0 - 10.0 * u
+        };
+        [car(100.0, 0.0), car(x, 0.0)]
+    };
+    let starts_of = |trigger: &str| -> Vec<u64> {
+        let mut events = engine(&format!(
+            "[[events]]\nname = \"e\"\ntrigger = {{ {trigger} }}\n\
+             action = {{ speed_mps = 5.0, duration_s = 0.5 }}\nrepeat = true"
+        ));
+        run(&mut events, 2880, shuttle)
+            .iter()
+            .filter(|e| e.2 == FiredKind::Started)
+            .map(|e| e.0)
+            .collect()
+    };
+    let level = starts_of("spacing_m = 10.0, to = \"other\", rule = \"greater\"");
+    // 1 s to 7 s: 0.5 s runs back to back, 61 steps apart, 12 of them a period.
+    assert_eq!(level.len(), 3 * 12, "{level:?}");
+    let rising = starts_of("spacing_m = 10.0, to = \"other\", rule = \"greater\", rising = true");
+    assert_eq!(rising, [120, 1080, 2040]);
+    // At most 5 m, holding at the first step: fires there, then at each new start of
+    // holding (7.5 s into each period).
+    let at_once = starts_of("spacing_m = 5.0, to = \"other\", rising = true");
+    assert_eq!(at_once, [0, 900, 1860, 2820]);
+    let group = starts_of(
+        "any = [{ spacing_m = 10.0, to = \"other\", rule = \"greater\" }, { time_s = 100.0 }], rising = true",
+    );
+    assert_eq!(group, [120, 1080, 2040]);
+    let member = starts_of(
+        "any = [{ spacing_m = 10.0, to = \"other\", rule = \"greater\", rising = true }, { time_s = 100.0 }]",
+    );
+    assert_eq!(member, [120, 1080, 2040]);
 }
 
 /// `max_runs` bounds a repeating event's runs; `check` refuses it without `repeat` and

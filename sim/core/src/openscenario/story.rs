@@ -306,10 +306,11 @@ impl Context<'_, '_> {
     /// One `Condition` of a trigger on an event of `owner`, with its delay.
     fn condition(&self, condition: Node, owner: &str) -> Result<TriggerSpec, OscError> {
         let xml = self.xml;
-        match xml.attr(condition, "conditionEdge")?.as_deref() {
-            Some("none") | Some("rising") | None => {}
+        let rising = match xml.attr(condition, "conditionEdge")?.as_deref() {
+            Some("none") | None => false,
+            Some("rising") => true,
             Some(edge) => return Err(xml.at(condition, format!("<Condition conditionEdge=\"{edge}\">: carfollow's events fire when their condition holds (\"none\", \"rising\")"))),
-        }
+        };
         let delay = xml.opt_num(condition, "delay")?.filter(|&d| d != 0.0);
         if delay.is_some_and(|d| d < 0.0) {
             return Err(xml.at(condition, "<Condition delay>: must not be negative"));
@@ -326,6 +327,7 @@ impl Context<'_, '_> {
             Some(members) => members.iter_mut().for_each(|m| m.delay_s = delay),
             None => spec.delay_s = delay,
         }
+        spec.rising = rising;
         Ok(spec)
     }
 
@@ -527,8 +529,14 @@ impl Context<'_, '_> {
         if name == "RelativeSpeedCondition" {
             return self.relative_speed(e, &subject, &other, owner);
         }
-        if xml.attr(e, "freespace")?.as_deref() != Some("true") {
-            return Err(xml.at(e, format!("<{name} freespace=\"false\">: carfollow measures gaps bumper to bumper (freespace=\"true\")")));
+        // Reference point to reference point: a relative distance's spacing (below).
+        let spacing = match xml.req(e, "freespace")?.as_str() {
+            "true" | "1" => false,
+            "false" | "0" => true,
+            v => return Err(xml.at(e, format!("<{name} freespace=\"{v}\">: not a boolean"))),
+        };
+        if spacing && name != "RelativeDistanceCondition" {
+            return Err(xml.at(e, format!("<{name} freespace=\"false\">: carfollow measures its gaps bumper to bumper (freespace=\"true\")")));
         }
         if name == "RelativeDistanceCondition" {
             let kind = xml.req(e, "relativeDistanceType")?;
@@ -555,6 +563,12 @@ impl Context<'_, '_> {
             },
             "TimeHeadwayCondition" => TriggerSpec {
                 time_gap_s: value,
+                to,
+                rule,
+                ..TriggerSpec::default()
+            },
+            _ if spacing => TriggerSpec {
+                spacing_m: value,
                 to,
                 rule,
                 ..TriggerSpec::default()

@@ -210,7 +210,7 @@ impl Group {
         x.open("StartTrigger", &[]);
         if step.distance {
             condition_group(x, |x| {
-                self.entity_condition(x, &step.name, None, |x| {
+                self.entity_condition(x, &step.name, Edge::LEVEL, |x| {
                     x.empty("TraveledDistanceCondition", &[n("value", step.from)]);
                 });
             });
@@ -335,7 +335,10 @@ impl Group {
             Rule::Equal => "equalTo",
             Rule::NotEqual => "notEqualTo",
         };
-        let delay = t.delay_s.unwrap_or(0.0);
+        let delay = Edge {
+            delay: t.delay_s.unwrap_or(0.0),
+            rising: t.rising,
+        };
         let to = t.to.as_deref().map(entity).unwrap_or(super::EGO);
         if let Some(v) = t.time_s {
             condition(x, name, delay, |x| {
@@ -347,7 +350,7 @@ impl Group {
                 x.close();
             });
         } else if let Some(v) = t.distance_m {
-            self.entity_condition(x, name, Some(delay), |x| {
+            self.entity_condition(x, name, delay, |x| {
                 x.empty("TraveledDistanceCondition", &[n("value", v)]);
             });
         } else if let Some(after) = &t.after {
@@ -368,13 +371,17 @@ impl Group {
                 );
                 x.close();
             });
-        } else if let Some(v) = t.gap_m {
-            self.entity_condition(x, name, Some(delay), |x| {
+        } else if let Some((v, freespace)) = t
+            .gap_m
+            .map(|v| (v, "true"))
+            .or(t.spacing_m.map(|v| (v, "false")))
+        {
+            self.entity_condition(x, name, delay, |x| {
                 x.empty(
                     "RelativeDistanceCondition",
                     &[
                         a("entityRef", to),
-                        a("freespace", "true"),
+                        a("freespace", freespace),
                         a("relativeDistanceType", "longitudinal"),
                         a("coordinateSystem", "road"),
                         n("value", v),
@@ -383,7 +390,7 @@ impl Group {
                 );
             });
         } else if let Some(v) = t.time_gap_s {
-            self.entity_condition(x, name, Some(delay), |x| {
+            self.entity_condition(x, name, delay, |x| {
                 x.empty(
                     "TimeHeadwayCondition",
                     &[
@@ -397,7 +404,7 @@ impl Group {
                 );
             });
         } else if let Some(v) = t.ttc_s {
-            self.entity_condition(x, name, Some(delay), |x| {
+            self.entity_condition(x, name, delay, |x| {
                 x.open(
                     "TimeToCollisionCondition",
                     &[
@@ -427,7 +434,7 @@ impl Group {
                 x.empty("StandStillCondition", &[n("duration", v)]);
             });
         } else if let Some(v) = t.relative_speed_mps {
-            self.entity_condition(x, name, Some(delay), |x| {
+            self.entity_condition(x, name, delay, |x| {
                 x.empty(
                     "RelativeSpeedCondition",
                     &[
@@ -462,10 +469,10 @@ impl Group {
         &self,
         x: &mut XmlOut,
         name: &str,
-        delay: Option<f64>,
+        delay: Edge,
         inner: impl FnOnce(&mut XmlOut),
     ) {
-        self.watching_condition(x, name, delay.unwrap_or(0.0), &self.entity, inner);
+        self.watching_condition(x, name, delay, &self.entity, inner);
     }
 
     /// A `ByEntityCondition` on the vehicle the file calls `subject`.
@@ -473,7 +480,7 @@ impl Group {
         &self,
         x: &mut XmlOut,
         name: &str,
-        delay: f64,
+        delay: Edge,
         subject: &str,
         inner: impl FnOnce(&mut XmlOut),
     ) {
@@ -517,13 +524,28 @@ fn condition_group(x: &mut XmlOut, inner: impl FnOnce(&mut XmlOut)) {
 }
 
 /// A `Condition` (carfollow's triggers hold on level: edge `none`).
-fn condition(x: &mut XmlOut, name: &str, delay: f64, inner: impl FnOnce(&mut XmlOut)) {
+/// A condition's `delay` (s) and whether its `conditionEdge` is `rising` (else `none`).
+#[derive(Clone, Copy)]
+struct Edge {
+    delay: f64,
+    rising: bool,
+}
+
+impl Edge {
+    /// No delay, no edge.
+    const LEVEL: Edge = Edge {
+        delay: 0.0,
+        rising: false,
+    };
+}
+
+fn condition(x: &mut XmlOut, name: &str, edge: Edge, inner: impl FnOnce(&mut XmlOut)) {
     x.open(
         "Condition",
         &[
             a("name", name),
-            n("delay", delay),
-            a("conditionEdge", "none"),
+            n("delay", edge.delay),
+            a("conditionEdge", if edge.rising { "rising" } else { "none" }),
         ],
     );
     inner(x);
@@ -533,7 +555,7 @@ fn condition(x: &mut XmlOut, name: &str, delay: f64, inner: impl FnOnce(&mut Xml
 /// A condition group of one `SimulationTimeCondition`.
 pub fn time_condition(x: &mut XmlOut, name: &str, value: f64, rule: &str) {
     condition_group(x, |x| {
-        condition(x, name, 0.0, |x| {
+        condition(x, name, Edge::LEVEL, |x| {
             x.open("ByValueCondition", &[]);
             x.empty(
                 "SimulationTimeCondition",

@@ -1,0 +1,468 @@
+//! OpenSCENARIO conditions through the command line: speed, standstill, reach-position,
+//! relative-speed and relative-distance conditions, condition groups and several
+//! triggering entities are imported as carfollow's triggers and fire as written. Run with
+//! `cargo test --release -p sim --test cli_openscenario_triggers`.
+
+mod osc_common;
+
+use osc_common::*;
+use std::path::{Path, PathBuf};
+
+#[test]
+fn speed_and_standstill_conditions_are_imported_and_fire_as_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = data().join("speed-standstill.xosc");
+    let toml = dir.path().join("speed-standstill.toml");
+    let text = import_to(&file, &toml);
+    for expected in [
+        "speed_mps = 5.0\nof = \"lead\"\nrule = \"less\"",
+        "standstill_s = 2.0\nof = \"lead\"\ndelay_s = 0.5",
+        "standstill_s = 3.0\nrising = true\n",
+    ] {
+        assert!(text.contains(expected), "{expected:?} not in:\n{text}");
+    }
+    let run = |scenario: &Path, out: &str| frames_of(scenario, &dir.path().join(out), &[]);
+    let csv = run(&file, "xosc");
+    assert!(
+        csv == run(&toml, "toml"),
+        "the imported scenario runs differently"
+    );
+    let frames = Frames::parse(&csv);
+    let (rows, num) = (&frames.rows, |r: &[String], c: &str| frames.num(r, c));
+    let at = |event: &str| {
+        frames
+            .logged(event)
+            .unwrap_or_else(|| panic!("{event} not logged"))
+    };
+    // The van slows at the step the lead's speed falls to 5 m/s (logged a frame later).
+    let slow = rows
+        .iter()
+        .position(|r| num(r, "lead_speed_mps") <= 5.0)
+        .unwrap();
+    let slow_at = at("Cutter/slow:started");
+    assert!(
+        slow_at == num(&rows[slow], "t_s") || slow_at == num(&rows[slow - 1], "t_s"),
+        "{slow_at}"
+    );
+    // It stops 2 s (and the delay, 0.5 s) after the lead stands; the lead moves off after 3 s.
+    let still = num(
+        rows.iter()
+            .find(|r| num(r, "lead_speed_mps").abs() < 0.05)
+            .unwrap(),
+        "t_s",
+    );
+    let frame = 1.0 / 15.0 + 1e-9;
+    assert!(
+        (at("Cutter/halt:started") - still - 2.5).abs() <= frame,
+        "{still}"
+    );
+    assert!(
+        (at("lead/creep:started") - still - 3.0).abs() <= frame,
+        "{still}"
+    );
+    // A speed condition by direction is refused at its line.
+    let text = std::fs::read_to_string(&file).unwrap();
+    let bad = dir.path().join("bad.xosc");
+    for name in ["two-lanes.xodr", "catalogs/VehicleCatalog.xosc"] {
+        let to = dir.path().join(name);
+        std::fs::create_dir_all(to.parent().unwrap()).unwrap();
+        std::fs::copy(data().join(name), to).unwrap();
+    }
+    let from = "<SpeedCondition value=\"$SlowAt\" rule=\"lessThan\"/>";
+    assert!(text.contains(from));
+    std::fs::write(
+        &bad,
+        text.replace(
+            from,
+            "<SpeedCondition value=\"$SlowAt\" rule=\"lessThan\" direction=\"lateral\"/>",
+        ),
+    )
+    .unwrap();
+    let line = 1 + text.lines().position(|l| l.contains(from)).unwrap();
+    let o = carfollow(&["check", bad.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains(&format!("bad.xosc:{line}")) && stderr(&o).contains("direction"),
+        "{}",
+        stderr(&o)
+    );
+}
+
+/// `reach-relative.xosc` imported, checked and run; `edit` applied to its text first.
+fn reach_relative(dir: &Path, edit: impl Fn(&str) -> String) -> (PathBuf, String) {
+    for name in ["two-lanes.xodr", "catalogs/VehicleCatalog.xosc"] {
+        let to = dir.join(name);
+        std::fs::create_dir_all(to.parent().unwrap()).unwrap();
+        std::fs::copy(data().join(name), to).unwrap();
+    }
+    let text = std::fs::read_to_string(data().join("reach-relative.xosc")).unwrap();
+    let path = dir.join("rr.xosc");
+    std::fs::write(&path, edit(&text)).unwrap();
+    (path, text)
+}
+
+#[test]
+fn reach_position_relative_speed_and_equal_to_are_imported_and_fire_as_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let (file, text) = reach_relative(dir.path(), |t| t.to_string());
+    let toml = dir.path().join("rr.toml");
+    let written = import_to(&file, &toml);
+    for expected in [
+        "[lead.events.trigger.reach]\nstation_m = 150.0\nlane = 1\ntolerance_m = 1.5\n",
+        "time_s = 12.0\nrule = \"equal\"",
+        // The lead's speed less the van's at most −0.5: the van's less the lead's at least 0.5.
+        "relative_speed_mps = 0.5\nto = \"lead\"\nrule = \"greater\"",
+    ] {
+        assert!(
+            written.contains(expected),
+            "{expected:?} not in:\n{written}"
+        );
+    }
+    let o = carfollow(&["check", toml.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    // `check` refuses a reach's lane the road lacks, at its line.
+    let bad_toml = dir.path().join("bad-lane.toml");
+    let reach = "[lead.events.trigger.reach]\nstation_m = 150.0\nlane = 1";
+    std::fs::write(
+        &bad_toml,
+        written.replace(reach, &reach.replace("lane = 1", "lane = 3")),
+    )
+    .unwrap();
+    let line = 3 + written[..written.find(reach).unwrap()].lines().count();
+    let o = carfollow(&["check", bad_toml.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).starts_with(&format!(
+            "error: {}:{line}:1: `lead.events[0].trigger.reach.lane` = 3: no such lane",
+            bad_toml.display()
+        )),
+        "{}",
+        stderr(&o)
+    );
+    let run = |scenario: &Path, out: &str| frames_of(scenario, &dir.path().join(out), &[]);
+    let csv = run(&file, "xosc");
+    assert!(
+        csv == run(&toml, "toml"),
+        "the imported scenario runs differently"
+    );
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|c| *c == name).unwrap();
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    let num = |r: &Vec<&str>, c: &str| r[col(c)].parse::<f64>().unwrap();
+    let row_of = |event: &str| {
+        rows.iter()
+            .position(|r| r[col("event")].contains(event))
+            .unwrap_or_else(|| panic!("{event} not logged"))
+    };
+    // The lead slows once its rear axle is within 1.5 m of s = 150 (the straight runs
+    // along x from 0), logged in the frame before or at the one past it.
+    let reached = rows
+        .iter()
+        .position(|r| num(r, "lead_x_m") >= 148.5)
+        .unwrap();
+    let slow = row_of("lead/slow:started");
+    assert!(slow == reached || slow + 1 == reached, "{slow} {reached}");
+    // It speeds up again at t = 12 s exactly: the frame at 12 s logs it.
+    assert_eq!(num(&rows[row_of("lead/resume:started")], "t_s"), 12.0);
+    // The van (9.72 m/s) passes once the lead is 0.5 m/s slower than it: logged in the
+    // frame whose capture saw the lead at most one frame's fall (2 m/s² × 1/15 s) above
+    // 9.22 m/s.
+    let pass = &rows[row_of("Cutter/pass:started")];
+    let lead = num(pass, "lead_speed_mps");
+    assert!((9.15..=9.36).contains(&lead), "{lead}");
+    // 1.2's DistanceCondition to a position, at most 1.5 m, is the same reach trigger.
+    let from = "<ReachPositionCondition tolerance=\"1.5\">";
+    let (distance, _) = reach_relative(dir.path(), |t| {
+        t.replace(from, "<DistanceCondition value=\"1.5\" freespace=\"false\" rule=\"lessOrEqual\" relativeDistanceType=\"euclidianDistance\">")
+            .replace("</ReachPositionCondition>", "</DistanceCondition>")
+    });
+    let again = dir.path().join("again.toml");
+    let o = carfollow(&[
+        "import",
+        distance.to_str().unwrap(),
+        "-o",
+        again.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let again = std::fs::read_to_string(&again).unwrap();
+    assert_eq!(
+        again.replace("rr.xosc", ""),
+        written.replace("rr.xosc", ""),
+        "a DistanceCondition to a position imports differently"
+    );
+    // An act started at a time equal to 0 starts at once, as one started after 0.
+    let start = "<SimulationTimeCondition value=\"0\" rule=\"greaterThan\"/>";
+    let (equal, _) = reach_relative(dir.path(), |t| {
+        assert!(t.contains(start));
+        t.replace(start, &start.replace("greaterThan", "equalTo"))
+    });
+    let o = carfollow(&[
+        "import",
+        equal.to_str().unwrap(),
+        "-o",
+        dir.path().join("eq.toml").to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let eq = std::fs::read_to_string(dir.path().join("eq.toml")).unwrap();
+    assert_eq!(eq.replace("rr.xosc", ""), written.replace("rr.xosc", ""));
+    // What the reach, relative speed and rules cannot be is refused at its line.
+    let reach_line = 1 + text.lines().position(|l| l.contains(from)).unwrap();
+    let position = "<LanePosition roadId=\"1\" laneId=\"-1\" offset=\"0\" s=\"150\"/>";
+    let relative =
+        "<RelativeSpeedCondition entityRef=\"Cutter\" value=\"-0.5\" rule=\"lessThan\"/>";
+    let relative_line = 1 + text.lines().position(|l| l.contains(relative)).unwrap();
+    let cases: [(String, String, usize, &str); 6] = [
+        (
+            position.into(),
+            "<GeoPosition latitude=\"0.1\" longitude=\"0.2\"/>".into(),
+            reach_line + 1,
+            "position",
+        ),
+        (
+            position.into(),
+            position.replace("-1\"", "-3\""),
+            reach_line + 1,
+            "lane -3 is not a lane",
+        ),
+        (
+            from.into(),
+            "<ReachPositionCondition tolerance=\"0\">".into(),
+            reach_line,
+            "must be above 0",
+        ),
+        (
+            relative.into(),
+            relative.replace("/>", " direction=\"lateral\"/>"),
+            relative_line,
+            "direction",
+        ),
+        (
+            relative.into(),
+            relative.replace("lessThan", "nearlyEqualTo"),
+            relative_line,
+            "not a rule of the standard",
+        ),
+        // Not equal to 0 holds from the second step: not the act's start.
+        (
+            start.into(),
+            start.replace("greaterThan", "notEqualTo"),
+            1 + text.lines().position(|l| l.contains(start)).unwrap() - 1,
+            "<Act> starts on a condition",
+        ),
+    ];
+    for (from, to, line, why) in cases {
+        let (bad, _) = reach_relative(dir.path(), |t| {
+            assert!(t.contains(&from), "{from}");
+            t.replace(&from, &to)
+        });
+        let o = carfollow(&["check", bad.to_str().unwrap()]);
+        assert_eq!(o.status.code(), Some(2), "{to}: {}", stderr(&o));
+        let e = stderr(&o);
+        let first = e.lines().next().unwrap_or_default();
+        assert!(
+            first.contains(&format!("rr.xosc:{line}")) && first.contains(why),
+            "{to}: {e}"
+        );
+    }
+    // Exported back, the scenario imports to the same scenario.
+    let back_dir = dir.path().join("back");
+    let o = carfollow(&[
+        "export",
+        toml.to_str().unwrap(),
+        "-o",
+        back_dir.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let back = back_dir.join("rr.xosc");
+    let exported = std::fs::read_to_string(&back).unwrap();
+    for expected in [
+        "<ReachPositionCondition tolerance=\"1.5\">",
+        "rule=\"equalTo\"",
+        "<RelativeSpeedCondition",
+    ] {
+        assert!(
+            exported.contains(expected),
+            "{expected:?} not in:\n{exported}"
+        );
+    }
+    let back_toml = dir.path().join("back.toml");
+    let o = carfollow(&[
+        "import",
+        back.to_str().unwrap(),
+        "-o",
+        back_toml.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(
+        frames_of(&back_toml, &dir.path().join("back-run"), &[]) == csv,
+        "the exported file runs differently"
+    );
+}
+
+/// Triggers of several conditions: `condition-groups.xosc`'s lead brakes on either of two
+/// condition groups (t > `$LateBrake`; or t > 3 s, 2 s ago, and the ego faster than
+/// `$EgoFast`), and its van slows on one condition of two triggering entities (the lead and
+/// the ego below 12 m/s, rule `$Both`). Imported as `any` and `all`, run as written, and each
+/// parameter changed shows the group's logic: a group fires only when all its conditions
+/// hold, a trigger when any group does.
+#[test]
+fn condition_groups_and_several_triggering_entities_fire_as_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = data().join("condition-groups.xosc");
+    let toml = dir.path().join("groups.toml");
+    let text = import_to(&file, &toml);
+    for expected in [
+        "[[lead.events.trigger.any]]",
+        "delay_s = 2.0",
+        "[[lead.events.trigger.any.all]]",
+        "[[actors.events.trigger.all]]",
+        "offset_m = 0.6\nlateral_accel_mps2 = 0.5\nshape = \"sinusoidal\"",
+        "profile = [",
+    ] {
+        assert!(text.contains(expected), "{expected:?} not in:\n{text}");
+    }
+    let run = |out: &str, param: &[&str]| {
+        let csv = frames_of(&file, &dir.path().join(out), param);
+        (Frames::parse(&csv), csv)
+    };
+    let (frames, csv) = run("xosc", &[]);
+    assert!(
+        csv == frames_of(&toml, &dir.path().join("toml"), &[]),
+        "the imported scenario runs differently"
+    );
+    let started = |f: &Frames, event: &str| f.logged(&format!("{event}:started"));
+    let frame = 1.0 / 15.0 + 1e-9;
+    // The second group: 3 s, delayed 2 s, and the ego at about 13.9 m/s.
+    let brake = started(&frames, "lead/brake").expect("the lead brakes");
+    assert!((brake - 5.0).abs() <= frame, "{brake}");
+    // Both below 12 m/s: the van slows at the first frame they are (or the one before),
+    // later than the lead alone falls below it.
+    let below = |f: &Frames, r: &[String], speed: &str| f.num(r, speed) < 12.0;
+    let both =
+        |f: &Frames, r: &[String]| below(f, r, "lead_speed_mps") && below(f, r, "chase_speed_mps");
+    let either =
+        |f: &Frames, r: &[String]| below(f, r, "lead_speed_mps") || below(f, r, "chase_speed_mps");
+    let logged_at = |f: &Frames, when: &dyn Fn(&Frames, &[String]) -> bool| {
+        let k = f
+            .rows
+            .iter()
+            .position(|r| when(f, r))
+            .expect("the speeds fall below 12 m/s");
+        let slow = started(f, "Cutter/slow").expect("the van slows");
+        assert!(
+            slow == f.num(&f.rows[k], "t_s") || slow == f.num(&f.rows[k - 1], "t_s"),
+            "slow at {slow}, the condition from {}",
+            f.num(&f.rows[k], "t_s")
+        );
+        slow
+    };
+    let all_at = logged_at(&frames, &both);
+    // A group holds only when every condition does: an ego never that fast, no braking.
+    let (never, _) = run("fast", &["--param", "EgoFast=30"]);
+    assert_eq!(started(&never, "lead/brake"), None);
+    // A trigger holds when any group does: the first group at 2 s.
+    let (early, _) = run("early", &["--param", "LateBrake=2"]);
+    let brake = started(&early, "lead/brake").unwrap();
+    assert!((brake - 2.0).abs() <= frame, "{brake}");
+    // Either entity, with rule any: as soon as the lead is below 12 m/s.
+    let (any, _) = run("any", &["--param", "Both=any"]);
+    let any_at = logged_at(&any, &either);
+    assert!(any_at < all_at, "any at {any_at}, all at {all_at}");
+    // The van's drift, 0.6 m at a peak of 0.5 m/s² (π √(0.6 / 1) s), then back 1 s later.
+    let drift = started(&frames, "Cutter/drift").unwrap();
+    assert!((drift - 1.0).abs() <= frame, "{drift}");
+    let ended = frames.logged("Cutter/drift:ended").unwrap();
+    let lasts = std::f64::consts::PI * 0.6_f64.sqrt();
+    assert!(
+        (ended - drift - lasts).abs() <= 2.0 * frame,
+        "{drift} to {ended}"
+    );
+    let back = started(&frames, "Cutter/recentre").unwrap();
+    assert!(
+        (back - ended - 1.0).abs() <= 2.0 * frame,
+        "{ended} to {back}"
+    );
+    // The van's profile from 10 s: 1 s, 0.5 s, then 8 to 6 m/s at the 2 m/s² deceleration.
+    let cruise = started(&frames, "Cutter/cruise").unwrap();
+    let done = frames.logged("Cutter/cruise:ended").unwrap();
+    assert!((cruise - 10.0).abs() <= frame, "{cruise}");
+    assert!((done - cruise - 2.5).abs() <= frame, "{cruise} to {done}");
+    let o = carfollow(&[
+        "check",
+        file.to_str().unwrap(),
+        "--param",
+        "ProfileMode=follow",
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("followingMode"), "{}", stderr(&o));
+    // A continuous offset never ends: nothing may wait for its end.
+    let o = carfollow(&[
+        "check",
+        file.to_str().unwrap(),
+        "--param",
+        "Continuous=true",
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("never ends"), "{}", stderr(&o));
+}
+
+/// A relative distance between reference points (`freespace="false"`, esmini's
+/// `drive_when_close`) is imported as a spacing trigger (`spacing_m`), rear axle to rear
+/// axle: the same value fires later than as a gap, bumper to bumper, since the spacing is the
+/// longer by the chase's length ahead of its axle and the van's behind its own; and it is
+/// exported back as written.
+#[test]
+fn a_distance_between_reference_points_is_a_spacing() {
+    let gap = "freespace=\"true\" value=\"$CutInGap\"";
+    let (dir, path) = mutant(|text| {
+        assert!(text.contains(gap));
+        text.replace(gap, "freespace=\"false\" value=\"$CutInGap\"")
+    });
+    let toml = dir.path().join("imported/spacing.toml");
+    let text = import_to(&path, &toml);
+    assert!(
+        text.contains("spacing_m = 12.0") && !text.contains("gap_m = 12.0"),
+        "{text}"
+    );
+    let set = ["--set", "duration_s=16"];
+    let started = |frames: &str| {
+        let f = Frames::parse(frames);
+        f.logged("cut-in:started")
+            .unwrap_or_else(|| panic!("the cut-in never started"))
+    };
+    let as_gap = started(&frames_of(
+        &data().join("cut-in.xosc"),
+        &dir.path().join("g"),
+        &set,
+    ));
+    let from_xosc = frames_of(&path, &dir.path().join("x"), &set);
+    let from_toml = frames_of(&toml, &dir.path().join("t"), &set);
+    assert!(
+        from_xosc == from_toml,
+        "the imported scenario runs differently"
+    );
+    let as_spacing = started(&from_xosc);
+    assert!(
+        as_spacing > as_gap + 0.1,
+        "spacing fired at {as_spacing} s, the gap at {as_gap} s"
+    );
+    let out = dir.path().join("export");
+    let o = carfollow(&[
+        "export",
+        toml.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let xosc = std::fs::read_dir(&out)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .find(|p| p.extension().is_some_and(|e| e == "xosc"))
+        .unwrap();
+    let written = std::fs::read_to_string(xosc).unwrap();
+    assert!(
+        written.contains("freespace=\"false\"") && written.contains("value=\"12\""),
+        "{written}"
+    );
+}
