@@ -83,6 +83,18 @@ fn the_shipped_sweeps_validate() {
     assert_eq!(lambda.points.len(), 13 * 3 * 4);
     let smoke = Sweep::load(&dir.join("smoke.toml"), &[]).unwrap();
     assert_eq!(smoke.points.len(), 2);
+    // Every sweep shipped loads, with points.
+    let mut files: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    files.sort();
+    assert!(files.len() >= 10, "{files:?}");
+    for file in files {
+        let sweep = Sweep::load(&file, &[]).unwrap_or_else(|e| panic!("{e}"));
+        assert!(!sweep.points.is_empty(), "{}", file.display());
+    }
 }
 
 #[test]
