@@ -19,13 +19,9 @@ import json
 import os
 import sys
 
-LIGHTS = ["day", "dusk", "night-low", "night-high"]
-LIGHT_NAMES = {
-    "day": "day",
-    "dusk": "dusk, low beams",
-    "night-low": "night, low beams",
-    "night-high": "night, high beams",
-}
+# The study's lights, as its report names them (this folder is on the path when run).
+from report import LIGHT_NAMES, LIGHTS
+
 MODES = ["paper", "robust"]
 
 

@@ -442,11 +442,10 @@ fn an_act_with_an_empty_start_trigger_starts_at_once() {
             &format!("{start}\n<StopTrigger>{later}</StopTrigger>"),
         )
     });
-    let line = 1 + std::fs::read_to_string(&path)
-        .unwrap()
-        .lines()
-        .position(|l| l.contains("<StopTrigger><ConditionGroup><Condition name=\"later\""))
-        .unwrap();
+    let line = line_of(
+        &path,
+        "<StopTrigger><ConditionGroup><Condition name=\"later\"",
+    );
     let o = carfollow(&["check", path.to_str().unwrap()]);
     let e = stderr(&o);
     assert_eq!(o.status.code(), Some(2), "{e}");
@@ -485,11 +484,7 @@ fn the_egos_controller_alone_is_named_in_its_warning() {
         text.replacen(ego, &controlled, 1)
             .replacen(private, &format!("{private}\n{activate}"), 1)
     });
-    let line = 1 + std::fs::read_to_string(&file)
-        .unwrap()
-        .lines()
-        .position(|l| l.contains("<ActivateControllerAction"))
-        .unwrap();
+    let line = line_of(&file, "<ActivateControllerAction");
     let o = carfollow(&["check", file.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let warned: Vec<_> = stderr(&o)

@@ -527,15 +527,14 @@ impl Events {
                     let level = e.watch.group_holds(trigger, &c);
                     e.watch.edge(trigger, level)
                 }
-                // An edge is watched at every step, armed or not.
-                _ if trigger.rising => {
-                    e.watch.update_still(trigger, &c);
-                    let level = e.watch.holds(trigger, &c);
-                    e.watch.edge(trigger, level) && e.phase == Phase::Armed
-                }
+                // Evaluated while armed; an edge at every step, armed or not, so that it
+                // knows the step before.
                 _ => {
                     e.watch.update_still(trigger, &c);
-                    e.phase == Phase::Armed && e.watch.holds(trigger, &c)
+                    (trigger.rising || e.phase == Phase::Armed) && {
+                        let level = e.watch.holds(trigger, &c);
+                        e.watch.edge(trigger, level)
+                    }
                 }
             };
             if e.phase == Phase::Armed && holds {

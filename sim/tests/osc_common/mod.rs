@@ -99,3 +99,12 @@ pub fn mutant(edit: impl Fn(&str) -> String) -> (tempfile::TempDir, PathBuf) {
     std::fs::write(&path, edit(&text)).unwrap();
     (dir, path)
 }
+
+/// The line (from 1) of the first line of the file at `path` that holds `needle`.
+pub fn line_of(path: &Path, needle: &str) -> usize {
+    let text = std::fs::read_to_string(path).unwrap();
+    1 + text
+        .lines()
+        .position(|l| l.contains(needle))
+        .unwrap_or_else(|| panic!("`{needle}` is not in {}", path.display()))
+}

@@ -335,13 +335,13 @@ impl Group {
             Rule::Equal => "equalTo",
             Rule::NotEqual => "notEqualTo",
         };
-        let delay = Edge {
+        let edge = Edge {
             delay: t.delay_s.unwrap_or(0.0),
             rising: t.rising,
         };
         let to = t.to.as_deref().map(entity).unwrap_or(super::EGO);
         if let Some(v) = t.time_s {
-            condition(x, name, delay, |x| {
+            condition(x, name, edge, |x| {
                 x.open("ByValueCondition", &[]);
                 x.empty(
                     "SimulationTimeCondition",
@@ -350,7 +350,7 @@ impl Group {
                 x.close();
             });
         } else if let Some(v) = t.distance_m {
-            self.entity_condition(x, name, delay, |x| {
+            self.entity_condition(x, name, edge, |x| {
                 x.empty("TraveledDistanceCondition", &[n("value", v)]);
             });
         } else if let Some(after) = &t.after {
@@ -359,7 +359,7 @@ impl Group {
                 .iter()
                 .find(|(_, e)| &e.name == after)
                 .map_or(after.as_str(), |(written, _)| written.as_str());
-            condition(x, name, delay, |x| {
+            condition(x, name, edge, |x| {
                 x.open("ByValueCondition", &[]);
                 x.empty(
                     "StoryboardElementStateCondition",
@@ -376,7 +376,7 @@ impl Group {
             .map(|v| (v, "true"))
             .or(t.spacing_m.map(|v| (v, "false")))
         {
-            self.entity_condition(x, name, delay, |x| {
+            self.entity_condition(x, name, edge, |x| {
                 x.empty(
                     "RelativeDistanceCondition",
                     &[
@@ -390,7 +390,7 @@ impl Group {
                 );
             });
         } else if let Some(v) = t.time_gap_s {
-            self.entity_condition(x, name, delay, |x| {
+            self.entity_condition(x, name, edge, |x| {
                 x.empty(
                     "TimeHeadwayCondition",
                     &[
@@ -404,7 +404,7 @@ impl Group {
                 );
             });
         } else if let Some(v) = t.ttc_s {
-            self.entity_condition(x, name, delay, |x| {
+            self.entity_condition(x, name, edge, |x| {
                 x.open(
                     "TimeToCollisionCondition",
                     &[
@@ -422,7 +422,7 @@ impl Group {
             });
         } else if let Some(v) = t.speed_mps {
             let of = t.of.as_deref().map_or(self.entity.as_str(), entity);
-            self.watching_condition(x, name, delay, of, |x| {
+            self.watching_condition(x, name, edge, of, |x| {
                 x.empty(
                     "SpeedCondition",
                     &[n("value", v), a("rule", rule(Rule::Less))],
@@ -430,11 +430,11 @@ impl Group {
             });
         } else if let Some(v) = t.standstill_s {
             let of = t.of.as_deref().map_or(self.entity.as_str(), entity);
-            self.watching_condition(x, name, delay, of, |x| {
+            self.watching_condition(x, name, edge, of, |x| {
                 x.empty("StandStillCondition", &[n("duration", v)]);
             });
         } else if let Some(v) = t.relative_speed_mps {
-            self.entity_condition(x, name, delay, |x| {
+            self.entity_condition(x, name, edge, |x| {
                 x.empty(
                     "RelativeSpeedCondition",
                     &[
@@ -446,7 +446,7 @@ impl Group {
             });
         } else if let Some(r) = &t.reach {
             let of = t.of.as_deref().map_or(self.entity.as_str(), entity);
-            self.watching_condition(x, name, delay, of, |x| {
+            self.watching_condition(x, name, edge, of, |x| {
                 x.open("ReachPositionCondition", &[n("tolerance", r.tolerance_m)]);
                 x.open("Position", &[]);
                 x.empty(
@@ -469,10 +469,10 @@ impl Group {
         &self,
         x: &mut XmlOut,
         name: &str,
-        delay: Edge,
+        edge: Edge,
         inner: impl FnOnce(&mut XmlOut),
     ) {
-        self.watching_condition(x, name, delay, &self.entity, inner);
+        self.watching_condition(x, name, edge, &self.entity, inner);
     }
 
     /// A `ByEntityCondition` on the vehicle the file calls `subject`.
@@ -480,11 +480,11 @@ impl Group {
         &self,
         x: &mut XmlOut,
         name: &str,
-        delay: Edge,
+        edge: Edge,
         subject: &str,
         inner: impl FnOnce(&mut XmlOut),
     ) {
-        condition(x, name, delay, |x| {
+        condition(x, name, edge, |x| {
             x.open("ByEntityCondition", &[]);
             x.open("TriggeringEntities", &[a("triggeringEntitiesRule", "any")]);
             x.empty("EntityRef", &[a("entityRef", subject)]);
@@ -523,7 +523,6 @@ fn condition_group(x: &mut XmlOut, inner: impl FnOnce(&mut XmlOut)) {
     x.close();
 }
 
-/// A `Condition` (carfollow's triggers hold on level: edge `none`).
 /// A condition's `delay` (s) and whether its `conditionEdge` is `rising` (else `none`).
 #[derive(Clone, Copy)]
 struct Edge {
@@ -539,6 +538,7 @@ impl Edge {
     };
 }
 
+/// A `Condition`, with its delay and edge.
 fn condition(x: &mut XmlOut, name: &str, edge: Edge, inner: impl FnOnce(&mut XmlOut)) {
     x.open(
         "Condition",
