@@ -5,7 +5,8 @@
 //! the lead's board is a loss (`tracker`) for at most 15 frames. A far start without a
 //! search is refused in one line; esmini's `slow-lead-vehicle.xosc`, 146.6 m behind,
 //! imports as a far start. The board's model at twice its scale, which fits where the board
-//! is beyond the search's reach, is not held for more than 15 frames. Run with
+//! is beyond the search's reach, is not held for more than 15 frames. At night on high
+//! beams the lead is found only with the gain's highlight protection. Run with
 //! `cargo test --release -p sim --test cli_far_lead`.
 
 use std::collections::BTreeMap;
@@ -247,4 +248,33 @@ fn the_boards_model_at_twice_its_scale_gives_way_to_the_board() {
             r["est_scale"].parse::<f64>().unwrap() / r["true_scale"].parse::<f64>().unwrap();
         assert!((ratio - 1.0).abs() < 0.1, "scale {ratio} of the board's");
     }
+}
+
+#[test]
+fn high_beams_clip_the_board_unless_the_gain_protects_highlights() {
+    // The weather study's night on high beams, the gain up to 64: metering the dark frame's
+    // mean, the gain keeps the lead's back and the board's white clipped, and the search
+    // never holds the lead; the chase hits it at the closing speed. With at most 1 % of the
+    // metering window let clip, the gain comes down as the lit back nears, and the lead is
+    // held in time.
+    let night = [
+        "environment.sun.elevation_deg=-18",
+        "chase.headlamps.beam=high",
+        "environment.sensor.auto_gain.max_gain=64",
+    ];
+    let summary = |extra: &[&str]| {
+        let dir = tempfile::tempdir().unwrap();
+        let sets: Vec<&str> = night.iter().chain(extra).copied().collect();
+        run("far-lead", dir.path(), &sets);
+        let text = std::fs::read_to_string(dir.path().join("summary.json")).unwrap();
+        serde_json::from_str::<serde_json::Value>(&text).unwrap()
+    };
+    let plain = summary(&[]);
+    assert!(plain["acquisition"]["range_m"].is_null(), "{plain}");
+    assert!(plain["collisions"].as_u64().unwrap() > 0, "{plain}");
+    let protected = summary(&["environment.sensor.auto_gain.max_clipped_share=0.01"]);
+    let range = protected["acquisition"]["range_m"].as_f64().unwrap();
+    assert!(range >= 14.0, "{range} m");
+    assert_eq!(protected["collisions"], 0, "{protected}");
+    assert!(protected["silent_loss_frames"].as_u64().unwrap() <= 15);
 }

@@ -242,3 +242,26 @@ fn read_noise_in_electrons_needs_the_full_well_and_is_checked() {
         "{e}"
     );
 }
+
+#[test]
+fn highlight_protection_is_off_by_default_set_by_its_path_and_checked() {
+    let on = "environment.sensor.auto_gain.max_gain=64";
+    let s = load(&text(), &[on]).unwrap();
+    assert_eq!(s.sensor.auto_gain.unwrap().max_clipped_share, None);
+    assert!(s
+        .resolved_json()
+        .pointer("/environment/sensor/auto_gain/max_clipped_share")
+        .is_none());
+    let share = "environment.sensor.auto_gain.max_clipped_share=0.01";
+    let s = load(&text(), &[on, share]).unwrap();
+    assert_eq!(s.sensor.auto_gain.unwrap().max_clipped_share, Some(0.01));
+    for bad in ["-0.1", "0.6"] {
+        let set = format!("environment.sensor.auto_gain.max_clipped_share={bad}");
+        let e = load(&text(), &[on, &set]).unwrap_err();
+        assert!(
+            e.contains("`environment.sensor.auto_gain.max_clipped_share`")
+                && e.contains("must be 0–0.5"),
+            "{e}"
+        );
+    }
+}

@@ -677,6 +677,15 @@ pub struct AutoGainFile {
     /// Its largest gain (the smallest is the reciprocal): 1–64.
     #[schemars(extend("minimum" = 1.0, "maximum" = 64.0))]
     pub max_gain: Option<f64>,
+    /// Highlight protection: the largest share of the metering window (the frame's central
+    /// half each way) it lets clip to white, 0–0.5; it never raises the gain beyond the one
+    /// that brings the brightest pixels past that share to grey 250, and lowers it while
+    /// more than that share is white, whatever the mean (absent: off, the mean alone
+    /// decides). A dark frame with a bright target in it, such as a car's back in the
+    /// chase's high beams, then keeps the target's pattern instead of clipping it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("minimum" = 0.0, "maximum" = 0.5))]
+    pub max_clipped_share: Option<f64>,
 }
 
 /// Fixed-length arrays of numbers read strictly: the toml parser lets `[f64; 2]` take the

@@ -289,6 +289,11 @@ pub struct AutoGain {
     pub time_constant_s: f64,
     /// The largest gain it sets; the smallest is its reciprocal.
     pub max_gain: f64,
+    /// Highlight protection: the largest share of the metering window it lets clip to
+    /// white (grey 255), 0–0.5; it never sets a gain that would clip more, whatever the
+    /// mean. `None`: off, the mean alone decides, as a camera that meters the whole frame.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_clipped_share: Option<f64>,
 }
 
 impl Default for AutoGain {
@@ -298,6 +303,7 @@ impl Default for AutoGain {
             target_grey: 110.0,
             time_constant_s: 0.5,
             max_gain: 8.0,
+            max_clipped_share: None,
         }
     }
 }

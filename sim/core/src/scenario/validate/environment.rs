@@ -394,6 +394,17 @@ fn sensor(e: &EnvironmentFile, f: &Blame) -> Result<Sensor, ScenarioError> {
                 ),
             )?;
         }
+        if let Some(share) = a.max_clipped_share {
+            f.at(
+                "environment.sensor.auto_gain.max_clipped_share",
+                check(
+                    (0.0..=0.5).contains(&share),
+                    "must be 0–0.5 (a share of the metering window)",
+                    share,
+                ),
+            )?;
+            auto_gain.max_clipped_share = Some(share);
+        }
         sensor.auto_gain = Some(auto_gain);
     }
 
