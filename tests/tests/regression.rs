@@ -380,6 +380,34 @@ fn ncap_ccrm_through_the_16_mm_lens_holds_no_board_at_a_larger_scale() {
     }
 }
 
+/// A fit whose range shrinks faster than the chase drives has slid off its target
+/// (`sim_core`'s `plugin::closing`), and the lane is searched for the target at once. In
+/// `ncap-ccrm` through the 16 mm lens the board, found 53.7 m ahead and too small to
+/// resolve, is coasted on, and the fit slides to the lead's whole back, a range of 25 m:
+/// robust mode at 55 km/h said `tracking` there for 18 frames before the check, and the
+/// paper's mode at 50 km/h lost the board for 16.5 s and failed its criteria.
+#[test]
+fn a_fit_closing_faster_than_the_chase_drives_gives_way_to_the_target() {
+    for (speed_mps, mode) in [("15.28", "robust"), ("13.89", "paper")] {
+        let s = run_with(
+            "ncap-ccrm",
+            &[
+                "duration_s=30",
+                "chase.initial_gap_m=70",
+                "camera.focal_length_mm=16",
+                &format!("chase.controller.cruise_speed_mps={speed_mps}"),
+                &format!("tracker.mode={mode}"),
+            ],
+        );
+        assert!(
+            s.silent_loss_frames <= 15,
+            "{mode} at {speed_mps} m/s: {} frames said `tracking` off the board",
+            s.silent_loss_frames
+        );
+        assert!(s.passed, "{mode} at {speed_mps} m/s: {:?}", s.failures);
+    }
+}
+
 /// A contact's closing speed is the speed the chase came in at, not what the physics step
 /// that made the contact left of it: in `ncap-ccrs` at 45 km/h (the paper's mode, its
 /// sweep's test that ends in contact) the chase hits the standing car still doing most of

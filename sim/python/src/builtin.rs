@@ -79,6 +79,7 @@ impl PaperTracker {
                 camera: &camera.inner,
                 gyro_rad: camera.gyro_rad,
                 lane: None,
+                speed_mps: None,
             };
             inner
                 .track(&input)

@@ -112,7 +112,10 @@ impl Eye {
                 input.time_s,
                 ego,
                 captured.pan_reading_rad,
-                captured.lane.as_ref(),
+                (
+                    captured.lane.as_ref(),
+                    Some(f64::from(captured.chase.forward_speed_mps)),
+                ),
             )
         })
         .map_err(|f| match f {

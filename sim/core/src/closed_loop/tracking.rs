@@ -44,7 +44,8 @@ pub(super) enum TrackFailure<E> {
 
 impl Tracking {
     /// Tracks `frame` (captured at `t_s`, the pan head reading `pan_reading_rad`, the gyro
-    /// `ego` since the last frame), rendering more of it with `render` for as long as the
+    /// `ego` since the last frame, with the chase's lane ahead and its odometer's speed, in
+    /// [`TrackerInput`]'s terms), rendering more of it with `render` for as long as the
     /// tracker needs pixels beyond those rendered: first the part it asked for with a
     /// margin, then the whole frame. The second value says whether the frame was rendered
     /// again.
@@ -55,7 +56,7 @@ impl Tracking {
         t_s: f64,
         ego: Option<EgoMotion>,
         pan_reading_rad: f64,
-        lane: Option<&LaneAhead>,
+        (lane, speed_mps): (Option<&LaneAhead>, Option<f64>),
     ) -> Result<(Tracked, bool), TrackFailure<E>> {
         self.camera.pan_rad = pan_reading_rad;
         let (width, height) = (frame.image.width() as usize, frame.image.height() as usize);
@@ -70,6 +71,7 @@ impl Tracking {
                 camera: &self.camera,
                 gyro_rad: ego.map(|e| e.rotation_rad),
                 lane,
+                speed_mps,
             };
             let read = match self.tracker.track_drawn(&input, drawn) {
                 Ok(Drawn::Tracked(estimate)) => break estimate,
@@ -219,7 +221,7 @@ mod tests {
             render: impl FnMut(Option<PixelRect>) -> Result<Frame, RenderError>,
             time_s: f64,
         ) -> (TrackOutput, bool) {
-            let ok = tracking.track(frame, render, time_s, None, 0.0, None);
+            let ok = tracking.track(frame, render, time_s, None, 0.0, (None, None));
             let (tracked, again) = ok.unwrap_or_else(|_| panic!("track"));
             (tracked.out.expect("the paper's tracker's output"), again)
         }

@@ -10,12 +10,14 @@
 //! fit one vehicle it holds the one that covers the most of its outline, and while its fit
 //! is weak it looks for a better in the lane, of any model, the one held included, at a
 //! scale or place the held target is not at ([`Acquisition::recheck`]). It lets go of a
-//! target the tracker says is lost, and of one that has left the lane for
+//! target the tracker says is lost, of one that has left the lane for
 //! `vehicle::LEFT_LANE_ARRIVALS` frames, as the chase controller judges a target in its
-//! lane. Until its first hold it searches every frame; holding nothing for long after a hold,
+//! lane, and of one whose range shrinks faster than the chase drives
+//! ([`super::closing`]). Until its first hold it searches every frame; holding nothing for long after a hold,
 //! it searches on one frame in three ([`SEARCH_EVERY_FRAME_FOR`]).
 
-use super::LaneAhead;
+use super::closing::Closing;
+use super::{LaneAhead, TrackerInput};
 use tracker::robust::{
     acquire_scales, ChamferSearch, ACQUIRE_EVERY_FRAMES, SEARCH_BELOW_COVERAGE, SEARCH_MARGIN,
 };
@@ -97,6 +99,11 @@ pub(crate) struct Hold {
     /// Whether the last fit judged of the target held was weak (below
     /// [`SEARCH_BELOW_COVERAGE`]): its next frames are likely to be too.
     weak: bool,
+    /// The held target's last estimated ranges, against the chase's speed.
+    closing: Closing,
+    /// Whether the held target's range has just shrunk faster than the chase drives: the
+    /// fit has slid off it, and [`Acquisition::recheck`] looks for the target now.
+    slid: bool,
 }
 
 /// Which target the built-in tracker holds in traffic, and the searchers that find one.
@@ -200,10 +207,15 @@ impl Acquisition {
         self.hold.held.is_none()
     }
 
-    /// Judges the held target's step `out` against `lane`: lets go of it when the tracker
-    /// says it is lost or its centre has been out of the lane for
-    /// `vehicle::LEFT_LANE_ARRIVALS` frames. Returns whether it let go.
-    pub(crate) fn judge_held(&mut self, out: &TrackOutput, lane: Option<&LaneAhead>) -> bool {
+    /// Judges the held target's step `out` on `input`'s frame against the chase's lane
+    /// and speed: lets go of it when the tracker says it is lost, or when its centre has
+    /// been out of the lane for `vehicle::LEFT_LANE_ARRIVALS` frames. Returns whether it let
+    /// go. When its estimated range has shrunk faster than the chase drives
+    /// ([`super::closing`]: the fit has slid off it), the frame is rechecked
+    /// ([`Acquisition::rechecks`]) and, should that find nothing, the target let go of
+    /// ([`Acquisition::let_go_of_slid`]).
+    pub(crate) fn judge_held(&mut self, out: &TrackOutput, input: &TrackerInput<'_>) -> bool {
+        let lane = input.lane;
         let [x, _, z] = out.position_3d;
         let margin_m = f64::from(vehicle::LANE_MARGIN_M);
         let out_now = out.status == Status::Tracking
@@ -215,11 +227,29 @@ impl Acquisition {
         h.held_for += 1;
         h.weak = covered(out) < SEARCH_BELOW_COVERAGE;
         h.out_of_lane = if out_now { h.out_of_lane + 1 } else { 0 };
+        h.slid = match input.speed_mps {
+            Some(v) if out.status != Status::Lost => h.closing.too_fast(input.t_s, z, v),
+            _ => {
+                h.closing.clear();
+                false
+            }
+        };
         let released = out.status == Status::Lost || h.out_of_lane >= vehicle::LEFT_LANE_ARRIVALS;
         if released {
-            (h.held, h.out_of_lane, h.idle) = (None, 0, 0);
+            (h.held, h.out_of_lane, h.idle, h.slid) = (None, 0, 0, false);
         }
         released
+    }
+
+    /// After a recheck of a target whose fit slid off it found nothing
+    /// ([`Acquisition::judge_held`]): lets go of it. Returns whether it did.
+    pub(crate) fn let_go_of_slid(&mut self) -> bool {
+        let h = &mut self.hold;
+        if !(h.slid && h.held.is_some()) {
+            return false;
+        }
+        (h.held, h.out_of_lane, h.idle, h.slid) = (None, 0, 0, false);
+        true
     }
 
     /// One frame's search, with the next model in turn: its output, what `step` returned
@@ -257,11 +287,14 @@ impl Acquisition {
     /// other models ([`Acquisition::recheck`]): when its fit covers less of its outline
     /// than `tracker::robust::SEARCH_BELOW_COVERAGE` (a weak fit, by robust mode's test),
     /// on one frame in [`tracker::robust::ACQUIRE_EVERY_FRAMES`], the rate of robust mode's
-    /// whole-image search after a long loss.
+    /// whole-image search after a long loss; and at once when its fit has slid off it
+    /// ([`Acquisition::judge_held`]).
     pub(crate) fn rechecks(&self, out: &TrackOutput) -> bool {
-        self.hold.held.is_some()
-            && self.hold.held_for.is_multiple_of(ACQUIRE_EVERY_FRAMES)
-            && covered(out) < SEARCH_BELOW_COVERAGE
+        let h = &self.hold;
+        h.held.is_some()
+            && (h.slid
+                || (h.held_for.is_multiple_of(ACQUIRE_EVERY_FRAMES)
+                    && covered(out) < SEARCH_BELOW_COVERAGE))
     }
 
     /// Holding a target whose fit `out` is weak, when [`Acquisition::rechecks`]: searches
@@ -287,7 +320,12 @@ impl Acquisition {
         if !self.rechecks(out) {
             return Ok(None);
         }
-        let floor = covered(out) + SEARCH_MARGIN;
+        // A fit that slid off its target gives way to any fit of a target in the lane.
+        let floor = if self.hold.slid {
+            0.0
+        } else {
+            covered(out) + SEARCH_MARGIN
+        };
         let held = out.estimate;
         let gates = (0..self.models.len())
             .map(|j| Some(lane.map(|l| self.gate(j, l))))
@@ -402,6 +440,8 @@ impl Acquisition {
         searcher.release();
         let h = &mut self.hold;
         (h.held, h.out_of_lane, h.next, h.held_for) = (Some(k), 0, 0, 0);
+        h.closing.clear();
+        h.slid = false;
         h.ever_held = true;
         Ok(holder)
     }

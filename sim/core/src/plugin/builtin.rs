@@ -127,7 +127,7 @@ impl BuiltinTracker {
         let tracker = self.tracker.as_mut().expect("a held target has a tracker");
         let (out, edges) = Self::step(diagnostics, tracker, input);
         self.read = Some(tracker.last_read());
-        let released = acquisition.judge_held(&out, input.lane);
+        let released = acquisition.judge_held(&out, input);
         if released || !acquisition.rechecks(&out) {
             return Ok(Some((out, edges, released)));
         }
@@ -152,7 +152,11 @@ impl BuiltinTracker {
                 self.read = Some(read);
                 Ok(Some((better, edges, true)))
             }
-            None => Ok(Some((out, edges, false))),
+            None => {
+                // A fit that slid off its target, with no target found instead, is let go.
+                let released = acquisition.let_go_of_slid();
+                Ok(Some((out, edges, released)))
+            }
         }
     }
 }

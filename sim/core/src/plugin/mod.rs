@@ -19,6 +19,7 @@
 
 mod acquisition;
 mod builtin;
+mod closing;
 mod lane;
 mod types;
 

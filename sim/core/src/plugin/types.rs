@@ -167,6 +167,10 @@ pub struct TrackerInput<'a> {
     /// The chase's own lane ahead at capture, in traffic (`None` without traffic): where a
     /// tracker should look for the vehicle to follow.
     pub lane: Option<&'a LaneAhead>,
+    /// The chase's odometer: its speed over the ground at capture, m/s (`None` where it is
+    /// not known, as in a tracker stepped from Python on frames alone). A vehicle ahead
+    /// cannot close on the chase faster than the chase drives.
+    pub speed_mps: Option<f64>,
 }
 
 /// One physics step, for a controller.
