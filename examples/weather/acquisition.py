@@ -81,15 +81,20 @@ def report(runs):
     return "\n".join(lines)
 
 
-def main():
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("folder", help="the folder of the four lights' sweeps")
+def cli(doc, folder_help, make):
+    """A report's command line, FOLDER --out FILE: writes `make(FOLDER)`, the Markdown."""
+    parser = argparse.ArgumentParser(description=doc.splitlines()[0])
+    parser.add_argument("folder", help=folder_help)
     parser.add_argument("--out", required=True, help="the Markdown file to write")
     args = parser.parse_args()
-    text = report(read(args.folder))
+    text = make(args.folder)
     with open(args.out, "w", encoding="utf-8") as f:
         f.write(text + "\n")
     print(f"wrote {args.out}")
+
+
+def main():
+    cli(__doc__, "the folder of the four lights' sweeps", lambda folder: report(read(folder)))
 
 
 if __name__ == "__main__":

@@ -14,10 +14,12 @@ Usage: python3 examples/weather/highlights.py renders/sweeps/weather-highlights
 Only the standard library.
 """
 
-import argparse
 import json
 import os
 import sys
+
+# The acquisition report's cells and command line (this folder is on the path when run).
+from acquisition import cell, cli
 
 MODES = ["paper", "robust"]
 
@@ -63,12 +65,9 @@ def first_holds(runs):
     for _, seed, p, s in runs:
         acquired = (s.get("acquisition") or {}).get("range_m")
         impact = (s.get("traffic") or {}).get("impact_speed_kph")
-        text = "never" if acquired is None else f"{acquired:.1f} m"
-        if impact is not None:
-            text += f" (contact {impact:.0f} km/h)"
         key = (p["environment.fog.visual_range_m"], p["tracker.mode"])
-        cells.setdefault(key, []).append((seed, text))
-    return {k: " / ".join(t for _, t in sorted(v)) for k, v in cells.items()}
+        cells.setdefault(key, []).append((seed, acquired, impact))
+    return {k: cell(v) for k, v in cells.items()}
 
 
 def report(folder):
@@ -116,14 +115,7 @@ def report(folder):
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("folder", help="the folder highlights.sh wrote into")
-    parser.add_argument("--out", required=True, help="the Markdown file to write")
-    args = parser.parse_args()
-    text = report(args.folder)
-    with open(args.out, "w", encoding="utf-8") as f:
-        f.write(text + "\n")
-    print(f"wrote {args.out}")
+    cli(__doc__, "the folder highlights.sh wrote into", report)
 
 
 if __name__ == "__main__":
