@@ -4,8 +4,9 @@
 //! sent the actors' poses), give the same bytes; and a scenario without traffic writes no
 //! trace of it. In traffic the tracker lets go of a lead that leaves the chase's lane, and
 //! a chase with nothing placed cruises until it acquires the vehicle in its lane; the frames
-//! its search rests on are not rendered, and change nothing. Run with `cargo test --release
-//! -p sim --test cli_traffic`.
+//! its search rests on are not rendered, and change nothing; a chase stopped after a loss
+//! cruises on after `resume_after_s`. Run with `cargo test --release -p sim --test
+//! cli_traffic`.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -475,4 +476,40 @@ fn speed_and_standstill_triggers_fire_at_the_step_their_condition_holds() {
             "{to}: {e}"
         );
     }
+}
+
+#[test]
+fn a_chase_stopped_after_a_loss_cruises_again_after_resume_after_s() {
+    // `cut-in` with a cruise speed: the chase stops after losing the van as it draws away,
+    // and stands for good; with `resume_after_s` it cruises on 2 s after it stopped.
+    let cruise = "chase.controller.cruise_speed_mps=13.9";
+    let standing = tempfile::tempdir().unwrap();
+    run(standing.path(), "cut-in", &["--set", cruise]);
+    let resuming = tempfile::tempdir().unwrap();
+    let resume = [
+        "--set",
+        cruise,
+        "--set",
+        "chase.controller.resume_after_s=2",
+    ];
+    run(resuming.path(), "cut-in", &resume);
+    let modes = |dir: &Path| -> Vec<(f64, String)> {
+        let mut seen: Vec<(f64, String)> = Vec::new();
+        for r in frames(dir) {
+            if seen.last().is_none_or(|(_, m)| *m != r["chase_mode"]) {
+                seen.push((r["t_s"].parse().unwrap(), r["chase_mode"].clone()));
+            }
+        }
+        seen
+    };
+    let before = modes(standing.path());
+    assert_eq!(before.last().unwrap().1, "stopped", "{before:?}");
+    let after = modes(resuming.path());
+    // The same run until the stop, then cruising 2 s (30 frames) after it.
+    assert_eq!(after[..before.len()], before[..], "{after:?}");
+    let (stopped_s, cruising) = (before.last().unwrap().0, &after[before.len()]);
+    assert_eq!(cruising.1, "cruising", "{after:?}");
+    assert!((cruising.0 - stopped_s - 2.0).abs() < 0.07, "{after:?}");
+    let distance = |dir: &Path| summary(dir)["distance_m"].as_f64().unwrap();
+    assert!(distance(resuming.path()) > distance(standing.path()) + 10.0);
 }

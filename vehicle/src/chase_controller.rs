@@ -148,6 +148,13 @@ pub struct ChaseControllerConfig {
     #[serde(skip_serializing_if = "Option::is_none")]
     #[schemars(extend("minimum" = 0.5, "maximum" = 70.0))]
     pub cruise_speed_mps: Option<f32>,
+    /// With `cruise_speed_mps`, how long the chase stands after a loss's stop before it
+    /// drives on at the cruise speed, s, as a driver resuming an adaptive cruise control
+    /// does (default none: it stands until the tracker holds a target in the lane again);
+    /// 0–600 s. (Written only when set.)
+    #[serde(skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("minimum" = 0.0, "maximum" = 600.0))]
+    pub resume_after_s: Option<f32>,
     /// Deceleration of the stop after a loss, m/s² (default 3.5 m/s²: firm, controlled).
     #[schemars(extend("minimum" = 0.1, "maximum" = 15.0))]
     pub loss_decel_mps2: f32,
@@ -236,6 +243,7 @@ impl Default for ChaseControllerConfig {
             stop_on_coasting: false,
             lane_keeping: false,
             cruise_speed_mps: None,
+            resume_after_s: None,
             loss_decel_mps2: 3.5,
             pose_history_ms: 2000.0,
             breadcrumb_spacing_m: 0.25,

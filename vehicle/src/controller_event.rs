@@ -24,6 +24,9 @@ pub enum ControllerEventKind {
     /// Tracking came back: following again. With lane keeping, also a target tracked in the
     /// lane after cruising, the first one included.
     Resumed,
+    /// Stopped after a loss for `resume_after_s`: cruising again, as a driver resuming an
+    /// adaptive cruise control.
+    CruiseResumed,
     /// An estimate was discarded: its capture time is older than the pose history.
     EstimateTooOld {
         /// Its capture step.

@@ -16,7 +16,9 @@
 //! to a stop as after a loss. The next `tracking` estimate in the lane makes it follow again
 //! (logged as [`ControllerEventKind::Resumed`]; so is the first target in the lane when it
 //! starts cruising). The tracker losing a target that was in the lane still stops the chase
-//! ([`ChaseMode::Stopping`]): the vehicle may still be there, unseen. While cruising, lost
+//! ([`ChaseMode::Stopping`]): the vehicle may still be there, unseen; with `resume_after_s`
+//! the chase, stopped that long, drives on at the cruise speed, as a driver resuming the
+//! cruise control does ([`ControllerEventKind::CruiseResumed`]). While cruising, lost
 //! and out-of-lane estimates change nothing, and the speed reference moves to the cruise
 //! speed at no more than the gap keeper's `max_accel_mps2` and `max_decel_mps2`.
 
@@ -24,7 +26,7 @@ use super::{
     max_curvature, ChaseController, ChaseControllerConfig, ChaseMode, CURVATURE_CHORD_M,
     RESUME_MEASUREMENTS,
 };
-use crate::clock::Step;
+use crate::clock::{Step, PHYSICS_DT_S};
 use crate::controller_event::ControllerEventKind;
 use crate::error::{check_range, VehicleError};
 use crate::lead_estimate::{LeadEstimate, TrackStatus};
@@ -127,6 +129,17 @@ impl LaneState {
 pub(super) fn validate_and_start(
     config: &ChaseControllerConfig,
 ) -> Result<ChaseMode, VehicleError> {
+    if let Some(resume) = config.resume_after_s {
+        check_range("resume_after_s", f64::from(resume), 0.0, 600.0)?;
+        if config.cruise_speed_mps.is_none() {
+            return Err(VehicleError::InvalidParameter {
+                field: "resume_after_s",
+                value: f64::from(resume),
+                reason: "needs cruise_speed_mps: the speed to drive on at",
+                allowed: None,
+            });
+        }
+    }
     let Some(cruise) = config.cruise_speed_mps else {
         return Ok(ChaseMode::Following);
     };
@@ -144,6 +157,29 @@ pub(super) fn validate_and_start(
 }
 
 impl ChaseController {
+    /// Stopped after a loss for `resume_after_s` at step `now`: cruises again from the
+    /// speed `v`, logged as [`ControllerEventKind::CruiseResumed`]. Returns whether it did.
+    pub(super) fn resume_cruise_if_due(&mut self, now: Step, v: f32) -> bool {
+        let Some(after_s) = self.config.resume_after_s else {
+            return false;
+        };
+        let stopped_at = self
+            .events
+            .iter()
+            .rev()
+            .find(|e| e.kind == ControllerEventKind::Stopped)
+            .map(|e| e.step);
+        let due = stopped_at.is_some_and(|at| now.since(at) as f32 * PHYSICS_DT_S >= after_s);
+        if self.mode != ChaseMode::Stopped || !due {
+            return false;
+        }
+        self.log(now, ControllerEventKind::CruiseResumed);
+        self.mode = ChaseMode::Cruising;
+        self.lane.cruise_ref_mps = v.max(0.0);
+        self.speed.reset();
+        true
+    }
+
     /// Sets the chase's own lane for `lane_keeping`: its centre line `lane` (world x, z; y is
     /// ignored) and half its width, m (negative taken as 0). The chase steers along it, and
     /// a target further than `half_width_m` + [`LANE_MARGIN_M`] from it is out of the lane.

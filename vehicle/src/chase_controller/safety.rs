@@ -42,6 +42,9 @@ impl ChaseController {
                 self.gap_keeper.reset(v);
                 self.speed.reset();
             }
+            ChaseMode::Stopped => {
+                self.resume_cruise_if_due(now, v);
+            }
             _ => {}
         }
     }

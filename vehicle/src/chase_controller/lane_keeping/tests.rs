@@ -301,6 +301,78 @@ fn a_target_lost_in_the_lane_stops_the_chase_even_with_a_cruise_speed() {
 }
 
 #[test]
+fn stopped_after_a_loss_it_cruises_again_after_resume_after_s() {
+    let config = ChaseControllerConfig {
+        resume_after_s: Some(2.0),
+        ..lane_config(Some(15.0))
+    };
+    let mut d = Drive::new(config, 0.0, 10.0);
+    while d.seconds() < 30.0 {
+        let t = d.seconds();
+        let status = if t < 5.0 {
+            TrackStatus::Tracking
+        } else {
+            TrackStatus::Lost
+        };
+        d.step(Some((lead_at(t, 25.0, 0.0), status)));
+    }
+    let at = |kind: ControllerEventKind| {
+        let e = d.c.events().iter().find(|e| e.kind == kind);
+        e.unwrap_or_else(|| panic!("no {kind:?}: {:?}", d.c.events()))
+            .step
+    };
+    let stood_s = at(ControllerEventKind::CruiseResumed).since(at(ControllerEventKind::Stopped))
+        as f32
+        * PHYSICS_DT_S;
+    assert!(
+        (2.0..2.0 + PHYSICS_DT_S * 1.5).contains(&stood_s),
+        "{stood_s} s"
+    );
+    assert_eq!(d.count(ControllerEventKind::CruiseResumed), 1);
+    assert_eq!(d.c.mode(), ChaseMode::Cruising);
+    assert!((d.v - 15.0).abs() < 0.5, "speed {}", d.v);
+    // The order of the modes: cruising to the first target, following, stopping,
+    // standing, cruising.
+    let mut seen = d.modes.clone();
+    seen.dedup();
+    assert_eq!(
+        seen,
+        [
+            ChaseMode::Cruising,
+            ChaseMode::Following,
+            ChaseMode::Stopping,
+            ChaseMode::Stopped,
+            ChaseMode::Cruising
+        ]
+    );
+}
+
+#[test]
+fn resume_after_s_is_checked() {
+    let params = VehicleParams::hmmwv_m998();
+    let field = |config: ChaseControllerConfig| match ChaseController::new(config, &params, 10.0) {
+        Err(VehicleError::InvalidParameter { field, .. }) => Some(field),
+        Err(e) => panic!("{e}"),
+        Ok(_) => None,
+    };
+    let with = |cruise: Option<f32>, resume: f32| ChaseControllerConfig {
+        resume_after_s: Some(resume),
+        ..lane_config(cruise)
+    };
+    assert_eq!(field(with(None, 2.0)), Some("resume_after_s"));
+    for bad in [-0.1, 600.5, f32::NAN] {
+        assert_eq!(
+            field(with(Some(15.0), bad)),
+            Some("resume_after_s"),
+            "{bad}"
+        );
+    }
+    for good in [0.0, 2.0, 600.0] {
+        assert_eq!(field(with(Some(15.0), good)), None, "{good}");
+    }
+}
+
+#[test]
 fn the_cruise_speed_is_checked() {
     let params = VehicleParams::hmmwv_m998();
     let field = |config: ChaseControllerConfig| match ChaseController::new(config, &params, 10.0) {
