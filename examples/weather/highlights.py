@@ -4,9 +4,10 @@
 Reads what `examples/weather/highlights.sh` makes under one folder (`study-plain` and
 `study`: the weather study's night on high beams without and with
 `environment.sensor.auto_gain.max_clipped_share` at 1 %; `acquisition-plain` and
-`acquisition`: `far-lead` on high beams without and with it) and writes a Markdown report: per road and tracker mode, the seconds lost, the runs that lost more than
-2 s, the runs with a silent loss of more than 15 frames and the false alarms, without and
-with; and the first hold in `far-lead`, without and with.
+`acquisition`: `far-lead` on high beams without and with it) and writes a Markdown
+report: per road and tracker mode, the seconds lost, the runs that lost more than 2 s, the
+runs with a silent loss of more than 15 frames and the false alarms, without and with; and
+the first hold in `far-lead`, without and with.
 
 Usage: python3 examples/weather/highlights.py renders/sweeps/weather-highlights
        --out examples/weather/highlights.md

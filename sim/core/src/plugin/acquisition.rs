@@ -12,9 +12,10 @@
 //! scale or place the held target is not at ([`Acquisition::recheck`]). It lets go of a
 //! target the tracker says is lost, of one that has left the lane for
 //! `vehicle::LEFT_LANE_ARRIVALS` frames, as the chase controller judges a target in its
-//! lane, and of one whose range shrinks faster than the chase drives
-//! ([`super::closing`]). Until its first hold it searches every frame; holding nothing for long after a hold,
-//! it searches on one frame in three ([`SEARCH_EVERY_FRAME_FOR`]).
+//! lane, and of one whose range shrinks faster than the chase drives, unless a search of
+//! the lane on that frame finds the target ([`super::closing`]). Until its first hold it
+//! searches every frame; holding nothing for long after a hold, it searches on one frame in
+//! three ([`SEARCH_EVERY_FRAME_FOR`]).
 
 use super::closing::Closing;
 use super::{LaneAhead, TrackerInput};
