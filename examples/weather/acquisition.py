@@ -25,24 +25,37 @@ from report import LIGHT_NAMES, LIGHTS
 MODES = ["paper", "robust"]
 
 
+def results(path, script):
+    """The runs of a sweep's `results.jsonl`: [(scenario, seed, params, summary)]; a missing
+    file says to run `script`."""
+    if not os.path.exists(path):
+        sys.exit(f"error: {path}: missing (run examples/weather/{script})")
+    out = []
+    with open(path, encoding="utf-8") as f:
+        for n, line in enumerate(f, 1):
+            r = json.loads(line)
+            s = r.get("summary")
+            if s is None:
+                sys.exit(f"error: {path}:{n}: point {r.get('point')} did not run")
+            out.append((r["scenario"], r["seed"], r["params"], s))
+    return out
+
+
+def first_hold(summary):
+    """A run's true range at its first hold and its impact speed (each None if none)."""
+    acquired = (summary.get("acquisition") or {}).get("range_m")
+    impact = (summary.get("traffic") or {}).get("impact_speed_kph")
+    return acquired, impact
+
+
 def read(folder):
     """The runs of the four lights: {(light, visual range, mode): [(seed, range, impact)]}."""
     runs = {}
     for light in LIGHTS:
         path = os.path.join(folder, light, "results.jsonl")
-        if not os.path.exists(path):
-            sys.exit(f"error: {path}: missing (run examples/weather/acquisition.sh)")
-        with open(path, encoding="utf-8") as f:
-            for n, line in enumerate(f, 1):
-                r = json.loads(line)
-                s = r.get("summary")
-                if s is None:
-                    sys.exit(f"error: {path}:{n}: point {r.get('point')} did not run")
-                p = r["params"]
-                key = (light, p["environment.fog.visual_range_m"], p["tracker.mode"])
-                acquired = (s.get("acquisition") or {}).get("range_m")
-                impact = (s.get("traffic") or {}).get("impact_speed_kph")
-                runs.setdefault(key, []).append((r["seed"], acquired, impact))
+        for _, seed, p, s in results(path, "acquisition.sh"):
+            key = (light, p["environment.fog.visual_range_m"], p["tracker.mode"])
+            runs.setdefault(key, []).append((seed, *first_hold(s)))
     return runs
 
 

@@ -15,29 +15,16 @@ Usage: python3 examples/weather/highlights.py renders/sweeps/weather-highlights
 Only the standard library.
 """
 
-import json
 import os
-import sys
 
-# The acquisition report's cells and command line (this folder is on the path when run).
-from acquisition import cell, cli
-
-MODES = ["paper", "robust"]
+# The acquisition report's reading, cells and command line (this folder is on the path
+# when run).
+from acquisition import cell, cli, first_hold, results
 
 
-def results(path):
-    """The runs of a sweep's `results.jsonl`: [(scenario, seed, params, summary)]."""
-    if not os.path.exists(path):
-        sys.exit(f"error: {path}: missing (run examples/weather/highlights.sh)")
-    out = []
-    with open(path, encoding="utf-8") as f:
-        for n, line in enumerate(f, 1):
-            r = json.loads(line)
-            s = r.get("summary")
-            if s is None:
-                sys.exit(f"error: {path}:{n}: point {r.get('point')} did not run")
-            out.append((r["scenario"], r["seed"], r["params"], s))
-    return out
+def sweep(folder, name):
+    """The runs of the sweep `name` under `folder` (as `results` reads them)."""
+    return results(os.path.join(folder, name, "results.jsonl"), "highlights.sh")
 
 
 def study(runs):
@@ -64,17 +51,15 @@ def first_holds(runs):
     """`far-lead`'s first holds: {(visual range, mode): "a / b"} over the seeds."""
     cells = {}
     for _, seed, p, s in runs:
-        acquired = (s.get("acquisition") or {}).get("range_m")
-        impact = (s.get("traffic") or {}).get("impact_speed_kph")
         key = (p["environment.fog.visual_range_m"], p["tracker.mode"])
-        cells.setdefault(key, []).append((seed, acquired, impact))
+        cells.setdefault(key, []).append((seed, *first_hold(s)))
     return {k: cell(v) for k, v in cells.items()}
 
 
 def report(folder):
     """The Markdown report."""
-    without = study(results(os.path.join(folder, "study-plain", "results.jsonl")))
-    with_ = study(results(os.path.join(folder, "study", "results.jsonl")))
+    without = study(sweep(folder, "study-plain"))
+    with_ = study(sweep(folder, "study"))
     lines = [
         "# Highlight protection at night on high beams",
         "",
@@ -97,8 +82,8 @@ def report(folder):
             f"| `{key[0]}` | {key[1]} | {a[0]:.1f} → {b[0]:.1f} | {a[1]} → {b[1]}"
             f" | {a[2]} → {b[2]} | {a[3]:.1f} → {b[3]:.1f} |"
         )
-    plain = first_holds(results(os.path.join(folder, "acquisition-plain", "results.jsonl")))
-    held = first_holds(results(os.path.join(folder, "acquisition", "results.jsonl")))
+    plain = first_holds(sweep(folder, "acquisition-plain"))
+    held = first_holds(sweep(folder, "acquisition"))
     lines += [
         "",
         "## First hold in `far-lead` on high beams",

@@ -157,11 +157,12 @@ pub(super) fn validate_and_start(
 }
 
 impl ChaseController {
-    /// Stopped after a loss for `resume_after_s` at step `now`: cruises again from the
-    /// speed `v`, logged as [`ControllerEventKind::CruiseResumed`]. Returns whether it did.
-    pub(super) fn resume_cruise_if_due(&mut self, now: Step, v: f32) -> bool {
+    /// Stopped after a loss ([`ChaseMode::Stopped`], since its last
+    /// [`ControllerEventKind::Stopped`]) for `resume_after_s` at step `now`: cruises again
+    /// from the speed `v`, logged as [`ControllerEventKind::CruiseResumed`].
+    pub(super) fn resume_cruise_if_due(&mut self, now: Step, v: f32) {
         let Some(after_s) = self.config.resume_after_s else {
-            return false;
+            return;
         };
         let stopped_at = self
             .events
@@ -169,15 +170,13 @@ impl ChaseController {
             .rev()
             .find(|e| e.kind == ControllerEventKind::Stopped)
             .map(|e| e.step);
-        let due = stopped_at.is_some_and(|at| now.since(at) as f32 * PHYSICS_DT_S >= after_s);
-        if self.mode != ChaseMode::Stopped || !due {
-            return false;
+        if !stopped_at.is_some_and(|at| now.since(at) as f32 * PHYSICS_DT_S >= after_s) {
+            return;
         }
         self.log(now, ControllerEventKind::CruiseResumed);
         self.mode = ChaseMode::Cruising;
         self.lane.cruise_ref_mps = v.max(0.0);
         self.speed.reset();
-        true
     }
 
     /// Sets the chase's own lane for `lane_keeping`: its centre line `lane` (world x, z; y is

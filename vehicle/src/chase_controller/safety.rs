@@ -42,9 +42,7 @@ impl ChaseController {
                 self.gap_keeper.reset(v);
                 self.speed.reset();
             }
-            ChaseMode::Stopped => {
-                self.resume_cruise_if_due(now, v);
-            }
+            ChaseMode::Stopped => self.resume_cruise_if_due(now, v),
             _ => {}
         }
     }

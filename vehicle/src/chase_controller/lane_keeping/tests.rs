@@ -272,10 +272,11 @@ fn a_target_leaving_the_lane_stops_the_chase_without_a_cruise_speed() {
         .all(|&m| m == ChaseMode::Following));
 }
 
-#[test]
-fn a_target_lost_in_the_lane_stops_the_chase_even_with_a_cruise_speed() {
-    let mut d = Drive::new(lane_config(Some(15.0)), 0.0, 10.0);
-    while d.seconds() < 12.0 {
+/// The chase with `config` at 10 m/s, a lead 25 m ahead in its lane tracked for 5 s and
+/// lost after, until `until_s`.
+fn tracked_then_lost(config: ChaseControllerConfig, until_s: f32) -> Drive {
+    let mut d = Drive::new(config, 0.0, 10.0);
+    while d.seconds() < until_s {
         let t = d.seconds();
         let status = if t < 5.0 {
             TrackStatus::Tracking
@@ -284,6 +285,21 @@ fn a_target_lost_in_the_lane_stops_the_chase_even_with_a_cruise_speed() {
         };
         d.step(Some((lead_at(t, 25.0, 0.0), status)));
     }
+    d
+}
+
+/// The field `ChaseController::new` refuses `config` for, if any.
+fn refused_field(config: ChaseControllerConfig) -> Option<&'static str> {
+    match ChaseController::new(config, &VehicleParams::hmmwv_m998(), 10.0) {
+        Err(VehicleError::InvalidParameter { field, .. }) => Some(field),
+        Err(e) => panic!("{e}"),
+        Ok(_) => None,
+    }
+}
+
+#[test]
+fn a_target_lost_in_the_lane_stops_the_chase_even_with_a_cruise_speed() {
+    let d = tracked_then_lost(lane_config(Some(15.0)), 12.0);
     assert_eq!(d.count(ControllerEventKind::TrackLost), 1);
     assert!(d.left_lane_events().is_empty());
     assert!(d.modes.contains(&ChaseMode::Stopping));
@@ -306,16 +322,7 @@ fn stopped_after_a_loss_it_cruises_again_after_resume_after_s() {
         resume_after_s: Some(2.0),
         ..lane_config(Some(15.0))
     };
-    let mut d = Drive::new(config, 0.0, 10.0);
-    while d.seconds() < 30.0 {
-        let t = d.seconds();
-        let status = if t < 5.0 {
-            TrackStatus::Tracking
-        } else {
-            TrackStatus::Lost
-        };
-        d.step(Some((lead_at(t, 25.0, 0.0), status)));
-    }
+    let d = tracked_then_lost(config, 30.0);
     let at = |kind: ControllerEventKind| {
         let e = d.c.events().iter().find(|e| e.kind == kind);
         e.unwrap_or_else(|| panic!("no {kind:?}: {:?}", d.c.events()))
@@ -349,54 +356,42 @@ fn stopped_after_a_loss_it_cruises_again_after_resume_after_s() {
 
 #[test]
 fn resume_after_s_is_checked() {
-    let params = VehicleParams::hmmwv_m998();
-    let field = |config: ChaseControllerConfig| match ChaseController::new(config, &params, 10.0) {
-        Err(VehicleError::InvalidParameter { field, .. }) => Some(field),
-        Err(e) => panic!("{e}"),
-        Ok(_) => None,
-    };
     let with = |cruise: Option<f32>, resume: f32| ChaseControllerConfig {
         resume_after_s: Some(resume),
         ..lane_config(cruise)
     };
-    assert_eq!(field(with(None, 2.0)), Some("resume_after_s"));
+    assert_eq!(refused_field(with(None, 2.0)), Some("resume_after_s"));
     for bad in [-0.1, 600.5, f32::NAN] {
         assert_eq!(
-            field(with(Some(15.0), bad)),
+            refused_field(with(Some(15.0), bad)),
             Some("resume_after_s"),
             "{bad}"
         );
     }
     for good in [0.0, 2.0, 600.0] {
-        assert_eq!(field(with(Some(15.0), good)), None, "{good}");
+        assert_eq!(refused_field(with(Some(15.0), good)), None, "{good}");
     }
 }
 
 #[test]
 fn the_cruise_speed_is_checked() {
-    let params = VehicleParams::hmmwv_m998();
-    let field = |config: ChaseControllerConfig| match ChaseController::new(config, &params, 10.0) {
-        Err(VehicleError::InvalidParameter { field, .. }) => Some(field),
-        Err(e) => panic!("{e}"),
-        Ok(_) => None,
-    };
     // Without lane keeping nothing steers the chase while nothing is tracked.
     let no_lane = ChaseControllerConfig {
         cruise_speed_mps: Some(15.0),
         ..ChaseControllerConfig::default()
     };
-    assert_eq!(field(no_lane), Some("cruise_speed_mps"));
+    assert_eq!(refused_field(no_lane), Some("cruise_speed_mps"));
     for bad in [0.4, 70.5, f32::NAN, -3.0] {
         assert_eq!(
-            field(lane_config(Some(bad))),
+            refused_field(lane_config(Some(bad))),
             Some("cruise_speed_mps"),
             "{bad}"
         );
     }
     for good in [0.5, 15.0, 70.0] {
-        assert_eq!(field(lane_config(Some(good))), None, "{good}");
+        assert_eq!(refused_field(lane_config(Some(good))), None, "{good}");
     }
-    assert_eq!(field(lane_config(None)), None);
+    assert_eq!(refused_field(lane_config(None)), None);
 }
 
 #[test]
