@@ -466,3 +466,52 @@ fn a_distance_between_reference_points_is_a_spacing() {
         "{written}"
     );
 }
+
+/// A wait for an act's (or a story's, maneuver group's, maneuver's) start or running state
+/// (esmini's `cut-in` starts its cutter's speed on its act's `startTransition`) holds from
+/// the first step, when every act starts here: with a delay of 1 s the event starts at 1 s.
+/// A wait for an act's end, or for an element the file does not have, is refused in one line.
+#[test]
+fn a_wait_for_an_acts_start_holds_from_the_first_step() {
+    let after = r#"<StoryboardElementStateCondition storyboardElementType="event" storyboardElementRef="cut-in" state="endTransition"/>"#;
+    let wait = |kind: &str, name: &str, state: &str| {
+        let on = format!(
+            r#"<StoryboardElementStateCondition storyboardElementType="{kind}" storyboardElementRef="{name}" state="{state}"/>"#
+        );
+        mutant(move |text| {
+            assert!(text.contains(after));
+            text.replace(after, &on)
+        })
+    };
+    for (kind, name, state) in [
+        ("act", "CutInAct", "startTransition"),
+        ("story", "CutInStory", "runningState"),
+        ("maneuver", "CutInManeuver", "startTransition"),
+    ] {
+        let (dir, path) = wait(kind, name, state);
+        let frames = frames_of(&path, &dir.path().join("x"), &["--set", "duration_s=3"]);
+        let at = Frames::parse(&frames).logged("brake:started");
+        assert_eq!(at, Some(1.0), "{kind} {state}");
+    }
+    for (kind, name, state, says) in [
+        (
+            "act",
+            "CutInAct",
+            "endTransition",
+            "carfollow waits for an event's end",
+        ),
+        (
+            "act",
+            "NoSuchAct",
+            "startTransition",
+            "no <Act> is named `NoSuchAct`",
+        ),
+    ] {
+        let (_dir, path) = wait(kind, name, state);
+        let o = carfollow(&["check", path.to_str().unwrap()]);
+        let e = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{e}");
+        assert_eq!(e.lines().count(), 2, "{e}");
+        assert!(e.contains(says) && e.contains("mutant.xosc:"), "{e}");
+    }
+}

@@ -1,9 +1,9 @@
 //! Rain's options (`Rain::spray`, `Rain::lamp_reflections`), measured on the rendered frame:
 //! the lead's spray veils its board more at 100 km/h than at 80, not at all at 40 km/h
-//! (below the onset) nor when off, and is depth-tested (the hood, a metre from the camera,
-//! changes far less than the board); the wet road mirrors the lit tail lamps below them
-//! and each street light along the line from its foot towards the camera, and a dry road
-//! mirrors nothing.
+//! (below the onset, whichever frame came before) nor when off, and is depth-tested (the
+//! hood, a metre from the camera, changes far less than the board); the wet road mirrors
+//! the lit tail lamps below them and each street light along the line from its foot
+//! towards the camera, and a dry road mirrors nothing.
 //!
 //! Run: `cargo test -p sim-render --release --test spray`.
 
@@ -80,6 +80,10 @@ fn spray_veils_the_board_with_speed_and_not_below_its_onset() {
     let fast = frame(&mut on, gap, kmh(100.0), false);
     let mid = frame(&mut on, gap, kmh(80.0), false);
     let (c_80, c_100) = (contrast(&mid, &paint), contrast(&fast, &paint));
+    // A frame in which no vehicle throws spray is drawn without the spray's march (its own
+    // pipelines): one renderer goes back and forth, and each frame is as before.
+    assert_eq!(frame(&mut on, gap, kmh(40.0), false), slow);
+    assert_eq!(frame(&mut on, gap, kmh(100.0), false), fast);
     eprintln!("board contrast: off {c_off:.1}, 80 km/h {c_80:.1}, 100 km/h {c_100:.1}");
     assert!(
         c_80 < c_off - 1.0,

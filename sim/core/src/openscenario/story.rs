@@ -359,10 +359,20 @@ impl Context<'_, '_> {
                 let kind = xml.req(c, "storyboardElementType")?;
                 let state = xml.req(c, "state")?;
                 let reference = xml.req(c, "storyboardElementRef")?;
+                if matches!(
+                    kind.as_str(),
+                    "story" | "act" | "maneuverGroup" | "maneuver"
+                ) && matches!(state.as_str(), "startTransition" | "runningState")
+                {
+                    // Every story, act, maneuver group and maneuver starts at t = 0 here
+                    // (`act_trigger`), when events start being judged: the condition holds
+                    // at the first step.
+                    return self.started_at_once(c, &kind, &reference);
+                }
                 if !matches!(kind.as_str(), "event" | "action")
                     || !matches!(state.as_str(), "endTransition" | "completeState")
                 {
-                    return Err(xml.at(c, format!("<StoryboardElementStateCondition storyboardElementType=\"{kind}\" state=\"{state}\">: carfollow waits for an event's end (an event or action, endTransition or completeState)")));
+                    return Err(xml.at(c, format!("<StoryboardElementStateCondition storyboardElementType=\"{kind}\" state=\"{state}\">: carfollow waits for an event's end (an event or action, endTransition or completeState) or a start (a story, act, maneuver group or maneuver, startTransition or runningState)")));
                 }
                 let event = if kind == "action" {
                     self.event_of_action(c, &reference)?
@@ -405,6 +415,35 @@ impl Context<'_, '_> {
             }
             _ => Err(xml.unsupported(c, "condition", "")),
         }
+    }
+
+    /// The trigger of a condition on the start of the story, act, maneuver group or
+    /// maneuver named `reference` (`kind` its element): the first step, once the element
+    /// is found.
+    fn started_at_once(
+        &self,
+        c: Node,
+        kind: &str,
+        reference: &str,
+    ) -> Result<TriggerSpec, OscError> {
+        let tag = match kind {
+            "story" => "Story",
+            "act" => "Act",
+            "maneuverGroup" => "ManeuverGroup",
+            _ => "Maneuver",
+        };
+        let xml = self.xml;
+        let found = xml
+            .doc
+            .descendants()
+            .any(|n| n.has_tag_name(tag) && n.attribute("name") == Some(reference));
+        if !found {
+            return Err(xml.at(c, format!("<StoryboardElementStateCondition storyboardElementRef=\"{reference}\">: no <{tag}> is named `{reference}`")));
+        }
+        Ok(TriggerSpec {
+            time_s: Some(0.0),
+            ..TriggerSpec::default()
+        })
     }
 
     /// Refuses a wait for the end of the event named `event` when it holds a continuous

@@ -169,15 +169,17 @@ impl MainPass {
 
     /// Encodes the pass: the frame cleared to the `sky`'s grey, and the frame's draws in
     /// the pixels `scissor` of the frame, with the rows from `hood_rows` down left to the
-    /// hood; its shadow lookups in the slots' texture (`from_tiles`) or the frame's own map.
+    /// hood; its shadow lookups in the slots' texture (`from_tiles`) or the frame's own map;
+    /// with the pipelines that veil what lies behind the spray only when some vehicle
+    /// throws any (`sprayed`).
     pub fn encode(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         geometry: &Resident,
         sky: f64,
         scissor: PixelRect,
-        hood_rows: u32,
-        from_tiles: bool,
+        (hood_rows, from_tiles): (u32, bool),
+        sprayed: bool,
     ) {
         let whole = self.whole;
         // A whole frame's depth is cleared with the colour: a clear fills llvmpipe's tiles
@@ -207,7 +209,7 @@ impl MainPass {
         let mut current = None;
         for (k, draw) in self.draws.iter().enumerate() {
             if current != Some((draw.shading, draw.soft)) {
-                pass.set_pipeline(pipelines.of(draw.shading, draw.soft));
+                pass.set_pipeline(pipelines.of(draw.shading, draw.soft, sprayed));
                 current = Some((draw.shading, draw.soft));
             }
             if k == self.hood_draws && (hood_rows as usize) < whole.y1 {

@@ -490,7 +490,7 @@ impl Renderer {
         }
         self.hold_drawn(&sun, &view.eye);
         // Uniforms: the frame's, written once.
-        self.write_uniforms(&view, &sun, &placed, brightness, braking, field, speeds);
+        let sprayed = self.write_uniforms(&view, &sun, &placed, brightness, braking, field, speeds);
 
         // One encoder: the passes from the sun, the main pass, the copy to the staging
         // buffer; one submission.
@@ -503,8 +503,15 @@ impl Renderer {
         self.encode_sun_passes(&mut encoder, &sun);
         let from_tiles = sun.window.is_some();
         let geometry = &self.geometry;
-        self.main
-            .encode(&mut encoder, geometry, sky, scissor, hood_rows, from_tiles);
+        let hood_and_lookups = (hood_rows, from_tiles);
+        self.main.encode(
+            &mut encoder,
+            geometry,
+            sky,
+            scissor,
+            hood_and_lookups,
+            sprayed,
+        );
         // Only the rows of the part drawn come back.
         let rows = scissor.y0 as u32..scissor.y1 as u32;
         self.readback

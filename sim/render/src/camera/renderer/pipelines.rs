@@ -34,6 +34,19 @@ pub(super) enum Shading {
     GroundGrass,
 }
 
+/// How a pipeline of the main pass is compiled (see [`Builder::shaded`]).
+#[derive(Clone, Copy)]
+struct Shaded {
+    /// Whether it draws grass faces (the `grass_faces` override).
+    grass: bool,
+    /// Whether it takes soft shadows on the target from the board's fine map and the
+    /// sun's disc (the fragment shader's `_soft` entry).
+    soft: bool,
+    /// Whether it veils what lies behind the vehicles' spray (the `spray_on` override;
+    /// only in rain with spray).
+    spray: bool,
+}
+
 /// The main pass's pipelines, one for each [`Shading`] the scene uses.
 pub(super) struct ShadedPipelines {
     /// Everything but the ground and the canopies.
@@ -77,6 +90,12 @@ pub(super) struct MainPipelines {
     /// With soft shadows on the target: the same with the board's fine map too, for what
     /// can lie within it (see `Sunlight::in_board_map`).
     soft: Option<ShadedPipelines>,
+    /// In rain with spray, the same two compiled without it (`spray_on` off), for the
+    /// frames in which no vehicle throws any (all below the spray's onset): they draw the
+    /// same pixels bit for bit (the march through no plume keeps a surface's grey as it
+    /// is), and on llvmpipe the spray's pipelines cost a frame with no plume half as much
+    /// again as these (`examples/weather/cost.py`).
+    unsprayed: Option<(ShadedPipelines, Option<ShadedPipelines>)>,
     /// Sets the main pass's depth back to the cleared depth under the scissor of a part of
     /// a frame, its colour left alone (`vs_far`, `fs_far`): instead of clearing the whole
     /// depth target (a whole frame's is cleared).
@@ -85,11 +104,15 @@ pub(super) struct MainPipelines {
 
 impl MainPipelines {
     /// The pipeline that draws `shading`, with soft shadows on the target (`soft`) when the
-    /// scene has them.
-    pub fn of(&self, shading: Shading, soft: bool) -> &wgpu::RenderPipeline {
-        match &self.soft {
+    /// scene has them, in a frame in which some vehicle throws spray (`sprayed`) or none.
+    pub fn of(&self, shading: Shading, soft: bool, sprayed: bool) -> &wgpu::RenderPipeline {
+        let (shaded, soft_pipelines) = match &self.unsprayed {
+            Some((shaded, soft_pipelines)) if !sprayed => (shaded, soft_pipelines),
+            _ => (&self.shaded, &self.soft),
+        };
+        match soft_pipelines {
             Some(soft_pipelines) if soft => soft_pipelines.of(shading),
-            _ => self.shaded.of(shading),
+            _ => shaded.of(shading),
         }
     }
 
@@ -380,8 +403,14 @@ impl<'d> Builder<'d> {
         );
         Pass {
             pipelines: MainPipelines {
-                shaded: self.shaded_pipelines(textured, false),
-                soft: soft.then(|| self.shaded_pipelines(textured, true)),
+                shaded: self.shaded_pipelines(textured, false, self.spray),
+                soft: soft.then(|| self.shaded_pipelines(textured, true, self.spray)),
+                unsprayed: self.spray.then(|| {
+                    (
+                        self.shaded_pipelines(textured, false, false),
+                        soft.then(|| self.shaded_pipelines(textured, true, false)),
+                    )
+                }),
                 far,
             },
             bind_group: frame_group,
@@ -389,18 +418,27 @@ impl<'d> Builder<'d> {
         }
     }
 
-    /// One of each pipeline of the main pass the scene uses (see [`Builder::shaded`]).
-    fn shaded_pipelines(&self, textured: bool, soft: bool) -> ShadedPipelines {
+    /// One of each pipeline of the main pass the scene uses (see [`Builder::shaded`]), with
+    /// the vehicles' spray (`spray`) or without.
+    fn shaded_pipelines(&self, textured: bool, soft: bool, spray: bool) -> ShadedPipelines {
         let back = Some(wgpu::Face::Back);
+        let with = |grass, soft| Shaded { grass, soft, spray };
         ShadedPipelines {
-            main: self.shaded("main", "vs_main", "fs_main", back, false, soft),
+            main: self.shaded("main", "vs_main", "fs_main", back, with(false, soft)),
             grass: (!textured)
-                .then(|| self.shaded("grass", "vs_main", "fs_main", back, true, soft)),
+                .then(|| self.shaded("grass", "vs_main", "fs_main", back, with(true, soft))),
             ground: textured.then(|| {
-                [false, true]
-                    .map(|grass| self.shaded("ground", "vs_ground", "fs_ground", back, grass, soft))
+                [false, true].map(|grass| {
+                    self.shaded("ground", "vs_ground", "fs_ground", back, with(grass, soft))
+                })
             }),
-            foliage: self.shaded("foliage", "vs_foliage", "fs_foliage", None, false, soft),
+            foliage: self.shaded(
+                "foliage",
+                "vs_foliage",
+                "fs_foliage",
+                None,
+                with(false, soft),
+            ),
         }
     }
 
@@ -478,18 +516,16 @@ impl<'d> Builder<'d> {
             })
     }
 
-    /// A pipeline of the main pass. `grass`: whether it draws grass faces (the
-    /// `grass_faces` override); `soft`: whether it takes soft shadows on the target from
-    /// the board's fine map and the sun's disc (the fragment shader's `_soft` entry).
+    /// A pipeline of the main pass, compiled as `options` says.
     fn shaded(
         &self,
         label: &str,
         vertex: &str,
         fragment: &str,
         cull: Option<wgpu::Face>,
-        grass: bool,
-        soft: bool,
+        options: Shaded,
     ) -> wgpu::RenderPipeline {
+        let Shaded { grass, soft, spray } = options;
         let mut constants = vec![
             ("grass_faces", f64::from(u8::from(grass))),
             ("fog_on", f64::from(u8::from(self.fog))),
@@ -508,7 +544,7 @@ impl<'d> Builder<'d> {
             constants.push(("street_lights_on", 1.0));
         }
         // Rain's options are the fragment stage's; without them it is compiled as before.
-        if self.spray {
+        if spray {
             constants.push(("spray_on", 1.0));
         }
         if self.mirror {

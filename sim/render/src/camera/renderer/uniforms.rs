@@ -56,7 +56,8 @@ impl Renderer {
     /// too): the camera's `view`, the `sun`'s maps, the moving objects as `placed`, and
     /// the sensor's `brightness` (with the automatic gain), and the brake lamps of the
     /// vehicles `braking` lit; in rain with its options, the spray of the vehicles as
-    /// `field` poses them and `speeds` moves them, and the lamps the road mirrors.
+    /// `field` poses them and `speeds` moves them, and the lamps the road mirrors. Returns
+    /// whether any vehicle throws spray in the frame.
     #[allow(clippy::too_many_arguments)]
     pub(super) fn write_uniforms(
         &self,
@@ -67,7 +68,7 @@ impl Renderer {
         braking: Braking,
         field: &Field,
         speeds: &Speeds,
-    ) {
+    ) -> bool {
         let description = self.scene.description();
         let globals = Globals::of_frame(
             view,
@@ -94,6 +95,8 @@ impl Renderer {
         };
         self.main
             .write_uniforms(&self.gpu.queue, &globals, &placed.world_from_object);
+        // `spray_params`' first number: the plumes in the frame.
+        globals.spray[0][0] > 0.0
     }
 }
 
