@@ -5,7 +5,8 @@
 //! trace of it. In traffic the tracker lets go of a lead that leaves the chase's lane, and
 //! a chase with nothing placed cruises until it acquires the vehicle in its lane; the frames
 //! its search rests on are not rendered, and change nothing; a chase stopped after a loss
-//! cruises on after `resume_after_s`. Run with `cargo test --release -p sim --test
+//! cruises on after `resume_after_s`; of a car in the lane and the lead beyond it, the car
+//! is held. Run with `cargo test --release -p sim --test
 //! cli_traffic`.
 
 use std::path::{Path, PathBuf};
@@ -512,4 +513,43 @@ fn a_chase_stopped_after_a_loss_cruises_again_after_resume_after_s() {
     assert!((cruising.0 - stopped_s - 2.0).abs() < 0.07, "{after:?}");
     let distance = |dir: &Path| summary(dir)["distance_m"].as_f64().unwrap();
     assert!(distance(resuming.path()) > distance(standing.path()) + 10.0);
+}
+
+/// `car-ahead`: a sedan 14 m ahead in the chase's lane, the lead 30 m ahead beyond it. The
+/// lead's board shows over the sedan's roof through the 16 mm lens, and the search, which
+/// tries the lead's model first, finds it; the vehicle in the path is the sedan, the
+/// nearest in the lane, and the tracker holds it from the first frame, in both modes, never
+/// the lead (before the nearer search it held the lead throughout, and the chase hit the
+/// sedan at 8 s).
+#[test]
+fn a_car_nearer_in_the_lane_is_held_before_the_lead_beyond_it() {
+    for mode in ["paper", "robust"] {
+        let dir = tempfile::tempdir().unwrap();
+        let mode_set = format!("tracker.mode={mode}");
+        run(
+            dir.path(),
+            "car-ahead",
+            &["--set", "duration_s=8", "--set", mode_set.as_str()],
+        );
+        let rows = frames(dir.path());
+        assert!(rows.iter().all(|r| r["path_vehicle"] == "car"), "{mode}");
+        // Held from the first frame for 6 s at the least, and the lead never.
+        let held = rows
+            .iter()
+            .take_while(|r| r["tracked_vehicle"] == "car")
+            .count();
+        assert!(
+            held >= 90,
+            "{mode}: the car held for the first {held} frames"
+        );
+        assert!(
+            rows.iter().all(|r| r["tracked_vehicle"] != "lead"),
+            "{mode}"
+        );
+        let s = summary(dir.path());
+        assert_eq!(s["lost_by_cause_s"]["wrong_vehicle"], 0.0, "{mode}");
+        // The acquisition range is the sedan's back's, not the lead's board's (30 m).
+        let range = s["traffic"]["acquisition_range_m"].as_f64().unwrap();
+        assert!((range - 15.9).abs() < 0.5, "{mode}: {range} m");
+    }
 }

@@ -212,6 +212,10 @@ pub struct TrafficFrame {
     pub path_gap_m: f64,
     /// The chase's speed towards it, m/s (positive closing; NaN without one).
     pub path_closing_mps: f64,
+    /// The true range to its target (the lead's board, an actor's back) along the camera's
+    /// axis, metres (NaN without one). For the summary; in no file.
+    #[serde(skip, default = "nan")]
+    pub path_range_m: f64,
     /// Time to collision with it, seconds: the gap over the closing speed while closing
     /// (infinite when not closing, NaN without one).
     pub path_ttc_s: f64,
@@ -226,6 +230,11 @@ pub struct TrafficFrame {
     pub contacts: Vec<Contact>,
     /// Every vehicle, in the run's order (`chase`, `lead`, the actors).
     pub vehicles: Vec<VehicleTruth>,
+}
+
+/// Not a number: the default of a value that is in no file.
+fn nan() -> f64 {
+    f64::NAN
 }
 
 /// A contact's first step: what the chase touched, and how fast it was closing.

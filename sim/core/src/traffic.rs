@@ -289,6 +289,8 @@ pub(crate) fn truth(
         path_gap_m: gap,
         path_closing_mps: closing,
         path_ttc_s: ttc,
+        // The camera's truth, which the loop's judgement has (`closed_loop::traffic_truth`).
+        path_range_m: f64::NAN,
         tracked_vehicle: tracked.map(name),
         events: log.0,
         contacts: log.1,

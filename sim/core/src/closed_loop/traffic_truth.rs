@@ -149,10 +149,14 @@ impl TrafficTruth {
                 .map(|(i, _)| i),
         };
         let traffic::FrameTruth {
-            frame,
+            mut frame,
             path,
             places,
         } = traffic::truth(&mut self.road, &self.vehicles, states, tracked, log);
+        frame.path_range_m = path.map_or(f64::NAN, |p| match p {
+            1 => lead.truth.target_cam_m[2],
+            _ => actor_truth[p - 2].target_cam_m[2],
+        });
         let in_view = |i: usize| match i {
             1 => lead.truth.in_view,
             _ => actor_truth[i - 2].in_view,

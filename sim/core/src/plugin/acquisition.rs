@@ -280,8 +280,50 @@ impl Acquisition {
             }
             None => (k, out, extra),
         };
+        // The nearer search steps model `k`'s searcher too (a nearer vehicle of the same
+        // kind): its acquisition is kept for the hold should that find nothing nearer.
+        let acquired = self.searchers[k].clone();
+        let (k, out, extra) = match lane.and_then(|l| self.nearer(k, out.estimate, l, &mut step)) {
+            Some(nearer) => nearer,
+            None => {
+                self.searchers[k] = acquired;
+                (k, out, extra)
+            }
+        };
         let holder = self.take_hold(k, &out)?;
         Ok((out, extra, Some(holder)))
+    }
+
+    /// Searches the chase's `lane` with every model, on this frame, for a vehicle nearer
+    /// than the one model `k` found at `at` by more than [`NEAR_RANGE_FACTOR`] (so not the
+    /// same vehicle at another model's range): the best such fit, as
+    /// [`Acquisition::best_of`] chooses, if any. The vehicle in the chase's path is the
+    /// nearest in its lane: a car's back low in the image hides little of a board or a tall
+    /// back beyond it, which the search may find first.
+    fn nearer<E>(
+        &mut self,
+        k: usize,
+        at: Location,
+        lane: &LaneAhead,
+        step: &mut impl FnMut(&mut Tracker) -> (TrackOutput, E),
+    ) -> Option<(usize, TrackOutput, E)> {
+        let within_m = self.models[k].nominal_range_m() / at.scale / NEAR_RANGE_FACTOR;
+        let gates: Vec<_> = (0..self.models.len())
+            .map(|j| {
+                let least_scale = self.models[j].nominal_range_m() / within_m;
+                let rows: Vec<GateRow> = self
+                    .gate_rows(j, lane)
+                    .into_iter()
+                    .filter(|r| r.scale >= least_scale)
+                    .collect();
+                (!rows.is_empty()).then(|| Some(AcquireGate::new(rows)))
+            })
+            .collect();
+        let reach = self.size_px(k, at).map(|s| NEAR_REACH * s);
+        let apart = |_: usize, o: &TrackOutput| {
+            (o.estimate.c_x - at.c_x).abs() > reach[0] || (o.estimate.c_y - at.c_y).abs() > reach[1]
+        };
+        self.best_of(gates, 0.0, apart, step)
     }
 
     /// Whether the held target, whose step this frame is `out`, is checked against the
@@ -332,8 +374,20 @@ impl Acquisition {
             .map(|j| Some(lane.map(|l| self.gate(j, l))))
             .collect();
         let half_width_px = self.half_width_px(k, held);
-        let admit =
-            |j: usize, o: &TrackOutput| j != k || !same_target(held, half_width_px, o.estimate);
+        // Beyond the vehicle held (by more than one vehicle's models' disagreement), only
+        // once its fit has slid off it: the vehicle in the path is the nearest.
+        let held_m = self.models[k].nominal_range_m() / held.scale;
+        let slid = self.hold.slid;
+        let nominal: Vec<f64> = self
+            .models
+            .iter()
+            .map(TargetModel::nominal_range_m)
+            .collect();
+        let admit = |j: usize, o: &TrackOutput| {
+            let range_m = nominal[j] / o.estimate.scale;
+            (slid || range_m <= held_m * NEAR_RANGE_FACTOR)
+                && (j != k || !same_target(held, half_width_px, o.estimate))
+        };
         let Some((j, out, extra)) = self.best_of(gates, floor, admit, &mut step) else {
             return Ok(None);
         };
@@ -472,10 +526,15 @@ impl Acquisition {
     /// them. Above is taken along the camera's −y: the camera's pitch moves those rows by
     /// well under the margin.
     fn gate(&self, k: usize, lane: &LaneAhead) -> AcquireGate {
+        AcquireGate::new(self.gate_rows(k, lane))
+    }
+
+    /// The rows of [`Acquisition::gate`], from the least scale to the greatest.
+    fn gate_rows(&self, k: usize, lane: &LaneAhead) -> Vec<GateRow> {
         let nominal = self.models[k].nominal_range_m();
         let [lo, hi] = acquire_scales(&self.camera);
         let [lo, hi] = [lo / 1.1, hi * 1.1];
-        let rows = (0..GATE_ROWS)
+        (0..GATE_ROWS)
             .filter_map(|i| {
                 let scale = lo * (hi / lo).powf(i as f64 / (GATE_ROWS - 1) as f64);
                 let z = nominal / scale;
@@ -490,7 +549,6 @@ impl Acquisition {
                     c_y: [top - m, bottom + m],
                 })
             })
-            .collect();
-        AcquireGate::new(rows)
+            .collect()
     }
 }

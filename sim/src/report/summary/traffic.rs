@@ -26,8 +26,8 @@ pub struct TrafficSummary {
     pub impact_speed_kph: Option<f64>,
     /// Every contact of the chase with another vehicle (its first physics step), in order.
     pub collisions: Vec<CollisionTime>,
-    /// The true range to the target when the vehicle in the chase's path was first the one
-    /// tracked, metres; `null` if it never was.
+    /// The true range to its target when the vehicle in the chase's path was first the one
+    /// tracked (the lead's board, or an actor's back), metres; `null` if it never was.
     pub acquisition_range_m: Option<f64>,
     /// Time the tracker held a vehicle that was not the one in the chase's path, seconds.
     pub wrong_vehicle_s: f64,
@@ -103,7 +103,7 @@ impl TrafficStats {
         if t.tracked_vehicle.is_some() {
             if t.tracked_vehicle == t.path_vehicle {
                 if s.acquisition_range_m.is_none() {
-                    s.acquisition_range_m = Some(r.true_range_m);
+                    s.acquisition_range_m = Some(t.path_range_m);
                 }
             } else {
                 self.wrong_frames += 1;
@@ -243,6 +243,9 @@ mod tests {
             path_gap_m: 10.0 - i as f64,
             path_closing_mps: 2.0,
             path_ttc_s: (10.0 - i as f64) / 2.0,
+            // Not the record's `true_range_m` (the lead's board's), which an actor held
+            // first would not be at.
+            path_range_m: 20.0 + i as f64,
             tracked_vehicle: tracked.map(str::to_string),
             ..TrafficFrame::default()
         });
@@ -265,10 +268,20 @@ mod tests {
         let s = stats.finish(1.0 / 15.0, false).unwrap();
         assert_eq!(s.min_gap_m, Some(7.0));
         assert_eq!(s.min_ttc_s, Some(3.5));
-        assert_eq!(s.acquisition_range_m, Some(10.0));
+        assert_eq!(s.acquisition_range_m, Some(20.0));
         assert!((s.wrong_vehicle_s - 2.0 / 15.0).abs() < 1e-12);
         assert_eq!(s.impact_speed_kph, Some(9.0));
         assert_eq!(s.collisions[0].vehicle, "van");
+    }
+
+    #[test]
+    fn the_acquisition_range_is_that_of_the_vehicle_first_held_in_the_path() {
+        let mut stats = TrafficStats::default();
+        stats.push(&traffic(0, Some("van"), None));
+        stats.push(&traffic(1, Some("van"), Some("van")));
+        stats.push(&traffic(2, Some("lead"), Some("lead")));
+        let s = stats.finish(1.0 / 15.0, false).unwrap();
+        assert_eq!(s.acquisition_range_m, Some(21.0));
     }
 
     #[test]
