@@ -172,13 +172,15 @@ impl MainPass {
     /// hood; its shadow lookups in the slots' texture (`from_tiles`) or the frame's own map;
     /// with the pipelines that veil what lies behind the spray only when some vehicle
     /// throws any (`sprayed`).
+    #[allow(clippy::too_many_arguments)]
     pub fn encode(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         geometry: &Resident,
         sky: f64,
         scissor: PixelRect,
-        (hood_rows, from_tiles): (u32, bool),
+        hood_rows: u32,
+        from_tiles: bool,
         sprayed: bool,
     ) {
         let whole = self.whole;

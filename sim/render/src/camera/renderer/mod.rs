@@ -503,13 +503,13 @@ impl Renderer {
         self.encode_sun_passes(&mut encoder, &sun);
         let from_tiles = sun.window.is_some();
         let geometry = &self.geometry;
-        let hood_and_lookups = (hood_rows, from_tiles);
         self.main.encode(
             &mut encoder,
             geometry,
             sky,
             scissor,
-            hood_and_lookups,
+            hood_rows,
+            from_tiles,
             sprayed,
         );
         // Only the rows of the part drawn come back.
