@@ -155,7 +155,9 @@ pub struct ChaseControllerConfig {
     #[serde(skip_serializing_if = "Option::is_none")]
     #[schemars(extend("minimum" = 0.0, "maximum" = 600.0))]
     pub resume_after_s: Option<f32>,
-    /// Deceleration of the stop after a loss, m/s² (default 3.5 m/s²: firm, controlled).
+    /// Deceleration of the stop after a loss, m/s² (default 3.5 m/s²: firm, controlled). A
+    /// loss while the emergency brake is on does not relax it: that stop brakes fully, as
+    /// the emergency did, until the chase stands or the target is held again.
     #[schemars(extend("minimum" = 0.1, "maximum" = 15.0))]
     pub loss_decel_mps2: f32,
     /// How long the pose history reaches back, ms (default 2,000 ms: far more than any
@@ -332,6 +334,9 @@ pub struct ChaseController {
     last_arrival: Option<Step>,
     last_status: Option<TrackStatus>,
     stop_ref_mps: f32,
+    /// Whether the stop after a loss brakes fully: the loss came during an emergency brake,
+    /// and no tracked estimate has arrived since.
+    stop_in_emergency: bool,
     /// When the current run of closing-only alarms began (see [`CLOSING_CONFIRM_MS`]).
     closing_since: Option<Step>,
     odometer_m: f32,
@@ -433,6 +438,7 @@ impl ChaseController {
             last_arrival: None,
             last_status: None,
             stop_ref_mps: 0.0,
+            stop_in_emergency: false,
             closing_since: None,
             odometer_m: 0.0,
             lane: lane_keeping::LaneState::new(speed_mps),
@@ -717,7 +723,12 @@ impl ChaseController {
                 }
             },
             ChaseMode::Stopping => {
+                emergency = self.stop_in_emergency;
                 self.stop_ref_mps = (self.stop_ref_mps - self.config.loss_decel_mps2 * dt).max(0.0);
+                if emergency {
+                    // The controlled stop that may follow starts from the speed left.
+                    self.stop_ref_mps = self.stop_ref_mps.min(v.max(0.0));
+                }
                 if v < STOPPED_MPS {
                     self.mode = ChaseMode::Stopped;
                     self.log(now, ControllerEventKind::Stopped);

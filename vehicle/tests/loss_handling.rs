@@ -139,3 +139,50 @@ fn coasting_stops_the_chase_only_when_asked() {
         end.chase.forward_speed_mps
     );
 }
+
+#[test]
+fn a_loss_during_an_emergency_brake_keeps_braking_fully_to_a_stop() {
+    // The lead brakes from 10 m/s to a stop as hard as it can at 8 s; the chase's emergency
+    // brake comes on (at 8.66 s), and the tracker loses the lead while it brakes (the
+    // first lost frame captured at 8.8 s). Before the fix the stop relaxed to 3.5 m/s² and
+    // the bumpers touched.
+    let profile =
+        SpeedProfile::new(ProfileBasis::Time, &[(0.0, 10.0), (8.0, 10.0), (8.01, 0.0)]).unwrap();
+    let mut opts = RigOptions::straight(600.0, profile);
+    opts.sensor = Sensor::LostAfter(8.8);
+    let mut rig = Rig::new(opts);
+    rig.run_for(14.0);
+    let events = rig.chase.events();
+    println!("events: {events:?}");
+    let at = |kind: fn(&ControllerEventKind) -> bool| {
+        events
+            .iter()
+            .find(|e| kind(&e.kind))
+            .map(|e| e.step)
+            .expect("logged")
+    };
+    let emergency = at(|k| matches!(k, ControllerEventKind::EmergencyBrake { .. }));
+    let lost = at(|k| *k == ControllerEventKind::TrackLost);
+    let stopped = at(|k| *k == ControllerEventKind::Stopped);
+    assert!(emergency < lost, "the loss came during the emergency brake");
+    // From the loss until the chase stands, the brake stays fully on.
+    let relaxed = rig
+        .samples
+        .iter()
+        .filter(|s| s.step >= lost && s.step < stopped)
+        .filter(|s| s.chase_controls.brake < 1.0)
+        .count();
+    let min_gap = rig
+        .samples
+        .iter()
+        .map(|s| s.bumper_gap_m)
+        .fold(f32::INFINITY, f32::min);
+    println!(
+        "steps with the brake relaxed after the loss: {relaxed}; min bumper gap {min_gap:.2} m"
+    );
+    assert_eq!(relaxed, 0, "the brake relaxed after the loss");
+    assert!(
+        !rig.samples.iter().any(|s| s.touching),
+        "the vehicles touched"
+    );
+}

@@ -10,7 +10,8 @@ use crate::lead_estimate::TrackStatus;
 impl ChaseController {
     /// Loss handling at step `now` (the controller started at `started`, drives at `v`,
     /// m/s): following, a lost status (or with `stop_on_coasting` a coasting one) or silence
-    /// beyond the timeout starts the stop; stopping, stopped or cruising, a `fresh` tracked
+    /// beyond the timeout starts the stop (braking fully if the emergency brake is on, until
+    /// a `fresh` tracked estimate arrives); stopping, stopped or cruising, a `fresh` tracked
     /// estimate (one to follow) resumes following once the range filter has measured the
     /// target ([`RESUME_MEASUREMENTS`]).
     pub(super) fn handle_loss(&mut self, now: Step, started: Step, v: f32, fresh: bool) {
@@ -29,6 +30,8 @@ impl ChaseController {
                 self.log(now, kind);
                 self.mode = ChaseMode::Stopping;
                 self.stop_ref_mps = v.max(0.0);
+                // A loss tells nothing of the threat that called the emergency brake.
+                self.stop_in_emergency = self.telemetry.emergency;
                 self.range.reset_measuring(RESUME_MEASUREMENTS);
                 self.alarm_range.reset_measuring(RESUME_MEASUREMENTS);
             }
@@ -41,6 +44,11 @@ impl ChaseController {
                 self.mode = ChaseMode::Following;
                 self.gap_keeper.reset(v);
                 self.speed.reset();
+            }
+            // A target held again ends a loss's emergency brake; following waits for its
+            // range to be measured.
+            ChaseMode::Stopping if fresh && self.last_status == Some(TrackStatus::Tracking) => {
+                self.stop_in_emergency = false
             }
             ChaseMode::Stopped => self.resume_cruise_if_due(now, v),
             _ => {}
