@@ -83,7 +83,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Commands::Run(args) => cli::run::run_run(args),
         Commands::Sweep(args) => cli::sweep::run_sweep(args),
-        Commands::Check(args) => cli::check::run_check(args).map(|()| ExitCode::SUCCESS),
+        Commands::Check(args) => cli::check::run_check(args),
         Commands::Import(args) => cli::import::run_import(args).map(|()| ExitCode::SUCCESS),
         Commands::Export(args) => cli::export::run_export(args).map(|()| ExitCode::SUCCESS),
         Commands::Render(args) => cli::render::run(args).map(|()| ExitCode::SUCCESS),

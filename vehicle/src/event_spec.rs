@@ -174,6 +174,7 @@ fn is_zero(v: &f64) -> bool {
 /// trigger = { spacing_m = 30.0, to = "chase" }  # rear axle to rear axle ≤ 30 m
 /// trigger = { time_gap_s = 1.5, to = "lead" }  # gap ÷ speed of the one behind ≤ 1.5 s
 /// trigger = { ttc_s = 3.0, to = "stopped" }    # gap ÷ closing speed ≤ 3 s, while closing
+/// trigger = { time_gap_s = 1.5, to = "lead", between_axles = true }  # spacing ÷ speed ≤ 1.5 s
 /// trigger = { speed_mps = 5.0, of = "lead" }   # the lead's speed ≤ 5 m/s
 /// trigger = { speed_mps = 20.0, rule = "greater" }  # this vehicle's speed ≥ 20 m/s
 /// trigger = { standstill_s = 2.0, of = "van" }  # `van` has stood still for ≥ 2 s
@@ -188,7 +189,8 @@ fn is_zero(v: &f64) -> bool {
 /// The gap to the vehicle `to` is measured along the road, whatever the lanes, from the
 /// rear bumper of whichever is ahead to the front bumper of the other; the spacing, along
 /// the road too, between the two vehicles' reference points (the middles of their rear
-/// axles).
+/// axles). A time gap or a time to collision is measured on the gap, or with
+/// `between_axles` on the spacing (OpenSCENARIO's `freespace="false"`).
 ///
 /// `all` and `any` are OpenSCENARIO's condition groups: a list of triggers (members),
 /// each written as a trigger is, that holds at a step when every one of them (`all`) or
@@ -284,6 +286,11 @@ pub struct TriggerSpec {
     /// group's value.
     #[serde(default, skip_serializing_if = "is_false")]
     pub rising: bool,
+    /// With `time_gap_s` or `ttc_s`: measured on the spacing between the two vehicles'
+    /// reference points (the middles of their rear axles), not on the gap between their
+    /// bumpers (OpenSCENARIO's `freespace="false"`; default false).
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub between_axles: bool,
 }
 
 impl TriggerSpec {
@@ -465,10 +472,10 @@ pub(crate) enum Condition {
     Gap(f64, String),
     /// Distance between this vehicle's reference point and a vehicle's, m.
     Spacing(f64, String),
-    /// Time gap to a vehicle, s.
-    TimeGap(f64, String),
-    /// Time to collision with a vehicle, s.
-    Ttc(f64, String),
+    /// Time gap to a vehicle, s, on the gap or (`true`) the spacing.
+    TimeGap(f64, String, bool),
+    /// Time to collision with a vehicle, s, on the gap or (`true`) the spacing.
+    Ttc(f64, String, bool),
     /// The speed of a vehicle (empty: this one), m/s.
     Speed(f64, String),
     /// How long a vehicle (empty: this one) has stood still, s.
@@ -709,6 +716,16 @@ impl EventScript {
             ));
         }
         let field = |name: &str| format!("{path}.{name}");
+        if t.between_axles && t.time_gap_s.is_none() && t.ttc_s.is_none() {
+            return Err(invalid(
+                i,
+                &field("between_axles"),
+                format!(
+                    "only for time_gap_s and ttc_s, not {} (spacing_m is the distance between axles)",
+                    given[0]
+                ),
+            ));
+        }
         if let Some(members) = t.all.as_ref().or(t.any.as_ref()) {
             return self.group(i, path, t, given[0], members, depth);
         }
@@ -750,9 +767,10 @@ impl EventScript {
             Condition::Spacing(check(i, &field("spacing_m"), v, 0.0, MAX_GAP_M, false)?, to)
         } else if let Some(v) = t.time_gap_s {
             let v = check(i, &field("time_gap_s"), v, 0.0, MAX_TIME_S, false)?;
-            Condition::TimeGap(v, to)
+            Condition::TimeGap(v, to, t.between_axles)
         } else if let Some(v) = t.ttc_s {
-            Condition::Ttc(check(i, &field("ttc_s"), v, 0.0, MAX_TIME_S, false)?, to)
+            let v = check(i, &field("ttc_s"), v, 0.0, MAX_TIME_S, false)?;
+            Condition::Ttc(v, to, t.between_axles)
         } else if let Some(v) = t.speed_mps {
             let max = f64::from(MAX_SPEED_MPS);
             Condition::Speed(check(i, &field("speed_mps"), v, 0.0, max, false)?, of)

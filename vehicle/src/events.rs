@@ -184,8 +184,8 @@ impl Watch {
         match &trigger.condition {
             Condition::Gap(_, to)
             | Condition::Spacing(_, to)
-            | Condition::TimeGap(_, to)
-            | Condition::Ttc(_, to)
+            | Condition::TimeGap(_, to, _)
+            | Condition::Ttc(_, to, _)
             | Condition::RelativeSpeed(_, to) => {
                 watch.to = Some(vehicle_index(vehicles, to, format!("{field}.to"))?);
             }
@@ -332,8 +332,8 @@ impl Watch {
             (Condition::Spacing(d, _), Some(o)) => {
                 compare((mine.station_m - o.station_m).abs(), *d)
             }
-            (Condition::TimeGap(t, _), Some(o)) => {
-                let b = Between::new(mine, o);
+            (Condition::TimeGap(t, _, axles), Some(o)) => {
+                let b = Between::new(mine, o).on_axles(*axles);
                 let time_gap = if b.behind_speed_mps > 0.0 {
                     b.gap_m / b.behind_speed_mps
                 } else {
@@ -341,8 +341,8 @@ impl Watch {
                 };
                 compare(time_gap, *t)
             }
-            (Condition::Ttc(t, _), Some(o)) => {
-                let b = Between::new(mine, o);
+            (Condition::Ttc(t, _, axles), Some(o)) => {
+                let b = Between::new(mine, o).on_axles(*axles);
                 b.closing_mps > 0.0 && compare(b.gap_m / b.closing_mps, *t)
             }
             (_, None) => false,
@@ -691,6 +691,8 @@ impl Events {
 /// ahead, the speed of the one behind and how fast the gap closes.
 struct Between {
     gap_m: f64,
+    /// Between the two reference points (the middles of the rear axles), m.
+    spacing_m: f64,
     behind_speed_mps: f64,
     closing_mps: f64,
 }
@@ -704,8 +706,17 @@ impl Between {
         };
         Between {
             gap_m: ahead.rear_m - behind.front_m,
+            spacing_m: ahead.station_m - behind.station_m,
             behind_speed_mps: behind.speed_mps,
             closing_mps: behind.speed_mps - ahead.speed_mps,
+        }
+    }
+
+    /// The same, its gap the spacing when `axles`.
+    fn on_axles(self, axles: bool) -> Between {
+        Between {
+            gap_m: if axles { self.spacing_m } else { self.gap_m },
+            ..self
         }
     }
 }

@@ -23,7 +23,7 @@ fn each_trigger_fires_at_the_step_its_condition_first_holds() {
     // Me behind at 100, 8 m/s; other ahead from 130 at 10 m/s: the gap (25 + 2t) opens.
     let opening = |t: f64| [car(100.0 + 8.0 * t, 8.0), car(130.0 + 10.0 * t, 10.0)];
     type View = fn(f64) -> [VehicleView; 2];
-    let cases: [(&str, View, Option<u64>); 17] = [
+    let cases: [(&str, View, Option<u64>); 19] = [
         ("time_s = 8.0", approach, Some(960)),
         ("time_s = 8.0, rule = \"less\"", approach, Some(0)),
         // Travelled 10 m at 10/6 s = step 200 exactly; the threshold just past it.
@@ -62,6 +62,18 @@ fn each_trigger_fires_at_the_step_its_condition_first_holds() {
         ("time_gap_s = 1.003, to = \"other\"", overtaken, Some(420)),
         // Closing at 6 m/s: (95 − 6t)/6 ≤ 3.01 from t = 12.823 s: step 1538.8 → 1539.
         ("ttc_s = 3.01, to = \"other\"", approach, Some(1539)),
+        // Between the axles, on the spacing 100 − 6t: (100 − 6t)/6 ≤ 2.01 from
+        // t = 14.657 s: step 1758.8 → 1759; and ≤ 3.01 from t = 13.657 s: step 1638.8 → 1639.
+        (
+            "time_gap_s = 2.01, to = \"other\", between_axles = true",
+            approach,
+            Some(1759),
+        ),
+        (
+            "ttc_s = 3.01, to = \"other\", between_axles = true",
+            approach,
+            Some(1639),
+        ),
         // Opening: no time to collision, whatever the rule.
         ("ttc_s = 100.0, to = \"other\"", opening, None),
         (
@@ -458,6 +470,13 @@ fn bad_triggers_name_their_field() {
         (
             one("trigger = { ttc_s = -2.0, to = \"other\" }", ok_action),
             "events[1].trigger.ttc_s",
+        ),
+        (
+            one(
+                "trigger = { gap_m = 5.0, to = \"other\", between_axles = true }",
+                ok_action,
+            ),
+            "events[1].trigger.between_axles",
         ),
         (one(ok_trigger, "action = { }"), "events[1].action"),
     ]);

@@ -4,6 +4,7 @@ use clap::Args;
 use sim_core::openscenario::OscError;
 use sim_core::{Plan, Scenario, ScenarioError};
 use std::path::PathBuf;
+use std::process::ExitCode;
 
 /// Arguments of `carfollow check`.
 #[derive(Args, Debug)]
@@ -18,10 +19,11 @@ pub struct CheckArgs {
     pub openscenario: super::import::OpenScenarioArgs,
 }
 
-/// Runs the subcommand: every file is checked, every error printed (one line each).
-/// Without files, the built-in scenario with the overrides: what `run` would run. A file
-/// checks when its run can be planned (see [`Plan`]): `run` plans it alike.
-pub fn run_check(args: CheckArgs) -> anyhow::Result<()> {
+/// Runs the subcommand: every file is checked, every error printed (one line each), and,
+/// of several files, how many are invalid; exit status 2 when any is. Without files, the
+/// built-in scenario with the overrides: what `run` would run. A file checks when its run
+/// can be planned (see [`Plan`]): `run` plans it alike.
+pub fn run_check(args: CheckArgs) -> anyhow::Result<ExitCode> {
     let ok = |what: &str, s: &Scenario| {
         for warning in s.warnings() {
             eprintln!("warning: {what}: {warning}");
@@ -38,7 +40,7 @@ pub fn run_check(args: CheckArgs) -> anyhow::Result<()> {
         // One error, said once by `main` (exit 2), as `run` says it.
         let plan = Plan::builtin(&args.set)?;
         ok("the built-in scenario", plan.scenario());
-        return Ok(());
+        return Ok(ExitCode::SUCCESS);
     }
     let mut bad = 0;
     for path in &args.scenarios {
@@ -71,12 +73,13 @@ pub fn run_check(args: CheckArgs) -> anyhow::Result<()> {
             }
         }
     }
-    if bad > 0 {
-        let files = args.scenarios.len();
-        let noun = if files == 1 { "file is" } else { "files are" };
-        anyhow::bail!("{bad} of {files} scenario {noun} invalid");
+    let files = args.scenarios.len();
+    match bad {
+        0 => Ok(ExitCode::SUCCESS),
+        // One file's error is said once, above.
+        _ if files == 1 => Ok(ExitCode::from(super::exit::BAD_INPUT)),
+        _ => anyhow::bail!("{bad} of {files} scenario files are invalid"),
     }
-    Ok(())
 }
 
 /// Whether `path` holds a sweep file (`scenarios` and `seeds` at the top level) rather than

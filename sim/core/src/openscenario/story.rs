@@ -568,15 +568,13 @@ impl Context<'_, '_> {
         if name == "RelativeSpeedCondition" {
             return self.relative_speed(e, &subject, &other, owner);
         }
-        // Reference point to reference point: a relative distance's spacing (below).
+        // Reference point to reference point: a relative distance's spacing, a headway's or
+        // time to collision's `between_axles` (below).
         let spacing = match xml.req(e, "freespace")?.as_str() {
             "true" | "1" => false,
             "false" | "0" => true,
             v => return Err(xml.at(e, format!("<{name} freespace=\"{v}\">: not a boolean"))),
         };
-        if spacing && name != "RelativeDistanceCondition" {
-            return Err(xml.at(e, format!("<{name} freespace=\"false\">: carfollow measures its gaps bumper to bumper (freespace=\"true\")")));
-        }
         if name == "RelativeDistanceCondition" {
             let kind = xml.req(e, "relativeDistanceType")?;
             if kind != "longitudinal" {
@@ -598,12 +596,14 @@ impl Context<'_, '_> {
                 ttc_s: value,
                 to,
                 rule,
+                between_axles: spacing,
                 ..TriggerSpec::default()
             },
             "TimeHeadwayCondition" => TriggerSpec {
                 time_gap_s: value,
                 to,
                 rule,
+                between_axles: spacing,
                 ..TriggerSpec::default()
             },
             _ if spacing => TriggerSpec {

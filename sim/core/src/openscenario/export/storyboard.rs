@@ -390,13 +390,14 @@ impl Group {
                 );
             });
         } else if let Some(v) = t.time_gap_s {
+            let freespace = if t.between_axles { "false" } else { "true" };
             self.entity_condition(x, name, edge, |x| {
                 x.empty(
                     "TimeHeadwayCondition",
                     &[
                         a("entityRef", to),
                         n("value", v),
-                        a("freespace", "true"),
+                        a("freespace", freespace),
                         a("coordinateSystem", "road"),
                         a("relativeDistanceType", "longitudinal"),
                         a("rule", rule(Rule::Less)),
@@ -404,12 +405,13 @@ impl Group {
                 );
             });
         } else if let Some(v) = t.ttc_s {
+            let freespace = if t.between_axles { "false" } else { "true" };
             self.entity_condition(x, name, edge, |x| {
                 x.open(
                     "TimeToCollisionCondition",
                     &[
                         n("value", v),
-                        a("freespace", "true"),
+                        a("freespace", freespace),
                         a("coordinateSystem", "road"),
                         a("relativeDistanceType", "longitudinal"),
                         a("rule", rule(Rule::Less)),
