@@ -400,9 +400,9 @@ fn repeating_events_round_trip_exactly() {
         "12",
     );
     for expected in [
-        "<Event name=\"nudge\" priority=\"override\" maximumExecutionCount=\"3\">",
-        "<Event name=\"sway\" priority=\"override\" maximumExecutionCount=\"1441\">",
-        "<Event name=\"cut-in\" priority=\"override\" maximumExecutionCount=\"1\">",
+        "<Event name=\"nudge\" priority=\"parallel\" maximumExecutionCount=\"3\">",
+        "<Event name=\"sway\" priority=\"parallel\" maximumExecutionCount=\"1441\">",
+        "<Event name=\"cut-in\" priority=\"parallel\" maximumExecutionCount=\"1\">",
     ] {
         assert!(written.contains(expected), "{expected} not in:\n{written}");
     }

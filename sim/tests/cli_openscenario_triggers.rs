@@ -527,6 +527,33 @@ fn a_headway_between_reference_points_is_measured_on_the_spacing() {
     assert!(condition.contains("freespace=\"false\""), "{condition}");
 }
 
+/// An event's priority `parallel` is carfollow's own way (a new action ends only the
+/// running action of its kind): read as written, it runs as `overwrite` does here, and
+/// with no warning; a maneuver of speed and lane events under `overwrite`, which the
+/// standard would have end each other, is run the same way and said in one warning line.
+#[test]
+fn parallel_events_run_side_by_side_and_an_override_says_it_does_too() {
+    let (dir, parallel) =
+        mutant(|text| text.replace("priority=\"overwrite\"", "priority=\"parallel\""));
+    let cut_in = data().join("cut-in.xosc");
+    let warned = |path: &std::path::Path| {
+        let o = carfollow(&["check", path.to_str().unwrap()]);
+        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+        stderr(&o)
+            .lines()
+            .filter(|l| l.contains("run side by side"))
+            .count()
+    };
+    assert_eq!(warned(&cut_in), 1);
+    assert_eq!(warned(&parallel), 0);
+    let set = ["--set", "duration_s=16"];
+    assert!(
+        frames_of(&cut_in, &dir.path().join("o"), &set)
+            == frames_of(&parallel, &dir.path().join("p"), &set),
+        "parallel runs differently"
+    );
+}
+
 /// A wait for an act's (or a story's, maneuver group's, maneuver's) start or running state
 /// (esmini's `cut-in` starts its cutter's speed on its act's `startTransition`) holds from
 /// the first step, when every act starts here: with a delay of 1 s the event starts at 1 s.

@@ -18,6 +18,11 @@ pub struct Stories {
     pub events: BTreeMap<String, Vec<EventSpec>>,
     /// How many actions of the ego the stories hold (read, and not applied).
     pub ego_actions: usize,
+    /// The maneuvers of other vehicles with several events, of speed and of lateral
+    /// actions, one of which at least has the priority `override` (1.0's `overwrite`): the
+    /// standard ends the maneuver's other running events when it starts, carfollow ends
+    /// only a running action of the kind it starts (said in a warning).
+    pub side_by_side: Vec<String>,
 }
 
 /// The vehicles as carfollow names them (`chase`, `lead`, the actors' names), by the
@@ -47,7 +52,7 @@ pub fn read_stories(
     let mut found: BTreeMap<String, Found> = BTreeMap::new();
     let mut lane_changes: BTreeMap<String, usize> = BTreeMap::new();
     let mut taken: BTreeMap<String, Vec<String>> = BTreeMap::new();
-    let all = events(xml, storyboard)?;
+    let (all, side_by_side) = events(xml, storyboard, ego)?;
     for (event, owners) in &all {
         for owner in owners {
             let base = xml.req(*event, "name")?;
@@ -74,7 +79,10 @@ pub fn read_stories(
         found: &found,
         lane_changes: &lane_changes,
     };
-    let mut stories = Stories::default();
+    let mut stories = Stories {
+        side_by_side,
+        ..Stories::default()
+    };
     for (event, owners) in all {
         for owner in owners {
             if owner == ego {
@@ -88,13 +96,20 @@ pub fn read_stories(
     Ok(stories)
 }
 
-/// Every `Event` of the stories, with the vehicles its maneuver group acts on; the acts'
-/// and groups' own settings checked on the way.
+/// An event and the vehicles its maneuver group acts on.
+type Owned<'a, 'b> = (Node<'a, 'b>, Vec<String>);
+
+/// Every `Event` of the stories, with the vehicles its maneuver group acts on, and the
+/// names of the maneuvers of vehicles other than the `ego` whose several events carfollow
+/// runs side by side where the standard's `override` would end some (see
+/// [`Stories::side_by_side`]); the acts' and groups' own settings checked on the way.
 fn events<'a, 'b>(
     xml: &Xml,
     storyboard: Node<'a, 'b>,
-) -> Result<Vec<(Node<'a, 'b>, Vec<String>)>, OscError> {
+    ego: &str,
+) -> Result<(Vec<Owned<'a, 'b>>, Vec<String>), OscError> {
     let mut out = Vec::new();
+    let mut side_by_side = Vec::new();
     for story in elements(storyboard) {
         match story.tag_name().name() {
             "Init" | "StopTrigger" => continue,
@@ -127,12 +142,33 @@ fn events<'a, 'b>(
                     .map(|e| xml.req(e, "entityRef"))
                     .collect::<Result<Vec<_>, _>>()?;
                 for maneuver in children(group, "Maneuver") {
-                    out.extend(children(maneuver, "Event").map(|e| (e, owners.clone())));
+                    let events: Vec<_> = children(maneuver, "Event").collect();
+                    let mut overrides = false;
+                    for e in &events {
+                        let priority = xml.attr(*e, "priority")?;
+                        overrides |= priority.as_deref() != Some("parallel");
+                    }
+                    // Events of one kind alone end each other's actions here as well.
+                    let has = |tags: &[&str]| {
+                        events
+                            .iter()
+                            .any(|e| e.descendants().any(|d| tags.contains(&d.tag_name().name())))
+                    };
+                    let both_kinds = has(&["SpeedAction", "SpeedProfileAction"])
+                        && has(&["LaneChangeAction", "LaneOffsetAction"]);
+                    if events.len() > 1
+                        && both_kinds
+                        && overrides
+                        && owners.iter().any(|o| o != ego)
+                    {
+                        side_by_side.push(xml.req(maneuver, "name")?);
+                    }
+                    out.extend(events.into_iter().map(|e| (e, owners.clone())));
                 }
             }
         }
     }
-    Ok(out)
+    Ok((out, side_by_side))
 }
 
 /// Checks an act's triggers: it has no stop trigger that can fire (an empty one, with no
@@ -217,9 +253,12 @@ impl Context<'_, '_> {
     fn event(&self, event: Node, owner: &str) -> Result<Vec<EventSpec>, OscError> {
         let xml = self.xml;
         let base = xml.req(event, "name")?;
+        // A new action replaces the running action of its kind (speed; lane or offset),
+        // and the vehicle's other events run on: the standard's `parallel`. An `override`
+        // would also end its maneuver's other running events (a warning says so).
         match xml.attr(event, "priority")?.as_deref() {
-            None | Some("overwrite") | Some("override") => {}
-            Some(p) => return Err(xml.at(event, format!("<Event priority=\"{p}\">: carfollow's events override what runs (\"override\", 1.0's \"overwrite\")"))),
+            None | Some("overwrite") | Some("override") | Some("parallel") => {}
+            Some(p) => return Err(xml.at(event, format!("<Event priority=\"{p}\">: carfollow's events run side by side (\"parallel\"; \"override\" and 1.0's \"overwrite\" are read so, with a warning)"))),
         }
         // Runs at most: once, or `repeat` up to `max_runs`.
         let max_runs = match xml.opt_num(event, "maximumExecutionCount")? {

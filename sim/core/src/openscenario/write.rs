@@ -430,6 +430,19 @@ pub fn scenario(
             "the ego `{ego}`'s {ignored} not applied: carfollow's loop drives the chase"
         ));
     }
+    if !stories.side_by_side.is_empty() {
+        warnings.push(format!(
+            "the events of maneuver{} `{}` run side by side: carfollow ends a running action \
+             only when another of its kind starts (speed; lane or offset), where the priority \
+             `override` would also end the maneuver's other running events",
+            if stories.side_by_side.len() == 1 {
+                ""
+            } else {
+                "s"
+            },
+            stories.side_by_side.join("`, `")
+        ));
+    }
     let lead_kind = vehicles
         .iter()
         .find(|v| v.name == lead)

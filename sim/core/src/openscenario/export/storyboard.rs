@@ -168,7 +168,7 @@ impl Group {
                 "Event",
                 &[
                     a("name", name),
-                    a("priority", "override"),
+                    a("priority", "parallel"),
                     a("maximumExecutionCount", runs),
                 ],
             );
@@ -191,7 +191,7 @@ impl Group {
             "Event",
             &[
                 a("name", &step.name),
-                a("priority", "override"),
+                a("priority", "parallel"),
                 a("maximumExecutionCount", 1),
             ],
         );
