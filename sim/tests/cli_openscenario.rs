@@ -100,7 +100,7 @@ fn what_carfollow_cannot_run_is_refused_at_its_line() {
         ("entryName=\"$VanKind\"", "entryName=\"bus_blue\"", "no such vehicle", "bus_blue"),
         ("<RelativeTargetLane entityRef=\"Ego\" value=\"0\"/>", "<AbsoluteTargetLane value=\"1\"/>", "lane 1 is not a lane carfollow drives", "AbsoluteTargetLane"),
         ("priority=\"overwrite\" maximumExecutionCount=\"1\"", "priority=\"skip\" maximumExecutionCount=\"1\"", "priority=\"skip\"", "priority=\"skip\""),
-        ("<AbsoluteTargetSpeed value=\"5\"/>", "<RelativeTargetSpeed entityRef=\"Ego\" value=\"0\" speedTargetValueType=\"delta\" continuous=\"false\"/>", "unsupported speed target <RelativeTargetSpeed>", "RelativeTargetSpeed"),
+        ("<AbsoluteTargetSpeed value=\"5\"/>", "<RelativeTargetSpeed entityRef=\"Ego\" value=\"0\" speedTargetValueType=\"percent\" continuous=\"false\"/>", "speedTargetValueType=\"percent\">: delta or factor", "RelativeTargetSpeed"),
         ("ds=\"30\"", "ds=\"300\"", "3–250 m behind", "<Private entityRef=\"Ego\">"),
         ("<LaneChangeAction>", "<LaneChangeAction targetLaneOffset=\"0.5\">", "targetLaneOffset", "targetLaneOffset"),
     ];

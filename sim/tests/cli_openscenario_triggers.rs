@@ -554,6 +554,71 @@ fn parallel_events_run_side_by_side_and_an_override_says_it_does_too() {
     );
 }
 
+/// A `RelativeTargetSpeed` (esmini's `cut-in` family sets its overtaker's speed so) is
+/// imported as a speed relative to the vehicle it names (`speed_of`, with `speed_factor`
+/// or a difference in `speed_mps`, and `continuous`), runs as the file does, differs from
+/// the absolute speed it replaced, and is exported back as written.
+#[test]
+fn a_relative_target_speed_is_a_speed_of_another_vehicle() {
+    let absolute = "<AbsoluteTargetSpeed value=\"5\"/>";
+    let relative = "<RelativeTargetSpeed entityRef=\"Ego\" value=\"0.5\" speedTargetValueType=\"factor\" continuous=\"true\"/>";
+    let (dir, path) = mutant(|text| {
+        assert!(text.contains(absolute));
+        text.replace(absolute, relative)
+    });
+    let toml = dir.path().join("imported/relative.toml");
+    let text = import_to(&path, &toml);
+    for field in [
+        "speed_of = \"chase\"",
+        "speed_factor = 0.5",
+        "continuous = true",
+    ] {
+        assert!(text.contains(field), "{field} not in {text}");
+    }
+    let set = ["--set", "duration_s=20"];
+    let from_xosc = frames_of(&path, &dir.path().join("x"), &set);
+    let from_toml = frames_of(&toml, &dir.path().join("t"), &set);
+    assert!(
+        from_xosc == from_toml,
+        "the imported scenario runs differently"
+    );
+    let as_written = frames_of(&data().join("cut-in.xosc"), &dir.path().join("a"), &set);
+    assert!(
+        from_xosc != as_written,
+        "the relative speed changed nothing"
+    );
+    let out = dir.path().join("export");
+    let o = carfollow(&[
+        "export",
+        toml.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let xosc = std::fs::read_dir(&out)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .find(|p| p.extension().is_some_and(|e| e == "xosc"))
+        .unwrap();
+    let written = std::fs::read_to_string(&xosc).unwrap();
+    let target = written
+        .lines()
+        .find(|l| l.contains("<RelativeTargetSpeed"))
+        .unwrap_or_else(|| panic!("no relative speed written: {written}"));
+    for attribute in [
+        "entityRef=\"Ego\"",
+        "value=\"0.5\"",
+        "speedTargetValueType=\"factor\"",
+        "continuous=\"true\"",
+    ] {
+        assert!(target.contains(attribute), "{attribute} not in {target}");
+    }
+    assert!(
+        frames_of(&xosc, &dir.path().join("e"), &set) == from_toml,
+        "the exported file runs differently"
+    );
+}
+
 /// A wait for an act's (or a story's, maneuver group's, maneuver's) start or running state
 /// (esmini's `cut-in` starts its cutter's speed on its act's `startTransition`) holds from
 /// the first step, when every act starts here: with a delay of 1 s the event starts at 1 s.

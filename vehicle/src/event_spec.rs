@@ -363,10 +363,26 @@ pub struct ActionSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schemars(extend("minimum" = -20.0, "maximum" = 20.0))]
     pub offset_m: Option<f64>,
-    /// Change speed to this, m/s.
+    /// Change speed to this, m/s; with `speed_of`, to that vehicle's speed plus this (which
+    /// may then be negative).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schemars(extend("minimum" = 0.0, "maximum" = 40.0))]
     pub speed_mps: Option<f64>,
+    /// Change speed to that of the vehicle named (a name the scenario gives), plus
+    /// `speed_mps` or times `speed_factor`, as it is when the change starts (OpenSCENARIO's
+    /// `RelativeTargetSpeed`); with `continuous`, kept to it after.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub speed_of: Option<String>,
+    /// With `speed_of`, instead of `speed_mps`: change speed to this times that vehicle's
+    /// speed (0–10).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("minimum" = 0.0, "maximum" = 10.0))]
+    pub speed_factor: Option<f64>,
+    /// With `speed_of`: once changed, keep to the relative speed as that vehicle's speed
+    /// changes, until another speed action starts (OpenSCENARIO's `continuous="true"`;
+    /// default false: the change ends at the speed it reached).
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub continuous: bool,
     /// Change speed along these changes, one after another.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub profile: Option<Vec<ProfileEntry>>,
@@ -532,14 +548,27 @@ pub(crate) enum Action {
         timing: Timing,
         shape: Shape,
     },
-    /// To this speed, m/s (a stop is one to 0 at its deceleration).
+    /// To this speed, m/s (a stop is one to 0 at its deceleration); with `relative`, to a
+    /// vehicle's speed plus this, or times it.
     Speed {
         speed_mps: f64,
         timing: Timing,
         shape: Shape,
+        relative: Option<RelativeSpeed>,
     },
     /// Linear to each speed in turn, m/s, each with its timing.
     Profile(Vec<(f64, Timing)>),
+}
+
+/// A speed change's target relative to another vehicle's speed.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct RelativeSpeed {
+    /// The vehicle's name.
+    pub(crate) of: String,
+    /// Whether the change's value is a factor (else a difference, m/s).
+    pub(crate) factor: bool,
+    /// Whether the speed is kept relative after the change.
+    pub(crate) continuous: bool,
 }
 
 /// A checked event.

@@ -128,6 +128,8 @@ struct EventState {
     phase: Phase,
     /// How many times its action has run to its end.
     runs: u32,
+    /// The vehicle (its index in the view) its speed change is relative to, if any.
+    speed_of: Option<usize>,
 }
 
 /// The run-time state of one trigger (an event's, or a member of an `all` or `any`), with
@@ -362,6 +364,31 @@ struct Motion {
     running: bool,
     /// Which change of a speed profile this is (0 for other actions).
     segment: usize,
+    /// A continuous relative speed: its target follows that vehicle's speed, and it runs
+    /// until another speed action replaces it.
+    follow: Option<Follow>,
+}
+
+/// A speed kept relative to another vehicle's ([`Motion::follow`]).
+#[derive(Copy, Clone, Debug, PartialEq)]
+struct Follow {
+    /// The vehicle's index in the view.
+    vehicle: usize,
+    /// The difference (m/s) or the factor.
+    value: f64,
+    factor: bool,
+}
+
+impl Follow {
+    /// The target for the vehicle's speed `v`, m/s.
+    fn target(&self, v: f64) -> f64 {
+        let t = if self.factor {
+            self.value * v
+        } else {
+            v + self.value
+        };
+        t.clamp(0.0, f64::from(crate::speed_profile::MAX_SPEED_MPS))
+    }
 }
 
 /// Whole steps a change from `from` to `to` takes with `timing` and `shape`.
@@ -445,6 +472,16 @@ impl Events {
                 vehicles,
                 &lanes,
             )?;
+            let speed_of = match &event.action {
+                Action::Speed {
+                    relative: Some(r), ..
+                } => Some(vehicle_index(
+                    vehicles,
+                    &r.of,
+                    format!("events[{i}].action.speed_of"),
+                )?),
+                _ => None,
+            };
             if let Action::Lane { lane, .. } = event.action {
                 if lane > lanes.count {
                     return Err(VehicleError::InvalidEvent {
@@ -458,6 +495,7 @@ impl Events {
                 watch,
                 phase: Phase::Armed,
                 runs: 0,
+                speed_of,
             });
         }
         Ok(Events {
@@ -543,11 +581,21 @@ impl Events {
         }
         for i in 0..self.events.len() {
             if matches!(self.events[i].phase, Phase::Pending(at) if at <= now) {
-                self.start(i, now, mine, &mut fired);
+                self.start(i, now, mine, view, &mut fired);
+            }
+        }
+        // A continuous relative speed's target follows its vehicle's speed now.
+        if let Some(m) = self.speed.as_mut().filter(|m| m.running) {
+            if let Some((f, other)) = m.follow.and_then(|f| Some((f, view.get(f.vehicle)?))) {
+                m.to = f.target(other.speed_mps);
             }
         }
         for motion in [&mut self.speed, &mut self.lateral].into_iter().flatten() {
-            while motion.running && now.since(motion.start) >= motion.steps {
+            // A continuous relative speed runs until another speed action replaces it.
+            while motion.running
+                && motion.follow.is_none()
+                && now.since(motion.start) >= motion.steps
+            {
                 // A speed profile goes on to its next change from the speed this one
                 // reached, at this step.
                 let next = match &self.events[motion.event].event.action {
@@ -582,9 +630,17 @@ impl Events {
         fired
     }
 
-    /// Starts event `i`'s action at `now`.
-    fn start(&mut self, i: usize, now: Step, mine: &VehicleView, fired: &mut Vec<Fired>) {
+    /// Starts event `i`'s action at `now`, with the traffic `view` (`mine` in it).
+    fn start(
+        &mut self,
+        i: usize,
+        now: Step,
+        mine: &VehicleView,
+        view: &TrafficView,
+        fired: &mut Vec<Fired>,
+    ) {
         let action = self.events[i].event.action.clone();
+        let mut follow = None;
         let (slot, from, to, timing, shape) = match action {
             Action::Profile(changes) => {
                 let (to, timing) = changes[0];
@@ -600,13 +656,25 @@ impl Events {
                 speed_mps,
                 timing,
                 shape,
-            } => (
-                &mut self.speed,
-                mine.speed_mps.max(0.0),
-                speed_mps,
-                timing,
-                shape,
-            ),
+                relative,
+            } => {
+                // Relative: to the other's speed now (this one's, should it be missing).
+                let to = match (&relative, self.events[i].speed_of) {
+                    (Some(r), Some(j)) => {
+                        let f = Follow {
+                            vehicle: j,
+                            value: speed_mps,
+                            factor: r.factor,
+                        };
+                        if r.continuous {
+                            follow = Some(f);
+                        }
+                        f.target(view.get(j).map_or(mine.speed_mps, |o| o.speed_mps))
+                    }
+                    _ => speed_mps,
+                };
+                (&mut self.speed, mine.speed_mps.max(0.0), to, timing, shape)
+            }
             Action::Lane {
                 lane,
                 timing,
@@ -651,6 +719,7 @@ impl Events {
             shape,
             running: true,
             segment: 0,
+            follow,
         });
         self.events[i].phase = Phase::Running;
         fired.push(Fired {

@@ -2,7 +2,7 @@
 //! with the timing and shape it takes.
 
 use super::MAX_PROFILE_ENTRIES;
-use super::{check, invalid, Action, ActionSpec, Shape, Timing, MAX_KEY, MAX_LANES};
+use super::{check, invalid, Action, ActionSpec, RelativeSpeed, Shape, Timing, MAX_KEY, MAX_LANES};
 use super::{MAX_LATERAL_ACCEL_MPS2, MAX_LATERAL_SPEED_MPS, MAX_POSITION_OFFSET_M, MAX_RATE_MPS2};
 use crate::error::VehicleError;
 use crate::speed_profile::MAX_SPEED_MPS;
@@ -24,7 +24,7 @@ pub(super) fn action(i: usize, a: &ActionSpec) -> Result<Action, VehicleError> {
     let kinds = [
         a.lane.is_some(),
         a.offset_m.is_some(),
-        a.speed_mps.is_some(),
+        a.speed_mps.is_some() || a.speed_factor.is_some(),
         a.profile.is_some(),
         a.stop.is_some(),
     ];
@@ -32,8 +32,20 @@ pub(super) fn action(i: usize, a: &ActionSpec) -> Result<Action, VehicleError> {
         return Err(invalid(
             i,
             "action",
-            "must give exactly one of lane, offset_m, speed_mps, profile and stop".into(),
+            "must give exactly one of lane, offset_m, speed_mps (or speed_factor), profile and \
+             stop"
+                .into(),
         ));
+    }
+    if a.speed_mps.is_none() && a.speed_factor.is_none() {
+        refuse(
+            i,
+            "anything but a speed change",
+            &[
+                ("speed_of", a.speed_of.is_some()),
+                ("continuous", a.continuous),
+            ],
+        )?;
     }
     if let Some(entries) = &a.profile {
         return profile_action(i, a, entries);
@@ -112,6 +124,7 @@ pub(super) fn action(i: usize, a: &ActionSpec) -> Result<Action, VehicleError> {
             speed_mps: 0.0,
             timing: Timing::Rate(open("decel_mps2", decel, MAX_RATE_MPS2)?),
             shape: Shape::Linear,
+            relative: None,
         });
     }
     speed_action(i, a)
@@ -251,14 +264,48 @@ fn speed_action(i: usize, a: &ActionSpec) -> Result<Action, VehicleError> {
             ("decel_mps2", a.decel_mps2.is_some()),
         ],
     )?;
-    let speed_mps = check(
-        i,
-        "action.speed_mps",
-        a.speed_mps.unwrap_or_default(),
-        0.0,
-        f64::from(MAX_SPEED_MPS),
-        false,
-    )?;
+    let max = f64::from(MAX_SPEED_MPS);
+    let (speed_mps, relative) = match (&a.speed_of, a.speed_factor, a.speed_mps) {
+        (None, None, Some(v)) if !a.continuous => {
+            (check(i, "action.speed_mps", v, 0.0, max, false)?, None)
+        }
+        (None, _, _) => {
+            let given = if a.speed_factor.is_some() {
+                "speed_factor"
+            } else {
+                "continuous"
+            };
+            return Err(invalid(
+                i,
+                &format!("action.{given}"),
+                "only with speed_of, the vehicle whose speed it is relative to".into(),
+            ));
+        }
+        (Some(of), factor, delta) => {
+            if of.trim().is_empty() {
+                return Err(invalid(i, "action.speed_of", "must not be empty".into()));
+            }
+            let value = match (factor, delta) {
+                (Some(f), None) => check(i, "action.speed_factor", f, 0.0, 10.0, false)?,
+                (None, Some(d)) => check(i, "action.speed_mps", d, -max, max, false)?,
+                _ => {
+                    return Err(invalid(
+                        i,
+                        "action",
+                        "a speed relative to speed_of takes exactly one of speed_mps (a \
+                         difference) and speed_factor"
+                            .into(),
+                    ))
+                }
+            };
+            let relative = RelativeSpeed {
+                of: of.clone(),
+                factor: factor.is_some(),
+                continuous: a.continuous,
+            };
+            (value, Some(relative))
+        }
+    };
     let (timing, shape) = match (a.duration_s, a.rate_mps2, a.shape) {
         (None, None, Some(Shape::Step)) => (Timing::Duration(0.0), Shape::Step),
         (Some(_), _, Some(Shape::Step)) | (_, Some(_), Some(Shape::Step)) => {
@@ -308,5 +355,6 @@ fn speed_action(i: usize, a: &ActionSpec) -> Result<Action, VehicleError> {
         speed_mps,
         timing,
         shape,
+        relative,
     })
 }

@@ -923,21 +923,23 @@ impl Context<'_, '_> {
             .map(|t| only_element(xml, t))
             .transpose()?
             .ok_or_else(|| xml.at(speed, "<SpeedAction> has no <SpeedActionTarget>"))?;
-        if target.tag_name().name() != "AbsoluteTargetSpeed" {
-            return Err(xml.unsupported(
-                target,
-                "speed target",
-                "carfollow's speed actions go to a speed",
-            ));
-        }
-        let speed_mps = xml.num(target, "value")?;
+        let mut spec = match target.tag_name().name() {
+            "AbsoluteTargetSpeed" => ActionSpec {
+                speed_mps: Some(xml.num(target, "value")?),
+                ..ActionSpec::default()
+            },
+            "RelativeTargetSpeed" => self.relative_speed_target(target)?,
+            _ => {
+                return Err(xml.unsupported(
+                    target,
+                    "speed target",
+                    "carfollow's speed actions go to a speed, or relative to a vehicle's",
+                ))
+            }
+        };
         let shape = xml.req(dynamics, "dynamicsShape")?;
         let dimension = xml.req(dynamics, "dynamicsDimension")?;
         let value = xml.num(dynamics, "value")?;
-        let mut spec = ActionSpec {
-            speed_mps: Some(speed_mps),
-            ..ActionSpec::default()
-        };
         match (shape.as_str(), dimension.as_str()) {
             ("step", _) => spec.shape = Some(Shape::Step),
             (_, "time") if value == 0.0 => spec.shape = Some(Shape::Step),
@@ -951,6 +953,40 @@ impl Context<'_, '_> {
             }
             ("linear", "rate") => spec.rate_mps2 = Some(value.abs()),
             _ => return Err(xml.at(dynamics, format!("<SpeedActionDynamics dynamicsShape=\"{shape}\" dynamicsDimension=\"{dimension}\">: carfollow's speed changes are a step, linear over a time or at a rate, or cubic over a time"))),
+        }
+        Ok(spec)
+    }
+
+    /// A `RelativeTargetSpeed` `target`: the speed of the vehicle it names plus its value
+    /// (`delta`) or times it (`factor`), kept so with `continuous="true"`.
+    fn relative_speed_target(&self, target: Node) -> Result<ActionSpec, OscError> {
+        let xml = self.xml;
+        let of = self.name(target, &xml.req(target, "entityRef")?)?;
+        let value = xml.num(target, "value")?;
+        let continuous = match xml.req(target, "continuous")?.as_str() {
+            "true" | "1" => true,
+            "false" | "0" => false,
+            v => {
+                return Err(xml.at(
+                    target,
+                    format!("<RelativeTargetSpeed continuous=\"{v}\">: not a boolean"),
+                ))
+            }
+        };
+        let mut spec = ActionSpec {
+            speed_of: Some(of),
+            continuous,
+            ..ActionSpec::default()
+        };
+        match xml.req(target, "speedTargetValueType")?.as_str() {
+            "delta" => spec.speed_mps = Some(value),
+            "factor" => spec.speed_factor = Some(value),
+            v => {
+                return Err(xml.at(
+                    target,
+                    format!("<RelativeTargetSpeed speedTargetValueType=\"{v}\">: delta or factor"),
+                ))
+            }
         }
         Ok(spec)
     }

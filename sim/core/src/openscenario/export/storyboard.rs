@@ -205,7 +205,7 @@ impl Group {
         } else {
             ("linear", "time", span)
         };
-        speed_action(x, dynamics, step.speed_mps);
+        speed_action(x, dynamics, SpeedTarget::Absolute(step.speed_mps));
         x.close();
         x.open("StartTrigger", &[]);
         if step.distance {
@@ -284,7 +284,7 @@ impl Group {
             x.close();
             return;
         }
-        let (speed, dynamics) = match (action.speed_mps, action.stop) {
+        let (speed, dynamics) = match (action.speed_mps.or(action.speed_factor), action.stop) {
             (Some(v), _) => {
                 let d = match (action.shape, action.duration_s, action.rate_mps2) {
                     (Some(Shape::Step), _, _) => ("step", "time", 0.0),
@@ -304,7 +304,16 @@ impl Group {
                 },
             ),
         };
-        speed_action(x, dynamics, speed);
+        let target = match &action.speed_of {
+            Some(of) => SpeedTarget::Relative {
+                of: entity(of),
+                value: speed,
+                factor: action.speed_factor.is_some(),
+                continuous: action.continuous,
+            },
+            None => SpeedTarget::Absolute(speed),
+        };
+        speed_action(x, dynamics, target);
     }
 
     /// The condition groups of trigger `t` of the event `name`: one for each group of
@@ -606,7 +615,20 @@ fn speed_profile(x: &mut XmlOut, profile: &[ProfileEntry]) {
 }
 
 /// A `SpeedAction` to `speed_mps` with `(shape, dimension, value)` dynamics.
-fn speed_action(x: &mut XmlOut, (shape, dimension, value): (&str, &str, f64), speed_mps: f64) {
+/// Where a `SpeedAction` goes.
+enum SpeedTarget<'a> {
+    /// To this speed, m/s.
+    Absolute(f64),
+    /// To the vehicle `of`'s speed plus `value`, or times it (`factor`).
+    Relative {
+        of: &'a str,
+        value: f64,
+        factor: bool,
+        continuous: bool,
+    },
+}
+
+fn speed_action(x: &mut XmlOut, (shape, dimension, value): (&str, &str, f64), target: SpeedTarget) {
     x.open("PrivateAction", &[]);
     x.open("LongitudinalAction", &[]);
     x.open("SpeedAction", &[]);
@@ -619,7 +641,26 @@ fn speed_action(x: &mut XmlOut, (shape, dimension, value): (&str, &str, f64), sp
         ],
     );
     x.open("SpeedActionTarget", &[]);
-    x.empty("AbsoluteTargetSpeed", &[n("value", speed_mps)]);
+    match target {
+        SpeedTarget::Absolute(v) => x.empty("AbsoluteTargetSpeed", &[n("value", v)]),
+        SpeedTarget::Relative {
+            of,
+            value,
+            factor,
+            continuous,
+        } => x.empty(
+            "RelativeTargetSpeed",
+            &[
+                a("entityRef", of),
+                n("value", value),
+                a(
+                    "speedTargetValueType",
+                    if factor { "factor" } else { "delta" },
+                ),
+                a("continuous", continuous),
+            ],
+        ),
+    }
     x.close();
     x.close();
     x.close();
