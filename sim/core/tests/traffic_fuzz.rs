@@ -1,6 +1,7 @@
 //! Mutated traffic scenarios: whatever `check` accepts, `run` runs. Each case changes the
 //! shipped traffic scenarios' actors, events, lanes and starts (to plausible values and to
-//! nasty ones), plans the result as `carfollow check` does, and runs every scenario that
+//! nasty ones, and with event fields they do not use: relative speeds, time gaps between
+//! axles), plans the result as `carfollow check` does, and runs every scenario that
 //! planned for two seconds of the closed loop, which must neither fail nor panic (a trigger's
 //! threshold set to a plausible number may fire in them). A refusal must be one line.
 //!
@@ -71,6 +72,46 @@ fn traffic_leaves(root: &toml::Value, prefix: &str, out: &mut Vec<String>) {
     }
 }
 
+/// Every event's `action` and `trigger` table (`actors.0.events.1.action`, ...).
+fn event_tables(root: &toml::Value, prefix: &str, out: &mut Vec<String>) {
+    let children: Vec<(String, &toml::Value)> = match root {
+        toml::Value::Table(t) => t.iter().map(|(k, v)| (k.clone(), v)).collect(),
+        toml::Value::Array(a) => a
+            .iter()
+            .enumerate()
+            .map(|(i, v)| (i.to_string(), v))
+            .collect(),
+        _ => return,
+    };
+    for (k, v) in children {
+        let p = if prefix.is_empty() {
+            k.clone()
+        } else {
+            format!("{prefix}.{k}")
+        };
+        if (k == "action" || k == "trigger") && p.contains("events") && v.is_table() {
+            out.push(p.clone());
+        }
+        event_tables(v, &p, out);
+    }
+}
+
+/// A field an event's action or trigger may be given that the shipped scenarios do not
+/// use (relative speeds, time gaps between axles), with a value: plausible or not.
+fn extra_field(choice: usize, x: f64) -> (&'static str, toml::Value) {
+    let name = |n: &str| toml::Value::String(n.into());
+    match choice % 8 {
+        0 => ("speed_of", name("chase")),
+        1 => ("speed_of", name("lead")),
+        2 => ("speed_of", name("nobody")),
+        3 => ("speed_factor", toml::Value::Float(x / 20.0)),
+        4 => ("speed_factor", toml::Value::Float(-1.0)),
+        5 => ("continuous", toml::Value::Boolean(true)),
+        6 => ("between_axles", toml::Value::Boolean(true)),
+        _ => ("speed_mps", toml::Value::Float(-x / 4.0)),
+    }
+}
+
 fn at_path<'a>(root: &'a mut toml::Value, path: &str) -> Option<&'a mut toml::Value> {
     let mut v = root;
     for part in path.split('.') {
@@ -127,6 +168,26 @@ fn whatever_check_accepts_of_mutated_traffic_runs() {
     runner
         .run(&strategy, |(which, mutations)| {
             let mut root = toml::Value::Table(shipped[which].clone());
+            // Fields no shipped scenario gives, added to an event's action or trigger.
+            let mut tables = Vec::new();
+            event_tables(&root, "", &mut tables);
+            for &(n, v, x, _) in mutations.iter().filter(|m| m.1 % 3 == 0) {
+                if tables.is_empty() {
+                    break;
+                }
+                if let Some(toml::Value::Table(t)) = at_path(&mut root, &tables[n % tables.len()]) {
+                    // Mostly one that fits: a speed change made relative (and perhaps
+                    // continuous) to a vehicle that exists; else any.
+                    if t.contains_key("speed_mps") && v % 2 == 0 {
+                        let of = ["chase", "lead"][v / 6 % 2];
+                        t.insert("speed_of".into(), toml::Value::String(of.into()));
+                        t.insert("continuous".into(), toml::Value::Boolean(v % 4 == 0));
+                    } else {
+                        let (field, value) = extra_field(v / 3, x);
+                        t.insert(field.into(), value);
+                    }
+                }
+            }
             let mut paths = Vec::new();
             traffic_leaves(&root, "", &mut paths);
             for &(n, v, x, scale) in &mutations {
