@@ -93,7 +93,7 @@ fn what_carfollow_cannot_run_is_refused_at_its_line() {
         ("dynamicsShape=\"sinusoidal\"", "dynamicsShape=\"linear\"", "lane changes are cubic or sinusoidal", "LaneChangeActionDynamics"),
         ("relativeDistanceType=\"longitudinal\"", "relativeDistanceType=\"lateral\"", "gaps are longitudinal", "RelativeDistanceCondition"),
         ("RelativeDistanceCondition entityRef=\"Cutter\" relativeDistanceType=\"longitudinal\" freespace=\"true\"", "RelativeDistanceCondition entityRef=\"Cutter\" relativeDistanceType=\"longitudinal\" freespace=\"maybe\"", "freespace=\"maybe\">: not a boolean", "RelativeDistanceCondition"),
-        ("name=\"close\" delay=\"0\" conditionEdge=\"rising\"", "name=\"close\" delay=\"0\" conditionEdge=\"falling\"", "conditionEdge=\"falling\"", "name=\"close\""),
+        ("name=\"close\" delay=\"0\" conditionEdge=\"rising\"", "name=\"close\" delay=\"0\" conditionEdge=\"sideways\"", "conditionEdge=\"sideways\">: not an edge", "name=\"close\""),
         ("revMinor=\"1\"", "revMinor=\"4\"", "1.0 to 1.3", "<FileHeader"),
         ("laneId=\"-2\"", "laneId=\"-3\"", "lane -3 is not a lane carfollow drives", "laneId=\"-3\""),
         ("<SimulationTimeCondition value=\"25\"", "<SimulationTimeCondition value=\"${25 / 0}\"", "divides by zero", "${25 / 0}"),

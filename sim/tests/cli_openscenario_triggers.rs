@@ -619,6 +619,58 @@ fn a_relative_target_speed_is_a_speed_of_another_vehicle() {
     );
 }
 
+/// A condition's `falling` and `risingOrFalling` edges are imported as `falling` (with
+/// `rising` for both), run as the file does, and are exported back as written.
+#[test]
+fn falling_edges_are_imported_and_exported() {
+    let rising = "name=\"close\" delay=\"0\" conditionEdge=\"rising\"";
+    for (edge, fields) in [
+        ("falling", &["falling = true"][..]),
+        ("risingOrFalling", &["rising = true", "falling = true"][..]),
+    ] {
+        let (dir, path) = mutant(|text| {
+            assert!(text.contains(rising));
+            text.replace(
+                rising,
+                &rising.replace("\"rising\"", &format!("\"{edge}\"")),
+            )
+        });
+        let toml = dir.path().join("imported/edge.toml");
+        let text = import_to(&path, &toml);
+        for field in fields {
+            assert!(text.contains(field), "{edge}: {field} not in {text}");
+        }
+        let set = ["--set", "duration_s=12"];
+        let from_toml = frames_of(&toml, &dir.path().join("t"), &set);
+        assert!(
+            frames_of(&path, &dir.path().join("x"), &set) == from_toml,
+            "{edge}: the imported scenario runs differently"
+        );
+        let out = dir.path().join("export");
+        let o = carfollow(&[
+            "export",
+            toml.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+        let xosc = std::fs::read_dir(&out)
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .find(|p| p.extension().is_some_and(|e| e == "xosc"))
+            .unwrap();
+        let written = std::fs::read_to_string(&xosc).unwrap();
+        assert!(
+            written.contains(&format!("conditionEdge=\"{edge}\"")),
+            "{edge}: {written}"
+        );
+        assert!(
+            frames_of(&xosc, &dir.path().join("e"), &set) == from_toml,
+            "{edge}: the exported file runs differently"
+        );
+    }
+}
+
 /// A wait for an act's (or a story's, maneuver group's, maneuver's) start or running state
 /// (esmini's `cut-in` starts its cutter's speed on its act's `startTransition`) holds from
 /// the first step, when every act starts here: with a delay of 1 s the event starts at 1 s.

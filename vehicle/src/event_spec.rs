@@ -164,8 +164,8 @@ fn is_zero(v: &f64) -> bool {
 /// When an event's action starts: exactly one of `time_s`, `distance_m`, `gap_m`,
 /// `spacing_m`, `time_gap_s`, `ttc_s`, `speed_mps`, `relative_speed_mps`, `standstill_s`, `reach`,
 /// `after`, `all` and `any`, evaluated at every physics step on level (it fires at the
-/// first step its condition holds, not only when it becomes true), or with `rising` on its
-/// edge.
+/// first step its condition holds, not only when it becomes true), or with `rising` or
+/// `falling` on its edges.
 ///
 /// ```toml
 /// trigger = { time_s = 8.0 }                   # simulation time ≥ 8 s
@@ -286,6 +286,11 @@ pub struct TriggerSpec {
     /// group's value.
     #[serde(default, skip_serializing_if = "is_false")]
     pub rising: bool,
+    /// Holds only at the step its condition (after its `delay_s`) stops holding, having
+    /// held at the step before (never at the first step): OpenSCENARIO's
+    /// `conditionEdge="falling"`; with `rising` too, at either edge (`risingOrFalling`).
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub falling: bool,
     /// With `time_gap_s` or `ttc_s`: measured on the spacing between the two vehicles'
     /// reference points (the middles of their rear axles), not on the gap between their
     /// bumpers (OpenSCENARIO's `freespace="false"`; default false).
@@ -519,6 +524,8 @@ pub(crate) struct Trigger {
     pub(crate) delay_s: f64,
     /// Holds only at the step its condition starts to hold.
     pub(crate) rising: bool,
+    /// Holds only at the step its condition stops holding (with `rising`: at either).
+    pub(crate) falling: bool,
 }
 
 /// How long a change takes.
@@ -873,6 +880,7 @@ impl EventScript {
             rule,
             delay_s,
             rising: t.rising,
+            falling: t.falling,
         })
     }
 
@@ -947,6 +955,7 @@ impl EventScript {
             rule: Rule::Greater,
             delay_s: 0.0,
             rising: t.rising,
+            falling: t.falling,
         })
     }
 }

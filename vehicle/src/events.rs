@@ -4,7 +4,8 @@
 //!
 //! At each step, in this order:
 //! 1. every event waiting for its trigger whose condition holds now (on level; with
-//!    `rising`, only if it did not at the step before) is armed to start `delay_s` later;
+//!    `rising`, only if it did not at the step before; with `falling`, if it holds no longer
+//!    and did at the step before) is armed to start `delay_s` later;
 //! 2. every event whose start has come starts its action: a speed action replaces the
 //!    running speed action (which ends there), a lane change the running lane change;
 //! 3. every action that has reached its end ends; an event with `repeat` waits for its
@@ -260,13 +261,14 @@ impl Watch {
     }
 
     /// `level`, the condition of `trigger` at this step, as the trigger holds: with a
-    /// rising edge, only if it did not hold at the step before (kept here).
+    /// rising edge, only if it did not hold at the step before (kept here); with a falling
+    /// edge, only if it holds no longer and did at the step before.
     fn edge(&mut self, trigger: &Trigger, level: bool) -> bool {
-        if !trigger.rising {
+        if !trigger.rising && !trigger.falling {
             return level;
         }
         let before = std::mem::replace(&mut self.held_before, level);
-        level && !before
+        (trigger.rising && level && !before) || (trigger.falling && !level && before)
     }
 
     /// Whether the member `trigger`'s condition holds at `c`'s step: now, or, with a delay,
@@ -569,7 +571,7 @@ impl Events {
                 // knows the step before.
                 _ => {
                     e.watch.update_still(trigger, &c);
-                    (trigger.rising || e.phase == Phase::Armed) && {
+                    (trigger.rising || trigger.falling || e.phase == Phase::Armed) && {
                         let level = e.watch.holds(trigger, &c);
                         e.watch.edge(trigger, level)
                     }

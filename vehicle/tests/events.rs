@@ -269,6 +269,46 @@ fn a_rising_edge_fires_a_repeating_event_once_each_time_its_condition_starts_to_
     assert_eq!(member, [120, 1080, 2040]);
 }
 
+/// With `falling`, an event fires at the step its condition stops holding, having held at
+/// the step before, and never at the first step; with `rising` too, at either edge. The
+/// other shuttles as in the test above: a spacing of 10 m or more holds from 1 s to 7 s of
+/// each 8 s (7 s itself included), so it stops holding one step after 7 s.
+#[test]
+fn a_falling_edge_fires_when_the_condition_stops_holding() {
+    let shuttle = |t: f64| {
+        let u = t % 8.0;
+        let x = if u < 4.0 {
+            100.0 + 10.0 * u
+        } else {
+            180.0 - 10.0 * u
+        };
+        [car(100.0, 0.0), car(x, 0.0)]
+    };
+    let starts_of = |trigger: &str| -> Vec<u64> {
+        let mut events = engine(&format!(
+            "[[events]]\nname = \"e\"\ntrigger = {{ {trigger} }}\n\
+             action = {{ speed_mps = 5.0, duration_s = 0.5 }}\nrepeat = true"
+        ));
+        run(&mut events, 2880, shuttle)
+            .iter()
+            .filter(|e| e.2 == FiredKind::Started)
+            .map(|e| e.0)
+            .collect()
+    };
+    let far = "spacing_m = 10.0, to = \"other\", rule = \"greater\"";
+    assert_eq!(
+        starts_of(&format!("{far}, falling = true")),
+        [841, 1801, 2761]
+    );
+    assert_eq!(
+        starts_of(&format!("{far}, rising = true, falling = true")),
+        [120, 841, 1080, 1801, 2040, 2761]
+    );
+    // At most 5 m holds at the first step: no edge there; it stops holding past 0.5 s.
+    let near = "spacing_m = 5.0, to = \"other\", falling = true";
+    assert_eq!(starts_of(near), [61, 1021, 1981]);
+}
+
 /// `max_runs` bounds a repeating event's runs; `check` refuses it without `repeat` and
 /// below 2.
 #[test]

@@ -345,10 +345,12 @@ impl Context<'_, '_> {
     /// One `Condition` of a trigger on an event of `owner`, with its delay.
     fn condition(&self, condition: Node, owner: &str) -> Result<TriggerSpec, OscError> {
         let xml = self.xml;
-        let rising = match xml.attr(condition, "conditionEdge")?.as_deref() {
-            Some("none") | None => false,
-            Some("rising") => true,
-            Some(edge) => return Err(xml.at(condition, format!("<Condition conditionEdge=\"{edge}\">: carfollow's events fire when their condition holds (\"none\", \"rising\")"))),
+        let (rising, falling) = match xml.attr(condition, "conditionEdge")?.as_deref() {
+            Some("none") | None => (false, false),
+            Some("rising") => (true, false),
+            Some("falling") => (false, true),
+            Some("risingOrFalling") => (true, true),
+            Some(edge) => return Err(xml.at(condition, format!("<Condition conditionEdge=\"{edge}\">: not an edge (\"none\", \"rising\", \"falling\", \"risingOrFalling\")"))),
         };
         let delay = xml.opt_num(condition, "delay")?.filter(|&d| d != 0.0);
         if delay.is_some_and(|d| d < 0.0) {
@@ -367,6 +369,7 @@ impl Context<'_, '_> {
             None => spec.delay_s = delay,
         }
         spec.rising = rising;
+        spec.falling = falling;
         Ok(spec)
     }
 

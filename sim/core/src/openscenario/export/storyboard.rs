@@ -347,6 +347,7 @@ impl Group {
         let edge = Edge {
             delay: t.delay_s.unwrap_or(0.0),
             rising: t.rising,
+            falling: t.falling,
         };
         let to = t.to.as_deref().map(entity).unwrap_or(super::EGO);
         if let Some(v) = t.time_s {
@@ -534,11 +535,13 @@ fn condition_group(x: &mut XmlOut, inner: impl FnOnce(&mut XmlOut)) {
     x.close();
 }
 
-/// A condition's `delay` (s) and whether its `conditionEdge` is `rising` (else `none`).
+/// A condition's `delay` (s) and its `conditionEdge`: `rising`, `falling`, both
+/// (`risingOrFalling`) or neither (`none`).
 #[derive(Clone, Copy)]
 struct Edge {
     delay: f64,
     rising: bool,
+    falling: bool,
 }
 
 impl Edge {
@@ -546,7 +549,18 @@ impl Edge {
     const LEVEL: Edge = Edge {
         delay: 0.0,
         rising: false,
+        falling: false,
     };
+
+    /// The `conditionEdge` attribute.
+    fn name(self) -> &'static str {
+        match (self.rising, self.falling) {
+            (true, true) => "risingOrFalling",
+            (true, false) => "rising",
+            (false, true) => "falling",
+            (false, false) => "none",
+        }
+    }
 }
 
 /// A `Condition`, with its delay and edge.
@@ -556,7 +570,7 @@ fn condition(x: &mut XmlOut, name: &str, edge: Edge, inner: impl FnOnce(&mut Xml
         &[
             a("name", name),
             n("delay", edge.delay),
-            a("conditionEdge", if edge.rising { "rising" } else { "none" }),
+            a("conditionEdge", edge.name()),
         ],
     );
     inner(x);
