@@ -447,20 +447,7 @@ fn a_distance_between_reference_points_is_a_spacing() {
         as_spacing > as_gap + 0.1,
         "spacing fired at {as_spacing} s, the gap at {as_gap} s"
     );
-    let out = dir.path().join("export");
-    let o = carfollow(&[
-        "export",
-        toml.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-    ]);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    let xosc = std::fs::read_dir(&out)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .find(|p| p.extension().is_some_and(|e| e == "xosc"))
-        .unwrap();
-    let written = std::fs::read_to_string(xosc).unwrap();
+    let (_, written) = export_to(&toml, &dir.path().join("export"));
     assert!(
         written.contains("freespace=\"false\"") && written.contains("value=\"12\""),
         "{written}"
@@ -506,20 +493,7 @@ fn a_headway_between_reference_points_is_measured_on_the_spacing() {
         on_spacing > on_gap + 0.1,
         "on the spacing it fired at {on_spacing} s, on the gap at {on_gap} s"
     );
-    let out = dir.path().join("export");
-    let o = carfollow(&[
-        "export",
-        toml.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-    ]);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    let xosc = std::fs::read_dir(&out)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .find(|p| p.extension().is_some_and(|e| e == "xosc"))
-        .unwrap();
-    let written = std::fs::read_to_string(xosc).unwrap();
+    let (_, written) = export_to(&toml, &dir.path().join("export"));
     let condition = written
         .lines()
         .find(|l| l.contains("<TimeHeadwayCondition"))
@@ -587,20 +561,7 @@ fn a_relative_target_speed_is_a_speed_of_another_vehicle() {
         from_xosc != as_written,
         "the relative speed changed nothing"
     );
-    let out = dir.path().join("export");
-    let o = carfollow(&[
-        "export",
-        toml.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-    ]);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    let xosc = std::fs::read_dir(&out)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .find(|p| p.extension().is_some_and(|e| e == "xosc"))
-        .unwrap();
-    let written = std::fs::read_to_string(&xosc).unwrap();
+    let (xosc, written) = export_to(&toml, &dir.path().join("export"));
     let target = written
         .lines()
         .find(|l| l.contains("<RelativeTargetSpeed"))
@@ -646,20 +607,7 @@ fn falling_edges_are_imported_and_exported() {
             frames_of(&path, &dir.path().join("x"), &set) == from_toml,
             "{edge}: the imported scenario runs differently"
         );
-        let out = dir.path().join("export");
-        let o = carfollow(&[
-            "export",
-            toml.to_str().unwrap(),
-            "-o",
-            out.to_str().unwrap(),
-        ]);
-        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-        let xosc = std::fs::read_dir(&out)
-            .unwrap()
-            .map(|e| e.unwrap().path())
-            .find(|p| p.extension().is_some_and(|e| e == "xosc"))
-            .unwrap();
-        let written = std::fs::read_to_string(&xosc).unwrap();
+        let (xosc, written) = export_to(&toml, &dir.path().join("export"));
         assert!(
             written.contains(&format!("conditionEdge=\"{edge}\"")),
             "{edge}: {written}"

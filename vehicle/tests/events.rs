@@ -221,6 +221,32 @@ fn repeat_fires_again_once_the_action_has_ended() {
     assert_eq!(starts("once"), [120]);
 }
 
+/// The other shuttling between stations 100 and 140 at 10 m/s (4 s each way) by me,
+/// standing at 100: the spacing is 10 t for t in [0, 4) of each 8 s period, then 80 − 10 t.
+fn shuttle(t: f64) -> [VehicleView; 2] {
+    let u = t % 8.0;
+    let x = if u < 4.0 {
+        100.0 + 10.0 * u
+    } else {
+        180.0 - 10.0 * u
+    };
+    [car(100.0, 0.0), car(x, 0.0)]
+}
+
+/// The steps at which a repeating 0.5 s event with `trigger` starts over 24 s by the
+/// [`shuttle`].
+fn shuttle_starts(trigger: &str) -> Vec<u64> {
+    let mut events = engine(&format!(
+        "[[events]]\nname = \"e\"\ntrigger = {{ {trigger} }}\n\
+         action = {{ speed_mps = 5.0, duration_s = 0.5 }}\nrepeat = true"
+    ));
+    run(&mut events, 2880, shuttle)
+        .iter()
+        .filter(|e| e.2 == FiredKind::Started)
+        .map(|e| e.0)
+        .collect()
+}
+
 /// With `rising`, a repeating event fires again only once its condition has stopped holding
 /// and holds again: the other shuttles between stations 100 and 140 (40 m each way at
 /// 10 m/s, 4 s), so a spacing of 10 m or more holds from 1 s to 7 s of each 8 s, and a
@@ -230,83 +256,44 @@ fn repeat_fires_again_once_the_action_has_ended() {
 /// `any`, the edge is the group's.
 #[test]
 fn a_rising_edge_fires_a_repeating_event_once_each_time_its_condition_starts_to_hold() {
-    let shuttle = |t: f64| {
-        let u = t % 8.0;
-        let x = if u < 4.0 {
-            100.0 + 10.0 * u
-        } else {
-            180.0 - 10.0 * u
-        };
-        [car(100.0, 0.0), car(x, 0.0)]
-    };
-    let starts_of = |trigger: &str| -> Vec<u64> {
-        let mut events = engine(&format!(
-            "[[events]]\nname = \"e\"\ntrigger = {{ {trigger} }}\n\
-             action = {{ speed_mps = 5.0, duration_s = 0.5 }}\nrepeat = true"
-        ));
-        run(&mut events, 2880, shuttle)
-            .iter()
-            .filter(|e| e.2 == FiredKind::Started)
-            .map(|e| e.0)
-            .collect()
-    };
-    let level = starts_of("spacing_m = 10.0, to = \"other\", rule = \"greater\"");
+    let level = shuttle_starts("spacing_m = 10.0, to = \"other\", rule = \"greater\"");
     // 1 s to 7 s: 0.5 s runs back to back, 61 steps apart, 12 of them a period.
     assert_eq!(level.len(), 3 * 12, "{level:?}");
-    let rising = starts_of("spacing_m = 10.0, to = \"other\", rule = \"greater\", rising = true");
+    let rising =
+        shuttle_starts("spacing_m = 10.0, to = \"other\", rule = \"greater\", rising = true");
     assert_eq!(rising, [120, 1080, 2040]);
     // At most 5 m, holding at the first step: fires there, then at each new start of
     // holding (7.5 s into each period).
-    let at_once = starts_of("spacing_m = 5.0, to = \"other\", rising = true");
+    let at_once = shuttle_starts("spacing_m = 5.0, to = \"other\", rising = true");
     assert_eq!(at_once, [0, 900, 1860, 2820]);
-    let group = starts_of(
+    let group = shuttle_starts(
         "any = [{ spacing_m = 10.0, to = \"other\", rule = \"greater\" }, { time_s = 100.0 }], rising = true",
     );
     assert_eq!(group, [120, 1080, 2040]);
-    let member = starts_of(
+    let member = shuttle_starts(
         "any = [{ spacing_m = 10.0, to = \"other\", rule = \"greater\", rising = true }, { time_s = 100.0 }]",
     );
     assert_eq!(member, [120, 1080, 2040]);
 }
 
 /// With `falling`, an event fires at the step its condition stops holding, having held at
-/// the step before, and never at the first step; with `rising` too, at either edge. The
-/// other shuttles as in the test above: a spacing of 10 m or more holds from 1 s to 7 s of
+/// the step before, and never at the first step; with `rising` too, at either edge. By the
+/// [`shuttle`], a spacing of 10 m or more holds from 1 s to 7 s of
 /// each 8 s (7 s itself included), so it stops holding one step after 7 s.
 #[test]
 fn a_falling_edge_fires_when_the_condition_stops_holding() {
-    let shuttle = |t: f64| {
-        let u = t % 8.0;
-        let x = if u < 4.0 {
-            100.0 + 10.0 * u
-        } else {
-            180.0 - 10.0 * u
-        };
-        [car(100.0, 0.0), car(x, 0.0)]
-    };
-    let starts_of = |trigger: &str| -> Vec<u64> {
-        let mut events = engine(&format!(
-            "[[events]]\nname = \"e\"\ntrigger = {{ {trigger} }}\n\
-             action = {{ speed_mps = 5.0, duration_s = 0.5 }}\nrepeat = true"
-        ));
-        run(&mut events, 2880, shuttle)
-            .iter()
-            .filter(|e| e.2 == FiredKind::Started)
-            .map(|e| e.0)
-            .collect()
-    };
     let far = "spacing_m = 10.0, to = \"other\", rule = \"greater\"";
     assert_eq!(
-        starts_of(&format!("{far}, falling = true")),
+        shuttle_starts(&format!("{far}, falling = true")),
         [841, 1801, 2761]
     );
     assert_eq!(
-        starts_of(&format!("{far}, rising = true, falling = true")),
+        shuttle_starts(&format!("{far}, rising = true, falling = true")),
         [120, 841, 1080, 1801, 2040, 2761]
     );
     // At most 5 m holds at the first step: no edge there; it stops holding past 0.5 s.
     let near = "spacing_m = 5.0, to = \"other\", falling = true";
-    assert_eq!(starts_of(near), [61, 1021, 1981]);
+    assert_eq!(shuttle_starts(near), [61, 1021, 1981]);
 }
 
 /// `max_runs` bounds a repeating event's runs; `check` refuses it without `repeat` and

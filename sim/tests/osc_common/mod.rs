@@ -52,6 +52,24 @@ pub fn import_to(file: &Path, toml: &Path) -> String {
     std::fs::read_to_string(toml).unwrap()
 }
 
+/// `carfollow export TOML -o OUT`, which must succeed: the `.xosc` it wrote and its text.
+pub fn export_to(toml: &Path, out: &Path) -> (PathBuf, String) {
+    let o = carfollow(&[
+        "export",
+        toml.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let xosc = std::fs::read_dir(out)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .find(|p| p.extension().is_some_and(|e| e == "xosc"))
+        .unwrap();
+    let text = std::fs::read_to_string(&xosc).unwrap();
+    (xosc, text)
+}
+
 /// A run's `frames.csv`, its rows read by column name.
 pub struct Frames {
     pub header: Vec<String>,
