@@ -145,24 +145,7 @@ fn events<'a, 'b>(
                     .collect::<Result<Vec<_>, _>>()?;
                 for maneuver in children(group, "Maneuver") {
                     let events: Vec<_> = children(maneuver, "Event").collect();
-                    let mut overrides = false;
-                    for e in &events {
-                        let priority = xml.attr(*e, "priority")?;
-                        overrides |= priority.as_deref() != Some("parallel");
-                    }
-                    // Events of one kind alone end each other's actions here as well.
-                    let has = |tags: &[&str]| {
-                        events
-                            .iter()
-                            .any(|e| e.descendants().any(|d| tags.contains(&d.tag_name().name())))
-                    };
-                    let both_kinds = has(&["SpeedAction", "SpeedProfileAction"])
-                        && has(&["LaneChangeAction", "LaneOffsetAction"]);
-                    if events.len() > 1
-                        && both_kinds
-                        && overrides
-                        && owners.iter().any(|o| o != ego)
-                    {
+                    if owners.iter().any(|o| o != ego) && overridden(xml, &events)? {
                         side_by_side.push(xml.req(maneuver, "name")?);
                     }
                     out.extend(events.into_iter().map(|e| (e, owners.clone())));
@@ -171,6 +154,26 @@ fn events<'a, 'b>(
         }
     }
     Ok((out, side_by_side))
+}
+
+/// Whether a maneuver's `events` hold speed and lateral actions, one event at least with
+/// the priority `override` (or none given): the standard would have a starting event end
+/// the others, where carfollow ends only the running action of the kind it starts (events
+/// of one kind alone end each other's actions here as well).
+fn overridden(xml: &Xml, events: &[Node]) -> Result<bool, OscError> {
+    let mut overrides = false;
+    for e in events {
+        overrides |= xml.attr(*e, "priority")?.as_deref() != Some("parallel");
+    }
+    let has = |tags: &[&str]| {
+        events
+            .iter()
+            .any(|e| e.descendants().any(|d| tags.contains(&d.tag_name().name())))
+    };
+    Ok(events.len() > 1
+        && overrides
+        && has(&["SpeedAction", "SpeedProfileAction"])
+        && has(&["LaneChangeAction", "LaneOffsetAction"]))
 }
 
 /// Checks an act's triggers: it has no stop trigger that can fire (an empty one, with no
