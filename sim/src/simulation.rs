@@ -8,7 +8,9 @@ use crate::overlay::draw_frame_overlay;
 use crate::recording::{
     LiveOptions, RecordError, Recorder, RecorderOptions, ReplaySetup, MCAP_FILE,
 };
-use crate::report::{write_junit, JunitScenario, OutputOptions, ReportError, RunOutputs, Summary};
+use crate::report::{
+    write_junit, EndedBy, JunitScenario, OutputOptions, ReportError, RunOutputs, Summary,
+};
 use sim_core::{
     ClosedLoop, ControllerChoice, FrameOutput, FrameRecord, LoopError, LoopOptions, LoopTiming,
     Plan, Scenario, TrackerChoice,
@@ -246,9 +248,12 @@ impl Simulation {
         self.looped.set_whole_frames(on || self.video.0);
     }
 
-    /// Whether the run is over (its duration run, or stopped by an error).
+    /// Whether the run is over (its duration run, ended by an event's `end_run`, or
+    /// stopped by an error).
     pub fn done(&self) -> bool {
-        self.failed || self.looped.frame() >= self.looped.frames()
+        self.failed
+            || self.looped.frame() >= self.looped.frames()
+            || self.looped.run_ended().is_some()
     }
 
     /// The last frame run.
@@ -291,8 +296,10 @@ impl Simulation {
         let wall_s = self.wall_s();
         let timing = Some(self.timing());
         let s = &self.scenario;
+        let ended_by = self.ended_by();
         let summary = match self.outputs.take() {
-            Some(outputs) => {
+            Some(mut outputs) => {
+                outputs.set_ended_by(ended_by);
                 // The loop (its renderers, the scene, the physics) goes first, so that the
                 // plots are drawn in the memory it held, not on top of it.
                 drop(self.looped);
@@ -328,9 +335,15 @@ impl Simulation {
         for r in &self.kept {
             outputs.record(r)?;
         }
+        outputs.set_ended_by(self.ended_by());
         let summary = outputs.finish(&s.name, s.seed, self.wall_s(), Some(self.timing()))?;
         write_junit(dir.join("junit.xml"), &[JunitScenario::Ran(&summary)])?;
         Ok(summary)
+    }
+
+    /// The event that ended the run before its duration, if one has.
+    fn ended_by(&self) -> Option<EndedBy> {
+        self.looped.run_ended().map(EndedBy::of)
     }
 
     /// The summary of the frames kept, written nowhere.
@@ -340,6 +353,7 @@ impl Simulation {
         summary.timing = timing;
         summary.resolved_scenario = Some(s.resolved_json());
         summary.overrides = s.overrides.clone();
+        summary.ended_by = self.ended_by();
         summary.tracker = Some(self.looped.tracker_name());
         summary.controller = Some(self.looped.controller_name());
         summary

@@ -394,6 +394,12 @@ pub struct ActionSpec {
     /// Stop (must be `true`), at `decel_mps2`, and stand still.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub stop: Option<bool>,
+    /// End the run (must be `true`): the scenario's end when its trigger holds, before
+    /// `duration_s` (OpenSCENARIO's `StopTrigger`). The frame whose physics step it starts
+    /// at is the run's last; the outputs cover the run up to there, and `summary.json`'s
+    /// `ended_by` names the event.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub end_run: Option<bool>,
     /// How long a lane change or speed change takes, s.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schemars(extend("exclusiveMinimum" = 0.0, "maximum" = 1e7))]
@@ -565,6 +571,8 @@ pub(crate) enum Action {
     },
     /// Linear to each speed in turn, m/s, each with its timing.
     Profile(Vec<(f64, Timing)>),
+    /// The run's end: starts and ends at once, moving nothing.
+    EndRun,
 }
 
 /// A speed change's target relative to another vehicle's speed.

@@ -434,6 +434,8 @@ pub struct Events {
     /// The lane the vehicle is in or changing to (its route's lane until a lane change):
     /// what an offset is from.
     lane_now: u32,
+    /// The step at which an `end_run` action first started, and its event.
+    run_ended: Option<(Step, usize)>,
 }
 
 /// Whole steps in `seconds`, rounded.
@@ -510,6 +512,7 @@ impl Events {
             speed_now: None,
             lateral_now_m: 0.0,
             lane_now: lanes.route_lane,
+            run_ended: None,
         })
     }
 
@@ -532,6 +535,12 @@ impl Events {
     /// action has started; then the action's speed, held at its end).
     pub fn speed_override(&self) -> Option<SpeedOverride> {
         self.speed_now
+    }
+
+    /// The step at which an event's `end_run` action started, ending the run, and that
+    /// event's index (`None` while none has).
+    pub fn run_ended(&self) -> Option<(Step, usize)> {
+        self.run_ended
     }
 
     /// The lateral offset from the route the last update asked for, m (positive left; 0
@@ -644,6 +653,18 @@ impl Events {
         let action = self.events[i].event.action.clone();
         let mut follow = None;
         let (slot, from, to, timing, shape) = match action {
+            Action::EndRun => {
+                // The run ends at this step: the action starts and ends at once.
+                self.run_ended.get_or_insert((now, i));
+                fired.push(Fired {
+                    step: now,
+                    event: i,
+                    name: self.events[i].event.name.clone(),
+                    kind: FiredKind::Started,
+                });
+                Self::end(&mut self.events, &mut self.ended, i, now, fired);
+                return;
+            }
             Action::Profile(changes) => {
                 let (to, timing) = changes[0];
                 (

@@ -35,7 +35,9 @@ mod target;
 mod traffic;
 
 pub use child::{Child, RASTER_THREADS_ENV};
-pub use closed_loop::{ClosedLoop, FrameOutput, FramePoses, LoopError, LoopOptions, LoopTiming};
+pub use closed_loop::{
+    ClosedLoop, FrameOutput, FramePoses, LoopError, LoopOptions, LoopTiming, RunEnd,
+};
 pub use driven_path::DrivenPath;
 pub use plan::{lead_body_size_m, planning_key, render_options, Plan};
 pub use plugin::{

@@ -221,7 +221,10 @@ impl Episode {
         Ok(Outcome {
             reward: reward(r, self.gap_band_m, smooth),
             terminated,
-            truncated: !terminated && self.looped.frame() >= self.looped.frames(),
+            // The scenario's end, by its duration or by an event's `end_run`.
+            truncated: !terminated
+                && (self.looped.frame() >= self.looped.frames()
+                    || self.looped.run_ended().is_some()),
         })
     }
 }

@@ -320,6 +320,15 @@ fn run_one(plan: Plan, backend: Backend, dir: &Path, args: &RunArgs) -> anyhow::
             ));
         }
     }
+    if let Some(end) = sim.looped().run_ended() {
+        progress.say(&format!(
+            "{}: at t = {:.2} s the event `{}` of `{}` ended the run (end_run)",
+            scenario.name,
+            end.step.seconds(),
+            end.event,
+            end.vehicle
+        ));
+    }
     progress.done();
     let (summary, recording) = sim.finish().map_err(incomplete)?;
     if let Some(path) = recording {

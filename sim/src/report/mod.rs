@@ -19,7 +19,7 @@ pub use junit::{iso8601_utc, junit_xml, write_junit, JunitScenario};
 pub use outputs::{OutputOptions, RunOutputs, VIDEO_OUTPUTS};
 pub use plots::{write_plots, PlotTrace, PLOT_FILES};
 pub use summary::{
-    CollisionTime, Criterion, EventTime, GapStats, LateralError, RangeError, Summary,
+    CollisionTime, Criterion, EndedBy, EventTime, GapStats, LateralError, RangeError, Summary,
     SummaryBuilder, TrafficSummary, SCHEMA_VERSION,
 };
 pub use video::{VideoWriter, GIF_DELAYS_CS};

@@ -22,6 +22,7 @@ use std::path::{Path, PathBuf};
 use image::RgbImage;
 
 use super::plots::PlotTrace;
+use super::EndedBy;
 use super::{write_plots, FramesCsv, ReportError, Summary, SummaryBuilder, VideoWriter};
 use sim_core::LoopTiming;
 use sim_core::{Expect, FrameRecord};
@@ -76,6 +77,8 @@ pub struct RunOutputs {
     provenance: Option<(serde_json::Value, Vec<String>)>,
     /// The tracker's and the controller's names, for `summary.json`.
     components: Option<(String, String)>,
+    /// The event that ended the run early, for `summary.json`.
+    ended_by: Option<EndedBy>,
 }
 
 /// Which stills are still to be written.
@@ -148,6 +151,7 @@ impl RunOutputs {
             },
             provenance: None,
             components: None,
+            ended_by: None,
         })
     }
 
@@ -155,6 +159,11 @@ impl RunOutputs {
     /// overrides applied and defaults filled in) and the `--set` overrides, in order.
     pub fn set_provenance(&mut self, resolved: serde_json::Value, overrides: Vec<String>) {
         self.provenance = Some((resolved, overrides));
+    }
+
+    /// Names the event that ended the run before its duration, for `summary.json`.
+    pub fn set_ended_by(&mut self, ended_by: Option<EndedBy>) {
+        self.ended_by = ended_by;
     }
 
     /// Names the tracker and the controller that ran, for `summary.json`.
@@ -248,6 +257,7 @@ impl RunOutputs {
             summary.tracker = Some(tracker.clone());
             summary.controller = Some(controller.clone());
         }
+        summary.ended_by = self.ended_by.clone();
         summary.write_json(self.dir.join("summary.json"))?;
         if let Some(trace) = &self.plot_trace {
             write_plots(&self.dir, scenario, trace, expect)?;

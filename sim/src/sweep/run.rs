@@ -92,6 +92,7 @@ pub fn run_point(
         wall_s,
     );
     summary.timing = Some(looped.timing());
+    summary.ended_by = looped.run_ended().map(crate::report::EndedBy::of);
     summary.tracker = Some(looped.tracker_name());
     summary.controller = Some(looped.controller_name());
     // What this point changed of its scenario file: the sweep's `set`, `--set`, its seed and

@@ -1,5 +1,5 @@
-//! An event's action checked: exactly one of a lane change, a speed change and a stop,
-//! with the timing and shape it takes.
+//! An event's action checked: exactly one of a lane change, a speed change, a stop and the
+//! run's end, with the timing and shape it takes.
 
 use super::MAX_PROFILE_ENTRIES;
 use super::{check, invalid, Action, ActionSpec, RelativeSpeed, Shape, Timing, MAX_KEY, MAX_LANES};
@@ -19,6 +19,32 @@ fn refuse(i: usize, what: &str, fields: &[(&str, bool)]) -> Result<(), VehicleEr
     }
 }
 
+/// Event `i`'s `end_run` action (`end`, its value), checked: `true`, with nothing else.
+fn end_run_action(i: usize, a: &ActionSpec, end: bool) -> Result<Action, VehicleError> {
+    if !end {
+        return Err(invalid(
+            i,
+            "action.end_run",
+            "= false: write end_run = true, or leave the event out".into(),
+        ));
+    }
+    refuse(
+        i,
+        "the run's end (it takes no time and no shape)",
+        &[
+            ("duration_s", a.duration_s.is_some()),
+            ("lateral_speed_mps", a.lateral_speed_mps.is_some()),
+            ("lateral_accel_mps2", a.lateral_accel_mps2.is_some()),
+            ("rate_mps2", a.rate_mps2.is_some()),
+            ("decel_mps2", a.decel_mps2.is_some()),
+            ("shape", a.shape.is_some()),
+            ("speed_of", a.speed_of.is_some()),
+            ("continuous", a.continuous),
+        ],
+    )?;
+    Ok(Action::EndRun)
+}
+
 /// Event `i`'s action, checked.
 pub(super) fn action(i: usize, a: &ActionSpec) -> Result<Action, VehicleError> {
     let kinds = [
@@ -27,15 +53,19 @@ pub(super) fn action(i: usize, a: &ActionSpec) -> Result<Action, VehicleError> {
         a.speed_mps.is_some() || a.speed_factor.is_some(),
         a.profile.is_some(),
         a.stop.is_some(),
+        a.end_run.is_some(),
     ];
     if kinds.iter().filter(|&&k| k).count() != 1 {
         return Err(invalid(
             i,
             "action",
-            "must give exactly one of lane, offset_m, speed_mps (or speed_factor), profile and \
-             stop"
+            "must give exactly one of lane, offset_m, speed_mps (or speed_factor), profile, \
+             stop and end_run"
                 .into(),
         ));
+    }
+    if let Some(end) = a.end_run {
+        return end_run_action(i, a, end);
     }
     if a.speed_mps.is_none() && a.speed_factor.is_none() {
         refuse(

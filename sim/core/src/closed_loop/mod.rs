@@ -20,6 +20,7 @@ mod two_in_flight;
 
 pub use error::LoopError;
 pub use renderers::LoopOptions;
+pub use traffic_drive::RunEnd;
 
 use capture::{renders_ahead, xz};
 use drive::{Chase, Drive};
@@ -151,7 +152,7 @@ impl ClosedLoop {
     /// 5, or the next frame's 2 beside this one's 3, but never so that any result differs
     /// from running them in order (see `schedule`).
     pub fn step(&mut self) -> Result<Option<FrameOutput>, LoopError> {
-        if self.frame >= self.frames {
+        if self.frame >= self.frames || self.ended_before(self.frame) {
             return Ok(None);
         }
         let started = Instant::now();
@@ -383,6 +384,28 @@ impl ClosedLoop {
     /// say. (The physics may run a frame ahead of the frames returned.)
     pub fn lead_at_road_end_s(&self) -> Option<f64> {
         self.drive.lead_at_road_end.map(|step| step.seconds())
+    }
+
+    /// The event whose action ended the run before its duration (`end_run`), once the
+    /// frames returned have reached the frame whose physics it started in (`None` while
+    /// none has). That frame is the run's last.
+    pub fn run_ended(&self) -> Option<&RunEnd> {
+        self.drive
+            .traffic
+            .as_ref()
+            .and_then(|t| t.ended.as_ref())
+            .filter(|_| self.ended_before(self.frame))
+    }
+
+    /// Whether an event ended the run in the physics of a frame before `frame` (the
+    /// physics may have run on past it; what it did after is not the run's).
+    fn ended_before(&self, frame: u64) -> bool {
+        let per_frame = u64::from(vehicle::STEPS_PER_FRAME);
+        self.drive
+            .traffic
+            .as_ref()
+            .and_then(|t| t.ended.as_ref())
+            .is_some_and(|e| e.step.0 / per_frame < frame)
     }
 
     /// The tracker's name, for reports: the paper's with its mode, or the plug-in's own.

@@ -24,6 +24,19 @@ pub(super) struct TrafficDrive {
     contacts: Contacts,
     /// Events started and ended since the log was last taken.
     events: Vec<String>,
+    /// The first event whose action ended the run, if one has.
+    pub(super) ended: Option<RunEnd>,
+}
+
+/// An event that ended the run (its action `end_run`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct RunEnd {
+    /// The physics step its action started at.
+    pub step: Step,
+    /// The vehicle whose event it is.
+    pub vehicle: String,
+    /// The event's name.
+    pub event: String,
 }
 
 impl TrafficDrive {
@@ -39,6 +52,7 @@ impl TrafficDrive {
             lead_events: planned.lead_events,
             road: planned.road,
             events: Vec::new(),
+            ended: None,
         }
     }
 
@@ -81,6 +95,7 @@ impl TrafficDrive {
             lead.set_lateral_offset_m(self.lead_events.lateral_offset_m() as f32);
             lead.set_speed_override(self.lead_events.speed_override());
             self.log(1, fired);
+            self.note_end(1, self.lead_events.run_ended());
         }
         let lead_controls = lead.update(now, lead_state);
         for k in 0..self.actors.len() {
@@ -88,8 +103,28 @@ impl TrafficDrive {
             let (controls, fired) = self.actors[k].update(now, &states[me], &view, me);
             world.set_controls(self.ids[me], controls);
             self.log(me, fired);
+            self.note_end(me, self.actors[k].events().run_ended());
         }
         lead_controls
+    }
+
+    /// Notes that vehicle `me`'s event `ended` (step, index) ended the run, unless one did
+    /// before (the first in the list's order, at one step).
+    fn note_end(&mut self, me: usize, ended: Option<(Step, usize)>) {
+        if self.ended.is_some() {
+            return;
+        }
+        if let Some((step, i)) = ended {
+            let events = match me {
+                1 => &self.lead_events,
+                _ => self.actors[me - 2].events(),
+            };
+            self.ended = Some(RunEnd {
+                step,
+                vehicle: self.vehicles.members()[me].name.clone(),
+                event: events.name(i).to_string(),
+            });
+        }
     }
 
     /// Checks the world after a step: whether the chase touches any other vehicle.

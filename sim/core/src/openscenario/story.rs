@@ -11,6 +11,7 @@ use std::collections::BTreeMap;
 use vehicle::{EventSpec, Rule, TriggerSpec};
 
 mod actions;
+mod stop;
 
 /// What the stories give: each vehicle's events (by its name in the file), and what is
 /// read and not applied (the ego's actions).
@@ -37,13 +38,15 @@ struct Found {
     name: String,
 }
 
-/// Reads every `Story` of the storyboard.
+/// Reads every `Story` of the storyboard, and with `read_stop` the `StopTrigger`'s groups
+/// other than one simulation time each, as events that end the run ([`stop`]).
 pub fn read_stories(
     xml: &Xml,
     names: &Names,
     init: &Init,
     road: &RoadLanes,
     ego: &str,
+    read_stop: bool,
 ) -> Result<Stories, OscError> {
     let root = xml.doc.root_element();
     let Some(storyboard) = child(root, "Storyboard") else {
@@ -94,6 +97,9 @@ pub fn read_stories(
             let specs = context.event(event, &owner)?;
             stories.events.entry(owner).or_default().extend(specs);
         }
+    }
+    if read_stop {
+        context.stop_events(storyboard, ego, &mut taken, &mut stories)?;
     }
     Ok(stories)
 }
@@ -720,7 +726,8 @@ impl Context<'_, '_> {
                 Rule::Greater => Rule::Less,
                 same => same,
             };
-            (subject, -value, turned)
+            // `0.0 - v`, not `-v`: a value of 0 stays 0, not −0.
+            (subject, 0.0 - value, turned)
         } else {
             return Err(xml.at(e, format!("<RelativeSpeedCondition> between `{subject}` and `{other}` on an event of `{owner}`: carfollow's triggers are about the vehicle the event moves")));
         };

@@ -8,6 +8,7 @@ use super::story::{read_stories, Names};
 use super::world::ReferenceLine;
 use super::xml::{child, children, elements, only_element, Xml};
 use super::{ImportOptions, Imported};
+use roxmltree::Node;
 use std::path::{Component, Path, PathBuf};
 
 /// The lead's target: the NIST board, shipped with carfollow.
@@ -189,42 +190,50 @@ fn ego_ignored(actions: usize, controlled: bool, init_lines: &[u32]) -> Option<S
     }
 }
 
-/// The scenario's duration: its `StopTrigger`'s simulation time (the earliest of its
-/// condition groups, each a `SimulationTimeCondition`).
-fn duration(xml: &Xml) -> Result<f64, OscError> {
+/// How long a run whose `StopTrigger` gives no simulation time may last at the most, s:
+/// it ends when one of its conditions holds, or then.
+pub const STOP_LIMIT_S: f64 = 120.0;
+
+/// The `StopTrigger`'s condition groups that are one `SimulationTimeCondition` each: the
+/// time of the earliest (its value and delay), the scenario's duration. The other groups
+/// end the run as events do ([`super::story::read_stories`]); `None` when every group is
+/// one of those.
+fn duration(xml: &Xml) -> Result<Option<f64>, OscError> {
     let root = xml.doc.root_element();
     let stop = child(root, "Storyboard").and_then(|s| child(s, "StopTrigger"));
     let Some(stop) = stop.filter(|s| elements(*s).next().is_some()) else {
         return Err(xml.at(root, "<Storyboard> has no <StopTrigger>: give the run's length with --set duration_s=SECONDS"));
     };
-    let mut earliest = f64::INFINITY;
-    for group in children(stop, "ConditionGroup") {
-        let conditions: Vec<_> = children(group, "Condition").collect();
-        let [condition] = conditions.as_slice() else {
-            return Err(xml.at(group, format!("<StopTrigger> group of {} conditions: carfollow ends a run at a time (or give it with --set duration_s=SECONDS)", conditions.len())));
-        };
-        let time = child(*condition, "ByValueCondition")
-            .map(|v| only_element(xml, v))
-            .transpose()?
-            .filter(|c| c.has_tag_name("SimulationTimeCondition"));
-        let Some(time) = time else {
-            let what = elements(*condition)
-                .next()
-                .and_then(|c| elements(c).next())
-                .unwrap_or(*condition);
-            return Err(xml.unsupported(
-                what,
-                "stop condition",
-                "carfollow ends a run at a time; or give it with --set duration_s=SECONDS",
-            ));
-        };
-        let delay = xml.opt_num(*condition, "delay")?.unwrap_or(0.0).max(0.0);
-        earliest = earliest.min(xml.num(time, "value")?.max(0.0) + delay);
-    }
-    if !earliest.is_finite() {
+    let groups: Vec<_> = children(stop, "ConditionGroup").collect();
+    if groups.is_empty() {
         return Err(xml.at(stop, "<StopTrigger> has no <ConditionGroup>: give the run's length with --set duration_s=SECONDS"));
     }
+    let mut earliest: Option<f64> = None;
+    for group in groups {
+        if let Some((condition, time)) = time_only(xml, group)? {
+            let delay = xml.opt_num(condition, "delay")?.unwrap_or(0.0).max(0.0);
+            let at = xml.num(time, "value")?.max(0.0) + delay;
+            earliest = Some(earliest.map_or(at, |e| e.min(at)));
+        }
+    }
     Ok(earliest)
+}
+
+/// When `group` (a `ConditionGroup`) is one `SimulationTimeCondition` and nothing else: its
+/// `Condition` and that element.
+pub(super) fn time_only<'a, 'b>(
+    xml: &Xml,
+    group: Node<'a, 'b>,
+) -> Result<Option<(Node<'a, 'b>, Node<'a, 'b>)>, OscError> {
+    let conditions: Vec<_> = children(group, "Condition").collect();
+    let [condition] = conditions.as_slice() else {
+        return Ok(None);
+    };
+    let time = child(*condition, "ByValueCondition")
+        .map(|v| only_element(xml, v))
+        .transpose()?
+        .filter(|c| c.has_tag_name("SimulationTimeCondition"));
+    Ok(time.map(|t| (*condition, t)))
 }
 
 /// `path` relative to the folder `base` (both made absolute; `..` where they part).
@@ -416,7 +425,8 @@ pub fn scenario(
     }
     let lead = choose_lead(xml, vehicles, &init, ego, options.lead.as_deref())?;
     let names = carfollow_names(vehicles, ego, &lead);
-    let stories = read_stories(xml, &names, &init, &road.lanes, ego)?;
+    let read_stop = options.duration_s.is_none();
+    let stories = read_stories(xml, &names, &init, &road.lanes, ego, read_stop)?;
     let speed = |name: &str| init.speed_mps.get(name).copied().unwrap_or(0.0);
     let at_ego: Placed = init.placed[ego];
     let at_lead: Placed = init.placed[&lead];
@@ -459,7 +469,17 @@ pub fn scenario(
     let far = start_gap(xml, line, [ego, &lead], gap_m, ego_speed, &mut warnings)?;
     let duration_s = match options.duration_s {
         Some(d) => d,
-        None => duration(xml)?,
+        None => match duration(xml)? {
+            Some(d) => d,
+            None => {
+                warnings.push(format!(
+                    "<StopTrigger> gives no simulation time: the run ends when one of its \
+                     conditions holds, or at {STOP_LIMIT_S} s (give another limit with --set \
+                     duration_s=SECONDS)"
+                ));
+                STOP_LIMIT_S
+            }
+        },
     };
     if (ego_speed - speed(&lead)).abs() > 1e-9 && ego_speed < 0.5 {
         warnings.push(format!(

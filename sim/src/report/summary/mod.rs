@@ -86,6 +86,10 @@ pub struct Summary {
     pub duration_s: f64,
     /// Number of frames recorded.
     pub frames: u64,
+    /// The event that ended the run before the scenario's `duration_s` (an `end_run`
+    /// action: OpenSCENARIO's `StopTrigger`); left out when the run went its whole length.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ended_by: Option<EndedBy>,
     /// Every checked criterion passed (and at least one frame was recorded).
     pub passed: bool,
     /// One sentence per failed criterion, with its value and its limit.
@@ -171,6 +175,29 @@ pub struct Summary {
     /// in (left out when the caller did not give it).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub resolved_scenario: Option<serde_json::Value>,
+}
+
+/// The event that ended a run early.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct EndedBy {
+    /// The vehicle whose event it is.
+    pub vehicle: String,
+    /// The event's name.
+    pub event: String,
+    /// When its action started, seconds: the run's last frame is the one whose physics
+    /// holds that step.
+    pub t_s: f64,
+}
+
+impl EndedBy {
+    /// The summary's account of the loop's `end`.
+    pub fn of(end: &sim_core::RunEnd) -> EndedBy {
+        EndedBy {
+            vehicle: end.vehicle.clone(),
+            event: end.event.clone(),
+            t_s: end.step.seconds(),
+        }
+    }
 }
 
 /// Time lost by the ground truth, by cause (see [`LossCause`]), seconds.

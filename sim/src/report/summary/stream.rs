@@ -436,6 +436,7 @@ impl SummaryBuilder {
             wall_s,
             realtime_factor: (wall_s > 0.0).then(|| duration_s / wall_s),
             timing: None,
+            ended_by: None,
         }
     }
 }

@@ -12,7 +12,8 @@
 //!   the condition carfollow's trigger is (`SimulationTime`, `TraveledDistance`,
 //!   `RelativeDistance`, `TimeHeadway`, `TimeToCollision`, `StoryboardElementState`, with
 //!   its `delay`), whose action a `SpeedAction` or a `LaneChangeAction`;
-//! - the `StopTrigger` is the duration.
+//! - the `StopTrigger` is the duration, and a condition group for each event whose action
+//!   ends the run (`end_run`), its trigger's conditions about that event's vehicle.
 //!
 //! What the standard has no element for (the camera, the tracker, the chase's controller,
 //! the loop, the scenery, the sensor, `[expect]`), and whatever the elements above do not
@@ -106,6 +107,7 @@ pub fn write_files(scenario: &Scenario, xodr_file: &str, carried: &[Carried]) ->
     story.write(&mut x);
     x.open("StopTrigger", &[]);
     storyboard::time_condition(&mut x, "end", scenario.duration_s, "greaterThan");
+    story.write_stops(&mut x);
     x.close();
     x.close();
     ExportedFiles {

@@ -33,9 +33,12 @@ struct ProfileStep {
     distance: bool,
 }
 
-/// The story: the lead's maneuver group and each actor's.
+/// The story: the lead's maneuver group and each actor's; and the events that end the
+/// run, which the `StopTrigger` holds.
 pub struct Story {
     groups: Vec<Group>,
+    /// Each vehicle's events whose action is `end_run` (a group of them alone).
+    stops: Vec<Group>,
 }
 
 impl Story {
@@ -64,12 +67,35 @@ impl Story {
         let inner_lanes = crate::opendrive::inner_lanes(&s.route);
         let steps = (s.duration_s * f64::from(vehicle::PHYSICS_HZ)).ceil();
         let unlimited_runs = (steps + 1.0).min(f64::from(u32::MAX)) as u32;
+        let mut stops = Vec::new();
         for g in &mut groups {
             g.inner_lanes = inner_lanes;
             g.unlimited_runs = unlimited_runs;
+            let (ends, events) = std::mem::take(&mut g.events)
+                .into_iter()
+                .partition(|(_, e)| e.action.end_run == Some(true));
+            g.events = events;
+            stops.push(Group {
+                entity: g.entity.clone(),
+                profile: Vec::new(),
+                events: ends,
+                inner_lanes,
+                unlimited_runs,
+            });
         }
         groups.retain(|g| !g.profile.is_empty() || !g.events.is_empty());
-        Story { groups }
+        stops.retain(|g| !g.events.is_empty());
+        Story { groups, stops }
+    }
+
+    /// The condition groups the events that end the run add to the `StopTrigger`: each
+    /// event's trigger as its start trigger would be written, about its vehicle.
+    pub fn write_stops(&self, x: &mut XmlOut) {
+        for g in &self.stops {
+            for (name, e) in &g.events {
+                g.trigger(x, name, &e.trigger);
+            }
+        }
     }
 
     /// The `Story` element (none when no vehicle has a speed change or an event).

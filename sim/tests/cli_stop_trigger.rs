@@ -1,0 +1,177 @@
+//! An OpenSCENARIO `StopTrigger` with conditions other than a simulation time: each such
+//! condition group becomes an event whose action ends the run (`end_run`), the run's last
+//! frame the one whose physics the event starts in; `summary.json` names it; the imported
+//! and exported files run the same. Run with
+//! `cargo test --release -p sim --test cli_stop_trigger`.
+
+mod osc_common;
+
+use osc_common::*;
+use std::path::Path;
+
+/// The cut-in test file's `StopTrigger` at 25 s, with `groups` added after it.
+fn with_stop_groups(groups: &str) -> (tempfile::TempDir, std::path::PathBuf) {
+    mutant(|text| {
+        let end = "</ConditionGroup></StopTrigger>";
+        assert!(text.contains(end));
+        text.replace(end, &format!("</ConditionGroup>{groups}</StopTrigger>"))
+    })
+}
+
+/// A condition group of one entity condition of `entity`.
+fn entity_group(name: &str, entity: &str, condition: &str) -> String {
+    format!(
+        "<ConditionGroup><Condition name=\"{name}\" delay=\"0\" conditionEdge=\"none\">\
+         <ByEntityCondition><TriggeringEntities triggeringEntitiesRule=\"any\">\
+         <EntityRef entityRef=\"{entity}\"/></TriggeringEntities>\
+         <EntityCondition>{condition}</EntityCondition></ByEntityCondition>\
+         </Condition></ConditionGroup>"
+    )
+}
+
+fn summary(out: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap()
+}
+
+#[test]
+fn a_stop_condition_ends_the_run_at_the_frame_it_holds() {
+    // The cutter brakes to 5 m/s after its cut-in: the run ends once it is below 6 m/s.
+    // The ego's standstill, about the chase, goes on the lead's events and never holds.
+    let groups = entity_group(
+        "slow",
+        "Cutter",
+        "<SpeedCondition value=\"6\" rule=\"lessThan\"/>",
+    ) + &entity_group("parked", "Ego", "<StandStillCondition duration=\"1\"/>");
+    let (dir, file) = with_stop_groups(&groups);
+    let toml = dir.path().join("stop.toml");
+    let text = import_to(&file, &toml);
+    for expected in [
+        "[[actors.events]]\nname = \"stop\"\n\n[actors.events.trigger]\nspeed_mps = 6.0\nrule = \"less\"",
+        "[[lead.events]]\nname = \"stop\"\n\n[lead.events.trigger]\nstandstill_s = 1.0\nof = \"chase\"",
+        "end_run = true",
+    ] {
+        assert!(text.contains(expected), "{expected:?} not in:\n{text}");
+    }
+    assert!(text.contains("duration_s = 25.0"), "{text}");
+    let csv = frames_of(&file, &dir.path().join("xosc"), &[]);
+    assert!(
+        csv == frames_of(&toml, &dir.path().join("toml"), &[]),
+        "the imported scenario runs differently"
+    );
+    let frames = Frames::parse(&csv);
+    let rows = &frames.rows;
+    let last_t = frames.num(rows.last().unwrap(), "t_s");
+    let ended = summary(&dir.path().join("xosc"))["ended_by"].clone();
+    assert_eq!(ended["vehicle"], "Cutter", "{ended}");
+    assert_eq!(ended["event"], "stop", "{ended}");
+    let t = ended["t_s"].as_f64().unwrap();
+    // The last frame is the one whose physics (to the next frame) holds the end.
+    assert!(
+        last_t <= t && t < last_t + 1.0 / 15.0,
+        "{t} after the last frame {last_t}"
+    );
+    assert!(t < 24.0, "the run went on to {t} s");
+    assert_eq!(frames.logged("Cutter/stop:started"), Some(last_t));
+    // With the duration given, the StopTrigger is not read: the run goes its length.
+    let out = dir.path().join("set");
+    let csv = frames_of(&file, &out, &["--set", "duration_s=20"]);
+    let frames = Frames::parse(&csv);
+    assert_eq!(frames.rows.len(), 300);
+    assert!(summary(&out).get("ended_by").is_none());
+}
+
+#[test]
+fn a_stop_trigger_without_a_time_runs_to_a_stated_limit() {
+    let (_dir, file) = mutant(|text| {
+        let a = text.find("<StopTrigger>").unwrap();
+        let b = text.find("</StopTrigger>").unwrap();
+        let group = entity_group(
+            "slow",
+            "Cutter",
+            "<SpeedCondition value=\"6\" rule=\"lessThan\"/>",
+        );
+        format!("{}<StopTrigger>{group}{}", &text[..a], &text[b..])
+    });
+    let o = carfollow(&["check", file.to_str().unwrap()]);
+    let err = stderr(&o);
+    assert!(o.status.success(), "{err}");
+    assert_eq!(
+        err.matches("<StopTrigger> gives no simulation time: the run ends when one of its conditions holds, or at 120 s").count(),
+        1,
+        "{err}"
+    );
+    assert!(String::from_utf8_lossy(&o.stdout).contains("120 s"));
+}
+
+#[test]
+fn an_end_run_action_is_checked_like_any_other() {
+    let dir = tempfile::tempdir().unwrap();
+    let base = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenarios/cut-in.toml"),
+    )
+    .unwrap()
+    .replace(
+        "target = \"targets/",
+        &format!(
+            "target = \"{}/../scenarios/targets/",
+            env!("CARGO_MANIFEST_DIR")
+        ),
+    );
+    for (action, says) in [
+        ("{ end_run = false }", "end_run` = false: write end_run = true"),
+        (
+            "{ end_run = true, duration_s = 1.0 }",
+            "not for the run's end",
+        ),
+        (
+            "{ end_run = true, lane = 1 }",
+            "must give exactly one of lane, offset_m, speed_mps (or speed_factor), profile, stop and end_run",
+        ),
+    ] {
+        let path = dir.path().join("bad.toml");
+        std::fs::write(
+            &path,
+            format!("{base}\n[[actors.events]]\nname = \"done\"\ntrigger = {{ time_s = 5.0 }}\naction = {action}\n"),
+        )
+        .unwrap();
+        let o = carfollow(&["check", path.to_str().unwrap()]);
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{action}: {err}");
+        assert!(err.contains(says), "{action}: {err}");
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+    }
+}
+
+#[test]
+fn an_end_run_event_exports_to_the_stop_trigger_and_runs_the_same() {
+    let dir = tempfile::tempdir().unwrap();
+    let toml = dir.path().join("end.toml");
+    let base = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenarios/cut-in.toml"),
+    )
+    .unwrap()
+    .replace(
+        "target = \"targets/",
+        &format!(
+            "target = \"{}/../scenarios/targets/",
+            env!("CARGO_MANIFEST_DIR")
+        ),
+    );
+    std::fs::write(
+        &toml,
+        format!("{base}\n[[actors.events]]\nname = \"done\"\ntrigger = {{ after = \"cut-in\", delay_s = 1.0 }}\naction = {{ end_run = true }}\n"),
+    )
+    .unwrap();
+    let (xosc, text) = export_to(&toml, &dir.path().join("x"));
+    let stop = &text[text.find("<StopTrigger>").unwrap()..];
+    assert_eq!(stop.matches("<ConditionGroup>").count(), 2, "{stop}");
+    assert!(
+        stop.contains("storyboardElementRef=\"cut-in\" state=\"endTransition\""),
+        "{stop}"
+    );
+    let csv = frames_of(&toml, &dir.path().join("toml"), &[]);
+    assert!(csv == frames_of(&xosc, &dir.path().join("xosc"), &[]));
+    let ended = summary(&dir.path().join("toml"))["ended_by"].clone();
+    assert_eq!(ended["vehicle"], "van", "{ended}");
+    assert!(ended["t_s"].as_f64().unwrap() < 20.0, "{ended}");
+}
