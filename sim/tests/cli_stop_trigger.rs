@@ -41,7 +41,12 @@ fn a_stop_condition_ends_the_run_at_the_frame_it_holds() {
         "slow",
         "Cutter",
         "<SpeedCondition value=\"6\" rule=\"lessThan\"/>",
-    ) + &entity_group("parked", "Ego", "<StandStillCondition duration=\"1\"/>");
+    ) + &entity_group("parked", "Ego", "<StandStillCondition duration=\"1\"/>")
+        + &entity_group(
+            "road-end",
+            "Lead car",
+            "<EndOfRoadCondition duration=\"2\"/>",
+        );
     let (dir, file) = with_stop_groups(&groups);
     let toml = dir.path().join("stop.toml");
     let text = import_to(&file, &toml);
@@ -49,6 +54,7 @@ fn a_stop_condition_ends_the_run_at_the_frame_it_holds() {
         "[[actors.events]]\nname = \"stop\"\n\n[actors.events.trigger]\nspeed_mps = 6.0\nrule = \"less\"",
         "[[lead.events]]\nname = \"stop\"\n\n[lead.events.trigger]\nstandstill_s = 1.0\nof = \"chase\"",
         "end_run = true",
+        "[[lead.events]]\nname = \"stop-2\"\n\n[lead.events.trigger]\nroad_end_s = 2.0\n",
     ] {
         assert!(text.contains(expected), "{expected:?} not in:\n{text}");
     }
@@ -72,6 +78,14 @@ fn a_stop_condition_ends_the_run_at_the_frame_it_holds() {
     );
     assert!(t < 24.0, "the run went on to {t} s");
     assert_eq!(frames.logged("Cutter/stop:started"), Some(last_t));
+    // Exported again, each end event is a group of the StopTrigger, its condition as read.
+    let (_, exported) = export_to(&toml, &dir.path().join("exported"));
+    let stop = &exported[exported.find("<StopTrigger>").unwrap()..];
+    assert_eq!(stop.matches("<ConditionGroup>").count(), 4, "{stop}");
+    assert!(
+        stop.contains("<EndOfRoadCondition duration=\"2\"/>"),
+        "{stop}"
+    );
     // With the duration given, the StopTrigger is not read: the run goes its length.
     let out = dir.path().join("set");
     let csv = frames_of(&file, &out, &["--set", "duration_s=20"]);

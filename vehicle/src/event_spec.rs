@@ -162,8 +162,8 @@ fn is_zero(v: &f64) -> bool {
 }
 
 /// When an event's action starts: exactly one of `time_s`, `distance_m`, `gap_m`,
-/// `spacing_m`, `time_gap_s`, `ttc_s`, `speed_mps`, `relative_speed_mps`, `standstill_s`, `reach`,
-/// `after`, `all` and `any`, evaluated at every physics step on level (it fires at the
+/// `spacing_m`, `time_gap_s`, `ttc_s`, `speed_mps`, `relative_speed_mps`, `standstill_s`,
+/// `road_end_s`, `reach`, `after`, `all` and `any`, evaluated at every physics step on level (it fires at the
 /// first step its condition holds, not only when it becomes true), or with `rising` or
 /// `falling` on its edges.
 ///
@@ -178,6 +178,7 @@ fn is_zero(v: &f64) -> bool {
 /// trigger = { speed_mps = 5.0, of = "lead" }   # the lead's speed ≤ 5 m/s
 /// trigger = { speed_mps = 20.0, rule = "greater" }  # this vehicle's speed ≥ 20 m/s
 /// trigger = { standstill_s = 2.0, of = "van" }  # `van` has stood still for ≥ 2 s
+/// trigger = { road_end_s = 2.5, of = "lead" }  # the lead has been at the road's end ≥ 2.5 s
 /// trigger = { relative_speed_mps = 3.0, to = "lead", rule = "greater" }  # ≥ 3 m/s faster
 /// trigger = { reach = { station_m = 150.0, lane = 1, tolerance_m = 2.0 } }  # within 2 m
 /// trigger = { time_s = 5.0, rule = "equal" }   # exactly at 5 s (see `EQUAL_TOLERANCE`)
@@ -249,6 +250,13 @@ pub struct TriggerSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schemars(extend("minimum" = 0.0, "maximum" = 1e3))]
     pub standstill_s: Option<f64>,
+    /// How long the vehicle `of` (default: this vehicle) has been at the road's end without
+    /// a break, s: holds once its reference point has stayed within [`ROAD_END_M`] of the
+    /// end this long (a driver stops 2 m before it; a duration of 0 holds at the first
+    /// step there). OpenSCENARIO's `EndOfRoadCondition`. Takes no `rule`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("minimum" = 0.0, "maximum" = 1e3))]
+    pub road_end_s: Option<f64>,
     /// The name of another of this vehicle's events: holds once that event's action has
     /// ended.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -265,14 +273,15 @@ pub struct TriggerSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub to: Option<String>,
     /// The vehicle whose speed, standstill or position is watched (a name the scenario
-    /// gives; default: this vehicle). Only for `speed_mps`, `standstill_s` and `reach`.
+    /// gives; default: this vehicle). Only for `speed_mps`, `standstill_s`, `road_end_s`
+    /// and `reach`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub of: Option<String>,
     /// Which side of the threshold holds: `less` (at most; the default for gaps and
     /// times) or `greater` (at least; the default for `time_s` and `distance_m`), or
     /// `equal` / `not_equal` (within / farther than [`EQUAL_TOLERANCE`] of it, in its
-    /// unit). Not for `after`, `standstill_s` nor `reach`; `less` is the default for
-    /// `speed_mps` and `relative_speed_mps`.
+    /// unit). Not for `after`, `standstill_s`, `road_end_s` nor `reach`; `less` is the
+    /// default for `speed_mps` and `relative_speed_mps`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rule: Option<Rule>,
     /// The action starts this long after the condition first holds, s (default 0).
@@ -507,6 +516,8 @@ pub(crate) enum Condition {
     Speed(f64, String),
     /// How long a vehicle (empty: this one) has stood still, s.
     Standstill(f64, String),
+    /// How long a vehicle (empty: this one) has been at the road's end, s.
+    RoadEnd(f64, String),
     /// This vehicle's speed less a vehicle's, m/s.
     RelativeSpeed(f64, String),
     /// A vehicle (empty: this one) within reach of a point.

@@ -27,6 +27,10 @@ use std::collections::VecDeque;
 /// 5 cm/s (0.18 km/h) is below what wheel-speed sensors resolve, about 0.1 m/s.
 pub const STANDSTILL_MPS: f64 = 0.05;
 
+/// How near the road's end a vehicle's reference point counts as at it, m (for road end
+/// triggers): a driver stops 2 m before the end of its route.
+pub const ROAD_END_M: f64 = 5.0;
+
 /// One vehicle of the traffic as the triggers see it: positions along the road (the
 /// caller's measure of it, the same for every vehicle), metres.
 #[derive(Copy, Clone, Debug, Default, PartialEq)]
@@ -141,7 +145,8 @@ struct Watch {
     to: Option<usize>,
     /// The vehicle a speed or standstill trigger watches (`None`: this one).
     of: Option<usize>,
-    /// The step from which the watched vehicle has stood still (standstill triggers).
+    /// The step from which the watched vehicle has stood still (standstill triggers), or
+    /// has been at the road's end (road end triggers).
     still_since: Option<Step>,
     /// The members' watches, in order (`all` and `any`).
     members: Vec<Watch>,
@@ -159,6 +164,8 @@ struct Now<'a> {
     mine: &'a VehicleView,
     start_station_m: f64,
     lanes: Lanes,
+    /// Where the road ends, m along it (road end triggers).
+    road_end_m: f64,
     /// Whether each of the vehicle's events has ended (for `after`).
     ended: &'a [bool],
 }
@@ -192,7 +199,10 @@ impl Watch {
             | Condition::RelativeSpeed(_, to) => {
                 watch.to = Some(vehicle_index(vehicles, to, format!("{field}.to"))?);
             }
-            Condition::Speed(_, of) | Condition::Standstill(_, of) | Condition::Reach(_, of)
+            Condition::Speed(_, of)
+            | Condition::Standstill(_, of)
+            | Condition::RoadEnd(_, of)
+            | Condition::Reach(_, of)
                 if !of.is_empty() =>
             {
                 watch.of = Some(vehicle_index(vehicles, of, format!("{field}.of"))?);
@@ -220,17 +230,24 @@ impl Watch {
         Ok(watch)
     }
 
-    /// Keeps a standstill trigger's start of standing still at `c`'s step.
+    /// Keeps a standstill trigger's start of standing still at `c`'s step, or a road end
+    /// trigger's start at the road's end.
     fn update_still(&mut self, trigger: &Trigger, c: &Now) {
-        if let Condition::Standstill(..) = trigger.condition {
-            let watched = self.of.map_or(Some(c.mine), |j| c.view.get(j));
-            let still = watched.is_some_and(|v| v.speed_mps.abs() < STANDSTILL_MPS);
-            self.still_since = if still {
-                self.still_since.or(Some(c.now))
-            } else {
-                None
-            };
-        }
+        let watched = || self.of.map_or(Some(c.mine), |j| c.view.get(j));
+        let still = match trigger.condition {
+            Condition::Standstill(..) => {
+                watched().is_some_and(|v| v.speed_mps.abs() < STANDSTILL_MPS)
+            }
+            Condition::RoadEnd(..) => {
+                watched().is_some_and(|v| v.station_m >= c.road_end_m - ROAD_END_M)
+            }
+            _ => return,
+        };
+        self.still_since = if still {
+            self.still_since.or(Some(c.now))
+        } else {
+            None
+        };
     }
 
     /// Whether an `all` or `any` trigger holds at `c`'s step, every member evaluated
@@ -313,7 +330,7 @@ impl Watch {
                 .of
                 .map_or(Some(mine), |j| c.view.get(j))
                 .is_some_and(|w| compare(w.speed_mps, *v)),
-            (Condition::Standstill(d, _), _) => self
+            (Condition::Standstill(d, _) | Condition::RoadEnd(d, _), _) => self
                 .still_since
                 .is_some_and(|since| c.now.since(since) >= steps_of(*d)),
             (Condition::Reach(r, _), _) => {
@@ -436,6 +453,8 @@ pub struct Events {
     lane_now: u32,
     /// The step at which an `end_run` action first started, and its event.
     run_ended: Option<(Step, usize)>,
+    /// Where the road ends, m along it (endless until [`Events::with_road_end_m`]).
+    road_end_m: f64,
 }
 
 /// Whole steps in `seconds`, rounded.
@@ -513,7 +532,18 @@ impl Events {
             lateral_now_m: 0.0,
             lane_now: lanes.route_lane,
             run_ended: None,
+            road_end_m: f64::INFINITY,
         })
+    }
+
+    /// The same, on a road that ends `end_m` along it (in the measure of the views the
+    /// updates get): where a road end trigger's vehicle must be. Without it the road has
+    /// no end, and a road end trigger never holds.
+    pub fn with_road_end_m(self, end_m: f64) -> Events {
+        Events {
+            road_end_m: end_m,
+            ..self
+        }
     }
 
     /// How many events there are.
@@ -565,6 +595,7 @@ impl Events {
             mine,
             start_station_m,
             lanes: self.lanes,
+            road_end_m: self.road_end_m,
             ended: &self.ended,
         };
         for e in &mut self.events {

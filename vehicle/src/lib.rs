@@ -109,7 +109,9 @@ pub use event_spec::{
     ActionSpec, EventScript, EventSpec, ProfileEntry, ReachSpec, Rule, Shape, TriggerSpec,
     EQUAL_TOLERANCE, MAX_LANES, MAX_PROFILE_ENTRIES, MAX_TRIGGER_DEPTH, MAX_TRIGGER_GROUPS,
 };
-pub use events::{Events, Fired, FiredKind, Lanes, TrafficView, VehicleView, STANDSTILL_MPS};
+pub use events::{
+    Events, Fired, FiredKind, Lanes, TrafficView, VehicleView, ROAD_END_M, STANDSTILL_MPS,
+};
 pub use gap_keeper::{GapKeeper, GapKeeperConfig, GapPolicy, SpeedCommand, Threat};
 pub use ground::{BumpsConfig, Ground, GroundConfig, GroundGrid};
 pub use ground_profile::{GroundProfile, MAX_PROFILE_GRID_POINTS};

@@ -564,8 +564,11 @@ fn plan_traffic(
         route_lane,
         widths_m,
     };
+    // The views' stations are along lane 1's centre, `route`: the road ends at its end.
+    let road_end_m = f64::from(route.length_m());
     let lead_events = Events::new(&s.lead_events, &names, lanes(s.lead_lane))
-        .map_err(|e| vehicle_field_error(src, "lead.events", &e))?;
+        .map_err(|e| vehicle_field_error(src, "lead.events", &e))?
+        .with_road_end_m(road_end_m);
     let mut lane_routes: Vec<(u32, Route)> = Vec::new();
     let mut actor_ids = Vec::new();
     let mut actors = Vec::new();
@@ -602,7 +605,8 @@ fn plan_traffic(
         )
         .map_err(|e| vehicle_field_error(src, &at, &e))?;
         let events = Events::new(&a.events, &names, lanes(a.lane))
-            .map_err(|e| vehicle_field_error(src, &format!("{at}.events"), &e))?;
+            .map_err(|e| vehicle_field_error(src, &format!("{at}.events"), &e))?
+            .with_road_end_m(road_end_m);
         actor_ids.push(id);
         actors.push(ActorDriver::new(driver, events));
         stations.push(a.start_m);

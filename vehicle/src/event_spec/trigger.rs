@@ -27,6 +27,7 @@ impl EventScript {
             ("speed_mps", t.speed_mps.is_some()),
             ("relative_speed_mps", t.relative_speed_mps.is_some()),
             ("standstill_s", t.standstill_s.is_some()),
+            ("road_end_s", t.road_end_s.is_some()),
             ("reach", t.reach.is_some()),
             ("after", t.after.is_some()),
             ("all", t.all.is_some()),
@@ -41,7 +42,8 @@ impl EventScript {
                 path,
                 format!(
                     "must give exactly one of time_s, distance_m, gap_m, spacing_m, time_gap_s, ttc_s, \
-                     speed_mps, relative_speed_mps, standstill_s, reach, after, all and any \
+                     speed_mps, relative_speed_mps, standstill_s, road_end_s, reach, after, all \
+                     and any \
                      (given: {})",
                     if given.is_empty() {
                         "none".to_string()
@@ -117,6 +119,9 @@ impl EventScript {
         } else if let Some(v) = t.standstill_s {
             let v = check(i, &field("standstill_s"), v, 0.0, MAX_STANDSTILL_S, false)?;
             Condition::Standstill(v, of)
+        } else if let Some(v) = t.road_end_s {
+            let v = check(i, &field("road_end_s"), v, 0.0, MAX_STANDSTILL_S, false)?;
+            Condition::RoadEnd(v, of)
         } else if let Some(r) = &t.reach {
             Condition::Reach(reach(i, path, r)?, of)
         } else {
@@ -139,38 +144,46 @@ impl EventScript {
                 }
             }
         };
-        let rule = match (&condition, t.rule) {
-            (Condition::After(_), Some(_)) => {
-                return Err(invalid(
-                    i,
-                    &field("rule"),
-                    "an after trigger has no threshold to compare with".into(),
-                ))
-            }
-            (Condition::Standstill(..), Some(_)) => {
-                return Err(invalid(
-                    i,
-                    &field("rule"),
-                    "a standstill trigger takes no rule: it holds once the vehicle has stood \
+        let rule =
+            match (&condition, t.rule) {
+                (Condition::After(_), Some(_)) => {
+                    return Err(invalid(
+                        i,
+                        &field("rule"),
+                        "an after trigger has no threshold to compare with".into(),
+                    ))
+                }
+                (Condition::Standstill(..), Some(_)) => {
+                    return Err(invalid(
+                        i,
+                        &field("rule"),
+                        "a standstill trigger takes no rule: it holds once the vehicle has stood \
                      still this long"
-                        .into(),
-                ))
-            }
-            (Condition::Reach(..), Some(_)) => {
-                return Err(invalid(
+                            .into(),
+                    ))
+                }
+                (Condition::RoadEnd(..), Some(_)) => return Err(invalid(
                     i,
                     &field("rule"),
-                    "a reach trigger takes no rule: it holds while the vehicle is within \
-                     tolerance_m of the point"
+                    "a road_end_s trigger takes no rule: it holds once the vehicle has been at \
+                     the road's end this long"
                         .into(),
-                ))
-            }
-            (_, Some(rule)) => rule,
-            (Condition::Time(_) | Condition::Distance(_) | Condition::After(_), None) => {
-                Rule::Greater
-            }
-            (_, None) => Rule::Less,
-        };
+                )),
+                (Condition::Reach(..), Some(_)) => {
+                    return Err(invalid(
+                        i,
+                        &field("rule"),
+                        "a reach trigger takes no rule: it holds while the vehicle is within \
+                     tolerance_m of the point"
+                            .into(),
+                    ))
+                }
+                (_, Some(rule)) => rule,
+                (Condition::Time(_) | Condition::Distance(_) | Condition::After(_), None) => {
+                    Rule::Greater
+                }
+                (_, None) => Rule::Less,
+            };
         let delay_s = match t.delay_s {
             Some(v) => check(i, &field("delay_s"), v, 0.0, MAX_KEY, false)?,
             None => 0.0,
@@ -303,9 +316,12 @@ fn reach(i: usize, path: &str, r: &ReachSpec) -> Result<ReachSpec, VehicleError>
 }
 
 /// Event `i`'s `of` at `path` (empty for this vehicle), checked for the trigger `kind` it
-/// is on: only a speed, standstill or reach trigger watches another vehicle.
+/// is on: only a speed, standstill, road end or reach trigger watches another vehicle.
 fn of(i: usize, path: &str, t: &TriggerSpec, kind: &str) -> Result<String, VehicleError> {
-    let watches = t.speed_mps.is_some() || t.standstill_s.is_some() || t.reach.is_some();
+    let watches = t.speed_mps.is_some()
+        || t.standstill_s.is_some()
+        || t.road_end_s.is_some()
+        || t.reach.is_some();
     match (&t.of, watches) {
         (Some(of), true) if of.trim().is_empty() => Err(invalid(
             i,
@@ -317,7 +333,8 @@ fn of(i: usize, path: &str, t: &TriggerSpec, kind: &str) -> Result<String, Vehic
             i,
             &format!("{path}.of"),
             format!(
-                "a {kind} trigger watches no vehicle (of is for speed_mps, standstill_s and reach)"
+                "a {kind} trigger watches no vehicle (of is for speed_mps, standstill_s, road_end_s \
+                 and reach)"
             ),
         )),
         (None, _) => Ok(String::new()),

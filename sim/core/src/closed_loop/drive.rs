@@ -108,8 +108,8 @@ pub(super) struct Drive {
 }
 
 /// How near its route's end the lead counts as having reached it, m: its driver stops it
-/// 2 m before.
-const ROAD_END_M: f32 = 5.0;
+/// 2 m before (as a road end trigger counts a vehicle there).
+const ROAD_END_M: f32 = vehicle::ROAD_END_M as f32;
 
 /// The steps of one frame's physics run so far, and what they did.
 #[derive(Clone, Copy, Debug, Default)]

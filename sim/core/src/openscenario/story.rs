@@ -590,7 +590,10 @@ impl Context<'_, '_> {
                 ..TriggerSpec::default()
             });
         }
-        if matches!(name, "SpeedCondition" | "StandStillCondition") {
+        if matches!(
+            name,
+            "SpeedCondition" | "StandStillCondition" | "EndOfRoadCondition"
+        ) {
             return self.watching(e, &subject, owner);
         }
         if name == "ReachPositionCondition"
@@ -674,9 +677,9 @@ impl Context<'_, '_> {
         })
     }
 
-    /// A `SpeedCondition` or `StandStillCondition` `e` of `subject` on an event of
-    /// `owner`: a speed or standstill trigger watching `subject` (`of`, left out when it is
-    /// the event's own vehicle).
+    /// A `SpeedCondition`, `StandStillCondition` or `EndOfRoadCondition` `e` of `subject`
+    /// on an event of `owner`: a speed, standstill or road end trigger watching `subject`
+    /// (`of`, left out when it is the event's own vehicle).
     fn watching(&self, e: Node, subject: &str, owner: &str) -> Result<TriggerSpec, OscError> {
         let xml = self.xml;
         let of = if subject == owner {
@@ -687,6 +690,13 @@ impl Context<'_, '_> {
         if e.tag_name().name() == "StandStillCondition" {
             return Ok(TriggerSpec {
                 standstill_s: Some(xml.num(e, "duration")?),
+                of,
+                ..TriggerSpec::default()
+            });
+        }
+        if e.tag_name().name() == "EndOfRoadCondition" {
+            return Ok(TriggerSpec {
+                road_end_s: Some(xml.num(e, "duration")?),
                 of,
                 ..TriggerSpec::default()
             });

@@ -471,6 +471,11 @@ impl Group {
             self.watching_condition(x, name, edge, of, |x| {
                 x.empty("StandStillCondition", &[n("duration", v)]);
             });
+        } else if let Some(v) = t.road_end_s {
+            let of = t.of.as_deref().map_or(self.entity.as_str(), entity);
+            self.watching_condition(x, name, edge, of, |x| {
+                x.empty("EndOfRoadCondition", &[n("duration", v)]);
+            });
         } else if let Some(v) = t.relative_speed_mps {
             self.entity_condition(x, name, edge, |x| {
                 x.empty(
