@@ -687,16 +687,19 @@ impl Context<'_, '_> {
         } else {
             Some(self.name(e, subject)?)
         };
-        if e.tag_name().name() == "StandStillCondition" {
+        let tag = e.tag_name().name();
+        if matches!(tag, "StandStillCondition" | "EndOfRoadCondition") {
+            let duration = xml.num(e, "duration")?;
+            if duration.is_nan() || duration < 0.0 {
+                return Err(xml.at(
+                    e,
+                    format!("<{tag} duration=\"{duration}\">: a time, 0 or more"),
+                ));
+            }
+            let standstill = tag == "StandStillCondition";
             return Ok(TriggerSpec {
-                standstill_s: Some(xml.num(e, "duration")?),
-                of,
-                ..TriggerSpec::default()
-            });
-        }
-        if e.tag_name().name() == "EndOfRoadCondition" {
-            return Ok(TriggerSpec {
-                road_end_s: Some(xml.num(e, "duration")?),
+                standstill_s: standstill.then_some(duration),
+                road_end_s: (!standstill).then_some(duration),
                 of,
                 ..TriggerSpec::default()
             });

@@ -474,8 +474,8 @@ pub fn scenario(
             None => {
                 warnings.push(format!(
                     "<StopTrigger> gives no simulation time: the run ends when one of its \
-                     conditions holds, or at {STOP_LIMIT_S} s (give another limit with --set \
-                     duration_s=SECONDS)"
+                     conditions holds, or at {STOP_LIMIT_S} s (--set duration_s=SECONDS runs \
+                     that long instead, the StopTrigger unread)"
                 ));
                 STOP_LIMIT_S
             }
