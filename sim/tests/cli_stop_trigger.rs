@@ -29,6 +29,18 @@ fn entity_group(name: &str, entity: &str, condition: &str) -> String {
     )
 }
 
+/// The library's `cut-in` scenario, its target's path made absolute so that it runs from
+/// anywhere.
+fn cut_in_toml() -> String {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenarios");
+    std::fs::read_to_string(root.join("cut-in.toml"))
+        .unwrap()
+        .replace(
+            "target = \"targets/",
+            &format!("target = \"{}/targets/", root.display()),
+        )
+}
+
 fn summary(out: &Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap()
 }
@@ -120,17 +132,7 @@ fn a_stop_trigger_without_a_time_runs_to_a_stated_limit() {
 #[test]
 fn an_end_run_action_is_checked_like_any_other() {
     let dir = tempfile::tempdir().unwrap();
-    let base = std::fs::read_to_string(
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenarios/cut-in.toml"),
-    )
-    .unwrap()
-    .replace(
-        "target = \"targets/",
-        &format!(
-            "target = \"{}/../scenarios/targets/",
-            env!("CARGO_MANIFEST_DIR")
-        ),
-    );
+    let base = cut_in_toml();
     for (action, says) in [
         ("{ end_run = false }", "end_run` = false: write end_run = true"),
         (
@@ -160,17 +162,7 @@ fn an_end_run_action_is_checked_like_any_other() {
 fn an_end_run_event_exports_to_the_stop_trigger_and_runs_the_same() {
     let dir = tempfile::tempdir().unwrap();
     let toml = dir.path().join("end.toml");
-    let base = std::fs::read_to_string(
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenarios/cut-in.toml"),
-    )
-    .unwrap()
-    .replace(
-        "target = \"targets/",
-        &format!(
-            "target = \"{}/../scenarios/targets/",
-            env!("CARGO_MANIFEST_DIR")
-        ),
-    );
+    let base = cut_in_toml();
     std::fs::write(
         &toml,
         format!("{base}\n[[actors.events]]\nname = \"done\"\ntrigger = {{ after = \"cut-in\", delay_s = 1.0 }}\naction = {{ end_run = true }}\n"),
