@@ -119,3 +119,24 @@ def test_follow_runs_a_traffic_scenario_and_reports_its_truth():
         assert not (terminated or truncated)
     assert [v["name"] for v in info["truth"]["traffic"]["vehicles"]] == ["chase", "lead", "van"]
     env.close()
+
+
+def test_an_event_that_ends_the_run_truncates_the_episode(tmp_path):
+    from conftest import SCENARIOS
+
+    path = tmp_path / "end.toml"
+    text = (SCENARIOS / "cut-in.toml").read_text().replace(
+        'target = "targets/', f'target = "{SCENARIOS}/targets/'
+    )
+    path.write_text(
+        text + '\n[[actors.events]]\nname = "end"\ntrigger = { time_s = 2.0 }\n'
+        "action = { end_run = true }\n"
+    )
+    env = gym.make("carfollow/Follow-v0", scenario=str(path), observation="estimate")
+    env.reset(seed=4)
+    # The run's last frame is frame 30 (the end starts in its physics): the 30th step.
+    for k in range(1, 31):
+        _, _, terminated, truncated, _ = env.step(env.action_space.sample() * 0.0)
+        assert not terminated
+        assert truncated == (k == 30), k
+    env.close()

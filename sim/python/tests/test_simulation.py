@@ -161,3 +161,24 @@ def test_an_openscenario_file_runs_as_any_scenario():
     bad = REPO / "sim" / "core" / "tests" / "data" / "openscenario" / "catalogs" / "VehicleCatalog.xosc"
     with pytest.raises(ValueError, match="a catalog or a parameter distribution, not a scenario"):
         carfollow.Simulation(str(bad))
+
+
+def end_run_scenario(at_s: float) -> str:
+    """The library's cut-in with an event that ends the run at `at_s`."""
+    text = (carfollow_scenarios() / "cut-in.toml").read_text()
+    return text + (
+        '\n[[actors.events]]\nname = "end"\n'
+        f"trigger = {{ time_s = {at_s} }}\naction = {{ end_run = true }}\n"
+    )
+
+
+def test_an_event_that_ends_the_run_ends_it_here_too():
+    sim = carfollow.Simulation(end_run_scenario(2.0))
+    frames = 0
+    while sim.step():
+        frames += 1
+    # The end starts at the physics step of 2.0 s, in frame 30's physics: its last frame.
+    assert frames == 31 and sim.done
+    summary = sim.run()
+    assert summary["ended_by"] == {"vehicle": "van", "event": "end", "t_s": 2.0}
+    assert summary["frames"] == 31
