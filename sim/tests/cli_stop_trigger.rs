@@ -141,7 +141,7 @@ fn an_end_run_action_is_checked_like_any_other() {
         ),
         (
             "{ end_run = true, lane = 1 }",
-            "must give exactly one of lane, offset_m, speed_mps (or speed_factor), profile, stop and end_run",
+            "must give exactly one of lane, offset_m, speed_mps (or speed_factor), profile, stop, keep and end_run",
         ),
     ] {
         let path = dir.path().join("bad.toml");

@@ -334,8 +334,8 @@ pub enum Shape {
     Step,
 }
 
-/// What an event does: exactly one of `lane`, `offset_m`, `speed_mps`, `profile` and
-/// `stop`, with its timing.
+/// What an event does: exactly one of `lane`, `offset_m`, `speed_mps`, `profile`, `stop`,
+/// `keep` and `end_run`, with its timing.
 ///
 /// ```toml
 /// action = { lane = 2, duration_s = 3.0 }                   # shape cubic (default) or sinusoidal
@@ -347,6 +347,8 @@ pub enum Shape {
 /// action = { offset_m = 0.8, lateral_accel_mps2 = 0.5 }     # 0.8 m left of the lane's centre
 /// action = { offset_m = -0.5, lateral_accel_mps2 = 1.0, shape = "sinusoidal" }
 /// action = { profile = [{ speed_mps = 15.0, duration_s = 2.0 }, { speed_mps = 5.0, rate_mps2 = 2.0 }] }
+/// action = { keep = { time_gap_s = 1.5, to = "lead" } }     # 1.5 s behind the lead, kept
+/// action = { end_run = true }                               # the run ends here
 /// ```
 ///
 /// Lanes are numbered 1, 2, … from the road's centre line outward, lane k centred
@@ -433,7 +435,96 @@ pub struct ActionSpec {
     /// `cubic` or `step` for speed changes.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub shape: Option<Shape>,
+    /// Keep a gap to another vehicle (OpenSCENARIO's `LongitudinalDistanceAction`): a speed
+    /// action that steers this vehicle's speed to hold the gap, within its limits.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub keep: Option<KeepSpec>,
 }
+
+/// A gap kept to another vehicle, as a speed action: exactly one of `gap_m` and
+/// `time_gap_s`, to the vehicle `to`.
+///
+/// ```toml
+/// action = { keep = { gap_m = 20.0, to = "lead" } }   # 20 m behind the lead, kept
+/// action = { keep = { time_gap_s = 1.5, to = "chase", side = "ahead", continuous = false } }
+/// ```
+///
+/// The speed asked is the other vehicle's speed plus [`KEEP_GAIN_PER_S`] times the gap's
+/// error (less, ahead of it), reached through a lag of [`KEEP_LAG_S`] within the
+/// acceleration, deceleration, jerk and speed limits: the gap settles without overshoot
+/// (the two make the loop critically damped) unless a limit binds. The standard leaves
+/// these dynamics to the simulator. With `continuous = false` the action ends once the gap
+/// is within [`KEEP_REACHED_M`] and the speeds within [`KEEP_REACHED_MPS`] of each other,
+/// and the vehicle keeps the speed it has; with `true` (the default) it keeps the gap until
+/// another speed action starts.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct KeepSpec {
+    /// The vehicle the gap is kept to (a name the scenario gives).
+    pub to: String,
+    /// The gap, m: bumper to bumper along the road, or with `between_axles` between the two
+    /// reference points.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("minimum" = 0.0, "maximum" = 1e4))]
+    pub gap_m: Option<f64>,
+    /// The time gap, s: the gap over the speed of whichever of the two is behind.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("minimum" = 0.0, "maximum" = 1e3))]
+    pub time_gap_s: Option<f64>,
+    /// Measure between the reference points (OpenSCENARIO's `freespace="false"`).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub between_axles: bool,
+    /// Which side of `to` this vehicle keeps the gap on: `behind` (the default; the
+    /// standard's `trailingReferencedEntity`), `ahead` (`leadingReferencedEntity`) or
+    /// `either` (`any`: the side it is on when the action starts).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub side: Option<KeepSide>,
+    /// Keep the gap until another speed action starts (default true), or end once reached.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub continuous: Option<bool>,
+    /// The largest acceleration, m/s² (default [`KEEP_MAX_ACCEL_MPS2`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("exclusiveMinimum" = 0.0, "maximum" = 20.0))]
+    pub max_accel_mps2: Option<f64>,
+    /// The largest deceleration, m/s² (default [`KEEP_MAX_DECEL_MPS2`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("exclusiveMinimum" = 0.0, "maximum" = 20.0))]
+    pub max_decel_mps2: Option<f64>,
+    /// The largest rate of change of the acceleration, m/s³ (default: none).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("exclusiveMinimum" = 0.0, "maximum" = 1e3))]
+    pub max_jerk_mps3: Option<f64>,
+    /// The highest speed, m/s (default 40, the most any speed may be).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("exclusiveMinimum" = 0.0, "maximum" = 40.0))]
+    pub max_speed_mps: Option<f64>,
+}
+
+/// Which side of the other vehicle a kept gap is on.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum KeepSide {
+    /// Behind it.
+    Behind,
+    /// Ahead of it.
+    Ahead,
+    /// The side it is on when the action starts.
+    Either,
+}
+
+/// How strongly a kept gap's error sets the speed asked, per second (see [`KeepSpec`]).
+pub const KEEP_GAIN_PER_S: f64 = 0.5;
+/// The lag through which the speed asked is reached, s: with [`KEEP_GAIN_PER_S`], `4 · lag ·
+/// gain = 1`, critically damped.
+pub const KEEP_LAG_S: f64 = 0.5;
+/// A kept gap's default largest acceleration, m/s².
+pub const KEEP_MAX_ACCEL_MPS2: f64 = 4.0;
+/// A kept gap's default largest deceleration, m/s².
+pub const KEEP_MAX_DECEL_MPS2: f64 = 8.0;
+/// How near the gap counts as reached, m (or, for a time gap, s).
+pub const KEEP_REACHED_M: f64 = 0.25;
+/// How near the speeds count as matched, m/s.
+pub const KEEP_REACHED_MPS: f64 = 0.25;
 
 /// One change of a speed profile action: linear to `speed_mps`, over `duration_s` or at
 /// `rate_mps2` (exactly one).
@@ -582,8 +673,26 @@ pub(crate) enum Action {
     },
     /// Linear to each speed in turn, m/s, each with its timing.
     Profile(Vec<(f64, Timing)>),
+    /// A gap kept to a vehicle.
+    Keep(Keep),
     /// The run's end: starts and ends at once, moving nothing.
     EndRun,
+}
+
+/// A checked kept gap ([`KeepSpec`]).
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Keep {
+    pub(crate) to: String,
+    /// The gap, m, or (`time`) the time gap, s.
+    pub(crate) value: f64,
+    pub(crate) time: bool,
+    pub(crate) axles: bool,
+    pub(crate) side: KeepSide,
+    pub(crate) continuous: bool,
+    pub(crate) max_accel_mps2: f64,
+    pub(crate) max_decel_mps2: f64,
+    pub(crate) max_jerk_mps3: Option<f64>,
+    pub(crate) max_speed_mps: f64,
 }
 
 /// A speed change's target relative to another vehicle's speed.

@@ -20,7 +20,10 @@ use crate::clock::{Step, PHYSICS_HZ};
 use crate::error::{check_range, VehicleError};
 use crate::event_spec::{Action, Checked, Condition, EventScript, Shape, Timing, Trigger};
 use crate::lead_driver::SpeedOverride;
+use keep::KeepState;
 use std::collections::VecDeque;
+
+mod keep;
 
 /// Below this speed a vehicle stands still, m/s (for standstill triggers): a physics
 /// vehicle held by its brakes creeps at millimetres per second as its tyres settle, and
@@ -386,6 +389,9 @@ struct Motion {
     /// A continuous relative speed: its target follows that vehicle's speed, and it runs
     /// until another speed action replaces it.
     follow: Option<Follow>,
+    /// A kept gap ([`Events::keep`]): it sets the speed step by step, and runs until
+    /// reached (not continuous) or until another speed action replaces it.
+    kept: bool,
 }
 
 /// A speed kept relative to another vehicle's ([`Motion::follow`]).
@@ -453,6 +459,8 @@ pub struct Events {
     lane_now: u32,
     /// The step at which an `end_run` action first started, and its event.
     run_ended: Option<(Step, usize)>,
+    /// The kept gap the speed follows, while one runs.
+    keep: Option<KeepState>,
     /// Where the road ends, m along it (endless until [`Events::with_road_end_m`]).
     road_end_m: f64,
 }
@@ -503,6 +511,11 @@ impl Events {
                     &r.of,
                     format!("events[{i}].action.speed_of"),
                 )?),
+                Action::Keep(k) => Some(vehicle_index(
+                    vehicles,
+                    &k.to,
+                    format!("events[{i}].action.keep.to"),
+                )?),
                 _ => None,
             };
             if let Action::Lane { lane, .. } = event.action {
@@ -532,6 +545,7 @@ impl Events {
             lateral_now_m: 0.0,
             lane_now: lanes.route_lane,
             run_ended: None,
+            keep: None,
             road_end_m: f64::INFINITY,
         })
     }
@@ -632,6 +646,20 @@ impl Events {
                 m.to = f.target(other.speed_mps);
             }
         }
+        // A kept gap moves its speed on; reached, and not continuous, it ends there, and
+        // the vehicle keeps the speed it has.
+        if let (Some(m), Some(k)) = (self.speed.as_mut().filter(|m| m.kept), &mut self.keep) {
+            let reached = k.step(mine, view.get(k.vehicle));
+            m.to = k.speed_mps;
+            if reached {
+                m.running = false;
+                m.kept = false;
+                m.steps = 0;
+                self.keep = None;
+                let event = m.event;
+                Self::end(&mut self.events, &mut self.ended, event, now, &mut fired);
+            }
+        }
         for motion in [&mut self.speed, &mut self.lateral].into_iter().flatten() {
             // A continuous relative speed runs until another speed action replaces it.
             while motion.running
@@ -662,7 +690,10 @@ impl Events {
             }
         }
         self.speed_now = self.speed.map(|m| {
-            let (speed, accel) = m.at(now);
+            let (speed, accel) = match (&self.keep, m.kept) {
+                (Some(k), true) => (k.speed_mps, k.accel_mps2),
+                _ => m.at(now),
+            };
             SpeedOverride {
                 speed_mps: speed as f32,
                 accel_mps2: accel as f32,
@@ -683,6 +714,7 @@ impl Events {
     ) {
         let action = self.events[i].event.action.clone();
         let mut follow = None;
+        let mut kept = false;
         let (slot, from, to, timing, shape) = match action {
             Action::EndRun => {
                 // The run ends at this step: the action starts and ends at once.
@@ -696,7 +728,17 @@ impl Events {
                 Self::end(&mut self.events, &mut self.ended, i, now, fired);
                 return;
             }
+            Action::Keep(keep) => {
+                // Its speed set step by step from this one's, until reached or replaced.
+                let j = self.events[i].speed_of.unwrap_or(usize::MAX);
+                let state = KeepState::new(keep, j, mine, view.get(j));
+                let v = state.speed_mps;
+                self.keep = Some(state);
+                kept = true;
+                (&mut self.speed, v, v, Timing::Duration(0.0), Shape::Linear)
+            }
             Action::Profile(changes) => {
+                self.keep = None;
                 let (to, timing) = changes[0];
                 (
                     &mut self.speed,
@@ -712,6 +754,7 @@ impl Events {
                 shape,
                 relative,
             } => {
+                self.keep = None;
                 // Relative: to the other's speed now (this one's, should it be missing).
                 let to = match (&relative, self.events[i].speed_of) {
                     (Some(r), Some(j)) => {
@@ -767,13 +810,18 @@ impl Events {
         *slot = Some(Motion {
             event: i,
             start: now,
-            steps: steps_for(timing, from, to, shape),
+            steps: if kept {
+                u64::MAX
+            } else {
+                steps_for(timing, from, to, shape)
+            },
             from,
             to,
             shape,
             running: true,
             segment: 0,
             follow,
+            kept,
         });
         self.events[i].phase = Phase::Running;
         fired.push(Fired {

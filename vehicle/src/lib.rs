@@ -106,8 +106,10 @@ pub use controls::Controls;
 pub use delay_line::{DelayLine, DelayLineConfig};
 pub use error::VehicleError;
 pub use event_spec::{
-    ActionSpec, EventScript, EventSpec, ProfileEntry, ReachSpec, Rule, Shape, TriggerSpec,
-    EQUAL_TOLERANCE, MAX_LANES, MAX_PROFILE_ENTRIES, MAX_TRIGGER_DEPTH, MAX_TRIGGER_GROUPS,
+    ActionSpec, EventScript, EventSpec, KeepSide, KeepSpec, ProfileEntry, ReachSpec, Rule, Shape,
+    TriggerSpec, EQUAL_TOLERANCE, KEEP_GAIN_PER_S, KEEP_LAG_S, KEEP_MAX_ACCEL_MPS2,
+    KEEP_MAX_DECEL_MPS2, KEEP_REACHED_M, KEEP_REACHED_MPS, MAX_LANES, MAX_PROFILE_ENTRIES,
+    MAX_TRIGGER_DEPTH, MAX_TRIGGER_GROUPS,
 };
 pub use events::{
     Events, Fired, FiredKind, Lanes, TrafficView, VehicleView, ROAD_END_M, STANDSTILL_MPS,

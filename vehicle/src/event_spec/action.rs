@@ -3,6 +3,7 @@
 
 use super::MAX_PROFILE_ENTRIES;
 use super::{check, invalid, Action, ActionSpec, RelativeSpeed, Shape, Timing, MAX_KEY, MAX_LANES};
+use super::{Keep, KeepSide, KeepSpec, KEEP_MAX_ACCEL_MPS2, KEEP_MAX_DECEL_MPS2, MAX_GAP_M};
 use super::{MAX_LATERAL_ACCEL_MPS2, MAX_LATERAL_SPEED_MPS, MAX_POSITION_OFFSET_M, MAX_RATE_MPS2};
 use crate::error::VehicleError;
 use crate::speed_profile::MAX_SPEED_MPS;
@@ -19,6 +20,72 @@ fn refuse(i: usize, what: &str, fields: &[(&str, bool)]) -> Result<(), VehicleEr
     }
 }
 
+/// The fields of an action that time or shape a change, or relate it to a vehicle (name,
+/// whether given): none is for an action that takes none of them.
+fn timings(a: &ActionSpec) -> [(&'static str, bool); 8] {
+    [
+        ("duration_s", a.duration_s.is_some()),
+        ("lateral_speed_mps", a.lateral_speed_mps.is_some()),
+        ("lateral_accel_mps2", a.lateral_accel_mps2.is_some()),
+        ("rate_mps2", a.rate_mps2.is_some()),
+        ("decel_mps2", a.decel_mps2.is_some()),
+        ("shape", a.shape.is_some()),
+        ("speed_of", a.speed_of.is_some()),
+        ("continuous", a.continuous),
+    ]
+}
+
+/// Event `i`'s `keep` action, checked: its gap or time gap, its vehicle and its limits,
+/// and nothing else in the action.
+fn keep_action(i: usize, a: &ActionSpec, k: &KeepSpec) -> Result<Action, VehicleError> {
+    refuse(i, "a kept gap (its limits are keep's own)", &timings(a))?;
+    let f = |name: &str| format!("action.keep.{name}");
+    if k.to.trim().is_empty() {
+        return Err(invalid(i, &f("to"), "must name a vehicle".into()));
+    }
+    let (value, time) = match (k.gap_m, k.time_gap_s) {
+        (Some(g), None) => (check(i, &f("gap_m"), g, 0.0, MAX_GAP_M, false)?, false),
+        (None, Some(t)) => (check(i, &f("time_gap_s"), t, 0.0, 1e3, false)?, true),
+        _ => {
+            return Err(invalid(
+                i,
+                "action.keep",
+                "takes exactly one of gap_m and time_gap_s".into(),
+            ))
+        }
+    };
+    let limit = |name: &str, v: Option<f64>, default: f64, max: f64| match v {
+        Some(v) => check(i, &f(name), v, 0.0, max, true),
+        None => Ok(default),
+    };
+    let max_speed = f64::from(MAX_SPEED_MPS);
+    Ok(Action::Keep(Keep {
+        to: k.to.clone(),
+        value,
+        time,
+        axles: k.between_axles,
+        side: k.side.unwrap_or(KeepSide::Behind),
+        continuous: k.continuous.unwrap_or(true),
+        max_accel_mps2: limit(
+            "max_accel_mps2",
+            k.max_accel_mps2,
+            KEEP_MAX_ACCEL_MPS2,
+            MAX_RATE_MPS2,
+        )?,
+        max_decel_mps2: limit(
+            "max_decel_mps2",
+            k.max_decel_mps2,
+            KEEP_MAX_DECEL_MPS2,
+            MAX_RATE_MPS2,
+        )?,
+        max_jerk_mps3: k
+            .max_jerk_mps3
+            .map(|j| check(i, &f("max_jerk_mps3"), j, 0.0, 1e3, true))
+            .transpose()?,
+        max_speed_mps: limit("max_speed_mps", k.max_speed_mps, max_speed, max_speed)?,
+    }))
+}
+
 /// Event `i`'s `end_run` action (`end`, its value), checked: `true`, with nothing else.
 fn end_run_action(i: usize, a: &ActionSpec, end: bool) -> Result<Action, VehicleError> {
     if !end {
@@ -31,16 +98,7 @@ fn end_run_action(i: usize, a: &ActionSpec, end: bool) -> Result<Action, Vehicle
     refuse(
         i,
         "the run's end (it takes no time and no shape)",
-        &[
-            ("duration_s", a.duration_s.is_some()),
-            ("lateral_speed_mps", a.lateral_speed_mps.is_some()),
-            ("lateral_accel_mps2", a.lateral_accel_mps2.is_some()),
-            ("rate_mps2", a.rate_mps2.is_some()),
-            ("decel_mps2", a.decel_mps2.is_some()),
-            ("shape", a.shape.is_some()),
-            ("speed_of", a.speed_of.is_some()),
-            ("continuous", a.continuous),
-        ],
+        &timings(a),
     )?;
     Ok(Action::EndRun)
 }
@@ -54,15 +112,19 @@ pub(super) fn action(i: usize, a: &ActionSpec) -> Result<Action, VehicleError> {
         a.profile.is_some(),
         a.stop.is_some(),
         a.end_run.is_some(),
+        a.keep.is_some(),
     ];
     if kinds.iter().filter(|&&k| k).count() != 1 {
         return Err(invalid(
             i,
             "action",
             "must give exactly one of lane, offset_m, speed_mps (or speed_factor), profile, \
-             stop and end_run"
+             stop, keep and end_run"
                 .into(),
         ));
+    }
+    if let Some(keep) = &a.keep {
+        return keep_action(i, a, keep);
     }
     if let Some(end) = a.end_run {
         return end_run_action(i, a, end);

@@ -4,7 +4,7 @@
 use super::entity;
 use super::xml_out::{a, n, XmlOut};
 use crate::Scenario;
-use vehicle::{ActionSpec, EventSpec, ProfileEntry, Rule, Shape, TriggerSpec};
+use vehicle::{ActionSpec, EventSpec, KeepSide, KeepSpec, ProfileEntry, Rule, Shape, TriggerSpec};
 
 /// One vehicle's maneuver: its entity name and its events as written.
 struct Group {
@@ -248,6 +248,10 @@ impl Group {
     }
 
     fn action(&self, x: &mut XmlOut, action: &ActionSpec) {
+        if let Some(k) = &action.keep {
+            keep_action(x, k);
+            return;
+        }
         if let Some(profile) = &action.profile {
             speed_profile(x, profile);
             return;
@@ -671,6 +675,47 @@ enum SpeedTarget<'a> {
         factor: bool,
         continuous: bool,
     },
+}
+
+/// A `LongitudinalDistanceAction` of the kept gap `k`: its limits as `DynamicConstraints`,
+/// those given only (an omitted one reads back as carfollow's default), the jerk limit as
+/// both rates.
+fn keep_action(x: &mut XmlOut, k: &KeepSpec) {
+    let mut attrs = vec![a("entityRef", entity(&k.to))];
+    match (k.gap_m, k.time_gap_s) {
+        (Some(d), _) => attrs.push(n("distance", d)),
+        (None, t) => attrs.push(n("timeGap", t.unwrap_or_default())),
+    }
+    let side = match k.side.unwrap_or(KeepSide::Behind) {
+        KeepSide::Behind => "trailingReferencedEntity",
+        KeepSide::Ahead => "leadingReferencedEntity",
+        KeepSide::Either => "any",
+    };
+    attrs.extend([
+        a("freespace", !k.between_axles),
+        a("continuous", k.continuous.unwrap_or(true)),
+        a("displacement", side),
+        a("coordinateSystem", "road"),
+    ]);
+    x.open("PrivateAction", &[]);
+    x.open("LongitudinalAction", &[]);
+    x.open("LongitudinalDistanceAction", &attrs);
+    let limits: Vec<_> = [
+        ("maxAcceleration", k.max_accel_mps2),
+        ("maxDeceleration", k.max_decel_mps2),
+        ("maxSpeed", k.max_speed_mps),
+        ("maxAccelerationRate", k.max_jerk_mps3),
+        ("maxDecelerationRate", k.max_jerk_mps3),
+    ]
+    .into_iter()
+    .filter_map(|(name, v)| v.map(|v| n(name, v)))
+    .collect();
+    if !limits.is_empty() {
+        x.empty("DynamicConstraints", &limits);
+    }
+    x.close();
+    x.close();
+    x.close();
 }
 
 fn speed_action(x: &mut XmlOut, (shape, dimension, value): (&str, &str, f64), target: SpeedTarget) {

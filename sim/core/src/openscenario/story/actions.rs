@@ -1,11 +1,12 @@
 //! The actions of the stories' events, each onto an event's action: speed changes (to a
-//! speed or relative to a vehicle's), speed profiles, lane changes and lane offsets.
+//! speed or relative to a vehicle's), speed profiles, kept gaps, lane changes and lane
+//! offsets.
 
 use super::super::error::OscError;
 use super::super::xml::{child, children, only_element};
 use super::Context;
 use roxmltree::Node;
-use vehicle::{ActionSpec, ProfileEntry, Shape};
+use vehicle::{ActionSpec, KeepSide, KeepSpec, ProfileEntry, Shape};
 
 impl Context<'_, '_> {
     /// An `Action` of an event on `owner`.
@@ -32,10 +33,77 @@ impl Context<'_, '_> {
         match (kind.tag_name().name(), inner.tag_name().name()) {
             ("LongitudinalAction", "SpeedAction") => self.speed(inner),
             ("LongitudinalAction", "SpeedProfileAction") => self.speed_profile(inner),
+            ("LongitudinalAction", "LongitudinalDistanceAction") => self.keep(inner),
             ("LateralAction", "LaneChangeAction") => self.lane_change(inner, owner),
             ("LateralAction", "LaneOffsetAction") => self.lane_offset(inner),
             _ => Err(xml.unsupported(inner, "action", "")),
         }
+    }
+
+    /// A `LongitudinalDistanceAction`: a gap (`distance`) or time gap (`timeGap`) kept to a
+    /// vehicle, bumper to bumper (`freespace="true"`) or between the reference points,
+    /// behind it (`displacement` `trailingReferencedEntity`, and when left out, as the
+    /// 1.2 schema and esmini read it), ahead (`leadingReferencedEntity`) or on the side it
+    /// is on (`any`), along the road (`coordinateSystem` `road`, `lane` or `entity`,
+    /// which on carfollow's one road measure the same), within its `DynamicConstraints`.
+    fn keep(&self, action: Node) -> Result<ActionSpec, OscError> {
+        let xml = self.xml;
+        let flag = |name: &str| -> Result<bool, OscError> {
+            match xml.req(action, name)?.as_str() {
+                "true" | "1" => Ok(true),
+                "false" | "0" => Ok(false),
+                v => Err(xml.at(
+                    action,
+                    format!("<LongitudinalDistanceAction {name}=\"{v}\">: not a boolean"),
+                )),
+            }
+        };
+        let (gap_m, time_gap_s) = match (
+            xml.opt_num(action, "distance")?,
+            xml.opt_num(action, "timeGap")?,
+        ) {
+            (Some(d), None) => (Some(d), None),
+            (None, Some(t)) => (None, Some(t)),
+            _ => {
+                return Err(xml.at(
+                    action,
+                    "<LongitudinalDistanceAction> takes exactly one of distance and timeGap",
+                ))
+            }
+        };
+        let side = match xml.attr(action, "displacement")?.as_deref() {
+            None | Some("trailingReferencedEntity") => KeepSide::Behind,
+            Some("leadingReferencedEntity") => KeepSide::Ahead,
+            Some("any") => KeepSide::Either,
+            Some(d) => return Err(xml.at(action, format!("<LongitudinalDistanceAction displacement=\"{d}\">: not a displacement of the standard (trailingReferencedEntity, leadingReferencedEntity, any)"))),
+        };
+        match xml.attr(action, "coordinateSystem")?.as_deref() {
+            None | Some("road" | "lane" | "entity") => {}
+            Some(c) => return Err(xml.at(action, format!("<LongitudinalDistanceAction coordinateSystem=\"{c}\">: carfollow measures gaps along the road"))),
+        }
+        let mut keep = KeepSpec {
+            to: self.name(action, &xml.req(action, "entityRef")?)?,
+            gap_m,
+            time_gap_s,
+            between_axles: !flag("freespace")?,
+            side: Some(side),
+            continuous: Some(flag("continuous")?),
+            ..KeepSpec::default()
+        };
+        if let Some(c) = child(action, "DynamicConstraints") {
+            keep.max_accel_mps2 = xml.opt_num(c, "maxAcceleration")?;
+            keep.max_decel_mps2 = xml.opt_num(c, "maxDeceleration")?;
+            keep.max_speed_mps = xml.opt_num(c, "maxSpeed")?;
+            keep.max_jerk_mps3 = match (xml.opt_num(c, "maxAccelerationRate")?, xml.opt_num(c, "maxDecelerationRate")?) {
+                (None, None) => None,
+                (Some(a), Some(d)) if a == d => Some(a),
+                (a, d) => return Err(xml.at(c, format!("<DynamicConstraints maxAccelerationRate={a:?} maxDecelerationRate={d:?}>: carfollow's kept gap takes one jerk limit for both, or none"))),
+            };
+        }
+        Ok(ActionSpec {
+            keep: Some(keep),
+            ..ActionSpec::default()
+        })
     }
 
     /// A `LaneOffsetAction` to an absolute offset, cubic or sinusoidal at its
