@@ -389,9 +389,6 @@ struct Motion {
     /// A continuous relative speed: its target follows that vehicle's speed, and it runs
     /// until another speed action replaces it.
     follow: Option<Follow>,
-    /// A kept gap ([`Events::keep`]): it sets the speed step by step, and runs until
-    /// reached (not continuous) or until another speed action replaces it.
-    kept: bool,
 }
 
 /// A speed kept relative to another vehicle's ([`Motion::follow`]).
@@ -459,7 +456,9 @@ pub struct Events {
     lane_now: u32,
     /// The step at which an `end_run` action first started, and its event.
     run_ended: Option<(Step, usize)>,
-    /// The kept gap the speed follows, while one runs.
+    /// The kept gap the speed follows, while one runs: it sets the speed motion's speed
+    /// step by step, and runs until reached (not continuous) or until another speed
+    /// action replaces it.
     keep: Option<KeepState>,
     /// Where the road ends, m along it (endless until [`Events::with_road_end_m`]).
     road_end_m: f64,
@@ -648,12 +647,11 @@ impl Events {
         }
         // A kept gap moves its speed on; reached, and not continuous, it ends there, and
         // the vehicle keeps the speed it has.
-        if let (Some(m), Some(k)) = (self.speed.as_mut().filter(|m| m.kept), &mut self.keep) {
+        if let (Some(m), Some(k)) = (self.speed.as_mut(), &mut self.keep) {
             let reached = k.step(mine, view.get(k.vehicle));
             m.to = k.speed_mps;
             if reached {
                 m.running = false;
-                m.kept = false;
                 m.steps = 0;
                 self.keep = None;
                 let event = m.event;
@@ -690,9 +688,9 @@ impl Events {
             }
         }
         self.speed_now = self.speed.map(|m| {
-            let (speed, accel) = match (&self.keep, m.kept) {
-                (Some(k), true) => (k.speed_mps, k.accel_mps2),
-                _ => m.at(now),
+            let (speed, accel) = match &self.keep {
+                Some(k) => (k.speed_mps, k.accel_mps2),
+                None => m.at(now),
             };
             SpeedOverride {
                 speed_mps: speed as f32,
@@ -821,7 +819,6 @@ impl Events {
             running: true,
             segment: 0,
             follow,
-            kept,
         });
         self.events[i].phase = Phase::Running;
         fired.push(Fired {

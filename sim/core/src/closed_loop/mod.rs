@@ -390,21 +390,19 @@ impl ClosedLoop {
     /// frames returned have reached the frame whose physics it started in (`None` while
     /// none has). That frame is the run's last.
     pub fn run_ended(&self) -> Option<&RunEnd> {
-        self.drive
-            .traffic
-            .as_ref()
-            .and_then(|t| t.ended.as_ref())
-            .filter(|_| self.ended_before(self.frame))
+        self.end_noted().filter(|_| self.ended_before(self.frame))
+    }
+
+    /// The event that ended the run, as the physics noted it (it may run a frame ahead).
+    fn end_noted(&self) -> Option<&RunEnd> {
+        self.drive.traffic.as_ref().and_then(|t| t.ended.as_ref())
     }
 
     /// Whether an event ended the run in the physics of a frame before `frame` (the
     /// physics may have run on past it; what it did after is not the run's).
     fn ended_before(&self, frame: u64) -> bool {
         let per_frame = u64::from(vehicle::STEPS_PER_FRAME);
-        self.drive
-            .traffic
-            .as_ref()
-            .and_then(|t| t.ended.as_ref())
+        self.end_noted()
             .is_some_and(|e| e.step.0 / per_frame < frame)
     }
 

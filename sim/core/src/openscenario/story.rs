@@ -626,11 +626,7 @@ impl Context<'_, '_> {
         }
         // Reference point to reference point: a relative distance's spacing, a headway's or
         // time to collision's `between_axles` (below).
-        let spacing = match xml.req(e, "freespace")?.as_str() {
-            "true" | "1" => false,
-            "false" | "0" => true,
-            v => return Err(xml.at(e, format!("<{name} freespace=\"{v}\">: not a boolean"))),
-        };
+        let spacing = !xml.boolean(e, "freespace")?;
         if name == "RelativeDistanceCondition" {
             let kind = xml.req(e, "relativeDistanceType")?;
             if kind != "longitudinal" {
@@ -690,7 +686,7 @@ impl Context<'_, '_> {
         let tag = e.tag_name().name();
         if matches!(tag, "StandStillCondition" | "EndOfRoadCondition") {
             let duration = xml.num(e, "duration")?;
-            if duration.is_nan() || duration < 0.0 {
+            if duration < 0.0 {
                 return Err(xml.at(
                     e,
                     format!("<{tag} duration=\"{duration}\">: a time, 0 or more"),

@@ -143,6 +143,18 @@ impl<'a> Xml<'a> {
         })
     }
 
+    /// The attribute `name` as a boolean (`true`, `1`, `false` or `0`), which must be there.
+    pub fn boolean(&self, node: Node, name: &str) -> Result<bool, OscError> {
+        match self.req(node, name)?.as_str() {
+            "true" | "1" => Ok(true),
+            "false" | "0" => Ok(false),
+            v => Err(self.at(
+                node,
+                format!("<{} {name}=\"{v}\">: not a boolean", node.tag_name().name()),
+            )),
+        }
+    }
+
     /// The value of parameter `name` as seen from `node`.
     pub fn param_value(&self, node: Node, name: &str) -> Result<String, OscError> {
         self.param(node, name, 0)

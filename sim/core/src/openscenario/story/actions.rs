@@ -48,16 +48,6 @@ impl Context<'_, '_> {
     /// which on carfollow's one road measure the same), within its `DynamicConstraints`.
     fn keep(&self, action: Node) -> Result<ActionSpec, OscError> {
         let xml = self.xml;
-        let flag = |name: &str| -> Result<bool, OscError> {
-            match xml.req(action, name)?.as_str() {
-                "true" | "1" => Ok(true),
-                "false" | "0" => Ok(false),
-                v => Err(xml.at(
-                    action,
-                    format!("<LongitudinalDistanceAction {name}=\"{v}\">: not a boolean"),
-                )),
-            }
-        };
         let (gap_m, time_gap_s) = match (
             xml.opt_num(action, "distance")?,
             xml.opt_num(action, "timeGap")?,
@@ -85,9 +75,9 @@ impl Context<'_, '_> {
             to: self.name(action, &xml.req(action, "entityRef")?)?,
             gap_m,
             time_gap_s,
-            between_axles: !flag("freespace")?,
+            between_axles: !xml.boolean(action, "freespace")?,
             side: Some(side),
-            continuous: Some(flag("continuous")?),
+            continuous: Some(xml.boolean(action, "continuous")?),
             ..KeepSpec::default()
         };
         if let Some(c) = child(action, "DynamicConstraints") {
@@ -265,16 +255,7 @@ impl Context<'_, '_> {
         let xml = self.xml;
         let of = self.name(target, &xml.req(target, "entityRef")?)?;
         let value = xml.num(target, "value")?;
-        let continuous = match xml.req(target, "continuous")?.as_str() {
-            "true" | "1" => true,
-            "false" | "0" => false,
-            v => {
-                return Err(xml.at(
-                    target,
-                    format!("<RelativeTargetSpeed continuous=\"{v}\">: not a boolean"),
-                ))
-            }
-        };
+        let continuous = xml.boolean(target, "continuous")?;
         let mut spec = ActionSpec {
             speed_of: Some(of),
             continuous,
