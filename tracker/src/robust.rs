@@ -530,6 +530,73 @@ pub fn coverage_gain(
     gain
 }
 
+/// The pixels [`coverage_gain`] looks at, within `within`: the bounding box of every sample
+/// of every move of `features` (the same arithmetic, so the same pixels), one pixel wider
+/// each side, since a sub-pixel edge point may round into its neighbour's pixel. Edge maps
+/// built over it answer every sample of [`coverage_gain`] as maps over all of `within` do
+/// (each point of a window is extracted as in any larger window), so the test may read
+/// this box rather than the window grown by the largest move, which is most of the time
+/// no more than the window it measured in. Empty (`x1 = x0`) when there is no sample.
+pub fn coverage_gain_window(
+    features: &[PredictedFeature],
+    alias_px: [f64; 2],
+    within: Window,
+) -> Window {
+    // The moves are monotone in each coordinate's rounding, so the extreme samples are the
+    // extreme moves': ± the larger of the probe and the finite alias spacing.
+    let reach = alias_px.map(|a| {
+        if a.is_finite() {
+            a.max(PEAK_PROBE_PX)
+        } else {
+            PEAK_PROBE_PX
+        }
+    });
+    let tol = COVERAGE_TOLERANCE_PX;
+    let (mut lo, mut hi) = ([i64::MAX; 2], [i64::MIN; 2]);
+    for f in features {
+        // (along, across) axes: 0 for x, 1 for y.
+        let (along, across) = match f.orientation {
+            Orientation::Horizontal => (0, 1),
+            Orientation::Vertical => (1, 0),
+        };
+        let first = (f.extent[0] + -reach[along]).ceil() as i64;
+        let last = (f.extent[1] + reach[along]).floor() as i64;
+        if first > last {
+            continue;
+        }
+        lo[along] = lo[along].min(first);
+        hi[along] = hi[along].max(last);
+        lo[across] = lo[across].min((f.intercept + -reach[across]).round() as i64 - tol);
+        hi[across] = hi[across].max((f.intercept + reach[across]).round() as i64 + tol);
+    }
+    let clip = |k: usize, a: usize, b: usize| -> (usize, usize) {
+        if lo[k] > hi[k] {
+            return (a, a);
+        }
+        let from = (lo[k] - 1).clamp(a as i64, b as i64) as usize;
+        let to = (hi[k] + 2).clamp(a as i64, b as i64) as usize;
+        (from, to.max(from))
+    };
+    let (x0, x1) = clip(0, within.x0, within.x1);
+    let (y0, y1) = clip(1, within.y0, within.y1);
+    if x1 == x0 || y1 == y0 {
+        return Window {
+            x0,
+            y0,
+            x1: x0,
+            y1: y0,
+            ..within
+        };
+    }
+    Window {
+        x0,
+        y0,
+        x1,
+        y1,
+        ..within
+    }
+}
+
 /// The smallest spacing between two parallel features of the model at scale 1, pixels,
 /// `[x, y]`: between vertical features for x, horizontal ones for y (infinite when a
 /// direction has fewer than two distinct features).

@@ -25,8 +25,8 @@ use crate::pixel_rect::PixelRect;
 use crate::prediction::{predict_features, predict_location, PredictedFeature};
 use crate::resolvability::Resolvability;
 use crate::robust::{
-    adaptive_threshold, alias_spacing, coverage_gain, noise_raised_threshold, ChamferSearch,
-    CoverageReference, EdgeMaps, NoiseEstimator, COVERAGE_TOLERANCE_PX, FAST_LAMBDA,
+    adaptive_threshold, alias_spacing, coverage_gain, coverage_gain_window, noise_raised_threshold,
+    ChamferSearch, CoverageReference, EdgeMaps, NoiseEstimator, COVERAGE_TOLERANCE_PX, FAST_LAMBDA,
     MAX_COVERAGE_GAIN, MIN_COVERAGE, NOISE_THRESHOLD_FACTOR, PEAK_PROBE_PX, SEARCH_BELOW_COVERAGE,
 };
 use crate::window::Window;
@@ -563,10 +563,17 @@ impl Tracker {
                         y1: (window.y1 + reach[1]).min(h.saturating_sub(1)),
                         size_index: window.size_index,
                     };
-                    self.note_read(grown, w, h);
-                    self.extractor
-                        .extract(image, grown, check_config, &mut self.check_edges, None);
-                    self.maps.build(&self.check_edges, grown);
+                    // Only the pixels the moves look at, within the grown window.
+                    let looked = coverage_gain_window(&self.check, alias, grown);
+                    self.note_read(looked, w, h);
+                    self.extractor.extract(
+                        image,
+                        looked,
+                        check_config,
+                        &mut self.check_edges,
+                        None,
+                    );
+                    self.maps.build(&self.check_edges, looked);
                     coverage_gain(&self.maps, &self.check, alias, &mut self.moved)
                 };
                 (coverage, gain)

@@ -24,9 +24,9 @@ const RECENT_FRAMES: usize = 6;
 /// The margin per frame of prediction follows the error this many places from the largest
 /// of the latest [`RECENT_FRAMES`] (1: the largest). The prediction's error drifts smoothly
 /// as the target speeds up or turns, so the latest errors bound the next one; but one or two
-/// frames now and then read 13–17 px farther (the tracker's check of a fit that covers
-/// little reads a band around its window), and a margin that wide for six
-/// frames after each would cost more than rendering those frames again.
+/// frames now and then read farther (a search near the prediction, or the tracker's check
+/// of a fit that covers little, which reads the moves' reach around the fit), and a margin
+/// that wide for six frames after each would cost more than rendering those frames again.
 const ERROR_RANK: usize = 3;
 /// The margin per frame of prediction before [`ERROR_RANK`] errors are known, pixels.
 const FIRST_ERROR_PX: f64 = 6.0;
