@@ -488,13 +488,8 @@ impl CoverageReference {
 /// target sits on a peak of coverage (gain ≤ 0); a fit that slid off it between features
 /// does not, and neither does a fit one feature spacing off (sideways, up or down, or
 /// both), whose features lie on their neighbours' edges: moved back, it covers more.
-pub fn coverage_gain(
-    maps: &EdgeMaps,
-    features: &[PredictedFeature],
-    alias_px: [f64; 2],
-    scratch: &mut Vec<PredictedFeature>,
-) -> f64 {
-    let total = |c: [f64; 2], n: [usize; 2]| {
+pub fn coverage_gain(maps: &EdgeMaps, features: &[PredictedFeature], alias_px: [f64; 2]) -> f64 {
+    let total = |(c, n): ([f64; 2], [usize; 2])| {
         let all = n[0] + n[1];
         if all == 0 {
             0.0
@@ -502,8 +497,9 @@ pub fn coverage_gain(
             (c[0] * n[0] as f64 + c[1] * n[1] as f64) / all as f64
         }
     };
-    let (c, n) = maps.coverage_counts(features);
-    let here = total(c, n);
+    // 25 coverages of the same maps: each sample one look-up in maps spread across.
+    let spread = Spread::of(maps);
+    let here = total(spread.coverage_counts(features, 0.0, 0.0));
     let mut gain = f64::NEG_INFINITY;
     let p = PEAK_PROBE_PX;
     let [ax, ay] = alias_px;
@@ -513,21 +509,115 @@ pub fn coverage_gain(
         if !(dx.is_finite() && dy.is_finite()) || (dx == 0.0 && dy == 0.0) {
             continue;
         }
-        scratch.clear();
-        scratch.extend(features.iter().map(|f| {
-            let mut g = *f;
-            let (across, along) = match f.orientation {
-                Orientation::Horizontal => (dy, dx),
-                Orientation::Vertical => (dx, dy),
-            };
-            g.intercept += across;
-            g.extent = [g.extent[0] + along, g.extent[1] + along];
-            g
-        }));
-        let (mc, mn) = maps.coverage_counts(scratch);
-        gain = gain.max(total(mc, mn) - here);
+        gain = gain.max(total(spread.coverage_counts(features, dx, dy)) - here);
     }
     gain
+}
+
+/// [`EdgeMaps`] with each cell spread across its class's features by
+/// [`COVERAGE_TOLERANCE_PX`] (horizontal points up and down, vertical ones left and right),
+/// over the rows (columns) the tolerance reaches beyond the maps: a sample is covered when
+/// its one cell is set, and a feature's samples are one contiguous run of cells (the
+/// vertical map is stored by columns).
+struct Spread {
+    x0: i64,
+    y0: i64,
+    width: i64,
+    height: i64,
+    /// Rows `y0 − tol ..< y0 + height + tol`, `width` cells each.
+    horizontal: Vec<u8>,
+    /// Columns `x0 − tol ..< x0 + width + tol`, `height` cells each.
+    vertical: Vec<u8>,
+}
+
+impl Spread {
+    fn of(maps: &EdgeMaps) -> Spread {
+        let tol = COVERAGE_TOLERANCE_PX;
+        let (w, h) = (maps.width.max(0), maps.height.max(0));
+        let mut horizontal = vec![0u8; (w * (h + 2 * tol)) as usize];
+        let mut vertical = vec![0u8; (h * (w + 2 * tol)) as usize];
+        for y in 0..h {
+            for x in 0..w {
+                let i = (y * w + x) as usize;
+                // A point at (x, y) covers samples up to `tol` across from it.
+                if maps.horizontal[i] != 0 {
+                    for d in 0..=2 * tol {
+                        horizontal[((y + d) * w + x) as usize] = 1;
+                    }
+                }
+                if maps.vertical[i] != 0 {
+                    for d in 0..=2 * tol {
+                        vertical[((x + d) * h + y) as usize] = 1;
+                    }
+                }
+            }
+        }
+        Spread {
+            x0: maps.x0,
+            y0: maps.y0,
+            width: w,
+            height: h,
+            horizontal,
+            vertical,
+        }
+    }
+
+    /// [`EdgeMaps::coverage_counts`] of `features` moved by `dx`, `dy` pixels (the same
+    /// arithmetic as moving each feature and counting: the same samples, the same answers).
+    fn coverage_counts(
+        &self,
+        features: &[PredictedFeature],
+        dx: f64,
+        dy: f64,
+    ) -> ([f64; 2], [usize; 2]) {
+        let tol = COVERAGE_TOLERANCE_PX;
+        let (mut hit, mut total) = ([0usize; 2], [0usize; 2]);
+        for f in features {
+            let (k, across, along, map, [a0, a1], [c0, n]) = match f.orientation {
+                Orientation::Horizontal => (
+                    0,
+                    dy,
+                    dx,
+                    &self.horizontal,
+                    [self.x0, self.width],
+                    [self.y0, self.height],
+                ),
+                Orientation::Vertical => (
+                    1,
+                    dx,
+                    dy,
+                    &self.vertical,
+                    [self.y0, self.height],
+                    [self.x0, self.width],
+                ),
+            };
+            let at = (f.intercept + across).round() as i64;
+            let lo = (f.extent[0] + along).ceil() as i64;
+            let hi = (f.extent[1] + along).floor() as i64;
+            if lo > hi {
+                continue;
+            }
+            total[k] += (hi - lo + 1) as usize;
+            let line = at - (c0 - tol);
+            if !(0..n + 2 * tol).contains(&line) {
+                continue;
+            }
+            let (from, to) = ((lo - a0).max(0), (hi + 1 - a0).min(a1));
+            if from < to {
+                let start = (line * a1) as usize;
+                let cells = &map[start + from as usize..start + to as usize];
+                hit[k] += cells.iter().map(|&c| usize::from(c)).sum::<usize>();
+            }
+        }
+        let covered = [0, 1].map(|k| {
+            if total[k] == 0 {
+                1.0
+            } else {
+                hit[k] as f64 / total[k] as f64
+            }
+        });
+        (covered, total)
+    }
 }
 
 /// The pixels [`coverage_gain`] looks at, within `within`: the bounding box of every sample

@@ -100,7 +100,6 @@ pub struct Tracker {
     maps: EdgeMaps,
     check: Vec<PredictedFeature>,
     check_edges: Edges,
-    moved: Vec<PredictedFeature>,
     noise: NoiseEstimator,
     search: ChamferSearch,
     /// Robust mode: where a whole-image search may lock on (none: anywhere).
@@ -261,7 +260,6 @@ impl Tracker {
             maps: EdgeMaps::default(),
             check: Vec::new(),
             check_edges: Edges::default(),
-            moved: Vec::new(),
             noise: NoiseEstimator::default(),
             search: ChamferSearch::default(),
             gate: None,
@@ -574,7 +572,7 @@ impl Tracker {
                         None,
                     );
                     self.maps.build(&self.check_edges, looked);
-                    coverage_gain(&self.maps, &self.check, alias, &mut self.moved)
+                    coverage_gain(&self.maps, &self.check, alias)
                 };
                 (coverage, gain)
             }
