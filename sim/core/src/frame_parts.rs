@@ -207,8 +207,8 @@ pub(crate) fn camera_turn(previous: &UnitQuaternion<f64>, now: &UnitQuaternion<f
 
 /// How far beyond what a step read (on a part that fell short) the second part reaches,
 /// pixels. On the pixels it lacked the step may read differently (the tracker's check of a
-/// fit that covers little reads a band of 13–17 px around its window), and then the whole
-/// frame is rendered; but in every shipped scenario, in both modes, the second step reads
+/// fit that covers little reads the reach of its moves, which depends on the fit), and then
+/// the whole frame is rendered; but in every shipped scenario, in both modes, the second step reads
 /// exactly what the first did (about 1,100 second parts, none short), so the margin is the
 /// least, as for [`MARGIN_PX`]: a wider one only renders more pixels on the loop's
 /// critical path.
