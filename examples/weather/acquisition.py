@@ -19,8 +19,11 @@ import json
 import os
 import sys
 
-# The study's lights, as its report names them (this folder is on the path when run).
+# The study's lights, as its report names them (this folder is on the path when run); the
+# acquisition runs in those without street lights (acquisition.sh).
 from report import LIGHT_NAMES, LIGHTS
+
+LIGHTS = [light for light in LIGHTS if light != "night-lit"]
 
 MODES = ["paper", "robust"]
 

@@ -1,8 +1,8 @@
 #!/bin/sh
 # How far ahead the search first holds the lead in fog and in the dark:
-# scenarios/sweeps/weather-acquisition.toml in the weather study's four lights, each into its
-# own folder under OUT (default renders/sweeps/weather-acquisition), then the report into
-# examples/weather/acquisition.md.
+# scenarios/sweeps/weather-acquisition.toml in the weather study's lights but the street-lit
+# night, each into its own folder under OUT (default renders/sweeps/weather-acquisition),
+# then the report into examples/weather/acquisition.md.
 # CARFOLLOW names the binary (default: carfollow on the PATH); JOBS the parallel runs.
 set -eu
 CARFOLLOW=${CARFOLLOW:-carfollow}

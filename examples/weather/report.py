@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
 """The weather study's report: what fog, rain and the dark do to each tracker mode.
 
-Reads the four sweeps that `examples/weather/run.sh` makes of
-`scenarios/sweeps/weather.toml`, one per light (`day`, `dusk`, `night-low`, `night-high`
-under one folder, each with its `results.jsonl`), and writes into `--out`:
+Reads the five sweeps that `examples/weather/run.sh` makes of
+`scenarios/sweeps/weather.toml`, one per light (`day`, `dusk`, `night-lit`, `night-low`,
+`night-high` under one folder, each with its `results.jsonl`), and writes into `--out`:
 
 - `runs.csv`: the figures it reads, a row per run (so that the report can be made again
   from it alone: give it in place of the folder);
@@ -34,10 +34,11 @@ import sys
 import tempfile
 import zlib
 
-LIGHTS = ["day", "dusk", "night-low", "night-high"]
+LIGHTS = ["day", "dusk", "night-lit", "night-low", "night-high"]
 LIGHT_NAMES = {
     "day": "day",
     "dusk": "dusk, low beams",
+    "night-lit": "night, street lights, low beams",
     "night-low": "night, low beams",
     "night-high": "night, high beams",
 }
@@ -45,6 +46,11 @@ LIGHT_NAMES = {
 LIGHT_SETS = {
     "day": ["environment.sun.elevation_deg=40"],
     "dusk": ["environment.sun.elevation_deg=-4", "chase.headlamps.beam=low"],
+    "night-lit": [
+        "environment.sun.elevation_deg=-18",
+        "chase.headlamps.beam=low",
+        "environment.clutter.street_lights_per_km=30",
+    ],
     "night-low": ["environment.sun.elevation_deg=-18", "chase.headlamps.beam=low"],
     "night-high": ["environment.sun.elevation_deg=-18", "chase.headlamps.beam=high"],
 }
@@ -69,7 +75,7 @@ def v_name(v):
 
 
 def load(folder):
-    """Every run of the four sweeps: (light, road, seed, V, rain, mode) -> summary."""
+    """Every run of the five sweeps: (light, road, seed, V, rain, mode) -> summary."""
     runs = {}
     for light in LIGHTS:
         path = os.path.join(folder, light, "results.jsonl")
@@ -417,7 +423,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument(
         "folder",
-        help="the folder run.sh wrote the four sweeps into, or a runs.csv this script wrote",
+        help="the folder run.sh wrote the five sweeps into, or a runs.csv this script wrote",
     )
     ap.add_argument("--out", default="examples/weather", help="where to write the report")
     ap.add_argument("--frames", metavar="CARFOLLOW", help="draw the frames with this binary")
