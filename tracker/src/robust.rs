@@ -430,15 +430,20 @@ impl EdgeMaps {
                 }
             }
         }
-        let covered = [0, 1].map(|k| {
-            if total[k] == 0 {
-                1.0
-            } else {
-                hit[k] as f64 / total[k] as f64
-            }
-        });
-        (covered, total)
+        (covered_shares(hit, total), total)
     }
+}
+
+/// Each orientation's share of samples covered, `[horizontal, vertical]`: an orientation
+/// with no sample counts as covered.
+fn covered_shares(hit: [usize; 2], total: [usize; 2]) -> [f64; 2] {
+    [0, 1].map(|k| {
+        if total[k] == 0 {
+            1.0
+        } else {
+            hit[k] as f64 / total[k] as f64
+        }
+    })
 }
 
 /// The track's own reference coverage: the exponential mean (gain
@@ -609,14 +614,7 @@ impl Spread {
                 hit[k] += cells.iter().map(|&c| usize::from(c)).sum::<usize>();
             }
         }
-        let covered = [0, 1].map(|k| {
-            if total[k] == 0 {
-                1.0
-            } else {
-                hit[k] as f64 / total[k] as f64
-            }
-        });
-        (covered, total)
+        (covered_shares(hit, total), total)
     }
 }
 
