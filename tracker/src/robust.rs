@@ -493,7 +493,13 @@ impl CoverageReference {
 /// target sits on a peak of coverage (gain ≤ 0); a fit that slid off it between features
 /// does not, and neither does a fit one feature spacing off (sideways, up or down, or
 /// both), whose features lie on their neighbours' edges: moved back, it covers more.
-pub fn coverage_gain(maps: &EdgeMaps, features: &[PredictedFeature], alias_px: [f64; 2]) -> f64 {
+/// `spread`: scratch kept between frames, so that the check allocates nothing.
+pub fn coverage_gain(
+    maps: &EdgeMaps,
+    features: &[PredictedFeature],
+    alias_px: [f64; 2],
+    spread: &mut SpreadMaps,
+) -> f64 {
     let total = |(c, n): ([f64; 2], [usize; 2])| {
         let all = n[0] + n[1];
         if all == 0 {
@@ -503,7 +509,7 @@ pub fn coverage_gain(maps: &EdgeMaps, features: &[PredictedFeature], alias_px: [
         }
     };
     // 25 coverages of the same maps: each sample one look-up in maps spread across.
-    let spread = Spread::of(maps);
+    spread.fill(maps);
     let here = total(spread.coverage_counts(features, 0.0, 0.0));
     let mut gain = f64::NEG_INFINITY;
     let p = PEAK_PROBE_PX;
@@ -523,8 +529,9 @@ pub fn coverage_gain(maps: &EdgeMaps, features: &[PredictedFeature], alias_px: [
 /// [`COVERAGE_TOLERANCE_PX`] (horizontal points up and down, vertical ones left and right),
 /// over the rows (columns) the tolerance reaches beyond the maps: a sample is covered when
 /// its one cell is set, and a feature's samples are one contiguous run of cells (the
-/// vertical map is stored by columns).
-struct Spread {
+/// vertical map is stored by columns). [`coverage_gain`]'s scratch.
+#[derive(Clone, Debug, Default)]
+pub struct SpreadMaps {
     x0: i64,
     y0: i64,
     width: i64,
@@ -535,12 +542,17 @@ struct Spread {
     vertical: Vec<u8>,
 }
 
-impl Spread {
-    fn of(maps: &EdgeMaps) -> Spread {
+impl SpreadMaps {
+    /// Spreads `maps` (the buffers kept, refilled).
+    fn fill(&mut self, maps: &EdgeMaps) {
         let tol = COVERAGE_TOLERANCE_PX;
         let (w, h) = (maps.width.max(0), maps.height.max(0));
-        let mut horizontal = vec![0u8; (w * (h + 2 * tol)) as usize];
-        let mut vertical = vec![0u8; (h * (w + 2 * tol)) as usize];
+        (self.x0, self.y0, self.width, self.height) = (maps.x0, maps.y0, w, h);
+        let (horizontal, vertical) = (&mut self.horizontal, &mut self.vertical);
+        horizontal.clear();
+        horizontal.resize((w * (h + 2 * tol)) as usize, 0);
+        vertical.clear();
+        vertical.resize((h * (w + 2 * tol)) as usize, 0);
         for y in 0..h {
             for x in 0..w {
                 let i = (y * w + x) as usize;
@@ -556,14 +568,6 @@ impl Spread {
                     }
                 }
             }
-        }
-        Spread {
-            x0: maps.x0,
-            y0: maps.y0,
-            width: w,
-            height: h,
-            horizontal,
-            vertical,
         }
     }
 

@@ -26,8 +26,9 @@ use crate::prediction::{predict_features, predict_location, PredictedFeature};
 use crate::resolvability::Resolvability;
 use crate::robust::{
     adaptive_threshold, alias_spacing, coverage_gain, coverage_gain_window, noise_raised_threshold,
-    ChamferSearch, CoverageReference, EdgeMaps, NoiseEstimator, COVERAGE_TOLERANCE_PX, FAST_LAMBDA,
-    MAX_COVERAGE_GAIN, MIN_COVERAGE, NOISE_THRESHOLD_FACTOR, PEAK_PROBE_PX, SEARCH_BELOW_COVERAGE,
+    ChamferSearch, CoverageReference, EdgeMaps, NoiseEstimator, SpreadMaps, COVERAGE_TOLERANCE_PX,
+    FAST_LAMBDA, MAX_COVERAGE_GAIN, MIN_COVERAGE, NOISE_THRESHOLD_FACTOR, PEAK_PROBE_PX,
+    SEARCH_BELOW_COVERAGE,
 };
 use crate::window::Window;
 
@@ -98,6 +99,7 @@ pub struct Tracker {
     associations: Vec<Association>,
     rows: Vec<Row>,
     maps: EdgeMaps,
+    spread: SpreadMaps,
     check: Vec<PredictedFeature>,
     check_edges: Edges,
     noise: NoiseEstimator,
@@ -258,6 +260,7 @@ impl Tracker {
             associations: Vec::new(),
             rows: Vec::new(),
             maps: EdgeMaps::default(),
+            spread: SpreadMaps::default(),
             check: Vec::new(),
             check_edges: Edges::default(),
             noise: NoiseEstimator::default(),
@@ -572,7 +575,7 @@ impl Tracker {
                         None,
                     );
                     self.maps.build(&self.check_edges, looked);
-                    coverage_gain(&self.maps, &self.check, alias)
+                    coverage_gain(&self.maps, &self.check, alias, &mut self.spread)
                 };
                 (coverage, gain)
             }

@@ -10,7 +10,7 @@
 use proptest::prelude::*;
 use tracker::edges::EdgeExtractor;
 use tracker::prediction::PredictedFeature;
-use tracker::robust::{coverage_gain, coverage_gain_window, EdgeMaps, PEAK_PROBE_PX};
+use tracker::robust::{coverage_gain, coverage_gain_window, EdgeMaps, SpreadMaps, PEAK_PROBE_PX};
 use tracker::window::Window;
 use tracker::{Edges, GrayView, Orientation, TrackerConfig};
 
@@ -101,7 +101,12 @@ fn both(
     config: &TrackerConfig,
 ) -> (u64, u64) {
     let the_box = coverage_gain_window(features, alias, within);
-    let fast = coverage_gain(&maps_over(px, the_box, config), features, alias);
+    let fast = coverage_gain(
+        &maps_over(px, the_box, config),
+        features,
+        alias,
+        &mut SpreadMaps::default(),
+    );
     let long = gain_by_moving(&maps_over(px, within, config), features, alias);
     (fast.to_bits(), long.to_bits())
 }

@@ -472,7 +472,7 @@ pub struct KeepSpec {
     #[schemars(extend("minimum" = 0.0, "maximum" = 1e3))]
     pub time_gap_s: Option<f64>,
     /// Measure between the reference points (OpenSCENARIO's `freespace="false"`).
-    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    #[serde(default, skip_serializing_if = "is_false")]
     pub between_axles: bool,
     /// Which side of `to` this vehicle keeps the gap on: `behind` (the default; the
     /// standard's `trailingReferencedEntity`), `ahead` (`leadingReferencedEntity`) or
