@@ -521,7 +521,7 @@ pub const KEEP_LAG_S: f64 = 0.5;
 pub const KEEP_MAX_ACCEL_MPS2: f64 = 4.0;
 /// A kept gap's default largest deceleration, m/s².
 pub const KEEP_MAX_DECEL_MPS2: f64 = 8.0;
-/// How near the gap counts as reached, m (or, for a time gap, s).
+/// How near the gap counts as reached, m (a time gap too: its gap at the speed behind).
 pub const KEEP_REACHED_M: f64 = 0.25;
 /// How near the speeds count as matched, m/s.
 pub const KEEP_REACHED_MPS: f64 = 0.25;

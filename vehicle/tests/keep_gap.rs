@@ -128,6 +128,26 @@ fn a_gap_not_continuous_ends_once_reached_and_the_speed_is_kept() {
     // After it, the speed it had is held.
     let v = at(ended).1;
     assert!(r.me[ended as usize..].iter().all(|m| m.1 == v), "{v}");
+
+    // A time gap of 1.5 s at 15 m/s (22.5 m) ends within the same 0.25 m, not within 0.25 s
+    // (3.75 m at this speed).
+    let r = drive(
+        "[[events]]\nname = \"k\"\ntrigger = { time_s = 0.0 }\naction = { keep = { time_gap_s = 1.5, to = \"other\", continuous = false } }\n",
+        40.0, 0.0, 15.0, 60.0, |_| 15.0,
+    );
+    let ended = r
+        .log
+        .iter()
+        .find(|e| e.1 == "k" && e.2 == FiredKind::Ended)
+        .map(|e| e.0)
+        .expect("reached and ended");
+    let at = |n: u64| r.me[n as usize];
+    let (me, v, _) = at(ended);
+    let g = gap(me, other(ended));
+    assert!(
+        (g - 1.5 * v).abs() < KEEP_REACHED_M + 0.05,
+        "ended at {g} m, {v} m/s"
+    );
 }
 
 #[test]

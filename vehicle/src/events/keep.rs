@@ -92,11 +92,9 @@ impl KeepState {
         }
         self.speed_mps = (self.speed_mps + accel * dt).max(0.0);
         self.accel_mps2 = if self.speed_mps > 0.0 { accel } else { 0.0 };
-        let reached_gap = if k.time {
-            back.speed_mps > 0.0 && (gap / back.speed_mps - k.value).abs() <= KEEP_REACHED_M
-        } else {
-            error.abs() <= KEEP_REACHED_M
-        };
-        !k.continuous && reached_gap && (mine.speed_mps - other.speed_mps).abs() <= KEEP_REACHED_MPS
+        // Reached within the same distance whether asked as a gap or as a time gap.
+        !k.continuous
+            && error.abs() <= KEEP_REACHED_M
+            && (mine.speed_mps - other.speed_mps).abs() <= KEEP_REACHED_MPS
     }
 }
