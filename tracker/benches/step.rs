@@ -1,6 +1,7 @@
 //! One full tracker step (stages 1–8) on a 256×242 frame with the target at scale 1, the
 //! paper's configuration, with sub-pixel edges, and in robust mode; robust mode's recovery
-//! frames (a search near the prediction, a whole-image acquisition); plus stage 1 alone.
+//! frames (a search near the prediction, a whole-image acquisition, on the benchmark frame
+//! and on a textured one with poles); plus stage 1 alone.
 //! Run with `cargo bench -p tracker`.
 
 use criterion::{criterion_group, criterion_main, Criterion};
@@ -59,6 +60,33 @@ fn bench(c: &mut Criterion) {
         b.iter_batched(
             || searching.clone(),
             |mut t| black_box(t.step(black_box(image), 0.0)),
+            criterion::BatchSize::SmallInput,
+        )
+    });
+
+    // The same search on a textured background with poles, as a road scene's clutter is:
+    // most of the image's positions score far from the target there.
+    let scene = tracker::synth::SynthScene {
+        noise_sigma: 2.0,
+        texture: Some(tracker::synth::Texture {
+            seed: 7,
+            contrast: 0.35,
+        }),
+        distractors: [20.0, 70.0, 180.0, 230.0]
+            .map(|x| tracker::synth::Rect {
+                bounds: [x, 0.0, x + 3.0, 242.0],
+                value: 60.0,
+            })
+            .to_vec(),
+        ..Default::default()
+    };
+    let textured = tracker::synth::draw(&model, &camera, at, &scene, 1);
+    let textured = GrayView::new(256, 242, &textured).unwrap();
+    assert!(searching.clone().step(textured, 0.0).event.is_some());
+    c.bench_function("tracker_acquire_whole_image_robust_textured", |b| {
+        b.iter_batched(
+            || searching.clone(),
+            |mut t| black_box(t.step(black_box(textured), 0.0)),
             criterion::BatchSize::SmallInput,
         )
     });

@@ -38,6 +38,10 @@ pub struct SearchHit {
 /// coordinates are below 2¹⁰, so under 2⁻⁴² px), far less than any offset's spacing.
 const NEAR_HALF_PX: f64 = 1e-9;
 
+/// How many runs of four samples [`ChamferSearch::row_sums`] adds between looks at
+/// whether a row is already past the bound.
+const PRUNE_EVERY: usize = 2;
+
 /// The distance transform's value at the truncation, in its units (a third of a pixel).
 const CAP: u8 = (CHAMFER_TRUNCATION_PX * 3.0) as u8;
 
@@ -231,15 +235,24 @@ impl ChamferSearch {
         let r = self.region;
         let ry = y - r.y0 as i64;
         let fast = self.fast_span(ry, [x0 - r.x0 as i64, x1 - r.x0 as i64]);
-        if let Some([lo, hi]) = fast {
-            self.row_sums(ry, lo, (hi - lo) as usize / SEARCH_STEP_PX + 1);
-        }
         let n = self.samples.len().max(1) as f64;
+        // Once the bound is finite it never rises (`Kept`): a row whose every fast centre
+        // is already past it is none the bound will admit.
+        let beyond = fast.is_some_and(|[lo, hi]| {
+            let limit = kept.bound() * 3.0 * n;
+            !self.row_sums(ry, lo, (hi - lo) as usize / SEARCH_STEP_PX + 1, limit)
+        });
+        let step = SEARCH_STEP_PX as i64;
         let mut x = x0;
         while x <= x1 {
             let bound = kept.bound();
             let rx = x - r.x0 as i64;
             let score = match fast {
+                // The fast centres offer nothing: on to the first after them.
+                Some([lo, hi]) if beyond && (lo..=hi).contains(&rx) => {
+                    x += (hi - rx) / step * step + step;
+                    continue;
+                }
                 Some([lo, hi]) if (lo..=hi).contains(&rx) => {
                     let sum = f64::from(self.sums[(rx - lo) as usize / SEARCH_STEP_PX]);
                     (sum <= bound * 3.0 * n).then_some(sum / (3.0 * n))
@@ -250,7 +263,7 @@ impl ChamferSearch {
                 let location = Location::new(x as f64, y as f64, self.grid.scale);
                 kept.offer(SearchHit { location, score });
             }
-            x += SEARCH_STEP_PX as i64;
+            x += step;
         }
     }
 
@@ -271,22 +284,40 @@ impl ChamferSearch {
     /// Sets [`ChamferSearch::sums`] to the sums of truncated distances of the `count`
     /// centres `(lo + i · step, ry)`, region coordinates, every whole offset of which lies
     /// in the region; a sample near a half pixel is rounded per centre, and counts [`CAP`]
-    /// off the region, as [`ChamferSearch::score`] counts it.
-    fn row_sums(&mut self, ry: i64, lo: i64, count: usize) {
+    /// off the region, as [`ChamferSearch::score`] counts it. Returns `false`, the sums
+    /// left unfinished, as soon as every centre's partial sum exceeds `limit` (the sums
+    /// only grow).
+    fn row_sums(&mut self, ry: i64, lo: i64, count: usize, limit: f64) -> bool {
         let step = SEARCH_STEP_PX as i64;
         let (h, pw) = (self.region.height() as i64, self.phase_width as i64);
         self.sums.clear();
         self.sums.resize(count, 0);
-        for &(k, dx, dy) in &self.grid.offsets {
+        let plane = |&(k, dx, dy): &(usize, i64, i64)| {
             let q = lo + dx;
             let start = (((q % step) * h + ry + dy) * pw + q / step) as usize;
-            let plane = &self.phased[k][start..start + count];
-            for (sum, &d) in self.sums.iter_mut().zip(plane) {
+            &self.phased[k][start..start + count]
+        };
+        // Four samples' rows added at a time: the sums are read and written a quarter as
+        // often (integer sums, so the order does not matter).
+        let mut fours = self.grid.offsets.chunks_exact(4);
+        for (i, four) in (&mut fours).enumerate() {
+            let [a, b, c, d] = [0, 1, 2, 3].map(|i| plane(&four[i]));
+            for ((((sum, &a), &b), &c), &d) in self.sums.iter_mut().zip(a).zip(b).zip(c).zip(d) {
+                *sum += u16::from(a) + u16::from(b) + u16::from(c) + u16::from(d);
+            }
+            if i % PRUNE_EVERY == PRUNE_EVERY - 1
+                && f64::from(self.sums.iter().fold(u16::MAX, |m, &s| m.min(s))) > limit
+            {
+                return false;
+            }
+        }
+        for offset in fours.remainder() {
+            for (sum, &d) in self.sums.iter_mut().zip(plane(offset)) {
                 *sum += u16::from(d);
             }
         }
         if self.grid.ambiguous.is_empty() {
-            return;
+            return true;
         }
         let r = self.region;
         let y = (ry + r.y0 as i64) as f64;
@@ -296,6 +327,7 @@ impl ChamferSearch {
                 self.sums[i] += u16::from(self.at(k, x + a, y + b));
             }
         }
+        true
     }
 
     /// The truncated distance of class `k` at the image point `(x, y)` rounded to a pixel;
@@ -672,7 +704,8 @@ mod tests {
 
     /// The coarse pass's row sums score every grid centre as scoring sample by sample does,
     /// at every scale and position, inside the region and at its borders, with samples
-    /// near a half pixel or not.
+    /// near a half pixel or not; a row is given up only when none of its centres could
+    /// pass the limit.
     #[test]
     fn grid_rows_score_as_each_sample_does() {
         use crate::synth::{benchmark_frame, nist_ten_segment};
@@ -693,7 +726,7 @@ mod tests {
         let (w, h) = (region.width() as i64, region.height() as i64);
         let n = search.samples.len() as f64;
         let step = SEARCH_STEP_PX as i64;
-        let (mut compared, mut inexact) = (0, 0);
+        let (mut compared, mut inexact, mut pruned) = (0, 0, 0);
         for scale in [0.4, 0.77, 1.0, 1.31, 2.2] {
             search.set_grid(scale);
             inexact += usize::from(!search.grid.ambiguous.is_empty());
@@ -705,22 +738,40 @@ mod tests {
                     let Some([lo, hi]) = search.fast_span(ry, [phase, w]) else {
                         continue;
                     };
-                    search.row_sums(ry, lo, ((hi - lo) / step + 1) as usize);
-                    for (i, rx) in (lo..=hi).step_by(step as usize).enumerate() {
-                        let at = Location::new(
-                            (rx + region.x0 as i64) as f64,
-                            (ry + region.y0 as i64) as f64,
-                            scale,
-                        );
-                        let each = search.score(at, f64::INFINITY).unwrap();
+                    let count = ((hi - lo) / step + 1) as usize;
+                    assert!(search.row_sums(ry, lo, count, f64::INFINITY));
+                    let each: Vec<f64> = (lo..=hi)
+                        .step_by(step as usize)
+                        .map(|rx| {
+                            let x = (rx + region.x0 as i64) as f64;
+                            let y = (ry + region.y0 as i64) as f64;
+                            search
+                                .score(Location::new(x, y, scale), f64::INFINITY)
+                                .unwrap()
+                        })
+                        .collect();
+                    for (i, &each) in each.iter().enumerate() {
                         let sum = f64::from(search.sums[i]);
-                        assert_eq!(sum / (3.0 * n), each, "at {at:?}");
+                        assert_eq!(sum / (3.0 * n), each, "at ({lo} + {i} · {step}, {ry})");
                         compared += 1;
+                    }
+                    // With a limit, a row is given up only when every centre's whole sum
+                    // is past it; a row not given up is summed whole.
+                    let least = f64::from(*search.sums.iter().min().unwrap());
+                    for limit in [0.0, 0.5 * least, least - 1.0, least, least + 0.5] {
+                        if search.row_sums(ry, lo, count, limit) {
+                            let sums = search.sums.iter().map(|&s| f64::from(s) / (3.0 * n));
+                            assert!(sums.eq(each.iter().copied()));
+                        } else {
+                            assert!(least > limit, "{least} given up at {limit}");
+                            pruned += 1;
+                        }
                     }
                 }
             }
         }
         assert!(compared > 50_000, "{compared} compared");
+        assert!(pruned > 1_000, "{pruned} rows given up");
         // Some scales put a sample within rounding of a half pixel (2.2 does, by a few
         // 1e-15 px; 1.0 has offsets of whole half pixels): both kinds of sample are tried.
         assert!((1..5).contains(&inexact), "{inexact} of 5 scales inexact");
