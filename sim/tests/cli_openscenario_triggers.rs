@@ -667,3 +667,74 @@ fn a_wait_for_an_acts_start_holds_from_the_first_step() {
         assert!(e.contains(says) && e.contains("mutant.xosc:"), "{e}");
     }
 }
+
+/// A reference qualified by the names around its element (`Event::Action`, up to
+/// `Story::Act::ManeuverGroup::Maneuver::Event`) finds the same event as the bare name
+/// does, and runs the same; a name two elements share must be qualified, and a
+/// qualification the file does not have is refused, each in one line naming the file.
+#[test]
+fn a_qualified_reference_names_the_element_its_parents_place() {
+    let after = r#"<StoryboardElementStateCondition storyboardElementType="event" storyboardElementRef="cut-in" state="endTransition"/>"#;
+    let wait = |kind: &str, name: &str, twin_actions: bool| {
+        let on = format!(
+            r#"<StoryboardElementStateCondition storyboardElementType="{kind}" storyboardElementRef="{name}" state="endTransition"/>"#
+        );
+        mutant(move |text| {
+            assert!(text.contains(after) && text.contains(r#"<Action name="BrakeAction">"#));
+            let text = text.replace(after, &on);
+            if twin_actions {
+                text.replace(
+                    r#"<Action name="BrakeAction">"#,
+                    r#"<Action name="CutInAction">"#,
+                )
+            } else {
+                text
+            }
+        })
+    };
+    let set = ["--set", "duration_s=12"];
+    let (dir, plain) = wait("event", "cut-in", false);
+    let bare = frames_of(&plain, &dir.path().join("bare"), &set);
+    assert!(Frames::parse(&bare).logged("brake:started").is_some());
+    for (kind, name, twins) in [
+        ("action", "CutInAction", false),
+        ("action", "cut-in::CutInAction", true),
+        ("event", "CutInManeuver::cut-in", false),
+        (
+            "event",
+            "CutInStory::CutInAct::CutInGroup::CutInManeuver::cut-in",
+            false,
+        ),
+    ] {
+        let (dir, path) = wait(kind, name, twins);
+        let frames = frames_of(&path, &dir.path().join("x"), &set);
+        assert!(frames == bare, "{kind} `{name}` runs differently");
+    }
+    for (kind, name, twins, says) in [
+        (
+            "action",
+            "CutInAction",
+            true,
+            "more than one <Action> is named `CutInAction`",
+        ),
+        (
+            "event",
+            "CutInAct::cut-in",
+            false,
+            "no <Event> is named `CutInAct::cut-in`",
+        ),
+        (
+            "event",
+            "OtherStory::CutInAct::CutInGroup::CutInManeuver::cut-in",
+            false,
+            "no <Event> is named",
+        ),
+    ] {
+        let (_dir, path) = wait(kind, name, twins);
+        let o = carfollow(&["check", path.to_str().unwrap()]);
+        let e = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{e}");
+        assert_eq!(e.lines().count(), 1, "{e}");
+        assert!(e.contains(says) && e.contains("mutant.xosc:"), "{e}");
+    }
+}

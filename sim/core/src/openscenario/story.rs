@@ -54,7 +54,7 @@ pub fn read_stories(
     };
     // First the events' owners and names (an `after` may name a later event), and how
     // many lane changes each vehicle makes.
-    let mut found: BTreeMap<String, Found> = BTreeMap::new();
+    let mut found: BTreeMap<u32, Found> = BTreeMap::new();
     let mut lane_changes: BTreeMap<String, usize> = BTreeMap::new();
     let mut taken: BTreeMap<String, Vec<String>> = BTreeMap::new();
     let (all, side_by_side) = events(xml, storyboard, ego)?;
@@ -62,7 +62,7 @@ pub fn read_stories(
         for owner in owners {
             let base = xml.req(*event, "name")?;
             let name = super::unique(&base, taken.entry(owner.clone()).or_default());
-            found.entry(base).or_insert(Found {
+            found.entry(event.id().get()).or_insert(Found {
                 owner: owner.clone(),
                 name,
             });
@@ -245,7 +245,7 @@ struct Context<'c, 'a> {
     names: &'c Names,
     init: &'c Init,
     road: &'c RoadLanes,
-    found: &'c BTreeMap<String, Found>,
+    found: &'c BTreeMap<u32, Found>,
     lane_changes: &'c BTreeMap<String, usize>,
 }
 
@@ -291,7 +291,7 @@ impl Context<'_, '_> {
         };
         let name = self
             .found
-            .get(&base)
+            .get(&event.id().get())
             .filter(|f| f.owner == owner)
             .map_or(base.clone(), |f| f.name.clone());
         let actions: Vec<_> = children(event, "Action").collect();
@@ -427,14 +427,10 @@ impl Context<'_, '_> {
                 {
                     return Err(xml.at(c, format!("<StoryboardElementStateCondition storyboardElementType=\"{kind}\" state=\"{state}\">: carfollow waits for an event's end (an event or action, endTransition or completeState) or a start (a story, act, maneuver group or maneuver, startTransition or runningState)")));
                 }
-                let event = if kind == "action" {
-                    self.event_of_action(c, &reference)?
-                } else {
-                    reference
-                };
-                self.not_continuous(c, &event)?;
-                let found = self.found.get(&event).filter(|f| f.owner == owner).ok_or_else(|| {
-                    xml.at(c, format!("<StoryboardElementStateCondition storyboardElementRef=\"{event}\">: not an event of `{owner}` (carfollow's events wait for their own vehicle's)"))
+                let event = event_of(xml, c, &kind, &reference)?;
+                self.not_continuous(c, event, &reference)?;
+                let found = self.found.get(&event.id().get()).filter(|f| f.owner == owner).ok_or_else(|| {
+                    xml.at(c, format!("<StoryboardElementStateCondition storyboardElementRef=\"{reference}\">: not an event of `{owner}` (carfollow's events wait for their own vehicle's)"))
                 })?;
                 Ok(TriggerSpec {
                     after: Some(found.name.clone()),
@@ -485,54 +481,26 @@ impl Context<'_, '_> {
             "maneuverGroup" => "ManeuverGroup",
             _ => "Maneuver",
         };
-        let xml = self.xml;
-        let found = xml
-            .doc
-            .descendants()
-            .any(|n| n.has_tag_name(tag) && n.attribute("name") == Some(reference));
-        if !found {
-            return Err(xml.at(c, format!("<StoryboardElementStateCondition storyboardElementRef=\"{reference}\">: no <{tag}> is named `{reference}`")));
-        }
+        resolve(self.xml, c, tag, reference)?;
         Ok(TriggerSpec {
             time_s: Some(0.0),
             ..TriggerSpec::default()
         })
     }
 
-    /// Refuses a wait for the end of the event named `event` when it holds a continuous
-    /// `LaneOffsetAction`, which never ends.
-    fn not_continuous(&self, c: Node, event: &str) -> Result<(), OscError> {
+    /// Refuses a wait for the end of `event` (referred to as `reference`) when it holds a
+    /// continuous `LaneOffsetAction`, which never ends.
+    fn not_continuous(&self, c: Node, event: Node, reference: &str) -> Result<(), OscError> {
         let xml = self.xml;
-        let events = xml
-            .doc
+        for offset in event
             .descendants()
-            .filter(|n| n.has_tag_name("Event") && n.attribute("name") == Some(event));
-        for offset in events.flat_map(|e| {
-            e.descendants()
-                .filter(|d| d.has_tag_name("LaneOffsetAction"))
-        }) {
+            .filter(|d| d.has_tag_name("LaneOffsetAction"))
+        {
             if xml.attr(offset, "continuous")?.as_deref() == Some("true") {
-                return Err(xml.at(c, format!("<StoryboardElementStateCondition storyboardElementRef=\"{event}\">: its <LaneOffsetAction continuous=\"true\"> never ends")));
+                return Err(xml.at(c, format!("<StoryboardElementStateCondition storyboardElementRef=\"{reference}\">: its <LaneOffsetAction continuous=\"true\"> never ends")));
             }
         }
         Ok(())
-    }
-
-    /// The event holding the action named `action`.
-    fn event_of_action(&self, c: Node, action: &str) -> Result<String, OscError> {
-        let xml = self.xml;
-        xml.doc
-            .descendants()
-            .find(|n| n.has_tag_name("Action") && n.attribute("name") == Some(action))
-            .and_then(|a| a.parent())
-            .and_then(|e| e.attribute("name"))
-            .map(str::to_string)
-            .ok_or_else(|| {
-                xml.at(
-                    c,
-                    format!("<StoryboardElementStateCondition>: no action is named `{action}`"),
-                )
-            })
     }
 
     fn by_entity(&self, c: Node, owner: &str) -> Result<TriggerSpec, OscError> {
@@ -812,4 +780,76 @@ fn compare(rule: &str, ordering: std::cmp::Ordering) -> Option<bool> {
         "greaterOrEqual" => ordering != Less,
         _ => return None,
     })
+}
+
+/// The storyboard elements whose names qualify a reference, innermost first.
+const QUALIFIERS: [&str; 5] = ["Event", "Maneuver", "ManeuverGroup", "Act", "Story"];
+
+/// The `<tag>` a state condition `c` refers to as `reference`: a name, or a name qualified
+/// by the names of the storyboard elements around it, outermost first and innermost last,
+/// separated by `::` (OpenSCENARIO 1.1's `Story::Act::ManeuverGroup::Maneuver::Event::Action`,
+/// or any inner part of it, such as `Event::Action`). Refused when nothing or more than
+/// one element answers it.
+fn resolve<'d, 'i>(
+    xml: &'d Xml<'i>,
+    c: Node,
+    tag: &str,
+    reference: &str,
+) -> Result<Node<'d, 'i>, OscError> {
+    let mut parts: Vec<&str> = reference.split("::").collect();
+    let name = parts.pop().unwrap_or_default();
+    let answers = |n: &Node| {
+        let around = n
+            .ancestors()
+            .skip(1)
+            .filter(|a| QUALIFIERS.iter().any(|q| a.has_tag_name(*q)))
+            .map(|a| a.attribute("name").unwrap_or_default());
+        n.has_tag_name(tag)
+            && n.attribute("name") == Some(name)
+            && parts
+                .iter()
+                .rev()
+                .zip(around.chain(std::iter::repeat("")))
+                .all(|(p, a)| *p == a)
+    };
+    let mut found = xml.doc.descendants().filter(answers);
+    let say = |what: String| {
+        xml.at(
+            c,
+            format!(
+                "<StoryboardElementStateCondition storyboardElementRef=\"{reference}\">: {what}"
+            ),
+        )
+    };
+    let first = found
+        .next()
+        .ok_or_else(|| say(format!("no <{tag}> is named `{reference}`")))?;
+    if found.next().is_some() {
+        return Err(say(format!(
+            "more than one <{tag}> is named `{reference}` (qualify it with the names of the elements around it, as `Event::Action`)"
+        )));
+    }
+    Ok(first)
+}
+
+/// The `Event` a state condition `c` of `kind` (`event` or `action`) refers to as
+/// `reference`: the event itself, or the one holding the action.
+fn event_of<'d, 'i>(
+    xml: &'d Xml<'i>,
+    c: Node,
+    kind: &str,
+    reference: &str,
+) -> Result<Node<'d, 'i>, OscError> {
+    if kind == "event" {
+        return resolve(xml, c, "Event", reference);
+    }
+    resolve(xml, c, "Action", reference)?
+        .parent()
+        .filter(|e| e.has_tag_name("Event"))
+        .ok_or_else(|| {
+            xml.at(
+                c,
+                format!("<StoryboardElementStateCondition storyboardElementRef=\"{reference}\">: not an action of an <Event>"),
+            )
+        })
 }

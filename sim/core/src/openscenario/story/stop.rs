@@ -65,10 +65,13 @@ impl Context<'_, '_> {
     fn stop_owner(&self, group: Node, ego: &str) -> Result<String, OscError> {
         for d in group.descendants().filter(Node::is_element) {
             let named = match d.tag_name().name() {
-                "StoryboardElementStateCondition" => self
-                    .xml
-                    .attr(d, "storyboardElementRef")?
-                    .and_then(|r| self.found.get(&r).map(|f| f.owner.clone())),
+                "StoryboardElementStateCondition" => {
+                    let kind = self.xml.attr(d, "storyboardElementType")?;
+                    let reference = self.xml.attr(d, "storyboardElementRef")?;
+                    kind.zip(reference)
+                        .and_then(|(k, r)| super::event_of(self.xml, d, &k, &r).ok())
+                        .and_then(|e| self.found.get(&e.id().get()).map(|f| f.owner.clone()))
+                }
                 _ => self.xml.attr(d, "entityRef")?,
             };
             if let Some(n) = named.filter(|n| n != ego && self.names.contains_key(n)) {
