@@ -622,7 +622,8 @@ fn falling_edges_are_imported_and_exported() {
 /// A wait for an act's (or a story's, maneuver group's, maneuver's) start or running state
 /// (esmini's `cut-in` starts its cutter's speed on its act's `startTransition`) holds from
 /// the first step, when every act starts here: with a delay of 1 s the event starts at 1 s.
-/// A wait for an act's end, or for an element the file does not have, is refused in one line.
+/// A wait for an act's skipping, for the end of an act the waiting event is in, or for an
+/// element the file does not have, is refused in one line.
 #[test]
 fn a_wait_for_an_acts_start_holds_from_the_first_step() {
     let after = r#"<StoryboardElementStateCondition storyboardElementType="event" storyboardElementRef="cut-in" state="endTransition"/>"#;
@@ -649,9 +650,11 @@ fn a_wait_for_an_acts_start_holds_from_the_first_step() {
         (
             "act",
             "CutInAct",
-            "endTransition",
-            "carfollow waits for an event's end",
+            "skipTransition",
+            "carfollow waits for an element's end",
         ),
+        // The brake is in the act: it would wait for its own end.
+        ("act", "CutInAct", "endTransition", "is this event itself"),
         (
             "act",
             "NoSuchAct",

@@ -181,3 +181,68 @@ fn an_end_run_event_exports_to_the_stop_trigger_and_runs_the_same() {
     assert_eq!(ended["vehicle"], "van", "{ended}");
     assert!(ended["t_s"].as_f64().unwrap() < 20.0, "{ended}");
 }
+
+/// A wait for a story's, act's, maneuver group's or maneuver's end (esmini's `cut-in` stops
+/// 5 s after its cutter's maneuver ends) is a wait for every event under it to have ended:
+/// here the cutter's brake, the maneuver's last, so the run ends 2 s after the brake ends,
+/// however the element is named. An element with an event of another vehicle is refused.
+#[test]
+fn a_wait_for_an_elements_end_is_a_wait_for_its_last_event() {
+    let wait = |kind: &str, name: &str| {
+        format!(
+            "<ConditionGroup><Condition name=\"done\" delay=\"2\" conditionEdge=\"rising\">\
+             <ByValueCondition><StoryboardElementStateCondition storyboardElementType=\"{kind}\" \
+             storyboardElementRef=\"{name}\" state=\"endTransition\"/></ByValueCondition>\
+             </Condition></ConditionGroup>"
+        )
+    };
+    let mut ends = Vec::new();
+    for (kind, name) in [
+        ("maneuver", "CutInManeuver"),
+        ("maneuverGroup", "CutInGroup"),
+        ("act", "CutInStory::CutInAct"),
+        ("story", "CutInStory"),
+    ] {
+        let (dir, file) = with_stop_groups(&wait(kind, name));
+        let out = dir.path().join("x");
+        let frames = Frames::parse(&frames_of(&file, &out, &[]));
+        let braked = frames.logged("brake:ended").expect("the brake ends");
+        let ended = summary(&out)["ended_by"].clone();
+        assert_eq!(ended["vehicle"], "Cutter", "{kind}: {ended}");
+        let t = ended["t_s"].as_f64().unwrap();
+        assert!(
+            (t - (braked + 2.0)).abs() < 0.07,
+            "{kind}: {t} s, brake ended {braked} s"
+        );
+        ends.push(t);
+    }
+    assert!(ends.windows(2).all(|w| w[0] == w[1]), "{ends:?}");
+    // The act with a maneuver group of the lead's besides: not one vehicle's events.
+    let (_dir, file) = mutant(|text| {
+        let lead = "<ManeuverGroup maximumExecutionCount=\"1\" name=\"LeadGroup\">\
+            <Actors selectTriggeringEntities=\"false\"><EntityRef entityRef=\"Lead car\"/></Actors>\
+            <Maneuver name=\"LeadManeuver\"><Event name=\"slow\" priority=\"parallel\">\
+            <Action name=\"SlowAction\"><PrivateAction><LongitudinalAction><SpeedAction>\
+            <SpeedActionDynamics dynamicsShape=\"step\" value=\"0\" dynamicsDimension=\"time\"/>\
+            <SpeedActionTarget><AbsoluteTargetSpeed value=\"10\"/></SpeedActionTarget>\
+            </SpeedAction></LongitudinalAction></PrivateAction></Action>\
+            <StartTrigger><ConditionGroup><Condition name=\"t\" delay=\"0\" conditionEdge=\"none\">\
+            <ByValueCondition><SimulationTimeCondition value=\"3\" rule=\"greaterThan\"/></ByValueCondition>\
+            </Condition></ConditionGroup></StartTrigger></Event></Maneuver></ManeuverGroup>";
+        let end = "</ConditionGroup></StopTrigger>";
+        assert!(text.contains("</ManeuverGroup>") && text.contains(end));
+        text.replacen("</ManeuverGroup>", &format!("</ManeuverGroup>{lead}"), 1)
+            .replace(
+                end,
+                &format!("</ConditionGroup>{}</StopTrigger>", wait("act", "CutInAct")),
+            )
+    });
+    let o = carfollow(&["check", file.to_str().unwrap()]);
+    let e = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{e}");
+    assert_eq!(e.lines().count(), 1, "{e}");
+    assert!(
+        e.contains("storyboardElementRef=\"CutInAct\"") && e.contains("mutant.xosc:"),
+        "{e}"
+    );
+}

@@ -422,19 +422,29 @@ impl Context<'_, '_> {
                     // at the first step.
                     return self.started_at_once(c, &kind, &reference);
                 }
-                if !matches!(kind.as_str(), "event" | "action")
-                    || !matches!(state.as_str(), "endTransition" | "completeState")
-                {
-                    return Err(xml.at(c, format!("<StoryboardElementStateCondition storyboardElementType=\"{kind}\" state=\"{state}\">: carfollow waits for an event's end (an event or action, endTransition or completeState) or a start (a story, act, maneuver group or maneuver, startTransition or runningState)")));
+                if !matches!(state.as_str(), "endTransition" | "completeState") {
+                    return Err(xml.at(c, format!("<StoryboardElementStateCondition storyboardElementType=\"{kind}\" state=\"{state}\">: carfollow waits for an element's end (endTransition or completeState) or a start (a story, act, maneuver group or maneuver, startTransition or runningState)")));
                 }
-                let event = event_of(xml, c, &kind, &reference)?;
-                self.not_continuous(c, event, &reference)?;
-                let found = self.found.get(&event.id().get()).filter(|f| f.owner == owner).ok_or_else(|| {
-                    xml.at(c, format!("<StoryboardElementStateCondition storyboardElementRef=\"{reference}\">: not an event of `{owner}` (carfollow's events wait for their own vehicle's)"))
-                })?;
-                Ok(TriggerSpec {
-                    after: Some(found.name.clone()),
-                    ..TriggerSpec::default()
+                // An element's end is its last event's: every event under it ended (each
+                // runs once, and an act's own stop trigger is refused).
+                let events = events_of(xml, c, &kind, &reference)?;
+                let mut each = Vec::with_capacity(events.len());
+                for event in events {
+                    self.not_continuous(c, event, &reference)?;
+                    let found = self.found.get(&event.id().get()).filter(|f| f.owner == owner).ok_or_else(|| {
+                        xml.at(c, format!("<StoryboardElementStateCondition storyboardElementRef=\"{reference}\">: not an event of `{owner}` (carfollow's events wait for their own vehicle's)"))
+                    })?;
+                    each.push(TriggerSpec {
+                        after: Some(found.name.clone()),
+                        ..TriggerSpec::default()
+                    });
+                }
+                Ok(match each.len() {
+                    1 => each.remove(0),
+                    _ => TriggerSpec {
+                        all: Some(each),
+                        ..TriggerSpec::default()
+                    },
                 })
             }
             "ParameterCondition" => {
@@ -832,24 +842,48 @@ fn resolve<'d, 'i>(
     Ok(first)
 }
 
-/// The `Event` a state condition `c` of `kind` (`event` or `action`) refers to as
-/// `reference`: the event itself, or the one holding the action.
-fn event_of<'d, 'i>(
+/// The `Event`s under the element a state condition `c` of `kind` (`storyboardElementType`)
+/// refers to as `reference`: the event itself, the one holding an action, or every event
+/// of a story, act, maneuver group or maneuver (at least one).
+fn events_of<'d, 'i>(
     xml: &'d Xml<'i>,
     c: Node,
     kind: &str,
     reference: &str,
-) -> Result<Node<'d, 'i>, OscError> {
-    if kind == "event" {
-        return resolve(xml, c, "Event", reference);
+) -> Result<Vec<Node<'d, 'i>>, OscError> {
+    let say = |what: &str| {
+        xml.at(
+            c,
+            format!(
+                "<StoryboardElementStateCondition storyboardElementRef=\"{reference}\">: {what}"
+            ),
+        )
+    };
+    let tag = match kind {
+        "event" => return Ok(vec![resolve(xml, c, "Event", reference)?]),
+        "action" => {
+            let event = resolve(xml, c, "Action", reference)?
+                .parent()
+                .filter(|e| e.has_tag_name("Event"))
+                .ok_or_else(|| say("not an action of an <Event>"))?;
+            return Ok(vec![event]);
+        }
+        "story" => "Story",
+        "act" => "Act",
+        "maneuverGroup" => "ManeuverGroup",
+        "maneuver" => "Maneuver",
+        _ => {
+            return Err(xml.at(c, format!("<StoryboardElementStateCondition storyboardElementType=\"{kind}\">: not an element of the standard (story, act, maneuverGroup, maneuver, event, action)")))
+        }
+    };
+    let events: Vec<_> = resolve(xml, c, tag, reference)?
+        .descendants()
+        .filter(|d| d.has_tag_name("Event"))
+        .collect();
+    if events.is_empty() {
+        return Err(say(&format!(
+            "its <{tag}> has no <Event>, so it never ends"
+        )));
     }
-    resolve(xml, c, "Action", reference)?
-        .parent()
-        .filter(|e| e.has_tag_name("Event"))
-        .ok_or_else(|| {
-            xml.at(
-                c,
-                format!("<StoryboardElementStateCondition storyboardElementRef=\"{reference}\">: not an action of an <Event>"),
-            )
-        })
+    Ok(events)
 }

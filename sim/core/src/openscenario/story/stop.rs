@@ -69,8 +69,9 @@ impl Context<'_, '_> {
                     let kind = self.xml.attr(d, "storyboardElementType")?;
                     let reference = self.xml.attr(d, "storyboardElementRef")?;
                     kind.zip(reference)
-                        .and_then(|(k, r)| super::event_of(self.xml, d, &k, &r).ok())
-                        .and_then(|e| self.found.get(&e.id().get()).map(|f| f.owner.clone()))
+                        .and_then(|(k, r)| super::events_of(self.xml, d, &k, &r).ok())
+                        .and_then(|e| self.found.get(&e.first()?.id().get()))
+                        .map(|f| f.owner.clone())
                 }
                 _ => self.xml.attr(d, "entityRef")?,
             };
