@@ -2,7 +2,8 @@
 //! (`$name`), the arithmetic operators `+ - * / %` with unary minus, the comparisons
 //! `== != < <= > >=`, the Boolean `not`, `and`, `or` (with `true` and `false`), parentheses,
 //! and the functions of the standard: `round`, `floor`, `ceil`, `sqrt`, `pow`, and from 1.2
-//! `sin`, `cos`, `tan`, `asin`, `acos`, `atan`, `sign`, `abs`, `max`, `min`. Booleans are
+//! `sin`, `cos`, `tan`, `asin`, `acos`, `atan`, `sign`, `abs`, `max`, `min`; and esmini's
+//! constants `pi` and `e`, which files written for it use. Booleans are
 //! 1 and 0. An expression that divides by zero, leaves a function's domain or gives a
 //! number that is not finite is refused.
 
@@ -277,6 +278,10 @@ impl Parser<'_> {
             }
             Token::Word(w) if w == "true" => Ok(1.0),
             Token::Word(w) if w == "false" => Ok(0.0),
+            // esmini's constants, which files written for it use (Vector's Euro NCAP
+            // scenarios: `${65*pi/180}`); not the standard's.
+            Token::Word(w) if w == "pi" => Ok(std::f64::consts::PI),
+            Token::Word(w) if w == "e" => Ok(std::f64::consts::E),
             Token::Word(name) => self.call(&name),
             other => Err(format!("`{other}` where a value was expected")),
         }
@@ -384,6 +389,11 @@ mod tests {
         assert_eq!(eval("not true or 2 > 1 and $Speed == 20").unwrap(), 1.0);
         assert_eq!(eval("not (1 < 2)").unwrap(), 0.0);
         assert!((eval("asin(1) * 2").unwrap() - std::f64::consts::PI).abs() < 1e-15);
+        assert_eq!(
+            eval("65 * pi / 180").unwrap(),
+            65.0 * std::f64::consts::PI / 180.0
+        );
+        assert_eq!(eval("pow(e, 2)").unwrap(), std::f64::consts::E.powi(2));
     }
 
     #[test]
@@ -402,6 +412,7 @@ mod tests {
             ("#", "not an operator"),
             ("$", "without a parameter's name"),
             ("speed", "neither a function"),
+            ("pi(1)", "after the expression's end"),
         ] {
             let e = eval(text).unwrap_err();
             assert!(e.contains(says), "{text}: {e}");
