@@ -152,7 +152,7 @@ fn esminis_files_are_refused_in_one_line_naming_what_carfollow_does_not_run() {
         (
             "xosc/cut-in_simple.xosc",
             "cut-in_simple.xosc:69",
-            "not the centre of a lane",
+            "t = 1.5650000000000002 m is on no lane carfollow drives",
         ),
         (
             "xosc/acc-test.xosc",
@@ -498,5 +498,55 @@ fn the_egos_controller_alone_is_named_in_its_warning() {
             "controller and controller action(s) in <Init> (line {line}) are not applied"
         )),
         "{warned:?}"
+    );
+}
+
+/// A start off the lane's centre (`LanePosition offset`, `RelativeLanePosition offset`) is
+/// the vehicle's `offset_m`: imported, run the same as its TOML, and exported back; the
+/// ego's is refused in one line (carfollow's chase starts on its lane's centre).
+#[test]
+fn a_start_off_the_lanes_centre_is_the_vehicles_offset() {
+    let lead = r#"<RelativeLanePosition entityRef="Ego" dLane="0" ds="30" offset="0"/>"#;
+    let cutter = r#"<LanePosition roadId="1" laneId="-2" offset="0" s="80"/>"#;
+    let (dir, path) = mutant(|text| {
+        assert!(text.contains(lead) && text.contains(cutter));
+        text.replace(lead, &lead.replace("offset=\"0\"", "offset=\"-0.6\""))
+            .replace(cutter, &cutter.replace("offset=\"0\"", "offset=\"0.4\""))
+    });
+    let toml = dir.path().join("offset.toml");
+    let text = import_to(&path, &toml);
+    assert!(
+        text.contains("[lead]") && text.contains("offset_m = -0.6"),
+        "{text}"
+    );
+    assert!(text.contains("offset_m = 0.4"), "{text}");
+    let set = ["--set", "duration_s=6"];
+    let from_toml = frames_of(&toml, &dir.path().join("t"), &set);
+    assert!(
+        frames_of(&path, &dir.path().join("x"), &set) == from_toml,
+        "the imported scenario runs differently"
+    );
+    let (xosc, written) = export_to(&toml, &dir.path().join("export"));
+    assert!(
+        written.contains("offset=\"-0.6\"") && written.contains("offset=\"0.4\""),
+        "{written}"
+    );
+    assert!(
+        frames_of(&xosc, &dir.path().join("e"), &set) == from_toml,
+        "the exported file runs differently"
+    );
+    // The ego's own offset.
+    let ego = r#"<LanePosition roadId="1" laneId="-1" offset="0" s="20"/>"#;
+    let (_dir, path) = mutant(|text| {
+        assert!(text.contains(ego));
+        text.replace(ego, &ego.replace("offset=\"0\"", "offset=\"0.5\""))
+    });
+    let o = carfollow(&["check", path.to_str().unwrap()]);
+    let e = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{e}");
+    assert_eq!(e.lines().count(), 1, "{e}");
+    assert!(
+        e.contains("0.50 m left of its lane's centre") && e.contains("mutant.xosc:"),
+        "{e}"
     );
 }

@@ -448,6 +448,8 @@ pub struct Events {
     start_station_m: Option<f64>,
     speed: Option<Motion>,
     lateral: Option<Motion>,
+    /// The lateral offset from the route before any lateral action, m (positive left).
+    base_lateral_m: f64,
     /// The speed and lateral offset the last update asked for.
     speed_now: Option<SpeedOverride>,
     lateral_now_m: f64,
@@ -540,6 +542,7 @@ impl Events {
             start_station_m: None,
             speed: None,
             lateral: None,
+            base_lateral_m: 0.0,
             speed_now: None,
             lateral_now_m: 0.0,
             lane_now: lanes.route_lane,
@@ -547,6 +550,17 @@ impl Events {
             keep: None,
             road_end_m: f64::INFINITY,
         })
+    }
+
+    /// The same, for a vehicle that starts `offset_m` to the left of its route's lane
+    /// centre (negative: to the right) and keeps that offset until a lateral action moves
+    /// it.
+    pub fn with_lateral_offset_m(self, offset_m: f64) -> Events {
+        Events {
+            base_lateral_m: offset_m,
+            lateral_now_m: offset_m,
+            ..self
+        }
     }
 
     /// The same, on a road that ends `end_m` along it (in the measure of the views the
@@ -586,8 +600,9 @@ impl Events {
         self.run_ended
     }
 
-    /// The lateral offset from the route the last update asked for, m (positive left; 0
-    /// until a lane change has started).
+    /// The lateral offset from the route the last update asked for, m (positive left; the
+    /// start's offset, 0 unless [`Events::with_lateral_offset_m`] gives one, until a
+    /// lateral action has started).
     pub fn lateral_offset_m(&self) -> f64 {
         self.lateral_now_m
     }
@@ -697,7 +712,7 @@ impl Events {
                 accel_mps2: accel as f32,
             }
         });
-        self.lateral_now_m = self.lateral.map_or(0.0, |m| m.at(now).0);
+        self.lateral_now_m = self.lateral.map_or(self.base_lateral_m, |m| m.at(now).0);
         fired
     }
 
@@ -775,7 +790,7 @@ impl Events {
                 timing,
                 shape,
             } => {
-                let from = self.lateral.map_or(0.0, |m| m.at(now).0);
+                let from = self.lateral.map_or(self.base_lateral_m, |m| m.at(now).0);
                 self.lane_now = lane;
                 (
                     &mut self.lateral,
@@ -790,7 +805,7 @@ impl Events {
                 timing,
                 shape,
             } => {
-                let from = self.lateral.map_or(0.0, |m| m.at(now).0);
+                let from = self.lateral.map_or(self.base_lateral_m, |m| m.at(now).0);
                 (
                     &mut self.lateral,
                     from,

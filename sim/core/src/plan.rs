@@ -317,13 +317,15 @@ impl Plan {
             .has_traffic()
             .then(|| plan_traffic(s, &scene_route, &route, &mut world, chase_start_m))
             .transpose()?;
-        let lead = LeadDriver::new(
+        let mut lead = LeadDriver::new(
             lead_route,
             s.lead_profile.clone(),
             s.lead_driver.clone(),
             &VehicleParams::pickup(),
         )
         .map_err(|e| vehicle_error("lead.driver", &e))?;
+        // Kept from the start (with traffic, its events set it at every step).
+        lead.set_lateral_offset_m(s.lead_offset_m as f32);
         let delay = DelayLine::new(&s.delay).map_err(|e| vehicle_error("loop", &e))?;
         let pan = s
             .chase
@@ -501,7 +503,13 @@ fn start_world(
     };
     let mut world = World::new(config)?;
     let v0 = s.lead_initial_speed_mps as f32;
-    let lead_id = world.add_vehicle(&VehicleParams::pickup(), pose_at(s.lead_start_m), v0)?;
+    let lead_pose = offset_pose(
+        route,
+        pose_at(s.lead_start_m),
+        s.lead_start_m,
+        s.lead_offset_m,
+    );
+    let lead_id = world.add_vehicle(&VehicleParams::pickup(), lead_pose, v0)?;
     let chase_v0 = s.chase_initial_speed_mps as f32;
     let chase_id = world.add_vehicle(
         &VehicleParams::hmmwv_m998(),
@@ -509,6 +517,15 @@ fn start_world(
         chase_v0,
     )?;
     Ok((world, chase_id, lead_id))
+}
+
+/// `pose`, at `s_m` along `route`, moved `offset_m` to the route's left (unmoved at 0).
+fn offset_pose(route: &Route, pose: Pose, s_m: f64, offset_m: f64) -> Pose {
+    if offset_m == 0.0 {
+        return pose;
+    }
+    let left = route.left_at(s_m as f32) * offset_m as f32;
+    Pose::from_parts(pose.translation + left, pose.rotation)
 }
 
 /// The traffic of scenario `s`: the actors placed in `world` on their lanes (on the road of
@@ -568,7 +585,8 @@ fn plan_traffic(
     let road_end_m = f64::from(route.length_m());
     let lead_events = Events::new(&s.lead_events, &names, lanes(s.lead_lane))
         .map_err(|e| vehicle_field_error(src, "lead.events", &e))?
-        .with_road_end_m(road_end_m);
+        .with_road_end_m(road_end_m)
+        .with_lateral_offset_m(s.lead_offset_m);
     let mut lane_routes: Vec<(u32, Route)> = Vec::new();
     let mut actor_ids = Vec::new();
     let mut actors = Vec::new();
@@ -594,6 +612,7 @@ fn plan_traffic(
                 lane_route.tangent_at(on_lane),
             )),
         );
+        let pose = offset_pose(&lane_route, pose, f64::from(on_lane), a.offset_m);
         let id = world
             .add_vehicle(&member.params, pose, a.initial_speed_mps as f32)
             .map_err(|e| vehicle_field_error(src, &at, &e))?;
@@ -606,7 +625,8 @@ fn plan_traffic(
         .map_err(|e| vehicle_field_error(src, &at, &e))?;
         let events = Events::new(&a.events, &names, lanes(a.lane))
             .map_err(|e| vehicle_field_error(src, &format!("{at}.events"), &e))?
-            .with_road_end_m(road_end_m);
+            .with_road_end_m(road_end_m)
+            .with_lateral_offset_m(a.offset_m);
         actor_ids.push(id);
         actors.push(ActorDriver::new(driver, events));
         stations.push(a.start_m);

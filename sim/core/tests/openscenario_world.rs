@@ -1,7 +1,7 @@
 //! `WorldPosition`s: a vehicle placed by the file's own x, y and heading starts where the
 //! same place given as a lane and station puts it (on the straight and on the arc of
 //! `two-lanes.xodr`, the arc's points from the file's own numbers), a point off its lane's
-//! centre or turned from the road is placed on the centre with a warning, a reach
+//! centre starts there (its offset), one turned from the road along it with a warning, a reach
 //! condition takes one, and a point off the road, off its lanes on the right or facing
 //! against it is refused at its line.
 //!
@@ -108,12 +108,17 @@ fn a_world_position_starts_a_vehicle_where_its_lane_and_station_do() {
 }
 
 #[test]
-fn a_point_off_the_centre_or_turned_is_placed_on_it_with_a_warning() {
+fn a_point_off_the_centre_is_placed_there_and_one_turned_along_the_road_with_a_warning() {
     let (lanes, _) = imported("cut-in.xosc", &[]);
-    let lanes = lanes.unwrap();
+    let mut lanes = value(&lanes.unwrap());
     let (off, text) = imported("cut-in.xosc", &[(VAN, world(80.0, -5.65, 0.1))]);
     let off = off.unwrap();
-    same(&value(&lanes), &value(&off), 1e-6, "");
+    // 0.40 m right of lane 2's centre (t = −5.25 m): the van's offset, the rest as before.
+    lanes["actors"][0]
+        .as_table_mut()
+        .unwrap()
+        .insert("offset_m".into(), toml::Value::Float(-0.4));
+    same(&lanes, &value(&off), 1e-6, "");
     let line = 1 + text
         .lines()
         .position(|l| l.contains("WorldPosition"))
@@ -125,8 +130,8 @@ fn a_point_off_the_centre_or_turned_is_placed_on_it_with_a_warning() {
         .unwrap_or_else(|| panic!("no warning: {:?}", off.warnings));
     assert!(
         warning.starts_with(&format!("line {line}:"))
-            && warning.contains("0.40 m right of lane 2's centre")
-            && warning.contains("5.7°"),
+            && warning.contains("turned 5.7°")
+            && !warning.contains("centre"),
         "{warning}"
     );
 }

@@ -10,8 +10,8 @@ use std::collections::BTreeMap;
 /// The fastest a carfollow vehicle drives, m/s (a speed profile's bound).
 pub const MAX_SPEED_MPS: f64 = 40.0;
 
-/// How far a lateral position may lie from a lane's centre and still be in that lane's
-/// centre, m: carfollow's vehicles start on their lane's centre line.
+/// How far a lateral position may lie from a lane's centre and still be that lane's centre,
+/// m (a start offset within it is none).
 const LANE_CENTRE_TOLERANCE_M: f64 = 0.05;
 /// How far a `WorldPosition`'s heading may turn from the road's and still be along it
 /// unsaid, radians (1°): carfollow's vehicles start along their lane.
@@ -96,6 +96,26 @@ pub struct Placed {
     pub s_m: f64,
     /// Its lane: 1 next to the reference line (OpenDRIVE's −1).
     pub lane: u32,
+    /// Its offset to the left of its lane's centre, m (0 within
+    /// [`LANE_CENTRE_TOLERANCE_M`] of it).
+    pub offset_m: f64,
+}
+
+impl Placed {
+    /// At `s_m` in `lane`, `offset_m` to the left of its centre; an offset within
+    /// [`LANE_CENTRE_TOLERANCE_M`] is the centre.
+    fn new(s_m: f64, lane: u32, offset_m: f64) -> Placed {
+        let offset_m = if offset_m.abs() <= LANE_CENTRE_TOLERANCE_M {
+            0.0
+        } else {
+            offset_m
+        };
+        Placed {
+            s_m,
+            lane,
+            offset_m,
+        }
+    }
 }
 
 /// What `Init` says of each vehicle.
@@ -288,20 +308,22 @@ fn lane_of_id(xml: &Xml, road: &RoadLanes, node: Node, id: i64) -> Result<u32, O
     )))
 }
 
-/// The lane whose centre is `t_m` from the reference line (negative to the right).
-fn lane_at(xml: &Xml, road: &RoadLanes, node: Node, t_m: f64) -> Result<u32, OscError> {
-    if let Some(k) =
-        (1..=road.lanes).find(|&k| (t_m + road.centre_m(k)).abs() <= LANE_CENTRE_TOLERANCE_M)
-    {
-        return Ok(k);
-    }
-    let centres: Vec<String> = (1..=road.lanes)
-        .map(|k| format!("−{}", road.centre_m(k)))
-        .collect();
-    Err(xml.at(node, format!(
-        "<{}>: t = {t_m} m is not the centre of a lane of road {} (its lanes' centres on the right: t = {} m): carfollow's vehicles start on their lane's centre",
-        node.tag_name().name(), road.id, centres.join(", ")
-    )))
+/// The lane whose strip holds `t_m`, m from the reference line (negative to the right),
+/// and the point's offset to the left of that lane's centre.
+fn lane_at(xml: &Xml, road: &RoadLanes, node: Node, t_m: f64) -> Result<(u32, f64), OscError> {
+    road.lane_holding(t_m)
+        .map(|k| (k, t_m + road.centre_m(k)))
+        .ok_or_else(|| {
+            xml.at(
+                node,
+                format!(
+                    "<{}>: t = {t_m} m is on no lane carfollow drives on road {} ({})",
+                    node.tag_name().name(),
+                    road.id,
+                    road.named()
+                ),
+            )
+        })
 }
 
 fn check_road(xml: &Xml, road: &RoadLanes, node: Node) -> Result<(), OscError> {
@@ -317,19 +339,6 @@ fn check_road(xml: &Xml, road: &RoadLanes, node: Node) -> Result<(), OscError> {
         ));
     }
     Ok(())
-}
-
-fn no_offset(xml: &Xml, node: Node) -> Result<(), OscError> {
-    match xml.opt_num(node, "offset")? {
-        Some(o) if o.abs() > LANE_CENTRE_TOLERANCE_M => Err(xml.at(
-            node,
-            format!(
-                "<{} offset=\"{o}\">: carfollow's vehicles start on their lane's centre",
-                node.tag_name().name()
-            ),
-        )),
-        _ => Ok(()),
-    }
 }
 
 fn check_s(xml: &Xml, node: Node, s: f64) -> Result<f64, OscError> {
@@ -349,18 +358,18 @@ fn check_s(xml: &Xml, node: Node, s: f64) -> Result<f64, OscError> {
 fn absolute_position(xml: &Xml, road: &RoadLanes, p: Node) -> Result<Placed, OscError> {
     check_road(xml, road, p)?;
     let s_m = check_s(xml, p, xml.num(p, "s")?)?;
-    let lane = if p.tag_name().name() == "LanePosition" {
-        no_offset(xml, p)?;
+    let (lane, offset_m) = if p.tag_name().name() == "LanePosition" {
         let id = xml.req(p, "laneId")?;
         let id = id
             .trim()
             .parse::<i64>()
             .map_err(|_| xml.at(p, format!("<LanePosition laneId=\"{id}\">: not a lane id")))?;
-        lane_of_id(xml, road, p, id)?
+        let offset = xml.opt_num(p, "offset")?.unwrap_or(0.0);
+        (lane_of_id(xml, road, p, id)?, offset)
     } else {
         lane_at(xml, road, p, xml.num(p, "t")?)?
     };
-    Ok(Placed { s_m, lane })
+    Ok(Placed::new(s_m, lane, offset_m))
 }
 
 /// A `WorldPosition` `p` on the road: its station, the lane whose strip holds it, its
@@ -403,9 +412,8 @@ fn world_point(xml: &Xml, road: &RoadLanes, p: Node) -> Result<(f64, u32, f64, f
     Ok((on.s_m, lane, on.t_m + road.centre_m(lane), turned))
 }
 
-/// A `WorldPosition` of a vehicle in `Init`: on its lane's centre, along the road; a
-/// point farther from the centre or a heading turned farther from the road's is said in a
-/// warning.
+/// A `WorldPosition` of a vehicle in `Init`: in its lane, along the road; a heading turned
+/// farther from the road's is said in a warning.
 fn world_position(
     xml: &Xml,
     road: &RoadLanes,
@@ -413,17 +421,15 @@ fn world_position(
     warnings: &mut Vec<String>,
 ) -> Result<Placed, OscError> {
     let (s_m, lane, offset, turned) = world_point(xml, road, p)?;
-    if offset.abs() > LANE_CENTRE_TOLERANCE_M || turned.abs() > HEADING_TOLERANCE_RAD {
+    if turned.abs() > HEADING_TOLERANCE_RAD {
         warnings.push(format!(
-            "line {}: <WorldPosition> is {:.2} m {} lane {lane}'s centre (lane {}) and turned {:.1}° from the road: carfollow starts the vehicle on the centre at s = {s_m:.2} m, along the road",
+            "line {}: <WorldPosition> is turned {:.1}° from the road: carfollow starts the vehicle along the road (lane {}, s = {s_m:.2} m)",
             xml.line(p),
-            offset.abs(),
-            if offset >= 0.0 { "left of" } else { "right of" },
+            turned.to_degrees(),
             road.id_of(lane),
-            turned.to_degrees()
         ));
     }
-    Ok(Placed { s_m, lane })
+    Ok(Placed::new(s_m, lane, offset))
 }
 
 /// A `LanePosition`, `RoadPosition` or `WorldPosition` `p` as a point on the road: its
@@ -486,8 +492,7 @@ fn relative_position(
         }
     };
     let s_m = check_s(xml, p, base.s_m + ds)?;
-    let lane = if p.tag_name().name() == "RelativeLanePosition" {
-        no_offset(xml, p)?;
+    let (lane, offset_m) = if p.tag_name().name() == "RelativeLanePosition" {
         let d = xml.num(p, "dLane")?;
         if d.fract() != 0.0 || d.abs() > 100.0 {
             return Err(xml.at(
@@ -495,11 +500,12 @@ fn relative_position(
                 format!("<RelativeLanePosition dLane=\"{d}\">: not a whole number of lanes"),
             ));
         }
-        // Lane ids grow to the left.
-        lane_of_id(xml, road, p, road.id_of(base.lane) + d as i64)?
+        // Lane ids grow to the left; the offset is from the target lane's centre.
+        let lane = lane_of_id(xml, road, p, road.id_of(base.lane) + d as i64)?;
+        (lane, xml.opt_num(p, "offset")?.unwrap_or(0.0))
     } else {
-        let t_base = -road.centre_m(base.lane);
+        let t_base = base.offset_m - road.centre_m(base.lane);
         lane_at(xml, road, p, t_base + xml.num(p, "dt")?)?
     };
-    Ok(Placed { s_m, lane })
+    Ok(Placed::new(s_m, lane, offset_m))
 }

@@ -273,6 +273,7 @@ fn actor_out(v: &Entity, init: &Init, names: &Names, stories: &super::story::Sto
         name: names[&v.name].clone(),
         kind: v.kind.into(),
         lane: at.lane,
+        offset_m: at.offset_m,
         start: StartOut { station_m: at.s_m },
         initial_speed_mps: speed,
         speed_profile: vec![[0.0, speed]],
@@ -312,6 +313,8 @@ struct OpenDriveOut {
 struct LeadOut {
     start_m: f64,
     lane: u32,
+    #[serde(skip_serializing_if = "is_centre")]
+    offset_m: f64,
     initial_speed_mps: f64,
     speed_profile: Vec<[f64; 2]>,
     #[serde(skip_serializing_if = "Vec::is_empty")]
@@ -350,11 +353,18 @@ struct ActorOut {
     name: String,
     kind: String,
     lane: u32,
+    #[serde(skip_serializing_if = "is_centre")]
+    offset_m: f64,
     start: StartOut,
     initial_speed_mps: f64,
     speed_profile: Vec<[f64; 2]>,
     #[serde(skip_serializing_if = "Vec::is_empty")]
     events: Vec<vehicle::EventSpec>,
+}
+
+/// For `skip_serializing_if`: a start on its lane's centre.
+fn is_centre(offset_m: &f64) -> bool {
+    *offset_m == 0.0
 }
 
 #[derive(serde::Serialize)]
@@ -430,6 +440,18 @@ pub fn scenario(
     let speed = |name: &str| init.speed_mps.get(name).copied().unwrap_or(0.0);
     let at_ego: Placed = init.placed[ego];
     let at_lead: Placed = init.placed[&lead];
+    if at_ego.offset_m != 0.0 {
+        let line = init.line.get(ego).copied().unwrap_or(1);
+        return Err(OscError::At {
+            path: xml.path.clone(),
+            line,
+            message: format!(
+                "the ego `{ego}` starts {:.2} m {} its lane's centre: carfollow's chase starts on it",
+                at_ego.offset_m.abs(),
+                if at_ego.offset_m > 0.0 { "left of" } else { "right of" }
+            ),
+        });
+    }
     let ego_controlled = vehicles.iter().any(|v| v.name == ego && v.controlled);
     if let Some(ignored) = ego_ignored(
         stories.ego_actions,
@@ -531,6 +553,7 @@ pub fn scenario(
         lead: LeadOut {
             start_m: at_lead.s_m,
             lane: at_lead.lane,
+            offset_m: at_lead.offset_m,
             initial_speed_mps: speed(&lead),
             speed_profile: vec![[0.0, speed(&lead)]],
             events: stories.events.get(&lead).cloned().unwrap_or_default(),

@@ -120,7 +120,7 @@ fn default_lane_width() -> f64 {
     3.5
 }
 
-fn is_zero(v: &f64) -> bool {
+pub(crate) fn is_zero(v: &f64) -> bool {
     *v == 0.0
 }
 
@@ -208,6 +208,12 @@ pub struct LeadFile {
     #[serde(default = "first_lane", skip_serializing_if = "is_first_lane")]
     #[schemars(extend("minimum" = 1, "maximum" = 4))]
     pub lane: u32,
+    /// Its offset from its lane's centre, metres, positive to the left (default 0): where
+    /// it starts and what it keeps until a lateral event moves it, within half its lane's
+    /// width. Euro NCAP's car-to-car rear tests offset the target for their overlaps.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    #[schemars(extend("minimum" = -3.0, "maximum" = 3.0))]
+    pub offset_m: f64,
     /// What happens to the lead, and when (`[[lead.events]]`, as `[[actors.events]]`): a
     /// lead that changes lane, brakes or stops.
     #[serde(default, skip_serializing_if = "vehicle::EventScript::is_empty")]

@@ -186,6 +186,8 @@ pub struct ScenarioSpec {
     pub lead_driver: LeadDriverConfig,
     /// Lead: its lane at the start (1 is next to the centre line); the chase's too.
     pub lead_lane: u32,
+    /// Lead: its offset from its lane's centre, metres, positive to the left.
+    pub lead_offset_m: f64,
     /// Lead: its events.
     pub lead_events: vehicle::EventScript,
     /// The other vehicles, in the file's order.

@@ -39,6 +39,11 @@ pub struct ActorFile {
     #[serde(default = "first_lane")]
     #[schemars(extend("minimum" = 1, "maximum" = 4))]
     pub lane: u32,
+    /// Its offset from its lane's centre, metres, positive to the left (default 0), as
+    /// `[lead] offset_m`.
+    #[serde(default, skip_serializing_if = "super::file::is_zero")]
+    #[schemars(extend("minimum" = -3.0, "maximum" = 3.0))]
+    pub offset_m: f64,
     /// Where it starts: `{ station_m = S }` (its rear axle, metres along the route), or
     /// `{ gap_m = G, ahead_of = "chase" }` / `{ gap_m = G, behind = "lead" }` (bumper to
     /// bumper, along the road, whatever the lanes), or the same with `time_gap_s = T` (the
@@ -111,6 +116,8 @@ pub struct ActorSpec {
     pub kind: sim_render::VehicleKind,
     /// Its lane at the start.
     pub lane: u32,
+    /// Its offset from its lane's centre at the start, metres, positive to the left.
+    pub offset_m: f64,
     /// Its rear axle's station at t = 0, metres along the route.
     pub start_m: f64,
     /// Its speed at t = 0, m/s.

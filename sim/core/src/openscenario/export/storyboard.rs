@@ -771,14 +771,14 @@ pub fn init(x: &mut XmlOut, s: &Scenario) {
     private(
         x,
         super::EGO,
-        id(s.lead_lane),
+        (id(s.lead_lane), 0.0),
         chase_s,
         s.chase_initial_speed_mps,
     );
     private(
         x,
         super::LEAD,
-        id(s.lead_lane),
+        (id(s.lead_lane), s.lead_offset_m),
         s.lead_start_m,
         s.lead_initial_speed_mps,
     );
@@ -786,7 +786,7 @@ pub fn init(x: &mut XmlOut, s: &Scenario) {
         private(
             x,
             &actor.name,
-            id(actor.lane),
+            (id(actor.lane), actor.offset_m),
             actor.start_m,
             actor.initial_speed_mps,
         );
@@ -795,8 +795,15 @@ pub fn init(x: &mut XmlOut, s: &Scenario) {
     x.close();
 }
 
-/// One vehicle's start: on OpenDRIVE lane `lane_id` at station `s_m`, at `speed_mps`.
-fn private(x: &mut XmlOut, entity: &str, lane_id: i64, s_m: f64, speed_mps: f64) {
+/// One vehicle's start: on OpenDRIVE lane `lane_id`, `offset_m` to the left of its centre,
+/// at station `s_m`, at `speed_mps`.
+fn private(
+    x: &mut XmlOut,
+    entity: &str,
+    (lane_id, offset_m): (i64, f64),
+    s_m: f64,
+    speed_mps: f64,
+) {
     x.open("Private", &[a("entityRef", entity)]);
     x.open("PrivateAction", &[]);
     x.open("TeleportAction", &[]);
@@ -806,7 +813,7 @@ fn private(x: &mut XmlOut, entity: &str, lane_id: i64, s_m: f64, speed_mps: f64)
         &[
             a("roadId", crate::opendrive::ROAD_ID),
             a("laneId", lane_id),
-            n("offset", 0.0),
+            n("offset", offset_m),
             n("s", s_m),
         ],
     );

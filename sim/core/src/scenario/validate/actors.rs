@@ -33,13 +33,15 @@ impl Placed {
 }
 
 /// The lead's lane, and the actors, checked: names, kinds, lanes on the road, starts on the
-/// route and apart from each other, profiles, and events that name vehicles and lanes that
-/// exist. `lanes` is the road's lanes each way (`route.lanes`, or its road file's),
+/// route and apart from each other, offsets within their lanes, profiles, and events that
+/// name vehicles and lanes that exist. `lanes` is the road's lanes each way (`route.lanes`,
+/// or its road file's), `lane_width_m` a lane's width,
 /// `chase_start_m` is where the chase's rear axle starts, `[chase, lead]` the speeds the
 /// chase and the lead start at.
 pub(super) fn actors(
     raw: &ScenarioFile,
     lanes: u32,
+    lane_width_m: &dyn Fn(u32) -> f64,
     route_length_m: f64,
     chase_start_m: f64,
     [chase_initial_speed_mps, lead_initial_speed_mps]: [f64; 2],
@@ -61,6 +63,12 @@ pub(super) fn actors(
             &format!("must be a lane of the road, 1–{lanes} (route.lanes)"),
             raw.lead.lane,
         ),
+    )?;
+    offset(
+        "lead.offset_m",
+        raw.lead.offset_m,
+        lane_width_m(raw.lead.lane),
+        f,
     )?;
     f.at(
         "actors",
@@ -89,6 +97,12 @@ pub(super) fn actors(
     let mut out = Vec::with_capacity(raw.actors.len());
     for (i, a) in raw.actors.iter().enumerate() {
         let (spec, me) = actor(i, a, lanes, route_length_m, &placed, f)?;
+        offset(
+            &format!("actors[{i}].offset_m"),
+            a.offset_m,
+            lane_width_m(a.lane),
+            f,
+        )?;
         placed.push(me);
         out.push(spec);
     }
@@ -220,6 +234,7 @@ fn actor(
         name: a.name.clone(),
         kind,
         lane: a.lane,
+        offset_m: a.offset_m,
         start_m,
         initial_speed_mps: speed,
         profile,
@@ -356,4 +371,23 @@ fn events(
         }
     }
     Ok(())
+}
+
+/// A vehicle's offset from its lane's centre (`field`), checked: finite, and within half the
+/// lane's width `lane_width_m`, so that its reference point stays in its lane.
+pub(super) fn offset(
+    field: &str,
+    offset_m: f64,
+    lane_width_m: f64,
+    f: &Blame,
+) -> Result<(), ScenarioError> {
+    let half = 0.5 * lane_width_m;
+    f.at(
+        field,
+        check(
+            offset_m.is_finite() && offset_m.abs() <= half,
+            &format!("must be within half its lane's width, ±{half} m"),
+            offset_m,
+        ),
+    )
 }

@@ -199,6 +199,7 @@ pub(super) fn validate(
     let mut actors = actors::actors(
         &raw,
         route.lanes,
+        &|lane| route.lane_width_of(lane),
         length,
         chase_start_m,
         [chase_initial_speed_mps, lead_initial_speed_mps],
@@ -226,6 +227,7 @@ pub(super) fn validate(
         lead_profile,
         lead_driver: raw.lead.driver,
         lead_lane: raw.lead.lane,
+        lead_offset_m: raw.lead.offset_m,
         lead_events: raw.lead.events,
         actors,
         initial_gap_m,
