@@ -72,6 +72,10 @@ DEFAULT_POINTS = 1.0
 AVAILABLE_POINTS = {"CCRs": {}, "CCRm": {}, "CCRb": {}}
 
 KPH_PER_MPS = 3.6
+#: The car under test's width (the chase, an HMMWV) and the target's (the lead, a pickup),
+#: m: what an overlap is a share of (`vehicle::VehicleParams`).
+VUT_WIDTH_M = 2.16
+TARGET_WIDTH_M = 2.00
 #: The scenario library, whose files a sweep's rows name.
 SCENARIOS_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scenarios")
 
@@ -113,6 +117,18 @@ def loss_cause(v_rel_kph, acquisition_range_m, latency_s, held_from_start):
     if acquisition_range_m < stop_m + v * dead_s:
         return "latency"
     return "braking"
+
+
+def overlap_pct(offset_m):
+    """The protocol's overlap, %, of a target `offset_m` to the left of the lane's centre
+    (the car under test on it): 100 for none, else the share of the car under test's width
+    that overlaps the target, negative with the target to the right, as Vector's
+    OSC-NCAP-scenarios place it (|offset| = target width / 2 - VUT width * (|overlap| - 50)
+    / 100), to the nearest per cent."""
+    if offset_m == 0.0:
+        return 100
+    share = 50.0 + (TARGET_WIDTH_M / 2.0 - abs(offset_m)) * 100.0 / VUT_WIDTH_M
+    return int(round(math.copysign(share, offset_m)))
 
 
 def test_type_of(scenario_name):
@@ -187,6 +203,7 @@ def row_of(summary, scenarios_dir=None):
         "type": test_type,
         "mode": tracker.get("mode", "paper"),
         "lens_mm": sc["camera"]["focal_length_mm"],
+        "overlap_pct": overlap_pct(lead.get("offset_m", 0.0)),
         "v_test_kph": v_test,
         "v_target_kph": v_target,
         "gap_m": gap_m,
@@ -237,11 +254,14 @@ def report(rows):
     out.append("|---|---|---|---|---|---|---|---|---|---|")
     order = {"CCRs": 0, "CCRm": 1, "CCRb": 2}
     rows = sorted(rows, key=lambda r: (order[r["type"]], r["mode"], r["lens_mm"],
-                                       r["v_test_kph"], r["gap_m"] or 0, r["decel_mps2"] or 0))
+                                       -r.get("overlap_pct", 100), r["v_test_kph"],
+                                       r["gap_m"] or 0, r["decel_mps2"] or 0))
     for r in rows:
         target = f"{r['v_target_kph']:.0f} km/h"
         if r["type"] == "CCRb":
             target += f", {r['decel_mps2']:g} m/s² from {r['gap_m']:.0f} m"
+        if r.get("overlap_pct", 100) != 100:
+            target += f", {r['overlap_pct']} % overlap"
         out.append(
             f"| {r['type']} | {r['mode']} | {r['lens_mm']:g} mm | {r['v_test_kph']:.0f} km/h | "
             f"{target} | {fmt(r['acq_m'])} m | {fmt(r['impact_kph'])} km/h | "

@@ -97,6 +97,18 @@ class SweepRows(unittest.TestCase):
         # 8.33 m/s: 5.0 m to stop at 7 m/s²; 20 m is beyond that and the latency's 4.1 m.
         self.assertEqual(r["cause"], "braking")
 
+    def test_a_ccrs_row_takes_its_overlap_from_the_targets_offset(self):
+        # The sweep's offsets for 75 % and 50 % (right: negative), and none for 100 %.
+        for offset, overlap in [(0.46, 75), (1.0, 50), (-1.0, -50), (-0.46, -75)]:
+            r = ns.row_of(self.row(
+                ["chase.controller.cruise_speed_mps=8.33", f"lead.offset_m={offset}"], []))
+            self.assertEqual(r["overlap_pct"], overlap)
+        r = ns.row_of(self.row(["chase.controller.cruise_speed_mps=8.33"], []))
+        self.assertEqual(r["overlap_pct"], 100)
+        # By hand: 50 % puts the target's centre half its width to the side, so it covers
+        # the car under test from its centre line out: 1.08 m of its 2.16 m.
+        self.assertEqual(ns.overlap_pct(ns.TARGET_WIDTH_M / 2.0), 50)
+
     def test_faster_than_the_test_speed_is_no_points_and_says_so(self):
         r = ns.row_of(self.row(
             ["chase.controller.cruise_speed_mps=9.72"],

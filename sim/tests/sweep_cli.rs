@@ -674,14 +674,15 @@ fn a_dry_run_checks_every_point_and_writes_nothing() {
 }
 
 /// The Euro NCAP car-to-car rear sweeps as shipped plan every point (checked, not run: the
-/// three are 96 runs), each the protocol's grid in both modes and through both lenses.
+/// three are 240 runs), each the protocol's grid (CCRs's with its overlaps) in both modes
+/// and through both lenses.
 #[test]
 fn the_ncap_sweeps_plan_every_point() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenarios/sweeps");
     for (file, points) in [
         (
             "ncap-ccr.toml",
-            "valid: 36 points (1 scenario × 1 seed × 36 combinations",
+            "valid: 180 points (1 scenario × 1 seed × 180 combinations",
         ),
         (
             "ncap-ccrm.toml",
