@@ -5,59 +5,30 @@
 //! reaching it shows; an offset beyond half the lane is refused in one line. Run with
 //! `cargo test --release -p sim --test cli_offsets`.
 
+mod osc_common;
+
+use osc_common::{carfollow, frames_of, stderr, Frames};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
 fn scenarios() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenarios")
 }
 
-fn carfollow(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_carfollow"))
-        .args(args)
-        .output()
-        .unwrap()
+/// `frames.csv` of `scenario` run into `out` with each of `set` as a `--set`.
+fn frames(scenario: &Path, out: &Path, set: &[&str]) -> Frames {
+    let extra: Vec<&str> = set.iter().flat_map(|s| ["--set", s]).collect();
+    Frames::parse(&frames_of(scenario, out, &extra))
 }
 
-/// Runs `scenario` into `out` with `set`; the rows of its `frames.csv`, by column.
-fn frames(
-    scenario: &Path,
-    out: &Path,
-    set: &[&str],
-) -> Vec<std::collections::BTreeMap<String, String>> {
-    let mut args = vec![
-        "run",
-        scenario.to_str().unwrap(),
-        "--quiet",
-        "--out",
-        out.to_str().unwrap(),
-    ];
-    for s in set {
-        args.extend(["--set", s]);
-    }
-    let o = carfollow(&args);
-    assert!(
-        matches!(o.status.code(), Some(0 | 1)),
-        "{}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-    let mut reader = csv::Reader::from_path(out.join("frames.csv")).unwrap();
-    let header = reader.headers().unwrap().clone();
-    reader
-        .records()
-        .map(|r| {
-            let r = r.unwrap();
-            header
-                .iter()
-                .zip(r.iter())
-                .map(|(h, v)| (h.to_string(), v.to_string()))
-                .collect()
-        })
+/// How far the truth's lateral position moved between two runs, frame by frame, m.
+fn moved(a: &Frames, b: &Frames) -> Vec<f64> {
+    let lateral =
+        |f: &Frames| -> Vec<f64> { f.rows.iter().map(|r| f.num(r, "true_lateral_m")).collect() };
+    lateral(b)
+        .iter()
+        .zip(lateral(a))
+        .map(|(b, a)| b - a)
         .collect()
-}
-
-fn num(row: &std::collections::BTreeMap<String, String>, column: &str) -> f64 {
-    row[column].parse().unwrap()
 }
 
 #[test]
@@ -72,13 +43,8 @@ fn the_lead_stands_and_drives_off_its_lanes_centre() {
         &dir.path().join("c1"),
         &["duration_s=2", "lead.offset_m=0.9"],
     );
-    for (a, b) in centred.iter().zip(&offset).take(20) {
-        let moved = num(b, "true_lateral_m") - num(a, "true_lateral_m");
-        assert!(
-            (moved + 0.9).abs() < 0.05,
-            "frame {}: moved {moved} m",
-            a["frame"]
-        );
+    for (k, m) in moved(&centred, &offset).iter().enumerate().take(20) {
+        assert!((m + 0.9).abs() < 0.05, "frame {k}: moved {m} m");
     }
     // Driving (`cut-in` before its cut-in, the chase keeping its lane's centre): the lead
     // keeps the offset.
@@ -90,13 +56,8 @@ fn the_lead_stands_and_drives_off_its_lanes_centre() {
         &dir.path().join("d1"),
         &[set[0], "lead.offset_m=-0.6"],
     );
-    for (a, b) in centred.iter().zip(&offset).skip(75) {
-        let moved = num(b, "true_lateral_m") - num(a, "true_lateral_m");
-        assert!(
-            (moved - 0.6).abs() < 0.1,
-            "frame {}: moved {moved} m",
-            a["frame"]
-        );
+    for (k, m) in moved(&centred, &offset).iter().enumerate().skip(75) {
+        assert!((m - 0.6).abs() < 0.1, "frame {k}: moved {m} m");
     }
 }
 
@@ -117,8 +78,8 @@ fn an_actor_passes_a_point_off_its_lanes_centre() {
     let passed = |set: &[&str]| {
         let out = dir.path().join(format!("run{}", set.len()));
         frames(&file, &out, set)
-            .iter()
-            .any(|r| r["event"].contains("van/passed:started"))
+            .logged("van/passed:started")
+            .is_some()
     };
     assert!(!passed(&["duration_s=10"]), "passed on its lane's centre");
     assert!(
@@ -135,7 +96,7 @@ fn an_offset_beyond_half_the_lane_is_refused_in_one_line() {
         ("lead.offset_m=nan", "lead.offset_m"),
     ] {
         let o = carfollow(&["check", ccrs.to_str().unwrap(), "--set", set]);
-        let e = String::from_utf8_lossy(&o.stderr);
+        let e = stderr(&o);
         assert_eq!(o.status.code(), Some(2), "{set}: {e}");
         assert_eq!(e.lines().count(), 1, "{e}");
         assert!(e.contains(field) && e.contains("half its lane"), "{e}");

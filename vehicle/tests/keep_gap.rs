@@ -110,18 +110,22 @@ fn a_kept_gap_settles_behind_and_ahead_by_distance_and_time() {
     );
 }
 
+/// The step at which the event `k` of run `r` ended.
+fn ended_at(r: &Run) -> u64 {
+    r.log
+        .iter()
+        .find(|e| e.1 == "k" && e.2 == FiredKind::Ended)
+        .map(|e| e.0)
+        .expect("reached and ended")
+}
+
 #[test]
 fn a_gap_not_continuous_ends_once_reached_and_the_speed_is_kept() {
     let r = drive(
         "[[events]]\nname = \"k\"\ntrigger = { time_s = 0.0 }\naction = { keep = { gap_m = 20.0, to = \"other\", continuous = false } }\n",
         40.0, 0.0, 15.0, 60.0, |_| 15.0,
     );
-    let ended = r
-        .log
-        .iter()
-        .find(|e| e.1 == "k" && e.2 == FiredKind::Ended)
-        .map(|e| e.0)
-        .expect("reached and ended");
+    let ended = ended_at(&r);
     let at = |n: u64| r.me[n as usize];
     let other = |n: u64| 60.0 + 15.0 * (n + 1) as f64 / 120.0;
     assert!((gap(at(ended).0, other(ended)) - 20.0).abs() < KEEP_REACHED_M + 0.01);
@@ -135,12 +139,7 @@ fn a_gap_not_continuous_ends_once_reached_and_the_speed_is_kept() {
         "[[events]]\nname = \"k\"\ntrigger = { time_s = 0.0 }\naction = { keep = { time_gap_s = 1.5, to = \"other\", continuous = false } }\n",
         40.0, 0.0, 15.0, 60.0, |_| 15.0,
     );
-    let ended = r
-        .log
-        .iter()
-        .find(|e| e.1 == "k" && e.2 == FiredKind::Ended)
-        .map(|e| e.0)
-        .expect("reached and ended");
+    let ended = ended_at(&r);
     let at = |n: u64| r.me[n as usize];
     let (me, v, _) = at(ended);
     let g = gap(me, other(ended));
