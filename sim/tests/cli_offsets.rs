@@ -115,3 +115,37 @@ fn an_offset_beyond_half_the_lane_is_refused_in_one_line() {
         "{e}"
     );
 }
+
+/// Offsets that put two vehicles' bodies side by side in each other across a lane line are
+/// refused as overlapping starts are, in one line; apart, they run.
+#[test]
+fn offset_bodies_that_overlap_across_lanes_are_refused() {
+    let cut_in = scenarios().join("cut-in.toml");
+    let check = |set: &[&str]| {
+        let mut args = vec!["check", cut_in.to_str().unwrap()];
+        for s in set {
+            args.extend(["--set", s]);
+        }
+        carfollow(&args)
+    };
+    // The van in lane 2 level with the lead in lane 1.
+    let level = "actors.0.start.gap_m=30";
+    assert_eq!(check(&[level]).status.code(), Some(0));
+    assert_eq!(
+        check(&[level, "actors.0.offset_m=0.2"]).status.code(),
+        Some(0)
+    );
+    for offsets in [
+        ["actors.0.offset_m=1.7", "lead.offset_m=0"],
+        ["actors.0.offset_m=1.0", "lead.offset_m=-1.0"],
+    ] {
+        let o = check(&[level, offsets[0], offsets[1]]);
+        let e = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{offsets:?}: {e}");
+        assert_eq!(e.lines().count(), 1, "{e}");
+        assert!(
+            e.contains("actors[0].start") && e.contains("puts its body against `lead`'s"),
+            "{e}"
+        );
+    }
+}

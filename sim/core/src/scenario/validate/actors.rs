@@ -18,6 +18,10 @@ const MIN_START_GAP_M: f64 = 0.5;
 struct Placed {
     name: String,
     lane: u32,
+    /// Its offset from its lane's centre, m (positive left).
+    offset_m: f64,
+    /// Its centre line's distance to the left of the road's centre line, m.
+    left_m: f64,
     start_m: f64,
     speed_mps: f64,
     params: VehicleParams,
@@ -30,18 +34,27 @@ impl Placed {
     fn rear_m(&self) -> f64 {
         self.start_m + f64::from(self.params.rear_bumper_x_m())
     }
+    /// Whether its body and `other`'s lie side by side across the road: in the same lane
+    /// when neither is off its lane's centre, else by their widths about their centre lines.
+    fn abreast(&self, other: &Placed) -> bool {
+        if self.offset_m == 0.0 && other.offset_m == 0.0 {
+            return self.lane == other.lane;
+        }
+        let half = 0.5 * f64::from(self.params.width_m + other.params.width_m);
+        (self.left_m - other.left_m).abs() < half
+    }
 }
 
 /// The lead's lane, and the actors, checked: names, kinds, lanes on the road, starts on the
 /// route and apart from each other, offsets within their lanes, profiles, and events that
 /// name vehicles and lanes that exist. `lanes` is the road's lanes each way (`route.lanes`,
-/// or its road file's), `lane_width_m` a lane's width,
+/// or its road file's), `route` the road (its lanes' widths and centres),
 /// `chase_start_m` is where the chase's rear axle starts, `[chase, lead]` the speeds the
 /// chase and the lead start at.
 pub(super) fn actors(
     raw: &ScenarioFile,
     lanes: u32,
-    lane_width_m: &dyn Fn(u32) -> f64,
+    route: &sim_render::RouteSpec,
     route_length_m: f64,
     chase_start_m: f64,
     [chase_initial_speed_mps, lead_initial_speed_mps]: [f64; 2],
@@ -67,7 +80,7 @@ pub(super) fn actors(
     offset(
         "lead.offset_m",
         raw.lead.offset_m,
-        lane_width_m(raw.lead.lane),
+        route.lane_width_of(raw.lead.lane),
         f,
     )?;
     f.at(
@@ -82,6 +95,8 @@ pub(super) fn actors(
         Placed {
             name: "chase".into(),
             lane: raw.lead.lane,
+            offset_m: 0.0,
+            left_m: -route.lane_centre_m(raw.lead.lane),
             start_m: chase_start_m,
             speed_mps: chase_initial_speed_mps,
             params: VehicleParams::hmmwv_m998(),
@@ -89,6 +104,8 @@ pub(super) fn actors(
         Placed {
             name: "lead".into(),
             lane: raw.lead.lane,
+            offset_m: raw.lead.offset_m,
+            left_m: raw.lead.offset_m - route.lane_centre_m(raw.lead.lane),
             start_m: raw.lead.start_m,
             speed_mps: lead_initial_speed_mps,
             params: VehicleParams::pickup(),
@@ -96,13 +113,13 @@ pub(super) fn actors(
     ];
     let mut out = Vec::with_capacity(raw.actors.len());
     for (i, a) in raw.actors.iter().enumerate() {
-        let (spec, me) = actor(i, a, lanes, route_length_m, &placed, f)?;
         offset(
             &format!("actors[{i}].offset_m"),
             a.offset_m,
-            lane_width_m(a.lane),
+            route.lane_width_of(a.lane),
             f,
         )?;
+        let (spec, me) = actor(i, a, lanes, route, route_length_m, &placed, f)?;
         placed.push(me);
         out.push(spec);
     }
@@ -120,6 +137,7 @@ fn actor(
     i: usize,
     a: &crate::scenario::ActorFile,
     lanes: u32,
+    route: &sim_render::RouteSpec,
     route_length_m: f64,
     placed: &[Placed],
     f: &Blame,
@@ -206,15 +224,35 @@ fn actor(
     let me = Placed {
         name: a.name.clone(),
         lane: a.lane,
+        offset_m: a.offset_m,
+        left_m: a.offset_m - route.lane_centre_m(a.lane),
         start_m,
         speed_mps: speed,
         params,
     };
     if let Some(other) = placed.iter().find(|p| {
-        p.lane == me.lane
+        p.abreast(&me)
             && me.rear_m() < p.front_m() + MIN_START_GAP_M
             && p.rear_m() < me.front_m() + MIN_START_GAP_M
     }) {
+        if other.lane != me.lane || me.offset_m != 0.0 || other.offset_m != 0.0 {
+            return Err(f.invalid(
+                &at("start"),
+                format!(
+                    "puts its body against `{}`'s (its {:.1}–{:.1} m along the route and \
+                     {:.2} m left of the centre line, `{}`'s {:.1}–{:.1} m and {:.2} m, \
+                     each as wide as it is): leave at least {MIN_START_GAP_M} m between them",
+                    other.name,
+                    me.rear_m(),
+                    me.front_m(),
+                    me.left_m,
+                    other.name,
+                    other.rear_m(),
+                    other.front_m(),
+                    other.left_m
+                ),
+            ));
+        }
         return Err(f.invalid(
             &at("start"),
             format!(

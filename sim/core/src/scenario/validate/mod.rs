@@ -199,7 +199,7 @@ pub(super) fn validate(
     let mut actors = actors::actors(
         &raw,
         route.lanes,
-        &|lane| route.lane_width_of(lane),
+        &route,
         length,
         chase_start_m,
         [chase_initial_speed_mps, lead_initial_speed_mps],
