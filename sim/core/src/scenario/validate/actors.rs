@@ -235,7 +235,8 @@ fn actor(
             && me.rear_m() < p.front_m() + MIN_START_GAP_M
             && p.rear_m() < me.front_m() + MIN_START_GAP_M
     }) {
-        if other.lane != me.lane || me.offset_m != 0.0 || other.offset_m != 0.0 {
+        // Off their lanes' centres, by their bodies (on them, `abreast` is the same lane).
+        if me.offset_m != 0.0 || other.offset_m != 0.0 {
             return Err(f.invalid(
                 &at("start"),
                 format!(
