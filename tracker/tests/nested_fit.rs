@@ -3,7 +3,8 @@
 //! its scale (the model's outline about the board), and that fit is refused, because the
 //! model fits better about the same centre at a smaller scale
 //! (`tracker::robust::NESTED_FIT_RATIO`); a target within the search's reach is acquired at
-//! its scale as before. Run with `cargo test --release -p tracker --test nested_fit`.
+//! its scale as before; and a refused fit leaves the judgement of resolution as it was
+//! (`tracker::resolvability`). Run with `cargo test --release -p tracker --test nested_fit`.
 
 use tracker::chamfer::ChamferSearch;
 use tracker::robust::{
@@ -144,4 +145,33 @@ fn a_board_within_the_search_is_acquired_at_its_scale() {
         }
     }
     assert!(acquired >= 60);
+}
+
+#[test]
+fn a_refused_fit_leaves_no_mark_on_the_resolution_judgement() {
+    // A fit the search refuses was measured, and its measurement judged resolution (the
+    // board's features merge at these scales); the judgement must not outlive the refusal:
+    // a track marked unresolved stays so until a measurement shows it well resolved, and
+    // would refuse the target found next.
+    let min = acquire_scales(&Camera::default())[0];
+    let mut refused = 0;
+    for scene in scenes() {
+        for scale in ladder(0.15, min * 0.98) {
+            let (_, pixels) = frame(&scene, scale);
+            let mut t =
+                Tracker::new_searching(nist_ten_segment(), Camera::default(), config()).unwrap();
+            let out = t.step(GrayView::new(256, 242, &pixels).unwrap(), 0.0);
+            if out.status == Status::Tracking {
+                continue;
+            }
+            refused += 1;
+            assert!(
+                !t.resolvability().is_unresolved() && out.event.is_none(),
+                "board at {scale:.3}: nothing kept, yet {:?}, unresolved {}",
+                out.event,
+                t.resolvability().is_unresolved()
+            );
+        }
+    }
+    assert!(refused >= 4, "only {refused} frames refused");
 }

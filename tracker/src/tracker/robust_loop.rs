@@ -159,6 +159,9 @@ impl Tracker {
         if hit.score > CHAMFER_ACCEPT_PX {
             return None;
         }
+        // A candidate's measurement judges resolution, and the judgement is sticky: one the
+        // search does not keep must leave no trace on the target's.
+        let judged_before = self.resolvability.clone();
         let m = self.measure(image, hit.location, true, false, diagnostics);
         let nested = || {
             let s = hit.location.scale;
@@ -167,7 +170,11 @@ impl Tracker {
                 .best_about(hit.location, self.half_extent_px, smaller)
                 .is_some_and(|h| h.score < hit.score)
         };
-        (m.passes(REACQUIRE_MIN_COVERAGE, 0.0) && !(gated && nested())).then_some(m)
+        let kept = m.passes(REACQUIRE_MIN_COVERAGE, 0.0) && !(gated && nested());
+        if !kept {
+            self.resolvability = judged_before;
+        }
+        kept.then_some(m)
     }
 
     /// Robust mode's loop.
