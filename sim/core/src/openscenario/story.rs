@@ -7,11 +7,14 @@ use super::error::OscError;
 use super::init::{Init, RoadLanes};
 use super::xml::{child, children, elements, only_element, Xml};
 use roxmltree::Node;
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use vehicle::{EventSpec, Rule, TriggerSpec};
 
 mod actions;
+mod acts;
 mod stop;
+
+use acts::{act_trigger, group_never_holds, never_fires, parameter_holds};
 
 /// What the stories give: each vehicle's events (by its name in the file), and what is
 /// read and not applied (the ego's actions).
@@ -26,6 +29,10 @@ pub struct Stories {
     /// standard ends the maneuver's other running events when it starts, carfollow ends
     /// only a running action of the kind it starts (said in a warning).
     pub side_by_side: Vec<String>,
+    /// The acts and events that never start, each as "act `name`" or "event `name`": a
+    /// condition group of each of their start trigger's holds a `ParameterCondition` that
+    /// does not (nothing changes a parameter during a run). They are not imported.
+    pub never_started: Vec<String>,
 }
 
 /// The vehicles as carfollow names them (`chase`, `lead`, the actors' names), by the
@@ -57,7 +64,23 @@ pub fn read_stories(
     let mut found: BTreeMap<u32, Found> = BTreeMap::new();
     let mut lane_changes: BTreeMap<String, usize> = BTreeMap::new();
     let mut taken: BTreeMap<String, Vec<String>> = BTreeMap::new();
-    let (all, side_by_side) = events(xml, storyboard, ego)?;
+    let Storied {
+        events: all,
+        side_by_side,
+        mut never_started,
+        mut never,
+    } = events(xml, storyboard, ego)?;
+    // Events whose own start trigger never fires are not imported either.
+    let mut kept = Vec::with_capacity(all.len());
+    for (event, owners) in all {
+        if child(event, "StartTrigger").map_or(Ok(false), |t| never_fires(xml, t))? {
+            never_started.push(format!("event `{}`", xml.req(event, "name")?));
+            never.insert(event.id().get());
+        } else {
+            kept.push((event, owners));
+        }
+    }
+    let all = kept;
     for (event, owners) in &all {
         for owner in owners {
             let base = xml.req(*event, "name")?;
@@ -82,10 +105,12 @@ pub fn read_stories(
         init,
         road,
         found: &found,
+        never: &never,
         lane_changes: &lane_changes,
     };
     let mut stories = Stories {
         side_by_side,
+        never_started,
         ..Stories::default()
     };
     for (event, owners) in all {
@@ -107,17 +132,31 @@ pub fn read_stories(
 /// An event and the vehicles its maneuver group acts on.
 type Owned<'a, 'b> = (Node<'a, 'b>, Vec<String>);
 
-/// Every `Event` of the stories, with the vehicles its maneuver group acts on, and the
-/// names of the maneuvers of vehicles other than the `ego` whose several events carfollow
-/// runs side by side where the standard's `override` would end some (see
+/// What [`events`] finds in the stories.
+struct Storied<'a, 'b> {
+    /// Every event of an act that starts, with the vehicles its maneuver group acts on.
+    events: Vec<Owned<'a, 'b>>,
+    /// See [`Stories::side_by_side`].
+    side_by_side: Vec<String>,
+    /// The acts that never start (see [`Stories::never_started`]).
+    never_started: Vec<String>,
+    /// The node ids of the events of those acts.
+    never: BTreeSet<u32>,
+}
+
+/// Every `Event` of the stories' acts that start, with the vehicles its maneuver group acts
+/// on, and the names of the maneuvers of vehicles other than the `ego` whose several events
+/// carfollow runs side by side where the standard's `override` would end some (see
 /// [`Stories::side_by_side`]); the acts' and groups' own settings checked on the way.
 fn events<'a, 'b>(
     xml: &Xml,
     storyboard: Node<'a, 'b>,
     ego: &str,
-) -> Result<(Vec<Owned<'a, 'b>>, Vec<String>), OscError> {
+) -> Result<Storied<'a, 'b>, OscError> {
     let mut out = Vec::new();
     let mut side_by_side = Vec::new();
+    let mut never_started = Vec::new();
+    let mut never = BTreeSet::new();
     for story in elements(storyboard) {
         match story.tag_name().name() {
             "Init" | "StopTrigger" => continue,
@@ -130,7 +169,15 @@ fn events<'a, 'b>(
                 "Act" => {}
                 _ => return Err(xml.unsupported(act, "element", "")),
             }
-            act_trigger(xml, act)?;
+            if !act_trigger(xml, act)? {
+                never_started.push(format!("act `{}`", xml.req(act, "name")?));
+                never.extend(
+                    act.descendants()
+                        .filter(|d| d.has_tag_name("Event"))
+                        .map(|e| e.id().get()),
+                );
+                continue;
+            }
             for group in children(act, "ManeuverGroup") {
                 if xml
                     .opt_num(group, "maximumExecutionCount")?
@@ -159,7 +206,12 @@ fn events<'a, 'b>(
             }
         }
     }
-    Ok((out, side_by_side))
+    Ok(Storied {
+        events: out,
+        side_by_side,
+        never_started,
+        never,
+    })
 }
 
 /// Whether a maneuver's `events` hold speed and lateral actions, one event at least with
@@ -182,70 +234,14 @@ fn overridden(xml: &Xml, events: &[Node]) -> Result<bool, OscError> {
         && has(&["LaneChangeAction", "LaneOffsetAction"]))
 }
 
-/// Checks an act's triggers: it has no stop trigger that can fire (an empty one, with no
-/// condition group, never does: a trigger is true when one of its groups is), and starts at
-/// t = 0: with no start trigger, an empty one (no condition group: esmini starts such an act
-/// at once), or one with a condition group every condition of which holds from the first
-/// step (a simulation time greater than a time at most 0, or equal to 0, with no delay).
-fn act_trigger(xml: &Xml, act: Node) -> Result<(), OscError> {
-    if let Some(stop) = child(act, "StopTrigger").filter(|s| child(*s, "ConditionGroup").is_some())
-    {
-        return Err(xml.unsupported(
-            stop,
-            "act stop trigger",
-            "carfollow's events run to their end",
-        ));
-    }
-    let Some(trigger) = child(act, "StartTrigger") else {
-        return Ok(());
-    };
-    let mut not_at_start = None;
-    for group in children(trigger, "ConditionGroup") {
-        let conditions: Vec<_> = children(group, "Condition").collect();
-        if conditions.is_empty() {
-            return Err(xml.at(group, "<ConditionGroup> has no <Condition>"));
-        }
-        let mut all = true;
-        for c in conditions {
-            if !holds_from_the_start(xml, c)? {
-                all = false;
-                not_at_start.get_or_insert(c);
-            }
-        }
-        if all {
-            return Ok(());
-        }
-    }
-    match not_at_start {
-        None => Ok(()),
-        Some(c) => Err(xml.at(c, "<Act> starts on a condition: carfollow's acts start at t = 0 (put the condition on the events)")),
-    }
-}
-
-/// Whether a condition of an act's start trigger holds from the first step: a simulation
-/// time greater than a time at most 0, or equal to 0, with no delay.
-fn holds_from_the_start(xml: &Xml, condition: Node) -> Result<bool, OscError> {
-    let at_start = child(condition, "ByValueCondition")
-        .and_then(|v| child(v, "SimulationTimeCondition"))
-        .map(|t| -> Result<bool, OscError> {
-            let rule = xml.req(t, "rule")?;
-            let value = xml.num(t, "value")?;
-            Ok(
-                (value <= 0.0 && matches!(rule.as_str(), "greaterThan" | "greaterOrEqual"))
-                    || (value == 0.0 && rule == "equalTo"),
-            )
-        })
-        .transpose()?
-        .unwrap_or(false);
-    Ok(at_start && !xml.opt_num(condition, "delay")?.is_some_and(|d| d != 0.0))
-}
-
 struct Context<'c, 'a> {
     xml: &'c Xml<'a>,
     names: &'c Names,
     init: &'c Init,
     road: &'c RoadLanes,
     found: &'c BTreeMap<u32, Found>,
+    /// The events that never start ([`Stories::never_started`]), by node id.
+    never: &'c BTreeSet<u32>,
     lane_changes: &'c BTreeMap<String, usize>,
 }
 
@@ -323,6 +319,10 @@ impl Context<'_, '_> {
         let xml = self.xml;
         let mut groups = Vec::new();
         for group in children(trigger, "ConditionGroup") {
+            // A group that never holds never fires the trigger: the others decide.
+            if group_never_holds(xml, group)? {
+                continue;
+            }
             let mut all = children(group, "Condition")
                 .map(|c| self.condition(c, owner))
                 .collect::<Result<Vec<_>, _>>()?;
@@ -430,6 +430,9 @@ impl Context<'_, '_> {
                 let events = events_of(xml, c, &kind, &reference)?;
                 let mut each = Vec::with_capacity(events.len());
                 for event in events {
+                    if self.never.contains(&event.id().get()) {
+                        return Err(xml.at(c, format!("<StoryboardElementStateCondition storyboardElementRef=\"{reference}\">: waits for an event that never starts (a `ParameterCondition` of its start trigger does not hold)")));
+                    }
                     self.not_continuous(c, event, &reference)?;
                     let found = self.found.get(&event.id().get()).filter(|f| f.owner == owner).ok_or_else(|| {
                         xml.at(c, format!("<StoryboardElementStateCondition storyboardElementRef=\"{reference}\">: not an event of `{owner}` (carfollow's events wait for their own vehicle's)"))
@@ -449,23 +452,11 @@ impl Context<'_, '_> {
             }
             "ParameterCondition" => {
                 // No action here sets a parameter, so the condition is the same throughout:
-                // true, the event starts at once; false, it never would.
-                let name = xml.req(c, "parameterRef")?;
-                let have = xml.param_value(c, &name)?;
-                let want = xml.req(c, "value")?;
-                let rule = xml.req(c, "rule")?;
-                let holds = match (have.trim().parse::<f64>(), want.trim().parse::<f64>()) {
-                    (Ok(a), Ok(b)) => compare(&rule, a.total_cmp(&b)),
-                    _ => compare(&rule, have.cmp(&want)),
-                }
-                .ok_or_else(|| {
-                    xml.at(
-                        c,
-                        format!("<ParameterCondition rule=\"{rule}\">: not a rule of the standard"),
-                    )
-                })?;
-                if !holds {
-                    return Err(xml.at(c, format!("<ParameterCondition parameterRef=\"{name}\">: never holds (`{name}` is \"{have}\" throughout), so its event would never start")));
+                // true, the event starts at once; false, it never would, and its group is
+                // left out of the trigger (`group_never_holds`) before it comes here.
+                if !parameter_holds(xml, c)? {
+                    let name = xml.req(c, "parameterRef")?;
+                    return Err(xml.at(c, format!("<ParameterCondition parameterRef=\"{name}\">: never holds, so its event would never start")));
                 }
                 Ok(TriggerSpec {
                     time_s: Some(0.0),

@@ -475,6 +475,34 @@ pub fn scenario(
             stories.side_by_side.join("`, `")
         ));
     }
+    if !stories.never_started.is_empty() {
+        warnings.push(format!(
+            "{} never start{}, and {} not imported: each condition group of {} start \
+             trigger{} holds a `ParameterCondition` that does not hold, and nothing changes \
+             a parameter during a run",
+            stories.never_started.join(", "),
+            if stories.never_started.len() == 1 {
+                "s"
+            } else {
+                ""
+            },
+            if stories.never_started.len() == 1 {
+                "is"
+            } else {
+                "are"
+            },
+            if stories.never_started.len() == 1 {
+                "its"
+            } else {
+                "their"
+            },
+            if stories.never_started.len() == 1 {
+                ""
+            } else {
+                "s"
+            },
+        ));
+    }
     let lead_kind = vehicles
         .iter()
         .find(|v| v.name == lead)
