@@ -63,6 +63,11 @@ pub enum LossCause {
     /// `tracking` off the target before it has held it has lost it, as after: a silent
     /// loss. After the first acquisition a loss is a loss.
     NotAcquired,
+    /// The target is in view and not hidden, but too faint for the paper's edge
+    /// threshold in the pixels the tracker read: less than half its outline steps
+    /// `2 × tracker.edge_threshold` grey levels (fog, the dark, a deep shadow). Judged for
+    /// the lead's target, by the built-in tracker's reads.
+    LowContrast,
 }
 
 impl LossCause {
@@ -76,6 +81,7 @@ impl LossCause {
             LossCause::LeftPath => "left_path",
             LossCause::WrongVehicle => "wrong_vehicle",
             LossCause::NotAcquired => "not_acquired",
+            LossCause::LowContrast => "low_contrast",
         }
     }
 
@@ -87,9 +93,10 @@ impl LossCause {
 
     /// The causes of a loss, in the order reports list them (not
     /// [`LossCause::NotAcquired`], which is no lost track).
-    pub const ALL: [LossCause; 5] = [
+    pub const ALL: [LossCause; 6] = [
         LossCause::OutOfView,
         LossCause::Occluded,
+        LossCause::LowContrast,
         LossCause::Tracker,
         LossCause::LeftPath,
         LossCause::WrongVehicle,

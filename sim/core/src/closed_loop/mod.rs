@@ -7,6 +7,7 @@
 //! sees the truth.
 
 mod capture;
+mod contrast;
 mod drive;
 mod error;
 mod eye;
@@ -291,6 +292,10 @@ impl ClosedLoop {
             scene: scene.clone(),
             target_width_px,
             target_width_m: s.target.size_m()[0],
+            faint: contrast::Faintness::new(
+                s.target.features_px(&s.camera),
+                s.tracker.edge_threshold,
+            ),
             // The lead's path so far: the lane behind its start, so the chase has a path
             // from t = 0.
             lead_path: lane_behind(&scene_route, &s, chase_start_m),

@@ -1,6 +1,7 @@
 //! The recorder's row of each frame: the truth against the estimate.
 
 use super::capture::{xz, Captured};
+use super::contrast::Faintness;
 use super::drive::Driven;
 use super::tracking::Tracked;
 use super::traffic_truth::{LeadTarget, TrafficTruth};
@@ -48,6 +49,8 @@ pub(super) struct Recorder {
     pub(super) target_width_px: f64,
     /// The target's width, metres.
     pub(super) target_width_m: f64,
+    /// Whether the lead's target is too faint for the paper's threshold.
+    pub(super) faint: Faintness,
     /// The lead's driven path, for the chase's lateral deviation.
     pub(super) lead_path: DrivenPath,
     pub(super) chase_distance_m: f64,
@@ -90,6 +93,9 @@ impl Recorder {
             EstimateStatus::Coasting => TrackerStatus::Coasting,
             EstimateStatus::Lost => TrackerStatus::Lost,
         });
+        // Whether the target is too faint in the pixels the tracker read: asked, as whether
+        // it is hidden, only where it decides a loss's cause or a false alarm.
+        let faint = || self.faint.too_faint(&frame.image, tracked.read, &truth);
         // Whether scenery hides the target: asked only where it decides something, a loss's
         // cause or a false alarm (a target the tracker cannot see is no false alarm).
         let occluded = || {
@@ -110,6 +116,7 @@ impl Recorder {
                         width_px: self.target_width_px,
                         width_m: self.target_width_m,
                         occluded,
+                        faint,
                     };
                     let tracking = status == TrackerStatus::Tracking;
                     let log = traffic_log.unwrap_or_default();
@@ -127,13 +134,16 @@ impl Recorder {
                         LossCause::OutOfView
                     } else if occluded() {
                         LossCause::Occluded
+                    } else if faint() {
+                        LossCause::LowContrast
                     } else {
                         LossCause::Tracker
                     };
                     let false_alarm = !lost_truth
                         && status != TrackerStatus::Tracking
                         && truth.in_view
-                        && !occluded();
+                        && !occluded()
+                        && !faint();
                     (lost_truth, cause, false_alarm, None)
                 }
             };

@@ -48,12 +48,14 @@ pub(super) struct Judged {
 }
 
 /// The lead's side of a frame: its target's truth, its width in pixels at the nominal
-/// range and in metres, and whether scenery hides it.
-pub(super) struct LeadTarget<'a, F: Fn() -> bool> {
+/// range and in metres, whether scenery hides it, and whether it is too faint for the
+/// paper's threshold in the pixels the tracker read.
+pub(super) struct LeadTarget<'a, F: Fn() -> bool, G: Fn() -> bool> {
     pub(super) truth: &'a GroundTruth,
     pub(super) width_px: f64,
     pub(super) width_m: f64,
     pub(super) occluded: F,
+    pub(super) faint: G,
 }
 
 impl TrafficTruth {
@@ -92,13 +94,13 @@ impl TrafficTruth {
     /// before, holding nothing while a vehicle is in the path, and saying so, is
     /// [`LossCause::NotAcquired`].
     #[allow(clippy::too_many_arguments)]
-    pub(super) fn judge<F: Fn() -> bool>(
+    pub(super) fn judge<F: Fn() -> bool, G: Fn() -> bool>(
         &mut self,
         captured: &Captured,
         states: &[vehicle::VehicleState],
         estimate: Option<&Estimate>,
         tracking: bool,
-        lead: LeadTarget<'_, F>,
+        lead: LeadTarget<'_, F, G>,
         log: (Vec<String>, Vec<Contact>),
         acquired: &mut bool,
     ) -> Judged {
@@ -176,6 +178,7 @@ impl TrafficTruth {
             (Some(_), None) if !*acquired && !tracking => (true, LossCause::NotAcquired),
             (Some(p), None) if !in_view(p) => (true, LossCause::OutOfView),
             (Some(1), None) if (lead.occluded)() => (true, LossCause::Occluded),
+            (Some(1), None) if (lead.faint)() => (true, LossCause::LowContrast),
             (Some(_), None) => (true, LossCause::Tracker),
             // Nothing in the path: holding nothing is right, unless the tracker says it
             // tracks something.
@@ -184,7 +187,8 @@ impl TrafficTruth {
         };
         let false_alarm = !lost
             && !tracking
-            && path.is_some_and(|p| in_view(p) && !(p == 1 && (lead.occluded)()));
+            && path
+                .is_some_and(|p| in_view(p) && !(p == 1 && ((lead.occluded)() || (lead.faint)())));
         if let Some(p) = path {
             self.was_path[p] = true;
         }

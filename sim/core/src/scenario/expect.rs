@@ -28,8 +28,9 @@ pub struct Expect {
     /// Most ground-truth tracking-loss events (maximal runs of lost frames) allowed.
     pub max_loss_events: Option<u64>,
     /// Longest total time the tracker may raise a false alarm, seconds: not say `tracking`
-    /// while its estimate is within the ground truth's tolerance of a target wholly in view
-    /// and not hidden (the dual of a silent loss).
+    /// while its estimate is within the ground truth's tolerance of a target wholly in view,
+    /// not hidden and not too faint for the paper's edge threshold (the dual of a silent
+    /// loss).
     pub max_false_alarm_s: Option<f64>,
     // The traffic's criteria (below) are written only when given, so that a scenario
     // without them resolves as it did before they existed.

@@ -207,6 +207,10 @@ pub struct LostByCause {
     pub out_of_view: f64,
     /// The target hidden by scenery.
     pub occluded: f64,
+    /// The target in view and not hidden, but too faint for the paper's edge threshold
+    /// (written only when some frame was).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub low_contrast: Option<f64>,
     /// The target in view and not hidden: the tracker's own loss.
     pub tracker: f64,
     /// In traffic: holding a vehicle that has left the chase's path (written only in
@@ -224,6 +228,7 @@ impl LostByCause {
         match cause {
             LossCause::OutOfView => self.out_of_view,
             LossCause::Occluded => self.occluded,
+            LossCause::LowContrast => self.low_contrast.unwrap_or(0.0),
             LossCause::Tracker => self.tracker,
             LossCause::LeftPath => self.left_path.unwrap_or(0.0),
             LossCause::WrongVehicle => self.wrong_vehicle.unwrap_or(0.0),

@@ -77,7 +77,8 @@ const FALSE_ALARM: usize = 11;
 const LOST_LEFT_PATH: usize = 12;
 const LOST_WRONG_VEHICLE: usize = 13;
 const NOT_ACQUIRED: usize = 14;
-const SLOTS: usize = 15;
+const LOST_LOW_CONTRAST: usize = 15;
+const SLOTS: usize = 16;
 
 /// Time-weighted sums: over frames of known step, and over frames that stand for a period.
 #[derive(Clone, Debug, Default)]
@@ -233,6 +234,8 @@ pub struct SummaryBuilder {
     range_errors: RangeErrors,
     distance_m: f64,
     traffic: TrafficStats,
+    /// Whether a frame was lost to low contrast (its time is written only then).
+    low_contrast: bool,
 }
 
 impl SummaryBuilder {
@@ -261,6 +264,7 @@ impl SummaryBuilder {
             range_errors: RangeErrors::default(),
             distance_m: 0.0,
             traffic: TrafficStats::default(),
+            low_contrast: false,
         }
     }
 
@@ -272,6 +276,7 @@ impl SummaryBuilder {
     /// Takes the next record (records come in frame order).
     pub fn push(&mut self, r: &FrameRecord) {
         self.frames += 1;
+        self.low_contrast |= r.loss_cause == LossCause::LowContrast;
         self.period.push(r.t_s);
         let lost_as = |cause: bool| f64::from(u8::from(track_lost(r) && cause));
         let mut values = [0.0; SLOTS];
@@ -286,6 +291,7 @@ impl SummaryBuilder {
         // tracker's.
         values[LOST_TRACKER] =
             lost_as(matches!(r.loss_cause, LossCause::Tracker | LossCause::None));
+        values[LOST_LOW_CONTRAST] = lost_as(r.loss_cause == LossCause::LowContrast);
         values[LOST_LEFT_PATH] = lost_as(r.loss_cause == LossCause::LeftPath);
         values[LOST_WRONG_VEHICLE] = lost_as(r.loss_cause == LossCause::WrongVehicle);
         values[SAYS_LOST] = f64::from(u8::from(r.status == TrackerStatus::Lost));
@@ -408,6 +414,7 @@ impl SummaryBuilder {
             lost_by_cause_s: LostByCause {
                 out_of_view: time(LOST_OUT_OF_VIEW),
                 occluded: time(LOST_OCCLUDED),
+                low_contrast: self.low_contrast.then(|| time(LOST_LOW_CONTRAST)),
                 tracker: time(LOST_TRACKER),
                 left_path: self.traffic.seen().then(|| time(LOST_LEFT_PATH)),
                 wrong_vehicle: self.traffic.seen().then(|| time(LOST_WRONG_VEHICLE)),
