@@ -2,7 +2,8 @@
 //! pixels the tracker read is no false alarm, and its loss is said to be the contrast's.
 //! `strong-shadows` in the paper's mode: the board passes under tree shadows from 7 s and
 //! lies in deep shadow from about 20 s, where the paper's threshold no longer sees it;
-//! `night`: the first frames are dark until the automatic gain brings the board up. Run
+//! `night`: the first frames are dark until the automatic gain brings the board up;
+//! `car-ahead` in fog: an actor in the path, judged on its own model. Run
 //! with `cargo test --release -p sim --test low_contrast`.
 
 mod osc_common;
@@ -64,4 +65,27 @@ fn the_dark_first_frames_of_the_night_raise_no_false_alarm() {
             .collect();
         assert!(alarms.is_empty(), "{mode}: false alarms at {alarms:?}");
     }
+}
+
+#[test]
+fn an_actor_in_the_path_too_faint_in_fog_is_lost_to_its_contrast() {
+    // `car-ahead` in fog of 60 m: the car 14 m ahead in the chase's lane, the paper's mode
+    // losing it. The frames judged on the car's own model.
+    let dir = tempfile::tempdir().unwrap();
+    let extra = [
+        "--set",
+        "tracker.mode=\"paper\"",
+        "--set",
+        "environment.fog.visual_range_m=60",
+    ];
+    let f = Frames::parse(&frames_of(&scenario("car-ahead"), dir.path(), &extra));
+    let col = |name: &str| f.header.iter().position(|h| h == name).unwrap();
+    let (cause, path) = (col("loss_cause"), col("path_vehicle"));
+    let faint = f
+        .rows
+        .iter()
+        .filter(|r| r[cause] == "low_contrast")
+        .inspect(|r| assert_eq!(r[path], "car"))
+        .count();
+    assert!(faint >= 30, "{faint} frames lost to the car's contrast");
 }

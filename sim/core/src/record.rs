@@ -65,8 +65,9 @@ pub enum LossCause {
     NotAcquired,
     /// The target is in view and not hidden, but too faint for the paper's edge
     /// threshold in the pixels the tracker read: less than half its outline steps
-    /// `2 × tracker.edge_threshold` grey levels (fog, the dark, a deep shadow). Judged for
-    /// the lead's target, by the built-in tracker's reads.
+    /// `2 × tracker.edge_threshold` grey levels (fog, the dark, a deep shadow). Judged on
+    /// the model of the vehicle the frame is judged against (the lead's board; in traffic
+    /// the path vehicle's), in the pixels the built-in tracker says it read.
     LowContrast,
 }
 

@@ -248,9 +248,15 @@ impl ClosedLoop {
             ..
         } = plan;
         let kinds: Vec<_> = s.actors.iter().map(|a| a.kind).collect();
-        let recorder_traffic = traffic
-            .as_ref()
-            .map(|t| TrafficTruth::new(t.road.clone(), t.vehicles.clone(), rig.clone(), &kinds));
+        let recorder_traffic = traffic.as_ref().map(|t| {
+            TrafficTruth::new(
+                t.road.clone(),
+                t.vehicles.clone(),
+                rig.clone(),
+                &kinds,
+                s.tracker.edge_threshold,
+            )
+        });
         let options = render_options(backend);
         let renderer = Renderer::new(scene.clone(), rig.clone(), &options)?;
         let fingerprint = fingerprint(scene.description(), &rig, &options);

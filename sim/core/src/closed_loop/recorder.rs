@@ -4,7 +4,7 @@ use super::capture::{xz, Captured};
 use super::contrast::Faintness;
 use super::drive::Driven;
 use super::tracking::Tracked;
-use super::traffic_truth::{LeadTarget, TrafficTruth};
+use super::traffic_truth::{LeadTarget, Seen, TrafficTruth};
 use crate::driven_path::DrivenPath;
 use crate::plugin::{Estimate, EstimateStatus};
 use crate::record::{FrameRecord, LossCause, TrackerStatus};
@@ -121,7 +121,13 @@ impl Recorder {
                     let tracking = status == TrackerStatus::Tracking;
                     let log = traffic_log.unwrap_or_default();
                     let acquired = &mut self.acquired;
-                    let j = judge.judge(captured, states, estimate, tracking, lead, log, acquired);
+                    let seen = Seen {
+                        image: &frame.image,
+                        read: tracked.read,
+                    };
+                    let j = judge.judge(
+                        captured, states, estimate, tracking, lead, seen, log, acquired,
+                    );
                     (j.lost, j.cause, j.false_alarm, Some(j.frame))
                 }
                 _ => {

@@ -8,23 +8,33 @@
 //!   between), or the path vehicle's target is hidden by scenery;
 //! - `left_path`: the vehicle held was once the one in the path and has left the lane;
 //! - `wrong_vehicle`: the vehicle held never was in the path;
-//! - `out_of_view` and `tracker`, as without traffic, for the vehicle in the path.
+//! - `out_of_view`, `low_contrast` and `tracker`, as without traffic, for the vehicle in
+//!   the path (`low_contrast` judged on each vehicle's own model).
 
 use super::capture::Captured;
+use super::contrast::Faintness;
 use super::recorder::wrong;
 use crate::plugin::Estimate;
 use crate::record::{Contact, LossCause, TrafficFrame};
 use crate::traffic::{self, Road, Vehicles};
+use image::GrayImage;
 use nalgebra::Isometry3;
 use sim_render::{body_from_back_model, ground_truth_of, CameraRig, GroundTruth, VehicleKind};
-use tracker::TargetModel;
+use tracker::{PixelRect, TargetModel};
 
-/// An actor's target: where its back's model sits on its body, the model, and its width
-/// in the image at its nominal range, pixels.
+/// An actor's target: where its back's model sits on its body, the model, its width in
+/// the image at its nominal range, pixels, and whether it is too faint.
 struct ActorTarget {
     body_from_target: Isometry3<f64>,
     model: TargetModel,
     width_px: f64,
+    faint: Faintness,
+}
+
+/// The frame as the tracker read it: its image and the pixels its step read.
+pub(super) struct Seen<'a> {
+    pub(super) image: &'a GrayImage,
+    pub(super) read: Option<PixelRect>,
 }
 
 /// The traffic's side of the recorder.
@@ -60,12 +70,13 @@ pub(super) struct LeadTarget<'a, F: Fn() -> bool, G: Fn() -> bool> {
 
 impl TrafficTruth {
     /// The judgement for the road and vehicles of a plan, seen through `rig`; `kinds` are
-    /// the actors' kinds in the list's order.
+    /// the actors' kinds in the list's order; `edge_threshold` the paper's, on |∇f|.
     pub(super) fn new(
         road: Road,
         vehicles: Vehicles,
         rig: CameraRig,
         kinds: &[VehicleKind],
+        edge_threshold: f64,
     ) -> TrafficTruth {
         let focal_px = rig.intrinsics.focal_px()[0];
         let actors = kinds
@@ -75,6 +86,7 @@ impl TrafficTruth {
                 ActorTarget {
                     body_from_target: body_from_back_model(kind),
                     width_px: model.size_m()[0] * focal_px / model.nominal_range_m(),
+                    faint: Faintness::new(model.features_px(&rig.intrinsics), edge_threshold),
                     model,
                 }
             })
@@ -101,6 +113,7 @@ impl TrafficTruth {
         estimate: Option<&Estimate>,
         tracking: bool,
         lead: LeadTarget<'_, F, G>,
+        seen: Seen<'_>,
         log: (Vec<String>, Vec<Contact>),
         acquired: &mut bool,
     ) -> Judged {
@@ -163,6 +176,14 @@ impl TrafficTruth {
             1 => lead.truth.in_view,
             _ => actor_truth[i - 2].in_view,
         };
+        // Whether vehicle `i`'s target is hidden by scenery (judged for the lead only) or
+        // too faint for the paper's threshold in the pixels the tracker read.
+        let unseen = |i: usize| match i {
+            1 => (lead.occluded)() || (lead.faint)(),
+            _ => self.actors[i - 2]
+                .faint
+                .too_faint(seen.image, seen.read, &actor_truth[i - 2]),
+        };
         let behind = |held: usize, p: usize| {
             places[held].station_m > places[p].station_m
                 && self.road.in_corridor(&self.vehicles, &places, 0, held)
@@ -178,17 +199,14 @@ impl TrafficTruth {
             (Some(_), None) if !*acquired && !tracking => (true, LossCause::NotAcquired),
             (Some(p), None) if !in_view(p) => (true, LossCause::OutOfView),
             (Some(1), None) if (lead.occluded)() => (true, LossCause::Occluded),
-            (Some(1), None) if (lead.faint)() => (true, LossCause::LowContrast),
+            (Some(p), None) if unseen(p) => (true, LossCause::LowContrast),
             (Some(_), None) => (true, LossCause::Tracker),
             // Nothing in the path: holding nothing is right, unless the tracker says it
             // tracks something.
             (None, None) if tracking => (true, LossCause::Tracker),
             (None, None) => (false, LossCause::None),
         };
-        let false_alarm = !lost
-            && !tracking
-            && path
-                .is_some_and(|p| in_view(p) && !(p == 1 && ((lead.occluded)() || (lead.faint)())));
+        let false_alarm = !lost && !tracking && path.is_some_and(|p| in_view(p) && !unseen(p));
         if let Some(p) = path {
             self.was_path[p] = true;
         }
