@@ -7,7 +7,7 @@
 
 mod osc_common;
 
-use osc_common::{carfollow, frames_of, stderr, Frames};
+use osc_common::{carfollow, frames_of, refusal, Frames};
 use std::path::{Path, PathBuf};
 
 fn scenarios() -> PathBuf {
@@ -96,9 +96,7 @@ fn an_offset_beyond_half_the_lane_is_refused_in_one_line() {
         ("lead.offset_m=nan", "lead.offset_m"),
     ] {
         let o = carfollow(&["check", ccrs.to_str().unwrap(), "--set", set]);
-        let e = stderr(&o);
-        assert_eq!(o.status.code(), Some(2), "{set}: {e}");
-        assert_eq!(e.lines().count(), 1, "{e}");
+        let e = refusal(&o, set);
         assert!(e.contains(field) && e.contains("half its lane"), "{e}");
     }
     let cut_in = scenarios().join("cut-in.toml");
@@ -139,10 +137,7 @@ fn offset_bodies_that_overlap_across_lanes_are_refused() {
         ["actors.0.offset_m=1.7", "lead.offset_m=0"],
         ["actors.0.offset_m=1.0", "lead.offset_m=-1.0"],
     ] {
-        let o = check(&[level, offsets[0], offsets[1]]);
-        let e = stderr(&o);
-        assert_eq!(o.status.code(), Some(2), "{offsets:?}: {e}");
-        assert_eq!(e.lines().count(), 1, "{e}");
+        let e = refusal(&check(&[level, offsets[0], offsets[1]]), &offsets.join(" "));
         assert!(
             e.contains("actors[0].start") && e.contains("puts its body against `lead`'s"),
             "{e}"

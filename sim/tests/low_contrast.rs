@@ -15,30 +15,33 @@ fn scenario(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("../scenarios/{name}.toml"))
 }
 
-/// The frames of `name` in `mode`, the first `seconds` of it.
-fn run(name: &str, mode: &str, seconds: f64, out: &Path) -> Frames {
-    let extra = [
-        "--set".to_string(),
-        format!("tracker.mode=\"{mode}\""),
-        "--set".to_string(),
-        format!("duration_s={seconds}"),
-    ];
-    let extra: Vec<&str> = extra.iter().map(String::as_str).collect();
+/// The frames of scenario `name` run into `out` with each of `set` as a `--set`.
+fn run(name: &str, set: &[&str], out: &Path) -> Frames {
+    let extra: Vec<&str> = set.iter().flat_map(|s| ["--set", s]).collect();
     Frames::parse(&frames_of(&scenario(name), out, &extra))
+}
+
+/// The rows of `f` whose column `name` holds `value`.
+fn rows_with<'f>(f: &'f Frames, name: &str, value: &str) -> Vec<&'f [String]> {
+    let col = f.header.iter().position(|h| h == name).unwrap();
+    f.rows
+        .iter()
+        .filter(|r| r[col] == value)
+        .map(Vec::as_slice)
+        .collect()
+}
+
+/// The times of `rows`.
+fn times(f: &Frames, rows: &[&[String]]) -> Vec<f64> {
+    rows.iter().map(|r| f.num(r, "t_s")).collect()
 }
 
 #[test]
 fn a_board_in_deep_shadow_is_lost_to_its_contrast_and_shadows_raise_no_false_alarm() {
     let dir = tempfile::tempdir().unwrap();
-    let f = run("strong-shadows", "paper", 25.0, &dir.path().join("shadows"));
-    let col = |name: &str| f.header.iter().position(|h| h == name).unwrap();
-    let (cause, alarm) = (col("loss_cause"), col("false_alarm"));
-    let faint: Vec<f64> = f
-        .rows
-        .iter()
-        .filter(|r| r[cause] == "low_contrast")
-        .map(|r| f.num(r, "t_s"))
-        .collect();
+    let set = ["tracker.mode=\"paper\"", "duration_s=25"];
+    let f = run("strong-shadows", &set, &dir.path().join("shadows"));
+    let faint = times(&f, &rows_with(&f, "loss_cause", "low_contrast"));
     // Lost to the contrast as the board goes into the deep shadow, and only then.
     assert!(faint.len() >= 3, "{faint:?}");
     assert!(
@@ -47,7 +50,7 @@ fn a_board_in_deep_shadow_is_lost_to_its_contrast_and_shadows_raise_no_false_ala
     );
     // The shadows crossing the board before dim it below the threshold in many frames;
     // the status saying so there is no false alarm (there were 3.2 s of them to 20.4 s).
-    let alarms = f.rows.iter().filter(|r| r[alarm] == "1").count();
+    let alarms = rows_with(&f, "false_alarm", "1").len();
     assert!(alarms <= 20, "{alarms} frames of false alarm");
 }
 
@@ -55,14 +58,13 @@ fn a_board_in_deep_shadow_is_lost_to_its_contrast_and_shadows_raise_no_false_ala
 fn the_dark_first_frames_of_the_night_raise_no_false_alarm() {
     let dir = tempfile::tempdir().unwrap();
     for mode in ["paper", "robust"] {
-        let f = run("night", mode, 3.0, &dir.path().join(mode));
-        let alarm = f.header.iter().position(|h| h == "false_alarm").unwrap();
-        let alarms: Vec<f64> = f
-            .rows
-            .iter()
-            .filter(|r| r[alarm] == "1")
-            .map(|r| f.num(r, "t_s"))
-            .collect();
+        let set = [
+            format!("tracker.mode=\"{mode}\""),
+            "duration_s=3".to_string(),
+        ];
+        let set: Vec<&str> = set.iter().map(String::as_str).collect();
+        let f = run("night", &set, &dir.path().join(mode));
+        let alarms = times(&f, &rows_with(&f, "false_alarm", "1"));
         assert!(alarms.is_empty(), "{mode}: false alarms at {alarms:?}");
     }
 }
@@ -72,20 +74,19 @@ fn an_actor_in_the_path_too_faint_in_fog_is_lost_to_its_contrast() {
     // `car-ahead` in fog of 60 m: the car 14 m ahead in the chase's lane, the paper's mode
     // losing it. The frames judged on the car's own model.
     let dir = tempfile::tempdir().unwrap();
-    let extra = [
-        "--set",
+    let set = [
         "tracker.mode=\"paper\"",
-        "--set",
         "environment.fog.visual_range_m=60",
     ];
-    let f = Frames::parse(&frames_of(&scenario("car-ahead"), dir.path(), &extra));
-    let col = |name: &str| f.header.iter().position(|h| h == name).unwrap();
-    let (cause, path) = (col("loss_cause"), col("path_vehicle"));
-    let faint = f
-        .rows
-        .iter()
-        .filter(|r| r[cause] == "low_contrast")
-        .inspect(|r| assert_eq!(r[path], "car"))
-        .count();
-    assert!(faint >= 30, "{faint} frames lost to the car's contrast");
+    let f = run("car-ahead", &set, dir.path());
+    let path = f.header.iter().position(|h| h == "path_vehicle").unwrap();
+    let faint = rows_with(&f, "loss_cause", "low_contrast");
+    for r in &faint {
+        assert_eq!(r[path], "car");
+    }
+    assert!(
+        faint.len() >= 30,
+        "{} frames lost to the car's contrast",
+        faint.len()
+    );
 }

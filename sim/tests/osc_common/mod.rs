@@ -21,6 +21,15 @@ pub fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
+/// The one line a refusal printed: `o` must have exited 2 with one line on stderr
+/// (`context` names the case in a failure).
+pub fn refusal(o: &Output, context: &str) -> String {
+    let e = stderr(o);
+    assert_eq!(o.status.code(), Some(2), "{context}: {e}");
+    assert_eq!(e.lines().count(), 1, "{context}: {e}");
+    e
+}
+
 /// `frames.csv` of `carfollow run SCENARIO --quiet --out OUT` with `extra` arguments; the
 /// run must complete (passed or not).
 pub fn frames_of(scenario: &Path, out: &Path, extra: &[&str]) -> String {

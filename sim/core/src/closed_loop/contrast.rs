@@ -93,10 +93,10 @@ impl Faintness {
         let middle = 0.5 * (lo + hi);
         let half = 0.5 * ALONG_SHARE * (hi - lo);
         let samples = (2.0 * half).floor().max(1.0) as usize;
+        let across = s * f.offset_px;
         let (mut a, mut b) = (0.0, 0.0);
         for k in 0..samples {
             let along = middle - half + (k as f64 + 0.5) * (2.0 * half / samples as f64);
-            let across = s * f.offset_px;
             // Pixel centres are at integer coordinates.
             let (x, y, dx, dy) = match f.orientation {
                 Orientation::Horizontal => (truth.c_x + along, truth.c_y + across, 0.0, SIDE_PX),

@@ -116,7 +116,7 @@ impl Recorder {
                         width_px: self.target_width_px,
                         width_m: self.target_width_m,
                         occluded,
-                        faint,
+                        faint: &self.faint,
                     };
                     let tracking = status == TrackerStatus::Tracking;
                     let log = traffic_log.unwrap_or_default();

@@ -58,14 +58,13 @@ pub(super) struct Judged {
 }
 
 /// The lead's side of a frame: its target's truth, its width in pixels at the nominal
-/// range and in metres, whether scenery hides it, and whether it is too faint for the
-/// paper's threshold in the pixels the tracker read.
-pub(super) struct LeadTarget<'a, F: Fn() -> bool, G: Fn() -> bool> {
+/// range and in metres, whether scenery hides it, and the judgement of its contrast.
+pub(super) struct LeadTarget<'a, F: Fn() -> bool> {
     pub(super) truth: &'a GroundTruth,
     pub(super) width_px: f64,
     pub(super) width_m: f64,
     pub(super) occluded: F,
-    pub(super) faint: G,
+    pub(super) faint: &'a Faintness,
 }
 
 impl TrafficTruth {
@@ -106,13 +105,13 @@ impl TrafficTruth {
     /// before, holding nothing while a vehicle is in the path, and saying so, is
     /// [`LossCause::NotAcquired`].
     #[allow(clippy::too_many_arguments)]
-    pub(super) fn judge<F: Fn() -> bool, G: Fn() -> bool>(
+    pub(super) fn judge<F: Fn() -> bool>(
         &mut self,
         captured: &Captured,
         states: &[vehicle::VehicleState],
         estimate: Option<&Estimate>,
         tracking: bool,
-        lead: LeadTarget<'_, F, G>,
+        lead: LeadTarget<'_, F>,
         seen: Seen<'_>,
         log: (Vec<String>, Vec<Contact>),
         acquired: &mut bool,
@@ -179,7 +178,7 @@ impl TrafficTruth {
         // Whether vehicle `i`'s target is hidden by scenery (judged for the lead only) or
         // too faint for the paper's threshold in the pixels the tracker read.
         let unseen = |i: usize| match i {
-            1 => (lead.occluded)() || (lead.faint)(),
+            1 => (lead.occluded)() || lead.faint.too_faint(seen.image, seen.read, lead.truth),
             _ => self.actors[i - 2]
                 .faint
                 .too_faint(seen.image, seen.read, &actor_truth[i - 2]),

@@ -26,16 +26,16 @@ pub(super) fn act_trigger(xml: &Xml, act: Node) -> Result<bool, OscError> {
     let Some(trigger) = child(act, "StartTrigger") else {
         return Ok(true);
     };
-    if never_fires(xml, trigger)? {
-        return Ok(false);
-    }
     let mut not_at_start = None;
+    let (mut groups, mut never) = (0, 0);
     for group in children(trigger, "ConditionGroup") {
+        groups += 1;
         let conditions: Vec<_> = children(group, "Condition").collect();
         if conditions.is_empty() {
             return Err(xml.at(group, "<ConditionGroup> has no <Condition>"));
         }
         if group_never_holds(xml, group)? {
+            never += 1;
             continue;
         }
         let mut all = true;
@@ -48,6 +48,9 @@ pub(super) fn act_trigger(xml: &Xml, act: Node) -> Result<bool, OscError> {
         if all {
             return Ok(true);
         }
+    }
+    if groups > 0 && never == groups {
+        return Ok(false);
     }
     match not_at_start {
         None => Ok(true),
