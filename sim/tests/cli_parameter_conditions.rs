@@ -2,8 +2,8 @@
 //! parameter during a run): an act or an event each of whose start trigger's condition
 //! groups holds one that does not hold never starts, is not imported, and one warning line
 //! names it; one that holds starts as it would without it; a group that never holds leaves
-//! the trigger to its other groups; waiting for an event that never starts is refused at
-//! its line. Run with `cargo test --release -p sim --test cli_parameter_conditions`.
+//! the trigger to its other groups, the storyboard's stop trigger's among them; waiting for
+//! an event that never starts is refused at its line. Run with `cargo test --release -p sim --test cli_parameter_conditions`.
 
 mod osc_common;
 
@@ -143,4 +143,22 @@ fn waiting_for_an_event_that_never_starts_is_refused_at_its_line() {
             && err.contains("waits for an event that never starts"),
         "{err}"
     );
+}
+
+#[test]
+fn a_stop_group_that_never_holds_never_ends_the_run() {
+    let (_keep, plain) = mutant(|t| t.to_string());
+    let (_, _, original) = import(&plain, &[]);
+    let group = format!(
+        r#"<ConditionGroup><Condition name="never" delay="0" conditionEdge="none">{}</Condition></ConditionGroup></StopTrigger>"#,
+        on_cut_in("true")
+    );
+    let (_keep2, file) = mutant(|t| declared(t).replace("</StopTrigger>", &group));
+    let (code, err, body) = import(&file, &[]);
+    assert_eq!(code, Some(0), "{err}");
+    assert_eq!(body, original);
+    // Set so that it holds, it ends the run at once: an end event on the lead.
+    let (code, err, body) = import(&file, &["--param", "CutIn=true"]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(body.contains("end_run = true"), "{body}");
 }

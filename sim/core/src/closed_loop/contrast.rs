@@ -9,8 +9,11 @@
 //! of h, `tracker::TrackerConfig::edge_threshold`); a target on which less than
 //! [`SHOWN_SHARE`] of the outline, by length, steps that much is too faint. Judged only
 //! where every sample lies in the pixels the tracker's step read (the same with and without
-//! whole frames rendered); elsewhere, and for a target smaller than the judgement can
-//! read, it is not judged faint.
+//! whole frames rendered); elsewhere it is not judged faint. Nor is a target too small
+//! for the judgement to read: one whose nearest parallel features
+//! ([`tracker::resolvability::confusable_spacing`]) lie closer than the two sides sampled,
+//! `2 × SIDE_PX` apart, where a side's sample falls on the next feature's edge and the step
+//! read is no longer this feature's.
 
 use image::GrayImage;
 use sim_render::GroundTruth;
@@ -35,15 +38,20 @@ pub(super) struct Faintness {
     features: Vec<Feature>,
     /// The least step the threshold passes, grey levels.
     step: f64,
+    /// The least scale at which the model's nearest parallel features lie `2 × SIDE_PX`
+    /// apart, so that the sides sampled for one feature miss the next.
+    min_scale: f64,
 }
 
 impl Faintness {
     /// The judgement for a model with `features` (pixels at scale 1) under the paper's
     /// `edge_threshold` (on |∇f|, grey levels per pixel).
     pub(super) fn new(features: Vec<Feature>, edge_threshold: f64) -> Faintness {
+        let [x, y] = tracker::resolvability::confusable_spacing(&features);
         Faintness {
             features,
             step: 2.0 * edge_threshold,
+            min_scale: 2.0 * SIDE_PX / x.min(y),
         }
     }
 
@@ -59,7 +67,7 @@ impl Faintness {
             return false;
         };
         let s = truth.scale;
-        if !(s.is_finite() && s > 0.0 && truth.in_view) {
+        if !(s.is_finite() && s > 0.0 && s >= self.min_scale && truth.in_view) {
             return false;
         }
         let (mut shown, mut total) = (0.0, 0.0);
@@ -178,5 +186,22 @@ mod tests {
             };
             assert!(!faint.too_faint(&image, Some(left), &truth(at)));
         }
+    }
+
+    #[test]
+    fn a_board_too_small_for_its_sides_to_miss_the_next_edge_is_not_judged() {
+        let features = nist_ten_segment().features_px(&Camera::default());
+        let faint = Faintness::new(features.clone(), 8.0);
+        let [x, y] = tracker::resolvability::confusable_spacing(&features);
+        let least = 2.0 * SIDE_PX / x.min(y);
+        assert!(least > 0.1 && least < 0.6, "least scale {least}");
+        let whole = Some(PixelRect::whole(256, 242));
+        let (below, above) = (0.9 * least, 1.1 * least);
+        let faint_at = |scale: f64| {
+            let at = Location::new(128.0, 115.0, scale);
+            faint.too_faint(&board(at, 6.0), whole, &truth(at))
+        };
+        assert!(!faint_at(below), "judged at scale {below}");
+        assert!(faint_at(above), "not judged at scale {above}");
     }
 }

@@ -27,7 +27,8 @@ impl Context<'_, '_> {
             return Ok(());
         };
         for group in children(stop, "ConditionGroup") {
-            if time_only(self.xml, group)?.is_some() {
+            // One simulation time is the duration; a group that never holds never ends it.
+            if time_only(self.xml, group)?.is_some() || super::group_never_holds(self.xml, group)? {
                 continue;
             }
             let owner = self.stop_owner(group, ego)?;
