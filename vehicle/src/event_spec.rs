@@ -305,6 +305,12 @@ pub struct TriggerSpec {
     /// bumpers (OpenSCENARIO's `freespace="false"`; default false).
     #[serde(default, skip_serializing_if = "is_false")]
     pub between_axles: bool,
+    /// With `time_gap_s`: the side of `to` this vehicle must be on for the condition to
+    /// hold, `behind` (`to` ahead, the time gap over this vehicle's speed) or `ahead` (over
+    /// `to`'s); `either`, the default, takes whichever is behind. OpenSCENARIO's headway
+    /// is measured only towards a vehicle ahead of the one that measures it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub side: Option<KeepSide>,
 }
 
 impl TriggerSpec {
@@ -599,8 +605,9 @@ pub(crate) enum Condition {
     Gap(f64, String),
     /// Distance between this vehicle's reference point and a vehicle's, m.
     Spacing(f64, String),
-    /// Time gap to a vehicle, s, on the gap or (`true`) the spacing.
-    TimeGap(f64, String, bool),
+    /// Time gap to a vehicle, s, on the gap or (`true`) the spacing, with this vehicle on
+    /// the side of it given (`Either`: any).
+    TimeGap(f64, String, bool, KeepSide),
     /// Time to collision with a vehicle, s, on the gap or (`true`) the spacing.
     Ttc(f64, String, bool),
     /// The speed of a vehicle (empty: this one), m/s.

@@ -18,7 +18,9 @@
 
 use crate::clock::{Step, PHYSICS_HZ};
 use crate::error::{check_range, VehicleError};
-use crate::event_spec::{Action, Checked, Condition, EventScript, Shape, Timing, Trigger};
+use crate::event_spec::{
+    Action, Checked, Condition, EventScript, KeepSide, Shape, Timing, Trigger,
+};
 use crate::lead_driver::SpeedOverride;
 use keep::KeepState;
 use std::collections::VecDeque;
@@ -197,7 +199,7 @@ impl Watch {
         match &trigger.condition {
             Condition::Gap(_, to)
             | Condition::Spacing(_, to)
-            | Condition::TimeGap(_, to, _)
+            | Condition::TimeGap(_, to, _, _)
             | Condition::Ttc(_, to, _)
             | Condition::RelativeSpeed(_, to) => {
                 watch.to = Some(vehicle_index(vehicles, to, format!("{field}.to"))?);
@@ -356,14 +358,19 @@ impl Watch {
             (Condition::Spacing(d, _), Some(o)) => {
                 compare((mine.station_m - o.station_m).abs(), *d)
             }
-            (Condition::TimeGap(t, _, axles), Some(o)) => {
+            (Condition::TimeGap(t, _, axles, side), Some(o)) => {
                 let b = Between::new(mine, o).on_axles(*axles);
                 let time_gap = if b.behind_speed_mps > 0.0 {
                     b.gap_m / b.behind_speed_mps
                 } else {
                     f64::INFINITY
                 };
-                compare(time_gap, *t)
+                let on_side = match side {
+                    KeepSide::Behind => mine.station_m < o.station_m,
+                    KeepSide::Ahead => mine.station_m > o.station_m,
+                    KeepSide::Either => true,
+                };
+                on_side && compare(time_gap, *t)
             }
             (Condition::Ttc(t, _, axles), Some(o)) => {
                 let b = Between::new(mine, o).on_axles(*axles);

@@ -132,7 +132,7 @@ pub use route::{
     direction_heading, heading_direction, CurvatureWalk, Route, RouteBuilder, RouteProjection,
 };
 pub use speed_controller::{Pedals, SpeedController, SpeedGains};
-pub use speed_profile::{ProfileBasis, SpeedKnot, SpeedProfile};
+pub use speed_profile::{ProfileBasis, SpeedKnot, SpeedProfile, MAX_SPEED_MPS};
 pub use vehicle_params::{VehicleParams, AIR_DENSITY_KGPM3, GRAVITY_MPS2};
 pub use world::{VehicleId, World, WorldConfig};
 

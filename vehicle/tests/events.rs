@@ -23,7 +23,7 @@ fn each_trigger_fires_at_the_step_its_condition_first_holds() {
     // Me behind at 100, 8 m/s; other ahead from 130 at 10 m/s: the gap (25 + 2t) opens.
     let opening = |t: f64| [car(100.0 + 8.0 * t, 8.0), car(130.0 + 10.0 * t, 10.0)];
     type View = fn(f64) -> [VehicleView; 2];
-    let cases: [(&str, View, Option<u64>); 19] = [
+    let cases: [(&str, View, Option<u64>); 23] = [
         ("time_s = 8.0", approach, Some(960)),
         ("time_s = 8.0, rule = \"less\"", approach, Some(0)),
         // Travelled 10 m at 10/6 s = step 200 exactly; the threshold just past it.
@@ -60,6 +60,28 @@ fn each_trigger_fires_at_the_step_its_condition_first_holds() {
         ("time_gap_s = 2.01, to = \"other\"", approach, Some(1659)),
         // The one behind is the other: (45 − 10t)/10 ≤ 1.003 from t = 3.497: step 419.6.
         ("time_gap_s = 1.003, to = \"other\"", overtaken, Some(420)),
+        // With a side, only while this vehicle is on it: behind the other, as before, and
+        // never ahead of it; ahead of the other overtaking, as before, and never behind.
+        (
+            "time_gap_s = 2.01, to = \"other\", side = \"behind\"",
+            approach,
+            Some(1659),
+        ),
+        (
+            "time_gap_s = 2.01, to = \"other\", side = \"ahead\"",
+            approach,
+            None,
+        ),
+        (
+            "time_gap_s = 1.003, to = \"other\", side = \"ahead\"",
+            overtaken,
+            Some(420),
+        ),
+        (
+            "time_gap_s = 1.003, to = \"other\", side = \"behind\"",
+            overtaken,
+            None,
+        ),
         // Closing at 6 m/s: (95 − 6t)/6 ≤ 3.01 from t = 12.823 s: step 1538.8 → 1539.
         ("ttc_s = 3.01, to = \"other\"", approach, Some(1539)),
         // Between the axles, on the spacing 100 − 6t: (100 − 6t)/6 ≤ 2.01 from
@@ -504,6 +526,13 @@ fn bad_triggers_name_their_field() {
                 ok_action,
             ),
             "events[1].trigger.between_axles",
+        ),
+        (
+            one(
+                "trigger = { gap_m = 5.0, to = \"other\", side = \"ahead\" }",
+                ok_action,
+            ),
+            "events[1].trigger.side",
         ),
         (
             one(ok_trigger, "action = { speed_factor = 0.5, shape = \"step\" }"),

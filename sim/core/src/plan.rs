@@ -133,6 +133,7 @@ fn scene_description(s: &Scenario, world: &WorldConfig) -> SceneDescription {
             .collect(),
         fog: s.fog,
         rain: s.rain,
+        without_lead: !s.has_lead,
         headlamps: s.headlamps,
     }
 }
@@ -213,9 +214,10 @@ pub struct Plan {
     /// The physics at step 0, both vehicles on the ground at their start.
     pub(crate) world: World,
     pub(crate) chase_id: VehicleId,
-    pub(crate) lead_id: VehicleId,
+    /// The lead's physics and driver (none in a scenario without a lead).
+    pub(crate) lead_id: Option<VehicleId>,
     pub(crate) chase: ChaseController,
-    pub(crate) lead: LeadDriver,
+    pub(crate) lead: Option<LeadDriver>,
     pub(crate) delay: DelayLine<Delayed>,
     /// The camera's pan head, when the scenario has one (`[camera.pan]`).
     pub(crate) pan: Option<PanHead>,
@@ -265,18 +267,15 @@ impl Plan {
         let scene_route = SceneRoute::new(s.route.clone());
         let (points, reach_m) = lane_polyline(&scene_route, s.route.lane_centre_m(1));
         let route = Route::new(points).map_err(|e| invalid("route.segments", format!(": {e}")))?;
-        // The lead drives its own lane's centre (the same polyline in lane 1).
+        // The lead drives its own lane's centre (the same polyline in lane 1); without a lead,
+        // this is the chase's lane.
         let lead_route = if s.lead_lane == 1 {
             route.clone()
         } else {
             let (points, _) = lane_polyline(&scene_route, s.route.lane_centre_m(s.lead_lane));
             Route::new(points).map_err(|e| invalid("route.segments", format!(": {e}")))?
         };
-        let chase_start_m = chase_start_m(
-            s.lead_start_m,
-            s.initial_gap_m,
-            s.chase.camera_mount.forward_m,
-        );
+        let chase_start_m = s.chase_start_m;
         if chase_start_m < 0.0 {
             // Three fields decide it; blame an override among them if there is one.
             let field = src.blame(
@@ -317,15 +316,11 @@ impl Plan {
             .has_traffic()
             .then(|| plan_traffic(s, &scene_route, &route, &mut world, chase_start_m))
             .transpose()?;
-        let mut lead = LeadDriver::new(
-            lead_route,
-            s.lead_profile.clone(),
-            s.lead_driver.clone(),
-            &VehicleParams::pickup(),
-        )
-        .map_err(|e| vehicle_error("lead.driver", &e))?;
-        // Kept from the start (with traffic, its events set it at every step).
-        lead.set_lateral_offset_m(s.lead_offset_m as f32);
+        let lead = s
+            .has_lead
+            .then(|| lead_driver(s, lead_route))
+            .transpose()
+            .map_err(|e| vehicle_error("lead.driver", &e))?;
         let delay = DelayLine::new(&s.delay).map_err(|e| vehicle_error("loop", &e))?;
         let pan = s
             .chase
@@ -344,49 +339,36 @@ impl Plan {
         let (_, lead_from_scene) = lead_body();
         // The first view: the renderer's ground truth for the poses the vehicles start at.
         let world_from_chase = iso(&world.vehicle_state(chase_id).world_from_vehicle);
-        let world_from_lead =
-            iso(&world.vehicle_state(lead_id).world_from_vehicle) * lead_from_scene;
-        let first_view = ground_truth_of(
-            &rig,
-            &scene.lead_from_target(),
-            &s.target,
-            &world_from_chase,
-            &world_from_lead,
-            0.0,
-        );
+        let first_view = lead_id.map_or(GroundTruth::ABSENT, |id| {
+            let world_from_lead =
+                iso(&world.vehicle_state(id).world_from_vehicle) * lead_from_scene;
+            ground_truth_of(
+                &rig,
+                &scene.lead_from_target(),
+                &s.target,
+                &world_from_chase,
+                &world_from_lead,
+                0.0,
+            )
+        });
         // A tracker that starts by searching needs no target in view at t = 0 (a lead far
         // ahead may be out of it, round a bend); one placed on the target does.
         if !first_view.in_view && !s.search_start {
-            // What decides the first view; blame an override among them if there is one.
-            let field = src.blame(
-                &[
-                    "camera.mount",
-                    "camera.focal_length_mm",
-                    "camera.pixel_size_mm",
-                    "camera.image_center_px",
-                    "chase.initial_gap_m",
-                    "lead.start_m",
-                    "route.segments",
-                    "environment",
-                ],
-                "camera.mount",
-            );
-            return Err(invalid(
-                field,
-                format!(
-                    "puts the target out of the camera's view at t = 0 (its centre at ({:.0}, \
-                     {:.0}) px of 256 × 242, range {:.1} m): check the mount's pitch and \
-                     height, the focal length, chase.initial_gap_m and the route at the start",
-                    first_view.c_x, first_view.c_y, first_view.target_cam_m[2]
-                ),
-            ));
+            return Err(out_of_view(src, &first_view));
         }
         let [dx, dy, ds] = s.init_offset;
-        let tracker_start = Location::new(
-            first_view.c_x + dx,
-            first_view.c_y + dy,
-            first_view.scale + ds,
-        );
+        let tracker_start = if s.has_lead {
+            Location::new(
+                first_view.c_x + dx,
+                first_view.c_y + dy,
+                first_view.scale + ds,
+            )
+        } else {
+            // No target to place it on: a tracker that searches starts nowhere in
+            // particular, here the image's centre at the nominal range.
+            let [cx, cy] = s.camera.image_center_px;
+            Location::new(cx, cy, 1.0)
+        };
         Ok(Plan {
             scenario: s.clone(),
             scene_route,
@@ -478,22 +460,24 @@ impl Plan {
         }
     }
 
-    /// Where the chase and the lead stand at t = 0: the rear axles, on the ground
-    /// (vehicle frame: x forward, y up, z right).
-    pub fn start_poses(&self) -> [Pose; 2] {
-        [self.chase_id, self.lead_id].map(|id| self.world.vehicle_state(id).world_from_vehicle)
+    /// Where the chase and the lead (when there is one) stand at t = 0: the rear axles, on
+    /// the ground (vehicle frame: x forward, y up, z right).
+    pub fn start_poses(&self) -> (Pose, Option<Pose>) {
+        let pose = |id| self.world.vehicle_state(id).world_from_vehicle;
+        (pose(self.chase_id), self.lead_id.map(pose))
     }
 }
 
 /// The physics world of scenario `s` at step 0: the ground of `config`, and both vehicles
-/// on it, the lead at `lead.start_m`, the chase at `chase_start_m`, facing along `route`,
-/// each at its initial speed. Returns the world and the chase's and lead's ids.
+/// on it, the lead at `lead.start_m` (when the scenario has one), the chase at
+/// `chase_start_m`, facing along `route`, each at its initial speed. Returns the world and
+/// the chase's and lead's ids.
 fn start_world(
     s: &Scenario,
     config: &WorldConfig,
     route: &Route,
     chase_start_m: f64,
-) -> Result<(World, VehicleId, VehicleId), vehicle::VehicleError> {
+) -> Result<(World, VehicleId, Option<VehicleId>), vehicle::VehicleError> {
     let pose_at = |s_m: f64| {
         let s = s_m as f32;
         Pose::from_parts(
@@ -502,14 +486,19 @@ fn start_world(
         )
     };
     let mut world = World::new(config)?;
-    let v0 = s.lead_initial_speed_mps as f32;
-    let lead_pose = offset_pose(
-        route,
-        pose_at(s.lead_start_m),
-        s.lead_start_m,
-        s.lead_offset_m,
-    );
-    let lead_id = world.add_vehicle(&VehicleParams::pickup(), lead_pose, v0)?;
+    // The lead first: the physics then holds what it held before runs without a lead.
+    let lead_id = if s.has_lead {
+        let v0 = s.lead_initial_speed_mps as f32;
+        let lead_pose = offset_pose(
+            route,
+            pose_at(s.lead_start_m),
+            s.lead_start_m,
+            s.lead_offset_m,
+        );
+        Some(world.add_vehicle(&VehicleParams::pickup(), lead_pose, v0)?)
+    } else {
+        None
+    };
     let chase_v0 = s.chase_initial_speed_mps as f32;
     let chase_id = world.add_vehicle(
         &VehicleParams::hmmwv_m998(),
@@ -517,6 +506,46 @@ fn start_world(
         chase_v0,
     )?;
     Ok((world, chase_id, lead_id))
+}
+
+/// The error of a target placed out of the camera's view at t = 0 (`first_view`), blamed
+/// on what decides it (an override among them if there is one).
+fn out_of_view(src: &crate::scenario::Source, first_view: &GroundTruth) -> ScenarioError {
+    let field = src.blame(
+        &[
+            "camera.mount",
+            "camera.focal_length_mm",
+            "camera.pixel_size_mm",
+            "camera.image_center_px",
+            "chase.initial_gap_m",
+            "lead.start_m",
+            "route.segments",
+            "environment",
+        ],
+        "camera.mount",
+    );
+    src.invalid(
+        field,
+        format!(
+            "puts the target out of the camera's view at t = 0 (its centre at ({:.0}, {:.0}) \
+             px of 256 × 242, range {:.1} m): check the mount's pitch and height, the focal \
+             length, chase.initial_gap_m and the route at the start",
+            first_view.c_x, first_view.c_y, first_view.target_cam_m[2]
+        ),
+    )
+}
+
+/// The lead's driver on `route`, its lane, at its offset from the start (with traffic, its
+/// events set the offset at every step).
+fn lead_driver(s: &Scenario, route: Route) -> Result<LeadDriver, vehicle::VehicleError> {
+    let mut lead = LeadDriver::new(
+        route,
+        s.lead_profile.clone(),
+        s.lead_driver.clone(),
+        &VehicleParams::pickup(),
+    )?;
+    lead.set_lateral_offset_m(s.lead_offset_m as f32);
+    Ok(lead)
 }
 
 /// `pose`, at `s_m` along `route`, moved `offset_m` to the route's left (unmoved at 0).
@@ -540,22 +569,22 @@ fn plan_traffic(
 ) -> Result<PlannedTraffic, ScenarioError> {
     let src = &s.source;
     let (_, lead_from_scene) = lead_body();
-    let mut members = vec![
-        Member {
-            name: "chase".into(),
-            kind: "hmmwv".into(),
-            role: Role::Follower,
-            params: VehicleParams::hmmwv_m998(),
-            centre_x_m: 0.0,
-        },
-        Member {
+    let mut members = vec![Member {
+        name: "chase".into(),
+        kind: "hmmwv".into(),
+        role: Role::Follower,
+        params: VehicleParams::hmmwv_m998(),
+        centre_x_m: 0.0,
+    }];
+    if s.has_lead {
+        members.push(Member {
             name: "lead".into(),
             kind: "pickup".into(),
             role: Role::Lead,
             params: VehicleParams::pickup(),
             centre_x_m: lead_from_scene.translation.x,
-        },
-    ];
+        });
+    }
     for a in &s.actors {
         let params = crate::scenario::kind_params(a.kind);
         members.push(Member {
@@ -590,8 +619,12 @@ fn plan_traffic(
     let mut lane_routes: Vec<(u32, Route)> = Vec::new();
     let mut actor_ids = Vec::new();
     let mut actors = Vec::new();
-    let mut stations = vec![chase_start_m, s.lead_start_m];
-    for (i, (a, member)) in s.actors.iter().zip(&vehicles.members()[2..]).enumerate() {
+    let mut stations = vec![chase_start_m];
+    if s.has_lead {
+        stations.push(s.lead_start_m);
+    }
+    let actor_members = &vehicles.members()[vehicles.first_actor()..];
+    for (i, (a, member)) in s.actors.iter().zip(actor_members).enumerate() {
         let at = format!("actors[{i}]");
         let lane_route = match lane_routes.iter().find(|(l, _)| *l == a.lane) {
             Some((_, r)) => r.clone(),

@@ -3,10 +3,10 @@
 //! touched.
 //!
 //! The list ([`Vehicles`]) names every vehicle of the run, in a fixed order: the follower
-//! that carries the camera and the tracker (`chase`), the vehicle it follows (`lead`),
-//! then the actors in the scenario file's order. A vehicle's index in the list is its
-//! index everywhere (the truth's `vehicles`, the render's actor poses after the first
-//! two). The list says each one's role rather than assuming two, so that a run may later
+//! that carries the camera and the tracker (`chase`), the vehicle it follows (`lead`, in a
+//! scenario that has one), then the actors in the scenario file's order. A vehicle's index
+//! in the list is its index everywhere (the truth's `vehicles`, the render's actor poses
+//! from [`Vehicles::first_actor`]). The list says each one's role rather than assuming two, so that a run may later
 //! carry more than one follower (a platoon), each with its own camera and tracker.
 
 use crate::plugin::LaneAhead;
@@ -54,17 +54,29 @@ pub struct Member {
     pub centre_x_m: f64,
 }
 
-/// Every vehicle of the run, in order: the follower, the lead, then the actors.
+/// Every vehicle of the run, in order: the follower, the lead (if there is one), then the
+/// actors.
 #[derive(Clone, Debug, Default)]
 pub struct Vehicles {
     members: Vec<Member>,
 }
 
 impl Vehicles {
-    /// The list of a run with these members (the follower first, then the lead).
+    /// The list of a run with these members (the follower first, then the lead if there is
+    /// one, then the actors).
     pub(crate) fn new(members: Vec<Member>) -> Vehicles {
-        debug_assert!(members.len() >= 2 && members[0].role == Role::Follower);
+        debug_assert!(!members.is_empty() && members[0].role == Role::Follower);
         Vehicles { members }
+    }
+
+    /// The lead's index, when the run has a lead.
+    pub fn lead(&self) -> Option<usize> {
+        self.members.iter().position(|m| m.role == Role::Lead)
+    }
+
+    /// The first actor's index: the actors are the members from here on.
+    pub fn first_actor(&self) -> usize {
+        1 + usize::from(self.lead().is_some())
     }
 
     /// Every member, in order.

@@ -162,7 +162,8 @@ fn vehicles_start_follow_and_change_lanes_on_each_lanes_centre() {
     let plan = Plan::new(&s).unwrap_or_else(|e| panic!("{e}"));
     // The route heads +x from the origin: a vehicle's z is its offset right of the centre
     // line.
-    for pose in plan.start_poses() {
+    let (chase, lead) = plan.start_poses();
+    for pose in std::iter::once(chase).chain(lead) {
         let z = pose.translation.z as f64;
         assert!((z - centre(1)).abs() < 0.01, "{z} vs {}", centre(1));
     }

@@ -720,7 +720,7 @@ fn an_elevation_profile_is_checked_and_the_ground_follows_it() {
         assert!((terrain.height_m(x, z) - want).abs() < 0.005, "{st}");
     }
     // The lead starts on the slope, at its height there.
-    let lead_y = f64::from(plan.start_poses()[1].translation.y);
+    let lead_y = f64::from(plan.start_poses().1.unwrap().translation.y);
     let at_start = 0.04 * s.lead_start_m.min(100.0);
     assert!((lead_y - at_start).abs() < 0.1, "{lead_y} vs {at_start}");
 

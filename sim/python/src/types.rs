@@ -92,7 +92,7 @@ impl Estimate {
     }
 
     /// The vehicle the tracker says it holds: its index in the truth's "vehicles" list
-    /// (1 the lead, 2 on the actors), or None when it does not say.
+    /// (1 the lead, 2 on the actors; without a lead, 1 on), or None when it does not say.
     #[getter]
     fn vehicle(&self) -> Option<usize> {
         self.inner.vehicle

@@ -204,13 +204,17 @@ fn junit_entry<'a>(
 /// One line: the scenario, PASS or FAIL with its failures, and where the outputs are.
 fn verdict(s: &Summary, dir: &Path) -> String {
     let head = format!(
-        "{}: {} in {:.1} s ({:.1}× real time); gap {:.1}–{:.1} m, tracking lost {:.1} s; outputs in {}",
+        "{}: {} in {:.1} s ({:.1}× real time); {}, tracking lost {:.1} s; outputs in {}",
         s.scenario,
         if s.passed { "PASS" } else { "FAIL" },
         s.wall_s,
         s.realtime_factor.unwrap_or(0.0),
-        s.gap_m.min,
-        s.gap_m.max,
+        // A run without a lead has no gap to it: the traffic's figures say the rest.
+        if s.gap_m.min.is_finite() {
+            format!("gap {:.1}–{:.1} m", s.gap_m.min, s.gap_m.max)
+        } else {
+            "no lead".to_string()
+        },
         // Adding 0.0 turns a −0.0 into 0.0 for display.
         s.tracking_lost_s + 0.0,
         dir.display()

@@ -475,6 +475,8 @@ impl Writer {
 
         let poses = &out.poses;
         let chase_from_camera = poses.world_from_chase.inverse() * poses.world_from_camera;
+        // A run without a lead has none to place.
+        let has_lead = out.record.lead_xz[0].is_finite();
         // The world is y up; `map` is the same place with z up, as Foxglove's 3D panel
         // expects of a root frame.
         let map_from_world = Isometry3::from_parts(
@@ -483,12 +485,15 @@ impl Writer {
         );
         ch.transforms.log_with_time(
             &FrameTransforms {
-                transforms: vec![
-                    transform(ts, "map", "world", &map_from_world),
-                    transform(ts, "world", "chase", &poses.world_from_chase),
-                    transform(ts, "world", "lead", &poses.world_from_lead),
-                    transform(ts, "chase", "camera", &chase_from_camera),
-                ],
+                transforms: [
+                    Some(transform(ts, "map", "world", &map_from_world)),
+                    Some(transform(ts, "world", "chase", &poses.world_from_chase)),
+                    has_lead.then(|| transform(ts, "world", "lead", &poses.world_from_lead)),
+                    Some(transform(ts, "chase", "camera", &chase_from_camera)),
+                ]
+                .into_iter()
+                .flatten()
+                .collect(),
             },
             ns,
         );
@@ -642,10 +647,16 @@ impl Writer {
             },
             3.0,
         ));
-        let mut entities = vec![chase_entity, lead_entity, crumbs];
+        // A run without a lead has neither its box nor its path.
+        let has_lead = r.lead_xz[0].is_finite();
+        let mut entities = vec![chase_entity];
+        entities.extend(has_lead.then_some(lead_entity));
+        entities.push(crumbs);
         entities.extend(actor_entities(r, ts));
-        self.path.push(r.lead_xz);
-        if r.frame % PATH_SEGMENT_FRAMES == PATH_SEGMENT_FRAMES - 1 {
+        if has_lead {
+            self.path.push(r.lead_xz);
+        }
+        if has_lead && r.frame % PATH_SEGMENT_FRAMES == PATH_SEGMENT_FRAMES - 1 {
             let mut segment = entity(
                 "world",
                 &format!("lead-path-{}", r.frame / PATH_SEGMENT_FRAMES),
@@ -819,9 +830,10 @@ fn actor_entities(r: &sim_core::FrameRecord, ts: Timestamp) -> Vec<SceneEntity> 
     let Some(t) = &r.traffic else {
         return Vec::new();
     };
+    // The chase and the lead are no actor kind.
     t.vehicles
         .iter()
-        .skip(2)
+        .skip(1)
         .filter_map(|v| {
             let kind = sim_render::VehicleKind::ALL
                 .into_iter()

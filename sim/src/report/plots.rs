@@ -743,6 +743,10 @@ fn trajectories(area: &Area, scenario: &str, records: &[PlotRow]) -> DrawResult 
             .map(|p| (p[0], p[1]))
             .filter(|p| p.0.is_finite() && p.1.is_finite())
             .collect();
+        if points.is_empty() {
+            // No lead in the scenario: nothing to draw or name.
+            continue;
+        }
         let start = points.first().copied();
         chart
             .draw_series(std::iter::once(PathElement::new(

@@ -1,7 +1,9 @@
 //! An event's trigger checked: exactly one condition, with its vehicles, rule, delay and
 //! edges, or a group of them (`all`, `any`).
 
-use super::{check, invalid, Condition, EventScript, ReachSpec, Rule, Trigger, TriggerSpec};
+use super::{
+    check, invalid, Condition, EventScript, KeepSide, ReachSpec, Rule, Trigger, TriggerSpec,
+};
 use super::{MAX_GAP_M, MAX_KEY, MAX_LANES, MAX_POSITION_OFFSET_M, MAX_STANDSTILL_S, MAX_TIME_S};
 use super::{MAX_TRIGGER_DEPTH, MAX_TRIGGER_GROUPS};
 use crate::error::VehicleError;
@@ -64,6 +66,13 @@ impl EventScript {
                 ),
             ));
         }
+        if t.side.is_some() && t.time_gap_s.is_none() {
+            return Err(invalid(
+                i,
+                &field("side"),
+                format!("only for time_gap_s, not {}", given[0]),
+            ));
+        }
         if let Some(members) = t.all.as_ref().or(t.any.as_ref()) {
             return self.group(i, path, t, given[0], members, depth);
         }
@@ -105,7 +114,7 @@ impl EventScript {
             Condition::Spacing(check(i, &field("spacing_m"), v, 0.0, MAX_GAP_M, false)?, to)
         } else if let Some(v) = t.time_gap_s {
             let v = check(i, &field("time_gap_s"), v, 0.0, MAX_TIME_S, false)?;
-            Condition::TimeGap(v, to, t.between_axles)
+            Condition::TimeGap(v, to, t.between_axles, t.side.unwrap_or(KeepSide::Either))
         } else if let Some(v) = t.ttc_s {
             let v = check(i, &field("ttc_s"), v, 0.0, MAX_TIME_S, false)?;
             Condition::Ttc(v, to, t.between_axles)

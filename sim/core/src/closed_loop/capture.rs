@@ -14,7 +14,8 @@ use vehicle::{DelayLine, Pose, Step, VehicleState, STEPS_PER_FRAME};
 pub(super) struct Captured {
     pub(super) now: Step,
     pub(super) chase: VehicleState,
-    pub(super) lead: VehicleState,
+    /// The lead's state (none in a run without a lead).
+    pub(super) lead: Option<VehicleState>,
     pub(super) input: FrameInput,
     /// Every vehicle's state, in the traffic's list order (`None` without traffic).
     pub(super) traffic: Option<Vec<VehicleState>>,
@@ -38,7 +39,12 @@ impl Captured {
         let now = drive.world.now();
         debug_assert!(now.is_frame_start());
         let chase = drive.world.vehicle_state(drive.chase_id);
-        let lead = drive.world.vehicle_state(drive.lead_id);
+        // Without a lead, nothing of it is drawn or read: it stands still at the origin.
+        let lead = drive.lead_id.map(|id| drive.world.vehicle_state(id));
+        let first_actor = drive
+            .traffic
+            .as_ref()
+            .map_or(2, |t| t.vehicles.first_actor());
         let frame_index = now.0 / u64::from(STEPS_PER_FRAME);
         let traffic = drive.traffic.as_ref().map(|t| t.states(&drive.world));
         let world_from_actors = match (&drive.traffic, &traffic) {
@@ -49,15 +55,21 @@ impl Captured {
             frame_index,
             time_s: now.seconds(),
             world_from_chase: iso(&chase.world_from_vehicle),
-            world_from_lead: iso(&lead.world_from_vehicle) * lead_from_scene,
+            world_from_lead: lead.as_ref().map_or(*lead_from_scene, |l| {
+                iso(&l.world_from_vehicle) * lead_from_scene
+            }),
             world_from_actors,
             camera_pan_rad: drive.pan_angle_rad(),
             auto_gain: auto_gain.gain_for(frame_index),
             // The lead's and the actors' brake actuators (the traffic's list: the follower,
-            // the lead, then the actors).
+            // the lead if there is one, then the actors).
             braking: Braking::of(
-                f64::from(lead.brake),
-                traffic.iter().flatten().skip(2).map(|s| f64::from(s.brake)),
+                lead.as_ref().map_or(0.0, |l| f64::from(l.brake)),
+                traffic
+                    .iter()
+                    .flatten()
+                    .skip(first_actor)
+                    .map(|s| f64::from(s.brake)),
             ),
             // Before the first frame the world stood still.
             earlier_field: drive.interlaced.then(|| {
@@ -71,12 +83,13 @@ impl Captured {
                 }
             }),
             chase_speed_mps: f64::from(chase.forward_speed_mps),
-            lead_speed_mps: f64::from(lead.forward_speed_mps),
-            // The traffic's list: the follower, the lead, then the actors.
+            lead_speed_mps: lead
+                .as_ref()
+                .map_or(0.0, |l| f64::from(l.forward_speed_mps)),
             actor_speeds_mps: traffic
                 .iter()
                 .flatten()
-                .skip(2)
+                .skip(first_actor)
                 .map(|s| f64::from(s.forward_speed_mps))
                 .collect(),
         };

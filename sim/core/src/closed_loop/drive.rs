@@ -5,6 +5,7 @@ use super::traffic_drive::TrafficDrive;
 use crate::delayed::Delayed;
 use crate::plan::iso;
 use crate::plugin::{ControlInput, Controller, Delivered, Estimate, EstimateStatus, PluginError};
+use nalgebra::Isometry3;
 use sim_render::Field;
 use vehicle::{
     ChaseController, Controls, DelayLine, LeadDriver, LeadEstimate, PanHead, Step, TrackStatus,
@@ -86,9 +87,10 @@ fn commands(
 pub(super) struct Drive {
     pub(super) world: World,
     pub(super) chase_id: VehicleId,
-    pub(super) lead_id: VehicleId,
+    /// The lead's physics and driver (none in a run without a lead).
+    pub(super) lead_id: Option<VehicleId>,
     pub(super) chase: Chase,
-    pub(super) lead: LeadDriver,
+    pub(super) lead: Option<LeadDriver>,
     pub(super) delay: DelayLine<Delayed>,
     /// The camera's pan head, when the scenario has one (`[camera.pan]`).
     pub(super) pan: Option<PanHead>,
@@ -164,7 +166,7 @@ impl Drive {
             }
             let delivered = self.delay.pop_due(step_now);
             let chase = self.world.vehicle_state(self.chase_id);
-            let lead = self.world.vehicle_state(self.lead_id);
+            let lead = self.lead_id.map(|id| self.world.vehicle_state(id));
             let pan_reading_rad = self.pan_reading_rad();
             if self.chase.failed.is_some() {
                 break;
@@ -189,21 +191,27 @@ impl Drive {
             if let Some(pan) = &mut self.pan {
                 pan.step(pan_rate_rad_s);
             }
+            let lead_and_state = self.lead.as_mut().zip(lead.as_ref());
             let lead_controls = match &mut self.traffic {
-                None => self.lead.update(step_now, &lead),
-                Some(t) => t.drive(&mut self.world, &mut self.lead, step_now, &lead),
+                None => lead_and_state.map(|(l, state)| l.update(step_now, state)),
+                Some(t) => t.drive(&mut self.world, lead_and_state, step_now),
             };
-            if self.lead_at_road_end.is_none()
-                && self.lead.progress_m() >= self.lead.route().length_m() - ROAD_END_M
-            {
-                self.lead_at_road_end = Some(step_now);
+            if let Some(l) = &self.lead {
+                if self.lead_at_road_end.is_none()
+                    && l.progress_m() >= l.route().length_m() - ROAD_END_M
+                {
+                    self.lead_at_road_end = Some(step_now);
+                }
             }
             self.world.set_controls(self.chase_id, ahead.controls);
-            self.world.set_controls(self.lead_id, lead_controls);
+            if let (Some(id), Some(controls)) = (self.lead_id, lead_controls) {
+                self.world.set_controls(id, controls);
+            }
             self.world.step();
-            ahead.collision |= match &mut self.traffic {
-                None => self.world.vehicles_touch(self.chase_id, self.lead_id),
-                Some(t) => t.touching(&self.world),
+            ahead.collision |= match (&mut self.traffic, self.lead_id) {
+                (Some(t), _) => t.touching(&self.world),
+                (None, Some(lead)) => self.world.vehicles_touch(self.chase_id, lead),
+                (None, None) => false,
             };
             ahead.steps += 1;
         }
@@ -221,7 +229,9 @@ impl Drive {
         Field {
             time_s: self.world.now().seconds(),
             world_from_chase: iso(&self.world.vehicle_state(self.chase_id).world_from_vehicle),
-            world_from_lead: iso(&self.world.vehicle_state(self.lead_id).world_from_vehicle),
+            world_from_lead: self.lead_id.map_or(Isometry3::identity(), |id| {
+                iso(&self.world.vehicle_state(id).world_from_vehicle)
+            }),
             world_from_actors: self.actor_poses(),
             camera_pan_rad: self.pan_angle_rad(),
         }

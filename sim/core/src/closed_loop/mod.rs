@@ -546,10 +546,16 @@ fn tracking_of(
 
 /// The lead's lane from 10 m behind the chase's start to the lead's start, metre by metre:
 /// the lead's path before t = 0, so that the chase has a path from the first frame.
+/// Without a lead, the chase's lane from there to the route's end: the path it keeps.
 fn lane_behind(route: &SceneRoute, s: &Scenario, chase_start_m: f64) -> DrivenPath {
     let lateral = s.route.lane_centre_m(s.lead_lane);
     let mut path = DrivenPath::new();
-    for k in 0..=((s.lead_start_m - chase_start_m + 10.0) as usize) {
+    let end_m = if s.has_lead {
+        s.lead_start_m
+    } else {
+        route.length_m()
+    };
+    for k in 0..=((end_m - chase_start_m + 10.0) as usize) {
         let station = (chase_start_m - 10.0 + k as f64).max(0.0);
         path.push(route.point(station, lateral));
     }

@@ -51,7 +51,8 @@ pub(super) struct Recorder {
     pub(super) target_width_m: f64,
     /// Whether the lead's target is too faint for the paper's threshold.
     pub(super) faint: Faintness,
-    /// The lead's driven path, for the chase's lateral deviation.
+    /// The lead's driven path, for the chase's lateral deviation (without a lead, the
+    /// chase's lane, whole).
     pub(super) lead_path: DrivenPath,
     pub(super) chase_distance_m: f64,
     pub(super) last_chase_xz: [f64; 2],
@@ -158,11 +159,15 @@ impl Recorder {
         let target_world = world_from_camera * nalgebra::Point3::new(tx, ty, tz);
         let gap_m = (target_world.x - cam.x).hypot(target_world.z - cam.z);
         let chase_xz = xz(&chase_state.world_from_vehicle);
-        let lead_xz = xz(&lead_state.world_from_vehicle);
+        let lead_xz = lead_state
+            .as_ref()
+            .map_or([f64::NAN; 2], |l| xz(&l.world_from_vehicle));
         self.chase_distance_m +=
             (chase_xz[0] - self.last_chase_xz[0]).hypot(chase_xz[1] - self.last_chase_xz[1]);
         self.last_chase_xz = chase_xz;
-        self.lead_path.push(lead_xz);
+        if lead_state.is_some() {
+            self.lead_path.push(lead_xz);
+        }
         let lateral_deviation_m = self.lead_path.distance(chase_xz);
         let track = tracked.out.as_ref();
         let known = |v: Option<f64>| v.unwrap_or(f64::NAN);
@@ -188,7 +193,9 @@ impl Recorder {
             lost_truth,
             gap_m,
             chase_speed_mps: f64::from(chase_state.forward_speed_mps),
-            lead_speed_mps: f64::from(lead_state.forward_speed_mps),
+            lead_speed_mps: lead_state
+                .as_ref()
+                .map_or(f64::NAN, |l| f64::from(l.forward_speed_mps)),
             steering_rad: f64::from(controls.steer_rad),
             throttle: f64::from(controls.throttle),
             brake: f64::from(controls.brake),

@@ -40,9 +40,15 @@ pub struct RunEnd {
 }
 
 impl TrafficDrive {
-    /// The traffic of a plan whose chase and lead are `chase_id` and `lead_id`.
-    pub(super) fn new(planned: PlannedTraffic, chase_id: VehicleId, lead_id: VehicleId) -> Self {
-        let mut ids = vec![chase_id, lead_id];
+    /// The traffic of a plan whose chase and lead are `chase_id` and `lead_id` (a run
+    /// without a lead has none).
+    pub(super) fn new(
+        planned: PlannedTraffic,
+        chase_id: VehicleId,
+        lead_id: Option<VehicleId>,
+    ) -> Self {
+        let mut ids = vec![chase_id];
+        ids.extend(lead_id);
         ids.extend(planned.actor_ids);
         TrafficDrive {
             contacts: Contacts::new(ids.len()),
@@ -67,15 +73,15 @@ impl TrafficDrive {
             .lane_ahead(chase.world_from_vehicle.translation, world_from_camera)
     }
 
-    /// Step `now`'s drivers: the lead's events steer `lead`, whose controls are returned
-    /// for its vehicle in state `lead_state`; each actor's driver sets its controls.
+    /// Step `now`'s drivers: the lead's events steer `lead` (when the run has one), whose
+    /// controls are returned for its vehicle in state `lead_state`; each actor's driver
+    /// sets its controls.
     pub(super) fn drive(
         &mut self,
         world: &mut World,
-        lead: &mut LeadDriver,
+        lead: Option<(&mut LeadDriver, &VehicleState)>,
         now: Step,
-        lead_state: &VehicleState,
-    ) -> Controls {
+    ) -> Option<Controls> {
         let states: Vec<VehicleState> =
             self.ids.iter().map(|&id| world.vehicle_state(id)).collect();
         let view: Vec<VehicleView> = self
@@ -90,16 +96,22 @@ impl TrafficDrive {
                 rear_m: p.rear_m,
             })
             .collect();
-        if !self.lead_events.is_empty() {
-            let fired = self.lead_events.update(now, &view, 1);
-            lead.set_lateral_offset_m(self.lead_events.lateral_offset_m() as f32);
-            lead.set_speed_override(self.lead_events.speed_override());
-            self.log(1, fired);
-            self.note_end(1, self.lead_events.run_ended());
-        }
-        let lead_controls = lead.update(now, lead_state);
+        let lead_controls = match (lead, self.vehicles.lead()) {
+            (Some((lead, lead_state)), Some(me)) => {
+                if !self.lead_events.is_empty() {
+                    let fired = self.lead_events.update(now, &view, me);
+                    lead.set_lateral_offset_m(self.lead_events.lateral_offset_m() as f32);
+                    lead.set_speed_override(self.lead_events.speed_override());
+                    self.log(me, fired);
+                    self.note_end(me, self.lead_events.run_ended());
+                }
+                Some(lead.update(now, lead_state))
+            }
+            _ => None,
+        };
+        let first = self.vehicles.first_actor();
         for k in 0..self.actors.len() {
-            let me = 2 + k;
+            let me = first + k;
             let (controls, fired) = self.actors[k].update(now, &states[me], &view, me);
             world.set_controls(self.ids[me], controls);
             self.log(me, fired);
@@ -115,9 +127,11 @@ impl TrafficDrive {
             return;
         }
         if let Some((step, i)) = ended {
-            let events = match me {
-                1 => &self.lead_events,
-                _ => self.actors[me - 2].events(),
+            let first = self.vehicles.first_actor();
+            let events = if me < first {
+                &self.lead_events
+            } else {
+                self.actors[me - first].events()
             };
             self.ended = Some(RunEnd {
                 step,
@@ -151,7 +165,7 @@ impl TrafficDrive {
         states
             .iter()
             .zip(self.vehicles.members())
-            .skip(2)
+            .skip(self.vehicles.first_actor())
             .map(|(s, m)| {
                 crate::plan::iso(&s.world_from_vehicle) * Translation3::new(m.centre_x_m, 0.0, 0.0)
             })

@@ -132,15 +132,18 @@ impl TrafficTruth {
                 )
             })
             .collect();
+        // The list: the chase, the lead (if there is one), then the actors from `first`.
+        let first = self.vehicles.first_actor();
+        let lead_index = self.vehicles.lead();
+        let is_lead = |i: usize| Some(i) == lead_index;
         // The vehicle whose target the estimate holds: the nearest in the image of those
         // it is within the loss tolerance of.
         let holds = |i: usize| -> Option<f64> {
-            let (truth, width_px, width_m) = match i {
-                1 => (lead.truth, lead.width_px, lead.width_m),
-                _ => {
-                    let a = &self.actors[i - 2];
-                    (&actor_truth[i - 2], a.width_px, a.model.size_m()[0])
-                }
+            let (truth, width_px, width_m) = if is_lead(i) {
+                (lead.truth, lead.width_px, lead.width_m)
+            } else {
+                let a = &self.actors[i - first];
+                (&actor_truth[i - first], a.width_px, a.model.size_m()[0])
             };
             let e = estimate?;
             (!wrong(Some(e), truth, truth.scale * width_px, width_m)).then(|| {
@@ -167,21 +170,27 @@ impl TrafficTruth {
             path,
             places,
         } = traffic::truth(&mut self.road, &self.vehicles, states, tracked, log);
-        frame.path_range_m = path.map_or(f64::NAN, |p| match p {
-            1 => lead.truth.target_cam_m[2],
-            _ => actor_truth[p - 2].target_cam_m[2],
-        });
-        let in_view = |i: usize| match i {
-            1 => lead.truth.in_view,
-            _ => actor_truth[i - 2].in_view,
+        let truth_of = |i: usize| {
+            if is_lead(i) {
+                lead.truth
+            } else {
+                &actor_truth[i - first]
+            }
         };
+        frame.path_range_m = path.map_or(f64::NAN, |p| truth_of(p).target_cam_m[2]);
+        let in_view = |i: usize| truth_of(i).in_view;
         // Whether vehicle `i`'s target is hidden by scenery (judged for the lead only) or
         // too faint for the paper's threshold in the pixels the tracker read.
-        let unseen = |i: usize| match i {
-            1 => (lead.occluded)() || lead.faint.too_faint(seen.image, seen.read, lead.truth),
-            _ => self.actors[i - 2]
-                .faint
-                .too_faint(seen.image, seen.read, &actor_truth[i - 2]),
+        let unseen = |i: usize| {
+            if is_lead(i) {
+                (lead.occluded)() || lead.faint.too_faint(seen.image, seen.read, lead.truth)
+            } else {
+                self.actors[i - first].faint.too_faint(
+                    seen.image,
+                    seen.read,
+                    &actor_truth[i - first],
+                )
+            }
         };
         let behind = |held: usize, p: usize| {
             places[held].station_m > places[p].station_m
@@ -197,7 +206,7 @@ impl TrafficTruth {
             (_, Some(_)) => (true, LossCause::WrongVehicle),
             (Some(_), None) if !*acquired && !tracking => (true, LossCause::NotAcquired),
             (Some(p), None) if !in_view(p) => (true, LossCause::OutOfView),
-            (Some(1), None) if (lead.occluded)() => (true, LossCause::Occluded),
+            (Some(p), None) if is_lead(p) && (lead.occluded)() => (true, LossCause::Occluded),
             (Some(p), None) if unseen(p) => (true, LossCause::LowContrast),
             (Some(_), None) => (true, LossCause::Tracker),
             // Nothing in the path: holding nothing is right, unless the tracker says it

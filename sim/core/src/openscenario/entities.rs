@@ -18,6 +18,23 @@ pub struct Entity {
     pub line: u32,
     /// Whether a controller is assigned to it in `Entities` (`ObjectController`).
     pub controlled: bool,
+    /// Whether its `Vehicle` says it follows no lead, as carfollow's export writes a chase
+    /// without one: the property [`LEAD_PROPERTY`] = `none`.
+    pub follows_no_lead: bool,
+}
+
+/// The `Property` of a `Vehicle` by which carfollow's export says what the ego follows:
+/// `none`, for a scenario without a lead (a vehicle ahead of the ego is then no lead).
+pub const LEAD_PROPERTY: &str = "carfollow:lead";
+
+/// Whether the `<Vehicle>` `vehicle` has the property [`LEAD_PROPERTY`] = `none`.
+fn follows_no_lead(vehicle: Node) -> bool {
+    child(vehicle, "Properties").is_some_and(|p| {
+        children(p, "Property").any(|q| {
+            q.attribute("name") == Some(LEAD_PROPERTY)
+                && q.attribute("value") == Some(super::write::NO_LEAD)
+        })
+    })
 }
 
 /// The kind whose shape is nearest a vehicle of `category` with a bounding box of
@@ -86,9 +103,13 @@ pub fn read_entities(xml: &Xml, catalogs: &Catalogs) -> Result<Vec<Entity>, OscE
         }
         let mut kind = None;
         let mut controlled = false;
+        let mut no_lead = false;
         for element in elements(object) {
             match element.tag_name().name() {
-                "Vehicle" => kind = Some(vehicle_kind(xml, element)?),
+                "Vehicle" => {
+                    kind = Some(vehicle_kind(xml, element)?);
+                    no_lead = follows_no_lead(element);
+                }
                 "CatalogReference" => kind = Some(catalog_vehicle(xml, element, catalogs)?),
                 "ObjectController" => controlled = true,
                 "Pedestrian" | "MiscObject" | "ExternalObjectReference" => {
@@ -112,6 +133,7 @@ pub fn read_entities(xml: &Xml, catalogs: &Catalogs) -> Result<Vec<Entity>, OscE
             kind,
             line: xml.line(object),
             controlled,
+            follows_no_lead: no_lead,
         });
     }
     Ok(out)

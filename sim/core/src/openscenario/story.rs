@@ -602,7 +602,9 @@ impl Context<'_, '_> {
                 return Err(xml.at(e, format!("<RelativeDistanceCondition relativeDistanceType=\"{kind}\">: carfollow's gaps are longitudinal")));
             }
         }
-        let to = if subject == owner {
+        // Which of the two measures: the triggering entity, `subject`.
+        let measures = subject == owner;
+        let to = if measures {
             other
         } else if other == owner {
             subject
@@ -620,11 +622,18 @@ impl Context<'_, '_> {
                 between_axles: spacing,
                 ..TriggerSpec::default()
             },
+            // A headway is measured only towards a vehicle ahead of the one measuring it
+            // (the triggering entity, `subject`).
             "TimeHeadwayCondition" => TriggerSpec {
                 time_gap_s: value,
                 to,
                 rule,
                 between_axles: spacing,
+                side: Some(if measures {
+                    vehicle::KeepSide::Behind
+                } else {
+                    vehicle::KeepSide::Ahead
+                }),
                 ..TriggerSpec::default()
             },
             _ if spacing => TriggerSpec {

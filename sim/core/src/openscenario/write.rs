@@ -107,13 +107,13 @@ fn focal_length_mm(
 /// carfollow's names for the vehicles: `chase`, `lead`, and each other vehicle's name with
 /// what an actor's name may not hold (anything but letters, digits, `-` and `_`) made
 /// `-`, unique.
-fn carfollow_names(vehicles: &[Entity], ego: &str, lead: &str) -> Names {
+fn carfollow_names(vehicles: &[Entity], ego: &str, lead: Option<&str>) -> Names {
     let mut names = Names::new();
     let mut used: Vec<String> = vec!["chase".into(), "lead".into()];
     for v in vehicles {
         let name = if v.name == ego {
             "chase".to_string()
-        } else if v.name == lead {
+        } else if Some(v.name.as_str()) == lead {
             "lead".to_string()
         } else {
             let base = super::safe_name(&v.name);
@@ -129,35 +129,42 @@ fn carfollow_names(vehicles: &[Entity], ego: &str, lead: &str) -> Names {
     names
 }
 
-/// The lead: `given`, or the nearest vehicle ahead of the ego in its lane at t = 0.
+/// What `--lead` says for no lead: the chase cruises, following nothing until its tracker
+/// finds a vehicle in its path.
+pub const NO_LEAD: &str = "none";
+
+/// The lead: `given` ([`NO_LEAD`] for none), or the nearest vehicle ahead of the ego in
+/// its lane at t = 0, or none when no vehicle is.
 fn choose_lead(
     xml: &Xml,
     vehicles: &[Entity],
     init: &Init,
     ego: &str,
     given: Option<&str>,
-) -> Result<String, OscError> {
+) -> Result<Option<String>, OscError> {
     let at_ego = init.placed[ego];
-    if let Some(name) = given {
-        if name == ego || !vehicles.iter().any(|v| v.name == name) {
-            return Err(OscError::File {
-                path: xml.path.clone(),
-                message: format!("--lead {name}: no vehicle of that name other than the ego"),
-            });
+    match given {
+        Some(NO_LEAD) => return Ok(None),
+        Some(name) => {
+            if name == ego || !vehicles.iter().any(|v| v.name == name) {
+                return Err(OscError::File {
+                    path: xml.path.clone(),
+                    message: format!(
+                        "--lead {name}: no vehicle of that name other than the ego (--lead                          {NO_LEAD} for no lead)"
+                    ),
+                });
+            }
+            return Ok(Some(name.to_string()));
         }
-        return Ok(name.to_string());
+        None => {}
     }
-    vehicles
+    Ok(vehicles
         .iter()
         .filter(|v| v.name != ego)
         .filter_map(|v| init.placed.get(&v.name).map(|p| (v, p)))
         .filter(|(_, p)| p.lane == at_ego.lane && p.s_m > at_ego.s_m)
         .min_by(|a, b| a.1.s_m.total_cmp(&b.1.s_m))
-        .map(|(v, _)| v.name.clone())
-        .ok_or_else(|| OscError::File {
-            path: xml.path.clone(),
-            message: format!("no vehicle is ahead of the ego `{ego}` in its lane at t = 0, and carfollow's chase follows a lead (name one with --lead)"),
-        })
+        .map(|(v, _)| v.name.clone()))
 }
 
 /// What of the ego is read and not applied, for its one warning: its storyboard actions
@@ -269,16 +276,75 @@ pub(super) fn relative(path: &Path, base: &Path) -> PathBuf {
 fn actor_out(v: &Entity, init: &Init, names: &Names, stories: &super::story::Stories) -> ActorOut {
     let at = init.placed[&v.name];
     let speed = init.speed_mps.get(&v.name).copied().unwrap_or(0.0);
+    let events = stories.events.get(&v.name).cloned().unwrap_or_default();
     ActorOut {
         name: names[&v.name].clone(),
         kind: v.kind.into(),
         lane: at.lane,
         offset_m: at.offset_m,
         start: StartOut { station_m: at.s_m },
-        initial_speed_mps: speed,
+        initial_speed_mps: starting_speed(speed, &events, init, names),
         speed_profile: vec![[0.0, speed]],
-        events: stories.events.get(&v.name).cloned().unwrap_or_default(),
+        events,
     }
+}
+
+/// The speed a vehicle whose `Init` gives it `init_speed` starts at: that, or the target of
+/// a step speed change one of its `events` makes at t = 0, the first such. OpenSCENARIO's
+/// step is at once, and carfollow's physics reaches no speed at once but the one a vehicle
+/// starts at (so esmini's `cut-in.xosc` sets its overtaker's speed at the act's start).
+/// A change relative to another vehicle takes that vehicle's `Init` speed (carfollow's
+/// `names` for the file's). A target beyond carfollow's top speed starts the vehicle at
+/// that speed, the fastest its driver drives.
+fn starting_speed(
+    init_speed: f64,
+    events: &[vehicle::EventSpec],
+    init: &Init,
+    names: &Names,
+) -> f64 {
+    use vehicle::{ActionSpec, Rule, Shape, TriggerSpec};
+    let at_start = |t: &TriggerSpec| {
+        let plain = TriggerSpec {
+            time_s: Some(0.0),
+            rule: t.rule,
+            rising: t.rising,
+            ..TriggerSpec::default()
+        };
+        *t == plain && matches!(t.rule, None | Some(Rule::Greater))
+    };
+    let speed_of = |name: &str| {
+        names
+            .iter()
+            .find(|(_, n)| n.as_str() == name)
+            .map(|(file, _)| init.speed_mps.get(file).copied().unwrap_or(0.0))
+    };
+    let target = |a: &ActionSpec| {
+        let step = ActionSpec {
+            speed_mps: a.speed_mps,
+            speed_of: a.speed_of.clone(),
+            speed_factor: a.speed_factor,
+            continuous: a.continuous,
+            shape: Some(Shape::Step),
+            ..ActionSpec::default()
+        };
+        if *a != step {
+            return None;
+        }
+        match (&a.speed_of, a.speed_mps, a.speed_factor) {
+            (None, speed, _) => speed,
+            (Some(of), delta, factor) => {
+                let base = speed_of(of)?;
+                Some(factor.map_or(base + delta.unwrap_or(0.0), |f| base * f))
+            }
+        }
+    };
+    events
+        .iter()
+        .filter(|e| at_start(&e.trigger))
+        .find_map(|e| target(&e.action))
+        .map_or(init_speed, |v| {
+            v.clamp(0.0, f64::from(vehicle::MAX_SPEED_MPS))
+        })
 }
 
 /// The scenario file written, its tables in the order a person writes them.
@@ -288,7 +354,8 @@ struct Doc {
     description: String,
     duration_s: f64,
     route: RouteOut,
-    lead: LeadOut,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    lead: Option<LeadOut>,
     chase: ChaseOut,
     camera: CameraOut,
     tracker: TrackerOut,
@@ -323,7 +390,12 @@ struct LeadOut {
 
 #[derive(serde::Serialize)]
 struct ChaseOut {
-    initial_gap_m: f64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    start_m: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    lane: Option<u32>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    initial_gap_m: Option<f64>,
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     start_at_cruise_speed: bool,
     controller: ControllerOut,
@@ -406,52 +478,139 @@ fn start_gap(
     Ok(far)
 }
 
-/// The scenario of the file as carfollow's scenario text.
+/// How the chase starts: behind its lead, or with none, and what that decides of the lens
+/// and the tracker's start.
+struct Start {
+    lead: Option<LeadOut>,
+    chase: ChaseOut,
+    /// Whether the tracker starts by searching.
+    search: bool,
+    focal_length_mm: f64,
+}
+
+/// The chase's start behind the lead (`[ego, lead]` their names in the file), at the gap
+/// their places at t = 0 give, with the lead's events from `stories`.
 #[allow(clippy::too_many_arguments)]
-pub fn scenario(
+fn behind_lead(
     xml: &Xml,
     vehicles: &[Entity],
     road: &Road,
-    ego: &str,
-    init: Init,
-    options: &ImportOptions,
-    dir: &Path,
-) -> Result<Imported, OscError> {
-    let mut warnings = init.warnings.clone();
-    for v in vehicles {
-        if !init.placed.contains_key(&v.name) {
-            return Err(OscError::At {
-                path: xml.path.clone(),
-                line: v.line,
-                message: format!(
-                    "<ScenarioObject name=\"{}\"> is placed by no <TeleportAction> in <Init>",
-                    v.name
-                ),
-            });
-        }
-        if v.controlled && v.name != ego {
-            return Err(OscError::At { path: xml.path.clone(), line: v.line, message: format!("unsupported <ObjectController> of `{}` (carfollow drives its vehicles by their events)", v.name) });
-        }
-    }
-    let lead = choose_lead(xml, vehicles, &init, ego, options.lead.as_deref())?;
-    let names = carfollow_names(vehicles, ego, &lead);
-    let read_stop = options.duration_s.is_none();
-    let stories = read_stories(xml, &names, &init, &road.lanes, ego, read_stop)?;
+    init: &Init,
+    names: &Names,
+    stories: &super::story::Stories,
+    [ego, lead]: [&str; 2],
+    warnings: &mut Vec<String>,
+) -> Result<Start, OscError> {
     let speed = |name: &str| init.speed_mps.get(name).copied().unwrap_or(0.0);
-    let at_ego: Placed = init.placed[ego];
-    let at_lead: Placed = init.placed[&lead];
-    if at_ego.offset_m != 0.0 {
-        let line = init.line.get(ego).copied().unwrap_or(1);
+    let (at_ego, at_lead) = (init.placed[ego], init.placed[lead]);
+    let lead_kind = vehicles
+        .iter()
+        .find(|v| v.name == lead)
+        .map_or("", |v| v.kind);
+    warnings.push(format!(
+        "the lead `{lead}` (a {lead_kind} in the file) is carfollow's lead vehicle, the pickup with the tracker's target board"
+    ));
+    // The chase starts its camera `initial_gap_m` from the lead's rear bumper.
+    let camera_forward_m = f64::from(vehicle::CameraMount::default().forward_m);
+    let rear_bumper_m = f64::from(vehicle::VehicleParams::pickup().rear_bumper_x_m());
+    let gap_m = at_lead.s_m + rear_bumper_m - camera_forward_m - at_ego.s_m;
+    let ego_speed = speed(ego);
+    let line = init.line.get(ego).copied().unwrap_or(1);
+    let far = start_gap(xml, line, [ego, lead], gap_m, ego_speed, warnings)?;
+    // Far behind, the default lens: the chase closes to its search's range and then follows
+    // at its gap keeper's few metres, where that lens sees the target as at its nominal
+    // range.
+    let focal_length_mm = if far {
+        DEFAULT_FOCAL_MM
+    } else {
+        focal_length_mm(
+            road,
+            at_ego.s_m + camera_forward_m,
+            at_lead.s_m + rear_bumper_m,
+            [at_ego.lane, at_lead.lane],
+            gap_m,
+        )
+    };
+    let gap_m = (gap_m * 1e6).round() / 1e6;
+    let lead_events = stories.events.get(lead).cloned().unwrap_or_default();
+    Ok(Start {
+        lead: Some(LeadOut {
+            start_m: at_lead.s_m,
+            lane: at_lead.lane,
+            offset_m: at_lead.offset_m,
+            initial_speed_mps: starting_speed(speed(lead), &lead_events, init, names),
+            speed_profile: vec![[0.0, speed(lead)]],
+            events: lead_events,
+        }),
+        chase: ChaseOut {
+            start_m: None,
+            lane: None,
+            initial_gap_m: Some(gap_m),
+            // The ego starts at its own speed where it has one carfollow's chase can cruise
+            // at, else at the lead's.
+            start_at_cruise_speed: ego_speed >= 0.5 && (ego_speed - speed(lead)).abs() > 1e-9,
+            controller: ControllerOut {
+                lane_keeping: true,
+                cruise_speed_mps: (ego_speed >= 0.5).then_some(ego_speed),
+            },
+        },
+        search: far,
+        focal_length_mm,
+    })
+}
+
+/// The chase's start with no lead: where the ego is placed (at `line`), cruising at its
+/// speed, `ego_speed`, with its tracker searching its path (said in a warning).
+fn without_lead(
+    xml: &Xml,
+    line: u32,
+    ego: &str,
+    at_ego: &Placed,
+    ego_speed: f64,
+    warnings: &mut Vec<String>,
+) -> Result<Start, OscError> {
+    if ego_speed < 0.5 {
         return Err(OscError::At {
             path: xml.path.clone(),
             line,
             message: format!(
-                "the ego `{ego}` starts {:.2} m {} its lane's centre: carfollow's chase starts on it",
-                at_ego.offset_m.abs(),
-                if at_ego.offset_m > 0.0 { "left of" } else { "right of" }
+                "the ego `{ego}` starts at {ego_speed} m/s with no lead: carfollow's chase then \
+                 cruises at its own speed, 0.5 m/s or more, until its tracker finds a vehicle \
+                 in its path (--lead NAME names one to follow)"
             ),
         });
     }
+    warnings.push(format!(
+        "no lead: the ego `{ego}` cruises at {ego_speed} m/s in its lane and its tracker \
+         searches its path (--lead NAME names a vehicle to follow)"
+    ));
+    Ok(Start {
+        lead: None,
+        chase: ChaseOut {
+            start_m: Some(at_ego.s_m),
+            lane: Some(at_ego.lane),
+            initial_gap_m: None,
+            start_at_cruise_speed: false,
+            controller: ControllerOut {
+                lane_keeping: true,
+                cruise_speed_mps: Some(ego_speed),
+            },
+        },
+        search: true,
+        focal_length_mm: DEFAULT_FOCAL_MM,
+    })
+}
+
+/// The warnings a file's storyboard gives: the ego's actions and controller, which are
+/// not applied; a maneuver's events that run side by side; the acts and events that never
+/// start.
+fn story_warnings(
+    vehicles: &[Entity],
+    ego: &str,
+    init: &Init,
+    stories: &super::story::Stories,
+    warnings: &mut Vec<String>,
+) {
     let ego_controlled = vehicles.iter().any(|v| v.name == ego && v.controlled);
     if let Some(ignored) = ego_ignored(
         stories.ego_actions,
@@ -503,20 +662,76 @@ pub fn scenario(
             },
         ));
     }
-    let lead_kind = vehicles
-        .iter()
-        .find(|v| v.name == lead)
-        .map_or("", |v| v.kind);
-    warnings.push(format!(
-        "the lead `{lead}` (a {lead_kind} in the file) is carfollow's lead vehicle, the pickup with the tracker's target board"
-    ));
-    // The chase starts its camera `initial_gap_m` from the lead's rear bumper.
-    let camera_forward_m = f64::from(vehicle::CameraMount::default().forward_m);
-    let rear_bumper_m = f64::from(vehicle::VehicleParams::pickup().rear_bumper_x_m());
-    let gap_m = at_lead.s_m + rear_bumper_m - camera_forward_m - at_ego.s_m;
+}
+
+/// The scenario of the file as carfollow's scenario text.
+#[allow(clippy::too_many_arguments)]
+pub fn scenario(
+    xml: &Xml,
+    vehicles: &[Entity],
+    road: &Road,
+    ego: &str,
+    init: Init,
+    options: &ImportOptions,
+    dir: &Path,
+) -> Result<Imported, OscError> {
+    let mut warnings = init.warnings.clone();
+    for v in vehicles {
+        if !init.placed.contains_key(&v.name) {
+            return Err(OscError::At {
+                path: xml.path.clone(),
+                line: v.line,
+                message: format!(
+                    "<ScenarioObject name=\"{}\"> is placed by no <TeleportAction> in <Init>",
+                    v.name
+                ),
+            });
+        }
+        if v.controlled && v.name != ego {
+            return Err(OscError::At { path: xml.path.clone(), line: v.line, message: format!("unsupported <ObjectController> of `{}` (carfollow drives its vehicles by their events)", v.name) });
+        }
+    }
+    // Said on the command line, else as carfollow's export writes a chase without a lead.
+    let given = options.lead.as_deref().or_else(|| {
+        vehicles
+            .iter()
+            .any(|v| v.name == ego && v.follows_no_lead)
+            .then_some(NO_LEAD)
+    });
+    let lead = choose_lead(xml, vehicles, &init, ego, given)?;
+    let names = carfollow_names(vehicles, ego, lead.as_deref());
+    let read_stop = options.duration_s.is_none();
+    let stories = read_stories(xml, &names, &init, &road.lanes, ego, read_stop)?;
+    let speed = |name: &str| init.speed_mps.get(name).copied().unwrap_or(0.0);
+    let at_ego: Placed = init.placed[ego];
+    if at_ego.offset_m != 0.0 {
+        let line = init.line.get(ego).copied().unwrap_or(1);
+        return Err(OscError::At {
+            path: xml.path.clone(),
+            line,
+            message: format!(
+                "the ego `{ego}` starts {:.2} m {} its lane's centre: carfollow's chase starts on it",
+                at_ego.offset_m.abs(),
+                if at_ego.offset_m > 0.0 { "left of" } else { "right of" }
+            ),
+        });
+    }
+    story_warnings(vehicles, ego, &init, &stories, &mut warnings);
     let ego_speed = speed(ego);
     let line = init.line.get(ego).copied().unwrap_or(1);
-    let far = start_gap(xml, line, [ego, &lead], gap_m, ego_speed, &mut warnings)?;
+    let start = match &lead {
+        Some(lead) => behind_lead(
+            xml,
+            vehicles,
+            road,
+            &init,
+            &names,
+            &stories,
+            [ego, lead],
+            &mut warnings,
+        )?,
+        None => without_lead(xml, line, ego, &at_ego, ego_speed, &mut warnings)?,
+    };
     let duration_s = match options.duration_s {
         Some(d) => d,
         None => match duration(xml)? {
@@ -531,11 +746,16 @@ pub fn scenario(
             }
         },
     };
-    if (ego_speed - speed(&lead)).abs() > 1e-9 && ego_speed < 0.5 {
-        warnings.push(format!(
-            "the ego `{ego}` starts at the lead's speed, {} m/s, not its own {ego_speed} m/s: carfollow's chase cruises at 0.5 m/s or more",
-            speed(&lead)
-        ));
+    if let Some(lead) = lead
+        .as_deref()
+        .filter(|l| (ego_speed - speed(l)).abs() > 1e-9)
+    {
+        if ego_speed < 0.5 {
+            warnings.push(format!(
+                "the ego `{ego}` starts at the lead's speed, {} m/s, not its own {ego_speed} m/s: carfollow's chase cruises at 0.5 m/s or more",
+                speed(lead)
+            ));
+        }
     }
     let base = options
         .relative_to
@@ -551,21 +771,6 @@ pub fn scenario(
         .file_stem()
         .map_or("imported".into(), |s| s.to_string_lossy().into_owned());
 
-    // Far behind, the default lens: the chase closes to its search's range and then follows
-    // at its gap keeper's few metres, where that lens sees the target as at its nominal
-    // range.
-    let focal_length_mm = if far {
-        DEFAULT_FOCAL_MM
-    } else {
-        focal_length_mm(
-            road,
-            at_ego.s_m + camera_forward_m,
-            at_lead.s_m + rear_bumper_m,
-            [at_ego.lane, at_lead.lane],
-            gap_m,
-        )
-    };
-    let gap_m = (gap_m * 1e6).round() / 1e6;
     let doc = Doc {
         name: stem,
         description,
@@ -578,33 +783,19 @@ pub fn scenario(
                 road: road.lanes.id.clone(),
             },
         },
-        lead: LeadOut {
-            start_m: at_lead.s_m,
-            lane: at_lead.lane,
-            offset_m: at_lead.offset_m,
-            initial_speed_mps: speed(&lead),
-            speed_profile: vec![[0.0, speed(&lead)]],
-            events: stories.events.get(&lead).cloned().unwrap_or_default(),
+        lead: start.lead,
+        chase: start.chase,
+        camera: CameraOut {
+            focal_length_mm: start.focal_length_mm,
         },
-        chase: ChaseOut {
-            initial_gap_m: gap_m,
-            // The ego starts at its own speed where it has one carfollow's chase can cruise
-            // at, else at the lead's.
-            start_at_cruise_speed: ego_speed >= 0.5 && (ego_speed - speed(&lead)).abs() > 1e-9,
-            controller: ControllerOut {
-                lane_keeping: true,
-                cruise_speed_mps: (ego_speed >= 0.5).then_some(ego_speed),
-            },
-        },
-        camera: CameraOut { focal_length_mm },
         tracker: TrackerOut {
             target: TARGET.into(),
-            start: far.then_some("search"),
+            start: start.search.then_some("search"),
         },
         environment: init.environment.clone(),
         actors: vehicles
             .iter()
-            .filter(|v| v.name != ego && v.name != lead)
+            .filter(|v| v.name != ego && Some(&v.name) != lead.as_ref())
             .map(|v| actor_out(v, &init, &names, &stories))
             .collect(),
     };

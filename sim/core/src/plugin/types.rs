@@ -91,8 +91,9 @@ pub struct Estimate {
     /// How sure the tracker is.
     pub status: EstimateStatus,
     /// Which vehicle the tracker says it holds, where it knows: its place in the scenario's
-    /// vehicle list, 1 for the lead and 2 + k for the k-th `[[actors]]` entry (the order of
-    /// the truth's `vehicles`; 0, the chase, is never a target). `None`: the tracker does
+    /// vehicle list, 1 for the lead and 2 + k for the k-th `[[actors]]` entry (1 + k in a
+    /// scenario without a lead: the order of the truth's `vehicles`; 0, the chase, is never
+    /// a target). `None`: the tracker does
     /// not say, and the loop's truth takes the vehicle whose target the estimate lies on.
     pub vehicle: Option<usize>,
 }

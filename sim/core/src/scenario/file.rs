@@ -28,8 +28,13 @@ pub struct ScenarioFile {
     pub seed: u64,
     /// The road.
     pub route: RouteFile,
-    /// The lead vehicle.
-    pub lead: LeadFile,
+    /// The lead vehicle: the one the chase starts behind, on whose back the tracker's target
+    /// is. Without one, the chase starts at `chase.start_m` in `chase.lane` and cruises
+    /// at `chase.controller.cruise_speed_mps` in its lane until its tracker finds a
+    /// vehicle in its path (`tracker.start = "search"`), as esmini's and ScenarioRunner's
+    /// files often start, the car under test with nothing ahead.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lead: Option<LeadFile>,
     /// The chase vehicle.
     #[serde(default)]
     pub chase: ChaseFile,
@@ -254,6 +259,16 @@ fn default_basis() -> String {
 #[derive(Clone, Debug, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ChaseFile {
+    /// Where the chase's rear axle starts, metres along the route: only in a scenario
+    /// without `[lead]` (with one, the chase starts `initial_gap_m` behind it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("minimum" = 0.0))]
+    pub start_m: Option<f64>,
+    /// The chase's lane (default 1; see `route.lanes`): only in a scenario without `[lead]`
+    /// (with one, the chase starts in the lead's lane).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("minimum" = 1, "maximum" = 4))]
+    pub lane: Option<u32>,
     /// Camera-to-target distance at t = 0, metres (default 10): 3–60 with the tracker
     /// placed on the target (`tracker.start = "operator"`), which must then be in the
     /// camera's view; up to 250 (the renderer's far plane: nothing further is drawn) with
@@ -306,6 +321,8 @@ pub struct HeadlampsFile {
 impl Default for ChaseFile {
     fn default() -> Self {
         ChaseFile {
+            start_m: None,
+            lane: None,
             initial_gap_m: None,
             start_at_cruise_speed: false,
             speed_profile: None,

@@ -176,6 +176,13 @@ pub struct ScenarioSpec {
     pub seed: u64,
     /// The route.
     pub route: RouteSpec,
+    /// Whether the scenario has a lead. Without one, the `lead_` fields stand for what the
+    /// chase drives in its place, its own lane from its start at its cruise speed (no lead
+    /// is placed, drawn or tracked), and `initial_gap_m` means nothing.
+    pub has_lead: bool,
+    /// Chase: rear-axle station at t = 0, metres (`initial_gap_m` behind the lead, or
+    /// `chase.start_m`).
+    pub chase_start_m: f64,
     /// Lead: rear-axle station at t = 0, metres.
     pub lead_start_m: f64,
     /// Lead: speed at t = 0, m/s.
@@ -478,7 +485,9 @@ impl Scenario {
         fill_null(&mut v, "/camera/focal_length_mm", json!(c.focal_length_mm));
         fill_null(&mut v, "/camera/pixel_size_mm", json!(c.pixel_size_mm));
         fill_null(&mut v, "/camera/image_center_px", json!(c.image_center_px));
-        fill_null(&mut v, "/chase/initial_gap_m", json!(self.initial_gap_m));
+        if self.has_lead {
+            fill_null(&mut v, "/chase/initial_gap_m", json!(self.initial_gap_m));
+        }
         fill_null(
             &mut v,
             "/lead/initial_speed_mps",
@@ -640,11 +649,12 @@ impl Scenario {
         })
     }
 
-    /// Whether the scenario has traffic: other vehicles, or events on the lead. Only then
+    /// Whether the scenario has traffic: other vehicles, events on the lead, or no lead
+    /// (the chase then looks for the vehicle in its path). Only then
     /// do the outputs carry the traffic's truth and columns, so that a scenario without
     /// any writes what it wrote before traffic existed.
     pub fn has_traffic(&self) -> bool {
-        !self.actors.is_empty() || !self.lead_events.is_empty()
+        !self.actors.is_empty() || !self.lead_events.is_empty() || !self.has_lead
     }
 
     /// The targets of the actors' kinds, each kind once in the order the actors first

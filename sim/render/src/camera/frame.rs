@@ -127,6 +127,19 @@ pub struct GroundTruth {
     pub partly_in_view: bool,
 }
 
+impl GroundTruth {
+    /// The truth of a target that is not there (a scene without a lead): nowhere, and none
+    /// of it in view.
+    pub const ABSENT: GroundTruth = GroundTruth {
+        c_x: f64::NAN,
+        c_y: f64::NAN,
+        scale: f64::NAN,
+        target_cam_m: [f64::NAN; 3],
+        in_view: false,
+        partly_in_view: false,
+    };
+}
+
 /// One rendered frame.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Frame {

@@ -21,7 +21,8 @@ const INSET: f64 = 0.05;
 /// scenery (see the module notes), for the camera at `world_from_camera`, the lead at
 /// `world_from_lead`, the actors at `world_from_actors` (as
 /// [`FrameInput::world_from_actors`](crate::FrameInput::world_from_actors); an actor
-/// without a pose is nowhere) and oncoming traffic at `time_s`.
+/// without a pose is nowhere) and oncoming traffic at `time_s`. Never, in a scene without
+/// a lead.
 pub fn target_occluded(
     scene: &Scene,
     world_from_chase: &Isometry3<f64>,
@@ -30,6 +31,10 @@ pub fn target_occluded(
     world_from_camera: &Isometry3<f64>,
     time_s: f64,
 ) -> bool {
+    if scene.description().without_lead {
+        // No board to hide.
+        return false;
+    }
     let poses = Poses {
         world_from_chase,
         world_from_lead,

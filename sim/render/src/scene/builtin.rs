@@ -56,6 +56,7 @@ pub fn builtin_description(target: TargetModel, seed: u64) -> SceneDescription {
         actors: Vec::new(),
         fog: None,
         rain: None,
+        without_lead: false,
         headlamps: None,
     }
 }

@@ -555,6 +555,12 @@ pub struct SceneDescription {
     /// before).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rain: Option<Rain>,
+    /// No lead on the road (a scenario without one, whose chase cruises until its tracker
+    /// finds a vehicle in its path): `lead` is neither drawn nor lit, its pose in a frame
+    /// is not read, and its target has no ground truth (false, the default, is not
+    /// written, so a description with a lead reads and writes as before).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub without_lead: bool,
 }
 
 impl SceneDescription {

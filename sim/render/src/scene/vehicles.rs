@@ -13,27 +13,27 @@ use super::vehicle_kind::vehicle;
 use rand::Rng;
 
 /// Appends the moving objects to `mesh`, in this order: the chase hood, the lead with its
-/// board, the oncoming vehicles (as many as the description's density puts on the
+/// board (unless the description has none), the oncoming vehicles (as many as the description's density puts on the
 /// route and the next minute's driving, at most [`ObjectSlot::MAX_ONCOMING`]), and the
 /// description's actors.
 pub(super) fn lay_objects(site: &Site<'_>, mesh: &mut Mesh) -> Vec<DynamicObject> {
     let description = site.description;
-    let mut objects = vec![
-        DynamicObject::appended(
-            mesh,
-            hood(&description.chase),
-            ObjectSlot::CHASE,
-            false,
-            Motion::Chase,
-        ),
-        DynamicObject::appended(
+    let mut objects = vec![DynamicObject::appended(
+        mesh,
+        hood(&description.chase),
+        ObjectSlot::CHASE,
+        false,
+        Motion::Chase,
+    )];
+    if !description.without_lead {
+        objects.push(DynamicObject::appended(
             mesh,
             lead_vehicle(description),
             ObjectSlot::LEAD,
             true,
             Motion::Lead,
-        ),
-    ];
+        ));
+    }
     lay_oncoming(site, mesh, &mut objects);
     lay_actors(site, mesh, &mut objects);
     objects

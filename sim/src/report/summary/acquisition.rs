@@ -16,8 +16,8 @@ pub struct Acquisition {
     /// The capture time of the frame the target (in traffic, the vehicle in the chase's
     /// path) was first held, seconds; `null` if it never was.
     pub acquired_t_s: Option<f64>,
-    /// The true range to the lead's target then (`true_range_m`), metres; `null` if never
-    /// held.
+    /// The true range to the target then (the lead's, `true_range_m`; in traffic, the
+    /// path vehicle's, `path_range_m`), metres; `null` if never held.
     pub range_m: Option<f64>,
 }
 
@@ -38,12 +38,13 @@ impl FirstAcquisition {
         } else if self.seen && self.at.is_none() && !r.lost_truth {
             // Held: without traffic the estimate lies on the target; in traffic on the
             // vehicle in the path (a frame with the road clear holds nothing, and waits).
-            let held = r
-                .traffic
-                .as_ref()
-                .is_none_or(|t| t.tracked_vehicle.is_some());
-            if held {
-                self.at = Some((r.t_s, r.true_range_m));
+            // Its range: the lead's target's, or in traffic that of the vehicle in the path.
+            let held = match &r.traffic {
+                None => Some(r.true_range_m),
+                Some(t) => t.tracked_vehicle.as_ref().map(|_| t.path_range_m),
+            };
+            if let Some(range_m) = held {
+                self.at = Some((r.t_s, range_m));
             }
         }
     }

@@ -117,17 +117,28 @@ pub fn write_files(scenario: &Scenario, xodr_file: &str, carried: &[Carried]) ->
     }
 }
 
-/// `Entities`: the chase, the lead and the actors.
+/// `Entities`: the chase, the lead (when there is one) and the actors.
 fn entities(x: &mut XmlOut, s: &Scenario) {
     x.open("Entities", &[]);
+    // A chase without a lead says so, or an importer would take a vehicle ahead for one.
+    let no_lead = [(super::entities::LEAD_PROPERTY, super::write::NO_LEAD)];
+    let ego_properties: &[(&str, &str)] = if s.has_lead { &[] } else { &no_lead };
     vehicle(
         x,
         EGO,
-        "hmmwv-m998",
-        "car",
+        ("hmmwv-m998", "car"),
         &vehicle::VehicleParams::hmmwv_m998(),
+        ego_properties,
     );
-    vehicle(x, LEAD, "pickup", "car", &vehicle::VehicleParams::pickup());
+    if s.has_lead {
+        vehicle(
+            x,
+            LEAD,
+            ("pickup", "car"),
+            &vehicle::VehicleParams::pickup(),
+            &[],
+        );
+    }
     for actor in &s.actors {
         let kind = actor.kind;
         // The categories the importer reads back as this kind (`entities::kind_of`).
@@ -137,14 +148,20 @@ fn entities(x: &mut XmlOut, s: &Scenario) {
             _ => "car",
         };
         let params = crate::scenario::kind_params(kind);
-        vehicle(x, &actor.name, kind.as_str(), category, &params);
+        vehicle(x, &actor.name, (kind.as_str(), category), &params, &[]);
     }
     x.close();
 }
 
 /// One `ScenarioObject` with its `Vehicle`: the box about the body (x from the rear axle,
 /// the entity's reference point), the axles, and what it can do.
-fn vehicle(x: &mut XmlOut, name: &str, model: &str, category: &str, p: &vehicle::VehicleParams) {
+fn vehicle(
+    x: &mut XmlOut,
+    name: &str,
+    (model, category): (&str, &str),
+    p: &vehicle::VehicleParams,
+    properties: &[(&str, &str)],
+) {
     let f = |v: f32| f64::from(v);
     x.open("ScenarioObject", &[a("name", name)]);
     x.open(
@@ -199,7 +216,15 @@ fn vehicle(x: &mut XmlOut, name: &str, model: &str, category: &str, p: &vehicle:
         );
     }
     x.close();
-    x.empty("Properties", &[]);
+    if properties.is_empty() {
+        x.empty("Properties", &[]);
+    } else {
+        x.open("Properties", &[]);
+        for (name, value) in properties {
+            x.empty("Property", &[a("name", *name), a("value", *value)]);
+        }
+        x.close();
+    }
     x.close();
     x.close();
 }

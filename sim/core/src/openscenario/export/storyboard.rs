@@ -33,7 +33,7 @@ struct ProfileStep {
     distance: bool,
 }
 
-/// The story: the lead's maneuver group and each actor's; and the events that end the
+/// The story: the lead's maneuver group (when there is a lead) and each actor's; and the events that end the
 /// run, which the `StopTrigger` holds.
 pub struct Story {
     groups: Vec<Group>,
@@ -46,14 +46,17 @@ impl Story {
     pub fn new(s: &Scenario) -> Story {
         let file = &s.resolved;
         let mut taken: Vec<String> = Vec::new();
-        let mut groups = vec![group(
-            "lead",
-            &file.lead.speed_profile,
-            &file.lead.speed_basis,
-            s.lead_initial_speed_mps,
-            &s.lead_events.0,
-            &mut taken,
-        )];
+        let mut groups = Vec::new();
+        if let Some(lead) = &file.lead {
+            groups.push(group(
+                "lead",
+                &lead.speed_profile,
+                &lead.speed_basis,
+                s.lead_initial_speed_mps,
+                &s.lead_events.0,
+                &mut taken,
+            ));
+        }
         for (actor, written) in s.actors.iter().zip(&file.actors) {
             groups.push(group(
                 &actor.name,
@@ -431,11 +434,17 @@ impl Group {
             });
         } else if let Some(v) = t.time_gap_s {
             let freespace = if t.between_axles { "false" } else { "true" };
-            self.entity_condition(x, name, edge, |x| {
+            // A headway is measured by the vehicle behind towards the one ahead: ahead of
+            // `to`, this vehicle is the one measured to.
+            let (subject, reference) = match t.side {
+                Some(vehicle::KeepSide::Ahead) => (to, self.entity.as_str()),
+                _ => (self.entity.as_str(), to),
+            };
+            self.watching_condition(x, name, edge, subject, |x| {
                 x.empty(
                     "TimeHeadwayCondition",
                     &[
-                        a("entityRef", to),
+                        a("entityRef", reference),
                         n("value", v),
                         a("freespace", freespace),
                         a("coordinateSystem", "road"),
@@ -766,7 +775,11 @@ pub fn init(x: &mut XmlOut, s: &Scenario) {
     // ego's start, with the default camera mount).
     let camera_forward_m = f64::from(vehicle::CameraMount::default().forward_m);
     let rear_bumper_m = f64::from(vehicle::VehicleParams::pickup().rear_bumper_x_m());
-    let chase_s = s.lead_start_m + rear_bumper_m - camera_forward_m - s.initial_gap_m;
+    let chase_s = if s.has_lead {
+        s.lead_start_m + rear_bumper_m - camera_forward_m - s.initial_gap_m
+    } else {
+        s.chase_start_m
+    };
     let id = |lane: u32| -(lane as i64) - crate::opendrive::inner_lanes(&s.route);
     private(
         x,
@@ -775,13 +788,15 @@ pub fn init(x: &mut XmlOut, s: &Scenario) {
         chase_s,
         s.chase_initial_speed_mps,
     );
-    private(
-        x,
-        super::LEAD,
-        (id(s.lead_lane), s.lead_offset_m),
-        s.lead_start_m,
-        s.lead_initial_speed_mps,
-    );
+    if s.has_lead {
+        private(
+            x,
+            super::LEAD,
+            (id(s.lead_lane), s.lead_offset_m),
+            s.lead_start_m,
+            s.lead_initial_speed_mps,
+        );
+    }
     for actor in &s.actors {
         private(
             x,

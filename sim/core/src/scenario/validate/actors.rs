@@ -49,14 +49,14 @@ impl Placed {
 /// route and apart from each other, offsets within their lanes, profiles, and events that
 /// name vehicles and lanes that exist. `lanes` is the road's lanes each way (`route.lanes`,
 /// or its road file's), `route` the road (its lanes' widths and centres),
-/// `chase_start_m` is where the chase's rear axle starts, `[chase, lead]` the speeds the
-/// chase and the lead start at.
+/// `chase_start_m` is where the chase's rear axle starts (in `chase_lane`), `[chase, lead]`
+/// the speeds the chase and the lead (when the scenario has one) start at.
 pub(super) fn actors(
     raw: &ScenarioFile,
     lanes: u32,
     route: &sim_render::RouteSpec,
     route_length_m: f64,
-    chase_start_m: f64,
+    (chase_start_m, chase_lane): (f64, u32),
     [chase_initial_speed_mps, lead_initial_speed_mps]: [f64; 2],
     f: &Blame,
 ) -> Result<Vec<ActorSpec>, ScenarioError> {
@@ -69,20 +69,27 @@ pub(super) fn actors(
         ),
     )?;
     let in_road = |lane: u32| (1..=lanes).contains(&lane);
+    let lane_field = if raw.lead.is_some() {
+        "lead.lane"
+    } else {
+        "chase.lane"
+    };
     f.at(
-        "lead.lane",
+        lane_field,
         check(
-            in_road(raw.lead.lane),
+            in_road(chase_lane),
             &format!("must be a lane of the road, 1–{lanes} (route.lanes)"),
-            raw.lead.lane,
+            chase_lane,
         ),
     )?;
-    offset(
-        "lead.offset_m",
-        raw.lead.offset_m,
-        route.lane_width_of(raw.lead.lane),
-        f,
-    )?;
+    if let Some(lead) = &raw.lead {
+        offset(
+            "lead.offset_m",
+            lead.offset_m,
+            route.lane_width_of(lead.lane),
+            f,
+        )?;
+    }
     f.at(
         "actors",
         check(
@@ -91,26 +98,26 @@ pub(super) fn actors(
             raw.actors.len(),
         ),
     )?;
-    let mut placed = vec![
-        Placed {
-            name: "chase".into(),
-            lane: raw.lead.lane,
-            offset_m: 0.0,
-            left_m: -route.lane_centre_m(raw.lead.lane),
-            start_m: chase_start_m,
-            speed_mps: chase_initial_speed_mps,
-            params: VehicleParams::hmmwv_m998(),
-        },
-        Placed {
+    let mut placed = vec![Placed {
+        name: "chase".into(),
+        lane: chase_lane,
+        offset_m: 0.0,
+        left_m: -route.lane_centre_m(chase_lane),
+        start_m: chase_start_m,
+        speed_mps: chase_initial_speed_mps,
+        params: VehicleParams::hmmwv_m998(),
+    }];
+    if let Some(lead) = &raw.lead {
+        placed.push(Placed {
             name: "lead".into(),
-            lane: raw.lead.lane,
-            offset_m: raw.lead.offset_m,
-            left_m: raw.lead.offset_m - route.lane_centre_m(raw.lead.lane),
-            start_m: raw.lead.start_m,
+            lane: lead.lane,
+            offset_m: lead.offset_m,
+            left_m: lead.offset_m - route.lane_centre_m(lead.lane),
+            start_m: lead.start_m,
             speed_mps: lead_initial_speed_mps,
             params: VehicleParams::pickup(),
-        },
-    ];
+        });
+    }
     let mut out = Vec::with_capacity(raw.actors.len());
     for (i, a) in raw.actors.iter().enumerate() {
         offset(
@@ -124,7 +131,9 @@ pub(super) fn actors(
         out.push(spec);
     }
     let names: Vec<&str> = placed.iter().map(|p| p.name.as_str()).collect();
-    events("lead.events", &raw.lead.events, &names, lanes, f)?;
+    if let Some(lead) = &raw.lead {
+        events("lead.events", &lead.events, &names, lanes, f)?;
+    }
     for (i, a) in raw.actors.iter().enumerate() {
         events(&format!("actors[{i}].events"), &a.events, &names, lanes, f)?;
     }

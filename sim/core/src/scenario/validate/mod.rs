@@ -12,6 +12,7 @@ mod elevation;
 mod environment;
 mod expect;
 mod lead;
+mod no_lead;
 mod route;
 mod tracking;
 
@@ -171,11 +172,15 @@ pub(super) fn validate(
     )?;
 
     let (route, length, road_warnings) = route::route(&raw.route, f, roads)?;
-    let (lead_profile, lead_initial_speed_mps) = lead::lead(&raw.lead, length, f)?;
+    let (tracker, init_offset, target, search_start) = tracking::tracker(&raw, f, load_target)?;
+    let has_lead = raw.lead.is_some();
+    let lead = no_lead::lead_or_lane(&raw, length, search_start, f)?;
+    let (lead_profile, lead_initial_speed_mps) = lead::lead(&lead, length, f)?;
     let (chase, camera, initial_gap_m) = chase::chase_and_camera(&raw, f)?;
     let chase_initial_speed_mps = chase::initial_speed(&raw.chase, lead_initial_speed_mps, f)?;
-    let (tracker, init_offset, target, search_start) = tracking::tracker(&raw, f, load_target)?;
-    chase::far_start(&raw, initial_gap_m, search_start, f)?;
+    if has_lead {
+        chase::far_start(&raw, initial_gap_m, search_start, f)?;
+    }
     let delay = tracking::delay(&raw, f)?;
     let e = environment::environment(&raw.environment, f)?;
     let headlamps = chase::headlamps(&raw.chase, f)?;
@@ -184,24 +189,24 @@ pub(super) fn validate(
         &target,
         &camera,
         &route,
-        raw.lead.start_m,
+        lead.start_m,
         &e.sun,
         f,
     )?;
     let placements = environment::overpasses(&raw.environment, length, f)?;
     expect::expect(&raw.expect, f)?;
-    chase::tuning(&chase, &raw.lead.driver, f)?;
-    let chase_start_m = crate::plan::chase_start_m(
-        raw.lead.start_m,
-        initial_gap_m,
-        chase.camera_mount.forward_m,
-    );
+    chase::tuning(&chase, &lead.driver, f)?;
+    let chase_start_m = if has_lead {
+        crate::plan::chase_start_m(lead.start_m, initial_gap_m, chase.camera_mount.forward_m)
+    } else {
+        lead.start_m
+    };
     let mut actors = actors::actors(
         &raw,
         route.lanes,
         &route,
         length,
-        chase_start_m,
+        (chase_start_m, lead.lane),
         [chase_initial_speed_mps, lead_initial_speed_mps],
         f,
     )?;
@@ -209,7 +214,7 @@ pub(super) fn validate(
     for (spec, file) in actors.iter_mut().zip(&raw.actors) {
         spec.tail_lamps = tail_lamps_lit(file.lamps.as_ref(), night);
     }
-    let lead_tail_lamps = tail_lamps_lit(raw.lead.lamps.as_ref(), night);
+    let lead_tail_lamps = has_lead && tail_lamps_lit(lead.lamps.as_ref(), night);
     let mut world = WorldConfig::default();
     world.ground.bumps = raw.environment.bumps.clone();
     Ok(Scenario::validated(ScenarioSpec {
@@ -222,13 +227,15 @@ pub(super) fn validate(
         duration_s: raw.duration_s,
         seed: raw.seed,
         route,
-        lead_start_m: raw.lead.start_m,
+        has_lead,
+        chase_start_m,
+        lead_start_m: lead.start_m,
         lead_initial_speed_mps,
         lead_profile,
-        lead_driver: raw.lead.driver,
-        lead_lane: raw.lead.lane,
-        lead_offset_m: raw.lead.offset_m,
-        lead_events: raw.lead.events,
+        lead_driver: lead.driver,
+        lead_lane: lead.lane,
+        lead_offset_m: lead.offset_m,
+        lead_events: lead.events,
         actors,
         initial_gap_m,
         chase_initial_speed_mps,

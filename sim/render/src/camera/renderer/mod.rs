@@ -559,6 +559,9 @@ impl Renderer {
         world_from_lead: &Isometry3<f64>,
         camera_pan_rad: f64,
     ) -> GroundTruth {
+        if self.scene.description().without_lead {
+            return GroundTruth::ABSENT;
+        }
         ground_truth_of(
             &self.rig,
             &self.scene.lead_from_target(),

@@ -290,7 +290,7 @@ fn glow_params(
         let value = TailLamps::radiance(braking) * brightness / TailLamps::LENS_ALBEDO;
         glow[slot as usize / 4][slot as usize % 4] = value as f32;
     };
-    if description.lead.tail_lamps {
+    if description.lead.tail_lamps && !description.without_lead {
         set(ObjectSlot::LEAD, braking.lead());
     }
     for (k, actor) in description.actors.iter().enumerate() {

@@ -53,15 +53,18 @@ struct Body {
     back_x_m: f64,
 }
 
-/// The lead and the actors as `field` poses them, in that order.
+/// The lead (when there is one) and the actors as `field` poses them, in that order.
 fn bodies(description: &SceneDescription, field: &Field, speeds: &Speeds) -> Vec<Body> {
     let lead = &description.lead;
-    let mut out = vec![Body {
-        world_from_body: field.world_from_lead,
-        speed_mps: speeds.lead_mps,
-        half_width_m: 0.5 * lead.width_m,
-        back_x_m: -0.5 * lead.length_m,
-    }];
+    let mut out = Vec::new();
+    if !description.without_lead {
+        out.push(Body {
+            world_from_body: field.world_from_lead,
+            speed_mps: speeds.lead_mps,
+            half_width_m: 0.5 * lead.width_m,
+            back_x_m: -0.5 * lead.length_m,
+        });
+    }
     for (k, (actor, pose)) in description
         .actors
         .iter()
@@ -170,7 +173,7 @@ pub(super) fn mirror_params(
         return out;
     }
     let mut lamps: Vec<LampPair> = Vec::new();
-    if description.lead.tail_lamps {
+    if description.lead.tail_lamps && !description.without_lead {
         let centres = TailLamps::lead_centres(&description.lead, &description.target);
         lamps.push((&field.world_from_lead, centres, braking.lead()));
     }
