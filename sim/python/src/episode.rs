@@ -147,6 +147,15 @@ impl Episode {
     ) -> Result<Episode, sim::RunError> {
         let Planned { plan, tracker } = planned;
         let s = plan.scenario().clone();
+        if !s.has_lead {
+            // Its reward is the gap to the lead's target, and its end a chase off the lead's
+            // path: neither exists.
+            return Err(sim::RunError::Other(format!(
+                "scenario `{}` has no lead ([lead]), and `Follow-v0` rewards the gap kept to \
+                 one: give it a scenario with a lead",
+                s.name
+            )));
+        }
         let line = DelayLine::new(&s.delay).map_err(|e| sim::RunError::Other(e.to_string()))?;
         let actions = Arc::new(Mutex::new(line));
         let seen = Arc::new(Mutex::new(None));

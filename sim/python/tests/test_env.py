@@ -79,6 +79,15 @@ def test_bad_arguments_are_value_errors():
         gym.make("carfollow/Follow-v0", overrides={"loop.latency_ms": 20.0})
 
 
+def test_a_scenario_without_a_lead_is_refused_by_the_follow_task():
+    # Its reward is the gap kept to the lead: a scenario without one has no such gap.
+    with pytest.raises(RuntimeError, match="has no lead"):
+        env = gym.make(
+            "carfollow/Follow-v0", scenario="stopped-car-ahead", observation="estimate"
+        )
+        env.reset(seed=1)
+
+
 def make_env(seed_offset):
     def make():
         return gym.make(

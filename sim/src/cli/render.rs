@@ -152,15 +152,19 @@ fn render_scenario(path: &std::path::Path, args: &RenderArgs) -> anyhow::Result<
                 .with_context(|| format!("writing {}", args.out.display()))
                 .map_err(incomplete)?;
             let r = out.record;
+            let target = if scenario.has_lead {
+                format!(
+                    "target c = ({:.2}, {:.2}) px, scale {:.4}, range {:.2} m",
+                    r.true_cx, r.true_cy, r.true_scale, r.true_range_m
+                )
+            } else {
+                "no lead".to_string()
+            };
             say!(
-                "{}: `{}` at t = {:.3} s; target c = ({:.2}, {:.2}) px, scale {:.4}, range {:.2} m; tracker: {}",
+                "{}: `{}` at t = {:.3} s; {target}; tracker: {}",
                 args.out.display(),
                 scenario.name,
                 r.t_s,
-                r.true_cx,
-                r.true_cy,
-                r.true_scale,
-                r.true_range_m,
                 r.status.as_str()
             );
             return Ok(());

@@ -386,6 +386,12 @@ impl Progress {
     /// After frame `r`, `wall_s` seconds into the run.
     fn frame(&self, r: &sim_core::FrameRecord, wall_s: f64) {
         self.bar.inc(1);
+        // The gap to the lead, or without one to the vehicle in the path.
+        let gap_m = if r.gap_m.is_finite() {
+            r.gap_m
+        } else {
+            r.traffic.as_ref().map_or(f64::NAN, |t| t.path_gap_m)
+        };
         let now = Instant::now();
         if let Some(every) = self.log_every.filter(|_| now >= self.next_log.get()) {
             self.next_log.set(now + every);
@@ -396,7 +402,7 @@ impl Progress {
                 self.duration_s,
                 100.0 * (r.frame + 1) as f64 / self.frames.max(1) as f64,
                 r.t_s / wall_s.max(1e-9),
-                r.gap_m,
+                gap_m,
                 r.status.as_str()
             );
         }
@@ -408,7 +414,7 @@ impl Progress {
                 self.duration_s,
                 fps,
                 fps / 15.0,
-                r.gap_m,
+                gap_m,
                 r.status.as_str()
             ));
         }

@@ -53,7 +53,7 @@ class Estimate:
     @property
     def vehicle(self) -> Optional[int]:
         """The vehicle the tracker says it holds: its index in the truth's "vehicles" list
-        (1 the lead, 2 on the actors), or None when it does not say."""
+        (1 the lead, 2 on the actors; without a lead, 1 on), or None when it does not say."""
     def __eq__(self, other: object) -> bool: ...
 
 class Command:
