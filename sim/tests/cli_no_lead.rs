@@ -83,6 +83,17 @@ fn what_a_start_without_a_lead_needs_is_refused_naming_the_field() {
         let e = refusal(&o, what);
         assert!(e.contains("mutant.toml") && e.contains(says), "{what}: {e}");
     }
+    // Cruising past the road's end is said as the chase's, never as a lead's.
+    let file = mutant(dir.path(), |t| {
+        t.replace("duration_s = 30.0", "duration_s = 60.0")
+    });
+    let o = carfollow(&["check", file.to_str().unwrap()]);
+    let e = stderr(&o);
+    assert_eq!(o.status.code(), Some(0), "{e}");
+    assert!(
+        e.contains("would reach the route's end") && !e.contains("lead.speed_profile"),
+        "{e}"
+    );
     // An event about the lead names a vehicle the scenario does not have.
     let file = mutant(dir.path(), |t| {
         format!("{t}\n[[actors.events]]\nname = \"go\"\ntrigger = {{ gap_m = 30.0, to = \"lead\" }}\naction = {{ speed_mps = 20.0, duration_s = 2.0 }}\n")

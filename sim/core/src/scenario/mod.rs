@@ -691,7 +691,9 @@ impl Scenario {
             .map(|k| f64::from(k.speed_mps))
             .fold(self.lead_initial_speed_mps, f64::max);
         let keeper_max = f64::from(self.chase.gap_keeper.max_speed_mps);
-        if matches!(self.chase.speed_mode, vehicle::SpeedMode::GapKeeping) && lead_max > keeper_max
+        if self.has_lead
+            && matches!(self.chase.speed_mode, vehicle::SpeedMode::GapKeeping)
+            && lead_max > keeper_max
         {
             out.push(format!(
                 "`lead.speed_profile` reaches {lead_max} m/s, faster than \
@@ -708,6 +710,7 @@ impl Scenario {
     /// A warning when the lead's speed profile, driven from `lead.start_m` for the whole
     /// of `duration_s`, would take it past the route's end, where it stops: the distance it
     /// drives (the profile integrated in steps of 1/20 s) against the route's length.
+    /// Without a lead, the same of the chase cruising from its start, which nothing stops.
     fn lead_beyond_the_road(&self) -> Option<String> {
         const DT_S: f64 = 0.05;
         let length = validate::route_length_m(&self.route);
@@ -727,6 +730,17 @@ impl Scenario {
             }
         }
         let end_t = end_t?;
+        if !self.has_lead {
+            // What stands for the lead is the chase's own cruise in its lane.
+            return Some(format!(
+                "the chase, cruising at {} m/s from `chase.start_m` = {} m with no lead, \
+                 would reach the route's end ({length:.0} m) at about {end_t:.0} s and drive \
+                 on past it: nothing there stops it",
+                // The cruise speed is an `f32`: said as it was written.
+                self.lead_initial_speed_mps as f32,
+                self.lead_start_m
+            ));
+        }
         Some(format!(
             "`lead.speed_profile` drives about {d:.0} m in the {} s of `duration_s` from \
              `lead.start_m` = {} m, beyond the route's {length:.0} m: the lead will stop at \
