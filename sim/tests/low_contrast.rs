@@ -84,7 +84,7 @@ fn an_actor_in_the_path_too_faint_in_fog_is_lost_to_its_contrast() {
     for r in &faint {
         assert_eq!(r[path], "car");
     }
-    // 16 frames on 30 November 2026 (37 before the car's back was judged only at scales
+    // 16 frames on 30 November 2026 (91 before the car's back was judged only at scales
     // where its nearest parallel edges lie 4 px apart or more).
     assert!(
         faint.len() >= 10,
