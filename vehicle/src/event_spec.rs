@@ -506,7 +506,7 @@ pub struct KeepSpec {
     pub max_speed_mps: Option<f64>,
 }
 
-/// Which side of the other vehicle a kept gap is on.
+/// Which side of the other vehicle a kept gap is on, or a time-gap trigger holds on.
 #[derive(Copy, Clone, Debug, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum KeepSide {
@@ -514,7 +514,8 @@ pub enum KeepSide {
     Behind,
     /// Ahead of it.
     Ahead,
-    /// The side it is on when the action starts.
+    /// Either: a kept gap on the side it is on when the action starts, a trigger on
+    /// whichever side it is.
     Either,
 }
 

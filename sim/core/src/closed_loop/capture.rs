@@ -41,15 +41,11 @@ impl Captured {
         let chase = drive.world.vehicle_state(drive.chase_id);
         // Without a lead, nothing of it is drawn or read: it stands still at the origin.
         let lead = drive.lead_id.map(|id| drive.world.vehicle_state(id));
-        let first_actor = drive
-            .traffic
-            .as_ref()
-            .map_or(2, |t| t.vehicles.first_actor());
         let frame_index = now.0 / u64::from(STEPS_PER_FRAME);
         let traffic = drive.traffic.as_ref().map(|t| t.states(&drive.world));
-        let world_from_actors = match (&drive.traffic, &traffic) {
-            (Some(t), Some(states)) => t.actor_poses(states),
-            _ => Vec::new(),
+        let (world_from_actors, actors) = match (&drive.traffic, &traffic) {
+            (Some(t), Some(states)) => (t.actor_poses(states), t.actor_states(states)),
+            _ => (Vec::new(), &[][..]),
         };
         let input = FrameInput {
             frame_index,
@@ -61,15 +57,10 @@ impl Captured {
             world_from_actors,
             camera_pan_rad: drive.pan_angle_rad(),
             auto_gain: auto_gain.gain_for(frame_index),
-            // The lead's and the actors' brake actuators (the traffic's list: the follower,
-            // the lead if there is one, then the actors).
+            // The lead's and the actors' brake actuators.
             braking: Braking::of(
                 lead.as_ref().map_or(0.0, |l| f64::from(l.brake)),
-                traffic
-                    .iter()
-                    .flatten()
-                    .skip(first_actor)
-                    .map(|s| f64::from(s.brake)),
+                actors.iter().map(|s| f64::from(s.brake)),
             ),
             // Before the first frame the world stood still.
             earlier_field: drive.interlaced.then(|| {
@@ -86,10 +77,8 @@ impl Captured {
             lead_speed_mps: lead
                 .as_ref()
                 .map_or(0.0, |l| f64::from(l.forward_speed_mps)),
-            actor_speeds_mps: traffic
+            actor_speeds_mps: actors
                 .iter()
-                .flatten()
-                .skip(first_actor)
                 .map(|s| f64::from(s.forward_speed_mps))
                 .collect(),
         };

@@ -162,14 +162,19 @@ impl TrafficDrive {
     /// The actors' poses as the renderer draws them (their bodies' centres), from every
     /// vehicle's `states`.
     pub(super) fn actor_poses(&self, states: &[VehicleState]) -> Vec<Isometry3<f64>> {
-        states
+        let first = self.vehicles.first_actor();
+        self.actor_states(states)
             .iter()
-            .zip(self.vehicles.members())
-            .skip(self.vehicles.first_actor())
+            .zip(&self.vehicles.members()[first..])
             .map(|(s, m)| {
                 crate::plan::iso(&s.world_from_vehicle) * Translation3::new(m.centre_x_m, 0.0, 0.0)
             })
             .collect()
+    }
+
+    /// The actors' part of every vehicle's `states` (the list's order).
+    pub(super) fn actor_states<'a>(&self, states: &'a [VehicleState]) -> &'a [VehicleState] {
+        &states[self.vehicles.first_actor()..]
     }
 
     /// Logs what vehicle `me`'s events did.

@@ -136,15 +136,21 @@ impl TrafficTruth {
         let first = self.vehicles.first_actor();
         let lead_index = self.vehicles.lead();
         let is_lead = |i: usize| Some(i) == lead_index;
+        // Vehicle `i`'s target: its truth, its width at its nominal range in pixels and in
+        // metres, and the judgement of its contrast.
+        let target = |i: usize| -> (&GroundTruth, f64, f64, &Faintness) {
+            if is_lead(i) {
+                (lead.truth, lead.width_px, lead.width_m, lead.faint)
+            } else {
+                let a = &self.actors[i - first];
+                let truth = &actor_truth[i - first];
+                (truth, a.width_px, a.model.size_m()[0], &a.faint)
+            }
+        };
         // The vehicle whose target the estimate holds: the nearest in the image of those
         // it is within the loss tolerance of.
         let holds = |i: usize| -> Option<f64> {
-            let (truth, width_px, width_m) = if is_lead(i) {
-                (lead.truth, lead.width_px, lead.width_m)
-            } else {
-                let a = &self.actors[i - first];
-                (&actor_truth[i - first], a.width_px, a.model.size_m()[0])
-            };
+            let (truth, width_px, width_m, _) = target(i);
             let e = estimate?;
             (!wrong(Some(e), truth, truth.scale * width_px, width_m)).then(|| {
                 let (cx, cy) = (e.cx.unwrap_or(f64::NAN), e.cy.unwrap_or(f64::NAN));
@@ -170,27 +176,13 @@ impl TrafficTruth {
             path,
             places,
         } = traffic::truth(&mut self.road, &self.vehicles, states, tracked, log);
-        let truth_of = |i: usize| {
-            if is_lead(i) {
-                lead.truth
-            } else {
-                &actor_truth[i - first]
-            }
-        };
-        frame.path_range_m = path.map_or(f64::NAN, |p| truth_of(p).target_cam_m[2]);
-        let in_view = |i: usize| truth_of(i).in_view;
+        frame.path_range_m = path.map_or(f64::NAN, |p| target(p).0.target_cam_m[2]);
+        let in_view = |i: usize| target(i).0.in_view;
         // Whether vehicle `i`'s target is hidden by scenery (judged for the lead only) or
         // too faint for the paper's threshold in the pixels the tracker read.
         let unseen = |i: usize| {
-            if is_lead(i) {
-                (lead.occluded)() || lead.faint.too_faint(seen.image, seen.read, lead.truth)
-            } else {
-                self.actors[i - first].faint.too_faint(
-                    seen.image,
-                    seen.read,
-                    &actor_truth[i - first],
-                )
-            }
+            let (truth, _, _, faint) = target(i);
+            (is_lead(i) && (lead.occluded)()) || faint.too_faint(seen.image, seen.read, truth)
         };
         let behind = |held: usize, p: usize| {
             places[held].station_m > places[p].station_m
