@@ -67,6 +67,7 @@ fn esmini_roads_lie_where_the_file_puts_them() {
             elevation: Vec::new(),
             median_m: 0.0,
             lane_widths_m: Vec::new(),
+            lane_offset: Vec::new(),
         });
         // The file's frame moved so its road starts at the origin heading +x, its y to
         // carfollow's −z: each geometry's start, by hand from its x, y and hdg.
@@ -136,6 +137,105 @@ fn a_file_of_param_poly3s_joins_end_to_start() {
     }
 }
 
+/// The lane offset of a taper: 0 to 1.75 m to the left over `[from, from + 50]` m of the
+/// reference line, a cubic of zero slope at both ends, and back over the 50 m after
+/// `back_at`, as `<laneOffset>` records.
+fn taper(from: f64, back_at: f64) -> Vec<[f64; 5]> {
+    let (c, d) = (3.0 * 1.75 / 2500.0, -2.0 * 1.75 / 125_000.0);
+    vec![
+        [0.0, 0.0, 0.0, 0.0, 0.0],
+        [from, 0.0, 0.0, c, d],
+        [from + 50.0, 1.75, 0.0, 0.0, 0.0],
+        [back_at, 1.75, 0.0, -c, -d],
+        [back_at + 50.0, 0.0, 0.0, 0.0, 0.0],
+    ]
+}
+
+#[test]
+fn a_lane_offset_moves_the_centre_line_and_lanes_where_the_file_puts_them() {
+    // curves.xodr with a taper on its first straight and spiral, and back on its arc.
+    let records = taper(20.0, 150.0);
+    let xml: String = records
+        .iter()
+        .map(|[s, a, b, c, d]| {
+            format!("<laneOffset s=\"{s}\" a=\"{a}\" b=\"{b}\" c=\"{c}\" d=\"{d}\"/>\n")
+        })
+        .collect();
+    let text = std::fs::read_to_string(data("curves.xodr"))
+        .unwrap()
+        .replacen("<laneSection s=", &format!("{xml}<laneSection s="), 1);
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("offset.xodr");
+    std::fs::write(&path, &text).unwrap();
+    let file = opendrive::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    let road = opendrive::import(&file, None, |_| None).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(road.lane_offset, records);
+    let route = Route::new(RouteSpec {
+        segments: road.segments.clone(),
+        intersections_m: vec![],
+        lane_width_m: road.lane_width_m,
+        lanes: road.lanes,
+        elevation: Vec::new(),
+        median_m: 0.0,
+        lane_widths_m: Vec::new(),
+        lane_offset: road.lane_offset.clone(),
+    });
+    // The offset by hand: the record holding s, its cubic in ds.
+    let offset = |s: f64| {
+        let r = records.iter().rev().find(|r| r[0] <= s).unwrap();
+        let ds = s - r[0];
+        r[1] + r[2] * ds + r[3] * ds * ds + r[4] * ds * ds * ds
+    };
+    // OpenDRIVE's point at (s, t): the reference line's point, t along its left normal
+    // (carfollow's left is −z turned by the heading).
+    let at_st = |s: f64, t: f64| {
+        let [x, z, h] = route.reference_at(s);
+        [x - t * h.sin(), z - t * h.cos()]
+    };
+    let half = 0.5 * road.lane_width_m;
+    let mut worst = [0.0f64; 2];
+    let mut s = 0.0;
+    while s <= 260.0 {
+        // The centre line, exactly.
+        let want = at_st(s, offset(s));
+        let got = route.point(s, 0.0);
+        let d = (got[0] - want[0]).hypot(got[1] - want[1]);
+        assert!(d < 1e-9, "centre line at s = {s}: {d:e} m off");
+        worst[0] = worst[0].max(d);
+        // Lane 1's centre (OpenDRIVE's t = offset − half a width), on carfollow's lane 1:
+        // the nearest of its points about s, every 5 mm.
+        let want = at_st(s, offset(s) - half);
+        let nearest = (-400..=400)
+            .map(|k| {
+                let p = route.point(s + 0.005 * f64::from(k), half);
+                (p[0] - want[0]).hypot(p[1] - want[1])
+            })
+            .fold(f64::INFINITY, f64::min);
+        assert!(nearest < 0.01, "lane 1 at s = {s}: {nearest} m off");
+        worst[1] = worst[1].max(nearest);
+        s += 2.5;
+    }
+    eprintln!(
+        "the centre line within {:.1e} m, lane 1's centre within {:.1e} m",
+        worst[0], worst[1]
+    );
+    // And the scenario loads and plans on it; `check` refuses the offset given twice.
+    let s = parse_scenario(&scenario_text(&path)).unwrap_or_else(|e| panic!("{e}"));
+    Plan::new(&s).unwrap_or_else(|e| panic!("{e}"));
+    let twice = scenario_text(&path).replace(
+        "[lead]",
+        "lane_offset = [[0.0, 1.0, 0.0, 0.0, 0.0]]\n[lead]",
+    );
+    let Err(err) = parse_scenario(&twice) else {
+        panic!("the offset given twice is accepted");
+    };
+    let err = err.to_string();
+    assert!(
+        err.contains("route.lane_offset") && err.contains("<laneOffset>"),
+        "{err}"
+    );
+}
+
 /// The line of the first line holding `needle` in `text`, 1-based.
 fn line_of(text: &str, needle: &str) -> usize {
     text.lines().position(|l| l.contains(needle)).expect(needle) + 1
@@ -151,7 +251,7 @@ fn every_refusal_names_the_file_line_and_element() {
         ("junction", base.replace("</OpenDRIVE>", "<junction id=\"9\" name=\"j\"></junction>\n</OpenDRIVE>"), "<junction", "junctions are refused"),
         ("link", base.replace("<link>\n        </link>", "<link><successor elementType=\"road\" elementId=\"2\" contactPoint=\"start\"/></link>"), "<successor", "link to another road"),
         ("lht", base.replace("junction=\"-1\">", "junction=\"-1\" rule=\"LHT\">"), "<road ", "left-hand traffic"),
-        ("offset", base.replace("<laneSection s=", "<laneOffset s=\"0\" a=\"0.5\" b=\"0\" c=\"0\" d=\"0\"/>\n<laneSection s="), "<laneOffset", "lane offset is refused"),
+        ("offset", base.replace("<laneSection s=", "<laneOffset s=\"0\" a=\"0\" b=\"0.5\" c=\"0\" d=\"0\"/>\n<laneSection s="), "<laneOffset", "changes by 0.500 m a metre"),
         ("steep", base.replace("<lateralProfile>", "<elevationProfile><elevation s=\"0\" a=\"0\" b=\"0.3\" c=\"0\" d=\"0\"/></elevationProfile>\n<lateralProfile>"), "<elevation ", "grade at station 0.00 m is 30.0 %"),
         ("step", base.replace("<lateralProfile>", "<elevationProfile><elevation s=\"0\" a=\"0\" b=\"0.02\" c=\"0\" d=\"0\"/><elevation s=\"50\" a=\"3\" b=\"0\" c=\"0\" d=\"0\"/></elevationProfile>\n<lateralProfile>"), "<elevation s=\"50\"", "a step"),
         ("superelevation", base.replace("<lateralProfile>", "<lateralProfile><superelevation s=\"0\" a=\"0.05\" b=\"0\" c=\"0\" d=\"0\"/>"), "<superelevation", "superelevation is refused"),

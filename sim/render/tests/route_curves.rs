@@ -20,6 +20,7 @@ fn route(segments: Vec<RouteSegment>) -> Route {
         elevation: Vec::new(),
         median_m: 0.0,
         lane_widths_m: Vec::new(),
+        lane_offset: Vec::new(),
     })
 }
 

@@ -51,6 +51,7 @@ pub fn geometry_end(g: &Geometry) -> [f64; 3] {
         elevation: Vec::new(),
         median_m: 0.0,
         lane_widths_m: Vec::new(),
+        lane_offset: Vec::new(),
     });
     // carfollow's frame: x forward, z to the right; the file's: x forward, y to the left.
     let [u, z, theta] = route.at(route.length_m());

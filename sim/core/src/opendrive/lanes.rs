@@ -16,7 +16,7 @@ const MAX_MEDIAN_M: f64 = 10.0;
 
 /// One side's lanes as carfollow draws them.
 #[derive(Clone, Debug, PartialEq)]
-pub(super) struct Layout {
+pub(crate) struct Layout {
     /// Driving lanes.
     pub lanes: u32,
     /// Lane 1's width, metres (every lane's when `lane_widths_m` is empty).

@@ -38,6 +38,8 @@ pub struct ImportedRoad {
     pub inner_lanes: u32,
     /// The elevation profile as `route.elevation`'s records (none when the road is level).
     pub elevation: Vec<[f64; 5]>,
+    /// The `<laneOffset>` records as `route.lane_offset`'s (none when every one is 0).
+    pub lane_offset: Vec<[f64; 5]>,
     /// What the file holds that carfollow reads past and does not draw, a line each
     /// (`check` and `run` say these as warnings).
     pub unapplied: Vec<String>,
@@ -81,6 +83,7 @@ pub fn import(
     let segments = segments(road, path, check_segment)?;
     let layout = super::lanes::lanes(road, path)?;
     let elevation = elevation(road, path)?;
+    let lane_offset = lane_offset(road, &segments, &layout, path)?;
     // The road's objects, signals and surface data: scenery, which carfollow places and
     // draws its own of; said, not refused.
     let unapplied = road
@@ -104,6 +107,7 @@ pub fn import(
         median_m: layout.median_m,
         inner_lanes: layout.inner_lanes,
         elevation,
+        lane_offset,
         unapplied,
     })
 }
@@ -134,8 +138,44 @@ fn elevation(road: &Road, path: &std::path::Path) -> Result<Vec<[f64; 5]>, OpenD
     }
 }
 
-/// Refuses junctions, links to other roads, left-hand traffic, a lane offset, a road
-/// that is not flat across (superelevation).
+/// The road's `<laneOffset>` records as `route.lane_offset`'s `[s, a, b, c, d]`: none when
+/// every record is 0, else every record, checked on the road its segments and lanes make
+/// as `route.lane_offset` is and refused at its line.
+fn lane_offset(
+    road: &Road,
+    segments: &[RouteSegment],
+    layout: &super::lanes::Layout,
+    path: &std::path::Path,
+) -> Result<Vec<[f64; 5]>, OpenDriveError> {
+    if road.lane_offsets.iter().all(|r| r.coefficients == [0.0; 4]) {
+        return Ok(Vec::new());
+    }
+    let records: Vec<[f64; 5]> = road
+        .lane_offsets
+        .iter()
+        .map(|r| {
+            let [a, b, c, d] = r.coefficients;
+            [r.s, a, b, c, d]
+        })
+        .collect();
+    let spec = sim_render::RouteSpec {
+        segments: segments.to_vec(),
+        intersections_m: Vec::new(),
+        lane_width_m: layout.lane_width_m,
+        lanes: layout.lanes,
+        elevation: Vec::new(),
+        median_m: layout.median_m,
+        lane_widths_m: layout.lane_widths_m.clone(),
+        lane_offset: records,
+    };
+    match crate::scenario::lane_offset_problem(&spec) {
+        Some((i, problem)) => Err(road.lane_offsets[i].at.refuse(path, problem)),
+        None => Ok(spec.lane_offset),
+    }
+}
+
+/// Refuses junctions, links to other roads, left-hand traffic, a road that is not flat
+/// across (superelevation).
 fn refuse_what_the_road_cannot_be(
     road: &Road,
     path: &std::path::Path,
@@ -159,12 +199,6 @@ fn refuse_what_the_road_cannot_be(
         }
     }
     let zero = |r: &Poly3Record| r.coefficients.iter().all(|&c| c == 0.0);
-    if let Some(r) = road.lane_offsets.iter().find(|r| !zero(r)) {
-        return Err(r.at.refuse(
-            path,
-            "a lane offset is refused: carfollow's lanes lie beside the reference line",
-        ));
-    }
     if let Some(r) = road.superelevations.iter().find(|r| !zero(r)) {
         return Err(r.at.refuse(
             path,

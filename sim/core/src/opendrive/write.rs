@@ -210,14 +210,20 @@ pub fn inner_lanes(route: &RouteSpec) -> i64 {
     i64::from(route.median_m != 0.0)
 }
 
-/// One lane section: `lanes` driving lanes each way of `lane_width_m` (or each of its
-/// `lane_widths_m`), beyond a `border` lane of `median_m` each way when the road has a
+/// The lane offset's records (one of 0 without one), then one lane section: `lanes`
+/// driving lanes each way of `lane_width_m` (or each of its `lane_widths_m`), beyond a `border` lane of `median_m` each way when the road has a
 /// median, ids counting out from the centre lane 0; the centre line solid (none with a
 /// median, whose edges are solid instead), lanes running the same way divided by broken
 /// lines, the verges solid.
 fn lanes(x: &mut XmlOut, route: &RouteSpec) {
     x.open("lanes", &[]);
-    x.empty("laneOffset", &poly_attributes(0.0, [0.0; 4]));
+    // No offset is one record of 0, as before offsets were carried.
+    if route.lane_offset.is_empty() {
+        x.empty("laneOffset", &poly_attributes(0.0, [0.0; 4]));
+    }
+    for &[s, a, b, c, d] in &route.lane_offset {
+        x.empty("laneOffset", &poly_attributes(s, [a, b, c, d]));
+    }
     x.open("laneSection", &[n("s", 0.0)]);
     let count = route.lanes as i32;
     let inner = inner_lanes(route) as i32;
@@ -325,6 +331,7 @@ mod tests {
             elevation: Vec::new(),
             median_m: 0.0,
             lane_widths_m: Vec::new(),
+            lane_offset: Vec::new(),
         };
         let (text, exact) = write_road(&route, "t");
         assert!(exact);
@@ -355,6 +362,18 @@ mod tests {
         let file = super::super::parse(&text, std::path::Path::new("t.xodr")).unwrap();
         let road = super::super::import(&file, None, |_| None).unwrap();
         assert_eq!(road.elevation, hilly.elevation);
+        assert!(road.lane_offset.is_empty());
+        // So is a lane offset.
+        let mut shifted = route.clone();
+        shifted.lane_offset = vec![
+            [0.0, 0.0, 0.0, 0.0, 0.0],
+            [20.0, 0.0, 0.0, 0.0075, -0.00025],
+            [40.0, 1.0, 0.0, 0.0, 0.0],
+        ];
+        let (text, _) = write_road(&shifted, "t");
+        let file = super::super::parse(&text, std::path::Path::new("t.xodr")).unwrap();
+        let road = super::super::import(&file, None, |_| None).unwrap();
+        assert_eq!(road.lane_offset, shifted.lane_offset);
         // 60° is no product of two doubles in degrees: said, and written to an ulp.
         let mut near = route.clone();
         near.segments[2] = RouteSegment::Arc {

@@ -39,6 +39,9 @@ pub struct RoadLanes {
     pub inner_lanes: u32,
     /// The reference line in the file's frame, for `WorldPosition`s.
     pub reference: ReferenceLine,
+    /// The road's lane offset (`route.lane_offset`): how far its centre lane lies to the
+    /// left of the reference line, as `[s, a, b, c, d]` records; empty for none.
+    pub lane_offset: Vec<[f64; 5]>,
 }
 
 impl RoadLanes {
@@ -53,6 +56,7 @@ impl RoadLanes {
             elevation: Vec::new(),
             median_m: self.median_m,
             lane_widths_m: self.lane_widths_m.clone(),
+            lane_offset: Vec::new(),
         }
         .lane_centre_m(lane)
     }
@@ -68,16 +72,28 @@ impl RoadLanes {
         (1..=i64::from(self.lanes)).contains(&k).then_some(k as u32)
     }
 
-    /// The driving lane whose strip (its centre ± half its width) holds `t_m`, m from the
-    /// reference line (negative to the right).
-    pub fn lane_holding(&self, t_m: f64) -> Option<u32> {
+    /// How far the centre lane lies to the left of the reference line at station `s_m`,
+    /// m (the lane offset; 0 without one).
+    pub fn offset_at(&self, s_m: f64) -> f64 {
+        sim_render::elevation_at(&self.lane_offset, s_m.max(0.0))
+    }
+
+    /// The offset to the left of lane `lane`'s centre, m, of the point at station `s_m`
+    /// that lies `t_m` to the left of the reference line.
+    pub fn left_of_centre_m(&self, s_m: f64, lane: u32, t_m: f64) -> f64 {
+        t_m - self.offset_at(s_m) + self.centre_m(lane)
+    }
+
+    /// The driving lane whose strip (its centre ± half its width) holds the point at
+    /// station `s_m` that lies `t_m` from the reference line (negative to the right).
+    pub fn lane_holding(&self, s_m: f64, t_m: f64) -> Option<u32> {
         let width = |k: u32| {
             self.lane_widths_m
                 .get(k as usize - 1)
                 .copied()
                 .unwrap_or(self.lane_width_m)
         };
-        (1..=self.lanes).find(|&k| (t_m + self.centre_m(k)).abs() <= 0.5 * width(k))
+        (1..=self.lanes).find(|&k| self.left_of_centre_m(s_m, k, t_m).abs() <= 0.5 * width(k))
     }
 
     /// The driving lanes' ids, for errors.
@@ -308,11 +324,17 @@ fn lane_of_id(xml: &Xml, road: &RoadLanes, node: Node, id: i64) -> Result<u32, O
     )))
 }
 
-/// The lane whose strip holds `t_m`, m from the reference line (negative to the right),
-/// and the point's offset to the left of that lane's centre.
-fn lane_at(xml: &Xml, road: &RoadLanes, node: Node, t_m: f64) -> Result<(u32, f64), OscError> {
-    road.lane_holding(t_m)
-        .map(|k| (k, t_m + road.centre_m(k)))
+/// The lane whose strip holds the point at station `s_m`, `t_m` from the reference line
+/// (negative to the right), and the point's offset to the left of that lane's centre.
+fn lane_at(
+    xml: &Xml,
+    road: &RoadLanes,
+    node: Node,
+    s_m: f64,
+    t_m: f64,
+) -> Result<(u32, f64), OscError> {
+    road.lane_holding(s_m, t_m)
+        .map(|k| (k, road.left_of_centre_m(s_m, k, t_m)))
         .ok_or_else(|| {
             xml.at(
                 node,
@@ -367,7 +389,7 @@ fn absolute_position(xml: &Xml, road: &RoadLanes, p: Node) -> Result<Placed, Osc
         let offset = xml.opt_num(p, "offset")?.unwrap_or(0.0);
         (lane_of_id(xml, road, p, id)?, offset)
     } else {
-        lane_at(xml, road, p, xml.num(p, "t")?)?
+        lane_at(xml, road, p, s_m, xml.num(p, "t")?)?
     };
     Ok(Placed::new(s_m, lane, offset_m))
 }
@@ -388,7 +410,7 @@ fn world_point(xml: &Xml, road: &RoadLanes, p: Node) -> Result<(f64, u32, f64, f
             ),
         )
     })?;
-    let Some(lane) = road.lane_holding(on.t_m) else {
+    let Some(lane) = road.lane_holding(on.s_m, on.t_m) else {
         return Err(xml.at(
             p,
             format!(
@@ -409,7 +431,12 @@ fn world_point(xml: &Xml, road: &RoadLanes, p: Node) -> Result<(f64, u32, f64, f
             ),
         ));
     }
-    Ok((on.s_m, lane, on.t_m + road.centre_m(lane), turned))
+    Ok((
+        on.s_m,
+        lane,
+        road.left_of_centre_m(on.s_m, lane, on.t_m),
+        turned,
+    ))
 }
 
 /// A `WorldPosition` of a vehicle in `Init`: in its lane, along the road; a heading turned
@@ -460,7 +487,7 @@ pub fn point_on_road(xml: &Xml, road: &RoadLanes, p: Node) -> Result<(f64, u32, 
         return Ok((s_m, lane, offset));
     }
     let t_m = xml.num(p, "t")?;
-    let Some(k) = road.lane_holding(t_m) else {
+    let Some(k) = road.lane_holding(s_m, t_m) else {
         return Err(xml.at(
             p,
             format!(
@@ -470,7 +497,7 @@ pub fn point_on_road(xml: &Xml, road: &RoadLanes, p: Node) -> Result<(f64, u32, 
             ),
         ));
     };
-    Ok((s_m, k, t_m + road.centre_m(k)))
+    Ok((s_m, k, road.left_of_centre_m(s_m, k, t_m)))
 }
 
 /// A `RelativeLanePosition` (`dLane`, `ds` or from 1.1 `dsLane`) or `RelativeRoadPosition`
@@ -504,8 +531,8 @@ fn relative_position(
         let lane = lane_of_id(xml, road, p, road.id_of(base.lane) + d as i64)?;
         (lane, xml.opt_num(p, "offset")?.unwrap_or(0.0))
     } else {
-        let t_base = base.offset_m - road.centre_m(base.lane);
-        lane_at(xml, road, p, t_base + xml.num(p, "dt")?)?
+        let t_base = base.offset_m - road.centre_m(base.lane) + road.offset_at(base.s_m);
+        lane_at(xml, road, p, s_m, t_base + xml.num(p, "dt")?)?
     };
     Ok(Placed::new(s_m, lane, offset_m))
 }

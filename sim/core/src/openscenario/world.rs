@@ -43,6 +43,7 @@ impl ReferenceLine {
             elevation: Vec::new(),
             median_m: 0.0,
             lane_widths_m: Vec::new(),
+            lane_offset: Vec::new(),
         });
         ReferenceLine { origin, route }
     }

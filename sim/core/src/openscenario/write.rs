@@ -55,6 +55,7 @@ pub fn read_road(xml: &Xml, dir: &Path) -> Result<Road, OscError> {
             lane_widths_m: road.lane_widths_m,
             median_m: road.median_m,
             inner_lanes: road.inner_lanes,
+            lane_offset: road.lane_offset,
         },
         file,
         segments: road.segments,
@@ -91,6 +92,7 @@ fn focal_length_mm(
         elevation: Vec::new(),
         median_m: road.lanes.median_m,
         lane_widths_m: road.lanes.lane_widths_m.clone(),
+        lane_offset: road.lanes.lane_offset.clone(),
     };
     let route = sim_render::Route::new(spec.clone());
     let camera = route.pose_at(camera_s_m, spec.lane_centre_m(lanes[0]));

@@ -107,6 +107,16 @@ pub struct RouteFile {
     /// does not).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub elevation: Vec<[f64; 5]>,
+    /// The lane offset, OpenDRIVE's `<laneOffset>` (default: none, the centre line is the
+    /// reference line `segments` lay): how far the centre line (where the lanes of the two
+    /// directions meet) lies to the left of the reference line, metres, as records
+    /// `[s_m, a, b, c, d]` read as `elevation`'s (the first at station 0, stations increasing,
+    /// no step of more than 1 cm where they meet). Stations stay the reference line's. At
+    /// most 25 m either way, changing by at most 0.2 m a metre, and bending the centre line
+    /// no tighter than a radius of 8 m. An OpenDRIVE road's `<laneOffset>` records give it
+    /// (so the scenario does not).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub lane_offset: Vec<[f64; 5]>,
 }
 
 /// `route.opendrive`: a road of an OpenDRIVE file.

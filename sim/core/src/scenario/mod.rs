@@ -29,7 +29,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use thiserror::Error;
 use tracker::{Camera, TargetModel, TrackerConfig};
-pub(crate) use validate::{elevation_problem, vehicle_error};
+pub(crate) use validate::{elevation_problem, lane_offset_problem, vehicle_error};
 use validate::{override_names, validate, Blame};
 use vehicle::{
     ChaseControllerConfig, DelayLineConfig, LeadDriverConfig, SpeedProfile, WorldConfig,

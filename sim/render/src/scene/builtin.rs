@@ -42,6 +42,7 @@ pub fn builtin_description(target: TargetModel, seed: u64) -> SceneDescription {
             elevation: Vec::new(),
             median_m: 0.0,
             lane_widths_m: Vec::new(),
+            lane_offset: Vec::new(),
         },
         densities: Densities::default(),
         placements: Vec::new(),

@@ -9,7 +9,12 @@
 
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 
+use super::elevation::{elevation_at, grade_at};
 use super::route_curve::Curve;
+
+/// Half the span over which a lane-offset centreline's curvature is taken, metres
+/// ([`Route::curvature_at`]).
+pub const OFFSET_CURVATURE_STEP_M: f64 = 0.05;
 
 /// One piece of the centreline.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema)]
@@ -123,6 +128,13 @@ pub struct RouteSpec {
     /// (and then not written): every lane is `lane_width_m` wide.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub lane_widths_m: Vec<f64>,
+    /// The lane offset (OpenDRIVE's `<laneOffset>` records): how far the centre line (the
+    /// lanes' common edge, where the dashed paint runs) lies to the left of the reference
+    /// line that `segments` lay, metres, as `[s_m, a, b, c, d]` records read as
+    /// [`RouteSpec::elevation`]'s are. Stations stay the reference line's. Empty: the
+    /// centre line is the reference line (and then not written).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub lane_offset: Vec<[f64; 5]>,
 }
 
 impl RouteSpec {
@@ -275,8 +287,34 @@ impl Route {
     }
 
     /// `[x, z, heading]` of the centreline at station `s_m` (metres, clamped to the route;
-    /// past either end the route continues straight).
+    /// past either end the route continues straight): the reference line's, moved left by
+    /// the lane offset ([`RouteSpec::lane_offset`]) along its normal, with the heading of
+    /// the line so moved.
     pub fn at(&self, s_m: f64) -> [f64; 3] {
+        let offsets = &self.spec.lane_offset;
+        if offsets.is_empty() {
+            return self.reference_at(s_m);
+        }
+        let s = s_m.clamp(0.0, self.length_m);
+        let [x, z, h] = self.reference_at(s);
+        let o = elevation_at(offsets, s);
+        let slope = grade_at(offsets, s);
+        // The moved line C = R + o·left: C' = (1 − κ·o)·T + o'·left, so it turns left of
+        // the reference's heading by atan2(o', 1 − κ·o).
+        let k = self.reference_curvature_at(s);
+        let (sin, cos) = h.sin_cos();
+        let heading = h + slope.atan2(1.0 - k * o);
+        let extra = s_m - s;
+        [
+            x - o * sin + extra * heading.cos(),
+            z - o * cos - extra * heading.sin(),
+            heading,
+        ]
+    }
+
+    /// `[x, z, heading]` of the reference line at station `s_m` (the centreline without the
+    /// lane offset).
+    pub fn reference_at(&self, s_m: f64) -> [f64; 3] {
         let Some(first) = self.pieces.first() else {
             return [s_m, 0.0, 0.0];
         };
@@ -315,8 +353,33 @@ impl Route {
         [x + lateral_m * heading.sin(), z + lateral_m * heading.cos()]
     }
 
-    /// Curvature (1/metres, positive turning left) at station `s_m`; 0 past the ends.
+    /// Curvature (1/metres, positive turning left) of the centreline at station `s_m`; 0
+    /// past the ends. With a lane offset, the turn of its heading over the arc length
+    /// between [`OFFSET_CURVATURE_STEP_M`] either side.
     pub fn curvature_at(&self, s_m: f64) -> f64 {
+        if s_m < 0.0 || s_m > self.length_m {
+            return 0.0;
+        }
+        if self.spec.lane_offset.is_empty() {
+            return self.reference_curvature_at(s_m);
+        }
+        let (a, b) = (
+            (s_m - OFFSET_CURVATURE_STEP_M).max(0.0),
+            (s_m + OFFSET_CURVATURE_STEP_M).min(self.length_m),
+        );
+        let ([xa, za, ha], [xb, zb, hb]) = (self.at(a), self.at(b));
+        let arc = (xb - xa).hypot(zb - za);
+        if arc <= 0.0 {
+            return self.reference_curvature_at(s_m);
+        }
+        let turn = (hb - ha + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
+            - std::f64::consts::PI;
+        turn / arc
+    }
+
+    /// Curvature of the reference line (1/metres, positive turning left) at station `s_m`;
+    /// 0 past the ends.
+    pub fn reference_curvature_at(&self, s_m: f64) -> f64 {
         if s_m < 0.0 || s_m > self.length_m {
             return 0.0;
         }
@@ -383,6 +446,7 @@ mod tests {
             elevation: Vec::new(),
             median_m: 0.0,
             lane_widths_m: Vec::new(),
+            lane_offset: Vec::new(),
         });
         // Heading +x, turning left (towards −z): a quarter circle ends at (10, −10) heading −z.
         let [x, z, h] = route.at(route.length_m());
@@ -402,6 +466,57 @@ mod lane_tests {
     use super::*;
 
     #[test]
+    fn a_lane_offset_moves_the_centre_line_left_of_the_reference_line() {
+        let spec = |lane_offset: Vec<[f64; 5]>| RouteSpec {
+            segments: vec![
+                RouteSegment::Straight { length_m: 100.0 },
+                RouteSegment::Arc {
+                    radius_m: 50.0,
+                    angle_deg: 90.0,
+                },
+            ],
+            intersections_m: vec![],
+            lane_width_m: 3.5,
+            lanes: 1,
+            elevation: Vec::new(),
+            median_m: 0.0,
+            lane_widths_m: Vec::new(),
+            lane_offset,
+        };
+        let plain = Route::new(spec(Vec::new()));
+        // 2 m to the left throughout, then rising by 0.1 m a metre from station 150.
+        let moved = Route::new(spec(vec![
+            [0.0, 2.0, 0.0, 0.0, 0.0],
+            [150.0, 2.0, 0.1, 0.0, 0.0],
+        ]));
+        for s in [0.0, 50.0, 120.0] {
+            let [x, z, h] = plain.at(s);
+            let [mx, mz, mh] = moved.at(s);
+            // Left of travel is −z at heading 0.
+            assert!((mx - (x - 2.0 * h.sin())).abs() < 1e-12, "{s}");
+            assert!((mz - (z - 2.0 * h.cos())).abs() < 1e-12, "{s}");
+            assert!((mh - h).abs() < 1e-12, "{s}");
+            assert_eq!(moved.reference_at(s), plain.at(s));
+        }
+        // Inside the left curve the centre line is the tighter arc: radius 48 m.
+        assert!((moved.curvature_at(120.0) - 1.0 / 48.0).abs() < 1e-6);
+        // Moving left at 0.1 m a metre, 3 m inside the curve, it heads left of the
+        // reference by atan(0.1 / (1 − 3 / 50)).
+        let [_, _, h] = plain.at(160.0);
+        let o = 2.0 + 0.1 * 10.0;
+        let want = h + 0.1f64.atan2(1.0 - o / 50.0);
+        assert!((moved.at(160.0)[2] - want).abs() < 1e-12);
+        // Past the ends it goes on straight along its own heading.
+        let [ex, ez, eh] = moved.at(moved.length_m());
+        let [px, pz, ph] = moved.at(moved.length_m() + 5.0);
+        assert!(
+            (px - (ex + 5.0 * eh.cos())).abs() < 1e-12
+                && (pz - (ez - 5.0 * eh.sin())).abs() < 1e-12
+        );
+        assert_eq!(ph, eh);
+    }
+
+    #[test]
     fn lane_centres_count_from_the_centre_line() {
         let spec = RouteSpec {
             segments: vec![RouteSegment::Straight { length_m: 10.0 }],
@@ -411,6 +526,7 @@ mod lane_tests {
             elevation: Vec::new(),
             median_m: 0.0,
             lane_widths_m: Vec::new(),
+            lane_offset: Vec::new(),
         };
         assert_eq!(spec.lane_centre_m(1), 1.75);
         assert_eq!(spec.lane_centre_m(2), 5.25);
@@ -428,6 +544,7 @@ mod lane_tests {
             elevation: Vec::new(),
             median_m: 2.6,
             lane_widths_m: vec![3.65, 3.5, 3.9],
+            lane_offset: Vec::new(),
         };
         let close = |a: f64, b: f64| assert!((a - b).abs() < 1e-12, "{a} vs {b}");
         close(spec.lane_centre_m(1), 2.6 + 1.825);

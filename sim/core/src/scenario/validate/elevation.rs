@@ -24,6 +24,54 @@ pub(crate) fn elevation_problem(records: &[[f64; 5]], length_m: f64) -> Option<(
     if records.is_empty() {
         return None;
     }
+    if let Some(problem) = records_problem(records, length_m) {
+        return Some(problem);
+    }
+    let blame = |s: f64| records.partition_point(|r| r[0] <= s).saturating_sub(1);
+    let ends = records
+        .iter()
+        .skip(1)
+        .map(|r| r[0])
+        .chain([length_m])
+        .zip(0..);
+    let n = (length_m / GRADE_CHECK_M).ceil() as usize;
+    let grid = (0..=n).map(|k| ((k as f64 * GRADE_CHECK_M).min(length_m), None));
+    for (s, end_of) in grid.chain(ends.map(|(s, i)| (s, Some(i)))) {
+        // A record's end is judged on its own cubic.
+        let (k, [g, h]) = match end_of {
+            Some(i) => (
+                i,
+                [grade_at(&records[..=i], s), elevation_at(&records[..=i], s)],
+            ),
+            None => (blame(s), [grade_at(records, s), elevation_at(records, s)]),
+        };
+        if g.abs() > MAX_GRADE {
+            return Some((
+                k,
+                format!(
+                    "its grade at station {s:.2} m is {:.1} %: at most {:.0} % either way, as \
+                     a road the vehicles drive",
+                    100.0 * g,
+                    100.0 * MAX_GRADE
+                ),
+            ));
+        }
+        if h.abs() > MAX_HEIGHT_M {
+            return Some((
+                k,
+                format!("its height at station {s:.2} m is {h:.0} m: at most {MAX_HEIGHT_M} m either way"),
+            ));
+        }
+    }
+    None
+}
+
+/// What is wrong with the order of cubic `records` (`[s_m, a, b, c, d]`) along a route
+/// `length_m` long, if anything (the index of the record to blame and what to say): each
+/// record's numbers finite, the first at station 0, stations increasing and before the
+/// route's end, and no step of more than [`MAX_STEP_M`] where a record meets the one before.
+/// The rule `route.elevation` and `route.lane_offset` share.
+pub(crate) fn records_problem(records: &[[f64; 5]], length_m: f64) -> Option<(usize, String)> {
     for (i, r) in records.iter().enumerate() {
         if !r.iter().all(|v| v.is_finite()) {
             return Some((i, "its numbers must be finite".into()));
@@ -61,42 +109,6 @@ pub(crate) fn elevation_problem(records: &[[f64; 5]], length_m: f64) -> Option<(
                     ),
                 ));
             }
-        }
-    }
-    let blame = |s: f64| records.partition_point(|r| r[0] <= s).saturating_sub(1);
-    let ends = records
-        .iter()
-        .skip(1)
-        .map(|r| r[0])
-        .chain([length_m])
-        .zip(0..);
-    let n = (length_m / GRADE_CHECK_M).ceil() as usize;
-    let grid = (0..=n).map(|k| ((k as f64 * GRADE_CHECK_M).min(length_m), None));
-    for (s, end_of) in grid.chain(ends.map(|(s, i)| (s, Some(i)))) {
-        // A record's end is judged on its own cubic.
-        let (k, [g, h]) = match end_of {
-            Some(i) => (
-                i,
-                [grade_at(&records[..=i], s), elevation_at(&records[..=i], s)],
-            ),
-            None => (blame(s), [grade_at(records, s), elevation_at(records, s)]),
-        };
-        if g.abs() > MAX_GRADE {
-            return Some((
-                k,
-                format!(
-                    "its grade at station {s:.2} m is {:.1} %: at most {:.0} % either way, as \
-                     a road the vehicles drive",
-                    100.0 * g,
-                    100.0 * MAX_GRADE
-                ),
-            ));
-        }
-        if h.abs() > MAX_HEIGHT_M {
-            return Some((
-                k,
-                format!("its height at station {s:.2} m is {h:.0} m: at most {MAX_HEIGHT_M} m either way"),
-            ));
         }
     }
     None

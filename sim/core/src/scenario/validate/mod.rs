@@ -11,6 +11,7 @@ mod distractors;
 mod elevation;
 mod environment;
 mod expect;
+mod lane_offset;
 mod lead;
 mod no_lead;
 mod route;
@@ -19,6 +20,7 @@ mod tracking;
 pub use actors::MAX_ACTORS;
 pub(crate) use elevation::elevation_problem;
 pub use elevation::{MAX_GRADE, MAX_HEIGHT_M, MAX_STEP_M};
+pub(crate) use lane_offset::lane_offset_problem;
 pub(crate) use route::length_m as route_length_m;
 pub(crate) use route::{segment_problem, RoadSource};
 

@@ -1,6 +1,7 @@
 //! `[route]`: the segments (or an OpenDRIVE road), the lane and the intersections.
 
 use super::elevation::elevation_problem;
+use super::lane_offset::lane_offset_problem;
 use super::{check, Blame, MAX_ARC_RADIUS_M, MAX_ROUTE_M, MIN_ARC_RADIUS_M};
 use crate::opendrive::ImportedRoad;
 use crate::scenario::{OpenDriveFile, RouteFile, ScenarioError, SegmentFile};
@@ -56,6 +57,14 @@ pub(super) fn route(
                         .into(),
                 ));
             }
+            if (roads.gives)("route.lane_offset") {
+                return Err(f.invalid(
+                    "route.lane_offset",
+                    "cannot be given with `route.opendrive`: the road file's `<laneOffset>` \
+                     records give it"
+                        .into(),
+                ));
+            }
             let road = (roads.load)(od)?;
             unapplied = road.unapplied;
             RouteSpec {
@@ -66,6 +75,7 @@ pub(super) fn route(
                 elevation: road.elevation,
                 median_m: road.median_m,
                 lane_widths_m: road.lane_widths_m,
+                lane_offset: road.lane_offset,
             }
         }
         None => RouteSpec {
@@ -76,6 +86,7 @@ pub(super) fn route(
             elevation: r.elevation.clone(),
             median_m: median(r, f)?,
             lane_widths_m: r.lane_widths_m.clone(),
+            lane_offset: r.lane_offset.clone(),
         },
     };
     let length = length_m(&route);
@@ -91,6 +102,9 @@ pub(super) fn route(
     if r.opendrive.is_none() {
         if let Some((i, problem)) = elevation_problem(&route.elevation, length) {
             return Err(f.invalid("route.elevation", format!("record {i}: {problem}")));
+        }
+        if let Some((i, problem)) = lane_offset_problem(&route) {
+            return Err(f.invalid("route.lane_offset", format!("record {i}: {problem}")));
         }
     }
     for &x in &route.intersections_m {
@@ -321,6 +335,7 @@ pub(crate) fn segment_problem(seg: &RouteSegment) -> Option<String> {
                 elevation: Vec::new(),
                 median_m: 0.0,
                 lane_widths_m: Vec::new(),
+                lane_offset: Vec::new(),
             });
             let n = (length / CURVATURE_CHECK_M).ceil() as usize;
             (0..=n)
