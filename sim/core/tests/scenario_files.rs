@@ -758,3 +758,56 @@ fn an_elevation_profile_is_checked_and_the_ground_follows_it() {
         );
     }
 }
+
+/// `route.lane_offset`: the centre line moved off the reference line, off by default; given
+/// by the file or by `--set`; an offset the vehicles cannot drive is refused naming the
+/// file's line and the field; the vehicles start in the moved lanes.
+#[test]
+fn a_lane_offset_is_checked_and_moves_the_lanes() {
+    let plain = load(&text(), &[]).unwrap();
+    assert!(plain.route.lane_offset.is_empty());
+    let s = load(&text(), &["route.lane_offset=[[0.0, 2.0, 0.0, 0.0, 0.0]]"]).unwrap();
+    assert_eq!(s.route.lane_offset, vec![[0.0, 2.0, 0.0, 0.0, 0.0]]);
+    // The lead starts 2 m to the left of where it starts without the offset.
+    let at = |s: &sim_core::Scenario| {
+        let p = Plan::new(s).unwrap().start_poses().1.unwrap().translation;
+        [f64::from(p.x), f64::from(p.z)]
+    };
+    let ([x0, z0], [x1, z1]) = (at(&plain), at(&s));
+    let heading = sim_render::Route::new(plain.route.clone()).at(plain.lead_start_m)[2];
+    let (dx, dz) = (x1 - x0, z1 - z0);
+    assert!(
+        (dx + 2.0 * heading.sin()).abs() < 0.01 && (dz + 2.0 * heading.cos()).abs() < 0.01,
+        "moved by ({dx}, {dz})"
+    );
+    // In the file: refused at its line.
+    let bad = text().replacen(
+        "[route]\n",
+        "[route]\nlane_offset = [[0.0, 0.0, 0.5, 0.0, 0.0]]\n",
+        1,
+    );
+    let e = load(&bad, &[]).unwrap_err();
+    let line = line_of(&bad, "lane_offset = ");
+    assert!(
+        e.contains(&format!("bad.toml:{line}")) && e.contains("`route.lane_offset`"),
+        "{e}"
+    );
+    assert!(e.contains("changes by 0.500 m a metre"), "{e}");
+    for (set, says) in [
+        ("route.lane_offset=[[5.0, 0.0, 0.0, 0.0, 0.0]]", "station 0"),
+        (
+            "route.lane_offset=[[0.0, 30.0, 0.0, 0.0, 0.0]]",
+            "at most 25 m",
+        ),
+        (
+            "route.lane_offset=[[0.0, 0.0, 0.0, 0.0, 0.0], [50.0, 2.0, 0.0, 0.0, 0.0]]",
+            "a step",
+        ),
+    ] {
+        let e = load(&text(), &[set]).unwrap_err();
+        assert!(
+            e.contains("route.lane_offset") && e.contains(says),
+            "{set}: {e}"
+        );
+    }
+}
