@@ -20,7 +20,8 @@
 //! the chase, stopped that long, drives on at the cruise speed, as a driver resuming the
 //! cruise control does ([`ControllerEventKind::CruiseResumed`]). While cruising, lost
 //! and out-of-lane estimates change nothing, and the speed reference moves to the cruise
-//! speed at no more than the gap keeper's `max_accel_mps2` and `max_decel_mps2`.
+//! speed at no more than the gap keeper's `max_accel_mps2` and `max_decel_mps2`; near the
+//! lane's end it slows to stop [`STOP_SHORT_OF_END_M`] short of it.
 
 use super::{
     max_curvature, ChaseController, ChaseControllerConfig, ChaseMode, CURVATURE_CHORD_M,
@@ -47,6 +48,15 @@ pub const LEFT_LANE_ARRIVALS: u32 = 3;
 /// m: far more than the chase travels between two updates, short enough that a lane that
 /// doubles back is not confused with itself.
 const PROJECT_WINDOW_M: f32 = 25.0;
+
+/// How far short of its lane's end a cruising chase stops, m: a car's length, its rear axle
+/// (its station) that far back from the end.
+pub const STOP_SHORT_OF_END_M: f32 = 5.0;
+
+/// The time the chase's speed takes to follow its reference, allowed for as a reaction
+/// time when it slows for its lane's end, s: the speed controller and the drivetrain lag
+/// the reference by a few tenths of a second.
+const END_REACTION_S: f32 = 0.5;
 
 /// The spacing of the lane's points whose curvature limits the gap, m (they are resampled at
 /// the breadcrumbs' chord, `CURVATURE_CHORD_M`).
@@ -113,10 +123,22 @@ impl LaneState {
 
     /// One step of `dt_s` of the cruise's speed reference toward `cruise_speed_mps`, within
     /// the gap keeper's acceleration and deceleration limits: the reference and its
-    /// acceleration.
+    /// acceleration. Near the lane's end the cruise speed gives way to the speed from which
+    /// the gap keeper's deceleration, after [`END_REACTION_S`], stops the chase
+    /// [`STOP_SHORT_OF_END_M`] short of it:
+    /// the lane, and the road it is drawn on, end there (as the lead stops at the road's end).
     pub(super) fn cruise_ref(&mut self, config: &ChaseControllerConfig, dt_s: f32) -> (f32, f32) {
-        let want = config.cruise_speed_mps.unwrap_or(0.0);
         let g = &config.gap_keeper;
+        let mut want = config.cruise_speed_mps.unwrap_or(0.0);
+        if let Some(lane) = &self.lane {
+            if let Some(s) = lane.station_m {
+                let room = (lane.route.length_m() - STOP_SHORT_OF_END_M - s).max(0.0);
+                // The speed v with v·t + v²/2a = room: a reaction time's travel, then
+                // braking at a.
+                let (a, t) = (g.max_decel_mps2, END_REACTION_S);
+                want = want.min(a * ((t * t + 2.0 * room / a).sqrt() - t));
+            }
+        }
         let change =
             (want - self.cruise_ref_mps).clamp(-g.max_decel_mps2 * dt_s, g.max_accel_mps2 * dt_s);
         self.cruise_ref_mps += change;

@@ -710,7 +710,8 @@ impl Scenario {
     /// A warning when the lead's speed profile, driven from `lead.start_m` for the whole
     /// of `duration_s`, would take it past the route's end, where it stops: the distance it
     /// drives (the profile integrated in steps of 1/20 s) against the route's length.
-    /// Without a lead, the same of the chase cruising from its start, which nothing stops.
+    /// Without a lead, the same of the chase cruising from its start, which stops short of
+    /// the road's end as the lead does.
     fn lead_beyond_the_road(&self) -> Option<String> {
         const DT_S: f64 = 0.05;
         let length = validate::route_length_m(&self.route);
@@ -734,8 +735,8 @@ impl Scenario {
             // What stands for the lead is the chase's own cruise in its lane.
             return Some(format!(
                 "the chase, cruising at {} m/s from `chase.start_m` = {} m with no lead, \
-                 would reach the route's end ({length:.0} m) at about {end_t:.0} s and drive \
-                 on past it: nothing there stops it",
+                 would reach the route's end ({length:.0} m) at about {end_t:.0} s: it will \
+                 stop short of the road's end",
                 // The cruise speed is an `f32`: said as it was written.
                 self.lead_initial_speed_mps as f32,
                 self.lead_start_m

@@ -158,6 +158,46 @@ fn with_nothing_tracked_it_keeps_its_lane_at_the_cruise_speed() {
 }
 
 #[test]
+fn cruising_it_stops_short_of_its_lanes_end() {
+    // A lane of 200 m from x = −50: its end at x = 150, 150 m ahead of the chase.
+    let mut d = Drive::new(lane_config(Some(15.0)), 0.0, 15.0);
+    let short = RouteBuilder::new(Vector::new(-50.0, 0.0, 0.0), 0.0)
+        .straight(200.0)
+        .build()
+        .unwrap();
+    d.c.set_lane(short, HALF_WIDTH_M);
+    let mut slowest_ref_change = 0.0f32;
+    let mut last_ref = 15.0f32;
+    while d.seconds() < 30.0 {
+        d.step(None);
+        let r = d.c.telemetry().speed_ref_mps;
+        slowest_ref_change = slowest_ref_change.min((r - last_ref) / PHYSICS_DT_S);
+        last_ref = r;
+    }
+    println!("stopped at x {:.2} m, v {:.3} m/s", d.x, d.v);
+    let stop_at = 150.0 - STOP_SHORT_OF_END_M;
+    assert!(d.v < 0.05, "still at {} m/s", d.v);
+    assert!(
+        d.x <= stop_at + 0.5 && d.x > stop_at - 3.0,
+        "stopped at {}",
+        d.x
+    );
+    // Within the gap keeper's deceleration.
+    let g = &ChaseControllerConfig::default().gap_keeper;
+    assert!(
+        slowest_ref_change >= -g.max_decel_mps2 - 1e-3,
+        "{slowest_ref_change}"
+    );
+    assert!(d.modes.iter().all(|&m| m == ChaseMode::Cruising));
+    // On the long lane it keeps its speed over the same stretch.
+    let mut far = Drive::new(lane_config(Some(15.0)), 0.0, 15.0);
+    while far.seconds() < 10.0 {
+        far.step(None);
+    }
+    assert!((far.v - 15.0).abs() < 0.05, "{}", far.v);
+}
+
+#[test]
 fn lane_keeping_without_a_lane_steers_straight() {
     let params = VehicleParams::hmmwv_m998();
     let mut c = ChaseController::new(lane_config(Some(15.0)), &params, 10.0).unwrap();
