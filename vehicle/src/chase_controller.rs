@@ -741,7 +741,11 @@ impl ChaseController {
                 (self.stop_ref_mps, accel)
             }
             ChaseMode::Stopped => (0.0, 0.0),
-            ChaseMode::Cruising => self.lane.cruise_ref(&self.config, dt),
+            ChaseMode::Cruising => {
+                let unmeasured = self.unmeasured_target_station(now);
+                self.lane
+                    .cruise_ref(&self.config, dt, unmeasured, self.camera_pivot.x)
+            }
         };
         if emergency && !was_emergency {
             self.log(
