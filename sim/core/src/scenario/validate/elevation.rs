@@ -27,24 +27,8 @@ pub(crate) fn elevation_problem(records: &[[f64; 5]], length_m: f64) -> Option<(
     if let Some(problem) = records_problem(records, length_m) {
         return Some(problem);
     }
-    let blame = |s: f64| records.partition_point(|r| r[0] <= s).saturating_sub(1);
-    let ends = records
-        .iter()
-        .skip(1)
-        .map(|r| r[0])
-        .chain([length_m])
-        .zip(0..);
-    let n = (length_m / GRADE_CHECK_M).ceil() as usize;
-    let grid = (0..=n).map(|k| ((k as f64 * GRADE_CHECK_M).min(length_m), None));
-    for (s, end_of) in grid.chain(ends.map(|(s, i)| (s, Some(i)))) {
-        // A record's end is judged on its own cubic.
-        let (k, [g, h]) = match end_of {
-            Some(i) => (
-                i,
-                [grade_at(&records[..=i], s), elevation_at(&records[..=i], s)],
-            ),
-            None => (blame(s), [grade_at(records, s), elevation_at(records, s)]),
-        };
+    for (s, k, held) in checkpoints(records, length_m, GRADE_CHECK_M) {
+        let [g, h] = [grade_at(held, s), elevation_at(held, s)];
         if g.abs() > MAX_GRADE {
             return Some((
                 k,
@@ -64,6 +48,31 @@ pub(crate) fn elevation_problem(records: &[[f64; 5]], length_m: f64) -> Option<(
         }
     }
     None
+}
+
+/// The stations cubic `records` along a route `length_m` long are checked at: every
+/// `step_m` from its start to its end, then each record's end; with each, the index of the
+/// record to blame and the records to evaluate there (at a record's end, that record and
+/// those before it, so the end is judged on its own cubic).
+pub(crate) fn checkpoints(
+    records: &[[f64; 5]],
+    length_m: f64,
+    step_m: f64,
+) -> impl Iterator<Item = (f64, usize, &[[f64; 5]])> + '_ {
+    let n = (length_m / step_m).ceil() as usize;
+    let grid = (0..=n).map(move |k| {
+        let s = (k as f64 * step_m).min(length_m);
+        let blame = records.partition_point(|r| r[0] <= s).saturating_sub(1);
+        (s, blame, records)
+    });
+    let ends = records
+        .iter()
+        .skip(1)
+        .map(|r| r[0])
+        .chain([length_m])
+        .enumerate()
+        .map(|(i, s)| (s, i, &records[..=i]));
+    grid.chain(ends)
 }
 
 /// What is wrong with the order of cubic `records` (`[s_m, a, b, c, d]`) along a route

@@ -1,7 +1,7 @@
 //! `route.lane_offset`: a centre line that lies beside the reference line (OpenDRIVE's
 //! `<laneOffset>`), checked so that the road it moves is one the vehicles can drive.
 
-use super::elevation::records_problem;
+use super::elevation::{checkpoints, records_problem};
 use super::MIN_ARC_RADIUS_M;
 use sim_render::{elevation_at, grade_at, Route, RouteSpec};
 
@@ -34,21 +34,7 @@ pub(crate) fn lane_offset_problem(spec: &RouteSpec) -> Option<(usize, String)> {
     if let Some(problem) = records_problem(records, length_m) {
         return Some(problem);
     }
-    let blame = |s: f64| records.partition_point(|r| r[0] <= s).saturating_sub(1);
-    let ends = records
-        .iter()
-        .skip(1)
-        .map(|r| r[0])
-        .chain([length_m])
-        .zip(0..);
-    let n = (length_m / CHECK_M).ceil() as usize;
-    let grid = (0..=n).map(|k| ((k as f64 * CHECK_M).min(length_m), None));
-    for (s, end_of) in grid.chain(ends.map(|(s, i)| (s, Some(i)))) {
-        // A record's end is judged on its own cubic.
-        let (k, held) = match end_of {
-            Some(i) => (i, &records[..=i]),
-            None => (blame(s), &records[..]),
-        };
+    for (s, k, held) in checkpoints(records, length_m, CHECK_M) {
         let (o, slope) = (elevation_at(held, s), grade_at(held, s));
         if o.abs() > MAX_LANE_OFFSET_M {
             return Some((
