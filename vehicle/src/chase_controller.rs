@@ -741,11 +741,7 @@ impl ChaseController {
                 (self.stop_ref_mps, accel)
             }
             ChaseMode::Stopped => (0.0, 0.0),
-            ChaseMode::Cruising => {
-                let unmeasured = self.unmeasured_target_station(now);
-                self.lane
-                    .cruise_ref(&self.config, dt, unmeasured, self.camera_pivot.x)
-            }
+            ChaseMode::Cruising => self.lane.cruise_ref(&self.config, dt),
         };
         if emergency && !was_emergency {
             self.log(

@@ -49,11 +49,6 @@ pub const LEFT_LANE_ARRIVALS: u32 = 3;
 /// doubles back is not confused with itself.
 const PROJECT_WINDOW_M: f32 = 25.0;
 
-/// How long a target seen in the lane while cruising is taken to stand where it was last
-/// estimated, without another `tracking` estimate of it, s: as long as a tracker takes to
-/// call a target lost (`tracker.lost_after_s`' default).
-pub const UNMEASURED_HOLD_S: f32 = 1.0;
-
 /// How far short of its lane's end a cruising chase stops, m: a car's length, its rear axle
 /// (its station) that far back from the end.
 pub const STOP_SHORT_OF_END_M: f32 = 5.0;
@@ -112,8 +107,6 @@ pub(super) struct LaneState {
     target_station_m: Option<f32>,
     /// The speed reference while cruising, m/s.
     cruise_ref_mps: f32,
-    /// The step at which the last `tracking` estimate of a target in the lane arrived.
-    tracked_in_lane: Option<Step>,
 }
 
 impl LaneState {
@@ -125,7 +118,6 @@ impl LaneState {
             target_left: false,
             target_station_m: None,
             cruise_ref_mps: speed_mps.max(0.0),
-            tracked_in_lane: None,
         }
     }
 
@@ -135,33 +127,16 @@ impl LaneState {
     /// the gap keeper's deceleration, after [`END_REACTION_S`], stops the chase
     /// [`STOP_SHORT_OF_END_M`] short of it:
     /// the lane, and the road it is drawn on, end there (as the lead stops at the road's end).
-    ///
-    /// So too short of a target held in the lane but not yet followed (`unmeasured`, its
-    /// station along the lane; see [`ChaseController::unmeasured_target_station`]): its
-    /// speed is not known until the range filters have measured it, and until then it is
-    /// taken to stand, the chase slowing so that its camera (`camera_forward_m` ahead of
-    /// its station) could stop the gap keeper's `min_gap_m` short of it.
-    pub(super) fn cruise_ref(
-        &mut self,
-        config: &ChaseControllerConfig,
-        dt_s: f32,
-        unmeasured: Option<f32>,
-        camera_forward_m: f32,
-    ) -> (f32, f32) {
+    pub(super) fn cruise_ref(&mut self, config: &ChaseControllerConfig, dt_s: f32) -> (f32, f32) {
         let g = &config.gap_keeper;
         let mut want = config.cruise_speed_mps.unwrap_or(0.0);
         if let Some(lane) = &self.lane {
             if let Some(s) = lane.station_m {
-                want = want.min(stop_speed(
-                    lane.route.length_m() - STOP_SHORT_OF_END_M - s,
-                    g.max_decel_mps2,
-                ));
-                if let Some(target) = unmeasured {
-                    want = want.min(stop_speed(
-                        target - s - camera_forward_m - g.min_gap_m,
-                        g.max_decel_mps2,
-                    ));
-                }
+                let room = (lane.route.length_m() - STOP_SHORT_OF_END_M - s).max(0.0);
+                // The speed v with v·t + v²/2a = room: a reaction time's travel, then
+                // braking at a.
+                let (a, t) = (g.max_decel_mps2, END_REACTION_S);
+                want = want.min(a * ((t * t + 2.0 * room / a).sqrt() - t));
             }
         }
         let change =
@@ -169,13 +144,6 @@ impl LaneState {
         self.cruise_ref_mps += change;
         (self.cruise_ref_mps, change / dt_s)
     }
-}
-
-/// The speed from which a chase stops within `room_m` (none: 0): `v` with `v·t + v²/2a =
-/// room`, a reaction time ([`END_REACTION_S`]) of travel, then braking at `decel_mps2`.
-fn stop_speed(room_m: f32, decel_mps2: f32) -> f32 {
-    let (a, t, room) = (decel_mps2, END_REACTION_S, room_m.max(0.0));
-    a * ((t * t + 2.0 * room / a).sqrt() - t)
 }
 
 /// Checks `cruise_speed_mps` (0.5–70 m/s, and only with `lane_keeping`); the mode to start
@@ -211,22 +179,6 @@ pub(super) fn validate_and_start(
 }
 
 impl ChaseController {
-    /// While cruising, the lane station of a target seen in the lane and not yet followed:
-    /// a `tracking` estimate of it in the lane arrived within the last
-    /// [`UNMEASURED_HOLD_S`], and it has not left the lane since (its station the latest
-    /// estimate's). In the cruise such a target is being measured (following starts once the
-    /// range filter has measured it, [`RESUME_MEASUREMENTS`] estimates in a row), and its
-    /// speed is not yet known; a frame coasting or lost between does not make it go away.
-    pub(super) fn unmeasured_target_station(&self, now: Step) -> Option<f32> {
-        let seen = self
-            .lane
-            .tracked_in_lane
-            .is_some_and(|at| now.since(at) as f32 * PHYSICS_DT_S <= UNMEASURED_HOLD_S);
-        (self.mode == ChaseMode::Cruising && seen && !self.lane.target_left)
-            .then_some(self.lane.target_station_m)
-            .flatten()
-    }
-
     /// Stopped after a loss ([`ChaseMode::Stopped`], since its last
     /// [`ControllerEventKind::Stopped`]) for `resume_after_s` at step `now`: cruises again
     /// from the speed `v`, logged as [`ControllerEventKind::CruiseResumed`].
@@ -333,9 +285,6 @@ impl ChaseController {
             }
             state.target_left = false;
             state.target_station_m = Some(at.s_m);
-            if estimate.status == TrackStatus::Tracking {
-                state.tracked_in_lane = Some(now);
-            }
             return Verdict::Follow;
         }
         state.out_arrivals = state.out_arrivals.saturating_add(1);
