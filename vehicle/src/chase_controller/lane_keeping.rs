@@ -125,8 +125,8 @@ impl LaneState {
     /// the gap keeper's acceleration and deceleration limits: the reference and its
     /// acceleration. Near the lane's end the cruise speed gives way to the speed from which
     /// the gap keeper's deceleration, after [`END_REACTION_S`], stops the chase
-    /// [`STOP_SHORT_OF_END_M`] short of it:
-    /// the lane, and the road it is drawn on, end there (as the lead stops at the road's end).
+    /// [`STOP_SHORT_OF_END_M`] short of it: the lane, and the road it is drawn on, end
+    /// there (as the lead stops at the road's end).
     pub(super) fn cruise_ref(&mut self, config: &ChaseControllerConfig, dt_s: f32) -> (f32, f32) {
         let g = &config.gap_keeper;
         let mut want = config.cruise_speed_mps.unwrap_or(0.0);
