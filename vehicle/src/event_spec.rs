@@ -185,6 +185,8 @@ fn is_zero(v: &f64) -> bool {
 /// trigger = { after = "cut-in", delay_s = 0.5 }  # 0.5 s after `cut-in`'s action ended
 /// trigger = { all = [{ time_s = 5.0 }, { gap_m = 20.0, to = "chase" }] }  # both at once
 /// trigger = { any = [{ time_s = 20.0 }, { ttc_s = 2.0, to = "chase" }] }  # either
+/// trigger = { all = [{ gap_m = 30.0, to = "chase", latched = true }, { time_gap_s = 1.0, to = "chase" }] }
+///                                              # a time gap ≤ 1 s, once the gap was ≤ 30 m
 /// ```
 ///
 /// The gap to the vehicle `to` is measured along the road, whatever the lanes, from the
@@ -199,7 +201,9 @@ fn is_zero(v: &f64) -> bool {
 /// `to`, `of`, `rule` or `delay_s` of their own. A member's `delay_s` is OpenSCENARIO's
 /// condition delay: the member holds at a step when its condition held `delay_s` earlier
 /// (for the trigger of a whole event, which fires once it holds, that is the same as the
-/// action starting `delay_s` after it first holds).
+/// action starting `delay_s` after it first holds). A member with `latched` holds from the
+/// first step it holds to the run's end: OpenSCENARIO's act start trigger, which starts an
+/// act once, whose events wait for their own triggers from then on.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct TriggerSpec {
@@ -300,6 +304,13 @@ pub struct TriggerSpec {
     /// `conditionEdge="falling"`; with `rising` too, at either edge (`risingOrFalling`).
     #[serde(default, skip_serializing_if = "is_false")]
     pub falling: bool,
+    /// Once it holds (after its `delay_s` and edges), holds at every step after: a latch,
+    /// for a member of `all` or `any` only (an event's own trigger fires once it holds).
+    /// OpenSCENARIO's act start trigger: an act, once started, stays started, and its
+    /// events wait for their own triggers from then on (`all = [{ ..., latched = true },
+    /// the event's own trigger]`).
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub latched: bool,
     /// With `time_gap_s` or `ttc_s`: measured on the spacing between the two vehicles'
     /// reference points (the middles of their rear axles), not on the gap between their
     /// bumpers (OpenSCENARIO's `freespace="false"`; default false).
@@ -642,6 +653,8 @@ pub(crate) struct Trigger {
     pub(crate) rising: bool,
     /// Holds only at the step its condition stops holding (with `rising`: at either).
     pub(crate) falling: bool,
+    /// Once it holds, holds at every step after (members only).
+    pub(crate) latched: bool,
 }
 
 /// How long a change takes.

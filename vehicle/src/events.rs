@@ -160,6 +160,8 @@ struct Watch {
     turns: VecDeque<(Step, bool)>,
     /// Whether the condition held at the step before (for a rising edge).
     held_before: bool,
+    /// Whether a latched member has held (it holds from then on).
+    latched_on: bool,
 }
 
 /// What a trigger is evaluated against at one step.
@@ -277,9 +279,12 @@ impl Watch {
 
     /// Whether the member `trigger` holds at `c`'s step: its condition now, or, with a
     /// delay, `delay_s` ago; with a rising edge, only if it did not at the step before.
+    /// A latched member holds from the first step it holds on.
     fn member_holds(&mut self, trigger: &Trigger, c: &Now) -> bool {
         let level = self.member_level(trigger, c);
-        self.edge(trigger, level)
+        let holds = self.edge(trigger, level);
+        self.latched_on |= trigger.latched && holds;
+        holds || self.latched_on
     }
 
     /// `level`, the condition of `trigger` at this step, as the trigger holds: with a

@@ -124,6 +124,45 @@ fn a_members_delay_is_its_condition_that_long_ago() {
     );
 }
 
+/// A latched member holds from the first step it holds on (an OpenSCENARIO act's start):
+/// `time_s ≤ 1` latched lets a group needing `time_s ≥ 3` fire at 3 s, where unlatched it
+/// never does; latched after a delay, from when the delayed condition first holds; a latch
+/// on an edge keeps the edge's one step. An event's own trigger takes no latch.
+#[test]
+fn a_latched_member_holds_from_its_first_step_on() {
+    let early = "{ time_s = 1.0, rule = \"less\"";
+    assert_eq!(
+        fires(&format!("{{ all = [{early} }}, {{ time_s = 3.0 }}] }}")),
+        None
+    );
+    assert_eq!(
+        fires(&format!(
+            "{{ all = [{early}, latched = true }}, {{ time_s = 3.0 }}] }}"
+        )),
+        Some(360)
+    );
+    // The gap ≤ 12.02 from step 1660, delayed 1 s: from step 1780, latched after it.
+    let gap = "gap_m = 12.02, to = \"other\", delay_s = 1.0, latched = true";
+    assert_eq!(
+        fires(&format!("{{ all = [{{ {gap} }}, {{ time_s = 2.0 }}] }}")),
+        Some(1780)
+    );
+    // A rising edge at the first step it holds, latched: the group waits for the time.
+    let rising = "{ time_s = 4.0, rising = true, latched = true }";
+    assert_eq!(
+        fires(&format!("{{ all = [{rising}, {{ time_s = 6.0 }}] }}")),
+        Some(720)
+    );
+    assert_eq!(
+        fires("{ all = [{ time_s = 4.0, rising = true }, { time_s = 6.0 }] }"),
+        None
+    );
+    refused_naming(vec![(
+        one("trigger = { time_s = 1.0, latched = true }", OK_ACTION),
+        "events[1].trigger.latched",
+    )]);
+}
+
 /// Members watch other vehicles and stand still as whole triggers do, and an `after`
 /// member waits for another event's end.
 #[test]

@@ -203,6 +203,7 @@ impl EventScript {
             delay_s,
             rising: t.rising,
             falling: t.falling,
+            latched: latched(i, path, t, depth)?,
         })
     }
 
@@ -278,8 +279,24 @@ impl EventScript {
             delay_s: 0.0,
             rising: t.rising,
             falling: t.falling,
+            latched: latched(i, path, t, depth)?,
         })
     }
+}
+
+/// Event `i`'s `latched` at `path`, `depth` members deep, checked: only on a member (an
+/// event's own trigger fires the first step it holds, so a latch would change nothing).
+fn latched(i: usize, path: &str, t: &TriggerSpec, depth: usize) -> Result<bool, VehicleError> {
+    if t.latched && depth == 0 {
+        return Err(invalid(
+            i,
+            &format!("{path}.latched"),
+            "only for a member of all or any: an event's own trigger fires at the first step \
+             it holds"
+                .into(),
+        ));
+    }
+    Ok(t.latched)
 }
 
 /// How many condition groups a checked condition comes to written as OpenSCENARIO

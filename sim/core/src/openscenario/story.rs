@@ -14,7 +14,9 @@ mod actions;
 mod acts;
 mod stop;
 
-use acts::{act_trigger, group_never_holds, never_fires, parameter_holds};
+use acts::{
+    act_trigger, conditional_start, group_never_holds, never_fires, parameter_holds, ActStart,
+};
 
 /// What the stories give: each vehicle's events (by its name in the file), and what is
 /// read and not applied (the ego's actions).
@@ -107,6 +109,8 @@ pub fn read_stories(
         found: &found,
         never: &never,
         lane_changes: &lane_changes,
+        act_depth: std::cell::Cell::new(0),
+        ego,
     };
     let mut stories = Stories {
         side_by_side,
@@ -169,7 +173,7 @@ fn events<'a, 'b>(
                 "Act" => {}
                 _ => return Err(xml.unsupported(act, "element", "")),
             }
-            if !act_trigger(xml, act)? {
+            if act_trigger(xml, act)? == ActStart::Never {
                 never_started.push(format!("act `{}`", xml.req(act, "name")?));
                 never.extend(
                     act.descendants()
@@ -243,6 +247,10 @@ struct Context<'c, 'a> {
     /// The events that never start ([`Stories::never_started`]), by node id.
     never: &'c BTreeSet<u32>,
     lane_changes: &'c BTreeMap<String, usize>,
+    /// How many acts' start triggers are being read, one inside another ([`Context::latched`]).
+    act_depth: std::cell::Cell<usize>,
+    /// The ego's name in the file.
+    ego: &'c str,
 }
 
 impl Context<'_, '_> {
@@ -278,13 +286,14 @@ impl Context<'_, '_> {
                 ))
             }
         };
-        let trigger = match child(event, "StartTrigger") {
+        let own = match child(event, "StartTrigger") {
             Some(t) => self.trigger(t, owner)?,
             None => TriggerSpec {
                 time_s: Some(0.0),
                 ..TriggerSpec::default()
             },
         };
+        let trigger = self.once_started(event, own, owner)?;
         let name = self
             .found
             .get(&event.id().get())
@@ -311,6 +320,53 @@ impl Context<'_, '_> {
                 })
             })
             .collect()
+    }
+
+    /// `own`, the trigger of `event` on `owner`, judged only once the event's act has
+    /// started: with the act's start trigger latched before it when the act starts on a
+    /// condition (`all = [act's, own...]`, an `all` of its own spliced in), else as it is.
+    /// An own trigger latched itself (a wait for a start of an act that starts on a
+    /// condition) goes in an `all` of its own: only members latch.
+    fn once_started(
+        &self,
+        event: Node,
+        own: TriggerSpec,
+        owner: &str,
+    ) -> Result<TriggerSpec, OscError> {
+        let mut members = match conditional_start(self.xml, event)? {
+            Some(act) => vec![self.latched(act, owner)?],
+            None if own.latched => Vec::new(),
+            None => return Ok(own),
+        };
+        let splice = own.all.is_some() && !(own.rising || own.falling || own.latched);
+        match (splice, own.all.clone()) {
+            (true, Some(all)) => members.extend(all),
+            _ => members.push(own),
+        }
+        Ok(TriggerSpec {
+            all: Some(members),
+            ..TriggerSpec::default()
+        })
+    }
+
+    /// The start trigger `act` (of an act that starts on a condition) as a latched trigger
+    /// of an event on `owner`: once it holds, the act has started. Acts waiting for each
+    /// other's starts nest at most [`vehicle::MAX_TRIGGER_DEPTH`] deep.
+    fn latched(&self, act: Node, owner: &str) -> Result<TriggerSpec, OscError> {
+        let depth = self.act_depth.get();
+        if depth >= vehicle::MAX_TRIGGER_DEPTH {
+            return Err(self.xml.at(
+                act,
+                "<StartTrigger>: acts wait for each other's starts in a loop, or too deep",
+            ));
+        }
+        self.act_depth.set(depth + 1);
+        let trigger = self.trigger(act, owner);
+        self.act_depth.set(depth);
+        Ok(TriggerSpec {
+            latched: true,
+            ..trigger?
+        })
     }
 
     /// A `StartTrigger` as a trigger of an event on `owner`: its one condition as it is,
@@ -417,10 +473,10 @@ impl Context<'_, '_> {
                     "story" | "act" | "maneuverGroup" | "maneuver"
                 ) && matches!(state.as_str(), "startTransition" | "runningState")
                 {
-                    // Every story, act, maneuver group and maneuver starts at t = 0 here
-                    // (`act_trigger`), when events start being judged: the condition holds
-                    // at the first step.
-                    return self.started_at_once(c, &kind, &reference);
+                    // A story starts at t = 0; an act, and the maneuver groups and
+                    // maneuvers in it, at t = 0 or once its start trigger holds
+                    // (`act_trigger`).
+                    return self.started_at(c, &kind, &reference, owner);
                 }
                 if !matches!(state.as_str(), "endTransition" | "completeState") {
                     return Err(xml.at(c, format!("<StoryboardElementStateCondition storyboardElementType=\"{kind}\" state=\"{state}\">: carfollow waits for an element's end (endTransition or completeState) or a start (a story, act, maneuver group or maneuver, startTransition or runningState)")));
@@ -434,7 +490,11 @@ impl Context<'_, '_> {
                         return Err(xml.at(c, format!("<StoryboardElementStateCondition storyboardElementRef=\"{reference}\">: waits for an event that never starts (a `ParameterCondition` of its start trigger does not hold)")));
                     }
                     self.not_continuous(c, event, &reference)?;
-                    let found = self.found.get(&event.id().get()).filter(|f| f.owner == owner).ok_or_else(|| {
+                    let found = self.found.get(&event.id().get());
+                    if let Some(f) = found.filter(|f| f.owner == self.ego && owner != self.ego) {
+                        return Err(xml.at(c, format!("<StoryboardElementStateCondition storyboardElementRef=\"{reference}\">: waits for an event of the ego `{}`, whose actions carfollow does not apply (its loop drives the chase)", f.owner)));
+                    }
+                    let found = found.filter(|f| f.owner == owner).ok_or_else(|| {
                         xml.at(c, format!("<StoryboardElementStateCondition storyboardElementRef=\"{reference}\">: not an event of `{owner}` (carfollow's events wait for their own vehicle's)"))
                     })?;
                     each.push(TriggerSpec {
@@ -467,14 +527,16 @@ impl Context<'_, '_> {
         }
     }
 
-    /// The trigger of a condition on the start of the story, act, maneuver group or
-    /// maneuver named `reference` (`kind` its element): the first step, once the element
-    /// is found.
-    fn started_at_once(
+    /// The trigger, for an event on `owner`, of a condition `c` on the start of the story,
+    /// act, maneuver group or maneuver named `reference` (`kind` its element): the first
+    /// step, or, within an act that starts on a condition, that act's start trigger
+    /// latched.
+    fn started_at(
         &self,
         c: Node,
         kind: &str,
         reference: &str,
+        owner: &str,
     ) -> Result<TriggerSpec, OscError> {
         let tag = match kind {
             "story" => "Story",
@@ -482,11 +544,14 @@ impl Context<'_, '_> {
             "maneuverGroup" => "ManeuverGroup",
             _ => "Maneuver",
         };
-        resolve(self.xml, c, tag, reference)?;
-        Ok(TriggerSpec {
-            time_s: Some(0.0),
-            ..TriggerSpec::default()
-        })
+        let element = resolve(self.xml, c, tag, reference)?;
+        match conditional_start(self.xml, element)? {
+            Some(act) => self.latched(act, owner),
+            None => Ok(TriggerSpec {
+                time_s: Some(0.0),
+                ..TriggerSpec::default()
+            }),
+        }
     }
 
     /// Refuses a wait for the end of `event` (referred to as `reference`) when it holds a

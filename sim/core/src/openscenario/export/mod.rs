@@ -11,7 +11,10 @@
 //!   `SpeedAction`s at the profile's keys, then its events, each an `Event` whose trigger is
 //!   the condition carfollow's trigger is (`SimulationTime`, `TraveledDistance`,
 //!   `RelativeDistance`, `TimeHeadway`, `TimeToCollision`, `StoryboardElementState`, with
-//!   its `delay`), whose action a `SpeedAction` or a `LaneChangeAction`;
+//!   its `delay`), whose action a `SpeedAction` or a `LaneChangeAction`; an event judged
+//!   once a latched condition holds (an `all` whose first member is latched, as the
+//!   importer reads an act that starts on a condition) in an act of its own, which that
+//!   condition starts;
 //! - the `StopTrigger` is the duration, and a condition group for each event whose action
 //!   ends the run (`end_run`), its trigger's conditions about that event's vehicle.
 //!
@@ -21,6 +24,7 @@
 //! `carfollow.<field>` ([`carried`]): declared at the root, unused by the storyboard, so
 //! other readers pass them by, and carfollow's importer applies them as `--set` would.
 
+mod act_start;
 pub mod carried;
 mod storyboard;
 pub(crate) mod xml_out;

@@ -1,6 +1,7 @@
 //! The storyboard written: `Init` (each vehicle's lane, station and speed, and the
 //! environment), and one story of the lead's and the actors' speed profiles and events.
 
+use super::act_start::act_start;
 use super::entity;
 use super::xml_out::{a, n, XmlOut};
 use crate::Scenario;
@@ -9,6 +10,9 @@ use vehicle::{ActionSpec, EventSpec, KeepSide, KeepSpec, ProfileEntry, Rule, Sha
 /// One vehicle's maneuver: its entity name and its events as written.
 struct Group {
     entity: String,
+    /// The name of its maneuver group (its maneuver's is this and `-maneuver`): the
+    /// entity's, or, in an act of its own, the event's.
+    label: String,
     /// The profile's speed changes, as events of their own.
     profile: Vec<ProfileStep>,
     /// Its events, each with the name written (unique in the file).
@@ -37,6 +41,10 @@ struct ProfileStep {
 /// run, which the `StopTrigger` holds.
 pub struct Story {
     groups: Vec<Group>,
+    /// The events judged once a latched condition holds (an `all` whose first member is
+    /// latched): each in an act of its own, started by that member, with the rest of the
+    /// `all` as its own trigger.
+    acts: Vec<(TriggerSpec, Group)>,
     /// Each vehicle's events whose action is `end_run` (a group of them alone).
     stops: Vec<Group>,
 }
@@ -80,15 +88,44 @@ impl Story {
             g.events = events;
             stops.push(Group {
                 entity: g.entity.clone(),
+                label: g.entity.clone(),
                 profile: Vec::new(),
                 events: ends,
                 inner_lanes,
                 unlimited_runs,
             });
         }
+        let mut acts = Vec::new();
+        for g in &mut groups {
+            let (acted, events) = std::mem::take(&mut g.events)
+                .into_iter()
+                .partition::<Vec<_>, _>(|(_, e)| act_start(&e.trigger).is_some());
+            g.events = events;
+            for (name, mut event) in acted {
+                let Some((start, own)) = act_start(&event.trigger) else {
+                    continue;
+                };
+                event.trigger = own;
+                acts.push((
+                    start,
+                    Group {
+                        entity: g.entity.clone(),
+                        label: name.clone(),
+                        profile: Vec::new(),
+                        events: vec![(name, event)],
+                        inner_lanes,
+                        unlimited_runs,
+                    },
+                ));
+            }
+        }
         groups.retain(|g| !g.profile.is_empty() || !g.events.is_empty());
         stops.retain(|g| !g.events.is_empty());
-        Story { groups, stops }
+        Story {
+            groups,
+            acts,
+            stops,
+        }
     }
 
     /// The condition groups the events that end the run add to the `StopTrigger`: each
@@ -103,18 +140,29 @@ impl Story {
 
     /// The `Story` element (none when no vehicle has a speed change or an event).
     pub fn write(&self, x: &mut XmlOut) {
-        if self.groups.is_empty() {
+        if self.groups.is_empty() && self.acts.is_empty() {
             return;
         }
         x.open("Story", &[a("name", "carfollow")]);
-        x.open("Act", &[a("name", "act")]);
-        for g in &self.groups {
-            g.write(x);
+        if !self.groups.is_empty() {
+            x.open("Act", &[a("name", "act")]);
+            for g in &self.groups {
+                g.write(x);
+            }
+            x.open("StartTrigger", &[]);
+            time_condition(x, "act-start", 0.0, "greaterThan");
+            x.close();
+            x.close();
         }
-        x.open("StartTrigger", &[]);
-        time_condition(x, "act-start", 0.0, "greaterThan");
-        x.close();
-        x.close();
+        for (start, g) in &self.acts {
+            let name = format!("{}-act", g.label);
+            x.open("Act", &[a("name", &name)]);
+            g.write(x);
+            x.open("StartTrigger", &[]);
+            g.trigger(x, &format!("{name}-start"), start);
+            x.close();
+            x.close();
+        }
         x.close();
     }
 }
@@ -163,6 +211,7 @@ fn group(
         .map(|e| (unique(&e.name, taken), e.clone()))
         .collect();
     Group {
+        label: entity.clone(),
         entity,
         profile: steps,
         events,
@@ -175,15 +224,12 @@ impl Group {
     fn write(&self, x: &mut XmlOut) {
         x.open(
             "ManeuverGroup",
-            &[a("maximumExecutionCount", 1), a("name", &self.entity)],
+            &[a("maximumExecutionCount", 1), a("name", &self.label)],
         );
         x.open("Actors", &[a("selectTriggeringEntities", "false")]);
         x.empty("EntityRef", &[a("entityRef", &self.entity)]);
         x.close();
-        x.open(
-            "Maneuver",
-            &[a("name", format!("{}-maneuver", self.entity))],
-        );
+        x.open("Maneuver", &[a("name", format!("{}-maneuver", self.label))]);
         for step in &self.profile {
             self.profile_event(x, step);
         }

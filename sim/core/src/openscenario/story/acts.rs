@@ -1,20 +1,32 @@
-//! What is decided when the file is read: whether an act starts at t = 0 or never, and
-//! whether a `ParameterCondition` holds (nothing changes a parameter during a run).
+//! What is decided when the file is read: whether an act starts at t = 0, on a condition
+//! or never, and whether a `ParameterCondition` holds (nothing changes a parameter during
+//! a run).
 
 use super::super::error::OscError;
 use super::super::xml::{child, children, Xml};
 use super::compare;
 use roxmltree::Node;
 
-/// Checks an act's triggers, and whether it starts (`false`: it never does): it has no stop
-/// trigger that can fire (an empty one, with no condition group, never does: a trigger is
-/// true when one of its groups is), and starts at t = 0: with no start trigger, an empty
-/// one (no condition group: esmini starts such an act at once), or one with a condition
-/// group every condition of which holds from the first step (a simulation time greater
-/// than a time at most 0, or equal to 0, or a `ParameterCondition` that holds, with no
-/// delay). It never starts when each of its groups holds a `ParameterCondition` that does
-/// not hold ([`never_fires`]).
-pub(super) fn act_trigger(xml: &Xml, act: Node) -> Result<bool, OscError> {
+/// When an act starts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum ActStart {
+    /// At t = 0, with the run.
+    AtOnce,
+    /// The first step its start trigger holds: its events are judged from then on.
+    OnCondition,
+    /// Never (each of its trigger's groups holds a `ParameterCondition` that does not).
+    Never,
+}
+
+/// Checks an act's triggers, and says when it starts: it has no stop trigger that can fire
+/// (an empty one, with no condition group, never does: a trigger is true when one of its
+/// groups is); it starts at t = 0 with no start trigger, an empty one (no condition group:
+/// esmini starts such an act at once), or one with a condition group every condition of
+/// which holds from the first step (a simulation time greater than a time at most 0, or
+/// equal to 0, or a `ParameterCondition` that holds, with no delay). It never starts when
+/// each of its groups holds a `ParameterCondition` that does not hold ([`never_fires`]);
+/// else it starts on its trigger's condition.
+pub(super) fn act_trigger(xml: &Xml, act: Node) -> Result<ActStart, OscError> {
     if let Some(stop) = child(act, "StopTrigger").filter(|s| child(*s, "ConditionGroup").is_some())
     {
         return Err(xml.unsupported(
@@ -24,9 +36,9 @@ pub(super) fn act_trigger(xml: &Xml, act: Node) -> Result<bool, OscError> {
         ));
     }
     let Some(trigger) = child(act, "StartTrigger") else {
-        return Ok(true);
+        return Ok(ActStart::AtOnce);
     };
-    let mut not_at_start = None;
+    let mut on_condition = false;
     let (mut groups, mut never) = (0, 0);
     for group in children(trigger, "ConditionGroup") {
         groups += 1;
@@ -40,22 +52,34 @@ pub(super) fn act_trigger(xml: &Xml, act: Node) -> Result<bool, OscError> {
         }
         let mut all = true;
         for c in conditions {
-            if !holds_from_the_start(xml, c)? {
-                all = false;
-                not_at_start.get_or_insert(c);
-            }
+            all &= holds_from_the_start(xml, c)?;
         }
         if all {
-            return Ok(true);
+            return Ok(ActStart::AtOnce);
         }
+        on_condition = true;
     }
-    if groups > 0 && never == groups {
-        return Ok(false);
-    }
-    match not_at_start {
-        None => Ok(true),
-        Some(c) => Err(xml.at(c, "<Act> starts on a condition: carfollow's acts start at t = 0 (put the condition on the events)")),
-    }
+    Ok(if groups > 0 && never == groups {
+        ActStart::Never
+    } else if on_condition {
+        ActStart::OnCondition
+    } else {
+        ActStart::AtOnce
+    })
+}
+
+/// The start trigger of the act `node` is in (or is), when that act starts on a condition.
+pub(super) fn conditional_start<'a, 'b>(
+    xml: &Xml,
+    node: Node<'a, 'b>,
+) -> Result<Option<Node<'a, 'b>>, OscError> {
+    let Some(act) = node.ancestors().find(|a| a.has_tag_name("Act")) else {
+        return Ok(None);
+    };
+    Ok(match act_trigger(xml, act)? {
+        ActStart::OnCondition => child(act, "StartTrigger"),
+        _ => None,
+    })
 }
 
 /// Whether a condition of an act's start trigger holds from the first step: a simulation
