@@ -249,7 +249,7 @@ fn every_refusal_names_the_file_line_and_element() {
     let lane_m1 = r#"<lane id="-1" type="driving" level= "false">"#;
     let cases: Vec<(&str, String, &str, &str)> = vec![
         ("junction", base.replace("</OpenDRIVE>", "<junction id=\"9\" name=\"j\"></junction>\n</OpenDRIVE>"), "<junction", "junctions are refused"),
-        ("link", base.replace("<link>\n        </link>", "<link><successor elementType=\"road\" elementId=\"2\" contactPoint=\"start\"/></link>"), "<successor", "link to another road"),
+        ("link", base.replace("<link>\n        </link>", "<link><successor elementType=\"road\" elementId=\"2\" contactPoint=\"start\"/></link>"), "<successor", "the file holds no road 2"),
         ("lht", base.replace("junction=\"-1\">", "junction=\"-1\" rule=\"LHT\">"), "<road ", "left-hand traffic"),
         ("offset", base.replace("<laneSection s=", "<laneOffset s=\"0\" a=\"0\" b=\"0.5\" c=\"0\" d=\"0\"/>\n<laneSection s="), "<laneOffset", "changes by 0.500 m a metre"),
         ("steep", base.replace("<lateralProfile>", "<elevationProfile><elevation s=\"0\" a=\"0\" b=\"0.3\" c=\"0\" d=\"0\"/></elevationProfile>\n<lateralProfile>"), "<elevation ", "grade at station 0.00 m is 30.0 %"),
@@ -259,7 +259,7 @@ fn every_refusal_names_the_file_line_and_element() {
         ("nan", base.replacen(arc, r#"<arc curvature="NaN"/>"#, 1), "<arc curvature=\"NaN\"", "finite number"),
         ("width", base.replacen(lane_m1, &format!("{lane_m1}\n<width sOffset=\"100\" a=\"3.07\" b=\"0.01\" c=\"0\" d=\"0\"/>"), 1), "sOffset=\"100\"", "widths that vary"),
         ("border", base.replacen(lane_m1, &format!("{lane_m1}\n<border sOffset=\"0\" a=\"3\" b=\"0\" c=\"0\" d=\"0\"/>"), 1), "<border", "borders are refused"),
-        ("second road", base.replace("</OpenDRIVE>", "<road name=\"x\" length=\"10\" id=\"2\" junction=\"-1\"></road>\n</OpenDRIVE>"), "id=\"2\" junction", "a second road"),
+        ("second road", base.replace("</OpenDRIVE>", "<road name=\"x\" length=\"10\" id=\"2\" junction=\"-1\"></road>\n</OpenDRIVE>"), "id=\"2\" junction", "a road the route does not drive"),
         ("kink", base.replacen("hdg=\"1.7500000000124150e-01\"", "hdg=\"1.8e-01\"", 1), "hdg=\"1.8e-01\"", "from where the one before ends"),
         ("unknown", base.replace("<planView>", "<planView><fancy/>"), "<fancy", "plan view holds geometries"),
         ("xml", base.replace("</planView>", "</planVew>"), "</planVew>", "not well-formed XML"),

@@ -4,6 +4,7 @@
 //! line and the element; nothing is dropped silently. The scenario field
 //! `route.opendrive` uses it; an OpenSCENARIO reader's `RoadNetwork/LogicFile` can too.
 
+mod chain;
 mod error;
 mod geometry;
 mod lanes;
@@ -12,6 +13,7 @@ mod parse;
 mod road;
 mod write;
 
+pub use chain::ChainedRoad;
 pub use error::OpenDriveError;
 pub use geometry::geometry_end;
 pub use model::{

@@ -68,10 +68,14 @@ pub struct Road {
 /// A road's `<predecessor>` or `<successor>`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RoadLink {
+    /// Whether it is the `<successor>` (else the `<predecessor>`).
+    pub successor: bool,
     /// `road` or `junction`.
     pub element_type: String,
     /// The id it links to.
     pub element_id: String,
+    /// Which end of the road linked to meets this one (`start` or `end`), if given.
+    pub contact_point: Option<String>,
     /// Where it stands.
     pub at: Place,
 }

@@ -196,8 +196,10 @@ impl<'a, 'input> Reader<'a, 'input> {
         for l in self.elements(node) {
             match l.tag_name().name() {
                 "predecessor" | "successor" => links.push(RoadLink {
+                    successor: l.tag_name().name() == "successor",
                     element_type: l.attribute("elementType").unwrap_or("road").to_string(),
                     element_id: l.attribute("elementId").unwrap_or_default().to_string(),
+                    contact_point: l.attribute("contactPoint").map(str::to_string),
                     at: self.place(l),
                 }),
                 "userData" => {}

@@ -1,9 +1,12 @@
-//! One road of a file as carfollow's route: its reference line's geometries as route
-//! segments, laid from carfollow's origin heading +x (the road's station 0 is the route's
-//! start), and its lanes. Whatever the subset cannot follow is refused here.
+//! A road of a file, or a chain of roads linked end to start ([`super::chain`]), as
+//! carfollow's route: the reference lines' geometries as route segments, laid from
+//! carfollow's origin heading +x (the first road's station 0 is the route's start), each
+//! road's stations following the one before's, and the lanes, the same on every road.
+//! Whatever the subset cannot follow is refused here.
 
+use super::chain::{chain, starts, ChainedRoad};
 use super::geometry::{geometry_end, segment};
-use super::model::{OpenDrive, Poly3Record, Road};
+use super::model::{OpenDrive, Place, Poly3Record, Road};
 use super::OpenDriveError;
 use sim_render::RouteSegment;
 
@@ -20,8 +23,10 @@ const STATION_M: f64 = 1e-3;
 /// A road as carfollow drives it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ImportedRoad {
-    /// The road's `id`.
+    /// The (first) road's `id`.
     pub id: String,
+    /// The roads the route drives, in order, each with where it starts along the route.
+    pub roads: Vec<ChainedRoad>,
     /// The reference line, in carfollow's segments.
     pub segments: Vec<RouteSegment>,
     /// Driving lanes each way.
@@ -45,7 +50,8 @@ pub struct ImportedRoad {
     pub unapplied: Vec<String>,
 }
 
-/// The road `road_id` of `file` (the file's one road when `None`), as carfollow's route;
+/// The road `road_id` of `file` (without one, the file's one road, or the first of its
+/// chain of roads), and the roads after it along its chain, as carfollow's route;
 /// `check_segment` says what is wrong with a segment carfollow cannot drive (too tight a
 /// curve), if anything.
 pub fn import(
@@ -54,41 +60,39 @@ pub fn import(
     check_segment: impl Fn(&RouteSegment) -> Option<String>,
 ) -> Result<ImportedRoad, OpenDriveError> {
     let path = &file.path;
-    let road = match road_id {
-        Some(id) => {
-            file.roads
-                .iter()
-                .find(|r| r.id == id)
-                .ok_or_else(|| OpenDriveError::Refused {
-                    path: path.clone(),
-                    line: 1,
-                    element: "<OpenDRIVE>".into(),
-                    reason: format!("no road with id {id:?}"),
-                })?
+    let roads = chain(file, road_id)?;
+    let mut segments = Vec::new();
+    let mut end: Option<[f64; 3]> = None;
+    for road in &roads {
+        refuse_what_the_road_cannot_be(road, path)?;
+        if let (Some(e), Some(g)) = (end, road.geometries.first()) {
+            joins(e, g, path, "its road starts", "the road before")?;
         }
-        None => file.roads.first().ok_or_else(|| OpenDriveError::Refused {
-            path: path.clone(),
-            line: 1,
-            element: "<OpenDRIVE>".into(),
-            reason: "the file holds no road".into(),
-        })?,
-    };
-    if let Some(other) = file.roads.iter().find(|r| r.id != road.id) {
-        return Err(other.at.refuse(
-            path,
-            "a second road is refused: carfollow's route follows one road, and draws no other",
-        ));
+        segments.extend(self::segments(road, path, &check_segment)?);
+        end = road.geometries.last().map(geometry_end);
     }
-    refuse_what_the_road_cannot_be(road, path)?;
-    let segments = segments(road, path, check_segment)?;
-    let layout = super::lanes::lanes(road, path)?;
-    let elevation = elevation(road, path)?;
-    let lane_offset = lane_offset(road, &segments, &layout, path)?;
-    // The road's objects, signals and surface data: scenery, which carfollow places and
+    let layout = super::lanes::lanes(roads[0], path)?;
+    for road in &roads[1..] {
+        let got = super::lanes::lanes(road, path)?;
+        if got != layout {
+            return Err(road.at.refuse(
+                path,
+                format!(
+                    "its lanes ({got}) differ from road {}'s ({layout}): carfollow's road keeps \
+                     its lanes along its length",
+                    roads[0].id
+                ),
+            ));
+        }
+    }
+    let chained = starts(&roads);
+    let elevation = elevation(&roads, &chained, path)?;
+    let lane_offset = lane_offset(&roads, &chained, &segments, &layout, path)?;
+    // The roads' objects, signals and surface data: scenery, which carfollow places and
     // draws its own of; said, not refused.
-    let unapplied = road
-        .scenery
+    let unapplied = roads
         .iter()
+        .flat_map(|r| &r.scenery)
         .map(|item| {
             format!(
                 "{}:{}: {}: the road's objects, signals and surface data are not drawn (carfollow places and draws its own scenery)",
@@ -99,7 +103,8 @@ pub fn import(
         })
         .collect();
     Ok(ImportedRoad {
-        id: road.id.clone(),
+        id: roads[0].id.clone(),
+        roads: chained,
         segments,
         lanes: layout.lanes,
         lane_width_m: layout.lane_width_m,
@@ -112,52 +117,93 @@ pub fn import(
     })
 }
 
-/// The road's `<elevation>` records as `route.elevation`'s `[s, a, b, c, d]`: none when
-/// the road is level (no record, or one constant height throughout: flat ground), else
-/// every record, checked as `route.elevation` is and refused at its line.
-fn elevation(road: &Road, path: &std::path::Path) -> Result<Vec<[f64; 5]>, OpenDriveError> {
-    let level = road.elevations.first().map_or(0.0, |r| r.coefficients[0]);
-    let constant = road.elevations.iter().all(|r| {
-        let [a, b, c, d] = r.coefficients;
-        a == level && b == 0.0 && c == 0.0 && d == 0.0
-    });
-    if constant {
+/// Refuses geometry `g` unless it starts where the one before ended (`end`: x, y, heading)
+/// within [`JOIN_POSITION_M`] and [`JOIN_HEADING_RAD`]; `what` and `before` name the two.
+fn joins(
+    end: [f64; 3],
+    g: &super::model::Geometry,
+    path: &std::path::Path,
+    what: &str,
+    before: &str,
+) -> Result<(), OpenDriveError> {
+    let [x, y, hdg] = end;
+    let gap = (g.x - x).hypot(g.y - y);
+    let turn = angle_between(g.hdg, hdg);
+    if gap > JOIN_POSITION_M || turn > JOIN_HEADING_RAD {
+        return Err(g.at.refuse(
+            path,
+            format!(
+                "{what} {gap:.3e} m and {turn:.3e} rad from where {before} ends: at most \
+                 {JOIN_POSITION_M} m and {JOIN_HEADING_RAD} rad"
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// The records of each road of a chain (`poly3` of each) as one route's `[s, a, b, c, d]`,
+/// each road's stations moved on by where it starts, with the place of each: a road with
+/// none is at 0 from its start (OpenDRIVE's default), said by a record of 0 at its start.
+fn chained_records<'a>(
+    roads: &'a [&Road],
+    chained: &[ChainedRoad],
+    poly3: impl Fn(&'a Road) -> &'a [Poly3Record],
+) -> (Vec<[f64; 5]>, Vec<&'a Place>) {
+    let (mut records, mut places) = (Vec::new(), Vec::new());
+    for (road, c) in roads.iter().zip(chained) {
+        let own = poly3(road);
+        if own.is_empty() && roads.len() > 1 {
+            records.push([c.start_m, 0.0, 0.0, 0.0, 0.0]);
+            places.push(&road.at);
+        }
+        for r in own {
+            let [a, b, cc, d] = r.coefficients;
+            records.push([c.start_m + r.s, a, b, cc, d]);
+            places.push(&r.at);
+        }
+    }
+    (records, places)
+}
+
+/// The roads' `<elevation>` records as `route.elevation`'s `[s, a, b, c, d]`: none when
+/// the route is level (no record, or one constant height throughout: flat ground), else
+/// every record (each road's moved on by where it starts), checked as `route.elevation` is
+/// and refused at its line.
+fn elevation(
+    roads: &[&Road],
+    chained: &[ChainedRoad],
+    path: &std::path::Path,
+) -> Result<Vec<[f64; 5]>, OpenDriveError> {
+    let (records, places) = chained_records(roads, chained, |r| &r.elevations);
+    let level = records.first().map_or(0.0, |r| r[1]);
+    if records
+        .iter()
+        .all(|r| r[1] == level && r[2] == 0.0 && r[3] == 0.0 && r[4] == 0.0)
+    {
         return Ok(Vec::new());
     }
-    let records: Vec<[f64; 5]> = road
-        .elevations
-        .iter()
-        .map(|r| {
-            let [a, b, c, d] = r.coefficients;
-            [r.s, a, b, c, d]
-        })
-        .collect();
-    match crate::scenario::elevation_problem(&records, road.length) {
-        Some((i, problem)) => Err(road.elevations[i].at.refuse(path, problem)),
+    let length: f64 = chained.iter().map(|c| c.length_m).sum();
+    match crate::scenario::elevation_problem(&records, length) {
+        Some((i, problem)) => Err(places[i].refuse(path, problem)),
         None => Ok(records),
     }
 }
 
-/// The road's `<laneOffset>` records as `route.lane_offset`'s `[s, a, b, c, d]`: none when
-/// every record is 0, else every record, checked on the road its segments and lanes make
-/// as `route.lane_offset` is and refused at its line.
+/// The roads' `<laneOffset>` records as `route.lane_offset`'s `[s, a, b, c, d]`: none when
+/// every record is 0, else every record (each road's moved on by where it starts), checked
+/// on the road its segments and lanes make as `route.lane_offset` is and refused at its
+/// line.
 fn lane_offset(
-    road: &Road,
+    roads: &[&Road],
+    chained: &[ChainedRoad],
     segments: &[RouteSegment],
     layout: &super::lanes::Layout,
     path: &std::path::Path,
 ) -> Result<Vec<[f64; 5]>, OpenDriveError> {
-    if road.lane_offsets.iter().all(|r| r.coefficients == [0.0; 4]) {
+    let (records, places) = chained_records(roads, chained, |r| &r.lane_offsets);
+    if records.iter().all(|r| r[1..] == [0.0; 4]) {
         return Ok(Vec::new());
     }
-    let records: Vec<[f64; 5]> = road
-        .lane_offsets
-        .iter()
-        .map(|r| {
-            let [a, b, c, d] = r.coefficients;
-            [r.s, a, b, c, d]
-        })
-        .collect();
     let spec = sim_render::RouteSpec {
         segments: segments.to_vec(),
         intersections_m: Vec::new(),
@@ -169,13 +215,13 @@ fn lane_offset(
         lane_offset: records,
     };
     match crate::scenario::lane_offset_problem(&spec) {
-        Some((i, problem)) => Err(road.lane_offsets[i].at.refuse(path, problem)),
+        Some((i, problem)) => Err(places[i].refuse(path, problem)),
         None => Ok(spec.lane_offset),
     }
 }
 
-/// Refuses junctions, links to other roads, left-hand traffic, a road that is not flat
-/// across (superelevation).
+/// Refuses a road in a junction, left-hand traffic, a road that is not flat across
+/// (superelevation); its links are the chain's ([`super::chain`]).
 fn refuse_what_the_road_cannot_be(
     road: &Road,
     path: &std::path::Path,
@@ -188,15 +234,6 @@ fn refuse_what_the_road_cannot_be(
             path,
             "left-hand traffic is refused: carfollow drives on the right",
         ));
-    }
-    for link in &road.links {
-        // A road that links to itself is a loop: the route drives it once.
-        if !(link.element_type == "road" && link.element_id == road.id) {
-            return Err(link.at.refuse(
-                path,
-                "a link to another road or a junction is refused: carfollow's route follows one road",
-            ));
-        }
     }
     let zero = |r: &Poly3Record| r.coefficients.iter().all(|&c| c == 0.0);
     if let Some(r) = road.superelevations.iter().find(|r| !zero(r)) {
@@ -236,18 +273,8 @@ fn segments(
                 ),
             ));
         }
-        if let Some([x, y, hdg]) = end {
-            let gap = (g.x - x).hypot(g.y - y);
-            let turn = angle_between(g.hdg, hdg);
-            if gap > JOIN_POSITION_M || turn > JOIN_HEADING_RAD {
-                return Err(g.at.refuse(
-                    path,
-                    format!(
-                        "its geometry starts {gap:.3e} m and {turn:.3e} rad from where the one \
-                         before ends: at most {JOIN_POSITION_M} m and {JOIN_HEADING_RAD} rad"
-                    ),
-                ));
-            }
+        if let Some(e) = end {
+            joins(e, g, path, "its geometry starts", "the one before")?;
         }
         let seg = segment(g);
         if let Some(problem) = check_segment(&seg) {

@@ -24,8 +24,10 @@ pub struct RoadLanes {
     /// Its first heading in the file's frame, radians counter-clockwise from +x (carfollow's
     /// +x): for the sun's compass.
     pub heading_rad: f64,
-    /// The road's id.
+    /// The (first) road's id.
     pub id: String,
+    /// The roads the route drives, in order, each with where it starts along the route.
+    pub roads: Vec<crate::opendrive::ChainedRoad>,
     /// Driving lanes on the right of the reference line.
     pub lanes: u32,
     /// Each lane's width, m (lane 1's when `lane_widths_m` is given).
@@ -348,19 +350,32 @@ fn lane_at(
         })
 }
 
-fn check_road(xml: &Xml, road: &RoadLanes, node: Node) -> Result<(), OscError> {
+/// The station along the route of `s_m` on the road `node`'s `roadId` names: one of the
+/// route's roads, `s_m` within its length.
+fn route_station(xml: &Xml, road: &RoadLanes, node: Node, s_m: f64) -> Result<f64, OscError> {
     let id = xml.req(node, "roadId")?;
-    if id != road.id {
+    let tag = node.tag_name().name();
+    let Some(on) = road.roads.iter().find(|r| r.id == id) else {
+        let ids: Vec<&str> = road.roads.iter().map(|r| r.id.as_str()).collect();
+        let alone = if ids.len() == 1 { " alone" } else { "" };
         return Err(xml.at(
             node,
             format!(
-                "<{} roadId=\"{id}\">: carfollow's route is road {} alone",
-                node.tag_name().name(),
-                road.id
+                "<{tag} roadId=\"{id}\">: carfollow's route is road {}{alone}",
+                ids.join(", ")
+            ),
+        ));
+    };
+    if road.roads.len() > 1 && s_m > on.length_m + 1e-6 {
+        return Err(xml.at(
+            node,
+            format!(
+                "<{tag}>: s = {s_m} m is past the end of road {id} ({} m long)",
+                on.length_m
             ),
         ));
     }
-    Ok(())
+    Ok(on.start_m + s_m)
 }
 
 fn check_s(xml: &Xml, node: Node, s: f64) -> Result<f64, OscError> {
@@ -378,8 +393,8 @@ fn check_s(xml: &Xml, node: Node, s: f64) -> Result<f64, OscError> {
 
 /// A `LanePosition` or `RoadPosition`.
 fn absolute_position(xml: &Xml, road: &RoadLanes, p: Node) -> Result<Placed, OscError> {
-    check_road(xml, road, p)?;
     let s_m = check_s(xml, p, xml.num(p, "s")?)?;
+    let s_m = route_station(xml, road, p, s_m)?;
     let (lane, offset_m) = if p.tag_name().name() == "LanePosition" {
         let id = xml.req(p, "laneId")?;
         let id = id
@@ -474,8 +489,8 @@ pub fn point_on_road(xml: &Xml, road: &RoadLanes, p: Node) -> Result<(f64, u32, 
             "carfollow's points are on the road (LanePosition, RoadPosition, WorldPosition)",
         ));
     }
-    check_road(xml, road, p)?;
     let s_m = check_s(xml, p, xml.num(p, "s")?)?;
+    let s_m = route_station(xml, road, p, s_m)?;
     if name == "LanePosition" {
         let id = xml.req(p, "laneId")?;
         let id = id

@@ -50,6 +50,7 @@ pub fn read_road(xml: &Xml, dir: &Path) -> Result<Road, OscError> {
             heading_rad: origin[2],
             reference: ReferenceLine::new(origin, road.segments.clone()),
             id: road.id,
+            roads: road.roads,
             lanes: road.lanes,
             lane_width_m: road.lane_width_m,
             lane_widths_m: road.lane_widths_m,

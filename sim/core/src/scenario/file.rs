@@ -125,8 +125,9 @@ pub struct RouteFile {
 pub struct OpenDriveFile {
     /// The `.xodr` file, relative to the scenario file's folder (as `tracker.target` is).
     pub file: String,
-    /// The `id` of the road to follow (default: the file's one road). The file must hold
-    /// that road alone.
+    /// The `id` of the road to follow (default: the file's one road, or the first of its
+    /// chain of roads, each linked to the next end to start). The file must hold that road
+    /// and the roads it leads into alone.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub road: Option<String>,
 }
