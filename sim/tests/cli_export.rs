@@ -259,6 +259,15 @@ fn asams_quality_checker_finds_no_issue() {
         files.push(xosc.with_extension("xodr"));
         files.push(xosc);
     }
+    // An event judged once a latched condition holds, written in an act of its own.
+    let latched = "actors.0.events.0.trigger={ all = [{ gap_m = 30.0, to = \"chase\", \
+                   latched = true }, { time_gap_s = 1.0, to = \"chase\" }] }";
+    let xosc = export("cut-in", &dir.path().join("latched"), &[latched]);
+    assert!(std::fs::read_to_string(&xosc)
+        .unwrap()
+        .contains("<Act name=\"cut-in-act\">"));
+    files.push(xosc.with_extension("xodr"));
+    files.push(xosc);
     let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/qc/asam_qc.py");
     let o = Command::new(python)
         .arg(script)
@@ -381,6 +390,25 @@ fn triggers_of_several_conditions_round_trip_exactly() {
             && before.contains("lead/edge:ended")
             && before.contains("lead/wave:ended")
     );
+    assert!(before == after, "frames.csv of the round trip differs");
+}
+
+/// An event judged once a latched condition holds goes out in an act of its own, which
+/// that condition starts, its own trigger the rest; it comes back as it went: the round
+/// trip runs bit for bit.
+#[test]
+fn a_latched_member_round_trips_as_an_acts_start() {
+    let [written, before, after] = round_trip(
+        "trigger = { gap_m = 12.0, to = \"chase\" }\n",
+        "trigger = { all = [{ gap_m = 30.0, to = \"chase\", latched = true }, \
+         { time_gap_s = 1.0, to = \"chase\" }] }\n",
+        "",
+        "16",
+    );
+    for expected in ["<Act name=\"cut-in-act\">", "name=\"cut-in-act-start\""] {
+        assert!(written.contains(expected), "{expected} not in:\n{written}");
+    }
+    assert!(before.contains("van/cut-in:started"));
     assert!(before == after, "frames.csv of the round trip differs");
 }
 
