@@ -211,3 +211,27 @@ fn a_wait_for_an_ego_event_is_refused_saying_why() {
         "{e}"
     );
 }
+
+/// The storyboard's `StopTrigger` waiting for the start of an act that starts on a
+/// condition (here 2 s after the act, which starts at 3 s) ends the run then: its one
+/// condition, latched, goes in an `all` of its own.
+#[test]
+fn a_stop_on_a_conditional_acts_start_waits_for_its_trigger() {
+    let stop = r#"<Condition name="end" delay="0" conditionEdge="rising">
+        <ByValueCondition><SimulationTimeCondition value="25" rule="greaterThan"/></ByValueCondition>
+      </Condition>"#;
+    let act = time_condition(3.0, "greaterThan", 0.0);
+    let (dir, path) = mutant(move |text| {
+        let start = format!("<Condition name=\"start\" delay=\"0\" conditionEdge=\"none\">\n            <ByValueCondition>{ACT_START}</ByValueCondition>\n          </Condition>");
+        assert!(text.contains(stop), "the stop trigger is not as written");
+        text.replace(&start, &act).replace(
+            stop,
+            &format!(
+                "{stop}\n    </ConditionGroup><ConditionGroup>\n      <Condition name=\"after-act\" delay=\"2\" conditionEdge=\"none\"><ByValueCondition><StoryboardElementStateCondition storyboardElementType=\"act\" storyboardElementRef=\"CutInAct\" state=\"startTransition\"/></ByValueCondition></Condition>"
+            ),
+        )
+    });
+    let frames = Frames::parse(&frames_of(&path, &dir.path().join("a"), &[]));
+    let last = frames.num(frames.rows.last().unwrap(), "t_s");
+    assert!((last - 5.0).abs() < 0.1, "the run ended at {last} s");
+}

@@ -35,9 +35,11 @@ impl Context<'_, '_> {
             let mut all = children(group, "Condition")
                 .map(|c| self.condition(c, &owner))
                 .collect::<Result<Vec<_>, _>>()?;
+            // One condition is the trigger, unless latched (a wait for the start of an act
+            // that starts on a condition): only a member latches.
             let trigger = match all.len() {
                 0 => return Err(self.xml.at(group, "<ConditionGroup> has no <Condition>")),
-                1 => all.remove(0),
+                1 if !all[0].latched => all.remove(0),
                 _ => TriggerSpec {
                     all: Some(all),
                     ..TriggerSpec::default()
