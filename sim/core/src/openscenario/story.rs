@@ -338,9 +338,9 @@ impl Context<'_, '_> {
             None if own.latched => Vec::new(),
             None => return Ok(own),
         };
-        let splice = own.all.is_some() && !(own.rising || own.falling || own.latched);
-        match (splice, own.all.clone()) {
-            (true, Some(all)) => members.extend(all),
+        let splice = !(own.rising || own.falling || own.latched);
+        match own.all {
+            Some(all) if splice => members.extend(all),
             _ => members.push(own),
         }
         Ok(TriggerSpec {

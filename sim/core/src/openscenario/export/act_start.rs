@@ -11,19 +11,9 @@ use vehicle::TriggerSpec;
 pub(super) fn act_start(t: &TriggerSpec) -> Option<(TriggerSpec, TriggerSpec)> {
     let members = t.all.as_ref().filter(|_| !(t.rising || t.falling))?;
     let (first, rest) = members.split_first()?;
-    let mut others_latched = false;
-    for m in rest {
-        m.walk("", &mut |_, inner| others_latched |= inner.latched);
-    }
-    let mut first_inner_latched = false;
-    for (kind, inner) in [("all", &first.all), ("any", &first.any)] {
-        for (k, m) in inner.iter().flatten().enumerate() {
-            m.walk(&format!("{kind}[{k}]"), &mut |_, i| {
-                first_inner_latched |= i.latched
-            });
-        }
-    }
-    if !first.latched || others_latched || first_inner_latched {
+    let mut latched = 0;
+    t.walk("", &mut |_, m| latched += usize::from(m.latched));
+    if !first.latched || latched != 1 {
         return None;
     }
     let start = TriggerSpec {

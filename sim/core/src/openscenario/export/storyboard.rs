@@ -97,12 +97,9 @@ impl Story {
         }
         let mut acts = Vec::new();
         for g in &mut groups {
-            let (acted, events) = std::mem::take(&mut g.events)
-                .into_iter()
-                .partition::<Vec<_>, _>(|(_, e)| act_start(&e.trigger).is_some());
-            g.events = events;
-            for (name, mut event) in acted {
+            for (name, mut event) in std::mem::take(&mut g.events) {
                 let Some((start, own)) = act_start(&event.trigger) else {
+                    g.events.push((name, event));
                     continue;
                 };
                 event.trigger = own;
