@@ -204,6 +204,74 @@ fn esminis_slow_lead_vehicle_imports_as_a_far_start() {
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
 }
 
+/// esmini's `straight_500m.xosc`: the ego at 72 km/h, a car standing 296.6 m ahead, beyond
+/// the renderer's reach. By default that car is no lead but a vehicle in the chase's path
+/// (said in one warning); the chase cruises with a lens whose search reaches as far as it
+/// needs to stop (25 mm; through the default 8 mm lens the search finds a car's back from
+/// 25 m only, and the chase hit it at 72 km/h in both modes), finds it and stops behind it
+/// without contact in both modes. Named as the lead, it is refused as before.
+#[test]
+fn a_car_standing_beyond_the_renderers_reach_is_found_and_stopped_for() {
+    let xosc = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("core/tests/data/openscenario/esmini/xosc/straight_500m.xosc");
+    let o = carfollow(&["check", xosc.to_str().unwrap(), "--lead", "Target"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let e = stderr(&o);
+    assert_eq!(e.lines().count(), 1, "{e}");
+    assert!(
+        e.contains("296.6 m behind the lead `Target`") && e.contains("straight_500m.xosc:55"),
+        "{e}"
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let toml = dir.path().join("straight.toml");
+    let o = carfollow(&[
+        "import",
+        xosc.to_str().unwrap(),
+        "-o",
+        toml.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let e = stderr(&o);
+    let said = "no lead (the nearest vehicle ahead in its lane, `Target`, starts 296.6 m ahead";
+    assert_eq!(e.matches(said).count(), 1, "{e}");
+    let text = std::fs::read_to_string(&toml).unwrap();
+    for line in [
+        "start = \"search\"",
+        "focal_length_mm = 25.0",
+        "cruise_speed_mps = 20.0",
+    ] {
+        assert!(text.contains(line), "{line} not in {text}");
+    }
+    assert!(!text.contains("[lead]"), "{text}");
+    for mode in ["paper", "robust"] {
+        let out = dir.path().join(mode);
+        let o = carfollow(&[
+            "run",
+            toml.to_str().unwrap(),
+            "--quiet",
+            "--out",
+            out.to_str().unwrap(),
+            "--set",
+            &format!("tracker.mode={mode}"),
+        ]);
+        assert!(matches!(o.status.code(), Some(0 | 1)), "{}", stderr(&o));
+        let rows = frames(&out);
+        let first = rows
+            .iter()
+            .position(|r| r["tracked_vehicle"] == "Target")
+            .unwrap_or_else(|| panic!("{mode}: the standing car is never held"));
+        let range: f64 = rows[first]["path_gap_m"].parse().unwrap();
+        assert!(range > 50.0, "{mode}: first held {range} m off");
+        assert!(
+            rows.iter().all(|r| r["collision"] == "0"),
+            "{mode}: the chase hit the standing car"
+        );
+        let last = rows.last().unwrap();
+        let speed: f64 = last["chase_speed_mps"].parse().unwrap();
+        assert!(speed < 0.1, "{mode}: still moving at {speed} m/s");
+    }
+}
+
 /// The board's model at twice the board's scale (its inner frame, exactly half its outer,
 /// on the board's outer frame) fits where the board itself is beyond the search's reach:
 /// Euro NCAP's CCRm at 50 km/h through the 16 mm lens, 70 m behind, in robust mode. The

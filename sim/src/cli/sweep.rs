@@ -71,8 +71,9 @@ pub struct SweepArgs {
     #[arg(long, value_name = "NAME")]
     pub ego: Option<String>,
     /// For .xosc scenarios: the entity the chase follows (default: the nearest vehicle
-    /// ahead of the ego in its lane at t = 0, or none if none is); `none`: no lead, the
-    /// chase cruising until it finds a vehicle in its path.
+    /// ahead of the ego in its lane at t = 0, or none if none is or it starts beyond the
+    /// 250 m the renderer draws); `none`: no lead, the chase cruising until it finds a
+    /// vehicle in its path.
     #[arg(long, value_name = "NAME")]
     pub lead: Option<String>,
     /// No progress bar, and no progress lines off a terminal.

@@ -107,6 +107,39 @@ fn focal_length_mm(
     (f * 10.0).round() / 10.0
 }
 
+/// The longest lens a chase with no lead is given, mm: through it a car's back still fits
+/// the frame at the gap keeper's standstill gap.
+const MAX_CRUISE_FOCAL_MM: f64 = 25.0;
+/// The time from a vehicle entering the search's reach to the chase's braking on it, s: a
+/// few frames of search and the first measurements, the loop's latency and the gap
+/// keeper's reaction time.
+const ACQUIRE_TO_BRAKE_S: f64 = 1.0;
+
+/// The lens, mm, of a chase with no lead cruising at `speed_mps`: one whose whole-image
+/// search ([`tracker::robust::acquire_scales`]) reaches a vehicle's back as far as the
+/// chase needs to stop behind it, in normal braking, from the moment the search could
+/// find it ([`ACQUIRE_TO_BRAKE_S`] at that speed, then the gap keeper's largest
+/// deceleration, to its standstill gap); the default 8 mm lens where that reaches far
+/// enough, and at most [`MAX_CRUISE_FOCAL_MM`]. The default lens finds a vehicle's back
+/// of 10 m nominal range from 25 m only, from which a chase at 72 km/h cannot stop.
+fn cruise_focal_length_mm(speed_mps: f64) -> f64 {
+    let gap_keeper = vehicle::GapKeeperConfig::default();
+    let standstill_m = match gap_keeper.policy {
+        vehicle::GapPolicy::TimeHeadway {
+            standstill_gap_m, ..
+        } => f64::from(standstill_gap_m),
+        _ => f64::from(gap_keeper.min_gap_m),
+    };
+    let decel = f64::from(gap_keeper.max_decel_mps2);
+    let needed_m =
+        speed_mps * ACQUIRE_TO_BRAKE_S + speed_mps * speed_mps / (2.0 * decel) + standstill_m;
+    let nominal_m = crate::parse_target(crate::BUILTIN_TARGET_TEXT, Path::new(TARGET))
+        .map_or(10.0, |t| t.nominal_range_m());
+    let reach_m = nominal_m / tracker::robust::ACQUIRE_SCALES[0];
+    let f = (DEFAULT_FOCAL_MM * needed_m / reach_m).clamp(DEFAULT_FOCAL_MM, MAX_CRUISE_FOCAL_MM);
+    (f * 10.0).round() / 10.0
+}
+
 /// carfollow's names for the vehicles: `chase`, `lead`, and each other vehicle's name with
 /// what an actor's name may not hold (anything but letters, digits, `-` and `_`) made
 /// `-`, unique.
@@ -136,38 +169,74 @@ fn carfollow_names(vehicles: &[Entity], ego: &str, lead: Option<&str>) -> Names 
 /// finds a vehicle in its path.
 pub const NO_LEAD: &str = "none";
 
+/// How far the chase's camera starts behind the lead's back, metres, for an ego placed at
+/// station `ego_s_m` and a lead at `lead_s_m` (the chase starts its camera `initial_gap_m`
+/// from the lead's rear bumper).
+fn camera_gap_m(ego_s_m: f64, lead_s_m: f64) -> f64 {
+    let camera_forward_m = f64::from(vehicle::CameraMount::default().forward_m);
+    let rear_bumper_m = f64::from(vehicle::VehicleParams::pickup().rear_bumper_x_m());
+    lead_s_m + rear_bumper_m - camera_forward_m - ego_s_m
+}
+
+/// The lead chosen, and, when the nearest vehicle ahead is not it because it starts beyond
+/// the renderer's reach, that vehicle's name and camera gap.
+struct LeadChoice {
+    lead: Option<String>,
+    beyond_reach: Option<(String, f64)>,
+}
+
 /// The lead: `given` ([`NO_LEAD`] for none), or the nearest vehicle ahead of the ego in
-/// its lane at t = 0, or none when no vehicle is.
+/// its lane at t = 0, or none when no vehicle is, or when that vehicle starts further ahead
+/// than the renderer draws ([`crate::MAX_INITIAL_GAP_M`]): it is then an actor in the
+/// chase's path, which the chase cruises towards until its tracker finds it, as esmini's
+/// ego approaches a far target.
 fn choose_lead(
     xml: &Xml,
     vehicles: &[Entity],
     init: &Init,
     ego: &str,
     given: Option<&str>,
-) -> Result<Option<String>, OscError> {
+) -> Result<LeadChoice, OscError> {
     let at_ego = init.placed[ego];
     match given {
-        Some(NO_LEAD) => return Ok(None),
+        Some(NO_LEAD) => {
+            return Ok(LeadChoice {
+                lead: None,
+                beyond_reach: None,
+            })
+        }
         Some(name) => {
             if name == ego || !vehicles.iter().any(|v| v.name == name) {
                 return Err(OscError::File {
                     path: xml.path.clone(),
                     message: format!(
-                        "--lead {name}: no vehicle of that name other than the ego (--lead                          {NO_LEAD} for no lead)"
+                        "--lead {name}: no vehicle of that name other than the ego (--lead {NO_LEAD} for no lead)"
                     ),
                 });
             }
-            return Ok(Some(name.to_string()));
+            return Ok(LeadChoice {
+                lead: Some(name.to_string()),
+                beyond_reach: None,
+            });
         }
         None => {}
     }
-    Ok(vehicles
+    let nearest = vehicles
         .iter()
         .filter(|v| v.name != ego)
         .filter_map(|v| init.placed.get(&v.name).map(|p| (v, p)))
         .filter(|(_, p)| p.lane == at_ego.lane && p.s_m > at_ego.s_m)
-        .min_by(|a, b| a.1.s_m.total_cmp(&b.1.s_m))
-        .map(|(v, _)| v.name.clone()))
+        .min_by(|a, b| a.1.s_m.total_cmp(&b.1.s_m));
+    Ok(match nearest {
+        Some((v, p)) if camera_gap_m(at_ego.s_m, p.s_m) > crate::MAX_INITIAL_GAP_M => LeadChoice {
+            lead: None,
+            beyond_reach: Some((v.name.clone(), camera_gap_m(at_ego.s_m, p.s_m))),
+        },
+        nearest => LeadChoice {
+            lead: nearest.map(|(v, _)| v.name.clone()),
+            beyond_reach: None,
+        },
+    })
 }
 
 /// What of the ego is read and not applied, for its one warning: its storyboard actions
@@ -513,10 +582,9 @@ fn behind_lead(
     warnings.push(format!(
         "the lead `{lead}` (a {lead_kind} in the file) is carfollow's lead vehicle, the pickup with the tracker's target board"
     ));
-    // The chase starts its camera `initial_gap_m` from the lead's rear bumper.
     let camera_forward_m = f64::from(vehicle::CameraMount::default().forward_m);
     let rear_bumper_m = f64::from(vehicle::VehicleParams::pickup().rear_bumper_x_m());
-    let gap_m = at_lead.s_m + rear_bumper_m - camera_forward_m - at_ego.s_m;
+    let gap_m = camera_gap_m(at_ego.s_m, at_lead.s_m);
     let ego_speed = speed(ego);
     let line = init.line.get(ego).copied().unwrap_or(1);
     let far = start_gap(xml, line, [ego, lead], gap_m, ego_speed, warnings)?;
@@ -563,28 +631,39 @@ fn behind_lead(
 }
 
 /// The chase's start with no lead: where the ego is placed (at `line`), cruising at its
-/// speed, `ego_speed`, with its tracker searching its path (said in a warning).
+/// speed, `ego_speed`, with its tracker searching its path (said in a warning, with why
+/// when the nearest vehicle ahead, `beyond_reach`, starts beyond the renderer's reach).
 fn without_lead(
     xml: &Xml,
     line: u32,
     ego: &str,
     at_ego: &Placed,
     ego_speed: f64,
+    beyond_reach: Option<(String, f64)>,
     warnings: &mut Vec<String>,
 ) -> Result<Start, OscError> {
+    let no_lead = match beyond_reach {
+        Some((name, gap_m)) => format!(
+            "no lead (the nearest vehicle ahead in its lane, `{name}`, starts {gap_m:.1} m \
+             ahead of the ego's camera, beyond the {} m carfollow's renderer draws, so it is \
+             a vehicle in the chase's path)",
+            crate::MAX_INITIAL_GAP_M
+        ),
+        None => "no lead".to_string(),
+    };
     if ego_speed < 0.5 {
         return Err(OscError::At {
             path: xml.path.clone(),
             line,
             message: format!(
-                "the ego `{ego}` starts at {ego_speed} m/s with no lead: carfollow's chase then \
-                 cruises at its own speed, 0.5 m/s or more, until its tracker finds a vehicle \
-                 in its path (--lead NAME names one to follow)"
+                "the ego `{ego}` starts at {ego_speed} m/s with {no_lead}: carfollow's chase \
+                 then cruises at its own speed, 0.5 m/s or more, until its tracker finds a \
+                 vehicle in its path (--lead NAME names one to follow)"
             ),
         });
     }
     warnings.push(format!(
-        "no lead: the ego `{ego}` cruises at {ego_speed} m/s in its lane and its tracker \
+        "{no_lead}: the ego `{ego}` cruises at {ego_speed} m/s in its lane and its tracker \
          searches its path (--lead NAME names a vehicle to follow)"
     ));
     Ok(Start {
@@ -600,7 +679,7 @@ fn without_lead(
             },
         },
         search: true,
-        focal_length_mm: DEFAULT_FOCAL_MM,
+        focal_length_mm: cruise_focal_length_mm(ego_speed),
     })
 }
 
@@ -701,7 +780,7 @@ pub fn scenario(
             .any(|v| v.name == ego && v.follows_no_lead)
             .then_some(NO_LEAD)
     });
-    let lead = choose_lead(xml, vehicles, &init, ego, given)?;
+    let LeadChoice { lead, beyond_reach } = choose_lead(xml, vehicles, &init, ego, given)?;
     let names = carfollow_names(vehicles, ego, lead.as_deref());
     let read_stop = options.duration_s.is_none();
     let stories = read_stories(xml, &names, &init, &road.lanes, ego, read_stop)?;
@@ -733,7 +812,15 @@ pub fn scenario(
             [ego, lead],
             &mut warnings,
         )?,
-        None => without_lead(xml, line, ego, &at_ego, ego_speed, &mut warnings)?,
+        None => without_lead(
+            xml,
+            line,
+            ego,
+            &at_ego,
+            ego_speed,
+            beyond_reach,
+            &mut warnings,
+        )?,
     };
     let duration_s = match options.duration_s {
         Some(d) => d,
