@@ -4,8 +4,10 @@
 //! are `not_acquired`, counted apart from a lost track in `summary.json`; a first fit off
 //! the lead's board is a loss (`tracker`) for at most 15 frames. A far start without a
 //! search is refused in one line; esmini's `slow-lead-vehicle.xosc`, 146.6 m behind,
-//! imports as a far start. The board's model at twice its scale, which fits where the board
-//! is beyond the search's reach, is not held for more than 15 frames. At night on high
+//! imports as a far start, given the lens its speed needs, and stops without contact; a
+//! car standing beyond the renderer's reach is no lead but a vehicle in the path. The
+//! board's model at twice its scale, which fits where the board is beyond the search's
+//! reach, is not held for more than 15 frames. At night on high
 //! beams the lead is found only with the gain's highlight protection. Run with
 //! `cargo test --release -p sim --test cli_far_lead`.
 
@@ -196,12 +198,39 @@ fn esminis_slow_lead_vehicle_imports_as_a_far_start() {
         "start = \"search\"",
         "cruise_speed_mps = 30.0",
         "start_at_cruise_speed = true",
-        "focal_length_mm = 8.0",
+        "focal_length_mm = 25.0",
     ] {
         assert!(text.contains(line), "{line} not in {text}");
     }
     let o = carfollow(&["check", xosc.to_str().unwrap(), "--set", "duration_s=20"]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    // Through that lens the search finds the lead, creeping at 1 m/s, far enough off for
+    // the chase to stop from 108 km/h (through 8 mm it was 25.6 m off, and the chase hit
+    // it at 94 km/h).
+    for mode in ["paper", "robust"] {
+        let run_dir = dir.path().join(mode);
+        let o = carfollow(&[
+            "run",
+            out.to_str().unwrap(),
+            "--quiet",
+            "--out",
+            run_dir.to_str().unwrap(),
+            "--set",
+            &format!("tracker.mode={mode}"),
+        ]);
+        assert!(matches!(o.status.code(), Some(0 | 1)), "{}", stderr(&o));
+        let rows = frames(&run_dir);
+        let first = rows
+            .iter()
+            .position(|r| r["status"] == "tracking" && r["lost_truth"] == "0")
+            .unwrap_or_else(|| panic!("{mode}: the lead is never held"));
+        let range: f64 = rows[first]["gap_m"].parse().unwrap();
+        assert!(range > 50.0, "{mode}: first held {range} m off");
+        assert!(
+            rows.iter().all(|r| r["collision"] == "0"),
+            "{mode}: contact"
+        );
+    }
 }
 
 /// esmini's `straight_500m.xosc`: the ego at 72 km/h, a car standing 296.6 m ahead, beyond

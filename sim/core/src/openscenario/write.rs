@@ -107,15 +107,17 @@ fn focal_length_mm(
     (f * 10.0).round() / 10.0
 }
 
-/// The longest lens a chase with no lead is given, mm: through it a car's back still fits
-/// the frame at the gap keeper's standstill gap.
+/// The longest lens a cruising chase is given, mm: through it a car's back, 1.8 m wide,
+/// fills 80 % of the frame's width 8.8 m off, so that a chase stopping nearer loses it (one
+/// lens trades reach against the view up close).
 const MAX_CRUISE_FOCAL_MM: f64 = 25.0;
 /// The time from a vehicle entering the search's reach to the chase's braking on it, s: a
 /// few frames of search and the first measurements, the loop's latency and the gap
 /// keeper's reaction time.
 const ACQUIRE_TO_BRAKE_S: f64 = 1.0;
 
-/// The lens, mm, of a chase with no lead cruising at `speed_mps`: one whose whole-image
+/// The lens, mm, of a chase cruising at `speed_mps` with nothing followed (no lead, or one
+/// far ahead): one whose whole-image
 /// search ([`tracker::robust::acquire_scales`]) reaches a vehicle's back as far as the
 /// chase needs to stop behind it, in normal braking, from the moment the search could
 /// find it ([`ACQUIRE_TO_BRAKE_S`] at that speed, then the gap keeper's largest
@@ -588,11 +590,11 @@ fn behind_lead(
     let ego_speed = speed(ego);
     let line = init.line.get(ego).copied().unwrap_or(1);
     let far = start_gap(xml, line, [ego, lead], gap_m, ego_speed, warnings)?;
-    // Far behind, the default lens: the chase closes to its search's range and then follows
-    // at its gap keeper's few metres, where that lens sees the target as at its nominal
-    // range.
+    // Far behind, the chase cruises at the ego's speed with nothing followed, as with no
+    // lead, and needs the lens that finds the lead as far as it needs to stop behind it,
+    // should the lead be standing.
     let focal_length_mm = if far {
-        DEFAULT_FOCAL_MM
+        cruise_focal_length_mm(ego_speed)
     } else {
         focal_length_mm(
             road,
