@@ -89,7 +89,7 @@ fn parameters_of_the_file_are_set_from_the_command_line() {
 #[test]
 fn what_carfollow_cannot_run_is_refused_at_its_line() {
     // (text replaced, its replacement, what the error says, a text on the line it names)
-    let cases: [(&str, &str, &str, &str); 13] = [
+    let cases: [(&str, &str, &str, &str); 14] = [
         ("dynamicsShape=\"sinusoidal\"", "dynamicsShape=\"linear\"", "lane changes are cubic or sinusoidal", "LaneChangeActionDynamics"),
         ("relativeDistanceType=\"longitudinal\"", "relativeDistanceType=\"lateral\"", "gaps are longitudinal", "RelativeDistanceCondition"),
         ("RelativeDistanceCondition entityRef=\"Cutter\" relativeDistanceType=\"longitudinal\" freespace=\"true\"", "RelativeDistanceCondition entityRef=\"Cutter\" relativeDistanceType=\"longitudinal\" freespace=\"maybe\"", "freespace=\"maybe\">: not a boolean", "RelativeDistanceCondition"),
@@ -98,7 +98,9 @@ fn what_carfollow_cannot_run_is_refused_at_its_line() {
         ("laneId=\"-2\"", "laneId=\"-3\"", "lane -3 is not a lane carfollow drives", "laneId=\"-3\""),
         ("<SimulationTimeCondition value=\"25\"", "<SimulationTimeCondition value=\"${25 / 0}\"", "divides by zero", "${25 / 0}"),
         ("entryName=\"$VanKind\"", "entryName=\"bus_blue\"", "no such vehicle", "bus_blue"),
-        ("<RelativeTargetLane entityRef=\"Ego\" value=\"0\"/>", "<AbsoluteTargetLane value=\"1\"/>", "lane 1 is not a lane carfollow drives", "AbsoluteTargetLane"),
+        ("<RelativeTargetLane entityRef=\"Ego\" value=\"0\"/>", "<AbsoluteTargetLane value=\"1\"/>", "lane 1 is on the oncoming side", "AbsoluteTargetLane"),
+        // One lane left of lane −1 is lane 1, the centre lane not counted.
+        ("<RelativeTargetLane entityRef=\"Ego\" value=\"0\"/>", "<RelativeTargetLane entityRef=\"Ego\" value=\"1\"/>", "lane 1 is on the oncoming side", "RelativeTargetLane"),
         ("priority=\"overwrite\" maximumExecutionCount=\"1\"", "priority=\"skip\" maximumExecutionCount=\"1\"", "priority=\"skip\"", "priority=\"skip\""),
         ("<AbsoluteTargetSpeed value=\"5\"/>", "<RelativeTargetSpeed entityRef=\"Ego\" value=\"0\" speedTargetValueType=\"percent\" continuous=\"false\"/>", "speedTargetValueType=\"percent\">: delta or factor", "RelativeTargetSpeed"),
         ("ds=\"30\"", "ds=\"5\"", "3–250 m behind", "<Private entityRef=\"Ego\">"),
@@ -157,7 +159,7 @@ fn esminis_files_are_refused_in_one_line_naming_what_carfollow_does_not_run() {
         (
             "xosc/acc-test.xosc",
             "acc-test.xosc:124",
-            "lane 0 is not a lane carfollow drives",
+            "lane 1 is on the oncoming side",
         ),
     ];
     for (file, at, says) in cases {

@@ -68,6 +68,36 @@ impl RoadLanes {
         -i64::from(lane) - i64::from(self.inner_lanes)
     }
 
+    /// The OpenDRIVE id `d` lanes to the left of lane id `base` (to the right for `d`
+    /// negative), the centre lane, id 0, not counted, as esmini counts a relative lane
+    /// change: `−1` and `1` lanes to the left is `1`.
+    pub fn relative_id(base: i64, d: i64) -> i64 {
+        let id = base + d;
+        if id == 0 || (base != 0 && id.signum() != base.signum()) {
+            (id - base).signum() * (id.abs() + 1)
+        } else {
+            id
+        }
+    }
+
+    /// Why lane id `id` is not one carfollow drives on: the oncoming side (positive ids,
+    /// left of the reference line), or none of the lanes on the right of it.
+    pub fn not_driven(&self, id: i64) -> String {
+        if id > 0 {
+            format!(
+                "lane {id} is on the oncoming side of road {}, left of its reference line: carfollow's vehicles drive the lanes on its right ({})",
+                self.id,
+                self.named()
+            )
+        } else {
+            format!(
+                "lane {id} is not a lane carfollow drives on road {} ({}: the lanes on the right of its reference line)",
+                self.id,
+                self.named()
+            )
+        }
+    }
+
     /// The lane of OpenDRIVE id `id`, if carfollow drives on it.
     pub fn lane_of(&self, id: i64) -> Option<u32> {
         let k = -id - i64::from(self.inner_lanes);
@@ -320,10 +350,12 @@ fn initial_speed(
 
 /// The lane of a lane id (`−(k + inner lanes)` is lane `k`).
 fn lane_of_id(xml: &Xml, road: &RoadLanes, node: Node, id: i64) -> Result<u32, OscError> {
-    road.lane_of(id).ok_or_else(|| xml.at(node, format!(
-        "<{}>: lane {id} is not a lane carfollow drives on road {} ({}: the lanes on the right of its reference line)",
-        node.tag_name().name(), road.id, road.named()
-    )))
+    road.lane_of(id).ok_or_else(|| {
+        xml.at(
+            node,
+            format!("<{}>: {}", node.tag_name().name(), road.not_driven(id)),
+        )
+    })
 }
 
 /// The lane whose strip holds the point at station `s_m`, `t_m` from the reference line
@@ -543,11 +575,32 @@ fn relative_position(
             ));
         }
         // Lane ids grow to the left; the offset is from the target lane's centre.
-        let lane = lane_of_id(xml, road, p, road.id_of(base.lane) + d as i64)?;
+        let id = RoadLanes::relative_id(road.id_of(base.lane), d as i64);
+        let lane = lane_of_id(xml, road, p, id)?;
         (lane, xml.opt_num(p, "offset")?.unwrap_or(0.0))
     } else {
         let t_base = base.offset_m - road.centre_m(base.lane) + road.offset_at(base.s_m);
         lane_at(xml, road, p, s_m, t_base + xml.num(p, "dt")?)?
     };
     Ok(Placed::new(s_m, lane, offset_m))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::RoadLanes;
+
+    #[test]
+    fn a_relative_lane_does_not_count_the_centre_lane() {
+        // Within one side, ids add.
+        assert_eq!(RoadLanes::relative_id(-3, 1), -2);
+        assert_eq!(RoadLanes::relative_id(-1, -2), -3);
+        assert_eq!(RoadLanes::relative_id(2, 1), 3);
+        // Across the centre lane, id 0 is skipped, as esmini's lane change counts.
+        assert_eq!(RoadLanes::relative_id(-1, 1), 1);
+        assert_eq!(RoadLanes::relative_id(-1, 2), 2);
+        assert_eq!(RoadLanes::relative_id(-2, 3), 2);
+        assert_eq!(RoadLanes::relative_id(1, -1), -1);
+        assert_eq!(RoadLanes::relative_id(2, -3), -2);
+        assert_eq!(RoadLanes::relative_id(-2, 0), -2);
+    }
 }

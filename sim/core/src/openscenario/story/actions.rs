@@ -3,6 +3,7 @@
 //! offsets.
 
 use super::super::error::OscError;
+use super::super::init::RoadLanes;
 use super::super::xml::{child, children, only_element};
 use super::Context;
 use roxmltree::Node;
@@ -326,7 +327,7 @@ impl Context<'_, '_> {
                         format!("<RelativeTargetLane value=\"{d}\">: not a whole number of lanes"),
                     ));
                 }
-                self.road.id_of(lane) + d as i64
+                RoadLanes::relative_id(self.road.id_of(lane), d as i64)
             }
             _ => return Err(xml.unsupported(target, "lane change target", "")),
         };
@@ -334,10 +335,9 @@ impl Context<'_, '_> {
             return Err(xml.at(
                 target,
                 format!(
-                    "<{}>: lane {id} is not a lane carfollow drives on road {} ({})",
+                    "<{}>: {}",
                     target.tag_name().name(),
-                    self.road.id,
-                    self.road.named()
+                    self.road.not_driven(id)
                 ),
             ));
         };
