@@ -452,6 +452,36 @@ fn an_act_with_an_empty_start_trigger_starts_at_once() {
     );
 }
 
+/// An event's empty `<StartTrigger/>` (esmini's `distance_test` writes one; esmini takes a
+/// start trigger with no condition group as true) starts the event at once, as an event
+/// with no start trigger does: the runs are the same, bit for bit, and the cut-in starts
+/// on the first frame. It was refused as an event that would never start.
+#[test]
+fn an_events_empty_start_trigger_starts_it_at_once() {
+    let close = "<StartTrigger><ConditionGroup>\n                <Condition name=\"close\"";
+    let replace_trigger = |by: &'static str| {
+        move |text: &str| {
+            let from = text.find(close).expect("the cut-in's trigger");
+            let end = "</StartTrigger>";
+            let to = from + text[from..].find(end).unwrap() + end.len();
+            format!("{}{by}{}", &text[..from], &text[to..])
+        }
+    };
+    let set = ["--set", "duration_s=6"];
+    let (d, empty) = mutant(replace_trigger("<StartTrigger/>"));
+    let o = carfollow(&["check", empty.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let frames = frames_of(&empty, &d.path().join("empty"), &set);
+    let (d2, none) = mutant(replace_trigger(""));
+    let without = frames_of(&none, &d2.path().join("none"), &set);
+    assert!(
+        frames == without,
+        "an empty start trigger runs otherwise than none"
+    );
+    let first = frames.lines().nth(1).unwrap();
+    assert!(first.contains("cut-in:started"), "{first}");
+}
+
 /// A controller assigned to the ego is read and not applied, and the one warning that says
 /// so names the controller alone when the ego has no storyboard action; with a controller
 /// action in `Init` too (esmini's `alks_decelerate` activates the ego's), the same one line

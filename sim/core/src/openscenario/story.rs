@@ -286,13 +286,16 @@ impl Context<'_, '_> {
                 ))
             }
         };
-        let own = match child(event, "StartTrigger") {
-            Some(t) => self.trigger(t, owner)?,
-            None => TriggerSpec {
-                time_s: Some(0.0),
-                ..TriggerSpec::default()
-            },
-        };
+        // No start trigger, or an empty one (no condition group): at once, as esmini reads
+        // both (a trigger with no group takes its default, true for a start).
+        let own =
+            match child(event, "StartTrigger").filter(|t| child(*t, "ConditionGroup").is_some()) {
+                Some(t) => self.trigger(t, owner)?,
+                None => TriggerSpec {
+                    time_s: Some(0.0),
+                    ..TriggerSpec::default()
+                },
+            };
         let trigger = self.once_started(event, own, owner)?;
         let name = self
             .found
