@@ -89,7 +89,7 @@ fn parameters_of_the_file_are_set_from_the_command_line() {
 #[test]
 fn what_carfollow_cannot_run_is_refused_at_its_line() {
     // (text replaced, its replacement, what the error says, a text on the line it names)
-    let cases: [(&str, &str, &str, &str); 14] = [
+    let cases: [(&str, &str, &str, &str); 15] = [
         ("dynamicsShape=\"sinusoidal\"", "dynamicsShape=\"linear\"", "lane changes are cubic or sinusoidal", "LaneChangeActionDynamics"),
         ("relativeDistanceType=\"longitudinal\"", "relativeDistanceType=\"lateral\"", "gaps are longitudinal", "RelativeDistanceCondition"),
         ("RelativeDistanceCondition entityRef=\"Cutter\" relativeDistanceType=\"longitudinal\" freespace=\"true\"", "RelativeDistanceCondition entityRef=\"Cutter\" relativeDistanceType=\"longitudinal\" freespace=\"maybe\"", "freespace=\"maybe\">: not a boolean", "RelativeDistanceCondition"),
@@ -105,6 +105,8 @@ fn what_carfollow_cannot_run_is_refused_at_its_line() {
         ("<AbsoluteTargetSpeed value=\"5\"/>", "<RelativeTargetSpeed entityRef=\"Ego\" value=\"0\" speedTargetValueType=\"percent\" continuous=\"false\"/>", "speedTargetValueType=\"percent\">: delta or factor", "RelativeTargetSpeed"),
         ("ds=\"30\"", "ds=\"5\"", "3–250 m behind", "<Private entityRef=\"Ego\">"),
         ("<LaneChangeAction>", "<LaneChangeAction targetLaneOffset=\"0.5\">", "targetLaneOffset", "targetLaneOffset"),
+        // An action of attributes alone is an action not read, not an empty element.
+        ("<Action name=\"BrakeAction\">", "<Action name=\"BrakeAction\"><PrivateAction><VisibilityAction graphics=\"true\" traffic=\"true\" sensors=\"false\"/></PrivateAction></Action><Action name=\"Brake2\">", "unsupported action <VisibilityAction>", "VisibilityAction"),
     ];
     for (from, to, says, on_line_of) in cases {
         let (dir, path) = mutant(|text| {

@@ -4,7 +4,7 @@
 
 use super::super::error::OscError;
 use super::super::init::RoadLanes;
-use super::super::xml::{child, children, only_element};
+use super::super::xml::{child, children, elements, only_element};
 use super::Context;
 use roxmltree::Node;
 use vehicle::{ActionSpec, KeepSide, KeepSpec, ProfileEntry, Shape};
@@ -30,6 +30,11 @@ impl Context<'_, '_> {
             ));
         }
         let kind = only_element(xml, private)?;
+        // An action of attributes alone (`VisibilityAction`, `ActivateControllerAction`)
+        // is one carfollow does not read, not an empty element.
+        if elements(kind).next().is_none() {
+            return Err(xml.unsupported(kind, "action", ""));
+        }
         let inner = only_element(xml, kind)?;
         match (kind.tag_name().name(), inner.tag_name().name()) {
             ("LongitudinalAction", "SpeedAction") => self.speed(inner),
