@@ -69,8 +69,8 @@ impl RoadLanes {
     }
 
     /// The OpenDRIVE id `d` lanes to the left of lane id `base` (to the right for `d`
-    /// negative), the centre lane, id 0, not counted, as esmini counts a relative lane
-    /// change: `−1` and `1` lanes to the left is `1`.
+    /// negative), the centre lane, id 0, not counted, as esmini counts relative lanes
+    /// (`roadmanager::GetRelativeLaneId`): `−1` and `1` lanes to the left is `1`.
     pub fn relative_id(base: i64, d: i64) -> i64 {
         let id = base + d;
         if id == 0 || (base != 0 && id.signum() != base.signum()) {

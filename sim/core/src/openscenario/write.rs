@@ -117,13 +117,13 @@ const MAX_CRUISE_FOCAL_MM: f64 = 25.0;
 const ACQUIRE_TO_BRAKE_S: f64 = 1.0;
 
 /// The lens, mm, of a chase cruising at `speed_mps` with nothing followed (no lead, or one
-/// far ahead): one whose whole-image
-/// search ([`tracker::robust::acquire_scales`]) reaches a vehicle's back as far as the
-/// chase needs to stop behind it, in normal braking, from the moment the search could
-/// find it ([`ACQUIRE_TO_BRAKE_S`] at that speed, then the gap keeper's largest
-/// deceleration, to its standstill gap); the default 8 mm lens where that reaches far
-/// enough, and at most [`MAX_CRUISE_FOCAL_MM`]. The default lens finds a vehicle's back
-/// of 10 m nominal range from 25 m only, from which a chase at 72 km/h cannot stop.
+/// far ahead): one whose whole-image search ([`tracker::robust::acquire_scales`]) reaches
+/// a vehicle's back as far as the chase needs to stop behind it, in normal braking, from
+/// the moment the search could find it ([`ACQUIRE_TO_BRAKE_S`] at that speed, then the gap
+/// keeper's largest deceleration, to its standstill gap); the default 8 mm lens where that
+/// reaches far enough, and at most [`MAX_CRUISE_FOCAL_MM`]. The default lens finds a
+/// vehicle's back of 10 m nominal range from 25 m only, from which a chase at 72 km/h
+/// cannot stop.
 fn cruise_focal_length_mm(speed_mps: f64) -> f64 {
     let gap_keeper = vehicle::GapKeeperConfig::default();
     let standstill_m = match gap_keeper.policy {
