@@ -484,6 +484,60 @@ fn an_events_empty_start_trigger_starts_it_at_once() {
     assert!(first.contains("cut-in:started"), "{first}");
 }
 
+/// A vehicle's `<Orientation>` in `Init` is read, not passed over: turned against the road
+/// (esmini's `lane_change_crest` turns a car in lane −1 by π) it is refused at its line;
+/// turned a little, the vehicle starts along the road, said in one warning; along the road,
+/// relative or absolute, the run is the file's, bit for bit.
+#[test]
+fn a_vehicles_orientation_is_read() {
+    let at = "<LanePosition roadId=\"1\" laneId=\"-2\" offset=\"0\" s=\"80\"/>";
+    let turned = |o: &'static str| {
+        move |text: &str| {
+            assert!(text.contains(at));
+            text.replace(
+                at,
+                &format!("<LanePosition roadId=\"1\" laneId=\"-2\" offset=\"0\" s=\"80\">\n{o}</LanePosition>"),
+            )
+        }
+    };
+    let set = ["--set", "duration_s=6"];
+    let dir = tempfile::tempdir().unwrap();
+    let original = frames_of(&data().join("cut-in.xosc"), &dir.path().join("o"), &set);
+    for o in [
+        "<Orientation type=\"relative\" h=\"3.141593\"/>",
+        "<Orientation h=\"-2.0\"/>",
+        "<Orientation type=\"absolute\" h=\"3.2\"/>",
+    ] {
+        let (_d, path) = mutant(turned(o));
+        let line = line_of(&path, o);
+        let o_ = carfollow(&["check", path.to_str().unwrap()]);
+        let e = stderr(&o_);
+        assert_eq!(o_.status.code(), Some(2), "{o}: {e}");
+        assert_eq!(e.lines().count(), 1, "{o}: {e}");
+        assert!(
+            e.contains("faces against road 1") && e.contains(&format!("mutant.xosc:{line}")),
+            "{o}: {e}"
+        );
+    }
+    let (_d, path) = mutant(turned("<Orientation type=\"relative\" h=\"0.1\"/>"));
+    let o = carfollow(&["check", path.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert_eq!(
+        stderr(&o).matches("is turned 5.7° from the road").count(),
+        1,
+        "{}",
+        stderr(&o)
+    );
+    for o in [
+        "<Orientation type=\"relative\" h=\"0\"/>",
+        "<Orientation type=\"absolute\" h=\"0\"/>",
+    ] {
+        let (d, path) = mutant(turned(o));
+        let frames = frames_of(&path, &d.path().join("m"), &set);
+        assert!(frames == original, "{o}: the run differs");
+    }
+}
+
 /// A controller assigned to the ego is read and not applied, and the one warning that says
 /// so names the controller alone when the ego has no storyboard action; with a controller
 /// action in `Init` too (esmini's `alks_decelerate` activates the ego's), the same one line

@@ -243,6 +243,9 @@ pub fn read_init(
         let r = relative.remove(i);
         let base = init.placed[&r.to];
         let placed = relative_position(xml, road, r.node, base)?;
+        // Its reference vehicle drives along the road, so an orientation relative to
+        // either is relative to the road.
+        facing(xml, road, r.node, placed.s_m, &mut init.warnings)?;
         init.placed.insert(r.entity, placed);
     }
     Ok(init)
@@ -270,6 +273,7 @@ fn private_action<'a, 'b>(
             match p.tag_name().name() {
                 "LanePosition" | "RoadPosition" => {
                     let placed = absolute_position(xml, road, p)?;
+                    facing(xml, road, p, placed.s_m, &mut init.warnings)?;
                     init.placed.insert(entity.to_string(), placed);
                 }
                 "WorldPosition" => {
@@ -484,6 +488,55 @@ fn world_point(xml: &Xml, road: &RoadLanes, p: Node) -> Result<(f64, u32, f64, f
         road.left_of_centre_m(on.s_m, lane, on.t_m),
         turned,
     ))
+}
+
+/// Checks the `<Orientation>` of a vehicle placed at `p` (a lane or road position, relative
+/// or not, at station `s_m`): its heading, relative to the road's there (`type="relative"`,
+/// as when the type is left out) or in the file's frame (`"absolute"`), must not face
+/// against the road; turned farther than [`HEADING_TOLERANCE_RAD`] from it, the vehicle
+/// starts along the road, said in a warning, as for a `WorldPosition`. Its pitch and roll
+/// are the road's, whatever they say.
+pub(super) fn facing(
+    xml: &Xml,
+    road: &RoadLanes,
+    p: Node,
+    s_m: f64,
+    warnings: &mut Vec<String>,
+) -> Result<(), OscError> {
+    let Some(o) = child(p, "Orientation") else {
+        return Ok(());
+    };
+    let h = xml.opt_num(o, "h")?.unwrap_or(0.0);
+    let turned = match xml.attr(o, "type")?.as_deref() {
+        Some("relative") | None => h,
+        Some("absolute") => h - road.reference.heading_at(s_m),
+        Some(other) => {
+            return Err(xml.at(
+                o,
+                format!("<Orientation type=\"{other}\">: \"relative\" or \"absolute\""),
+            ))
+        }
+    };
+    let turned =
+        (turned + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI;
+    if turned.abs() > std::f64::consts::FRAC_PI_2 {
+        return Err(xml.at(
+            o,
+            format!(
+                "<Orientation h=\"{h}\">: faces against road {} ({:.1}° from its heading there): carfollow's vehicles drive with the road's direction on its right",
+                road.id,
+                turned.to_degrees()
+            ),
+        ));
+    }
+    if turned.abs() > HEADING_TOLERANCE_RAD {
+        warnings.push(format!(
+            "line {}: <Orientation> is turned {:.1}° from the road: carfollow starts the vehicle along the road",
+            xml.line(o),
+            turned.to_degrees(),
+        ));
+    }
+    Ok(())
 }
 
 /// A `WorldPosition` of a vehicle in `Init`: in its lane, along the road; a heading turned

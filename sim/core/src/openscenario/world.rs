@@ -116,6 +116,11 @@ impl ReferenceLine {
             heading_rad: h + self.origin[2],
         })
     }
+
+    /// The reference line's heading at station `s_m`, in the file's frame, radians.
+    pub fn heading_at(&self, s_m: f64) -> f64 {
+        self.route.at(s_m)[2] + self.origin[2]
+    }
 }
 
 #[cfg(test)]
