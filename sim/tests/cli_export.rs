@@ -61,19 +61,27 @@ fn an_exported_scenario_imported_back_runs_bit_for_bit() {
     let dir = tempfile::tempdir().unwrap();
     // Straight and curved roads (arcs; an OpenDRIVE road of spirals and arcs; one of
     // paramPoly3s with a median and lanes of their own widths), a cut-in, a
-    // cut-out, fog, and Euro NCAP's braking target; a few seconds each.
-    for (name, seconds) in [
-        ("nist-grounds", "6"),
-        ("opendrive-curves", "6"),
-        ("divided-highway", "6"),
-        ("cut-in", "10"),
-        ("cut-out", "8"),
-        ("fog", "5"),
-        ("ncap-ccrb", "5"),
-    ] {
-        let set = [format!("duration_s={seconds}")];
-        let set: Vec<&str> = set.iter().map(String::as_str).collect();
-        let out = dir.path().join(name);
+    // cut-out, fog, and Euro NCAP's braking target; a few seconds each; and the cut-in
+    // from the oncoming side, driven with the road.
+    let oncoming = ["actors.0.lane=1", "actors.0.offset_m=3.5"];
+    for (k, (name, seconds, more)) in [
+        ("nist-grounds", "6", &[][..]),
+        ("opendrive-curves", "6", &[]),
+        ("divided-highway", "6", &[]),
+        ("cut-in", "10", &[]),
+        ("cut-out", "8", &[]),
+        ("fog", "5", &[]),
+        ("ncap-ccrb", "5", &[]),
+        ("cut-in", "14", &oncoming[..]),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let duration = format!("duration_s={seconds}");
+        let set: Vec<&str> = std::iter::once(duration.as_str())
+            .chain(more.iter().copied())
+            .collect();
+        let out = dir.path().join(format!("{k}-{name}"));
         let xosc = export(name, &out.join("export"), &set);
         let toml = out.join("imported").join(format!("{name}.toml"));
         std::fs::create_dir_all(toml.parent().unwrap()).unwrap();
@@ -267,6 +275,13 @@ fn asams_quality_checker_finds_no_issue() {
         .unwrap()
         .contains("<Act name=\"cut-in-act\">"));
     files.push(xosc.with_extension("xodr"));
+    files.push(xosc);
+    // An actor that starts on the oncoming side, driving with the road.
+    let xosc = export(
+        "cut-in",
+        &dir.path().join("oncoming"),
+        &["actors.0.lane=1", "actors.0.offset_m=3.5"],
+    );
     files.push(xosc);
     let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/qc/asam_qc.py");
     let o = Command::new(python)

@@ -144,3 +144,48 @@ fn offset_bodies_that_overlap_across_lanes_are_refused() {
         );
     }
 }
+
+/// An actor may start on a lane of the oncoming side, driving with the road, as a car
+/// overtaking on a two-lane road does (OpenSCENARIO's ALKS tests place the car that cuts
+/// in there): `cut-in`'s van, 3.5 m left of lane 1's centre (the oncoming lane 1), is out
+/// of the chase's path until its cut-in, which brings it in as from lane 2. Offsets that
+/// put it on neither side's lanes are refused in one line, naming both ranges.
+#[test]
+fn an_actor_drives_with_the_road_on_the_oncoming_side() {
+    let cut_in = scenarios().join("cut-in.toml");
+    let dir = tempfile::tempdir().unwrap();
+    let set = ["duration_s=16"];
+    let right = frames(&cut_in, &dir.path().join("right"), &set);
+    let left = frames(
+        &cut_in,
+        &dir.path().join("left"),
+        &["duration_s=16", "actors.0.lane=1", "actors.0.offset_m=3.5"],
+    );
+    let entered = |f: &Frames| {
+        let col = f.header.iter().position(|c| c == "path_vehicle").unwrap();
+        f.rows
+            .iter()
+            .position(|r| r[col] == "van")
+            .map(|i| f.num(&f.rows[i], "t_s"))
+    };
+    let (from_right, from_left) = (entered(&right).unwrap(), entered(&left).unwrap());
+    // The cut-in starts at the same gap and crosses the same width either way.
+    assert!(
+        (from_right - from_left).abs() < 0.3,
+        "in the path at {from_right} s from lane 2, {from_left} s from the oncoming side"
+    );
+    assert!(from_left > 11.0, "in the path at {from_left} s");
+    for (value, says) in [("9", "1.75–8.75 m"), ("-2", "half its lane")] {
+        let set = format!("actors.0.offset_m={value}");
+        let o = carfollow(&[
+            "check",
+            cut_in.to_str().unwrap(),
+            "--set",
+            "actors.0.lane=1",
+            "--set",
+            &set,
+        ]);
+        let e = refusal(&o, &set);
+        assert!(e.contains("actors[0].offset_m") && e.contains(says), "{e}");
+    }
+}

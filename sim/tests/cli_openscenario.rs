@@ -538,6 +538,55 @@ fn a_vehicles_orientation_is_read() {
     }
 }
 
+/// A vehicle on a lane of the oncoming side turned to drive with the road (relative
+/// `h` = π, as esmini's `alks_cut-in` places the car that cuts in) is an actor that far left
+/// of lane 1's centre, and its cut-in brings it into the ego's lane; facing against the
+/// road there (no orientation) it is refused as oncoming traffic, as is a lane counted from
+/// it or a lead named that starts there.
+#[test]
+fn a_vehicle_driving_with_the_road_on_the_oncoming_side_is_read() {
+    let at = "<LanePosition roadId=\"1\" laneId=\"-2\" offset=\"0\" s=\"80\"/>";
+    let on_left = |o: &'static str| {
+        move |text: &str| {
+            assert!(text.contains(at));
+            text.replace(
+                at,
+                &format!("<LanePosition roadId=\"1\" laneId=\"1\" offset=\"0\" s=\"80\">{o}</LanePosition>"),
+            )
+        }
+    };
+    let (d, path) = mutant(on_left("<Orientation type=\"relative\" h=\"3.141593\"/>"));
+    let toml = d.path().join("left.toml");
+    let text = import_to(&path, &toml);
+    assert!(text.contains("offset_m = 3.5"), "{text}");
+    let frames = frames_of(&toml, &d.path().join("run"), &["--set", "duration_s=12"]);
+    assert!(frames.contains("cut-in:started"), "the cut-in never starts");
+    let f = Frames::parse(&frames);
+    let col = f.header.iter().position(|c| c == "path_vehicle").unwrap();
+    assert!(
+        f.rows.iter().any(|r| r[col] == "Cutter"),
+        "the cutter never enters the path"
+    );
+    let (_d, path) = mutant(on_left(""));
+    let line = line_of(&path, "laneId=\"1\"");
+    let e = refusal(
+        &carfollow(&["check", path.to_str().unwrap()]),
+        "no orientation",
+    );
+    assert!(
+        e.contains("oncoming traffic") && e.contains(&format!("mutant.xosc:{line}")),
+        "{e}"
+    );
+    let (_d, path) = mutant(|text| {
+        on_left("<Orientation type=\"relative\" h=\"3.141593\"/>")(text).replace(
+            "<RelativeTargetLane entityRef=\"Ego\" value=\"0\"/>",
+            "<RelativeTargetLane entityRef=\"Cutter\" value=\"-1\"/>",
+        )
+    });
+    let e = refusal(&carfollow(&["check", path.to_str().unwrap()]), "relative");
+    assert!(e.contains("starts on the oncoming side"), "{e}");
+}
+
 /// A controller assigned to the ego is read and not applied, and the one warning that says
 /// so names the controller alone when the ego has no storyboard action; with a controller
 /// action in `Init` too (esmini's `alks_decelerate` activates the ego's), the same one line

@@ -98,6 +98,13 @@ impl RoadLanes {
         }
     }
 
+    /// The lane of our side that OpenDRIVE id `id`, a lane of the oncoming side, mirrors,
+    /// if it is one carfollow draws (`id` = lane + inner lanes).
+    pub fn oncoming_lane_of(&self, id: i64) -> Option<u32> {
+        let k = id - i64::from(self.inner_lanes);
+        (1..=i64::from(self.lanes)).contains(&k).then_some(k as u32)
+    }
+
     /// The lane of OpenDRIVE id `id`, if carfollow drives on it.
     pub fn lane_of(&self, id: i64) -> Option<u32> {
         let k = -id - i64::from(self.inner_lanes);
@@ -128,6 +135,13 @@ impl RoadLanes {
         (1..=self.lanes).find(|&k| self.left_of_centre_m(s_m, k, t_m).abs() <= 0.5 * width(k))
     }
 
+    /// The driving lane on the right whose strip holds the reference point of a vehicle
+    /// placed at `p`: none on the oncoming side.
+    pub fn lane_of_placed(&self, p: &Placed) -> Option<u32> {
+        let t_m = self.offset_at(p.s_m) - self.centre_m(p.lane) + p.offset_m;
+        self.lane_holding(p.s_m, t_m)
+    }
+
     /// The driving lanes' ids, for errors.
     pub fn named(&self) -> String {
         match self.lanes {
@@ -147,6 +161,9 @@ pub struct Placed {
     /// Its offset to the left of its lane's centre, m (0 within
     /// [`LANE_CENTRE_TOLERANCE_M`] of it).
     pub offset_m: f64,
+    /// Whether it starts on a lane of the oncoming side, turned to drive with the road:
+    /// `lane` is then 1, and `offset_m` reaches across to that lane.
+    pub oncoming: bool,
 }
 
 impl Placed {
@@ -162,6 +179,7 @@ impl Placed {
             s_m,
             lane,
             offset_m,
+            oncoming: false,
         }
     }
 }
@@ -242,10 +260,20 @@ pub fn read_init(
         };
         let r = relative.remove(i);
         let base = init.placed[&r.to];
+        if base.oncoming {
+            return Err(xml.at(
+                r.node,
+                format!(
+                    "<{}>: `{}` starts on the oncoming side: a position relative to it is refused",
+                    r.node.tag_name().name(),
+                    r.to
+                ),
+            ));
+        }
         let placed = relative_position(xml, road, r.node, base)?;
         // Its reference vehicle drives along the road, so an orientation relative to
         // either is relative to the road.
-        facing(xml, road, r.node, placed.s_m, &mut init.warnings)?;
+        facing(xml, road, r.node, placed, &mut init.warnings)?;
         init.placed.insert(r.entity, placed);
     }
     Ok(init)
@@ -273,7 +301,7 @@ fn private_action<'a, 'b>(
             match p.tag_name().name() {
                 "LanePosition" | "RoadPosition" => {
                     let placed = absolute_position(xml, road, p)?;
-                    facing(xml, road, p, placed.s_m, &mut init.warnings)?;
+                    facing(xml, road, p, placed, &mut init.warnings)?;
                     init.placed.insert(entity.to_string(), placed);
                 }
                 "WorldPosition" => {
@@ -438,6 +466,14 @@ fn absolute_position(xml: &Xml, road: &RoadLanes, p: Node) -> Result<Placed, Osc
             .parse::<i64>()
             .map_err(|_| xml.at(p, format!("<LanePosition laneId=\"{id}\">: not a lane id")))?;
         let offset = xml.opt_num(p, "offset")?.unwrap_or(0.0);
+        if let Some(k) = road.oncoming_lane_of(id) {
+            // Lane k of the oncoming side mirrors lane k of ours about the centre line; the
+            // offset, like t, is to the left of the reference line.
+            return Ok(Placed {
+                oncoming: true,
+                ..Placed::new(s_m, 1, road.centre_m(1) + road.centre_m(k) + offset)
+            });
+        }
         (lane_of_id(xml, road, p, id)?, offset)
     } else {
         lane_at(xml, road, p, s_m, xml.num(p, "t")?)?
@@ -500,15 +536,26 @@ pub(super) fn facing(
     xml: &Xml,
     road: &RoadLanes,
     p: Node,
-    s_m: f64,
+    at: Placed,
     warnings: &mut Vec<String>,
 ) -> Result<(), OscError> {
+    let s_m = at.s_m;
+    // A lane of the oncoming side runs against the road: a vehicle there faces that way
+    // unless its orientation turns it.
+    let lane_turn = if at.oncoming {
+        std::f64::consts::PI
+    } else {
+        0.0
+    };
     let Some(o) = child(p, "Orientation") else {
+        if at.oncoming {
+            return Err(xml.at(p, format!("<{}>: oncoming traffic on road {}: carfollow's vehicles drive with the road (a vehicle on the oncoming side turned to drive with it, relative h = π, is read)", p.tag_name().name(), road.id)));
+        }
         return Ok(());
     };
     let h = xml.opt_num(o, "h")?.unwrap_or(0.0);
     let turned = match xml.attr(o, "type")?.as_deref() {
-        Some("relative") | None => h,
+        Some("relative") | None => h + lane_turn,
         Some("absolute") => h - road.reference.heading_at(s_m),
         Some(other) => {
             return Err(xml.at(
@@ -523,7 +570,7 @@ pub(super) fn facing(
         return Err(xml.at(
             o,
             format!(
-                "<Orientation h=\"{h}\">: faces against road {} ({:.1}° from its heading there): carfollow's vehicles drive with the road's direction on its right",
+                "<Orientation h=\"{h}\">: faces against road {} ({:.1}° from its heading there): carfollow's vehicles drive with the road's direction",
                 road.id,
                 turned.to_degrees()
             ),

@@ -188,7 +188,7 @@ struct LeadChoice {
 }
 
 /// The lead: `given` ([`NO_LEAD`] for none), or the nearest vehicle ahead of the ego in
-/// its lane at t = 0, or none when no vehicle is, or when that vehicle starts further ahead
+/// its lane at t = 0 (its reference point in the lane's strip, `lanes`), or none when no vehicle is, or when that vehicle starts further ahead
 /// than the renderer draws ([`crate::MAX_INITIAL_GAP_M`]): it is then an actor in the
 /// chase's path, which the chase cruises towards until its tracker finds it, as esmini's
 /// ego approaches a far target.
@@ -196,6 +196,7 @@ fn choose_lead(
     xml: &Xml,
     vehicles: &[Entity],
     init: &Init,
+    lanes: &RoadLanes,
     ego: &str,
     given: Option<&str>,
 ) -> Result<LeadChoice, OscError> {
@@ -216,6 +217,14 @@ fn choose_lead(
                     ),
                 });
             }
+            if init.placed.get(name).is_some_and(|p| p.oncoming) {
+                return Err(OscError::File {
+                    path: xml.path.clone(),
+                    message: format!(
+                        "--lead {name}: it starts on the oncoming side; carfollow's lead starts in a lane of the ego's side"
+                    ),
+                });
+            }
             return Ok(LeadChoice {
                 lead: Some(name.to_string()),
                 beyond_reach: None,
@@ -227,7 +236,7 @@ fn choose_lead(
         .iter()
         .filter(|v| v.name != ego)
         .filter_map(|v| init.placed.get(&v.name).map(|p| (v, p)))
-        .filter(|(_, p)| p.lane == at_ego.lane && p.s_m > at_ego.s_m)
+        .filter(|(_, p)| lanes.lane_of_placed(p) == Some(at_ego.lane) && p.s_m > at_ego.s_m)
         .min_by(|a, b| a.1.s_m.total_cmp(&b.1.s_m));
     Ok(match nearest {
         Some((v, p)) if camera_gap_m(at_ego.s_m, p.s_m) > crate::MAX_INITIAL_GAP_M => LeadChoice {
@@ -782,12 +791,21 @@ pub fn scenario(
             .any(|v| v.name == ego && v.follows_no_lead)
             .then_some(NO_LEAD)
     });
-    let LeadChoice { lead, beyond_reach } = choose_lead(xml, vehicles, &init, ego, given)?;
+    let LeadChoice { lead, beyond_reach } =
+        choose_lead(xml, vehicles, &init, &road.lanes, ego, given)?;
     let names = carfollow_names(vehicles, ego, lead.as_deref());
     let read_stop = options.duration_s.is_none();
     let stories = read_stories(xml, &names, &init, &road.lanes, ego, read_stop)?;
     let speed = |name: &str| init.speed_mps.get(name).copied().unwrap_or(0.0);
     let at_ego: Placed = init.placed[ego];
+    if at_ego.oncoming {
+        let line = init.line.get(ego).copied().unwrap_or(1);
+        return Err(OscError::At {
+            path: xml.path.clone(),
+            line,
+            message: format!("the ego `{ego}` starts on the oncoming side: carfollow's chase starts in a lane of its own side"),
+        });
+    }
     if at_ego.offset_m != 0.0 {
         let line = init.line.get(ego).copied().unwrap_or(1);
         return Err(OscError::At {

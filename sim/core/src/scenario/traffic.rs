@@ -40,9 +40,12 @@ pub struct ActorFile {
     #[schemars(extend("minimum" = 1, "maximum" = 4))]
     pub lane: u32,
     /// Its offset from its lane's centre, metres, positive to the left (default 0), as
-    /// `[lead] offset_m`.
+    /// `[lead] offset_m`; or, farther left, onto a lane of the oncoming side, within half
+    /// that lane's width of its centre: an actor there drives with the road, as a car
+    /// overtaking on a two-lane road does (OpenSCENARIO's ALKS tests place the car that
+    /// cuts in so).
     #[serde(default, skip_serializing_if = "super::file::is_zero")]
-    #[schemars(extend("minimum" = -3.0, "maximum" = 3.0))]
+    #[schemars(extend("minimum" = -3.0, "maximum" = 40.0))]
     pub offset_m: f64,
     /// Where it starts: `{ station_m = S }` (its rear axle, metres along the route), or
     /// `{ gap_m = G, ahead_of = "chase" }` / `{ gap_m = G, behind = "lead" }` (bumper to

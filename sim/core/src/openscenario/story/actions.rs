@@ -41,7 +41,14 @@ impl Context<'_, '_> {
             ("LongitudinalAction", "SpeedProfileAction") => self.speed_profile(inner),
             ("LongitudinalAction", "LongitudinalDistanceAction") => self.keep(inner),
             ("LateralAction", "LaneChangeAction") => self.lane_change(inner, owner),
-            ("LateralAction", "LaneOffsetAction") => self.lane_offset(inner),
+            ("LateralAction", "LaneOffsetAction") => {
+                // An offset is from the vehicle's lane at the time, which for one that
+                // starts on the oncoming side carfollow does not follow.
+                if self.init.placed.get(owner).is_some_and(|p| p.oncoming) {
+                    return Err(xml.at(inner, format!("<LaneOffsetAction>: `{owner}` starts on the oncoming side: an offset of it is refused")));
+                }
+                self.lane_offset(inner)
+            }
             _ => Err(xml.unsupported(inner, "action", "")),
         }
     }
@@ -314,17 +321,16 @@ impl Context<'_, '_> {
                 if !(changes == 0 || (of == owner && changes == 1)) {
                     return Err(xml.at(target, format!("<RelativeTargetLane entityRef=\"{of}\">: `{of}` changes lane in the stories, so its lane when this starts is not known before the run")));
                 }
-                let lane = self
-                    .init
-                    .placed
-                    .get(&of)
-                    .ok_or_else(|| {
-                        xml.at(
-                            target,
-                            format!("<RelativeTargetLane>: `{of}` is not placed in <Init>"),
-                        )
-                    })?
-                    .lane;
+                let placed = self.init.placed.get(&of).ok_or_else(|| {
+                    xml.at(
+                        target,
+                        format!("<RelativeTargetLane>: `{of}` is not placed in <Init>"),
+                    )
+                })?;
+                if placed.oncoming {
+                    return Err(xml.at(target, format!("<RelativeTargetLane entityRef=\"{of}\">: `{of}` starts on the oncoming side: a lane counted from it is refused")));
+                }
+                let lane = placed.lane;
                 let d = xml.num(target, "value")?;
                 if d.fract() != 0.0 || d.abs() > 100.0 {
                     return Err(xml.at(

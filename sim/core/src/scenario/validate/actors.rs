@@ -120,12 +120,7 @@ pub(super) fn actors(
     }
     let mut out = Vec::with_capacity(raw.actors.len());
     for (i, a) in raw.actors.iter().enumerate() {
-        offset(
-            &format!("actors[{i}].offset_m"),
-            a.offset_m,
-            route.lane_width_of(a.lane),
-            f,
-        )?;
+        actor_offset(&format!("actors[{i}].offset_m"), a, route, f)?;
         let (spec, me) = actor(i, a, lanes, route, route_length_m, &placed, f)?;
         placed.push(me);
         out.push(spec);
@@ -419,6 +414,44 @@ fn events(
         }
     }
     Ok(())
+}
+
+/// Whether an offset `offset_m` from lane `lane`'s centre puts a vehicle's reference point
+/// on a lane of the oncoming side, within half that lane's width of its centre.
+pub(crate) fn on_oncoming_lane(route: &sim_render::RouteSpec, lane: u32, offset_m: f64) -> bool {
+    let right_m = route.lane_centre_m(lane) - offset_m;
+    offset_m.is_finite()
+        && (1..=route.lanes)
+            .any(|k| (right_m + route.lane_centre_m(k)).abs() <= 0.5 * route.lane_width_of(k))
+}
+
+/// An actor's offset from its lane's centre (`field`), checked: as [`offset`], or onto a
+/// lane of the oncoming side ([`on_oncoming_lane`]), where it drives with the road.
+fn actor_offset(
+    field: &str,
+    a: &super::super::traffic::ActorFile,
+    route: &sim_render::RouteSpec,
+    f: &Blame,
+) -> Result<(), ScenarioError> {
+    if on_oncoming_lane(route, a.lane, a.offset_m) {
+        return Ok(());
+    }
+    let half = 0.5 * route.lane_width_of(a.lane);
+    let centre = |k: u32| route.lane_centre_m(a.lane) + route.lane_centre_m(k);
+    let (near, far) = (1, route.lanes);
+    f.at(
+        field,
+        check(
+            a.offset_m.is_finite() && a.offset_m.abs() <= half,
+            &format!(
+                "must be within half its lane's width, ±{half} m, or {:.2}–{:.2} m (on a lane \
+                 of the oncoming side, driven with the road)",
+                centre(near) - 0.5 * route.lane_width_of(near),
+                centre(far) + 0.5 * route.lane_width_of(far)
+            ),
+            a.offset_m,
+        ),
+    )
 }
 
 /// A vehicle's offset from its lane's centre (`field`), checked: finite, and within half the
