@@ -484,22 +484,26 @@ fn an_events_empty_start_trigger_starts_it_at_once() {
     assert!(first.contains("cut-in:started"), "{first}");
 }
 
+/// An edit of the test file that places its cutter on lane `lane` with `inside` (an
+/// `<Orientation>`, or nothing) in its `LanePosition`.
+fn cutter_at(lane: &'static str, inside: &'static str) -> impl Fn(&str) -> String {
+    move |text: &str| {
+        let at = "<LanePosition roadId=\"1\" laneId=\"-2\" offset=\"0\" s=\"80\"/>";
+        assert!(text.contains(at));
+        text.replace(
+            at,
+            &format!("<LanePosition roadId=\"1\" laneId=\"{lane}\" offset=\"0\" s=\"80\">\n{inside}</LanePosition>"),
+        )
+    }
+}
+
 /// A vehicle's `<Orientation>` in `Init` is read, not passed over: turned against the road
 /// (esmini's `lane_change_crest` turns a car in lane −1 by π) it is refused at its line;
 /// turned a little, the vehicle starts along the road, said in one warning; along the road,
 /// relative or absolute, the run is the file's, bit for bit.
 #[test]
 fn a_vehicles_orientation_is_read() {
-    let at = "<LanePosition roadId=\"1\" laneId=\"-2\" offset=\"0\" s=\"80\"/>";
-    let turned = |o: &'static str| {
-        move |text: &str| {
-            assert!(text.contains(at));
-            text.replace(
-                at,
-                &format!("<LanePosition roadId=\"1\" laneId=\"-2\" offset=\"0\" s=\"80\">\n{o}</LanePosition>"),
-            )
-        }
-    };
+    let turned = |o: &'static str| cutter_at("-2", o);
     let set = ["--set", "duration_s=6"];
     let dir = tempfile::tempdir().unwrap();
     let original = frames_of(&data().join("cut-in.xosc"), &dir.path().join("o"), &set);
@@ -545,16 +549,7 @@ fn a_vehicles_orientation_is_read() {
 /// it or a lead named that starts there.
 #[test]
 fn a_vehicle_driving_with_the_road_on_the_oncoming_side_is_read() {
-    let at = "<LanePosition roadId=\"1\" laneId=\"-2\" offset=\"0\" s=\"80\"/>";
-    let on_left = |o: &'static str| {
-        move |text: &str| {
-            assert!(text.contains(at));
-            text.replace(
-                at,
-                &format!("<LanePosition roadId=\"1\" laneId=\"1\" offset=\"0\" s=\"80\">{o}</LanePosition>"),
-            )
-        }
-    };
+    let on_left = |o: &'static str| cutter_at("1", o);
     let (d, path) = mutant(on_left("<Orientation type=\"relative\" h=\"3.141593\"/>"));
     let toml = d.path().join("left.toml");
     let text = import_to(&path, &toml);
