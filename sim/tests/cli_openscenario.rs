@@ -154,9 +154,10 @@ fn esminis_files_are_refused_in_one_line_naming_what_carfollow_does_not_run() {
     let esmini = data().join("esmini");
     let cases = [
         (
+            // Its car starts on the oncoming side, driving with the road, and is read so.
             "xosc/cut-in_simple.xosc",
-            "cut-in_simple.xosc:69",
-            "t = 1.5650000000000002 m is on no lane carfollow drives",
+            "cut-in_simple.xosc:180",
+            "unsupported condition <AccelerationCondition>",
         ),
         (
             "xosc/acc-test.xosc",
@@ -562,6 +563,15 @@ fn a_vehicle_driving_with_the_road_on_the_oncoming_side_is_read() {
         f.rows.iter().any(|r| r[col] == "Cutter"),
         "the cutter never enters the path"
     );
+    // A RoadPosition there too: t = 1.75 m is the oncoming lane 1's centre.
+    let (d, path) = mutant(|text| {
+        cutter_at("-2", "")(text).replace(
+            "<LanePosition roadId=\"1\" laneId=\"-2\" offset=\"0\" s=\"80\">\n</LanePosition>",
+            "<RoadPosition roadId=\"1\" s=\"80\" t=\"1.75\"><Orientation type=\"relative\" h=\"3.141593\"/></RoadPosition>",
+        )
+    });
+    let text = import_to(&path, &d.path().join("road.toml"));
+    assert!(text.contains("offset_m = 3.5"), "{text}");
     let (_d, path) = mutant(on_left(""));
     let line = line_of(&path, "laneId=\"1\"");
     let e = refusal(

@@ -142,6 +142,20 @@ impl RoadLanes {
         self.lane_holding(p.s_m, t_m)
     }
 
+    /// The lane of the oncoming side whose strip (its centre ± half its width, mirroring
+    /// ours about the centre line) holds the point at station `s_m` that lies `t_m` from the
+    /// reference line: the lane of ours it mirrors.
+    pub fn oncoming_lane_holding(&self, s_m: f64, t_m: f64) -> Option<u32> {
+        let width = |k: u32| {
+            self.lane_widths_m
+                .get(k as usize - 1)
+                .copied()
+                .unwrap_or(self.lane_width_m)
+        };
+        let left_m = t_m - self.offset_at(s_m);
+        (1..=self.lanes).find(|&k| (left_m - self.centre_m(k)).abs() <= 0.5 * width(k))
+    }
+
     /// The driving lanes' ids, for errors.
     pub fn named(&self) -> String {
         match self.lanes {
@@ -398,20 +412,26 @@ fn lane_at(
     node: Node,
     s_m: f64,
     t_m: f64,
-) -> Result<(u32, f64), OscError> {
-    road.lane_holding(s_m, t_m)
-        .map(|k| (k, road.left_of_centre_m(s_m, k, t_m)))
-        .ok_or_else(|| {
-            xml.at(
-                node,
-                format!(
-                    "<{}>: t = {t_m} m is on no lane carfollow drives on road {} ({})",
-                    node.tag_name().name(),
-                    road.id,
-                    road.named()
-                ),
-            )
-        })
+) -> Result<Placed, OscError> {
+    if let Some(k) = road.lane_holding(s_m, t_m) {
+        return Ok(Placed::new(s_m, k, road.left_of_centre_m(s_m, k, t_m)));
+    }
+    // On a lane of the oncoming side: lane 1, that far to the left of its centre.
+    if road.oncoming_lane_holding(s_m, t_m).is_some() {
+        return Ok(Placed {
+            oncoming: true,
+            ..Placed::new(s_m, 1, road.left_of_centre_m(s_m, 1, t_m))
+        });
+    }
+    Err(xml.at(
+        node,
+        format!(
+            "<{}>: t = {t_m} m is on no lane carfollow drives on road {} ({})",
+            node.tag_name().name(),
+            road.id,
+            road.named()
+        ),
+    ))
 }
 
 /// The station along the route of `s_m` on the road `node`'s `roadId` names: one of the
@@ -476,7 +496,7 @@ fn absolute_position(xml: &Xml, road: &RoadLanes, p: Node) -> Result<Placed, Osc
         }
         (lane_of_id(xml, road, p, id)?, offset)
     } else {
-        lane_at(xml, road, p, s_m, xml.num(p, "t")?)?
+        return lane_at(xml, road, p, s_m, xml.num(p, "t")?);
     };
     Ok(Placed::new(s_m, lane, offset_m))
 }
@@ -680,7 +700,7 @@ fn relative_position(
         (lane, xml.opt_num(p, "offset")?.unwrap_or(0.0))
     } else {
         let t_base = base.offset_m - road.centre_m(base.lane) + road.offset_at(base.s_m);
-        lane_at(xml, road, p, s_m, t_base + xml.num(p, "dt")?)?
+        return lane_at(xml, road, p, s_m, t_base + xml.num(p, "dt")?);
     };
     Ok(Placed::new(s_m, lane, offset_m))
 }
