@@ -123,16 +123,19 @@ impl RoadLanes {
         t_m - self.offset_at(s_m) + self.centre_m(lane)
     }
 
+    /// The width of lane `lane` (1-based), m.
+    fn width_of(&self, lane: u32) -> f64 {
+        self.lane_widths_m
+            .get(lane as usize - 1)
+            .copied()
+            .unwrap_or(self.lane_width_m)
+    }
+
     /// The driving lane whose strip (its centre ± half its width) holds the point at
     /// station `s_m` that lies `t_m` from the reference line (negative to the right).
     pub fn lane_holding(&self, s_m: f64, t_m: f64) -> Option<u32> {
-        let width = |k: u32| {
-            self.lane_widths_m
-                .get(k as usize - 1)
-                .copied()
-                .unwrap_or(self.lane_width_m)
-        };
-        (1..=self.lanes).find(|&k| self.left_of_centre_m(s_m, k, t_m).abs() <= 0.5 * width(k))
+        (1..=self.lanes)
+            .find(|&k| self.left_of_centre_m(s_m, k, t_m).abs() <= 0.5 * self.width_of(k))
     }
 
     /// The driving lane on the right whose strip holds the reference point of a vehicle
@@ -146,14 +149,8 @@ impl RoadLanes {
     /// ours about the centre line) holds the point at station `s_m` that lies `t_m` from the
     /// reference line: the lane of ours it mirrors.
     pub fn oncoming_lane_holding(&self, s_m: f64, t_m: f64) -> Option<u32> {
-        let width = |k: u32| {
-            self.lane_widths_m
-                .get(k as usize - 1)
-                .copied()
-                .unwrap_or(self.lane_width_m)
-        };
         let left_m = t_m - self.offset_at(s_m);
-        (1..=self.lanes).find(|&k| (left_m - self.centre_m(k)).abs() <= 0.5 * width(k))
+        (1..=self.lanes).find(|&k| (left_m - self.centre_m(k)).abs() <= 0.5 * self.width_of(k))
     }
 
     /// The driving lanes' ids, for errors.
