@@ -388,12 +388,6 @@ fn ccrm_16_mm_holds_the_board(points: &[(&str, &str)]) {
     }
 }
 
-/// A fit whose range shrinks faster than the chase drives has slid off its target
-/// (`sim_core`'s `plugin::closing`), and the lane is searched for the target at once. In
-/// `ncap-ccrm` through the 16 mm lens the board, found 53.7 m ahead and too small to
-/// resolve, is coasted on, and the fit slides to the lead's whole back, a range of 25 m:
-/// robust mode at 55 km/h said `tracking` there for 18 frames before the check, and the
-/// paper's mode at 50 km/h lost the board for 16.5 s and failed its criteria.
 /// `stopped-car-ahead` on other seeds (other clutter and noise), as the traffic guide
 /// reports them: the chase finds the standing car and never touches it, in both modes. A
 /// weak fit rechecked more rarely in robust mode (one frame in 3, then 6, then 12) made two
@@ -415,6 +409,12 @@ fn a_car_standing_ahead_is_never_touched_on_seeds_1_to_5_in_either_mode() {
     }
 }
 
+/// A fit whose range shrinks faster than the chase drives has slid off its target
+/// (`sim_core`'s `plugin::closing`), and the lane is searched for the target at once. In
+/// `ncap-ccrm` through the 16 mm lens the board, found 53.7 m ahead and too small to
+/// resolve, is coasted on, and the fit slides to the lead's whole back, a range of 25 m:
+/// robust mode at 55 km/h said `tracking` there for 18 frames before the check, and the
+/// paper's mode at 50 km/h lost the board for 16.5 s and failed its criteria.
 #[test]
 fn a_fit_closing_faster_than_the_chase_drives_gives_way_to_the_target() {
     ccrm_16_mm_holds_the_board(&[("15.28", "robust"), ("13.89", "paper")]);
