@@ -734,3 +734,55 @@ fn a_qualified_reference_names_the_element_its_parents_place() {
         assert!(e.contains(says) && e.contains("mutant.xosc:"), "{e}");
     }
 }
+
+/// A wait for an event's start (`startTransition`; esmini's `alks_r157_cut_in_quick_brake`
+/// brakes a set time after its lane change starts) is a `started` trigger: the brake starts
+/// the condition's delay after the cut-in starts, while the cut-in still runs, and 2.5 s
+/// (the cut-in's length) sooner than the wait for its end; imported, exported and read back,
+/// each runs bit for bit as the file. A wait for an event's running state is refused.
+#[test]
+fn a_wait_for_an_events_start_is_a_started_trigger() {
+    let end = r#"storyboardElementRef="cut-in" state="endTransition""#;
+    let set = ["--set", "duration_s=12"];
+    let (dir, path) = mutant(|text| {
+        assert!(text.contains(end));
+        text.replace(end, &end.replace("endTransition", "startTransition"))
+    });
+    let frames = Frames::parse(&frames_of(&path, &dir.path().join("x"), &set));
+    let (started, brake) = (
+        frames.logged("cut-in:started"),
+        frames.logged("brake:started"),
+    );
+    let (started, brake) = (started.unwrap(), brake.expect("the brake starts"));
+    assert!(
+        (brake - started - 1.0).abs() <= 1.0 / 15.0 + 1e-9,
+        "{started} {brake}"
+    );
+    let (edir, plain) = mutant(|text| text.to_string());
+    let ended = Frames::parse(&frames_of(&plain, &edir.path().join("x"), &set));
+    let after_end = ended.logged("brake:started").expect("the brake starts");
+    assert!(
+        (after_end - brake - 2.5).abs() <= 1.0 / 15.0 + 1e-9,
+        "{after_end} {brake}"
+    );
+
+    let toml = dir.path().join("imported/start.toml");
+    let text = import_to(&path, &toml);
+    assert!(text.contains(r#"started = "cut-in""#), "{text}");
+    let from_toml = frames_of(&toml, &dir.path().join("t"), &set);
+    assert!(frames_of(&path, &dir.path().join("x2"), &set) == from_toml);
+    let (xosc, written) = export_to(&toml, &dir.path().join("export"));
+    assert!(written.contains(r#"state="startTransition""#), "{written}");
+    assert!(frames_of(&xosc, &dir.path().join("e"), &set) == from_toml);
+
+    let (_dir, running) =
+        mutant(|text| text.replace(end, &end.replace("endTransition", "runningState")));
+    let o = carfollow(&["check", running.to_str().unwrap()]);
+    let e = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{e}");
+    assert_eq!(e.lines().count(), 1, "{e}");
+    assert!(
+        e.contains("an event, startTransition") && e.contains("mutant.xosc:"),
+        "{e}"
+    );
+}

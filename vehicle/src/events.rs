@@ -11,7 +11,8 @@
 //! 3. every action that has reached its end ends; an event with `repeat` waits for its
 //!    trigger again from the next step, the others are done.
 //!
-//! An `after` trigger sees the actions ended at earlier steps. A trigger of several
+//! An `after` trigger sees the actions ended at earlier steps, a `started` trigger those
+//! started at earlier steps. A trigger of several
 //! conditions (`all`, `any`) is evaluated at every step, whatever its event's phase, so that
 //! a member with a delay answers from its condition's history that long ago. All times are whole steps
 //! (`docs/src/conventions.md`, "One clock"): a duration or delay is rounded to the step.
@@ -175,6 +176,8 @@ struct Now<'a> {
     road_end_m: f64,
     /// Whether each of the vehicle's events has ended (for `after`).
     ended: &'a [bool],
+    /// Whether each of the vehicle's events has started (for `started`).
+    started: &'a [bool],
 }
 
 /// The index in `vehicles` of the vehicle `name`, or an error at `field`.
@@ -336,6 +339,7 @@ impl Watch {
             (Condition::Time(t), _) => compare(c.now.seconds(), *t),
             (Condition::Distance(d), _) => compare(mine.station_m - c.start_station_m, *d),
             (Condition::After(j), _) => c.ended.get(*j).copied().unwrap_or(false),
+            (Condition::Started(j), _) => c.started.get(*j).copied().unwrap_or(false),
             (Condition::Speed(v, _), _) => self
                 .of
                 .map_or(Some(mine), |j| c.view.get(j))
@@ -455,6 +459,8 @@ pub struct Events {
     events: Vec<EventState>,
     /// Whether each event's action has ended at least once (what `after` waits for).
     ended: Vec<bool>,
+    /// Whether each event's action has started at least once (what `started` waits for).
+    started: Vec<bool>,
     lanes: Lanes,
     /// The vehicle's station at the first step, m (distance triggers count from it).
     start_station_m: Option<f64>,
@@ -549,6 +555,7 @@ impl Events {
         }
         Ok(Events {
             ended: vec![false; events.len()],
+            started: vec![false; events.len()],
             events,
             lanes,
             start_station_m: None,
@@ -637,6 +644,7 @@ impl Events {
             lanes: self.lanes,
             road_end_m: self.road_end_m,
             ended: &self.ended,
+            started: &self.started,
         };
         for e in &mut self.events {
             let trigger = &e.event.trigger;
@@ -737,6 +745,7 @@ impl Events {
         view: &TrafficView,
         fired: &mut Vec<Fired>,
     ) {
+        self.started[i] = true;
         let action = self.events[i].event.action.clone();
         let mut follow = None;
         let mut kept = false;

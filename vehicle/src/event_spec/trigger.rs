@@ -32,6 +32,7 @@ impl EventScript {
             ("road_end_s", t.road_end_s.is_some()),
             ("reach", t.reach.is_some()),
             ("after", t.after.is_some()),
+            ("started", t.started.is_some()),
             ("all", t.all.is_some()),
             ("any", t.any.is_some()),
         ]
@@ -44,7 +45,7 @@ impl EventScript {
                 path,
                 format!(
                     "must give exactly one of time_s, distance_m, gap_m, spacing_m, time_gap_s, ttc_s, \
-                     speed_mps, relative_speed_mps, standstill_s, road_end_s, reach, after, all \
+                     speed_mps, relative_speed_mps, standstill_s, road_end_s, reach, after, started, all \
                      and any \
                      (given: {})",
                     if given.is_empty() {
@@ -134,32 +135,24 @@ impl EventScript {
         } else if let Some(r) = &t.reach {
             Condition::Reach(reach(i, path, r)?, of)
         } else {
-            let after = t.after.as_deref().unwrap_or_default();
-            match self.0.iter().position(|e| e.name == after) {
-                Some(j) if j == i => {
-                    return Err(invalid(
-                        i,
-                        &field("after"),
-                        format!("\"{after}\" is this event itself"),
-                    ))
-                }
-                Some(j) => Condition::After(j),
-                None => {
-                    return Err(invalid(
-                        i,
-                        &field("after"),
-                        format!("no event is named \"{after}\""),
-                    ))
-                }
+            let (kind, name) = match (&t.after, &t.started) {
+                (Some(after), _) => ("after", after.as_str()),
+                (None, started) => ("started", started.as_deref().unwrap_or_default()),
+            };
+            let j = self.other_event(i, &field(kind), name)?;
+            if kind == "after" {
+                Condition::After(j)
+            } else {
+                Condition::Started(j)
             }
         };
         let rule =
             match (&condition, t.rule) {
-                (Condition::After(_), Some(_)) => {
+                (Condition::After(_) | Condition::Started(_), Some(_)) => {
                     return Err(invalid(
                         i,
                         &field("rule"),
-                        "an after trigger has no threshold to compare with".into(),
+                        format!("an {} trigger has no threshold to compare with", given[0]),
                     ))
                 }
                 (Condition::Standstill(..), Some(_)) => {
@@ -188,9 +181,13 @@ impl EventScript {
                     ))
                 }
                 (_, Some(rule)) => rule,
-                (Condition::Time(_) | Condition::Distance(_) | Condition::After(_), None) => {
-                    Rule::Greater
-                }
+                (
+                    Condition::Time(_)
+                    | Condition::Distance(_)
+                    | Condition::After(_)
+                    | Condition::Started(_),
+                    None,
+                ) => Rule::Greater,
                 (_, None) => Rule::Less,
             };
         let delay_s = match t.delay_s {
@@ -205,6 +202,20 @@ impl EventScript {
             falling: t.falling,
             latched: latched(i, path, t, depth)?,
         })
+    }
+
+    /// The index of the event `name` that event `i`'s `after` or `started` at `field`
+    /// waits for: another of its vehicle's events.
+    fn other_event(&self, i: usize, field: &str, name: &str) -> Result<usize, VehicleError> {
+        match self.0.iter().position(|e| e.name == name) {
+            Some(j) if j == i => Err(invalid(
+                i,
+                field,
+                format!("\"{name}\" is this event itself"),
+            )),
+            Some(j) => Ok(j),
+            None => Err(invalid(i, field, format!("no event is named \"{name}\""))),
+        }
     }
 
     /// Event `i`'s `all` or `any` (`kind`) at `path`, of `members`, checked.

@@ -481,8 +481,12 @@ impl Context<'_, '_> {
                     // (`act_trigger`).
                     return self.started_at(c, &kind, &reference, owner);
                 }
-                if !matches!(state.as_str(), "endTransition" | "completeState") {
-                    return Err(xml.at(c, format!("<StoryboardElementStateCondition storyboardElementType=\"{kind}\" state=\"{state}\">: carfollow waits for an element's end (endTransition or completeState) or a start (a story, act, maneuver group or maneuver, startTransition or runningState)")));
+                // An event's start: the step its action starts (a wait for it, with the
+                // condition's delay, as esmini starts `alks_r157_cut_in_quick_brake`'s
+                // brake after its lane change starts).
+                let start = kind == "event" && state == "startTransition";
+                if !start && !matches!(state.as_str(), "endTransition" | "completeState") {
+                    return Err(xml.at(c, format!("<StoryboardElementStateCondition storyboardElementType=\"{kind}\" state=\"{state}\">: carfollow waits for an element's end (endTransition or completeState) or a start (a story, act, maneuver group or maneuver, startTransition or runningState; an event, startTransition)")));
                 }
                 // An element's end is its last event's: every event under it ended (each
                 // runs once, and an act's own stop trigger is refused).
@@ -492,7 +496,9 @@ impl Context<'_, '_> {
                     if self.never.contains(&event.id().get()) {
                         return Err(xml.at(c, format!("<StoryboardElementStateCondition storyboardElementRef=\"{reference}\">: waits for an event that never starts (a `ParameterCondition` of its start trigger does not hold)")));
                     }
-                    self.not_continuous(c, event, &reference)?;
+                    if !start {
+                        self.not_continuous(c, event, &reference)?;
+                    }
                     let found = self.found.get(&event.id().get());
                     if let Some(f) = found.filter(|f| f.owner == self.ego && owner != self.ego) {
                         return Err(xml.at(c, format!("<StoryboardElementStateCondition storyboardElementRef=\"{reference}\">: waits for an event of the ego `{}`, whose actions carfollow does not apply (its loop drives the chase)", f.owner)));
@@ -500,9 +506,17 @@ impl Context<'_, '_> {
                     let found = found.filter(|f| f.owner == owner).ok_or_else(|| {
                         xml.at(c, format!("<StoryboardElementStateCondition storyboardElementRef=\"{reference}\">: not an event of `{owner}` (carfollow's events wait for their own vehicle's)"))
                     })?;
-                    each.push(TriggerSpec {
-                        after: Some(found.name.clone()),
-                        ..TriggerSpec::default()
+                    let name = Some(found.name.clone());
+                    each.push(if start {
+                        TriggerSpec {
+                            started: name,
+                            ..TriggerSpec::default()
+                        }
+                    } else {
+                        TriggerSpec {
+                            after: name,
+                            ..TriggerSpec::default()
+                        }
                     });
                 }
                 Ok(match each.len() {

@@ -439,12 +439,17 @@ impl Group {
             self.entity_condition(x, name, edge, |x| {
                 x.empty("TraveledDistanceCondition", &[n("value", v)]);
             });
-        } else if let Some(after) = &t.after {
+        } else if let Some((other, state)) = t
+            .after
+            .as_ref()
+            .map(|e| (e, "endTransition"))
+            .or(t.started.as_ref().map(|e| (e, "startTransition")))
+        {
             let target = self
                 .events
                 .iter()
-                .find(|(_, e)| &e.name == after)
-                .map_or(after.as_str(), |(written, _)| written.as_str());
+                .find(|(_, e)| &e.name == other)
+                .map_or(other.as_str(), |(written, _)| written.as_str());
             condition(x, name, edge, |x| {
                 x.open("ByValueCondition", &[]);
                 x.empty(
@@ -452,7 +457,7 @@ impl Group {
                     &[
                         a("storyboardElementType", "event"),
                         a("storyboardElementRef", target),
-                        a("state", "endTransition"),
+                        a("state", state),
                     ],
                 );
                 x.close();
