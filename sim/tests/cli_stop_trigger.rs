@@ -246,3 +246,50 @@ fn a_wait_for_an_elements_end_is_a_wait_for_its_last_event() {
         "{e}"
     );
 }
+
+/// esmini's `alks_r157_cut_in_quick_brake` (MPL-2.0, under `esmini/`): its target cuts in
+/// at 2 s and brakes 2 s after that lane change starts (a wait for an event's start); its
+/// `StopTrigger` ends the run at a `CollisionCondition` of the ego and the target, a
+/// contact trigger. The chase, cruising with no lead, does not hold the target it is given
+/// so near, touches it, and the run ends at the frame of that contact, in both modes;
+/// imported and exported, the file runs bit for bit the same.
+#[test]
+fn a_collision_in_the_stop_trigger_ends_the_run_at_the_contact() {
+    let file = data().join("esmini/xosc/alks_r157_cut_in_quick_brake.xosc");
+    let dir = tempfile::tempdir().unwrap();
+    for mode in ["paper", "robust"] {
+        let out = dir.path().join(mode);
+        let set = format!("tracker.mode={mode}");
+        let frames = Frames::parse(&frames_of(&file, &out, &["--set", &set]));
+        let s = summary(&out);
+        let contact = &s["traffic"]["collisions"][0];
+        assert_eq!(contact["vehicle"], "Target", "{mode}: {s}");
+        let (hit, ended) = (contact["t_s"].as_f64().unwrap(), &s["ended_by"]);
+        assert_eq!(ended["vehicle"], "Target", "{mode}: {ended}");
+        assert!(
+            (ended["t_s"].as_f64().unwrap() - hit).abs() < 1e-9,
+            "{mode}: {s}"
+        );
+        let last = frames.num(frames.rows.last().unwrap(), "t_s");
+        assert!((last - hit).abs() <= 1.0 / 15.0, "{mode}: {last} {hit}");
+        let change = frames.logged("Target/LaneChange1Event:started").unwrap();
+        let brake = frames
+            .logged("Target/TargetreduceSpeedEvent:started")
+            .unwrap();
+        assert!(
+            (brake - change - 2.0).abs() <= 1.0 / 15.0 + 1e-9,
+            "{change} {brake}"
+        );
+    }
+    let toml = dir.path().join("imported/r157.toml");
+    let text = import_to(&file, &toml);
+    assert!(
+        text.contains("contact = true") && text.contains("started = "),
+        "{text}"
+    );
+    let from_toml = frames_of(&toml, &dir.path().join("t"), &[]);
+    assert!(frames_of(&file, &dir.path().join("x"), &[]) == from_toml);
+    let (xosc, written) = export_to(&toml, &dir.path().join("export"));
+    assert!(written.contains("<CollisionCondition>"), "{written}");
+    assert!(frames_of(&xosc, &dir.path().join("e"), &[]) == from_toml);
+}

@@ -163,7 +163,7 @@ fn is_zero(v: &f64) -> bool {
 
 /// When an event's action starts: exactly one of `time_s`, `distance_m`, `gap_m`,
 /// `spacing_m`, `time_gap_s`, `ttc_s`, `speed_mps`, `relative_speed_mps`, `standstill_s`,
-/// `road_end_s`, `reach`, `after`, `started`, `all` and `any`, evaluated at every physics step on level (it fires at the
+/// `road_end_s`, `reach`, `after`, `started`, `contact`, `all` and `any`, evaluated at every physics step on level (it fires at the
 /// first step its condition holds, not only when it becomes true), or with `rising` or
 /// `falling` on its edges.
 ///
@@ -184,6 +184,7 @@ fn is_zero(v: &f64) -> bool {
 /// trigger = { time_s = 5.0, rule = "equal" }   # exactly at 5 s (see `EQUAL_TOLERANCE`)
 /// trigger = { after = "cut-in", delay_s = 0.5 }  # 0.5 s after `cut-in`'s action ended
 /// trigger = { started = "cut-in", delay_s = 1.0 }  # 1 s after `cut-in`'s action started
+/// trigger = { contact = true, to = "chase" }    # while this vehicle touches `chase`
 /// trigger = { all = [{ time_s = 5.0 }, { gap_m = 20.0, to = "chase" }] }  # both at once
 /// trigger = { any = [{ time_s = 20.0 }, { ttc_s = 2.0, to = "chase" }] }  # either
 /// trigger = { all = [{ gap_m = 30.0, to = "chase", latched = true }, { time_gap_s = 1.0, to = "chase" }] }
@@ -270,6 +271,10 @@ pub struct TriggerSpec {
     /// started (OpenSCENARIO's wait for an event's `startTransition`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub started: Option<String>,
+    /// Holds while this vehicle's body touches the vehicle `to`'s (OpenSCENARIO's
+    /// `CollisionCondition`). Takes no `rule`.
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub contact: bool,
     /// Holds when every one of these triggers holds (OpenSCENARIO's `ConditionGroup`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub all: Option<Vec<TriggerSpec>>,
@@ -641,6 +646,8 @@ pub(crate) enum Condition {
     After(usize),
     /// Another event (its index) has started.
     Started(usize),
+    /// This vehicle touches a vehicle.
+    Contact(String),
     /// Every member holds.
     All(Vec<Trigger>),
     /// At least one member holds.

@@ -51,6 +51,10 @@ pub struct VehicleView {
     pub front_m: f64,
     /// Where its rear bumper is along the road, m.
     pub rear_m: f64,
+    /// The vehicles its body touches, a bit each by their index in the view (bit `j`:
+    /// vehicle `j`; none beyond 63), for contact triggers: the caller sets those of the
+    /// pairs [`Events::contacts_watched`] asks for, and may leave the others clear.
+    pub touching: u64,
 }
 
 /// The traffic at one step: every vehicle, by the index the caller gave its name in
@@ -206,7 +210,8 @@ impl Watch {
             | Condition::Spacing(_, to)
             | Condition::TimeGap(_, to, _, _)
             | Condition::Ttc(_, to, _)
-            | Condition::RelativeSpeed(_, to) => {
+            | Condition::RelativeSpeed(_, to)
+            | Condition::Contact(to) => {
                 watch.to = Some(vehicle_index(vehicles, to, format!("{field}.to"))?);
             }
             Condition::Speed(_, of)
@@ -340,6 +345,9 @@ impl Watch {
             (Condition::Distance(d), _) => compare(mine.station_m - c.start_station_m, *d),
             (Condition::After(j), _) => c.ended.get(*j).copied().unwrap_or(false),
             (Condition::Started(j), _) => c.started.get(*j).copied().unwrap_or(false),
+            (Condition::Contact(_), _) => self
+                .to
+                .is_some_and(|j| j < 64 && mine.touching & (1 << j) != 0),
             (Condition::Speed(v, _), _) => self
                 .of
                 .map_or(Some(mine), |j| c.view.get(j))
@@ -624,6 +632,30 @@ impl Events {
     /// lateral action has started).
     pub fn lateral_offset_m(&self) -> f64 {
         self.lateral_now_m
+    }
+
+    /// The vehicles (their indices in the view) whose contact with this one its contact
+    /// triggers watch, each once, in order: the pairs whose [`VehicleView::touching`] the
+    /// caller is to set.
+    pub fn contacts_watched(&self) -> Vec<usize> {
+        fn walk(trigger: &Trigger, watch: &Watch, out: &mut Vec<usize>) {
+            match &trigger.condition {
+                Condition::Contact(_) => out.extend(watch.to),
+                Condition::All(members) | Condition::Any(members) => {
+                    for (m, w) in members.iter().zip(&watch.members) {
+                        walk(m, w, out);
+                    }
+                }
+                _ => {}
+            }
+        }
+        let mut out = Vec::new();
+        for e in &self.events {
+            walk(&e.event.trigger, &e.watch, &mut out);
+        }
+        out.sort_unstable();
+        out.dedup();
+        out
     }
 
     /// Runs step `now` for the vehicle `me` of `view`: the events that started and ended

@@ -76,6 +76,7 @@ fn drive(
             speed_mps: f64::from(state.forward_speed_mps),
             front_m: f64::from(p.s_m + params.front_bumper_x_m()),
             rear_m: f64::from(p.s_m + params.rear_bumper_x_m()),
+            touching: 0,
         }];
         let (controls, fired) = driver.update(world.now(), &state, &view, 0);
         log.extend(fired);

@@ -33,6 +33,7 @@ impl EventScript {
             ("reach", t.reach.is_some()),
             ("after", t.after.is_some()),
             ("started", t.started.is_some()),
+            ("contact", t.contact),
             ("all", t.all.is_some()),
             ("any", t.any.is_some()),
         ]
@@ -45,7 +46,7 @@ impl EventScript {
                 path,
                 format!(
                     "must give exactly one of time_s, distance_m, gap_m, spacing_m, time_gap_s, ttc_s, \
-                     speed_mps, relative_speed_mps, standstill_s, road_end_s, reach, after, started, all \
+                     speed_mps, relative_speed_mps, standstill_s, road_end_s, reach, after, started, contact, all \
                      and any \
                      (given: {})",
                     if given.is_empty() {
@@ -81,7 +82,8 @@ impl EventScript {
             || t.spacing_m.is_some()
             || t.time_gap_s.is_some()
             || t.ttc_s.is_some()
-            || t.relative_speed_mps.is_some();
+            || t.relative_speed_mps.is_some()
+            || t.contact;
         let to = match (&t.to, needs_to) {
             (Some(to), true) if to.trim().is_empty() => {
                 return Err(invalid(i, &field("to"), "must not be empty".into()))
@@ -134,6 +136,8 @@ impl EventScript {
             Condition::RoadEnd(v, of)
         } else if let Some(r) = &t.reach {
             Condition::Reach(reach(i, path, r)?, of)
+        } else if t.contact {
+            Condition::Contact(to)
         } else {
             let (kind, name) = match (&t.after, &t.started) {
                 (Some(after), _) => ("after", after.as_str()),
@@ -146,50 +150,58 @@ impl EventScript {
                 Condition::Started(j)
             }
         };
-        let rule =
-            match (&condition, t.rule) {
-                (Condition::After(_) | Condition::Started(_), Some(_)) => {
-                    return Err(invalid(
-                        i,
-                        &field("rule"),
-                        format!("an {} trigger has no threshold to compare with", given[0]),
-                    ))
-                }
-                (Condition::Standstill(..), Some(_)) => {
-                    return Err(invalid(
-                        i,
-                        &field("rule"),
-                        "a standstill trigger takes no rule: it holds once the vehicle has stood \
+        let rule = match (&condition, t.rule) {
+            (Condition::After(_) | Condition::Started(_), Some(_)) => {
+                return Err(invalid(
+                    i,
+                    &field("rule"),
+                    format!("an {} trigger has no threshold to compare with", given[0]),
+                ))
+            }
+            (Condition::Standstill(..), Some(_)) => {
+                return Err(invalid(
+                    i,
+                    &field("rule"),
+                    "a standstill trigger takes no rule: it holds once the vehicle has stood \
                      still this long"
-                            .into(),
-                    ))
-                }
-                (Condition::RoadEnd(..), Some(_)) => return Err(invalid(
+                        .into(),
+                ))
+            }
+            (Condition::RoadEnd(..), Some(_)) => {
+                return Err(invalid(
                     i,
                     &field("rule"),
                     "a road_end_s trigger takes no rule: it holds once the vehicle has been at \
                      the road's end this long"
                         .into(),
-                )),
-                (Condition::Reach(..), Some(_)) => {
-                    return Err(invalid(
-                        i,
-                        &field("rule"),
-                        "a reach trigger takes no rule: it holds while the vehicle is within \
+                ))
+            }
+            (Condition::Contact(_), Some(_)) => {
+                return Err(invalid(
+                    i,
+                    &field("rule"),
+                    "a contact trigger takes no rule: it holds while the two vehicles touch".into(),
+                ))
+            }
+            (Condition::Reach(..), Some(_)) => {
+                return Err(invalid(
+                    i,
+                    &field("rule"),
+                    "a reach trigger takes no rule: it holds while the vehicle is within \
                      tolerance_m of the point"
-                            .into(),
-                    ))
-                }
-                (_, Some(rule)) => rule,
-                (
-                    Condition::Time(_)
-                    | Condition::Distance(_)
-                    | Condition::After(_)
-                    | Condition::Started(_),
-                    None,
-                ) => Rule::Greater,
-                (_, None) => Rule::Less,
-            };
+                        .into(),
+                ))
+            }
+            (_, Some(rule)) => rule,
+            (
+                Condition::Time(_)
+                | Condition::Distance(_)
+                | Condition::After(_)
+                | Condition::Started(_),
+                None,
+            ) => Rule::Greater,
+            (_, None) => Rule::Less,
+        };
         let delay_s = match t.delay_s {
             Some(v) => check(i, &field("delay_s"), v, 0.0, MAX_KEY, false)?,
             None => 0.0,

@@ -28,6 +28,7 @@ pub fn car(station_m: f64, speed_mps: f64) -> VehicleView {
         speed_mps,
         front_m: station_m + 4.0,
         rear_m: station_m - 1.0,
+        touching: 0,
     }
 }
 

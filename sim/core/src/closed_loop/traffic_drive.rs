@@ -22,6 +22,9 @@ pub(super) struct TrafficDrive {
     lead_events: Events,
     road: Road,
     contacts: Contacts,
+    /// The pairs of vehicles (indices in the list) whose contact a trigger watches, each
+    /// once: checked before every step, for the view's `touching`.
+    watched_contacts: Vec<(usize, usize)>,
     /// Events started and ended since the log was last taken.
     events: Vec<String>,
     /// The first event whose action ended the run, if one has.
@@ -50,8 +53,22 @@ impl TrafficDrive {
         let mut ids = vec![chase_id];
         ids.extend(lead_id);
         ids.extend(planned.actor_ids);
+        let mut watched_contacts = Vec::new();
+        if let Some(me) = planned.vehicles.lead() {
+            let watched = planned.lead_events.contacts_watched();
+            watched_contacts.extend(watched.into_iter().map(|j| (me.min(j), me.max(j))));
+        }
+        let first = planned.vehicles.first_actor();
+        for (k, actor) in planned.actors.iter().enumerate() {
+            let me = first + k;
+            let watched = actor.events().contacts_watched();
+            watched_contacts.extend(watched.into_iter().map(|j| (me.min(j), me.max(j))));
+        }
+        watched_contacts.sort_unstable();
+        watched_contacts.dedup();
         TrafficDrive {
             contacts: Contacts::new(ids.len()),
+            watched_contacts,
             ids,
             vehicles: planned.vehicles,
             actors: planned.actors,
@@ -84,7 +101,7 @@ impl TrafficDrive {
     ) -> Option<Controls> {
         let states: Vec<VehicleState> =
             self.ids.iter().map(|&id| world.vehicle_state(id)).collect();
-        let view: Vec<VehicleView> = self
+        let mut view: Vec<VehicleView> = self
             .road
             .places(&self.vehicles, &states)
             .iter()
@@ -94,8 +111,16 @@ impl TrafficDrive {
                 speed_mps: p.speed_mps,
                 front_m: p.front_m,
                 rear_m: p.rear_m,
+                touching: 0,
             })
             .collect();
+        // The contacts a trigger watches, as the last step left them.
+        for &(a, b) in &self.watched_contacts {
+            if a != b && b < 64 && world.vehicles_touch(self.ids[a], self.ids[b]) {
+                view[a].touching |= 1 << b;
+                view[b].touching |= 1 << a;
+            }
+        }
         let lead_controls = match (lead, self.vehicles.lead()) {
             (Some((lead, lead_state)), Some(me)) => {
                 if !self.lead_events.is_empty() {

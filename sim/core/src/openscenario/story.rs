@@ -670,10 +670,33 @@ impl Context<'_, '_> {
             "TimeHeadwayCondition" | "RelativeDistanceCondition" | "RelativeSpeedCondition" => {
                 xml.req(e, "entityRef")?
             }
+            "CollisionCondition" => {
+                let target = only_element(xml, e)?;
+                if target.tag_name().name() != "EntityRef" {
+                    return Err(xml.unsupported(
+                        target,
+                        "collision target",
+                        "carfollow's are vehicles, each named",
+                    ));
+                }
+                xml.req(target, "entityRef")?
+            }
             _ => return Err(xml.unsupported(e, "condition", "")),
         };
         if name == "RelativeSpeedCondition" {
             return self.relative_speed(e, &subject, &other, owner);
+        }
+        if name == "CollisionCondition" {
+            // A contact is the same seen from either vehicle.
+            let to = if subject == owner { other } else { subject };
+            if to == owner {
+                return Err(xml.at(e, format!("<CollisionCondition> of `{owner}` with itself")));
+            }
+            return Ok(TriggerSpec {
+                contact: true,
+                to: Some(self.name(e, &to)?),
+                ..TriggerSpec::default()
+            });
         }
         // Reference point to reference point: a relative distance's spacing, a headway's or
         // time to collision's `between_axles` (below).

@@ -244,7 +244,7 @@ impl Group {
                     a("maximumExecutionCount", runs),
                 ],
             );
-            x.open("Action", &[a("name", name)]);
+            x.open("Action", &[a("name", format!("{name}-action"))]);
             self.action(x, &e.action);
             x.close();
             x.open("StartTrigger", &[]);
@@ -267,7 +267,7 @@ impl Group {
                 a("maximumExecutionCount", 1),
             ],
         );
-        x.open("Action", &[a("name", &step.name)]);
+        x.open("Action", &[a("name", format!("{}-action", step.name))]);
         let span = step.to - step.from;
         let dynamics = if span <= 0.0 {
             ("step", "time", 0.0)
@@ -531,6 +531,12 @@ impl Group {
             let of = t.of.as_deref().map_or(self.entity.as_str(), entity);
             self.watching_condition(x, name, edge, of, |x| {
                 x.empty("StandStillCondition", &[n("duration", v)]);
+            });
+        } else if t.contact {
+            self.entity_condition(x, name, edge, |x| {
+                x.open("CollisionCondition", &[]);
+                x.empty("EntityRef", &[a("entityRef", to)]);
+                x.close();
             });
         } else if let Some(v) = t.road_end_s {
             let of = t.of.as_deref().map_or(self.entity.as_str(), entity);
