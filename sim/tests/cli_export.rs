@@ -4,6 +4,8 @@
 //! (when it is installed: `.ci/install` puts it in `target/qc-venv`). Run with
 //! `cargo test --release -p sim --test cli_export`.
 
+mod osc_common;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -286,26 +288,10 @@ fn asams_quality_checker_finds_no_issue() {
     // Waits for an event's start and end, and a collision (esmini's
     // `alks_r157_cut_in_quick_brake`, imported and written again): each event's name,
     // and its action's, resolve to one element.
-    let r157 = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("core/tests/data/openscenario/esmini/xosc/alks_r157_cut_in_quick_brake.xosc");
+    let r157 = osc_common::data().join("esmini/xosc/alks_r157_cut_in_quick_brake.xosc");
     let toml = dir.path().join("r157/r157.toml");
-    let o = carfollow(&[
-        "import",
-        r157.to_str().unwrap(),
-        "-o",
-        toml.to_str().unwrap(),
-    ]);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    let out = dir.path().join("r157/out");
-    let o = carfollow(&[
-        "export",
-        toml.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-    ]);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    let xosc = out.join("alks_r157_cut_in_quick_brake.xosc");
-    let text = std::fs::read_to_string(&xosc).unwrap();
+    osc_common::import_to(&r157, &toml);
+    let (xosc, text) = osc_common::export_to(&toml, &dir.path().join("r157/out"));
     for said in ["startTransition", "endTransition", "<CollisionCondition>"] {
         assert!(text.contains(said), "{said}: {text}");
     }
