@@ -347,7 +347,7 @@ impl Watch {
             (Condition::Started(j), _) => c.started.get(*j).copied().unwrap_or(false),
             (Condition::Contact(_), _) => self
                 .to
-                .is_some_and(|j| j < 64 && mine.touching & (1 << j) != 0),
+                .is_some_and(|j| j < u64::BITS as usize && mine.touching & (1 << j) != 0),
             (Condition::Speed(v, _), _) => self
                 .of
                 .map_or(Some(mine), |j| c.view.get(j))

@@ -155,7 +155,14 @@ impl EventScript {
                 return Err(invalid(
                     i,
                     &field("rule"),
-                    format!("an {} trigger has no threshold to compare with", given[0]),
+                    format!(
+                        "{} trigger has no threshold to compare with",
+                        if t.after.is_some() {
+                            "an after"
+                        } else {
+                            "a started"
+                        }
+                    ),
                 ))
             }
             (Condition::Standstill(..), Some(_)) => {

@@ -53,17 +53,17 @@ impl TrafficDrive {
         let mut ids = vec![chase_id];
         ids.extend(lead_id);
         ids.extend(planned.actor_ids);
-        let mut watched_contacts = Vec::new();
-        if let Some(me) = planned.vehicles.lead() {
-            let watched = planned.lead_events.contacts_watched();
-            watched_contacts.extend(watched.into_iter().map(|j| (me.min(j), me.max(j))));
-        }
         let first = planned.vehicles.first_actor();
-        for (k, actor) in planned.actors.iter().enumerate() {
-            let me = first + k;
-            let watched = actor.events().contacts_watched();
-            watched_contacts.extend(watched.into_iter().map(|j| (me.min(j), me.max(j))));
-        }
+        let lead = planned.vehicles.lead().map(|me| (me, &planned.lead_events));
+        let actors = (planned.actors.iter().enumerate()).map(|(k, a)| (first + k, a.events()));
+        let mut watched_contacts: Vec<(usize, usize)> = lead
+            .into_iter()
+            .chain(actors)
+            .flat_map(|(me, events)| {
+                let watched = events.contacts_watched().into_iter();
+                watched.map(move |j| (me.min(j), me.max(j)))
+            })
+            .collect();
         watched_contacts.sort_unstable();
         watched_contacts.dedup();
         TrafficDrive {
@@ -116,7 +116,8 @@ impl TrafficDrive {
             .collect();
         // The contacts a trigger watches, as the last step left them.
         for &(a, b) in &self.watched_contacts {
-            if a != b && b < 64 && world.vehicles_touch(self.ids[a], self.ids[b]) {
+            let fits = b < u64::BITS as usize;
+            if a != b && fits && world.vehicles_touch(self.ids[a], self.ids[b]) {
                 view[a].touching |= 1 << b;
                 view[b].touching |= 1 << a;
             }

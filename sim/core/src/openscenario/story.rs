@@ -507,16 +507,11 @@ impl Context<'_, '_> {
                         xml.at(c, format!("<StoryboardElementStateCondition storyboardElementRef=\"{reference}\">: not an event of `{owner}` (carfollow's events wait for their own vehicle's)"))
                     })?;
                     let name = Some(found.name.clone());
-                    each.push(if start {
-                        TriggerSpec {
-                            started: name,
-                            ..TriggerSpec::default()
-                        }
-                    } else {
-                        TriggerSpec {
-                            after: name,
-                            ..TriggerSpec::default()
-                        }
+                    let (after, started) = if start { (None, name) } else { (name, None) };
+                    each.push(TriggerSpec {
+                        after,
+                        started,
+                        ..TriggerSpec::default()
                     });
                 }
                 Ok(match each.len() {
@@ -658,29 +653,22 @@ impl Context<'_, '_> {
                     .map(|t| only_element(xml, t))
                     .transpose()?
                     .ok_or_else(|| xml.at(e, "<TimeToCollisionCondition> has no target"))?;
-                if target.tag_name().name() != "EntityRef" {
-                    return Err(xml.unsupported(
-                        target,
-                        "time-to-collision target",
-                        "carfollow's are vehicles",
-                    ));
-                }
-                xml.req(target, "entityRef")?
+                entity_ref(
+                    xml,
+                    target,
+                    "time-to-collision target",
+                    "carfollow's are vehicles",
+                )?
             }
             "TimeHeadwayCondition" | "RelativeDistanceCondition" | "RelativeSpeedCondition" => {
                 xml.req(e, "entityRef")?
             }
-            "CollisionCondition" => {
-                let target = only_element(xml, e)?;
-                if target.tag_name().name() != "EntityRef" {
-                    return Err(xml.unsupported(
-                        target,
-                        "collision target",
-                        "carfollow's are vehicles, each named",
-                    ));
-                }
-                xml.req(target, "entityRef")?
-            }
+            "CollisionCondition" => entity_ref(
+                xml,
+                only_element(xml, e)?,
+                "collision target",
+                "carfollow's are vehicles, each named",
+            )?,
             _ => return Err(xml.unsupported(e, "condition", "")),
         };
         if name == "RelativeSpeedCondition" {
@@ -880,6 +868,15 @@ impl Context<'_, '_> {
             ..TriggerSpec::default()
         })
     }
+}
+
+/// The entity a condition's `target` names: an `EntityRef`, else refused as an unsupported
+/// `what` (`why` says what carfollow reads).
+fn entity_ref(xml: &Xml, target: Node, what: &str, why: &str) -> Result<String, OscError> {
+    if target.tag_name().name() != "EntityRef" {
+        return Err(xml.unsupported(target, what, why));
+    }
+    xml.req(target, "entityRef")
 }
 
 /// Whether `ordering` (the value's against the condition's) meets the standard's `rule`;
